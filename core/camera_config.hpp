@@ -1,0 +1,18 @@
+#pragma once
+#include "core/camera_model.hpp"
+#include "core/config_reader.hpp"
+
+namespace labo {
+
+// Reads {"width", "height", "fx", "fy", "cx", "cy", "distortion": [k1, k2, p1, p2, k3]}.
+CameraIntrinsics read_camera_intrinsics(const ConfigReader& node);
+
+struct CamerasConfig {
+  CameraIntrinsics front;
+  CameraIntrinsics bottom;
+};
+
+// Reads {"front": {...}, "bottom": {...}}.
+CamerasConfig read_cameras_config(const ConfigReader& node);
+
+}  // namespace labo

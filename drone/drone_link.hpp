@@ -1,0 +1,95 @@
+#pragma once
+// DroneLink: what the rest of LaboDrone sees of a drone, real (AR.Drone 2.0 over Wi-Fi), emulated
+// (the simulated lab speaking the same protocol on loopback) or replayed (a recorded flight).
+// Commands go out; timestamped events come in through a DroneLinkListener. Units are SI inside:
+// the driver converts the drone's millidegrees, mm and mm/s at its edge and keeps the raw values.
+//
+// Body frame: x forward, y left, z up; yaw counter-clockwise (core/frames.hpp).
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "core/time.hpp"
+
+namespace labo {
+
+enum class CameraId { Front = 0, Bottom = 1 };
+
+// One navdata packet, in SI units. Angles in radians about the body axes (right-hand rule): roll about
+// x (positive = right wing down), pitch about y (positive = nose down, the attitude of forward
+// flight), yaw about z (positive = counter-clockwise).
+struct NavdataSample {
+  Seconds t = 0;               // receive time on the link's clock
+  std::uint32_t sequence = 0;
+  std::uint32_t state = 0;     // the 32 state bits (ArdroneState in drone/ardrone2/)
+  int control_state = 0;       // major control state (2 landed, 3 flying, 4 hovering, 6 takeoff, 8 landing)
+  double battery_percent = 0;
+  double roll_rad = 0;
+  double pitch_rad = 0;
+  double yaw_rad = 0;
+  double altitude_m = 0;       // ultrasound, to the surface below
+  double vx_mps = 0;           // body-frame velocities from the bottom camera / observer
+  double vy_mps = 0;
+  double vz_mps = 0;
+  bool has_drone_time = false;
+  Seconds drone_time = 0;      // the drone's own clock (option `time`), when sent
+};
+
+struct VideoFrame {
+  Seconds t = 0;               // receive time of the frame's last byte
+  CameraId camera = CameraId::Front;
+  std::uint32_t frame_number = 0;
+  cv::Mat bgr;                 // CV_8UC3
+};
+
+enum class LinkState { Disconnected, Connecting, Connected, Degraded, Lost };
+std::string to_string(LinkState state);
+
+// Counts by kind: packets, bytes, drops and every kind of bad input, for the UI and /metrics.
+struct LinkStatistics {
+  std::map<std::string, std::uint64_t> counters;
+  double navdata_rate_hz = 0;
+  double video_fps = 0;
+};
+
+// Normalized PCMD: each in [-1, 1], fractions of euler_angle_max, control_vz_max, control_yaw.
+// Signs in LaboDrone's body frame: roll > 0 tilts to the right (moves right), pitch > 0 tilts the
+// nose down (moves forward), gaz > 0 climbs, yaw_rate > 0 turns counter-clockwise. The driver maps
+// them to the AR.Drone's own signs on the wire.
+struct MoveCommand {
+  double roll = 0;
+  double pitch = 0;
+  double gaz = 0;
+  double yaw_rate = 0;
+};
+
+class DroneLinkListener {
+ public:
+  virtual ~DroneLinkListener() = default;
+  virtual void on_navdata(const NavdataSample& sample) = 0;
+  virtual void on_video(const VideoFrame& frame) = 0;
+  virtual void on_link_state(LinkState state, Seconds t) = 0;
+};
+
+class DroneLink {
+ public:
+  virtual ~DroneLink() = default;
+  virtual void set_listener(DroneLinkListener* listener) = 0;
+
+  virtual void takeoff() = 0;
+  virtual void land() = 0;
+  virtual void emergency() = 0;
+  virtual void flat_trim() = 0;
+  // Values outside [-1, 1] are clipped; non-finite values become a hover.
+  virtual void move(const MoveCommand& command) = 0;
+  virtual void hover() = 0;
+  virtual void select_camera(CameraId camera) = 0;
+  virtual void set_config(const std::string& key, const std::string& value) = 0;
+
+  virtual LinkState state() const = 0;
+  virtual LinkStatistics statistics() const = 0;
+};
+
+}  // namespace labo

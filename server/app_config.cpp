@@ -1,0 +1,43 @@
+#include "server/app_config.hpp"
+
+namespace labo {
+
+namespace {
+std::filesystem::path resolve(const std::filesystem::path& base, const std::string& p) {
+  std::filesystem::path path(p);
+  return path.is_absolute() ? path : (base / path).lexically_normal();
+}
+}  // namespace
+
+std::filesystem::path default_config_path() { return std::filesystem::path(LABO_SOURCE_DIR) / "config" / "default.json"; }
+
+AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path& base_dir) {
+  AppConfig c;
+  const std::string level = root.choice_or("log_level", "info", {"debug", "info", "warn", "error", "off"});
+  c.log_level = parse_log_level(level);
+  c.cameras = root.has("cameras") ? read_cameras_config(root.object("cameras"))
+                                   : CamerasConfig{PinholeCamera::ardrone2_front().intrinsics(),
+                                                   PinholeCamera::ardrone2_bottom().intrinsics()};
+  c.vision = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
+  if (root.has("server")) {
+    const ConfigReader s = root.object("server");
+    c.server.bind_address = s.string_or("bind", c.server.bind_address);
+    c.server.port = s.integer_or("port", c.server.port, 1, 65535);
+    c.server.web_root = resolve(base_dir, s.string_or("web_root", "../web"));
+    s.finish();
+  } else {
+    c.server.web_root = resolve(base_dir, "../web");
+  }
+  c.lab_file = resolve(base_dir, root.string_or("lab", "lab.json"));
+  root.finish();
+  return c;
+}
+
+AppConfig load_app_config(const std::filesystem::path& file) {
+  const ConfigDocument doc = ConfigDocument::load(file);
+  AppConfig c = read_app_config(doc.root(), file.parent_path());
+  c.source = file;
+  return c;
+}
+
+}  // namespace labo

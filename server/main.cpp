@@ -1,0 +1,67 @@
+// labodrone: one binary, one subcommand per job. `labodrone --help` lists them; each has --help.
+// Exit status: 0 success, 2 bad arguments or invalid input, others as each subcommand documents.
+#include <iostream>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/cli_args.hpp"
+#include "core/config_reader.hpp"
+#include "server/serve_command.hpp"
+
+namespace {
+
+struct Subcommand {
+  const labo::CommandSpec& spec;
+  int (*run)(const labo::ParsedArgs&);
+};
+
+std::vector<Subcommand> subcommands() {
+  return {
+      {labo::serve_command_spec(), labo::run_serve_command},
+  };
+}
+
+void print_help(const std::vector<Subcommand>& commands) {
+  std::cout << "usage: labodrone <command> [options]\n\n"
+               "LaboDrone flies an AR.Drone 2.0 (or the simulated lab) through a remote electronics lab.\n\n"
+               "commands:\n";
+  for (const auto& c : commands) {
+    std::string left = c.spec.name + (c.spec.positionals.empty() ? "" : " " + c.spec.positionals);
+    std::cout << "  " << left << std::string(left.size() < 28 ? 28 - left.size() : 1, ' ') << c.spec.summary << "\n";
+  }
+  std::cout << "\nRun 'labodrone <command> --help' for a command's options.\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  const auto commands = subcommands();
+  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+    print_help(commands);
+    return args.empty() ? 2 : 0;
+  }
+  for (const auto& c : commands) {
+    if (c.spec.name != args[0]) continue;
+    try {
+      const labo::ParsedArgs parsed = labo::parse_args(c.spec, std::span(args).subspan(1));
+      if (parsed.help) {
+        std::cout << labo::usage(c.spec);
+        return 0;
+      }
+      return c.run(parsed);
+    } catch (const labo::UsageError& e) {
+      std::cerr << "labodrone " << c.spec.name << ": " << e.what() << "\n";
+      return 2;
+    } catch (const labo::ConfigError& e) {
+      std::cerr << "labodrone " << c.spec.name << ": invalid configuration: " << e.what() << "\n";
+      return 2;
+    } catch (const std::exception& e) {
+      std::cerr << "labodrone " << c.spec.name << ": " << e.what() << "\n";
+      return 1;
+    }
+  }
+  std::cerr << "labodrone: unknown command '" << args[0] << "' (see labodrone --help)\n";
+  return 2;
+}

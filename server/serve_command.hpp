@@ -1,0 +1,12 @@
+#pragma once
+#include <span>
+#include <string>
+
+#include "core/cli_args.hpp"
+
+namespace labo {
+
+const CommandSpec& serve_command_spec();
+int run_serve_command(const ParsedArgs& args);
+
+}  // namespace labo

@@ -1,0 +1,40 @@
+#include <catch2/catch.hpp>
+
+#include "server/app_config.hpp"
+
+using namespace labo;
+
+TEST_CASE("app config: the shipped default.json loads with the paper's thresholds") {
+  const AppConfig c = load_app_config(default_config_path());
+  CHECK(c.vision.template_correlation_alpha == Approx(0.8));
+  CHECK(c.vision.angle_jump_beta_rad == Approx(15.0 * 3.14159265358979 / 180.0));
+  CHECK(c.vision.distance_jump_m == Approx(0.30));
+  CHECK(c.vision.ultrasound_step_gamma_m == Approx(0.10));
+  CHECK(c.vision.sift_min_inliers >= 10);
+  CHECK(c.vision.sift_min_inliers <= 30);
+  CHECK(c.cameras.front.fx == Approx(569.9));
+  CHECK(c.cameras.bottom.cy == Approx(218.7));
+  CHECK(c.server.port == 8080);
+}
+
+TEST_CASE("app config: bad sections are refused with the key path") {
+  auto error_of = [](const std::string& text) -> std::string {
+    try {
+      const ConfigDocument doc = ConfigDocument::parse(text, "bad.json");
+      read_app_config(doc.root(), ".");
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  CHECK(error_of(R"({"vision": {"sift_min_inliers": 5}})") ==
+        "bad.json: vision.sift_min_inliers: found 5 (integer), expected an integer in [10, 30]");
+  CHECK(error_of(R"({"vision": {"sift_switch_distance_m": 4}})") ==
+        "bad.json: vision.sift_switch_distance_m: found 4 (integer), expected a number in [1, 3]");
+  CHECK(error_of(R"({"vision": {"template_correlation_alpha": 0}})") ==
+        "bad.json: vision.template_correlation_alpha: found 0 (integer), expected a number in (0, 1]");
+  CHECK(error_of(R"({"server": {"port": 0}})") == "bad.json: server.port: found 0 (integer), expected an integer in [1, 65535]");
+  CHECK_THAT(error_of(R"({"servre": {}})"), Catch::Contains("bad.json: unknown key servre"));
+  CHECK_THAT(error_of(R"({"log_level": "loud"})"), Catch::Contains("log_level: found \"loud\""));
+  CHECK_THAT(error_of(R"({"cameras": {"front": {}}})"), Catch::Contains("cameras.front.width: missing"));
+}
