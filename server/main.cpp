@@ -1,5 +1,6 @@
 // labodrone: one binary, one subcommand per job. `labodrone --help` lists them; each has --help.
 // Exit status: 0 success, 2 bad arguments or invalid input, others as each subcommand documents.
+#include <algorithm>
 #include <iostream>
 #include <span>
 #include <string>
@@ -20,6 +21,18 @@ std::vector<Subcommand> subcommands() {
   return {
       {labo::serve_command_spec(), labo::run_serve_command},
   };
+}
+
+// How many leading arguments spell the command's name, 0 when they do not.
+std::size_t matching_words(const std::string& name, const std::vector<std::string>& args) {
+  std::size_t pos = 0, words = 0;
+  while (pos <= name.size()) {
+    const std::size_t end = std::min(name.find(' ', pos), name.size());
+    if (words >= args.size() || args[words] != name.substr(pos, end - pos)) return 0;
+    ++words;
+    pos = end + 1;
+  }
+  return words;
 }
 
 void print_help(const std::vector<Subcommand>& commands) {
@@ -43,9 +56,11 @@ int main(int argc, char** argv) {
     return args.empty() ? 2 : 0;
   }
   for (const auto& c : commands) {
-    if (c.spec.name != args[0]) continue;
+    // A command's name may have several words ("bench planar"): match them all.
+    const std::size_t words = matching_words(c.spec.name, args);
+    if (words == 0) continue;
     try {
-      const labo::ParsedArgs parsed = labo::parse_args(c.spec, std::span(args).subspan(1));
+      const labo::ParsedArgs parsed = labo::parse_args(c.spec, std::span(args).subspan(words));
       if (parsed.help) {
         std::cout << labo::usage(c.spec);
         return 0;
