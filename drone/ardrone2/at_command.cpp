@@ -45,27 +45,25 @@ namespace {
 float clip_unit(float v) { return v < -1.0f ? -1.0f : (v > 1.0f ? 1.0f : v); }
 }  // namespace
 
-void AtCommandEncoder::pcmd(std::string& out, const WirePcmd& c) {
-  begin(out, "PCMD");
-  const bool hover = c.hover;
+void AtCommandEncoder::append_pcmd_values(std::string& out, const WirePcmd& c) {
+  // Flag bit 0 clear = hover: the drone ignores the values, which are sent as zeros.
   out.push_back(',');
-  append_int(out, hover ? 0 : kPcmdProgressive);
+  append_int(out, c.hover ? 0 : kPcmdProgressive);
   for (float v : {c.roll, c.pitch, c.gaz, c.yaw}) {
     out.push_back(',');
-    append_int(out, hover ? 0 : float_to_at_int(clip_unit(v)));
+    append_int(out, c.hover ? 0 : float_to_at_int(clip_unit(v)));
   }
+}
+
+void AtCommandEncoder::pcmd(std::string& out, const WirePcmd& c) {
+  begin(out, "PCMD");
+  append_pcmd_values(out, c);
   out.push_back('\r');
 }
 
 void AtCommandEncoder::pcmd_mag(std::string& out, const WirePcmd& c, float psi, float psi_accuracy) {
   begin(out, "PCMD_MAG");
-  const bool hover = c.hover;
-  out.push_back(',');
-  append_int(out, hover ? 0 : kPcmdProgressive);
-  for (float v : {c.roll, c.pitch, c.gaz, c.yaw}) {
-    out.push_back(',');
-    append_int(out, hover ? 0 : float_to_at_int(clip_unit(v)));
-  }
+  append_pcmd_values(out, c);
   out.push_back(',');
   append_int(out, float_to_at_int(psi));
   out.push_back(',');

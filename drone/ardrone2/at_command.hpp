@@ -58,6 +58,7 @@ class AtCommandEncoder {
  private:
   void begin(std::string& out, std::string_view name);
   static void append_int(std::string& out, std::int64_t value);
+  static void append_pcmd_values(std::string& out, const WirePcmd& command);
   static void append_quoted(std::string& out, std::string_view text);
   std::uint32_t next_seq_ = 1;
 };
