@@ -75,8 +75,8 @@ void ArdroneLink::stop() {
   if (!running_.exchange(false)) return;
   for (auto* t : {&control_thread_, &navdata_thread_, &video_thread_})
     if (t->joinable()) t->join();
-  if (recorder_) recorder_->flush();
   set_state(LinkState::Disconnected, clock_.now());
+  if (recorder_) recorder_->flush();
 }
 
 void ArdroneLink::set_listener(DroneLinkListener* listener) {
@@ -163,7 +163,7 @@ void ArdroneLink::set_state(LinkState s, Seconds t) {
   }
   logger_.info(t, "link state").kv("state", to_string(s));
   counters_.add("link_state_" + to_string(s));
-  if (recorder_) recorder_->note(t, "link_state " + to_string(s));
+  if (recorder_) recorder_->note(t, std::string(kNoteLinkStatePrefix) + to_string(s));
   std::lock_guard lock(listener_mutex_);
   if (listener_) listener_->on_link_state(s, t);
 }
@@ -360,10 +360,14 @@ void ArdroneLink::video_loop() {
     counters_.add("video_connects");
     reset_video_ = false;
     video_receiver_->reset();
+    if (recorder_) recorder_->note(clock_.now(), kNoteVideoConnected);
     Seconds last_data = clock_.now();
     while (running_ && !reset_video_) {
       if (reset_video_decoder_.exchange(false)) {
-        video_receiver_->set_camera(active_camera_.load());
+        // Noted from this thread, in order with the video bytes, so a replay switches at the same byte.
+        const CameraId camera = active_camera_.load();
+        if (recorder_) recorder_->note(clock_.now(), camera == CameraId::Bottom ? kNoteCameraBottom : kNoteCameraFront);
+        video_receiver_->set_camera(camera);
         video_receiver_->reset();
       }
       const long n = tcp.receive(buffer, 0.1);

@@ -23,6 +23,12 @@ namespace labo {
 enum class RecordChannel : std::uint8_t { AtOut = 1, NavdataOut = 2, NavdataIn = 3, VideoIn = 4, Note = 5 };
 inline constexpr std::size_t kMaxRecordBytes = 16u << 20;
 
+// Notes the replay acts on (others are for people reading a recording).
+inline constexpr const char* kNoteLinkStatePrefix = "link_state ";  // + to_string(LinkState)
+inline constexpr const char* kNoteVideoConnected = "video_connected";
+inline constexpr const char* kNoteCameraFront = "video_camera front";
+inline constexpr const char* kNoteCameraBottom = "video_camera bottom";
+
 class RecordingError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
