@@ -46,6 +46,7 @@ void VideoReceiver::bytes(std::span<const std::uint8_t> bytes, Seconds t) {
       continue;
     }
     counters_.add("video_frames");
+    if (pave.header.frame_type == static_cast<std::uint8_t>(PaveFrameType::Idr)) counters_.add("video_keyframes");
     if (pave.header.codec != kPaveCodecH264) {
       counters_.bad_input("pave_not_h264", t, "codec " + std::to_string(pave.header.codec) + ", expected 4 (H.264)");
       continue;
