@@ -8,6 +8,7 @@
 
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
+#include "drone/ardrone2/inspect_commands.hpp"
 #include "server/serve_command.hpp"
 
 namespace {
@@ -20,6 +21,8 @@ struct Subcommand {
 std::vector<Subcommand> subcommands() {
   return {
       {labo::serve_command_spec(), labo::run_serve_command},
+      {labo::navdata_command_spec(), labo::run_navdata_command},
+      {labo::video_command_spec(), labo::run_video_command},
   };
 }
 
