@@ -65,6 +65,10 @@ struct EstimatorConfig {
   Seconds source_timeout_s = 0.4;
   // Vision residual gate (Mahalanobis distance^2, 4 dof) once a source is established.
   double vision_gate_chi2 = 40.0;
+  // A vision source that does not drive the estimate is fused with its noise times this factor.
+  double inactive_source_noise_factor = 3.0;
+  // Fuse the navdata's vertical speed (the AR.Drone's observer; 0 in some firmwares' demo mode).
+  bool use_navdata_vz = true;
   // Scale estimation (tum_ardrone's ML estimator, notes §3).
   double scale_sigma_map = 0.2;
   double scale_sigma_metric = 0.01;
@@ -74,6 +78,8 @@ struct EstimatorConfig {
   double scale_weight_xy = 0.05;
   double scale_weight_z = 3.0;
   double initial_scale = 1.0;
+  // An object's world pose is refined over its first sightings while SLAM localizes the drone.
+  int object_placement_frames = 30;
   // The face's world pose follows the teacher with this time constant.
   Seconds face_memory_s = 1.0;
 };

@@ -19,6 +19,7 @@ struct ScaleStatus {
   int pairs = 0;
   int inliers = 0;
   bool estimated = false;    // at least one accepted pair
+  double relative_std = 1.0; // spread of the inlier single-pair scales / sqrt(n), relative
 };
 
 class ScaleEstimator {

@@ -19,8 +19,9 @@ class SurfaceMap {
   SurfaceMap() = default;
   explicit SurfaceMap(double floor_z) : floor_z_(floor_z) {}
   void add(const SurfaceRect& rect) { rects_.push_back(rect); }
-  bool empty() const { return rects_.empty() && !has_floor_; }
-  void set_floor(double z) { floor_z_ = z; has_floor_ = true; }
+  // True when only the floor is known (no raised surface): a map that cannot tell steps apart.
+  bool empty() const { return rects_.empty(); }
+  double floor_z() const { return floor_z_; }
 
   // The highest surface under (x, y); the floor when none.
   double height_at(const Eigen::Vector2d& xy) const;
@@ -32,7 +33,6 @@ class SurfaceMap {
 
  private:
   double floor_z_ = 0.0;
-  bool has_floor_ = true;
   std::vector<SurfaceRect> rects_;
 };
 
