@@ -24,6 +24,7 @@ struct SyntheticFlight {
   MoveCommand command;
   double floor_z = 0.0;
   double nav_noise = 1.0;  // multiplies every navdata noise
+  bool report_vz = true;
 
   StateVector& s() { return model.mutable_state(); }
 
@@ -47,7 +48,7 @@ struct SyntheticFlight {
     const double c = std::cos(x(est::YAW)), sn = std::sin(x(est::YAW));
     nav.vx_mps = c * x(est::VX) + sn * x(est::VY) + 0.03 * nav_noise * n(rng);
     nav.vy_mps = -sn * x(est::VX) + c * x(est::VY) + 0.03 * nav_noise * n(rng);
-    nav.vz_mps = x(est::VZ) + 0.03 * nav_noise * n(rng);
+    nav.vz_mps = report_vz ? x(est::VZ) + 0.03 * nav_noise * n(rng) : 0.0;
     nav.altitude_m = (x(est::Z) - floor_z) / (std::cos(x(est::ROLL)) * std::cos(x(est::PITCH))) + 0.005 * nav_noise * n(rng);
     return nav;
   }
