@@ -21,6 +21,7 @@ struct Subcommand {
 std::vector<Subcommand> subcommands() {
   return {
       {labo::serve_command_spec(), labo::run_serve_command},
+      {labo::homography_command_spec(), labo::run_homography_command},
       {labo::bench_planar_command_spec(), labo::run_bench_planar_command},
   };
 }
