@@ -9,6 +9,7 @@
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
 #include "drone/ardrone2/inspect_commands.hpp"
+#include "localization/planar/planar_commands.hpp"
 #include "server/serve_command.hpp"
 
 namespace {
@@ -23,6 +24,8 @@ std::vector<Subcommand> subcommands() {
       {labo::serve_command_spec(), labo::run_serve_command},
       {labo::navdata_command_spec(), labo::run_navdata_command},
       {labo::video_command_spec(), labo::run_video_command},
+      {labo::homography_command_spec(), labo::run_homography_command},
+      {labo::bench_planar_command_spec(), labo::run_bench_planar_command},
   };
 }
 
