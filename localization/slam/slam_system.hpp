@@ -77,6 +77,14 @@ struct SlamStatus {
   std::vector<Eigen::Isometry3d> keyframes_T_map_cam;
 };
 
+// Mapping figures for benchmarks (wall times are measurements only).
+struct MappingStatistics {
+  std::vector<double> keyframe_ms;  // processing time of each keyframe
+  int points_created = 0;
+  int observations_removed = 0;
+  int global_ba_runs = 0;
+};
+
 class SlamSystem {
  public:
   // Throws std::invalid_argument on invalid intrinsics or settings (naming the field).
@@ -92,6 +100,7 @@ class SlamSystem {
                    const std::optional<Eigen::Isometry3d>& prior_T_cam_map = std::nullopt);
 
   SlamStatus status() const;
+  MappingStatistics mapping_statistics() const;
   // Drops the map and starts initializing again.
   void reset();
   // Blocks until the mapper has processed every queued keyframe (tests, benchmarks, saving).
