@@ -51,7 +51,8 @@ const CommandSpec& bench_slam_command_spec() {
       {{"--json", "", "print JSON instead of a table"},
        {"--flight", "NAME", "tour, yaw, approach or all (default all)"},
        {"--tour-seconds", "S", "duration of the tour flight (default 120)"},
-       {"--threaded", "", "mapping in its own thread (default: synchronous, deterministic)"}},
+       {"--threaded", "", "mapping in its own thread (default: synchronous, deterministic)"},
+       {"--trace", "", "print every frame that is not tracked well, and keyframes, to stderr"}},
       0,
       0};
   return spec;
@@ -75,7 +76,7 @@ int run_bench_slam_command(const ParsedArgs& args) {
   out["mapping_mode"] = mode == slam::MappingMode::Threaded ? "threaded" : "synchronous";
   out["targets"] = {{"tracking_ms_median", 10.0}, {"ate_rmse_cm", 3.0}, {"relocalization_s", 1.0}};
   for (const auto& flight : flights) {
-    const slam::FlightReport r = slam::run_flight(room, flight, camera, mode);
+    const slam::FlightReport r = slam::run_flight(room, flight, camera, mode, args.flag("--trace") ? &std::cerr : nullptr);
     const nlohmann::json j = to_json(r);
     out["flights"].push_back(j);
     if (!args.flag("--json")) std::cerr << j.dump() << "\n";

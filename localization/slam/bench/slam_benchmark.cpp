@@ -1,6 +1,7 @@
 #include "localization/slam/bench/slam_benchmark.hpp"
 
 #include <algorithm>
+#include <ostream>
 
 namespace labo::slam {
 namespace {
@@ -13,7 +14,8 @@ double percentile(std::vector<double> v, double q) {
 
 }  // namespace
 
-FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const PinholeCamera& camera, MappingMode mode) {
+FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const PinholeCamera& camera, MappingMode mode,
+                        std::ostream* trace) {
   SlamSettings settings;
   settings.mapping_mode = mode;
   SlamSystem slam(camera, settings);
@@ -28,6 +30,10 @@ FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const P
     const cv::Mat image = f.covered ? black : room.render(f.T_world_cam, static_cast<unsigned>(i));
     const SlamResult r = slam.track(image, f.t);
     ++report.frames;
+    if (trace && (r.state != TrackingState::Good || r.keyframe_added)) {
+      *trace << flight.name << " t=" << f.t << " " << to_string(r.state) << " found " << r.points_found << "/" << r.points_attempted
+             << (r.keyframe_added ? " +KF" : "") << " " << r.tracking_ms << " ms " << r.reason << "\n";
+    }
     if (!initialized && r.state != TrackingState::Initializing) {
       initialized = true;
       report.initialized_at_s = f.t;

@@ -1,6 +1,7 @@
 #pragma once
 // The SLAM benchmark: runs SlamSystem over ground-truth flights (synthetic room for now) and reports
 // trajectory errors, timing, relocalization time and where tracking was lost near the instrument.
+#include <iosfwd>
 #include <optional>
 #include <string>
 #include <vector>
@@ -35,6 +36,8 @@ struct BenchOptions {
   bool add_lens_distortion = true;
 };
 
-FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const PinholeCamera& camera, MappingMode mode);
+// trace (optional): one line per frame that is not Good or adds a keyframe.
+FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const PinholeCamera& camera, MappingMode mode,
+                        std::ostream* trace = nullptr);
 
 }  // namespace labo::slam
