@@ -10,6 +10,7 @@
 #include "core/config_reader.hpp"
 #include "drone/ardrone2/inspect_commands.hpp"
 #include "localization/planar/planar_commands.hpp"
+#include "localization/slam/bench/slam_bench_command.hpp"
 #include "server/serve_command.hpp"
 
 namespace {
@@ -26,6 +27,7 @@ std::vector<Subcommand> subcommands() {
       {labo::video_command_spec(), labo::run_video_command},
       {labo::homography_command_spec(), labo::run_homography_command},
       {labo::bench_planar_command_spec(), labo::run_bench_planar_command},
+      {labo::bench_slam_command_spec(), labo::run_bench_slam_command},
   };
 }
 
