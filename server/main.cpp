@@ -8,6 +8,7 @@
 
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
+#include "localization/face/face_commands.hpp"
 #include "server/serve_command.hpp"
 
 namespace {
@@ -20,6 +21,8 @@ struct Subcommand {
 std::vector<Subcommand> subcommands() {
   return {
       {labo::serve_command_spec(), labo::run_serve_command},
+      {labo::face_bench_command_spec(), labo::run_face_bench_command},
+      {labo::face_register_command_spec(), labo::run_face_register_command},
   };
 }
 

@@ -59,6 +59,10 @@ FaceConfig read_face_config(const ConfigReader& node, const std::filesystem::pat
     L.max_distance_m = l.number_or("max_distance_m", L.max_distance_m, Range::positive());
     L.border_margin_px = l.number_or("border_margin_px", L.border_margin_px, Range::non_negative());
     L.min_interocular_px = l.number_or("min_interocular_px", L.min_interocular_px, Range::positive());
+    L.max_jump_m = l.number_or("max_jump_m", L.max_jump_m, Range::positive());
+    L.max_turn_rad = l.number_or("max_turn_deg", 25.0, Range::closed(1, 180)) * kDeg;
+    L.max_scale_change = l.number_or("max_scale_change", L.max_scale_change, Range::closed(0.01, 10));
+    L.max_detector_misses = l.integer_or("max_detector_misses", L.max_detector_misses, 0, 100);
     if (L.min_distance_m >= L.max_distance_m) l.fail("min_distance_m", "must be smaller than max_distance_m");
     l.finish();
   }

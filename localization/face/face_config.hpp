@@ -20,6 +20,11 @@ struct FaceLimits {
   double max_distance_m = 6.0;
   double border_margin_px = 1.0;          // landmarks closer to the border than this: face cut
   double min_interocular_px = 8.0;        // smaller faces give no usable pose
+  // Between consecutive tracked frames (30 fps): larger changes mean the landmarks slid off the face.
+  double max_jump_m = 0.15;
+  double max_turn_rad = 0.44;             // 25°
+  double max_scale_change = 0.25;         // of the landmarks' spread
+  int max_detector_misses = 1;            // consecutive re-detections that miss before the face is lost
 };
 
 struct FaceConfig {

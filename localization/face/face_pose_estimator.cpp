@@ -45,6 +45,8 @@ std::string_view to_string(FaceLostReason reason) {
     case FaceLostReason::InconsistentLandmarks: return "landmarks do not fit the face model";
     case FaceLostReason::NoPose: return "no pose in front of the camera";
     case FaceLostReason::ImplausibleDistance: return "implausible distance";
+    case FaceLostReason::ImplausibleMotion: return "implausible motion between frames";
+    case FaceLostReason::NotConfirmed: return "detector no longer confirms the tracked face";
   }
   return "unknown";
 }
@@ -84,6 +86,8 @@ void FacePoseEstimator::set_person(const PersonShape& person, bool registered) {
 
 void FacePoseEstimator::reset() {
   last_landmarks_.reset();
+  last_pose_.reset();
+  detector_misses_ = 0;
   landmark_velocity_px_.reset();
   last_box_.reset();
   frames_since_detection_ = 0;
@@ -113,17 +117,18 @@ double FacePoseEstimator::interocular_px(const Eigen::Matrix2Xd& lm) const {
   return (left - right).norm();
 }
 
-void FacePoseEstimator::remember_box_relation(const cv::Rect2d& box, const Eigen::Matrix2Xd& lm) {
+void FacePoseEstimator::remember_box_relation(const cv::Rect2d& box, const Eigen::Matrix2Xd& lm, double distance_m) {
   const auto [c, spread] = centroid_and_spread(lm);
   const cv::Point2d bc = centre(box);
-  box_offset_ = Eigen::Vector2d(bc.x - c.x(), bc.y - c.y()) / spread;
-  box_size_ = std::sqrt(box.width * box.height) / spread;
+  const double side = std::sqrt(box.width * box.height);
+  box_offset_ = Eigen::Vector2d(bc.x - c.x(), bc.y - c.y()) / side;
+  box_side_m_ = side * distance_m / camera_.intrinsics().fx;
 }
 
 cv::Rect2d FacePoseEstimator::box_from_landmarks(const Eigen::Matrix2Xd& lm) const {
   const auto [c, spread] = centroid_and_spread(lm);
-  const Eigen::Vector2d bc = c + box_offset_ * spread;
-  const double side = box_size_ * spread;
+  const double side = last_pose_ ? box_side_m_ * camera_.intrinsics().fx / last_pose_->translation().z() : 2.6 * spread;
+  const Eigen::Vector2d bc = c + box_offset_ * side;
   return {bc.x() - side / 2, bc.y() - side / 2, side, side};
 }
 
@@ -193,11 +198,18 @@ std::optional<FacePoseEstimator::Candidate> FacePoseEstimator::choose_box(const 
   if (last_box_) boxes = detector_.detect_around(gray, *last_box_);
   if (boxes.empty() && landmark_box_ready) {
     // The detector misses turned faces the landmarks still follow: keep tracking from the landmarks
-    // and let the consistency checks decide; try the detector again in a while.
-    frames_since_detection_ = 0;
+    // for a while, but a face the detector keeps missing is lost (the landmark detector always
+    // returns a face-like shape, even on a wall).
     result.faces_found = 0;
+    if (++detector_misses_ > config_.limits.max_detector_misses) {
+      detector_misses_ = 0;
+      result.reason = FaceLostReason::NotConfirmed;
+      return std::nullopt;
+    }
+    frames_since_detection_ = 0;
     return Candidate{box_from_landmarks(*last_landmarks_), false};
   }
+  if (!boxes.empty()) detector_misses_ = 0;
   if (boxes.empty()) {
     const auto& scales = config_.lost_search_scales;
     boxes = detector_.detect_full(gray, scales[lost_search_cycle_++ % scales.size()]);
@@ -218,6 +230,7 @@ FaceResult FacePoseEstimator::lose(FaceResult result, FaceLostReason reason) {
   result.quality = 0;
   last_landmarks_.reset();
   landmark_velocity_px_.reset();
+  last_pose_.reset();
   solver_.reset();
   // Keep searching around the last box for a few frames before going back to full-frame searches.
   if (++lost_frames_ > 5) last_box_.reset();
@@ -267,6 +280,16 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
   const double distance = s.T_cam_face.translation().norm();
   if (distance < L.min_distance_m || distance > L.max_distance_m) return lose(result, FaceLostReason::ImplausibleDistance);
 
+  const double spread = centroid_and_spread(lm).second;
+  if (last_pose_ && last_landmarks_) {
+    const double jump = (s.T_cam_face.translation() - last_pose_->translation()).norm();
+    const double turn = Eigen::AngleAxisd(s.T_cam_face.linear() * last_pose_->linear().transpose()).angle();
+    const double scale = std::abs(spread / last_spread_px_ - 1.0);
+    if (jump > L.max_jump_m || turn > L.max_turn_rad || scale > L.max_scale_change) {
+      return lose(result, FaceLostReason::ImplausibleMotion);
+    }
+  }
+
   result.state = FaceState::Tracking;
   result.reason = FaceLostReason::None;
   result.T_cam_face = s.T_cam_face;
@@ -274,11 +297,13 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
   result.quality = std::clamp(1.0 - rms_ratio / L.max_rms_per_interocular, 0.0, 1.0);
   result.reinitialised = estimate->reinitialised;
 
-  if (candidate->from_detector) remember_box_relation(candidate->box, lm);
+  if (candidate->from_detector) remember_box_relation(candidate->box, lm, s.T_cam_face.translation().z());
   if (last_landmarks_) {
     landmark_velocity_px_ = (lm.middleCols(17, 43) - last_landmarks_->middleCols(17, 43)).rowwise().mean();
   }
   last_landmarks_ = lm;
+  last_pose_ = s.T_cam_face;
+  last_spread_px_ = spread;
   last_box_ = candidate->box;
   lost_frames_ = 0;
   return result;

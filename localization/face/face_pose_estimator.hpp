@@ -32,6 +32,8 @@ enum class FaceLostReason {
   InconsistentLandmarks,// the landmarks do not fit the face model
   NoPose,               // the PnP method found no pose in front of the camera
   ImplausibleDistance,  // outside [min, max] distance
+  ImplausibleMotion,    // the face jumped or changed size between frames: the landmarks slid off it
+  NotConfirmed,         // the detector no longer finds the face the landmarks follow
 };
 std::string_view to_string(FaceState state);
 std::string_view to_string(FaceLostReason reason);
@@ -94,7 +96,7 @@ class FacePoseEstimator {
   std::optional<Candidate> choose_box(const cv::Mat& gray, FaceResult& result);
   std::optional<Candidate> select_among(const cv::Mat& gray, const std::vector<FaceBox>& boxes, FaceResult& result);
   FaceResult lose(FaceResult result, FaceLostReason reason);
-  void remember_box_relation(const cv::Rect2d& box, const Eigen::Matrix2Xd& landmarks);
+  void remember_box_relation(const cv::Rect2d& box, const Eigen::Matrix2Xd& landmarks, double distance_m);
   cv::Rect2d box_from_landmarks(const Eigen::Matrix2Xd& landmarks) const;
   double interocular_px(const Eigen::Matrix2Xd& landmarks68) const;
 
@@ -115,9 +117,13 @@ class FacePoseEstimator {
   int frames_since_detection_ = 0;
   int lost_frames_ = 0;
   std::size_t lost_search_cycle_ = 0;
-  // The detector's box relative to its landmarks: centre offset and size over the landmarks' spread.
+  // The detector's box relative to its landmarks: centre offset (in box sides) and its metric size
+  // (side x distance / fx, which does not change when the head turns, unlike the landmarks' spread).
   Eigen::Vector2d box_offset_ = Eigen::Vector2d(0, 0.1);
-  double box_size_ = 2.6;
+  double box_side_m_ = 0.2;
+  std::optional<Eigen::Isometry3d> last_pose_;
+  double last_spread_px_ = 0;
+  int detector_misses_ = 0;
   PnpProblem problem_;  // reused buffers
 };
 

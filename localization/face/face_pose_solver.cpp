@@ -67,7 +67,9 @@ std::optional<FacePoseEstimate> FacePoseSolver::solve(const PnpProblem& problem,
       break;
     case PnpMethod::RansacP3pLm:
       if (auto s = solve_ransac_p3p(problem, ransac, rng_)) {
-        if (auto r = refine_lm(problem, s->T_cam_face, lm, s->inlier_mask)) out = FacePoseEstimate{*r, false};
+        // All points, not only the minimal sample's inliers: the Huber weights already discount the
+        // outliers, and a tight inlier set at small faces throws away good landmarks.
+        if (auto r = refine_lm(problem, s->T_cam_face, lm)) out = FacePoseEstimate{*r, false};
       }
       break;
     case PnpMethod::LmTracking:
