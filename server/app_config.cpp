@@ -29,6 +29,7 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
   } else {
     c.server.web_root = resolve(base_dir, "../web");
   }
+  c.face = root.has("face") ? face::read_face_config(root.object("face"), base_dir) : face::default_face_config();
   c.lab_file = resolve(base_dir, root.string_or("lab", "lab.json"));
   root.finish();
   return c;

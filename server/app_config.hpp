@@ -7,6 +7,7 @@
 #include "core/camera_config.hpp"
 #include "core/log.hpp"
 #include "localization/estimation/estimation_config.hpp"
+#include "localization/face/face_config.hpp"
 #include "localization/vision_thresholds.hpp"
 
 namespace labo {
@@ -25,6 +26,7 @@ struct AppConfig {
   EstimatorConfig estimation;
   ServerSettings server;
   std::filesystem::path lab_file;  // the simulated lab's description
+  face::FaceConfig face;
 };
 
 // Throws ConfigError naming the file, the key path, the value and what was expected.

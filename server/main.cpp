@@ -11,6 +11,7 @@
 #include "drone/ardrone2/inspect_commands.hpp"
 #include "localization/planar/planar_commands.hpp"
 #include "localization/slam/bench/slam_bench_command.hpp"
+#include "localization/face/face_commands.hpp"
 #include "server/serve_command.hpp"
 
 namespace {
@@ -28,6 +29,8 @@ std::vector<Subcommand> subcommands() {
       {labo::homography_command_spec(), labo::run_homography_command},
       {labo::bench_planar_command_spec(), labo::run_bench_planar_command},
       {labo::bench_slam_command_spec(), labo::run_bench_slam_command},
+      {labo::face_bench_command_spec(), labo::run_face_bench_command},
+      {labo::face_register_command_spec(), labo::run_face_register_command},
   };
 }
 

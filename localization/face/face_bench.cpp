@@ -1,0 +1,245 @@
+#include "localization/face/face_bench.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+#include "core/candide3.hpp"
+#include "localization/face/face_pose_estimator.hpp"
+#include "localization/face/head_pose_sequences.hpp"
+#include "localization/face/person_registration.hpp"
+#include "localization/face/textured_head_renderer.hpp"
+
+namespace labo::face {
+
+namespace {
+
+constexpr double kDeg = 180.0 / std::numbers::pi;
+constexpr std::array<PnpMethod, 5> kMethods{PnpMethod::Epnp, PnpMethod::RansacP3p, PnpMethod::EpnpLm,
+                                            PnpMethod::RansacP3pLm, PnpMethod::LmTracking};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
+}
+double mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? 0 : s / static_cast<double>(v.size());
+}
+
+// A lab-like background: smooth random shading with some mid-frequency texture.
+cv::Mat make_background(const PinholeCamera& camera, unsigned seed) {
+  cv::RNG rng(seed);
+  cv::Mat coarse(9, 16, CV_32F), detail(45, 80, CV_32F), out;
+  rng.fill(coarse, cv::RNG::UNIFORM, 70, 190);
+  rng.fill(detail, cv::RNG::NORMAL, 0, 18);
+  cv::Mat a, b;
+  cv::resize(coarse, a, cv::Size(camera.width(), camera.height()), 0, 0, cv::INTER_CUBIC);
+  cv::resize(detail, b, a.size(), 0, 0, cv::INTER_LINEAR);
+  cv::Mat sum = a + b;
+  sum.convertTo(out, CV_8U);
+  return out;
+}
+
+class FrameDegrader {
+ public:
+  FrameDegrader(const FaceBenchOptions& o, unsigned seed) : options_(o), rng_(seed) {}
+  void apply(double blur_sigma, double noise_sigma, cv::Mat& frame) {
+    if (blur_sigma > 0) cv::GaussianBlur(frame, frame, cv::Size(), blur_sigma);
+    frame.convertTo(work_, CV_16S);
+    noise_.create(frame.size(), CV_16S);
+    rng_.fill(noise_, cv::RNG::NORMAL, 0, noise_sigma);
+    work_ += noise_;
+    work_.convertTo(frame, CV_8U);  // saturates
+    if (options_.lossy_video) {
+      cv::imencode(".jpg", frame, bytes_, {cv::IMWRITE_JPEG_QUALITY, options_.jpeg_quality});
+      frame = cv::imdecode(bytes_, cv::IMREAD_GRAYSCALE);
+    }
+  }
+
+ private:
+  FaceBenchOptions options_;
+  cv::RNG rng_;
+  cv::Mat work_, noise_;
+  std::vector<std::uint8_t> bytes_;
+};
+
+struct MethodAccumulator {
+  std::vector<double> tx, ty, tz, roll, yaw, pitch, time, abs_tx, abs_ty, abs_tz;
+  int failures = 0;
+};
+
+double angle_error_deg(double a, double b) { return std::abs(std::remainder(a - b, 2 * std::numbers::pi)) * kDeg; }
+
+}  // namespace
+
+FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamera& camera,
+                               const FaceBenchOptions& options, const std::function<void(const std::string&)>& progress) {
+  const auto say = [&](const std::string& s) {
+    if (progress) progress(s);
+  };
+  FaceConfig config = base_config;
+  config.solver.method = PnpMethod::LmTracking;
+  config.teacher.clear();
+  const Candide3Model candide = Candide3Model::load(config.model);
+  FacePoseEstimator estimator(config, camera,
+                              make_face_landmark_model(candide, load_ibug68_mapping(config.mapping)));
+
+  const cv::Mat photo = cv::imread(options.texture.string(), cv::IMREAD_GRAYSCALE);
+  if (photo.empty()) {
+    throw std::runtime_error(options.texture.string() + ": cannot read the head texture (run scripts/setup.sh)");
+  }
+  TexturedHeadRenderer renderer(candide, texture_head_from_photo(estimator, candide, photo, options.interpupillary_distance_m),
+                                camera);
+  FaceBenchReport report;
+
+  // Registration: a frontal picture of the rendered head at 0.8 m.
+  {
+    cv::Mat frontal = make_background(camera, options.seed + 1000);
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = head_rotation({});
+    T.translation() = Eigen::Vector3d(0, -0.02, 0.8);
+    renderer.render(T, frontal);
+    FrameDegrader(options, options.seed).apply(0.5, 2.0, frontal);
+    const PersonShape teacher = register_person(estimator, frontal, "teacher", options.interpupillary_distance_m);
+    PersonShape used = teacher;
+    if (options.true_shape) used.shape_params = renderer.head().shape_params;
+    estimator.set_person(used, true);
+    report.shape_fit_rms_px = teacher.fit_rms_px;
+    const auto fitted = estimator.model().observable_units();
+    double sum = 0;
+    int n = 0;
+    for (std::size_t u = 0; u < fitted.size(); ++u) {
+      if (!fitted[u]) continue;
+      const double e = teacher.shape_params(static_cast<Eigen::Index>(u)) -
+                       renderer.head().shape_params(static_cast<Eigen::Index>(u));
+      sum += e * e;
+      ++n;
+    }
+    report.shape_param_error_rms = n ? std::sqrt(sum / n) : 0;
+    if (!options.sample_dir.empty()) {
+      std::filesystem::create_directories(options.sample_dir);
+      cv::imwrite((options.sample_dir / "registration.png").string(), frontal);
+    }
+  }
+
+  std::map<PnpMethod, MethodAccumulator> acc;
+  std::vector<double> frame_ms, tracking_frame_ms, detect_ms, landmarks_ms, pose_ms;
+  std::map<std::string, int> reasons;
+  const auto sequences = make_head_pose_sequences(options.sequences, options.frames, options.seed);
+  for (std::size_t s = 0; s < sequences.size(); ++s) {
+    const HeadPoseSequence& seq = sequences[s];
+    const cv::Mat background = make_background(camera, options.seed + static_cast<unsigned>(s));
+    FrameDegrader degrader(options, options.seed * 7919u + static_cast<unsigned>(s));
+    estimator.reset();
+    std::vector<FacePoseSolver> solvers;
+    for (PnpMethod m : kMethods) {
+      FacePoseSolverOptions o = config.solver;
+      o.method = m;
+      solvers.emplace_back(o);
+    }
+    SequenceSummary summary{seq.name, seq.distance_m, 0, 0, 0};
+    std::vector<double> seq_yaw, seq_tz;
+    std::vector<std::optional<Eigen::Isometry3d>> first_estimate(kMethods.size());
+    std::optional<Eigen::Isometry3d> first_truth;
+    int tracked = 0;
+    cv::Mat frame;
+    for (std::size_t f = 0; f < seq.T_cam_face.size(); ++f) {
+      const Eigen::Isometry3d& truth = seq.T_cam_face[f];
+      background.copyTo(frame);
+      renderer.render(truth, frame);
+      degrader.apply(seq.blur_sigma_px, seq.noise_sigma, frame);
+      if (!options.sample_dir.empty() && s < 2 && f % 75 == 0) {
+        cv::imwrite((options.sample_dir / (seq.name + "_" + std::to_string(f) + ".png")).string(), frame);
+      }
+      const FaceResult r = estimator.process(frame, static_cast<double>(f) / 30.0);
+      ++report.frames_total;
+      frame_ms.push_back(r.timings.total_ms());
+      detect_ms.push_back(r.timings.detect_ms);
+      landmarks_ms.push_back(r.timings.landmarks_ms);
+      pose_ms.push_back(r.timings.pose_ms);
+      if (r.faces_found < 0 && r.tracking()) tracking_frame_ms.push_back(r.timings.total_ms());
+      if (!r.tracking()) {
+        ++reasons[std::string(to_string(r.reason))];
+        for (auto& solver : solvers) solver.reset();
+        continue;
+      }
+      ++tracked;
+      // Every method solves the same landmarks.
+      const PnpProblem problem{estimator.model().points_m(estimator.person().shape_params,
+                                                          estimator.person().interpupillary_distance_m),
+                               estimator.ideal_pixels(r.landmarks), estimator.ideal_camera()};
+      const double iod = (r.landmarks.middleCols(42, 6).rowwise().mean() - r.landmarks.middleCols(36, 6).rowwise().mean()).norm();
+      const HeadAngles ta = head_angles(truth.linear());
+      if (!first_truth) first_truth = truth;
+      for (std::size_t m = 0; m < kMethods.size(); ++m) {
+        const auto start = std::chrono::steady_clock::now();
+        const auto est = solvers[m].solve(problem, std::max(iod / 60.0, 0.5));
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        MethodAccumulator& a = acc[kMethods[m]];
+        if (!est) {
+          ++a.failures;
+          continue;
+        }
+        const Eigen::Isometry3d& T = est->solution.T_cam_face;
+        if (!first_estimate[m]) first_estimate[m] = T;
+        // Relative motion in the camera frame: where the face origin moved since the first frame.
+        const Eigen::Vector3d moved_est = T.translation() - first_estimate[m]->translation();
+        const Eigen::Vector3d moved_truth = truth.translation() - first_truth->translation();
+        const Eigen::Vector3d dt = (moved_est - moved_truth) * 1000.0;
+        const Eigen::Vector3d dt_abs = (T.translation() - truth.translation()) * 1000.0;
+        a.abs_tx.push_back(std::abs(dt_abs.x()));
+        a.abs_ty.push_back(std::abs(dt_abs.y()));
+        a.abs_tz.push_back(std::abs(dt_abs.z()));
+        const HeadAngles ea = head_angles(est->solution.T_cam_face.linear());
+        a.tx.push_back(std::abs(dt.x()));
+        a.ty.push_back(std::abs(dt.y()));
+        a.tz.push_back(std::abs(dt.z()));
+        a.roll.push_back(angle_error_deg(ea.roll, ta.roll));
+        a.yaw.push_back(angle_error_deg(ea.yaw, ta.yaw));
+        a.pitch.push_back(angle_error_deg(ea.pitch, ta.pitch));
+        a.time.push_back(ms);
+        if (kMethods[m] == PnpMethod::LmTracking) {
+          seq_yaw.push_back(a.yaw.back());
+          seq_tz.push_back(a.tz.back());
+        }
+      }
+    }
+    report.frames_tracked += tracked;
+    summary.detection_rate = static_cast<double>(tracked) / static_cast<double>(std::max<std::size_t>(1, seq.T_cam_face.size()));
+    summary.yaw_err_deg = mean(seq_yaw);
+    summary.tz_err_mm = mean(seq_tz);
+    report.sequences.push_back(summary);
+    say(seq.name + ": tracked " + std::to_string(tracked) + "/" + std::to_string(seq.T_cam_face.size()));
+  }
+  for (PnpMethod m : kMethods) {
+    const MethodAccumulator& a = acc[m];
+    report.methods.push_back({m, static_cast<int>(a.tx.size()), mean(a.tx), mean(a.ty), mean(a.tz), mean(a.roll),
+                              mean(a.yaw), mean(a.pitch), mean(a.time), a.failures,
+                              mean(a.abs_tx), mean(a.abs_ty), mean(a.abs_tz)});
+  }
+  report.frame_ms_median = median(frame_ms);
+  report.frame_ms_mean = mean(frame_ms);
+  report.frame_ms_p95 = percentile(frame_ms, 0.95);
+  report.tracking_frame_ms_median = median(tracking_frame_ms);
+  report.detect_ms_median = median(detect_ms);
+  report.landmarks_ms_median = median(landmarks_ms);
+  report.pose_ms_median = median(pose_ms);
+  report.lost_reasons.assign(reasons.begin(), reasons.end());
+  return report;
+}
+
+}  // namespace labo::face

@@ -1,0 +1,65 @@
+#pragma once
+// The face benchmark behind `labodrone bench face`: head-pose sequences rendered with the textured
+// CANDIDE-3 head, degraded (noise, blur, lossy video), run through the whole pipeline once per frame;
+// each PnP method of Table 1 then solves the same landmarks, against the known pose.
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/camera_model.hpp"
+#include "localization/face/face_config.hpp"
+#include "localization/face/face_pose_solver.hpp"
+
+namespace labo::face {
+
+struct FaceBenchOptions {
+  int sequences = 10;
+  int frames = 300;
+  unsigned seed = 1;
+  std::filesystem::path texture;  // photograph with one face (assets/astronaut.png)
+  double interpupillary_distance_m = 0.063;
+  bool lossy_video = true;        // H.264-like loss: JPEG round trip (see docs/face.md)
+  int jpeg_quality = 60;
+  bool true_shape = false;          // use the rendered head's shape instead of the registered one
+  std::filesystem::path sample_dir;  // when set, a few rendered frames are written there
+};
+
+struct MethodErrors {
+  PnpMethod method = PnpMethod::LmTracking;
+  int frames = 0;                                 // frames with a pose
+  // Relative motion (the UPNA protocol): each pose taken relative to the sequence's first tracked
+  // frame, for the estimate and the truth alike, so constant offsets of the face origin cancel.
+  double tx_mm = 0, ty_mm = 0, tz_mm = 0;         // mean absolute errors
+  double roll_deg = 0, yaw_deg = 0, pitch_deg = 0;
+  double time_ms = 0;                             // mean pose time
+  int failures = 0;                               // frames with landmarks but no pose
+  double abs_tx_mm = 0, abs_ty_mm = 0, abs_tz_mm = 0;  // absolute translation errors
+};
+
+struct SequenceSummary {
+  std::string name;
+  double distance_m = 0;
+  double detection_rate = 0;  // frames tracked / frames
+  double yaw_err_deg = 0, tz_err_mm = 0;  // LM tracking, mean absolute
+};
+
+struct FaceBenchReport {
+  int frames_total = 0;
+  int frames_tracked = 0;
+  std::vector<MethodErrors> methods;  // Table 1's order
+  std::vector<SequenceSummary> sequences;
+  // Whole pipeline (detection + landmarks + LM-tracking pose), per frame: median, mean, 95th pct.
+  double frame_ms_median = 0, frame_ms_mean = 0, frame_ms_p95 = 0;
+  double tracking_frame_ms_median = 0;  // frames where the detector did not run
+  double detect_ms_median = 0, landmarks_ms_median = 0, pose_ms_median = 0;
+  double shape_fit_rms_px = 0;            // registration picture
+  double shape_param_error_rms = 0;       // fitted vs the rendered head's τs, observable units
+  std::vector<std::pair<std::string, int>> lost_reasons;
+};
+
+// Throws std::runtime_error when the texture has no single face or the registration fails.
+FaceBenchReport run_face_bench(const FaceConfig& config, const PinholeCamera& camera, const FaceBenchOptions& options,
+                               const std::function<void(const std::string&)>& progress = {});
+
+}  // namespace labo::face

@@ -1,0 +1,186 @@
+#include "localization/face/face_commands.hpp"
+
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/camera_config.hpp"
+#include "core/config_reader.hpp"
+#include "localization/face/face_bench.hpp"
+#include "localization/face/face_pose_estimator.hpp"
+#include "localization/face/person_registration.hpp"
+
+namespace labo {
+
+namespace {
+
+struct FaceSetup {
+  face::FaceConfig face;
+  PinholeCamera camera;
+};
+
+FaceSetup load_face_setup(const ParsedArgs& args) {
+  const std::filesystem::path file =
+      args.value_or("--config", (std::filesystem::path(LABO_SOURCE_DIR) / "config" / "default.json").string());
+  const ConfigDocument doc = ConfigDocument::load(file);
+  const ConfigReader root = doc.root();
+  const CameraIntrinsics front = root.has("cameras") ? read_cameras_config(root.object("cameras")).front
+                                                      : PinholeCamera::ardrone2_front().intrinsics();
+  face::FaceConfig face = root.has("face") ? face::read_face_config(root.object("face"), file.parent_path())
+                                           : face::default_face_config();
+  return {face, PinholeCamera(front)};
+}
+
+struct PaperRow {
+  const char* name;
+  double tx, ty, tz, roll, yaw, pitch, time;
+};
+// The paper's Table 1 (UPNA head pose database).
+constexpr PaperRow kPaper[] = {{"EPNP", 11.84, 7.11, 12.67, 0.55, 3.74, 2.39, 0.117},
+                               {"Ransac P3P", 12.50, 7.79, 18.34, 1.56, 6.52, 6.11, 0.898},
+                               {"EPNP + LM", 11.51, 7.23, 13.38, 0.56, 2.28, 1.45, 0.363},
+                               {"Ransac P3P + LM", 11.51, 7.23, 13.38, 0.56, 2.28, 1.45, 1.138},
+                               {"LM", 11.51, 7.23, 13.38, 0.56, 2.28, 1.45, 0.234}};
+
+nlohmann::json to_json(const face::FaceBenchReport& r, const face::FaceBenchOptions& o) {
+  nlohmann::json j;
+  j["sequences"] = o.sequences;
+  j["frames_per_sequence"] = o.frames;
+  j["seed"] = o.seed;
+  j["lossy_video"] = o.lossy_video ? "jpeg" : "none";
+  j["frames_total"] = r.frames_total;
+  j["detection_rate"] = r.frames_total ? static_cast<double>(r.frames_tracked) / r.frames_total : 0.0;
+  for (std::size_t i = 0; i < r.methods.size(); ++i) {
+    const auto& m = r.methods[i];
+    j["methods"].push_back({{"method", face::to_string(m.method)}, {"frames", m.frames}, {"failures", m.failures},
+                            {"tx_mm", m.tx_mm}, {"ty_mm", m.ty_mm}, {"tz_mm", m.tz_mm}, {"roll_deg", m.roll_deg},
+                            {"yaw_deg", m.yaw_deg}, {"pitch_deg", m.pitch_deg}, {"time_ms", m.time_ms},
+                            {"absolute", {{"tx_mm", m.abs_tx_mm}, {"ty_mm", m.abs_ty_mm}, {"tz_mm", m.abs_tz_mm}}},
+                            {"paper", {{"tx_mm", kPaper[i].tx}, {"ty_mm", kPaper[i].ty}, {"tz_mm", kPaper[i].tz},
+                                       {"roll_deg", kPaper[i].roll}, {"yaw_deg", kPaper[i].yaw},
+                                       {"pitch_deg", kPaper[i].pitch}, {"time_ms", kPaper[i].time}}}});
+  }
+  j["frame_ms"] = {{"median", r.frame_ms_median}, {"mean", r.frame_ms_mean}, {"p95", r.frame_ms_p95},
+                   {"median_tracking_no_detector", r.tracking_frame_ms_median},
+                   {"detect_median", r.detect_ms_median}, {"landmarks_median", r.landmarks_ms_median},
+                   {"pose_median", r.pose_ms_median}};
+  j["registration"] = {{"fit_rms_px", r.shape_fit_rms_px}, {"shape_param_error_rms", r.shape_param_error_rms}};
+  for (const auto& s : r.sequences) {
+    j["per_sequence"].push_back({{"name", s.name}, {"distance_m", s.distance_m}, {"detection_rate", s.detection_rate},
+                                 {"lm_yaw_err_deg", s.yaw_err_deg}, {"lm_tz_err_mm", s.tz_err_mm}});
+  }
+  for (const auto& [reason, count] : r.lost_reasons) j["lost_reasons"][reason] = count;
+  return j;
+}
+
+void print_table(const face::FaceBenchReport& r) {
+  std::printf("%-16s %8s %8s %8s %7s %7s %7s %8s   (paper: tx ty tz roll yaw pitch time)\n", "Method", "tx", "ty",
+              "tz", "roll", "yaw", "pitch", "time");
+  for (std::size_t i = 0; i < r.methods.size(); ++i) {
+    const auto& m = r.methods[i];
+    const auto& p = kPaper[i];
+    std::printf("%-16s %8.2f %8.2f %8.2f %7.2f %7.2f %7.2f %8.3f   (%.2f %.2f %.2f %.2f %.2f %.2f %.3f)\n", p.name,
+                m.tx_mm, m.ty_mm, m.tz_mm, m.roll_deg, m.yaw_deg, m.pitch_deg, m.time_ms, p.tx, p.ty, p.tz, p.roll,
+                p.yaw, p.pitch, p.time);
+  }
+  std::printf("tx, ty, tz in mm (motion relative to each sequence's first frame, as UPNA); roll, yaw, pitch in degrees; "
+              "time in ms (pose only)\n");
+  for (const auto& m : r.methods) {
+    std::printf("absolute translation error %-14s tx %.1f ty %.1f tz %.1f mm\n", std::string(face::to_string(m.method)).c_str(),
+                m.abs_tx_mm, m.abs_ty_mm, m.abs_tz_mm);
+  }
+  std::printf("detection rate %.1f %% of %d frames; whole per-frame time median %.2f ms (tracking, no detector: %.2f), "
+              "mean %.2f, p95 %.2f; stages median: detect %.2f, landmarks %.2f, pose %.3f\n",
+              r.frames_total ? 100.0 * r.frames_tracked / r.frames_total : 0.0, r.frames_total, r.frame_ms_median,
+              r.tracking_frame_ms_median, r.frame_ms_mean, r.frame_ms_p95, r.detect_ms_median, r.landmarks_ms_median,
+              r.pose_ms_median);
+  std::printf("registration: fit RMS %.2f px, shape parameter error (RMS over fitted units) %.3f\n", r.shape_fit_rms_px,
+              r.shape_param_error_rms);
+  for (const auto& [reason, count] : r.lost_reasons) std::printf("lost: %-60s %d frames\n", reason.c_str(), count);
+}
+
+}  // namespace
+
+const CommandSpec& face_bench_command_spec() {
+  static const CommandSpec spec{
+      "bench face",
+      "",
+      "Face pose methods (the paper's Table 1) on rendered head-pose sequences with known pose.",
+      {{"--config", "FILE", "configuration file (default: config/default.json)"},
+       {"--texture", "PNG", "photograph with one face for the head (default: assets/astronaut.png)"},
+       {"--sequences", "N", "number of sequences, guided and free alternating (default 10)"},
+       {"--frames", "N", "frames per sequence (default 300)"},
+       {"--seed", "N", "random seed (default 1)"},
+       {"--no-lossy-video", "", "skip the lossy video round trip"},
+       {"--samples", "DIR", "write a few rendered frames there"},
+       {"--true-shape", "", "use the rendered head's shape instead of the one registered from a frontal frame"},
+       {"--json", "", "print the report as JSON"}},
+      0,
+      0};
+  return spec;
+}
+
+int run_face_bench_command(const ParsedArgs& args) {
+  const FaceSetup setup = load_face_setup(args);
+  face::FaceBenchOptions o;
+  o.sequences = args.integer_or("--sequences", 10, 1, 1000);
+  o.frames = args.integer_or("--frames", 300, 3, 100000);
+  o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
+  o.texture = args.value_or("--texture", (std::filesystem::path(LABO_SOURCE_DIR) / "assets" / "astronaut.png").string());
+  o.lossy_video = !args.flag("--no-lossy-video");
+  o.sample_dir = args.value_or("--samples", "");
+  o.true_shape = args.flag("--true-shape");
+  o.interpupillary_distance_m = setup.face.interpupillary_distance_m;
+  const bool json = args.flag("--json");
+  const auto report = face::run_face_bench(setup.face, setup.camera, o, [&](const std::string& line) {
+    if (!json) std::cerr << line << "\n";
+  });
+  if (json) {
+    std::cout << to_json(report, o).dump(2) << "\n";
+  } else {
+    print_table(report);
+  }
+  return 0;
+}
+
+const CommandSpec& face_register_command_spec() {
+  static const CommandSpec spec{
+      "face register",
+      "IMAGE",
+      "Fit a person's CANDIDE-3 shape from a frontal picture taken with the front camera and store it.",
+      {{"--config", "FILE", "configuration file (default: config/default.json)"},
+       {"--name", "NAME", "person's name (A-Z a-z 0-9 _ -), required"},
+       {"--ipd-mm", "MM", "interpupillary distance in mm (default: face.interpupillary_distance_mm)"},
+       {"--out", "FILE", "where to write (default: <face.people_dir>/<NAME>.json)"}},
+      1,
+      1};
+  return spec;
+}
+
+int run_face_register_command(const ParsedArgs& args) {
+  const FaceSetup setup = load_face_setup(args);
+  const auto name = args.value("--name");
+  if (!name) throw UsageError("--name NAME is required");
+  const double ipd_m = args.number_or("--ipd-mm", setup.face.interpupillary_distance_m * 1000.0, 40, 90) / 1000.0;
+  const cv::Mat image = cv::imread(args.positionals[0], cv::IMREAD_GRAYSCALE);
+  if (image.empty()) throw UsageError(args.positionals[0] + ": cannot read the picture");
+  if (image.cols != setup.camera.width() || image.rows != setup.camera.height()) {
+    throw UsageError(args.positionals[0] + ": picture is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                     ", expected the front camera's " + std::to_string(setup.camera.width()) + "x" +
+                     std::to_string(setup.camera.height()));
+  }
+  face::FacePoseEstimator estimator(setup.face, setup.camera);
+  try {
+    const face::PersonShape person = face::register_person(estimator, image, *name, ipd_m);
+    const auto out = args.value_or("--out", face::person_shape_path(setup.face.people_dir, *name).string());
+    face::save_person_shape(person, out);
+    std::cout << "registered " << *name << ": fit RMS " << person.fit_rms_px << " px -> " << out << "\n";
+  } catch (const face::RegistrationError& e) {
+    std::cerr << "labodrone face register: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}
+
+}  // namespace labo

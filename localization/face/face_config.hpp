@@ -1,0 +1,53 @@
+#pragma once
+// The "face" section of config/default.json: model files, pose method, detector schedule and the
+// limits beyond which a pose is refused rather than handed to the filter.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/config_reader.hpp"
+#include "localization/face/face_detector.hpp"
+#include "localization/face/face_pose_solver.hpp"
+#include "localization/face/face_shape_fitter.hpp"
+
+namespace labo::face {
+
+struct FaceLimits {
+  double max_rms_per_interocular = 0.06;  // RMS landmark fit error / interocular distance (px/px)
+  double max_yaw_rad = 1.22;              // 70°: beyond it the detector and landmarks are unreliable
+  double max_pitch_rad = 0.87;            // 50°
+  double min_distance_m = 0.2;
+  double max_distance_m = 6.0;
+  double border_margin_px = 1.0;          // landmarks closer to the border than this: face cut
+  double min_interocular_px = 8.0;        // smaller faces give no usable pose
+  // Between consecutive tracked frames (30 fps): larger changes mean the landmarks slid off the face.
+  double max_jump_m = 0.15;
+  double max_turn_rad = 0.44;             // 25°
+  double max_scale_change = 0.25;         // of the landmarks' spread
+  int max_detector_misses = 1;            // consecutive re-detections that miss before the face is lost
+};
+
+struct FaceConfig {
+  std::filesystem::path shape_predictor;  // dlib 68-point model
+  std::filesystem::path model;            // CANDIDE-3 .wfm
+  std::filesystem::path mapping;          // iBUG-68 -> CANDIDE-3 csv
+  std::filesystem::path people_dir;       // per-person fitted shapes (<name>.json)
+  std::string teacher;                    // registered person followed when several faces show; "" none
+  double interpupillary_distance_m = 0.063;  // default for an unregistered face
+  FacePoseSolverOptions solver;
+  FaceDetectorOptions detector;
+  // Box for the landmarks while tracking: "landmarks" (from the previous frame's landmarks, detector
+  // every `redetect_every_n_frames`) or "detector" (the detector around the last face every frame).
+  bool box_from_landmarks = true;
+  int redetect_every_n_frames = 10;
+  std::vector<double> lost_search_scales{0.5, 1.0, 2.0};  // cycled over frames while lost
+  ShapeFitOptions shape_fit;
+  double frontal_max_angle_rad = 0.26;    // a registration picture must be within 15° of frontal
+  FaceLimits limits;
+};
+
+// Every key optional; relative paths resolve against `base_dir` (the config file's folder).
+FaceConfig read_face_config(const ConfigReader& node, const std::filesystem::path& base_dir);
+FaceConfig default_face_config();
+
+}  // namespace labo::face

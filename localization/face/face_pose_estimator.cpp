@@ -1,0 +1,312 @@
+#include "localization/face/face_pose_estimator.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace labo::face {
+
+namespace {
+
+// Stage durations for the benchmark and the UI; they never influence a result (localization/ does
+// not use the clock for its logic).
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+FaceLandmarkModel load_model(const FaceConfig& config) {
+  const Candide3Model candide = Candide3Model::load(config.model);
+  return make_face_landmark_model(candide, load_ibug68_mapping(config.mapping, static_cast<int>(candide.vertices().size())));
+}
+
+// Centroid and RMS spread of the rigid landmarks (17-59).
+std::pair<Eigen::Vector2d, double> centroid_and_spread(const Eigen::Matrix2Xd& lm) {
+  const Eigen::Matrix2Xd rigid = lm.middleCols(17, 43);
+  const Eigen::Vector2d c = rigid.rowwise().mean();
+  const double spread = std::sqrt((rigid.colwise() - c).colwise().squaredNorm().mean());
+  return {c, std::max(spread, 1e-6)};
+}
+
+cv::Point2d centre(const cv::Rect2d& r) { return {r.x + r.width / 2, r.y + r.height / 2}; }
+
+}  // namespace
+
+std::string_view to_string(FaceState state) { return state == FaceState::Tracking ? "tracking" : "lost"; }
+
+std::string_view to_string(FaceLostReason reason) {
+  switch (reason) {
+    case FaceLostReason::None: return "none";
+    case FaceLostReason::BadImage: return "bad image (empty, not 8-bit grey, or not the camera's size)";
+    case FaceLostReason::NoFace: return "no face found";
+    case FaceLostReason::SeveralFaces: return "several faces, none the teacher or near the last track";
+    case FaceLostReason::CutByBorder: return "face cut by the image border";
+    case FaceLostReason::TooSmall: return "face too small";
+    case FaceLostReason::BeyondProfile: return "head turned beyond the usable profile";
+    case FaceLostReason::InconsistentLandmarks: return "landmarks do not fit the face model";
+    case FaceLostReason::NoPose: return "no pose in front of the camera";
+    case FaceLostReason::ImplausibleDistance: return "implausible distance";
+    case FaceLostReason::ImplausibleMotion: return "implausible motion between frames";
+    case FaceLostReason::NotConfirmed: return "detector no longer confirms the tracked face";
+  }
+  return "unknown";
+}
+
+FacePoseEstimator::FacePoseEstimator(const FaceConfig& config, const PinholeCamera& camera)
+    : FacePoseEstimator(config, camera, load_model(config)) {
+  if (!config_.teacher.empty()) {
+    set_person(load_person_shape(person_shape_path(config_.people_dir, config_.teacher), model_.shape_unit_count()), true);
+  }
+}
+
+FacePoseEstimator::FacePoseEstimator(const FaceConfig& config, const PinholeCamera& camera, FaceLandmarkModel model)
+    : config_(config),
+      camera_(camera),
+      model_(std::move(model)),
+      detector_(config.detector),
+      landmark_detector_(config.shape_predictor),
+      solver_(config.solver) {
+  PersonShape generic;
+  generic.name = "generic";
+  generic.interpupillary_distance_m = config_.interpupillary_distance_m;
+  generic.shape_params = Eigen::VectorXd::Zero(model_.shape_unit_count());
+  set_person(generic, false);
+  problem_.camera = ideal_camera();
+}
+
+void FacePoseEstimator::set_person(const PersonShape& person, bool registered) {
+  if (person.shape_params.size() != model_.shape_unit_count()) {
+    throw std::invalid_argument("face: person '" + person.name + "' has " + std::to_string(person.shape_params.size()) +
+                                " shape parameters, the model " + std::to_string(model_.shape_unit_count()));
+  }
+  person_ = person;
+  person_registered_ = registered;
+  points_face_ = model_.points_m(person.shape_params, person.interpupillary_distance_m);
+  solver_.reset();
+}
+
+void FacePoseEstimator::reset() {
+  last_landmarks_.reset();
+  last_pose_.reset();
+  detector_misses_ = 0;
+  landmark_velocity_px_.reset();
+  last_box_.reset();
+  frames_since_detection_ = 0;
+  lost_frames_ = 0;
+  solver_.reset();
+}
+
+IdealPinhole FacePoseEstimator::ideal_camera() const {
+  const auto& k = camera_.intrinsics();
+  return {k.fx, k.fy, k.cx, k.cy};
+}
+
+Eigen::Matrix2Xd FacePoseEstimator::ideal_pixels(const Eigen::Matrix2Xd& lm) const {
+  const auto& k = camera_.intrinsics();
+  Eigen::Matrix2Xd out(2, model_.size());
+  for (int i = 0; i < model_.size(); ++i) {
+    const Eigen::Index c = model_.landmark_ids()[static_cast<std::size_t>(i)];
+    const Eigen::Vector2d n = camera_.undistort({(lm(0, c) - k.cx) / k.fx, (lm(1, c) - k.cy) / k.fy});
+    out.col(i) << k.fx * n.x() + k.cx, k.fy * n.y() + k.cy;
+  }
+  return out;
+}
+
+double FacePoseEstimator::interocular_px(const Eigen::Matrix2Xd& lm) const {
+  const Eigen::Vector2d right = lm.middleCols(36, 6).rowwise().mean();
+  const Eigen::Vector2d left = lm.middleCols(42, 6).rowwise().mean();
+  return (left - right).norm();
+}
+
+void FacePoseEstimator::remember_box_relation(const cv::Rect2d& box, const Eigen::Matrix2Xd& lm, double distance_m) {
+  const auto [c, spread] = centroid_and_spread(lm);
+  const cv::Point2d bc = centre(box);
+  const double side = std::sqrt(box.width * box.height);
+  box_offset_ = Eigen::Vector2d(bc.x - c.x(), bc.y - c.y()) / side;
+  box_side_m_ = side * distance_m / camera_.intrinsics().fx;
+}
+
+cv::Rect2d FacePoseEstimator::box_from_landmarks(const Eigen::Matrix2Xd& lm) const {
+  const auto [c, spread] = centroid_and_spread(lm);
+  const double side = last_pose_ ? box_side_m_ * camera_.intrinsics().fx / last_pose_->translation().z() : 2.6 * spread;
+  const Eigen::Vector2d bc = c + box_offset_ * side;
+  return {bc.x() - side / 2, bc.y() - side / 2, side, side};
+}
+
+std::vector<FaceBox> FacePoseEstimator::find_faces(const cv::Mat& gray) {
+  for (double scale : {1.0, 2.0}) {
+    auto boxes = detector_.detect_full(gray, scale);
+    if (!boxes.empty()) return boxes;
+  }
+  return {};
+}
+
+Eigen::Matrix2Xd FacePoseEstimator::landmarks_in(const cv::Mat& gray, const cv::Rect2d& box) {
+  Eigen::Matrix2Xd lm;
+  landmark_detector_.detect(gray, box, lm);
+  return lm;
+}
+
+std::optional<FacePoseEstimator::Candidate> FacePoseEstimator::select_among(const cv::Mat& gray,
+                                                                             const std::vector<FaceBox>& boxes,
+                                                                             FaceResult& result) {
+  if (boxes.size() == 1) return Candidate{boxes.front().box, true};
+  if (last_box_) {
+    const cv::Point2d last = centre(*last_box_);
+    const auto nearest = std::min_element(boxes.begin(), boxes.end(), [&](const FaceBox& a, const FaceBox& b) {
+      return cv::norm(centre(a.box) - last) < cv::norm(centre(b.box) - last);
+    });
+    if (cv::norm(centre(nearest->box) - last) < 1.5 * std::max(last_box_->width, last_box_->height)) {
+      return Candidate{nearest->box, true};
+    }
+  }
+  if (person_registered_) {
+    // The registered teacher: the face whose landmarks fit their shape clearly best.
+    double best = std::numeric_limits<double>::infinity(), second = best;
+    std::optional<cv::Rect2d> best_box;
+    for (const auto& b : boxes) {
+      const Eigen::Matrix2Xd lm = landmarks_in(gray, b.box);
+      const PnpProblem problem{points_face_, ideal_pixels(lm), ideal_camera()};
+      auto init = solve_epnp(problem);
+      auto refined = init ? refine_lm(problem, init->T_cam_face, config_.solver.lm) : std::nullopt;
+      const double score = refined ? refined->rms_px / std::max(interocular_px(lm), 1.0) : best;
+      if (score < best) {
+        second = best;
+        best = score;
+        best_box = b.box;
+      } else {
+        second = std::min(second, score);
+      }
+    }
+    if (best_box && best < config_.limits.max_rms_per_interocular && best < 0.8 * second) {
+      return Candidate{*best_box, true};
+    }
+  }
+  result.reason = FaceLostReason::SeveralFaces;
+  return std::nullopt;
+}
+
+std::optional<FacePoseEstimator::Candidate> FacePoseEstimator::choose_box(const cv::Mat& gray, FaceResult& result) {
+  result.faces_found = -1;
+  const bool landmark_box_ready = config_.box_from_landmarks && last_landmarks_.has_value();
+  if (landmark_box_ready && frames_since_detection_ + 1 < config_.redetect_every_n_frames) {
+    ++frames_since_detection_;
+    Eigen::Matrix2Xd predicted = *last_landmarks_;
+    if (landmark_velocity_px_) predicted.colwise() += *landmark_velocity_px_;
+    return Candidate{box_from_landmarks(predicted), false};
+  }
+  std::vector<FaceBox> boxes;
+  if (last_box_) boxes = detector_.detect_around(gray, *last_box_);
+  if (boxes.empty() && landmark_box_ready) {
+    // The detector misses turned faces the landmarks still follow: keep tracking from the landmarks
+    // for a while, but a face the detector keeps missing is lost (the landmark detector always
+    // returns a face-like shape, even on a wall).
+    result.faces_found = 0;
+    if (++detector_misses_ > config_.limits.max_detector_misses) {
+      detector_misses_ = 0;
+      result.reason = FaceLostReason::NotConfirmed;
+      return std::nullopt;
+    }
+    frames_since_detection_ = 0;
+    return Candidate{box_from_landmarks(*last_landmarks_), false};
+  }
+  if (!boxes.empty()) detector_misses_ = 0;
+  if (boxes.empty()) {
+    const auto& scales = config_.lost_search_scales;
+    boxes = detector_.detect_full(gray, scales[lost_search_cycle_++ % scales.size()]);
+  }
+  result.faces_found = static_cast<int>(boxes.size());
+  if (boxes.empty()) {
+    result.reason = FaceLostReason::NoFace;
+    return std::nullopt;
+  }
+  frames_since_detection_ = 0;
+  return select_among(gray, boxes, result);
+}
+
+FaceResult FacePoseEstimator::lose(FaceResult result, FaceLostReason reason) {
+  result.state = FaceState::Lost;
+  result.reason = reason;
+  result.T_cam_face = Eigen::Isometry3d::Identity();
+  result.quality = 0;
+  last_landmarks_.reset();
+  landmark_velocity_px_.reset();
+  last_pose_.reset();
+  solver_.reset();
+  // Keep searching around the last box for a few frames before going back to full-frame searches.
+  if (++lost_frames_ > 5) last_box_.reset();
+  return result;
+}
+
+FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
+  FaceResult result;
+  result.t = t;
+  if (gray.empty() || gray.type() != CV_8UC1 || gray.cols != camera_.width() || gray.rows != camera_.height()) {
+    return lose(result, FaceLostReason::BadImage);
+  }
+  auto start = std::chrono::steady_clock::now();
+  const auto candidate = choose_box(gray, result);
+  result.timings.detect_ms = ms_since(start);
+  if (!candidate) return lose(result, result.reason);
+
+  start = std::chrono::steady_clock::now();
+  Eigen::Matrix2Xd lm;
+  landmark_detector_.detect(gray, candidate->box, lm);
+  result.timings.landmarks_ms = ms_since(start);
+  result.landmarks = lm;
+  result.box = candidate->box;
+
+  const auto& L = config_.limits;
+  for (int id : model_.landmark_ids()) {
+    if (!camera_.in_image(lm.col(id), L.border_margin_px)) return lose(result, FaceLostReason::CutByBorder);
+  }
+  const double iod = interocular_px(lm);
+  if (iod < L.min_interocular_px) return lose(result, FaceLostReason::TooSmall);
+
+  start = std::chrono::steady_clock::now();
+  problem_.points_face = points_face_;
+  problem_.pixels = ideal_pixels(lm);
+  const auto estimate = solver_.solve(problem_, std::max(iod / 60.0, 0.5));
+  result.timings.pose_ms = ms_since(start);
+  if (!estimate) return lose(result, FaceLostReason::NoPose);
+
+  const PnpSolution& s = estimate->solution;
+  result.reprojection_rms_px = reprojection_rms(problem_, s.T_cam_face);
+  const double rms_ratio = result.reprojection_rms_px / iod;
+  if (rms_ratio > L.max_rms_per_interocular) return lose(result, FaceLostReason::InconsistentLandmarks);
+  result.angles = head_angles(s.T_cam_face.linear());
+  if (std::abs(result.angles.yaw) > L.max_yaw_rad || std::abs(result.angles.pitch) > L.max_pitch_rad) {
+    return lose(result, FaceLostReason::BeyondProfile);
+  }
+  const double distance = s.T_cam_face.translation().norm();
+  if (distance < L.min_distance_m || distance > L.max_distance_m) return lose(result, FaceLostReason::ImplausibleDistance);
+
+  const double spread = centroid_and_spread(lm).second;
+  if (last_pose_ && last_landmarks_) {
+    const double jump = (s.T_cam_face.translation() - last_pose_->translation()).norm();
+    const double turn = Eigen::AngleAxisd(s.T_cam_face.linear() * last_pose_->linear().transpose()).angle();
+    const double scale = std::abs(spread / last_spread_px_ - 1.0);
+    if (jump > L.max_jump_m || turn > L.max_turn_rad || scale > L.max_scale_change) {
+      return lose(result, FaceLostReason::ImplausibleMotion);
+    }
+  }
+
+  result.state = FaceState::Tracking;
+  result.reason = FaceLostReason::None;
+  result.T_cam_face = s.T_cam_face;
+  result.line_of_sight_cam = line_of_sight(s.T_cam_face.linear());
+  result.quality = std::clamp(1.0 - rms_ratio / L.max_rms_per_interocular, 0.0, 1.0);
+  result.reinitialised = estimate->reinitialised;
+
+  if (candidate->from_detector) remember_box_relation(candidate->box, lm, s.T_cam_face.translation().z());
+  if (last_landmarks_) {
+    landmark_velocity_px_ = (lm.middleCols(17, 43) - last_landmarks_->middleCols(17, 43)).rowwise().mean();
+  }
+  last_landmarks_ = lm;
+  last_pose_ = s.T_cam_face;
+  last_spread_px_ = spread;
+  last_box_ = candidate->box;
+  lost_frames_ = 0;
+  return result;
+}
+
+}  // namespace labo::face

@@ -1,0 +1,130 @@
+#pragma once
+// The teacher-mode face pipeline of the paper's §5 (Fig. 4): detect the face (around the last one
+// first), 68 landmarks, the rigid subset against the person's CANDIDE-3 shape, PnP with the selected
+// method. Bad input never yields a wild pose: the result is "lost" with its reason.
+#include <Eigen/Geometry>
+#include <optional>
+#include <opencv2/core.hpp>
+#include <string>
+#include <string_view>
+
+#include "core/camera_model.hpp"
+#include "core/time.hpp"
+#include "localization/face/face_config.hpp"
+#include "localization/face/face_detector.hpp"
+#include "localization/face/face_geometry.hpp"
+#include "localization/face/face_landmark_model.hpp"
+#include "localization/face/face_pose_solver.hpp"
+#include "localization/face/landmark_detector.hpp"
+#include "localization/face/person_shape.hpp"
+
+namespace labo::face {
+
+enum class FaceState { Tracking, Lost };
+enum class FaceLostReason {
+  None,
+  BadImage,             // empty, wrong type or size
+  NoFace,               // the detector found none
+  SeveralFaces,         // several, none of them the teacher or near the last track
+  CutByBorder,          // landmarks at or beyond the image border
+  TooSmall,             // interocular distance below the limit
+  BeyondProfile,        // yaw or pitch beyond the limits
+  InconsistentLandmarks,// the landmarks do not fit the face model
+  NoPose,               // the PnP method found no pose in front of the camera
+  ImplausibleDistance,  // outside [min, max] distance
+  ImplausibleMotion,    // the face jumped or changed size between frames: the landmarks slid off it
+  NotConfirmed,         // the detector no longer finds the face the landmarks follow
+};
+std::string_view to_string(FaceState state);
+std::string_view to_string(FaceLostReason reason);
+
+struct FaceTimings {
+  double detect_ms = 0, landmarks_ms = 0, pose_ms = 0;
+  double total_ms() const { return detect_ms + landmarks_ms + pose_ms; }
+};
+
+struct FaceResult {
+  Seconds t = 0;
+  FaceState state = FaceState::Lost;
+  FaceLostReason reason = FaceLostReason::NoFace;
+  Eigen::Isometry3d T_cam_face = Eigen::Isometry3d::Identity();  // valid when tracking
+  HeadAngles angles;                                             // of T_cam_face
+  Eigen::Vector3d line_of_sight_cam = Eigen::Vector3d(0, 0, -1); // the face's +z in the camera
+  Eigen::Matrix2Xd landmarks;         // 68 image pixels as detected (empty when no face was found)
+  cv::Rect2d box;                     // the box the landmarks were run on
+  double quality = 0;                 // 1 perfect fit, 0 at the consistency limit
+  double reprojection_rms_px = 0;     // rigid landmarks, undistorted pixels
+  int faces_found = 0;                // by the detector this frame (-1 when it did not run)
+  bool reinitialised = false;         // LM tracking fell back to EPnP
+  FaceTimings timings;
+
+  bool tracking() const { return state == FaceState::Tracking; }
+};
+
+class FacePoseEstimator {
+ public:
+  // Loads the shape predictor, CANDIDE-3 and the mapping from `config` (throws std::runtime_error
+  // naming the file on failure), and the registered teacher's shape when `config.teacher` is set.
+  FacePoseEstimator(const FaceConfig& config, const PinholeCamera& camera);
+  // For callers that already hold the landmark model (benchmarks, tests).
+  FacePoseEstimator(const FaceConfig& config, const PinholeCamera& camera, FaceLandmarkModel model);
+
+  // One grey frame (the camera's size) stamped `t`.
+  FaceResult process(const cv::Mat& gray, Seconds t);
+  // Forget the track (e.g. the drone turned away on purpose).
+  void reset();
+
+  // The person whose shape is used; `registered` marks them as the teacher to follow among several.
+  void set_person(const PersonShape& person, bool registered);
+  const PersonShape& person() const { return person_; }
+  const FaceLandmarkModel& model() const { return model_; }
+  const FaceConfig& config() const { return config_; }
+  PnpMethod method() const { return solver_.method(); }
+  // Undistorted pixels of the model's landmarks from 68 image landmarks.
+  Eigen::Matrix2Xd ideal_pixels(const Eigen::Matrix2Xd& landmarks68) const;
+  IdealPinhole ideal_camera() const;
+
+  // The faces' boxes in a whole picture (registration, tests): the full-frame search at every scale.
+  std::vector<FaceBox> find_faces(const cv::Mat& gray);
+  Eigen::Matrix2Xd landmarks_in(const cv::Mat& gray, const cv::Rect2d& box);
+
+ private:
+  struct Candidate {
+    cv::Rect2d box;
+    bool from_detector = false;
+  };
+  std::optional<Candidate> choose_box(const cv::Mat& gray, FaceResult& result);
+  std::optional<Candidate> select_among(const cv::Mat& gray, const std::vector<FaceBox>& boxes, FaceResult& result);
+  FaceResult lose(FaceResult result, FaceLostReason reason);
+  void remember_box_relation(const cv::Rect2d& box, const Eigen::Matrix2Xd& landmarks, double distance_m);
+  cv::Rect2d box_from_landmarks(const Eigen::Matrix2Xd& landmarks) const;
+  double interocular_px(const Eigen::Matrix2Xd& landmarks68) const;
+
+  FaceConfig config_;
+  PinholeCamera camera_;
+  FaceLandmarkModel model_;
+  FaceDetector detector_;
+  LandmarkDetector landmark_detector_;
+  FacePoseSolver solver_;
+  PersonShape person_;
+  bool person_registered_ = false;
+  Eigen::Matrix3Xd points_face_;  // the person's rigid landmarks, metres
+
+  // Track state.
+  std::optional<Eigen::Matrix2Xd> last_landmarks_;
+  std::optional<Eigen::Vector2d> landmark_velocity_px_;
+  std::optional<cv::Rect2d> last_box_;
+  int frames_since_detection_ = 0;
+  int lost_frames_ = 0;
+  std::size_t lost_search_cycle_ = 0;
+  // The detector's box relative to its landmarks: centre offset (in box sides) and its metric size
+  // (side x distance / fx, which does not change when the head turns, unlike the landmarks' spread).
+  Eigen::Vector2d box_offset_ = Eigen::Vector2d(0, 0.1);
+  double box_side_m_ = 0.2;
+  std::optional<Eigen::Isometry3d> last_pose_;
+  double last_spread_px_ = 0;
+  int detector_misses_ = 0;
+  PnpProblem problem_;  // reused buffers
+};
+
+}  // namespace labo::face

@@ -1,0 +1,30 @@
+#pragma once
+// dlib's 68-point ensemble-of-regression-trees shape predictor (Kazemi & Sullivan), trained on iBUG
+// 300-W with HOG-detector boxes. dlib stays out of this header.
+#include <Eigen/Core>
+#include <filesystem>
+#include <memory>
+#include <opencv2/core.hpp>
+
+namespace labo::face {
+
+class LandmarkDetector {
+ public:
+  // Throws std::runtime_error naming the file when it is missing or not a dlib shape predictor, or
+  // when the predictor does not give 68 points.
+  explicit LandmarkDetector(const std::filesystem::path& shape_predictor_file);
+  ~LandmarkDetector();
+  LandmarkDetector(LandmarkDetector&&) noexcept;
+  LandmarkDetector& operator=(LandmarkDetector&&) noexcept;
+
+  // The 68 landmarks (2 x 68, full-frame pixels, distorted as in the image) for a face box.
+  void detect(const cv::Mat& gray, const cv::Rect2d& box, Eigen::Matrix2Xd& landmarks);
+
+  static std::filesystem::path default_path() { return "/usr/share/dlib/shape_predictor_68_face_landmarks.dat"; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace labo::face

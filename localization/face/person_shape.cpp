@@ -1,0 +1,71 @@
+#include "localization/face/person_shape.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+namespace labo::face {
+
+void validate_person_name(const std::string& name) {
+  const bool ok_chars = std::all_of(name.begin(), name.end(), [](char ch) {
+    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-';
+  });
+  if (name.empty() || name.size() > 64 || !ok_chars) {
+    throw std::invalid_argument("person name '" + name + "': expected 1-64 characters of A-Z a-z 0-9 _ -");
+  }
+}
+
+std::filesystem::path person_shape_path(const std::filesystem::path& people_dir, const std::string& name) {
+  validate_person_name(name);
+  return people_dir / (name + ".json");
+}
+
+void save_person_shape(const PersonShape& person, const std::filesystem::path& file) {
+  validate_person_name(person.name);
+  nlohmann::json j;
+  j["name"] = person.name;
+  j["interpupillary_distance_mm"] = person.interpupillary_distance_m * 1000.0;
+  j["shape_params"] = std::vector<double>(person.shape_params.data(), person.shape_params.data() + person.shape_params.size());
+  j["fit_rms_px"] = person.fit_rms_px;
+  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
+  std::ofstream out(file);
+  if (!out) throw std::runtime_error(file.string() + ": cannot write the person's face shape");
+  out << j.dump(2) << "\n";
+}
+
+PersonShape load_person_shape(const std::filesystem::path& file, int shape_unit_count) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + ": cannot read the person's face shape");
+  const auto fail = [&](const std::string& what) -> void { throw std::runtime_error(file.string() + ": " + what); };
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    fail(std::string("invalid JSON: ") + e.what());
+  }
+  PersonShape p;
+  try {
+    p.name = j.at("name").get<std::string>();
+    validate_person_name(p.name);
+    const double ipd_mm = j.at("interpupillary_distance_mm").get<double>();
+    if (!(ipd_mm >= 40 && ipd_mm <= 90)) fail("interpupillary_distance_mm " + std::to_string(ipd_mm) + ": expected 40-90");
+    p.interpupillary_distance_m = ipd_mm / 1000.0;
+    const auto params = j.at("shape_params").get<std::vector<double>>();
+    if (static_cast<int>(params.size()) != shape_unit_count) {
+      fail("shape_params has " + std::to_string(params.size()) + " values, expected " + std::to_string(shape_unit_count));
+    }
+    p.shape_params = Eigen::Map<const Eigen::VectorXd>(params.data(), static_cast<Eigen::Index>(params.size()));
+    if (!p.shape_params.allFinite() || p.shape_params.cwiseAbs().maxCoeff() > 1.0 + 1e-9) {
+      fail("shape_params: expected finite values in [-1, 1]");
+    }
+    p.fit_rms_px = j.value("fit_rms_px", 0.0);
+  } catch (const nlohmann::json::exception& e) {
+    fail(std::string("expected keys name, interpupillary_distance_mm, shape_params: ") + e.what());
+  }
+  return p;
+}
+
+}  // namespace labo::face

@@ -1,0 +1,48 @@
+#pragma once
+// Renders the CANDIDE-3 head textured with a photograph, for the face benchmark and tests: the
+// photograph's face is located with the same detector and landmarks the estimator uses, CANDIDE-3 is
+// fitted to it (shape and pose), and every vertex takes the photograph's pixel under it as texture
+// coordinate. The head is then drawn at any pose through the real camera model, distortion included.
+// (The simulated lab owns the lab-wide renderer; this one exists so the benchmark has a known
+// ground truth without the rest of the lab.)
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "core/camera_model.hpp"
+#include "core/candide3.hpp"
+#include "localization/face/face_pose_estimator.hpp"
+
+namespace labo::face {
+
+struct TexturedHead {
+  cv::Mat texture;                 // 8-bit grey photograph
+  Eigen::Matrix2Xd uv;             // texture pixel of each CANDIDE-3 vertex
+  Eigen::VectorXd shape_params;    // fitted to the photograph
+  double interpupillary_distance_m = 0.063;
+};
+
+// Uses the most confident face; throws std::runtime_error when the photograph has none.
+TexturedHead texture_head_from_photo(FacePoseEstimator& estimator, const Candide3Model& candide,
+                                     const cv::Mat& photo_gray, double interpupillary_distance_m);
+
+class TexturedHeadRenderer {
+ public:
+  TexturedHeadRenderer(const Candide3Model& candide, TexturedHead head, const PinholeCamera& camera);
+
+  // Draws the head at T_cam_face (face frame as in face_landmark_model.hpp, metres) over `image`
+  // (8-bit grey, the camera's size), through the camera's distortion.
+  void render(const Eigen::Isometry3d& T_cam_face, cv::Mat& image);
+  const TexturedHead& head() const { return head_; }
+  // Face-frame vertices in metres (the shape and scale the head is drawn with).
+  const std::vector<Eigen::Vector3d>& vertices_m() const { return vertices_m_; }
+
+ private:
+  std::vector<std::array<int, 3>> triangles_;
+  TexturedHead head_;
+  PinholeCamera camera_;
+  std::vector<Eigen::Vector3d> vertices_m_;
+  cv::Mat ideal_, map_x_, map_y_, warped_, mask_;
+};
+
+}  // namespace labo::face
