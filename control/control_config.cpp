@@ -50,6 +50,7 @@ MissionParameters read_mission(const ConfigReader& node, MissionParameters m) {
   m.scale_manoeuvre_speed_mps =
       node.number_or("scale_manoeuvre_speed_mps", m.scale_manoeuvre_speed_mps, Range::closed(0.05, 1.0));
   m.detect_timeout_s = node.number_or("detect_timeout_s", m.detect_timeout_s, Range::positive());
+  m.hold_tolerance_m = node.number_or("hold_tolerance_m", m.hold_tolerance_m, Range::closed(0.01, 0.5));
   m.default_hold_s = node.number_or("default_hold_s", m.default_hold_s, Range::non_negative());
   m.max_hold_s = node.number_or("max_hold_s", m.max_hold_s, Range::positive());
   m.face_search_yaw_rate = node.number_or("face_search_yaw_rate", m.face_search_yaw_rate, Range::closed(0.05, 2.0));

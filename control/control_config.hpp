@@ -44,6 +44,7 @@ struct MissionParameters {
   double scale_manoeuvre_m = 0.5;      // stage 1: up/down amplitude for the scale estimation
   double scale_manoeuvre_speed_mps = 0.25;
   double detect_timeout_s = 15.0;      // stage 2 / re-detection: give up and go home after this
+  double hold_tolerance_m = 0.04;      // inspect: hold time counts only this close to the standoff pose
   double default_hold_s = 10.0;        // inspect hold time when the request gives none
   double max_hold_s = 600.0;
   double face_search_yaw_rate = 0.4;   // rad/s during the yaw sweep

@@ -154,7 +154,7 @@ void InspectMission::step_inspect(MissionContext& ctx) {
       fresh_ = false;
       if (lost) {
         enter(Step::Redetect, ctx.t);
-      } else if (seen && ctx.autopilot.distance_to_target() < ctx.config.autopilot.stay_distance_m) {
+      } else if (seen && ctx.autopilot.distance_to_target() < ctx.config.mission.hold_tolerance_m) {
         held_s_ += dt;  // only time with the panel in view and the drone in place counts
         if (held_s_ >= hold_s_) {
           home_.start(ctx.t);
