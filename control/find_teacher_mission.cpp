@@ -56,7 +56,7 @@ std::vector<Eigen::Vector3d> FindTeacherMission::viewpoints(const MissionContext
 void FindTeacherMission::follow(MissionContext& ctx) {
   const TargetObservation f = ctx.perception.face();
   const Eigen::Isometry3d T_world_face = world_pose_of(f, ctx.pose, CameraId::Front);
-  const PoseTarget wanted = standoff_target(T_world_face, ctx.config.mission.face_distance_m);
+  const PoseTarget wanted = standoff_target(T_world_face, ctx.config.mission.face_distance_m, ctx.centre_ray_front);
   // Follow a smoothed set point (no integral reset while the teacher walks).
   PoseTarget next = wanted;
   if (const auto& cur = ctx.autopilot.target(); cur && !fresh_) {

@@ -3,7 +3,7 @@
 #include <stdexcept>
 
 #include "control/autopilot.hpp"
-#include "control/dead_reckoning_pipelines.hpp"
+#include "control/lab_pipelines.hpp"
 #include "control/find_teacher_mission.hpp"
 #include "control/inspect_mission.hpp"
 #include "control/localization_switch.hpp"
@@ -137,7 +137,9 @@ struct FlightStack::Impl {
 
     FlightOutput out;
     if (mission) {
-      MissionContext ctx{t, pose, *pipelines, autopilot, setup.lab, setup.control, focus, camera, std::nullopt};
+      const CameraIntrinsics& k = setup.cameras.front;
+      MissionContext ctx{t, pose, *pipelines, autopilot, setup.lab, setup.control, focus, camera,
+                         image_centre_ray(k.fx, k.fy, k.cx, k.cy, k.width, k.height), std::nullopt};
       const MissionOutcome outcome = mission->step(ctx);
       if (outcome != MissionOutcome::Running) {
         const std::string verdict = outcome == MissionOutcome::Succeeded ? "succeeded: " : "failed: ";
@@ -221,7 +223,7 @@ struct FlightStack::Impl {
 };
 
 FlightStack::FlightStack(FlightStackSetup setup)
-    : FlightStack(std::move(setup), std::make_unique<DeadReckoningPipelines>()) {}
+    : FlightStack(setup, std::make_unique<LabPipelines>(setup.lab, setup.estimation, setup.vision)) {}
 
 FlightStack::FlightStack(FlightStackSetup setup, std::unique_ptr<LocalizationPipelines> pipelines)
     : impl_(std::make_unique<Impl>(std::move(setup), std::move(pipelines))) {}

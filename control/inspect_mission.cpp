@@ -135,7 +135,7 @@ void InspectMission::step_detect(MissionContext& ctx) {
 void InspectMission::step_inspect(MissionContext& ctx) {
   ctx.focus.instrument_id = instrument_.id;
   ctx.camera = CameraId::Front;
-  const PoseTarget standoff = standoff_target(T_world_instrument_, standoff_m_);
+  const PoseTarget standoff = standoff_target(T_world_instrument_, standoff_m_, ctx.centre_ray_front);
   const double dt = last_t_ < 0 ? 0 : ctx.t - last_t_;
   const bool seen = instrument_seen(ctx);
   if (seen) lost_since_ = -1;
@@ -165,7 +165,7 @@ void InspectMission::step_inspect(MissionContext& ctx) {
     case Step::Redetect: {
       if (fresh_) {
         // Hold where we are, backed off along the line of sight: a wider view, no blind push forward.
-        const PoseTarget back = standoff_target(T_world_instrument_, standoff_m_ + kRedetectBackoffM);
+        const PoseTarget back = standoff_target(T_world_instrument_, standoff_m_ + kRedetectBackoffM, ctx.centre_ray_front);
         ctx.autopilot.go_to(back, ctx.t);
         fresh_ = false;
       }

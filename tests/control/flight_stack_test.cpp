@@ -47,7 +47,10 @@ TEST_CASE("control: inspect runs stages 1-6 in order and ends on the platform") 
       const Eigen::Isometry3d T_cam_obj =
           (f.world->drone.pose() * T_body_cam_front()).inverse() * f.lab.instruments[0].T_world_object;
       standoff_error = std::abs(T_cam_obj.translation().z() - 0.80);
-      centre_offset = std::hypot(T_cam_obj.translation().x(), T_cam_obj.translation().y()) / T_cam_obj.translation().z();
+      const CameraIntrinsics k = PinholeCamera::ardrone2_front().intrinsics();
+      const Eigen::Vector3d c = T_cam_obj.translation();
+      const double u = k.fx * c.x() / c.z() + k.cx, v = k.fy * c.y() / c.z() + k.cy;
+      centre_offset = std::hypot(u - 0.5 * k.width, v - 0.5 * k.height) / k.width;
     }
     return s.mission == "idle";
   }, 120.0);
@@ -237,7 +240,8 @@ TEST_CASE("control: find teacher searches, follows the face and stops on request
     return ((f.world->drone.pose() * T_body_cam_front()).inverse() * f.world->T_world_face).translation();
   };
   CHECK(std::abs(face_in_cam().z() - 1.0) < 0.1);
-  CHECK(std::abs(face_in_cam().x() / face_in_cam().z()) < 0.1);
+  const CameraIntrinsics k = PinholeCamera::ardrone2_front().intrinsics();
+  CHECK(std::abs(k.fx * face_in_cam().x() / face_in_cam().z() + k.cx - 0.5 * k.width) < 0.1 * k.width);
   // The teacher walks at 0.5 m/s along y for 2 s: the drone follows.
   double worst = 0;
   for (int i = 0; i < 60; ++i) {

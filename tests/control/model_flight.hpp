@@ -6,12 +6,12 @@
 #include <memory>
 
 #include "control/flight_stack.hpp"
-#include "tests/control/ardrone_model.hpp"
+#include "control/experiments/quadrotor_model.hpp"
 
 namespace labo::test {
 
 struct ModelWorld {
-  ArdroneModel drone;
+  QuadrotorModel drone;
   bool instrument_visible = true;
   bool platform_visible = true;
   bool face_visible = true;

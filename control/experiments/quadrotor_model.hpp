@@ -1,5 +1,5 @@
 #pragma once
-// A small closed-loop model of the AR.Drone 2.0 for control tests (not the simulated lab): attitude
+// A small closed-loop model of the AR.Drone 2.0 (not the simulated lab of drone/sim/): attitude
 // follows the PCMD tilt with a first-order lag, horizontal acceleration g*tan(tilt) against linear
 // drag, vertical speed and yaw rate follow gaz and yaw_rate with lags, firmware take-off/landing and
 // hover (brakes to zero velocity). Navdata like the real drone: body velocities, ultrasound height,
@@ -10,9 +10,9 @@
 #include "core/frames.hpp"
 #include "drone/drone_link.hpp"
 
-namespace labo::test {
+namespace labo {
 
-class ArdroneModel {
+class QuadrotorModel {
  public:
   static constexpr double kMaxTilt = 0.21;      // rad (12 deg, euler_angle_max)
   static constexpr double kMaxVz = 0.7;         // m/s
@@ -32,6 +32,11 @@ class ArdroneModel {
   }
   void land() {
     if (control_state != 2) { control_state = 8; }
+  }
+  // An external push (the paper's impulses): a velocity change in m/s, and a yaw displacement in rad.
+  void push(const Eigen::Vector3d& dv, double dyaw) {
+    v += dv;
+    yaw = wrap_angle(yaw + dyaw);
   }
   void emergency() { control_state = 2; v.setZero(); p.z() = 0; cmd_ = {}; }
   void move(const MoveCommand& c) { cmd_ = c; hover_ = false; }
@@ -111,4 +116,4 @@ class ArdroneModel {
   double phase_t_ = 0;
 };
 
-}  // namespace labo::test
+}  // namespace labo
