@@ -52,6 +52,7 @@ class LabPipelines final : public LocalizationPipelines {
   SlamSummary slam() const override;
 
   const StateEstimator& estimator() const { return estimator_; }
+  const PerceptionFocus& focus() const { return focus_; }
 
  private:
   int instrument_index(const std::string& id) const;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "control/experiments/sim_commands.hpp"
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
 #include "server/serve_command.hpp"
@@ -20,6 +21,9 @@ struct Subcommand {
 std::vector<Subcommand> subcommands() {
   return {
       {labo::serve_command_spec(), labo::run_serve_command},
+      {labo::sim_inspect_command_spec(), labo::run_sim_inspect_command},
+      {labo::sim_perturb_command_spec(), labo::run_sim_perturb_command},
+      {labo::sim_face_follow_command_spec(), labo::run_sim_face_follow_command},
   };
 }
 

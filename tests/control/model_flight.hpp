@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "control/flight_stack.hpp"
+#include "control/experiments/model_lab.hpp"
 #include "control/experiments/quadrotor_model.hpp"
 
 namespace labo::test {
@@ -18,14 +19,6 @@ struct ModelWorld {
   bool slam_available = true;
   double airborne_since = -1;
   Eigen::Isometry3d T_world_face = facing_base({2.5, -0.5, 1.6});  // z into the head, looking at the base
-
-  // A pose whose z axis points along +x (away from a viewer at the base), x = -world y, y down.
-  static Eigen::Isometry3d facing_base(const Eigen::Vector3d& at) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-    T.translation() = at;
-    return T;
-  }
 };
 
 inline bool in_front_view(const Eigen::Isometry3d& T_cam_target, double max_range) {
@@ -114,25 +107,6 @@ class ModelPipelines final : public LocalizationPipelines {
   PerceptionFocus focus_;
   Seconds t_ = 0;
 };
-
-inline LabGeometry model_lab() {
-  LabGeometry lab;
-  lab.room_min = {-1.0, -3.0, 0.0};
-  lab.room_max = {5.0, 3.0, 2.6};
-  lab.base = {0, 0, 0};
-  PlanarTarget osc;
-  osc.id = "oscilloscope";
-  osc.name = "Oscilloscope";
-  // Panel on a bench at x = 3.5 m facing the base: its z (into the panel) points along +x.
-  osc.T_world_object = ModelWorld::facing_base({3.5, 0.3, 1.0});
-  osc.width_m = 0.4;
-  osc.height_m = 0.25;
-  lab.instruments.push_back(osc);
-  lab.platform.id = "platform";
-  lab.platform.T_world_object = make_pose({0, 0, 0}, 0);
-  lab.platform.T_world_object.linear() = Eigen::Vector3d(1, -1, -1).asDiagonal();  // z down into the platform
-  return lab;
-}
 
 class ModelFlight {
  public:
