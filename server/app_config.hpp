@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <string>
 
+#include "control/control_config.hpp"
 #include "core/camera_config.hpp"
 #include "core/log.hpp"
 #include "localization/estimation/estimation_config.hpp"
@@ -24,6 +25,7 @@ struct AppConfig {
   CamerasConfig cameras;
   VisionThresholds vision;
   EstimatorConfig estimation;
+  ControlConfig control;
   ServerSettings server;
   std::filesystem::path lab_file;  // the simulated lab's description
   face::FaceConfig face;

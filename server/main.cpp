@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "control/experiments/sim_commands.hpp"
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
 #include "drone/ardrone2/inspect_commands.hpp"
@@ -31,6 +32,9 @@ std::vector<Subcommand> subcommands() {
       {labo::bench_slam_command_spec(), labo::run_bench_slam_command},
       {labo::face_bench_command_spec(), labo::run_face_bench_command},
       {labo::face_register_command_spec(), labo::run_face_register_command},
+      {labo::sim_inspect_command_spec(), labo::run_sim_inspect_command},
+      {labo::sim_perturb_command_spec(), labo::run_sim_perturb_command},
+      {labo::sim_face_follow_command_spec(), labo::run_sim_face_follow_command},
   };
 }
 
