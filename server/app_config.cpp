@@ -19,15 +19,7 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
                                    : CamerasConfig{PinholeCamera::ardrone2_front().intrinsics(),
                                                    PinholeCamera::ardrone2_bottom().intrinsics()};
   c.vision = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
-  if (root.has("server")) {
-    const ConfigReader s = root.object("server");
-    c.server.bind_address = s.string_or("bind", c.server.bind_address);
-    c.server.port = s.integer_or("port", c.server.port, 1, 65535);
-    c.server.web_root = resolve(base_dir, s.string_or("web_root", "../web"));
-    s.finish();
-  } else {
-    c.server.web_root = resolve(base_dir, "../web");
-  }
+  c.server = root.has("server") ? read_server_settings(root.object("server"), base_dir) : default_server_settings(base_dir);
   c.lab_file = resolve(base_dir, root.string_or("lab", "lab.json"));
   root.finish();
   return c;
