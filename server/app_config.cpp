@@ -18,6 +18,7 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
   c.cameras = root.has("cameras") ? read_cameras_config(root.object("cameras"))
                                    : CamerasConfig{PinholeCamera::ardrone2_front().intrinsics(),
                                                    PinholeCamera::ardrone2_bottom().intrinsics()};
+  c.control = root.has("control") ? read_control_config(root.object("control")) : ControlConfig{};
   c.vision = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
   c.server = root.has("server") ? read_server_settings(root.object("server"), base_dir) : default_server_settings(base_dir);
   c.lab_file = resolve(base_dir, root.string_or("lab", "lab.json"));

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <string>
 
+#include "control/control_config.hpp"
 #include "core/camera_config.hpp"
 #include "core/log.hpp"
 #include "localization/vision_thresholds.hpp"
@@ -16,6 +17,7 @@ struct AppConfig {
   LogLevel log_level = LogLevel::Info;
   CamerasConfig cameras;
   VisionThresholds vision;
+  ControlConfig control;
   ServerSettings server;
   std::filesystem::path lab_file;  // the simulated lab's description
 };
