@@ -31,6 +31,7 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
     c.server.web_root = resolve(base_dir, "../web");
   }
   c.face = root.has("face") ? face::read_face_config(root.object("face"), base_dir) : face::default_face_config();
+  c.server = root.has("server") ? read_server_settings(root.object("server"), base_dir) : default_server_settings(base_dir);
   c.lab_file = resolve(base_dir, root.string_or("lab", "lab.json"));
   root.finish();
   return c;

@@ -10,14 +10,9 @@
 #include "localization/estimation/estimation_config.hpp"
 #include "localization/face/face_config.hpp"
 #include "localization/vision_thresholds.hpp"
+#include "server/server_settings.hpp"
 
 namespace labo {
-
-struct ServerSettings {
-  std::string bind_address = "127.0.0.1";
-  int port = 8080;
-  std::filesystem::path web_root;  // resolved against the config file's folder
-};
 
 struct AppConfig {
   std::filesystem::path source;
