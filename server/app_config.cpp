@@ -19,6 +19,8 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
                                    : CamerasConfig{PinholeCamera::ardrone2_front().intrinsics(),
                                                    PinholeCamera::ardrone2_bottom().intrinsics()};
   c.vision = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
+  c.link = root.has("link") ? read_ardrone_link_settings(root.object("link")) : ArdroneLinkSettings{};
+  c.emulator = root.has("emulator") ? read_ardrone_emulator_settings(root.object("emulator")) : ArdroneEmulatorSettings{};
   if (root.has("server")) {
     const ConfigReader s = root.object("server");
     c.server.bind_address = s.string_or("bind", c.server.bind_address);

@@ -6,6 +6,8 @@
 
 #include "core/camera_config.hpp"
 #include "core/log.hpp"
+#include "drone/ardrone2/ardrone_emulator.hpp"
+#include "drone/ardrone2/ardrone_link.hpp"
 #include "localization/vision_thresholds.hpp"
 
 namespace labo {
@@ -22,6 +24,8 @@ struct AppConfig {
   CamerasConfig cameras;
   VisionThresholds vision;
   ServerSettings server;
+  ArdroneLinkSettings link;          // the AR.Drone 2.0 driver (docs/ardrone2.md)
+  ArdroneEmulatorSettings emulator;  // the AR.Drone 2.0 protocol emulator on loopback
   std::filesystem::path lab_file;  // the simulated lab's description
 };
 

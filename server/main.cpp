@@ -8,6 +8,7 @@
 
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
+#include "drone/ardrone2/bench_command.hpp"
 #include "drone/ardrone2/inspect_commands.hpp"
 #include "server/serve_command.hpp"
 
@@ -23,6 +24,7 @@ std::vector<Subcommand> subcommands() {
       {labo::serve_command_spec(), labo::run_serve_command},
       {labo::navdata_command_spec(), labo::run_navdata_command},
       {labo::video_command_spec(), labo::run_video_command},
+      {labo::bench_link_command_spec(), labo::run_bench_link_command},
   };
 }
 
