@@ -136,13 +136,15 @@ void ArdroneEmulator::handle_command(const AtCommand& c, Seconds t) {
     } else {
       counters_.bad_input("at_config_not_strings", t, "AT*CONFIG arguments must be quoted strings");
     }
+  } else if (c.name == "CALIB") {
+    if (c.args[0].integer != 0) counters_.bad_input("at_calib_unknown_device", t, "AT*CALIB device is not 0");
   } else if (c.name == "CTRL") {
     if (c.args[0].integer == kCtrlAckConfig) {
       std::lock_guard lock(state_mutex_);
       config_ack_ = false;
     }
   }
-  // COMWDG, CONFIG_IDS and CALIB need nothing more here: every command resets the com watchdog.
+  // COMWDG and CONFIG_IDS need nothing more here: every command resets the com watchdog.
 }
 
 void ArdroneEmulator::apply_config(const std::string& key, const std::string& value, Seconds t) {

@@ -107,6 +107,11 @@ void ArdroneLink::flat_trim() {
   flat_trim_ = true;
 }
 
+void ArdroneLink::calibrate_magnetometer() {
+  std::lock_guard lock(command_mutex_);
+  calibrate_ = true;
+}
+
 void ArdroneLink::move(const MoveCommand& command) {
   std::lock_guard lock(command_mutex_);
   pcmd_ = move_to_wire(command);
@@ -220,7 +225,6 @@ void ArdroneLink::supervise(Seconds t) {
     queue_startup_config();
     reset_video_ = true;
   }
-  if (before == LinkState::Lost && s == LinkState::Connecting) return;  // stay Lost until navdata returns
   set_state(s, t);
 }
 
@@ -240,6 +244,10 @@ void ArdroneLink::send_commands(Seconds t) {
     if (flat_trim_) {
       encoder_.ftrim(at_buffer_);
       flat_trim_ = false;
+    }
+    if (calibrate_) {
+      encoder_.calib(at_buffer_, 0);  // device 0 = magnetometer; the drone accepts it only in flight
+      calibrate_ = false;
     }
     run_config_handshake(t, state);
     encoder_.ref(at_buffer_, takeoff_, emergency_cycles_ > 0);

@@ -61,6 +61,8 @@ class ArdroneLink final : public DroneLink {
   void select_camera(CameraId camera) override;
   void set_config(const std::string& key, const std::string& value) override;
   LinkState state() const override;
+  // AR.Drone-specific: AT*CALIB for the magnetometer (only honoured in flight).
+  void calibrate_magnetometer();
   LinkStatistics statistics() const override;
 
  private:
@@ -97,6 +99,7 @@ class ArdroneLink final : public DroneLink {
   bool takeoff_ = false;
   int emergency_cycles_ = 0;  // REF emergency bit is a toggle: sent for a few cycles, then cleared
   bool flat_trim_ = false;
+  bool calibrate_ = false;
   ardrone2::WirePcmd pcmd_;
   std::deque<PendingConfig> configs_;
   ConfigPhase config_phase_ = ConfigPhase::Idle;
