@@ -46,7 +46,8 @@ ArdroneLinkSettings read_ardrone_link_settings(const ConfigReader& c) {
 }
 
 ArdroneLink::ArdroneLink(ArdroneLinkSettings settings, Logger logger)
-    : settings_(std::move(settings)), logger_(std::move(logger)), counters_(logger_) {
+    : settings_(std::move(settings)), logger_(std::move(logger)), counters_(logger_),
+      configs_(settings_.config_ack_timeout_s) {
   at_buffer_.reserve(kMaxAtDatagramBytes);
 }
 
@@ -153,7 +154,7 @@ void ArdroneLink::queue_startup_config() {
     configs_.push_front({"general:navdata_demo", "TRUE"});
   }
   if (requested_camera_ == CameraId::Bottom) configs_.push_back({"video:video_channel", "1"});
-  config_phase_ = ConfigPhase::Idle;
+  configs_.restart();
 }
 
 void ArdroneLink::record(RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes) {
@@ -263,49 +264,19 @@ void ArdroneLink::send_commands(Seconds t) {
   record(RecordChannel::AtOut, t, bytes);
 }
 
-// Called with command_mutex_ held. One CONFIG at a time: send CONFIG_IDS + CONFIG, wait for state bit
-// 6, answer CTRL 5 until the bit clears, then the next one (node-ar-drone and the SDK do the same).
+// Called with command_mutex_ held.
 void ArdroneLink::run_config_handshake(Seconds t, std::uint32_t state) {
-  const bool ack = state & state_mask(kStateCommandAck);
   const Seconds last = last_navdata_t_.load();
   const bool alive = last >= 0 && t - last <= settings_.degraded_after_s;
-  switch (config_phase_) {
-    case ConfigPhase::Idle:
-      if (!alive || configs_.empty()) return;
-      if (ack) {  // a stale acknowledgement: clear it first
-        encoder_.ctrl(at_buffer_, kCtrlAckConfig);
-        return;
-      }
-      encoder_.config_ids(at_buffer_, "00000000", "00000000", "00000000");
-      encoder_.config(at_buffer_, configs_.front().key, configs_.front().value);
-      counters_.add("config_sent");
-      config_sent_t_ = t;
-      config_phase_ = ConfigPhase::AwaitAck;
-      return;
-    case ConfigPhase::AwaitAck:
-      if (ack) {
-        const PendingConfig done = configs_.front();
-        configs_.pop_front();
-        counters_.add("config_acked");
-        if (recorder_) recorder_->note(t, "config_acked " + done.key + "=" + done.value);
-        if (done.key == "video:video_channel") {
-          active_camera_ = done.value == "1" || done.value == "3" ? CameraId::Bottom : CameraId::Front;
-          reset_video_decoder_ = true;
-        }
-        encoder_.ctrl(at_buffer_, kCtrlAckConfig);
-        config_phase_ = ConfigPhase::AwaitAckClear;
-      } else if (t - config_sent_t_ > settings_.config_ack_timeout_s) {
-        counters_.bad_input("config_ack_timeout", t, configs_.front().key);
-        config_phase_ = ConfigPhase::Idle;  // resent on the next tick
-      }
-      return;
-    case ConfigPhase::AwaitAckClear:
-      if (ack) {
-        encoder_.ctrl(at_buffer_, kCtrlAckConfig);
-      } else {
-        config_phase_ = ConfigPhase::Idle;
-      }
-      return;
+  const ConfigTick tick = configs_.tick(t, state & state_mask(kStateCommandAck), alive, encoder_, at_buffer_);
+  if (tick.sent) counters_.add("config_sent");
+  if (tick.timed_out) counters_.bad_input("config_ack_timeout", t, *tick.timed_out);
+  if (!tick.acked) return;
+  counters_.add("config_acked");
+  if (recorder_) recorder_->note(t, "config_acked " + tick.acked->key + "=" + tick.acked->value);
+  if (tick.acked->key == "video:video_channel") {
+    active_camera_ = tick.acked->value == "1" || tick.acked->value == "3" ? CameraId::Bottom : CameraId::Front;
+    reset_video_decoder_ = true;
   }
 }
 

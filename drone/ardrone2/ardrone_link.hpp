@@ -4,7 +4,6 @@
 // link supervision), navdata (receive + parse) and video (connect, demux, decode, reconnect). Events
 // reach the listener from those threads, one at a time (never concurrently). SteadyClock times.
 #include <atomic>
-#include <deque>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -13,6 +12,7 @@
 
 #include "core/log.hpp"
 #include "drone/ardrone2/at_command.hpp"
+#include "drone/ardrone2/config_handshake.hpp"
 #include "drone/ardrone2/link_counters.hpp"
 #include "drone/ardrone2/link_receiver.hpp"
 #include "drone/ardrone2/socket.hpp"
@@ -66,11 +66,6 @@ class ArdroneLink final : public DroneLink {
   LinkStatistics statistics() const override;
 
  private:
-  struct PendingConfig {
-    std::string key, value;
-  };
-  enum class ConfigPhase { Idle, AwaitAck, AwaitAckClear };
-
   void control_loop();
   void navdata_loop();
   void video_loop();
@@ -101,9 +96,7 @@ class ArdroneLink final : public DroneLink {
   bool flat_trim_ = false;
   bool calibrate_ = false;
   ardrone2::WirePcmd pcmd_;
-  std::deque<PendingConfig> configs_;
-  ConfigPhase config_phase_ = ConfigPhase::Idle;
-  Seconds config_sent_t_ = 0;
+  ardrone2::ConfigHandshake configs_;
   bool reset_sequence_ = true;
   CameraId requested_camera_ = CameraId::Front;
 
