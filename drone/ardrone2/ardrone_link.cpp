@@ -256,6 +256,10 @@ void ArdroneLink::send_commands(Seconds t) {
     encoder_.pcmd(at_buffer_, pcmd_);
   }
   const auto bytes = std::span(reinterpret_cast<const std::uint8_t*>(at_buffer_.data()), at_buffer_.size());
+  if (bytes.size() > kMaxAtDatagramBytes) {  // cannot happen with config text <= 200 characters; never send it
+    counters_.bad_input("at_datagram_oversize", t, std::to_string(bytes.size()) + " bytes");
+    return;
+  }
   if (at_socket_.send_to(bytes, at_endpoint_)) {
     counters_.add("at_datagrams");
   } else {
