@@ -45,8 +45,8 @@ ArdroneLinkSettings read_ardrone_link_settings(const ConfigReader& c) {
   return s;
 }
 
-ArdroneLink::ArdroneLink(ArdroneLinkSettings settings, Logger logger)
-    : settings_(std::move(settings)), logger_(std::move(logger)), counters_(logger_),
+ArdroneLink::ArdroneLink(ArdroneLinkSettings settings, Logger logger, const Clock* clock)
+    : settings_(std::move(settings)), logger_(std::move(logger)), clock_(clock ? clock : &own_clock_), counters_(logger_),
       configs_(settings_.config_ack_timeout_s) {
   at_buffer_.reserve(kMaxAtDatagramBytes);
 }
@@ -66,7 +66,7 @@ void ArdroneLink::start() {
   video_receiver_ = std::make_unique<VideoReceiver>(counters_, [this](const VideoFrame& f) { on_video(f); });
   queue_startup_config();
   running_ = true;
-  set_state(LinkState::Connecting, clock_.now());
+  set_state(LinkState::Connecting, clock_->now());
   control_thread_ = std::thread([this] { control_loop(); });
   navdata_thread_ = std::thread([this] { navdata_loop(); });
   video_thread_ = std::thread([this] { video_loop(); });
@@ -76,7 +76,7 @@ void ArdroneLink::stop() {
   if (!running_.exchange(false)) return;
   for (auto* t : {&control_thread_, &navdata_thread_, &video_thread_})
     if (t->joinable()) t->join();
-  set_state(LinkState::Disconnected, clock_.now());
+  set_state(LinkState::Disconnected, clock_->now());
   if (recorder_) recorder_->flush();
 }
 
@@ -180,10 +180,10 @@ void ArdroneLink::control_loop() {
   auto next = std::chrono::steady_clock::now();
   const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(settings_.command_interval_s));
-  Seconds rate_t = clock_.now();
+  Seconds rate_t = clock_->now();
   std::uint64_t last_packets = 0, last_frames = 0;
   while (running_) {
-    const Seconds t = clock_.now();
+    const Seconds t = clock_->now();
     supervise(t);
     send_commands(t);
     if (t - rate_t >= 1.0) {
@@ -291,7 +291,7 @@ void ArdroneLink::navdata_loop() {
   Seconds last_kick = -1e9;
   Endpoint from;
   while (running_) {
-    const Seconds now = clock_.now();
+    const Seconds now = clock_->now();
     const Seconds last = last_navdata_t_.load();
     if ((last < 0 || now - last > kNavdataKickInterval) && now - last_kick > kNavdataKickInterval) {
       // Start-up and reconnection: the drone streams to whoever sends to its port 5554.
@@ -303,7 +303,7 @@ void ArdroneLink::navdata_loop() {
     }
     const long n = navdata_socket_.receive_from(buffer, from, 0.05);
     if (n < 0) continue;
-    const Seconds t = clock_.now();
+    const Seconds t = clock_->now();
     if (static_cast<std::size_t>(n) > buffer.size()) {
       counters_.bad_input("navdata_datagram_too_large", t, std::to_string(n) + " bytes");
       continue;
@@ -343,18 +343,18 @@ void ArdroneLink::video_loop() {
     counters_.add("video_connects");
     reset_video_ = false;
     video_receiver_->reset();
-    if (recorder_) recorder_->note(clock_.now(), kNoteVideoConnected);
-    Seconds last_data = clock_.now();
+    if (recorder_) recorder_->note(clock_->now(), kNoteVideoConnected);
+    Seconds last_data = clock_->now();
     while (running_ && !reset_video_) {
       if (reset_video_decoder_.exchange(false)) {
         // Noted from this thread, in order with the video bytes, so a replay switches at the same byte.
         const CameraId camera = active_camera_.load();
-        if (recorder_) recorder_->note(clock_.now(), camera == CameraId::Bottom ? kNoteCameraBottom : kNoteCameraFront);
+        if (recorder_) recorder_->note(clock_->now(), camera == CameraId::Bottom ? kNoteCameraBottom : kNoteCameraFront);
         video_receiver_->set_camera(camera);
         video_receiver_->reset();
       }
       const long n = tcp.receive(buffer, 0.1);
-      const Seconds t = clock_.now();
+      const Seconds t = clock_->now();
       if (n < 0) {
         counters_.add("video_disconnects");
         break;

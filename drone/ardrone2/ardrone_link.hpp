@@ -42,7 +42,9 @@ ArdroneLinkSettings read_ardrone_link_settings(const ConfigReader& section);
 
 class ArdroneLink final : public DroneLink {
  public:
-  ArdroneLink(ArdroneLinkSettings settings, Logger logger);
+  // `clock` stamps every event and record (it must be thread-safe and outlive the link); by default
+  // the link's own SteadyClock.
+  ArdroneLink(ArdroneLinkSettings settings, Logger logger, const Clock* clock = nullptr);
   ~ArdroneLink() override;
   ArdroneLink(const ArdroneLink&) = delete;
   ArdroneLink& operator=(const ArdroneLink&) = delete;
@@ -80,7 +82,8 @@ class ArdroneLink final : public DroneLink {
 
   ArdroneLinkSettings settings_;
   Logger logger_;
-  SteadyClock clock_;
+  SteadyClock own_clock_;
+  const Clock* clock_;
   ardrone2::LinkCounters counters_;
   std::unique_ptr<RecordingWriter> recorder_;
   ardrone2::Endpoint at_endpoint_, navdata_endpoint_, video_endpoint_;

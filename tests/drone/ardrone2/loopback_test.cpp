@@ -188,9 +188,16 @@ TEST_CASE("link: the com-watchdog bit gets COMWDG answers and CALIB reaches the 
   ls.navdata_port = emulator.navdata_port();
   ls.video_port = emulator.video_port();
   ls.video = false;
-  ArdroneLink link(ls, quiet());
+  struct OffsetClock final : Clock {  // a caller-provided clock stamps the events
+    SteadyClock steady;
+    Seconds now() const override { return 1000.0 + steady.now(); }
+  } clock;
+  ArdroneLink link(ls, quiet(), &clock);
+  Recorder rec;
+  link.set_listener(&rec);
   link.start();
   REQUIRE(wait_until([&] { return link.state() == LinkState::Connected; }, 5.0));
+  CHECK(rec.last().t >= 1000.0);
   link.calibrate_magnetometer();
   auto count = [](const LinkStatistics& s, const char* k) { return s.counters.count(k) ? s.counters.at(k) : 0; };
   CHECK(wait_until([&] { return count(emulator.statistics(), "at_COMWDG") > 0; }, 3.0));
