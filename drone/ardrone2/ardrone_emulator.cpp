@@ -136,13 +136,15 @@ void ArdroneEmulator::handle_command(const AtCommand& c, Seconds t) {
     } else {
       counters_.bad_input("at_config_not_strings", t, "AT*CONFIG arguments must be quoted strings");
     }
+  } else if (c.name == "CALIB") {
+    if (c.args[0].integer != 0) counters_.bad_input("at_calib_unknown_device", t, "AT*CALIB device is not 0");
   } else if (c.name == "CTRL") {
     if (c.args[0].integer == kCtrlAckConfig) {
       std::lock_guard lock(state_mutex_);
       config_ack_ = false;
     }
   }
-  // COMWDG, CONFIG_IDS and CALIB need nothing more here: every command resets the com watchdog.
+  // COMWDG and CONFIG_IDS need nothing more here: every command resets the com watchdog.
 }
 
 void ArdroneEmulator::apply_config(const std::string& key, const std::string& value, Seconds t) {
@@ -199,10 +201,9 @@ void ArdroneEmulator::fill_packet(const VehicleTelemetry& tel, Seconds t) {
     if (mask & (1u << spec.tag)) packet_.add_option(spec.tag);
   }
   NavdataSample nav = tel.nav;
-  nav.has_drone_time = packet_.has(kTagTime);
-  nav.drone_time = t;
-  if (packet_.has(kTagDemo) || nav.has_drone_time) sample_to_packet(nav, packet_);
-  if (!packet_.has(kTagDemo) && mask & 1u) packet_.add_option(kTagDemo);
+  nav.has_drone_time = false;  // the time option follows the mask, with the emulator's clock
+  if (packet_.has(kTagDemo)) sample_to_packet(nav, packet_);
+  if (packet_.has(kTagTime)) packet_.option(kTagTime).raw[0] = static_cast<double>(navdata_time_word(t));
   if (packet_.has(kTagRawMeasures)) {
     packet_.set(kTagRawMeasures, "vbat_raw", 11100.0 + 16.0 * tel.nav.battery_percent);  // 11.1..12.7 V LiPo
     packet_.set(kTagRawMeasures, "alt_temp_raw", std::round(tel.nav.altitude_m * 1e3));

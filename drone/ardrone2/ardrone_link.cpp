@@ -45,8 +45,9 @@ ArdroneLinkSettings read_ardrone_link_settings(const ConfigReader& c) {
   return s;
 }
 
-ArdroneLink::ArdroneLink(ArdroneLinkSettings settings, Logger logger)
-    : settings_(std::move(settings)), logger_(std::move(logger)), counters_(logger_) {
+ArdroneLink::ArdroneLink(ArdroneLinkSettings settings, Logger logger, const Clock* clock)
+    : settings_(std::move(settings)), logger_(std::move(logger)), clock_(clock ? clock : &own_clock_), counters_(logger_),
+      configs_(settings_.config_ack_timeout_s) {
   at_buffer_.reserve(kMaxAtDatagramBytes);
 }
 
@@ -65,7 +66,7 @@ void ArdroneLink::start() {
   video_receiver_ = std::make_unique<VideoReceiver>(counters_, [this](const VideoFrame& f) { on_video(f); });
   queue_startup_config();
   running_ = true;
-  set_state(LinkState::Connecting, clock_.now());
+  set_state(LinkState::Connecting, clock_->now());
   control_thread_ = std::thread([this] { control_loop(); });
   navdata_thread_ = std::thread([this] { navdata_loop(); });
   video_thread_ = std::thread([this] { video_loop(); });
@@ -75,7 +76,7 @@ void ArdroneLink::stop() {
   if (!running_.exchange(false)) return;
   for (auto* t : {&control_thread_, &navdata_thread_, &video_thread_})
     if (t->joinable()) t->join();
-  set_state(LinkState::Disconnected, clock_.now());
+  set_state(LinkState::Disconnected, clock_->now());
   if (recorder_) recorder_->flush();
 }
 
@@ -105,6 +106,11 @@ void ArdroneLink::emergency() {
 void ArdroneLink::flat_trim() {
   std::lock_guard lock(command_mutex_);
   flat_trim_ = true;
+}
+
+void ArdroneLink::calibrate_magnetometer() {
+  std::lock_guard lock(command_mutex_);
+  calibrate_ = true;
 }
 
 void ArdroneLink::move(const MoveCommand& command) {
@@ -148,7 +154,7 @@ void ArdroneLink::queue_startup_config() {
     configs_.push_front({"general:navdata_demo", "TRUE"});
   }
   if (requested_camera_ == CameraId::Bottom) configs_.push_back({"video:video_channel", "1"});
-  config_phase_ = ConfigPhase::Idle;
+  configs_.restart();
 }
 
 void ArdroneLink::record(RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes) {
@@ -174,10 +180,10 @@ void ArdroneLink::control_loop() {
   auto next = std::chrono::steady_clock::now();
   const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(settings_.command_interval_s));
-  Seconds rate_t = clock_.now();
+  Seconds rate_t = clock_->now();
   std::uint64_t last_packets = 0, last_frames = 0;
   while (running_) {
-    const Seconds t = clock_.now();
+    const Seconds t = clock_->now();
     supervise(t);
     send_commands(t);
     if (t - rate_t >= 1.0) {
@@ -220,7 +226,6 @@ void ArdroneLink::supervise(Seconds t) {
     queue_startup_config();
     reset_video_ = true;
   }
-  if (before == LinkState::Lost && s == LinkState::Connecting) return;  // stay Lost until navdata returns
   set_state(s, t);
 }
 
@@ -241,12 +246,20 @@ void ArdroneLink::send_commands(Seconds t) {
       encoder_.ftrim(at_buffer_);
       flat_trim_ = false;
     }
+    if (calibrate_) {
+      encoder_.calib(at_buffer_, 0);  // device 0 = magnetometer; the drone accepts it only in flight
+      calibrate_ = false;
+    }
     run_config_handshake(t, state);
     encoder_.ref(at_buffer_, takeoff_, emergency_cycles_ > 0);
     if (emergency_cycles_ > 0) --emergency_cycles_;
     encoder_.pcmd(at_buffer_, pcmd_);
   }
   const auto bytes = std::span(reinterpret_cast<const std::uint8_t*>(at_buffer_.data()), at_buffer_.size());
+  if (bytes.size() > kMaxAtDatagramBytes) {  // cannot happen with config text <= 200 characters; never send it
+    counters_.bad_input("at_datagram_oversize", t, std::to_string(bytes.size()) + " bytes");
+    return;
+  }
   if (at_socket_.send_to(bytes, at_endpoint_)) {
     counters_.add("at_datagrams");
   } else {
@@ -255,49 +268,19 @@ void ArdroneLink::send_commands(Seconds t) {
   record(RecordChannel::AtOut, t, bytes);
 }
 
-// Called with command_mutex_ held. One CONFIG at a time: send CONFIG_IDS + CONFIG, wait for state bit
-// 6, answer CTRL 5 until the bit clears, then the next one (node-ar-drone and the SDK do the same).
+// Called with command_mutex_ held.
 void ArdroneLink::run_config_handshake(Seconds t, std::uint32_t state) {
-  const bool ack = state & state_mask(kStateCommandAck);
   const Seconds last = last_navdata_t_.load();
   const bool alive = last >= 0 && t - last <= settings_.degraded_after_s;
-  switch (config_phase_) {
-    case ConfigPhase::Idle:
-      if (!alive || configs_.empty()) return;
-      if (ack) {  // a stale acknowledgement: clear it first
-        encoder_.ctrl(at_buffer_, kCtrlAckConfig);
-        return;
-      }
-      encoder_.config_ids(at_buffer_, "00000000", "00000000", "00000000");
-      encoder_.config(at_buffer_, configs_.front().key, configs_.front().value);
-      counters_.add("config_sent");
-      config_sent_t_ = t;
-      config_phase_ = ConfigPhase::AwaitAck;
-      return;
-    case ConfigPhase::AwaitAck:
-      if (ack) {
-        const PendingConfig done = configs_.front();
-        configs_.pop_front();
-        counters_.add("config_acked");
-        if (recorder_) recorder_->note(t, "config_acked " + done.key + "=" + done.value);
-        if (done.key == "video:video_channel") {
-          active_camera_ = done.value == "1" || done.value == "3" ? CameraId::Bottom : CameraId::Front;
-          reset_video_decoder_ = true;
-        }
-        encoder_.ctrl(at_buffer_, kCtrlAckConfig);
-        config_phase_ = ConfigPhase::AwaitAckClear;
-      } else if (t - config_sent_t_ > settings_.config_ack_timeout_s) {
-        counters_.bad_input("config_ack_timeout", t, configs_.front().key);
-        config_phase_ = ConfigPhase::Idle;  // resent on the next tick
-      }
-      return;
-    case ConfigPhase::AwaitAckClear:
-      if (ack) {
-        encoder_.ctrl(at_buffer_, kCtrlAckConfig);
-      } else {
-        config_phase_ = ConfigPhase::Idle;
-      }
-      return;
+  const ConfigTick tick = configs_.tick(t, state & state_mask(kStateCommandAck), alive, encoder_, at_buffer_);
+  if (tick.sent) counters_.add("config_sent");
+  if (tick.timed_out) counters_.bad_input("config_ack_timeout", t, *tick.timed_out);
+  if (!tick.acked) return;
+  counters_.add("config_acked");
+  if (recorder_) recorder_->note(t, "config_acked " + tick.acked->key + "=" + tick.acked->value);
+  if (tick.acked->key == "video:video_channel") {
+    active_camera_ = tick.acked->value == "1" || tick.acked->value == "3" ? CameraId::Bottom : CameraId::Front;
+    reset_video_decoder_ = true;
   }
 }
 
@@ -308,7 +291,7 @@ void ArdroneLink::navdata_loop() {
   Seconds last_kick = -1e9;
   Endpoint from;
   while (running_) {
-    const Seconds now = clock_.now();
+    const Seconds now = clock_->now();
     const Seconds last = last_navdata_t_.load();
     if ((last < 0 || now - last > kNavdataKickInterval) && now - last_kick > kNavdataKickInterval) {
       // Start-up and reconnection: the drone streams to whoever sends to its port 5554.
@@ -320,7 +303,7 @@ void ArdroneLink::navdata_loop() {
     }
     const long n = navdata_socket_.receive_from(buffer, from, 0.05);
     if (n < 0) continue;
-    const Seconds t = clock_.now();
+    const Seconds t = clock_->now();
     if (static_cast<std::size_t>(n) > buffer.size()) {
       counters_.bad_input("navdata_datagram_too_large", t, std::to_string(n) + " bytes");
       continue;
@@ -360,18 +343,18 @@ void ArdroneLink::video_loop() {
     counters_.add("video_connects");
     reset_video_ = false;
     video_receiver_->reset();
-    if (recorder_) recorder_->note(clock_.now(), kNoteVideoConnected);
-    Seconds last_data = clock_.now();
+    if (recorder_) recorder_->note(clock_->now(), kNoteVideoConnected);
+    Seconds last_data = clock_->now();
     while (running_ && !reset_video_) {
       if (reset_video_decoder_.exchange(false)) {
         // Noted from this thread, in order with the video bytes, so a replay switches at the same byte.
         const CameraId camera = active_camera_.load();
-        if (recorder_) recorder_->note(clock_.now(), camera == CameraId::Bottom ? kNoteCameraBottom : kNoteCameraFront);
+        if (recorder_) recorder_->note(clock_->now(), camera == CameraId::Bottom ? kNoteCameraBottom : kNoteCameraFront);
         video_receiver_->set_camera(camera);
         video_receiver_->reset();
       }
       const long n = tcp.receive(buffer, 0.1);
-      const Seconds t = clock_.now();
+      const Seconds t = clock_->now();
       if (n < 0) {
         counters_.add("video_disconnects");
         break;

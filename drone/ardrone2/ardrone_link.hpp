@@ -4,7 +4,6 @@
 // link supervision), navdata (receive + parse) and video (connect, demux, decode, reconnect). Events
 // reach the listener from those threads, one at a time (never concurrently). SteadyClock times.
 #include <atomic>
-#include <deque>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -13,6 +12,7 @@
 
 #include "core/log.hpp"
 #include "drone/ardrone2/at_command.hpp"
+#include "drone/ardrone2/config_handshake.hpp"
 #include "drone/ardrone2/link_counters.hpp"
 #include "drone/ardrone2/link_receiver.hpp"
 #include "drone/ardrone2/socket.hpp"
@@ -42,7 +42,9 @@ ArdroneLinkSettings read_ardrone_link_settings(const ConfigReader& section);
 
 class ArdroneLink final : public DroneLink {
  public:
-  ArdroneLink(ArdroneLinkSettings settings, Logger logger);
+  // `clock` stamps every event and record (it must be thread-safe and outlive the link); by default
+  // the link's own SteadyClock.
+  ArdroneLink(ArdroneLinkSettings settings, Logger logger, const Clock* clock = nullptr);
   ~ArdroneLink() override;
   ArdroneLink(const ArdroneLink&) = delete;
   ArdroneLink& operator=(const ArdroneLink&) = delete;
@@ -61,14 +63,11 @@ class ArdroneLink final : public DroneLink {
   void select_camera(CameraId camera) override;
   void set_config(const std::string& key, const std::string& value) override;
   LinkState state() const override;
+  // AR.Drone-specific: AT*CALIB for the magnetometer (only honoured in flight).
+  void calibrate_magnetometer();
   LinkStatistics statistics() const override;
 
  private:
-  struct PendingConfig {
-    std::string key, value;
-  };
-  enum class ConfigPhase { Idle, AwaitAck, AwaitAckClear };
-
   void control_loop();
   void navdata_loop();
   void video_loop();
@@ -83,7 +82,8 @@ class ArdroneLink final : public DroneLink {
 
   ArdroneLinkSettings settings_;
   Logger logger_;
-  SteadyClock clock_;
+  SteadyClock own_clock_;
+  const Clock* clock_;
   ardrone2::LinkCounters counters_;
   std::unique_ptr<RecordingWriter> recorder_;
   ardrone2::Endpoint at_endpoint_, navdata_endpoint_, video_endpoint_;
@@ -97,10 +97,9 @@ class ArdroneLink final : public DroneLink {
   bool takeoff_ = false;
   int emergency_cycles_ = 0;  // REF emergency bit is a toggle: sent for a few cycles, then cleared
   bool flat_trim_ = false;
+  bool calibrate_ = false;
   ardrone2::WirePcmd pcmd_;
-  std::deque<PendingConfig> configs_;
-  ConfigPhase config_phase_ = ConfigPhase::Idle;
-  Seconds config_sent_t_ = 0;
+  ardrone2::ConfigHandshake configs_;
   bool reset_sequence_ = true;
   CameraId requested_camera_ = CameraId::Front;
 

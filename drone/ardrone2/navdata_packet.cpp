@@ -1,6 +1,7 @@
 #include "drone/ardrone2/navdata_packet.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -38,6 +39,14 @@ void NavdataPacket::set(std::uint16_t tag, std::string_view field, double value,
   auto& o = options_[tag];
   if (!o.present) add_option(tag);
   o.raw[i] = value;
+}
+
+std::uint32_t navdata_time_word(double seconds) {
+  const double t = std::isfinite(seconds) ? std::max(0.0, seconds) : 0.0;
+  const auto total_us = static_cast<std::uint64_t>(std::llround(t * 1e6));
+  const auto secs = static_cast<std::uint32_t>((total_us / 1000000u) % 2048u);
+  const auto usecs = static_cast<std::uint32_t>(total_us % 1000000u);
+  return (secs << 21) | usecs;
 }
 
 void NavdataPacket::add_option(std::uint16_t tag) {

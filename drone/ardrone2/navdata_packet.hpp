@@ -63,5 +63,7 @@ inline int control_state_major(std::uint32_t ctrl_state) { return static_cast<in
 inline double navdata_time_seconds(std::uint32_t time) {
   return static_cast<double>(time >> 21) + static_cast<double>(time & 0x1FFFFFu) * 1e-6;
 }
+// The inverse (seconds wrap at 2048).
+std::uint32_t navdata_time_word(double seconds);
 
 }  // namespace labo::ardrone2

@@ -61,10 +61,7 @@ void sample_to_packet(const NavdataSample& s, NavdataPacket& p) {
   d[8] = -s.vz_mps * 1e3;
   if (s.has_drone_time) {
     if (!p.has(kTagTime)) p.add_option(kTagTime);
-    const double t = std::max(0.0, s.drone_time);
-    const auto secs = static_cast<std::uint32_t>(t) & 0x7FFu;
-    const auto usecs = static_cast<std::uint32_t>((t - std::floor(t)) * 1e6) & 0x1FFFFFu;
-    p.option(kTagTime).raw[0] = static_cast<double>((secs << 21) | usecs);
+    p.option(kTagTime).raw[0] = static_cast<double>(navdata_time_word(s.drone_time));
   }
 }
 

@@ -174,3 +174,34 @@ TEST_CASE("link: supervision marks the link degraded, lost, and reconnects", "[l
   CHECK(link.statistics().counters.at("reconnects") == 1);
   link.stop();
 }
+
+TEST_CASE("link: the com-watchdog bit gets COMWDG answers and CALIB reaches the drone", "[link][loopback]") {
+  test::TinyVehicle vehicle;
+  ArdroneEmulatorSettings es;
+  es.at_port = es.navdata_port = es.video_port = 0;
+  es.com_watchdog_s = 0.01;  // shorter than the 30 ms AT period: the bit is set most of the time
+  ArdroneEmulator emulator(vehicle, es, quiet());
+  emulator.start();
+  ArdroneLinkSettings ls;
+  ls.host = "127.0.0.1";
+  ls.at_port = emulator.at_port();
+  ls.navdata_port = emulator.navdata_port();
+  ls.video_port = emulator.video_port();
+  ls.video = false;
+  struct OffsetClock final : Clock {  // a caller-provided clock stamps the events
+    SteadyClock steady;
+    Seconds now() const override { return 1000.0 + steady.now(); }
+  } clock;
+  ArdroneLink link(ls, quiet(), &clock);
+  Recorder rec;
+  link.set_listener(&rec);
+  link.start();
+  REQUIRE(wait_until([&] { return link.state() == LinkState::Connected; }, 5.0));
+  CHECK(rec.last().t >= 1000.0);
+  link.calibrate_magnetometer();
+  auto count = [](const LinkStatistics& s, const char* k) { return s.counters.count(k) ? s.counters.at(k) : 0; };
+  CHECK(wait_until([&] { return count(emulator.statistics(), "at_COMWDG") > 0; }, 3.0));
+  CHECK(count(link.statistics(), "at_comwdg") > 0);
+  CHECK(wait_until([&] { return count(emulator.statistics(), "at_CALIB") == 1; }, 2.0));
+  link.stop();
+}

@@ -200,3 +200,10 @@ TEST_CASE("link: navdata sequence filter drops old packets and resets on com wat
   p.state = state_mask(kStateComWatchdog);
   CHECK(f.accept(p));
 }
+
+TEST_CASE("link: navdata time word round trip", "[link]") {
+  CHECK(navdata_time_word(12.345678) == ((12u << 21) | 345678u));
+  CHECK(navdata_time_seconds(navdata_time_word(100.25)) == Approx(100.25));
+  CHECK(navdata_time_seconds(navdata_time_word(2049.5)) == Approx(1.5));  // 11 bits of seconds wrap
+  CHECK(navdata_time_word(-3.0) == 0u);
+}

@@ -9,7 +9,11 @@
 
 #include "drone/ardrone2/ardrone_emulator.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
+#include "drone/ardrone2/inspect_commands.hpp"
 #include "drone/replay/replay_link.hpp"
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
 #include "tests/drone/ardrone2/tiny_vehicle.hpp"
 
 using namespace labo;
@@ -105,6 +109,24 @@ TEST_CASE("link: record then replay yields identical events", "[link][replay]") 
   }
   CHECK(saw_bottom);
   CHECK(replayed.states == live.states);
+
+  // The inspection commands read recordings too.
+  std::ostringstream out, err;
+  auto* old_out = std::cout.rdbuf(out.rdbuf());
+  auto* old_err = std::cerr.rdbuf(err.rdbuf());
+  const int video_rc = run_video_command(parse_args(video_command_spec(), std::vector<std::string>{file.string()}));
+  const std::string video_json = out.str();
+  out.str("");
+  const int navdata_rc = run_navdata_command(parse_args(navdata_command_spec(), std::vector<std::string>{file.string()}));
+  std::cout.rdbuf(old_out);
+  std::cerr.rdbuf(old_err);
+  INFO(err.str());
+  CHECK(video_rc == 0);
+  CHECK(nlohmann::json::parse(video_json)["decoded"] == live.frames.size());
+  CHECK(navdata_rc == 0);
+  std::size_t lines = 0;
+  for (char c : out.str()) lines += c == '\n';
+  CHECK(lines >= live.navdata.size());  // every navdata datagram, bootstrap ones included
   std::filesystem::remove(file);
 }
 

@@ -1,0 +1,60 @@
+#include <catch2/catch.hpp>
+#include <string>
+#include <vector>
+
+#include "drone/ardrone2/link_receiver.hpp"
+#include "drone/ardrone2/navdata_builder.hpp"
+#include "tests/drone/ardrone2/fixtures.hpp"
+
+using namespace labo;
+using namespace labo::ardrone2;
+
+TEST_CASE("link: bad input is counted by kind and logged at most once a second per kind", "[link]") {
+  std::vector<std::string> lines;
+  Logger logger("test", LogLevel::Info, [&](const std::string& line) { lines.push_back(line); });
+  LinkCounters counters(logger);
+  std::vector<NavdataSample> samples;
+  NavdataReceiver navdata(counters, [&](const NavdataSample& s, const NavdataPacket&) { samples.push_back(s); });
+
+  const auto good = test::demo_packet();  // sequence 4242
+  auto bad_cks = good;
+  bad_cks[30] ^= 1;
+  auto bad_magic = good;
+  bad_magic[1] = 0;
+  for (int i = 0; i < 50; ++i) {
+    const Seconds t = 10.0 + 0.01 * i;  // all within half a second
+    CHECK_FALSE(navdata.datagram(bad_cks, t));
+    CHECK_FALSE(navdata.datagram(bad_magic, t));
+    CHECK_FALSE(navdata.datagram(std::vector<std::uint8_t>(good.begin(), good.begin() + 9), t));
+  }
+  CHECK(navdata.datagram(good, 11.0));
+  CHECK_FALSE(navdata.datagram(good, 11.1));  // same sequence again: out of order
+  CHECK(samples.size() == 1);
+  CHECK(samples[0].altitude_m == Approx(1.012));
+  CHECK(samples[0].pitch_rad > 0);  // theta -2.15 deg (nose down) = LaboDrone pitch > 0
+  CHECK(counters.get("navdata_bad_checksum") == 50);
+  CHECK(counters.get("navdata_bad_magic") == 50);
+  CHECK(counters.get("navdata_truncated") == 50);
+  CHECK(counters.get("navdata_out_of_order") == 1);
+  CHECK(counters.get("navdata_packets") == 1);
+  CHECK(lines.size() == 4);  // one line per kind
+  for (int i = 0; i < 3; ++i) navdata.datagram(bad_cks, 12.0 + i * 0.5);
+  CHECK(lines.size() == 6);  // at 12.0 and 13.0, not 12.5
+
+  std::vector<VideoFrame> frames;
+  VideoReceiver video(counters, [&](const VideoFrame& f) { frames.push_back(f); });
+  auto stream = test::video_capture(16);
+  video.bytes(std::vector<std::uint8_t>(100, 0x33), 20.0);  // junk before anything
+  video.bytes(stream, 20.1);
+  CHECK(frames.size() == 16);
+  CHECK(counters.get("pave_junk") >= 2);
+  CHECK(counters.get("video_keyframes") == 2);
+  // Corrupt H.264 after a valid IDR: refused or concealed, never a crash, counted when refused.
+  for (std::size_t i = 2000; i < stream.size(); i += 3) stream[i] = static_cast<std::uint8_t>(i * 7);
+  video.reset();
+  video.bytes(stream, 21.0);
+  // The corruption hits PaVE headers too: some frames are lost to resynchronisation, each counted.
+  CHECK(counters.get("video_frames") > 16);
+  CHECK(counters.get("pave_junk") + counters.get("pave_bad_header_size") + counters.get("pave_payload_too_large") +
+            counters.get("h264_decode_error") > 2);
+}
