@@ -9,6 +9,7 @@
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
 #include "server/serve_command.hpp"
+#include "drone/lab/lab_commands.hpp"
 
 namespace {
 
@@ -20,6 +21,8 @@ struct Subcommand {
 std::vector<Subcommand> subcommands() {
   return {
       {labo::serve_command_spec(), labo::run_serve_command},
+      {labo::sim_textures_command_spec(), labo::run_sim_textures_command},
+      {labo::sim_lab_command_spec(), labo::run_sim_lab_command},
   };
 }
 
