@@ -15,6 +15,7 @@
 #include "localization/slam/bench/slam_bench_command.hpp"
 #include "localization/face/face_commands.hpp"
 #include "server/serve_command.hpp"
+#include "drone/lab/lab_commands.hpp"
 
 namespace {
 
@@ -37,6 +38,8 @@ std::vector<Subcommand> subcommands() {
       {labo::sim_perturb_command_spec(), labo::run_sim_perturb_command},
       {labo::sim_face_follow_command_spec(), labo::run_sim_face_follow_command},
       {labo::bench_link_command_spec(), labo::run_bench_link_command},
+      {labo::sim_textures_command_spec(), labo::run_sim_textures_command},
+      {labo::sim_lab_command_spec(), labo::run_sim_lab_command},
   };
 }
 
