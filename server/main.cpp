@@ -8,6 +8,7 @@
 
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
+#include "localization/estimation/eval/sim_estimate_command.hpp"
 #include "server/serve_command.hpp"
 
 namespace {
@@ -20,6 +21,7 @@ struct Subcommand {
 std::vector<Subcommand> subcommands() {
   return {
       {labo::serve_command_spec(), labo::run_serve_command},
+      {labo::sim_estimate_command_spec(), labo::run_sim_estimate_command},
   };
 }
 

@@ -29,7 +29,10 @@ struct AltitudeDecision {
 
 class AltitudeTracker {
  public:
-  explicit AltitudeTracker(double gamma_m = 0.10) : gamma_(gamma_m) {}
+  // PaperGammaOnly reproduces the paper's rule for comparison: every range increment above gamma is a
+  // floor step, whatever the motion.
+  enum class Mode { Discriminating, PaperGammaOnly };
+  explicit AltitudeTracker(double gamma_m = 0.10, Mode mode = Mode::Discriminating) : gamma_(gamma_m), mode_(mode) {}
 
   void reset() { initialized_ = false; steps_ = 0; }
   // range_m: ultrasound corrected for tilt; z_predicted: the filter's z at the range's time;
@@ -45,6 +48,7 @@ class AltitudeTracker {
 
  private:
   double gamma_;
+  Mode mode_;
   bool initialized_ = false;
   double last_range_ = 0;
   double last_z_ = 0;
