@@ -22,7 +22,7 @@ struct Rms {
 double yaw_of(const Eigen::Isometry3d& T) { return ypr_from_rotation(T.linear())(0); }
 
 // Estimate vs truth (position, yaw) and truth vs set point, each tick for `duration`.
-void measure(FlightRun& run, Seconds duration, Rms& position, Rms& yaw, Rms& control) {
+void accumulate(FlightRun& run, Seconds duration, Rms& position, Rms& yaw, Rms& control) {
   const Seconds end = run.plant().now() + duration;
   while (run.plant().now() < end - 1e-9) {
     run.tick();
@@ -36,6 +36,12 @@ void measure(FlightRun& run, Seconds duration, Rms& position, Rms& yaw, Rms& con
 
 // Stage 1 of the mission: SLAM starts, the drone climbs and descends slowly (open-loop gaz) while
 // holding x, y; returns the scale error in percent.
+TrackingErrors measure(FlightRun& run, Seconds duration) {
+  Rms p, y, c;
+  accumulate(run, duration, p, y, c);
+  return {p.value(), y.value() * kRadToDeg, c.value()};
+}
+
 void scale_manoeuvre(FlightRun& run) {
   run.slam_visible = true;
   run.run_for(1.0);
@@ -97,11 +103,7 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, uns
     out.scale_pairs = s.pairs;
     run.setpoint = Eigen::Vector3d(0.5, 0.0, 1.2);
     run.run_for(4.0);
-    Rms p, y, c;
-    measure(run, 20.0, p, y, c);
-    out.hover_slam_position_rmse_m = p.value();
-    out.hover_slam_yaw_rmse_deg = y.value() * kRadToDeg;
-    out.hover_slam_control_rmse_m = c.value();
+    out.hover_slam = measure(run, 20.0);
     // Vision lost: dead reckoning along an open path (a closed one would cancel odometry scale errors).
     run.slam_visible = false;
     const Eigen::Vector3d start_error = run.estimate_now().position_world - plant->truth().T_world_body.translation();
@@ -125,11 +127,7 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, uns
     run.run_for(2.0);
     run.setpoint = FlightRun::instrument_pose().translation() - Eigen::Vector3d(0.8, 0, 0);
     run.run_for(5.0);
-    Rms p, y, c;
-    measure(run, 15.0, p, y, c);
-    out.servo_position_rmse_m = p.value();
-    out.servo_yaw_rmse_deg = y.value() * kRadToDeg;
-    out.servo_control_rmse_m = c.value();
+    out.servo = measure(run, 15.0);
     out.impulse_servo = z_impulse(run, 8.0);
     count_rejections(run);
   }
@@ -157,7 +155,7 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, uns
     std::normal_distribution<double> n(0.0, 0.8);
     for (int k = 0; k < 6; ++k) {
       run.plant().push(Eigen::Vector3d(n(rng), n(rng), 0.0));
-      measure(run, 4.0, p, y, control);
+      accumulate(run, 4.0, p, y, control);
     }
     (compensate ? out.control_rmse_compensated_m : out.control_rmse_uncompensated_m) = control.value();
     (compensate ? out.controller_input_error_compensated_m : out.controller_input_error_uncompensated_m) =

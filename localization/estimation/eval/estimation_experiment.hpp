@@ -24,6 +24,13 @@ struct ImpulseResult {
   double final_estimate_error_m = 0;
 };
 
+// Over a phase of flight: the estimate vs the truth, and the drone vs its set point.
+struct TrackingErrors {
+  double position_rmse_m = 0;
+  double yaw_rmse_deg = 0;
+  double control_rmse_m = 0;
+};
+
 struct EstimationResults {
   std::string plant;
   std::string vision_input;
@@ -32,13 +39,9 @@ struct EstimationResults {
   double scale_accuracy = 0;
   int scale_pairs = 0;
   // Hovering with SLAM.
-  double hover_slam_position_rmse_m = 0;
-  double hover_slam_yaw_rmse_deg = 0;
-  double hover_slam_control_rmse_m = 0;
+  TrackingErrors hover_slam;
   // Servoing 0.8 m in front of an instrument on its homography.
-  double servo_position_rmse_m = 0;
-  double servo_yaw_rmse_deg = 0;
-  double servo_control_rmse_m = 0;
+  TrackingErrors servo;
   // Dead reckoning (vision lost) while flying a small square.
   double dead_reckoning_drift_m_per_s = 0;
   double dead_reckoning_yaw_drift_deg_per_s = 0;

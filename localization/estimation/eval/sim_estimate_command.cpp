@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -21,15 +22,15 @@ nlohmann::json impulse_json(const ImpulseResult& r) {
           {"final_estimate_error_m", r.final_estimate_error_m}};
 }
 
+nlohmann::json tracking_json(const TrackingErrors& e) {
+  return {{"position_rmse_m", e.position_rmse_m}, {"yaw_rmse_deg", e.yaw_rmse_deg}, {"control_rmse_m", e.control_rmse_m}};
+}
+
 nlohmann::json run_json(const EstimationResults& r, unsigned seed) {
   return {{"seed", seed},
           {"scale", {{"error_percent", r.scale_error_percent}, {"accuracy", r.scale_accuracy}, {"pairs", r.scale_pairs}}},
-          {"hover_slam", {{"position_rmse_m", r.hover_slam_position_rmse_m},
-                          {"yaw_rmse_deg", r.hover_slam_yaw_rmse_deg},
-                          {"control_rmse_m", r.hover_slam_control_rmse_m}}},
-          {"servo_instrument", {{"position_rmse_m", r.servo_position_rmse_m},
-                                {"yaw_rmse_deg", r.servo_yaw_rmse_deg},
-                                {"control_rmse_m", r.servo_control_rmse_m}}},
+          {"hover_slam", tracking_json(r.hover_slam)},
+          {"servo_instrument", tracking_json(r.servo)},
           {"dead_reckoning", {{"drift_m_per_s", r.dead_reckoning_drift_m_per_s},
                               {"yaw_drift_deg_per_s", r.dead_reckoning_yaw_drift_deg_per_s}}},
           {"z_impulse", {{"servo_instrument", impulse_json(r.impulse_servo)},
@@ -66,15 +67,19 @@ nlohmann::json model_fit_json(const ModelFitReport& fit) {
           {"laws", laws}};
 }
 
-double mean_of(const std::vector<EstimationResults>& rs, double EstimationResults::*field) {
+using Field = std::function<double(const EstimationResults&)>;
+double mean_of(const std::vector<EstimationResults>& rs, const Field& field) {
   double s = 0;
-  for (const auto& r : rs) s += r.*field;
+  for (const auto& r : rs) s += field(r);
   return rs.empty() ? 0.0 : s / static_cast<double>(rs.size());
 }
-double max_of(const std::vector<EstimationResults>& rs, double EstimationResults::*field) {
+double max_of(const std::vector<EstimationResults>& rs, const Field& field) {
   double m = 0;
-  for (const auto& r : rs) m = std::max(m, r.*field);
+  for (const auto& r : rs) m = std::max(m, field(r));
   return m;
+}
+Field member(double EstimationResults::*f) {
+  return [f](const EstimationResults& r) { return r.*f; };
 }
 }  // namespace
 
@@ -136,25 +141,25 @@ int run_sim_estimate_command(const ParsedArgs& args) {
   out["summary"] = {
       {"seeds", runs},
       {"scale_within_3_percent_fraction", scale_ok / n},
-      {"scale_error_percent_mean", mean_of(results, &EstimationResults::scale_error_percent)},
-      {"scale_error_percent_max", max_of(results, &EstimationResults::scale_error_percent)},
-      {"hover_slam_position_rmse_m_mean", mean_of(results, &EstimationResults::hover_slam_position_rmse_m)},
-      {"hover_slam_position_rmse_m_max", max_of(results, &EstimationResults::hover_slam_position_rmse_m)},
-      {"hover_slam_yaw_rmse_deg_mean", mean_of(results, &EstimationResults::hover_slam_yaw_rmse_deg)},
-      {"servo_position_rmse_m_mean", mean_of(results, &EstimationResults::servo_position_rmse_m)},
-      {"servo_position_rmse_m_max", max_of(results, &EstimationResults::servo_position_rmse_m)},
-      {"servo_yaw_rmse_deg_mean", mean_of(results, &EstimationResults::servo_yaw_rmse_deg)},
-      {"dead_reckoning_drift_m_per_s_mean", mean_of(results, &EstimationResults::dead_reckoning_drift_m_per_s)},
-      {"dead_reckoning_yaw_drift_deg_per_s_mean", mean_of(results, &EstimationResults::dead_reckoning_yaw_drift_deg_per_s)},
+      {"scale_error_percent_mean", mean_of(results, member(&EstimationResults::scale_error_percent))},
+      {"scale_error_percent_max", max_of(results, member(&EstimationResults::scale_error_percent))},
+      {"hover_slam_position_rmse_m_mean", mean_of(results, [](const EstimationResults& r) { return r.hover_slam.position_rmse_m; })},
+      {"hover_slam_position_rmse_m_max", max_of(results, [](const EstimationResults& r) { return r.hover_slam.position_rmse_m; })},
+      {"hover_slam_yaw_rmse_deg_mean", mean_of(results, [](const EstimationResults& r) { return r.hover_slam.yaw_rmse_deg; })},
+      {"servo_position_rmse_m_mean", mean_of(results, [](const EstimationResults& r) { return r.servo.position_rmse_m; })},
+      {"servo_position_rmse_m_max", max_of(results, [](const EstimationResults& r) { return r.servo.position_rmse_m; })},
+      {"servo_yaw_rmse_deg_mean", mean_of(results, [](const EstimationResults& r) { return r.servo.yaw_rmse_deg; })},
+      {"dead_reckoning_drift_m_per_s_mean", mean_of(results, member(&EstimationResults::dead_reckoning_drift_m_per_s))},
+      {"dead_reckoning_yaw_drift_deg_per_s_mean", mean_of(results, member(&EstimationResults::dead_reckoning_yaw_drift_deg_per_s))},
       {"z_impulse_servo_returned_within_5_s_fraction", impulse_ok / n},
       {"z_impulse_dead_reckoning_returned_within_5_s_fraction", impulse_dr_ok / n},
       {"z_impulse_paper_gamma_rule_returned_within_5_s_fraction", paper_ok / n},
       {"controller_input_error_with_delay_compensation_m_mean",
-       mean_of(results, &EstimationResults::controller_input_error_compensated_m)},
+       mean_of(results, member(&EstimationResults::controller_input_error_compensated_m))},
       {"controller_input_error_without_delay_compensation_m_mean",
-       mean_of(results, &EstimationResults::controller_input_error_uncompensated_m)},
-      {"control_rmse_with_delay_compensation_m_mean", mean_of(results, &EstimationResults::control_rmse_compensated_m)},
-      {"control_rmse_without_delay_compensation_m_mean", mean_of(results, &EstimationResults::control_rmse_uncompensated_m)}};
+       mean_of(results, member(&EstimationResults::controller_input_error_uncompensated_m))},
+      {"control_rmse_with_delay_compensation_m_mean", mean_of(results, member(&EstimationResults::control_rmse_compensated_m))},
+      {"control_rmse_without_delay_compensation_m_mean", mean_of(results, member(&EstimationResults::control_rmse_uncompensated_m))}};
   out["targets"] = {{"scale_within_3_percent_fraction", ">= 0.95"},
                     {"hover_slam_position_rmse_m", "<= 0.05"},
                     {"z_impulse_returned_within_5_s_fraction", "1.0 (within 0.1 m of the set point)"}};
