@@ -12,6 +12,7 @@
 // the lab's surface map says no edge lies near the drone: then the range is fused as true motion. Over a known surface the floor
 // estimate is pulled to its surveyed height, so an earlier misclassification does not persist.
 #include <Eigen/Core>
+#include <optional>
 
 #include "core/time.hpp"
 #include "localization/estimation/surface_map.hpp"
@@ -47,6 +48,9 @@ class AltitudeTracker {
   int floor_steps() const { return steps_; }
 
  private:
+  std::optional<double> known_edge_step(const SurfaceMap* map, const Eigen::Vector2d& xy, double margin,
+                                        double rise) const;
+
   double gamma_;
   Mode mode_;
   bool initialized_ = false;
