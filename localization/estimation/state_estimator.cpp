@@ -21,7 +21,6 @@ constexpr std::size_t kCommandCapacity = 512;
 constexpr Seconds kFaceForgetS = 2.0;          // a face unseen this long is placed anew
 constexpr int kForcedAcceptAfter = 10;         // innovation-gated frames in a row before re-sync
 constexpr int kMapRotationFrames = 30;         // first SLAM frames averaging the map's rotation
-constexpr int kScalePairsBeforeFusion = 3;     // inlier pairs before SLAM poses are fused
 
 bool finite_pose(const Eigen::Isometry3d& T) {
   if (!T.matrix().allFinite()) return false;
@@ -379,7 +378,7 @@ bool StateEstimator::add_slam_pose(const SlamObservation& o) {
   const Eigen::Isometry3d T_world_body = m.map.T_world_cam(o.T_map_cam) * T_body_cam_front().inverse();
   // Until a few displacement pairs fix the scale, SLAM poses are metric nonsense: they only feed the
   // scale estimator (the paper's stage 1), the drone flies on navdata.
-  const bool scale_known = m.map_is_metric || m.scale.status().inliers >= kScalePairsBeforeFusion;
+  const bool scale_known = m.map_is_metric || m.scale.status().estimated;
   const auto outcome = m.fuse_vision(LocalizationSource::Slam, t_meas, T_world_body, m.config.noise.slam_position_m,
                                      m.config.noise.slam_yaw_rad, o.quality, scale_known);
   if (outcome == Impl::VisionOutcome::Inconsistent) return false;
