@@ -1,7 +1,6 @@
 #include "localization/estimation/eval/sim_estimate_command.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <iostream>
@@ -114,7 +113,6 @@ int run_sim_estimate_command(const ParsedArgs& args) {
     return std::make_unique<SurrogatePlant>(seed, options);
   };
 
-  const auto start = std::chrono::steady_clock::now();
   std::vector<EstimationResults> results;
   nlohmann::json per_run = nlohmann::json::array();
   for (int i = 0; i < runs; ++i) {
@@ -167,7 +165,6 @@ int run_sim_estimate_command(const ParsedArgs& args) {
     const ModelFitReport fit = fit_motion_model(*surrogate(first_seed + 5000, 1.0 / 200.0), config.model);
     out["model_fit"] = model_fit_json(fit);
   }
-  out["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << out.dump(2) << "\n";
   return 0;
 }
