@@ -14,6 +14,7 @@
 #include "localization/planar/planar_commands.hpp"
 #include "localization/slam/bench/slam_bench_command.hpp"
 #include "localization/face/face_commands.hpp"
+#include "localization/estimation/eval/sim_estimate_command.hpp"
 #include "server/serve_command.hpp"
 #include "drone/lab/lab_commands.hpp"
 
@@ -40,6 +41,7 @@ std::vector<Subcommand> subcommands() {
       {labo::bench_link_command_spec(), labo::run_bench_link_command},
       {labo::sim_textures_command_spec(), labo::run_sim_textures_command},
       {labo::sim_lab_command_spec(), labo::run_sim_lab_command},
+      {labo::sim_estimate_command_spec(), labo::run_sim_estimate_command},
   };
 }
 

@@ -12,6 +12,7 @@
 // the lab's surface map says no edge lies near the drone: then the range is fused as true motion. Over a known surface the floor
 // estimate is pulled to its surveyed height, so an earlier misclassification does not persist.
 #include <Eigen/Core>
+#include <optional>
 
 #include "core/time.hpp"
 #include "localization/estimation/surface_map.hpp"
@@ -29,7 +30,10 @@ struct AltitudeDecision {
 
 class AltitudeTracker {
  public:
-  explicit AltitudeTracker(double gamma_m = 0.10) : gamma_(gamma_m) {}
+  // PaperGammaOnly reproduces the paper's rule for comparison: every range increment above gamma is a
+  // floor step, whatever the motion.
+  enum class Mode { Discriminating, PaperGammaOnly };
+  explicit AltitudeTracker(double gamma_m = 0.10, Mode mode = Mode::Discriminating) : gamma_(gamma_m), mode_(mode) {}
 
   void reset() { initialized_ = false; steps_ = 0; }
   // range_m: ultrasound corrected for tilt; z_predicted: the filter's z at the range's time;
@@ -44,7 +48,11 @@ class AltitudeTracker {
   int floor_steps() const { return steps_; }
 
  private:
+  std::optional<double> known_edge_step(const SurfaceMap* map, const Eigen::Vector2d& xy, double margin,
+                                        double rise) const;
+
   double gamma_;
+  Mode mode_;
   bool initialized_ = false;
   double last_range_ = 0;
   double last_z_ = 0;

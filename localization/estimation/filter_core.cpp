@@ -22,7 +22,9 @@ Eigen::Matrix<double, M, M> diag_sq(const Eigen::Matrix<double, M, 1>& sigma) {
 }  // namespace
 
 FilterCore::FilterCore(const EstimatorConfig& config, double gamma_m)
-    : config_(config), ekf_(config.model, config.noise), altitude_(gamma_m) {}
+    : config_(config), ekf_(config.model, config.noise),
+      altitude_(gamma_m, config.altitude_step_discrimination ? AltitudeTracker::Mode::Discriminating
+                                                              : AltitudeTracker::Mode::PaperGammaOnly) {}
 
 void FilterCore::reset(const StateVector& s, const StateCovariance& P, Seconds t) {
   ekf_.reset(s, P);

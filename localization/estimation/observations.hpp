@@ -28,6 +28,8 @@ struct SlamObservation {
   Seconds t = 0;                  // video frame time
   Eigen::Isometry3d T_map_cam = Eigen::Isometry3d::Identity();
   int map_id = 0;
+  // The map is already metric (a saved map whose scale was fixed before): scale 1, fused at once.
+  bool map_is_metric = false;
   bool tracking_good = true;      // SLAM state good (dodgy/lost/initializing must not be sent as good)
   double quality = 1.0;           // 0..1, e.g. points found / attempted
 };

@@ -70,7 +70,7 @@ void ScaleEstimator::recompute() {
   const double lambda = ml_scale(s_pp, s_ii, s_pi, sigma_map_, sigma_metric_);
   if (!(lambda > 0.1 * reference) || !std::isfinite(lambda)) return;
   status_.scale = lambda;
-  status_.estimated = true;
+  status_.estimated = inliers >= kMinInliers;
   status_.accuracy = 0.5 + 0.5 * std::clamp(s_pi * lambda / 4.0, 0.0, 1.0);
   const double mean = sum / inliers;
   const double var = std::max(0.0, sum2 / inliers - mean * mean);

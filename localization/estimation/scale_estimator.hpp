@@ -18,12 +18,14 @@ struct ScaleStatus {
   double accuracy = 0.0;     // 0.5 + 0.5*clip(S_PI*lambda/4, 0, 1) as tum_ardrone publishes; 0 before any pair
   int pairs = 0;
   int inliers = 0;
-  bool estimated = false;    // at least one accepted pair
+  bool estimated = false;    // at least kMinInliers inlier pairs: SLAM poses are fused from then on
   double relative_std = 1.0; // spread of the inlier single-pair scales / sqrt(n), relative
 };
 
 class ScaleEstimator {
  public:
+  static constexpr int kMinInliers = 3;
+
   ScaleEstimator(double sigma_map, double sigma_metric, double pair_sigma_metric, double initial_scale);
 
   // One pair of displacements (already weighted per axis by the caller). Pairs where either vector is

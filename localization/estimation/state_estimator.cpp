@@ -6,6 +6,7 @@
 #include "core/frames.hpp"
 #include "localization/estimation/filter_core.hpp"
 #include "localization/estimation/landmark.hpp"
+#include "localization/estimation/scale_pair_sampler.hpp"
 #include "localization/estimation/source_selector.hpp"
 #include "localization/estimation/timed_queue.hpp"
 #include "localization/estimation/vision_gate.hpp"
@@ -49,13 +50,6 @@ constexpr const char* kCounterNames[kCounterCount] = {
     "rejected_innovation", "rejected_not_tracking", "rejected_bad_input", "commands_nonfinite_hover",
     "navdata_queue_overflow", "slam_maps", "objects_placed", "scale_pairs", "vision_settling"};
 
-struct ScalePairStart {
-  Seconds t = 0;
-  Eigen::Vector3d p_map_cam = Eigen::Vector3d::Zero();
-  MetricOdometry odometry;
-  Eigen::Vector3d lever_world = Eigen::Vector3d::Zero();  // camera offset from the body, world axes
-};
-
 int source_index(LocalizationSource s) { return static_cast<int>(s); }
 }  // namespace
 
@@ -63,7 +57,8 @@ struct StateEstimator::Impl {
   Impl(const EstimatorConfig& c, const VisionThresholds& th)
       : config(c), thresholds(th), core(c, th.ultrasound_step_gamma_m), navdata(kNavdataCapacity),
         commands(kCommandCapacity), selector(c.source_enter_count, c.source_timeout_s),
-        scale(c.scale_sigma_map, c.scale_sigma_metric, c.scale_pair_sigma_metric, c.initial_scale) {}
+        scale(c.scale_sigma_map, c.scale_sigma_metric, c.scale_pair_sigma_metric, c.initial_scale),
+        pair_sampler(c.scale_interval_min_s, c.scale_interval_max_s) {}
 
   EstimatorConfig config;
   VisionThresholds thresholds;
@@ -75,7 +70,8 @@ struct StateEstimator::Impl {
   MapToWorld map;
   int map_id = 0;
   int map_frames = 0;
-  std::optional<ScalePairStart> pair_start;
+  bool map_is_metric = false;
+  ScalePairSampler pair_sampler;
   std::map<int, Landmark> objects;
   std::map<int, Seconds> object_last_t;
   std::optional<Landmark> face;
@@ -132,22 +128,29 @@ struct StateEstimator::Impl {
     return true;
   }
 
-  // Vision: consistency (D, beta), settling, innovation gate, fusion of position and yaw.
-  bool fuse_vision(LocalizationSource source, Seconds t_meas, const Eigen::Isometry3d& T_world_body,
-                   double sigma_pos, double sigma_yaw, double quality) {
+  enum class VisionOutcome { Inconsistent, Settling, Gated, Fused };
+
+  // Vision: consistency (D, beta), settling, innovation gate, fusion of position and yaw. With
+  // `may_fuse` false (SLAM before its scale is known) a consistent frame only counts as settling.
+  VisionOutcome fuse_vision(LocalizationSource source, Seconds t_meas, const Eigen::Isometry3d& T_world_body,
+                            double sigma_pos, double sigma_yaw, double quality, bool may_fuse = true) {
     const int i = source_index(source);
     const VisionGate::Verdict verdict = gates[i].check(T_world_body, t_meas, thresholds.distance_jump_m,
                                                         thresholds.angle_jump_beta_rad);
     if (verdict != VisionGate::Verdict::Consistent) {
       count(verdict == VisionGate::Verdict::JumpDistance ? kRejectedJumpDistance : kRejectedJumpAngle);
       selector.on_inconsistent(source);
-      return false;
+      return VisionOutcome::Inconsistent;
+    }
+    if (!may_fuse) {
+      count(kVisionSettling);
+      return VisionOutcome::Settling;
     }
     const bool was_established = selector.established(source, t_meas);
     selector.on_consistent(source, t_meas, quality);
     if (selector.consecutive(source) < config.source_enter_count) {
       count(kVisionSettling);
-      return true;
+      return VisionOutcome::Settling;
     }
     const double factor = selector.active(t_meas) == source ? 1.0 : config.inactive_source_noise_factor;
     const double q = std::clamp(quality, 0.2, 1.0);
@@ -163,12 +166,12 @@ struct StateEstimator::Impl {
         core.ekf().mahalanobis<4>(y, H, R) > config.vision_gate_chi2) {
       ++gated_in_row[i];
       count(kRejectedInnovation);
-      return false;
+      return VisionOutcome::Gated;
     }
     gated_in_row[i] = 0;
     core.ekf().update<4>(y, H, R);
     selector.on_fused(source, t_meas);
-    return true;
+    return VisionOutcome::Fused;
   }
 
   // The common front of every vision input: time checks, then the filter advanced to its time.
@@ -189,30 +192,27 @@ struct StateEstimator::Impl {
     return true;
   }
 
-  void update_scale_pairs(const SlamObservation& o, Seconds t_meas) {
+  void update_scale_pairs(const SlamObservation& o) {
     const StateVector& s = core.ekf().state();
     const Eigen::Vector3d lever = body_pose(s).linear() * T_body_cam_front().translation();
-    const auto restart = [&] {
-      pair_start = ScalePairStart{t_meas, o.T_map_cam.translation(), core.odometry(), lever};
-      core.odometry().reset_gap();
-    };
-    if (!pair_start) return restart();
-    const Seconds dt = t_meas - pair_start->t;
-    if (dt > config.scale_interval_max_s) return restart();
-    if (dt < config.scale_interval_min_s) return;
-    const MetricOdometry& now = core.odometry();
-    const bool z_corrupted = now.floor_steps != pair_start->odometry.floor_steps;
-    const bool coverage_ok = now.max_gap <= 0.1;
-    Eigen::Vector3d metric(now.xy.x() - pair_start->odometry.xy.x(), now.xy.y() - pair_start->odometry.xy.y(),
-                           now.z - pair_start->odometry.z);
-    metric += lever - pair_start->lever_world;  // camera displacement = body displacement + lever change
-    const Eigen::Vector3d map_d = map.rotate_to_world(o.T_map_cam.translation() - pair_start->p_map_cam);
-    const Eigen::Vector3d w(config.scale_weight_xy, config.scale_weight_xy, z_corrupted ? 0.0 : config.scale_weight_z);
-    if (coverage_ok && scale.add_pair(w.cwiseProduct(map_d), w.cwiseProduct(metric))) {
+    const MetricOdometry& odo = core.odometry();
+    ScaleSample sample;
+    sample.t = core.time();
+    sample.p_map = o.T_map_cam.translation();
+    // The camera's metric position = integrated body odometry + the lever arm to the camera.
+    sample.metric = Eigen::Vector3d(odo.xy.x(), odo.xy.y(), odo.z) + lever;
+    sample.floor_steps = odo.floor_steps;
+    sample.navdata_gap = odo.max_gap;
+    core.odometry().reset_gap();
+    const std::optional<ScalePair> pair = pair_sampler.add(sample);
+    if (!pair || !pair->coverage_ok) return;
+    const Eigen::Vector3d map_d = map.rotate_to_world(pair->map_displacement);
+    const Eigen::Vector3d w(config.scale_weight_xy, config.scale_weight_xy,
+                            pair->z_corrupted ? 0.0 : config.scale_weight_z);
+    if (scale.add_pair(w.cwiseProduct(map_d), w.cwiseProduct(pair->metric_displacement))) {
       count(kScalePairs);
       map.set_scale(scale.scale());
     }
-    restart();
   }
 
   FusedState make_state(const FilterCore& c, Seconds t) const {
@@ -259,7 +259,7 @@ void StateEstimator::reset(const Eigen::Isometry3d& T_world_body, Seconds t) {
   m.selector.reset();
   m.scale.reset(m.config.initial_scale);
   m.map.reset();
-  m.pair_start.reset();
+  m.pair_sampler.reset();
   m.objects.clear();
   m.object_last_t.clear();
   m.face.reset();
@@ -362,10 +362,11 @@ bool StateEstimator::add_slam_pose(const SlamObservation& o) {
   if (!m.map.initialized() || o.map_id != m.map_id) {
     // A new map: place it where the filter says the camera is; its scale starts from scratch.
     m.map_id = o.map_id;
-    m.scale.reset(m.config.initial_scale);
+    m.scale.reset(o.map_is_metric ? 1.0 : m.config.initial_scale);
+    m.map_is_metric = o.map_is_metric;
     m.map.initialize(o.T_map_cam, T_world_cam_est, m.scale.scale());
     m.map_frames = 1;
-    m.pair_start.reset();
+    m.pair_sampler.reset();
     m.gates[source_index(LocalizationSource::Slam)] = {};
     m.count(kSlamMaps);
     return true;
@@ -375,13 +376,15 @@ bool StateEstimator::add_slam_pose(const SlamObservation& o) {
     m.map.refine_rotation(o.T_map_cam, T_world_cam_est, 1.0 / m.map_frames);
   }
   const Eigen::Isometry3d T_world_body = m.map.T_world_cam(o.T_map_cam) * T_body_cam_front().inverse();
-  const bool fused = m.fuse_vision(LocalizationSource::Slam, t_meas, T_world_body, m.config.noise.slam_position_m,
-                                   m.config.noise.slam_yaw_rad, o.quality);
-  if (fused) {
-    m.count(kSlam);
-    m.update_scale_pairs(o, t_meas);
-  }
-  return fused;
+  // Until a few displacement pairs fix the scale, SLAM poses are metric nonsense: they only feed the
+  // scale estimator (the paper's stage 1), the drone flies on navdata.
+  const bool scale_known = m.map_is_metric || m.scale.status().estimated;
+  const auto outcome = m.fuse_vision(LocalizationSource::Slam, t_meas, T_world_body, m.config.noise.slam_position_m,
+                                     m.config.noise.slam_yaw_rad, o.quality, scale_known);
+  if (outcome == Impl::VisionOutcome::Inconsistent) return false;
+  if (!m.map_is_metric) m.update_scale_pairs(o);
+  if (outcome == Impl::VisionOutcome::Fused) m.count(kSlam);
+  return outcome != Impl::VisionOutcome::Gated;
 }
 
 bool StateEstimator::add_object_pose(const ObjectObservation& o) {
@@ -427,10 +430,10 @@ bool StateEstimator::add_object_pose(const ObjectObservation& o) {
   it->second.last_seen = t_meas;
   const Eigen::Isometry3d T_world_body = it->second.T_world_landmark * o.T_cam_object.inverse() * T_bc.inverse();
   const double sigma_pos = std::sqrt(sigma_obs * sigma_obs + it->second.position_var);
-  const bool fused = m.fuse_vision(LocalizationSource::Homography, t_meas, T_world_body, sigma_pos,
-                                   m.config.noise.object_yaw_rad, o.quality);
-  if (fused) m.count(kObject);
-  return fused;
+  const auto outcome = m.fuse_vision(LocalizationSource::Homography, t_meas, T_world_body, sigma_pos,
+                                     m.config.noise.object_yaw_rad, o.quality);
+  if (outcome == Impl::VisionOutcome::Fused) m.count(kObject);
+  return outcome == Impl::VisionOutcome::Fused || outcome == Impl::VisionOutcome::Settling;
 }
 
 bool StateEstimator::add_face_pose(const FaceObservation& o) {
@@ -451,7 +454,7 @@ bool StateEstimator::add_face_pose(const FaceObservation& o) {
   const Eigen::Isometry3d T_world_body = m.face->T_world_landmark * o.T_cam_face.inverse() * T_bc.inverse();
   const double sigma_pos = std::sqrt(sigma_obs * sigma_obs + m.face->position_var);
   const bool fused = m.fuse_vision(LocalizationSource::Face, t_meas, T_world_body, sigma_pos,
-                                   m.config.noise.face_yaw_rad, o.quality);
+                                   m.config.noise.face_yaw_rad, o.quality) == Impl::VisionOutcome::Fused;
   // The teacher moves: the face's world pose follows the cascade, fast while another source holds the
   // drone, with the face memory's time constant while the face itself is the reference.
   const Seconds dt = std::max(0.0, t_meas - m.face->last_seen);

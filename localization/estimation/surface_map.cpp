@@ -35,4 +35,17 @@ std::optional<double> SurfaceMap::unambiguous_height(const Eigen::Vector2d& xy, 
   return h;
 }
 
+int SurfaceMap::heights_near(const Eigen::Vector2d& xy, double margin, double* out, int capacity) const {
+  int n = 0;
+  for (int i = -2; i <= 2; ++i) {
+    for (int j = -2; j <= 2; ++j) {
+      const double h = height_at(xy + 0.5 * margin * Eigen::Vector2d(i, j));
+      bool known = false;
+      for (int k = 0; k < n; ++k) known = known || std::abs(out[k] - h) < 1e-3;
+      if (!known && n < capacity) out[n++] = h;
+    }
+  }
+  return n;
+}
+
 }  // namespace labo

@@ -28,6 +28,9 @@ class SurfaceMap {
   // The surface height when every point within `margin` of (x, y) has the same one (the position is
   // not near an edge); nullopt near an edge.
   std::optional<double> unambiguous_height(const Eigen::Vector2d& xy, double margin) const;
+  // The surface heights found within `margin` of (x, y) (probed on a 5x5 grid), at most `capacity`
+  // distinct ones written to `out`; returns how many.
+  int heights_near(const Eigen::Vector2d& xy, double margin, double* out, int capacity) const;
   // Whether a surface edge with a height change lies within `margin` of (x, y).
   bool near_edge(const Eigen::Vector2d& xy, double margin) const { return !unambiguous_height(xy, margin); }
 

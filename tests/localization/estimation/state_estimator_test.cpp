@@ -21,6 +21,7 @@ SlamObservation slam_at(const Eigen::Isometry3d& T_world_body, Seconds t) {
   SlamObservation o;
   o.t = t;
   o.T_map_cam = T_world_body * T_body_cam_front();  // map = world, scale 1
+  o.map_is_metric = true;
   return o;
 }
 }  // namespace
