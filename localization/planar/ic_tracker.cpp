@@ -17,10 +17,11 @@ namespace {
 constexpr int kMinLevelSidePx = 16;
 constexpr int kGridCells = 8;  // per side, for spreading the samples over the panel
 
-// Level-0 image pixels -> level-j pixels (pixel centres).
+// Level-0 image pixels -> level-j pixels. cv::pyrDown keeps every other pixel (level-1 pixel i is
+// centred on level-0 pixel 2i), so this is a pure scale (not the area-resize convention).
 cv::Matx33d base_to_level(int level) {
   const double s = std::ldexp(1.0, -level);
-  return {s, 0, 0.5 * s - 0.5, 0, s, 0.5 * s - 0.5, 0, 0, 1};
+  return {s, 0, 0, 0, s, 0, 0, 0, 1};
 }
 
 cv::Matx33d increment_warp(const Eigen::Matrix<double, 8, 1>& p) {
@@ -152,8 +153,8 @@ void InverseCompositionalTracker::build_level(const cv::Mat& gray, int k) {
   for (const auto& c : chosen) {
     const cv::Point p = c.second;
     Sample smp{};
-    smp.xn = static_cast<float>(((p.x + 0.5) * pixel - 0.5 - cx) / s0);
-    smp.yn = static_cast<float>(((p.y + 0.5) * pixel - 0.5 - cy) / s0);
+    smp.xn = static_cast<float>((p.x * pixel - cx) / s0);  // pyrDown geometry, see base_to_level
+    smp.yn = static_cast<float>((p.y * pixel - cy) / s0);
     smp.t = static_cast<float>((gray.at<uchar>(p) - mean) / rms);
     // Gradient of the normalized template per normalized unit.
     const double gxn = gx.at<float>(p) * s0 / pixel / rms, gyn = gy.at<float>(p) * s0 / pixel / rms;
@@ -180,8 +181,8 @@ void InverseCompositionalTracker::build_level(const cv::Mat& gray, int k) {
   for (int y = 1; y + 1 < gray.rows; y += stride) {
     for (int x = 1; x + 1 < gray.cols; x += stride) {
       Sample g{};
-      g.xn = static_cast<float>(((x + 0.5) * pixel - 0.5 - cx) / s0);
-      g.yn = static_cast<float>(((y + 0.5) * pixel - 0.5 - cy) / s0);
+      g.xn = static_cast<float>((x * pixel - cx) / s0);
+      g.yn = static_cast<float>((y * pixel - cy) / s0);
       g.t = static_cast<float>(gray.at<uchar>(y, x));
       L.grid.push_back(g);
     }

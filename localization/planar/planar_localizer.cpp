@@ -92,7 +92,7 @@ PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, con
   if (camera_.has_distortion()) {
     const cv::Size size(camera_.width(), camera_.height());
     cv::initUndistortRectifyMap(camera_.K(), camera_.distortion_coefficients(), cv::Mat(), camera_.K(), size,
-                                CV_16SC2, map1_, map2_);
+                                CV_32FC1, map1_, map2_);  // float maps: no 1/32 px quantization
     undistorted_.create(size, CV_8UC1);
   }
 }

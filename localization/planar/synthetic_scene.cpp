@@ -97,7 +97,10 @@ cv::Matx33d shrink(const cv::Mat& templ, double scale, cv::Mat& out) {
     out = templ;
     return cv::Matx33d::eye();
   }
-  cv::resize(templ, out, cv::Size(), scale, scale, cv::INTER_AREA);
+  // An explicit size: with scale factors OpenCV maps pixels by the factor, not by the size ratio.
+  const cv::Size size(std::max(1, static_cast<int>(std::lround(templ.cols * scale))),
+                      std::max(1, static_cast<int>(std::lround(templ.rows * scale))));
+  cv::resize(templ, out, size, 0, 0, cv::INTER_AREA);
   const double sx = static_cast<double>(templ.cols) / out.cols, sy = static_cast<double>(templ.rows) / out.rows;
   return {sx, 0, 0.5 * sx - 0.5, 0, sy, 0.5 * sy - 0.5, 0, 0, 1};  // small px -> original px
 }
