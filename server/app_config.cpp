@@ -19,6 +19,7 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
                                    : CamerasConfig{PinholeCamera::ardrone2_front().intrinsics(),
                                                    PinholeCamera::ardrone2_bottom().intrinsics()};
   c.vision = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
+  c.planar = root.has("planar") ? read_planar_config(root.object("planar")) : PlanarConfig{};
   if (root.has("server")) {
     const ConfigReader s = root.object("server");
     c.server.bind_address = s.string_or("bind", c.server.bind_address);
