@@ -113,6 +113,7 @@ const CommandSpec& bench_planar_command_spec() {
        {"--trials", "N", "trials per sigma in the sweep (default 100)"},
        {"--part", "P", "sweep, sequences or all (default all)"},
        {"--sequence", "NAME", "run only the sequences whose name contains NAME"},
+       {"--config", "FILE", "read the \"vision\" and \"planar\" sections of this config (default: built-in values)"},
        {"--noise", "G", "grey-level noise added to the sweep's scenes (default 2)"}},
       0,
       0};
@@ -128,7 +129,8 @@ int run_bench_planar_command(const ParsedArgs& args) {
   PerturbationSettings settings;
   settings.trials = args.integer_or("--trials", settings.trials, 1, 10000);
   settings.pixel_noise = args.number_or("--noise", settings.pixel_noise, 0.0, 50.0);
-  const PlanarConfig config;
+  const PlanarCommandSettings settings_from_file = read_planar_command_settings(args);
+  const PlanarConfig& config = settings_from_file.planar;
   nlohmann::json out;
   if (part != "sequences") {
     const auto rows = run_perturbation_sweep(settings, config);
@@ -139,7 +141,7 @@ int run_bench_planar_command(const ParsedArgs& args) {
     }
   }
   if (part != "sweep") {
-    const SequenceBenchResult r = run_sequence_bench(config, VisionThresholds{}, args.value_or("--sequence", ""));
+    const SequenceBenchResult r = run_sequence_bench(config, settings_from_file.vision, args.value_or("--sequence", ""));
     if (json) {
       out["sequences"] = sequences_json(r);
     } else {

@@ -260,6 +260,34 @@ InverseCompositionalTracker::EsmStep InverseCompositionalTracker::esm_step(const
   return out;
 }
 
+void InverseCompositionalTracker::polish_with_esm(const Level& level, const cv::Mat& image, int base, cv::Matx33d& M,
+                                                  int& iterations) const {
+  // ESM polish (see the header: removes IC's bias when the frame is blurred). Kept only when it
+  // raises the correlation on the level's samples; IC's result stands otherwise.
+  const double h = std::ldexp(1.0, base) / (std::max(template_size_.width, template_size_.height) / 2.0);
+  const Sums before = accumulate(level.samples, image, M, false);
+  if (before.valid == 0) return;
+  const double rho_before = correlation_of(before.valid, before.i, before.ii, before.t, before.tt, before.it);
+  double gain = std::max(1e-3, (before.it - before.i * before.t / before.valid) /
+                                   (before.tt - before.t * before.t / before.valid));
+  cv::Matx33d polished = M;
+  for (int it = 0; it < config_.esm_iterations; ++it) {
+    const EsmStep step = esm_step(level.samples, image, polished, gain, h);
+    ++iterations;
+    if (!step.ok) break;
+    gain = step.gain;
+    const cv::Matx33d next = polished * increment_warp(step.dp);
+    if (!finite(next)) break;
+    const std::array<cv::Point2d, 4> corners{cv::Point2d(-1, -1), cv::Point2d(1, -1), cv::Point2d(1, 1), cv::Point2d(-1, 1)};
+    double moved = 0;
+    for (const auto& c : corners) moved = std::max(moved, cv::norm(apply_homography(next, c) - apply_homography(polished, c)));
+    polished = next;
+    if (moved < config_.convergence_px) break;
+  }
+  const Sums after = accumulate(level.samples, image, polished, false);
+  if (correlation_of(after.valid, after.i, after.ii, after.t, after.tt, after.it) > rho_before) M = polished;
+}
+
 TrackOutcome InverseCompositionalTracker::track(const cv::Mat& image, const cv::Matx33d& H_prior) {
   TrackOutcome out;
   out.H = H_prior;
@@ -335,27 +363,7 @@ TrackOutcome InverseCompositionalTracker::track(const cv::Mat& image, const cv::
       M = M_new;
       if (last_step < tolerance) break;
     }
-    // ESM polish of this level (see the header: removes IC's bias when the frame is blurred).
-    const double h = std::ldexp(1.0, base + j) / (std::max(template_size_.width, template_size_.height) / 2.0);
-    double gain = 1.0;
-    {
-      const Sums s0 = accumulate(level.samples, img, S * M, false);
-      if (s0.valid > 0) gain = std::max(1e-3, (s0.it - s0.i * s0.t / s0.valid) / (s0.tt - s0.t * s0.t / s0.valid));
-    }
-    for (int it = 0; it < config_.esm_iterations; ++it) {
-      const EsmStep step = esm_step(level.samples, img, S * M, gain, h);
-      ++out.iterations;
-      if (!step.ok) break;
-      gain = step.gain;
-      const cv::Matx33d M_new = M * increment_warp(step.dp);
-      if (!finite(M_new)) break;
-      last_step = 0;
-      for (const auto& c : corners_n) {
-        last_step = std::max(last_step, cv::norm(apply_homography(M_new, c) - apply_homography(M, c)));
-      }
-      M = M_new;
-      if (last_step < tolerance) break;
-    }
+    if (j == 0 && config_.esm_iterations > 0) polish_with_esm(level, image, base, M, out.iterations);
   }
   out.H = M * normalized_from_template_;
   out.H *= 1.0 / out.H(2, 2);

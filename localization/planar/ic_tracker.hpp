@@ -61,6 +61,8 @@ class InverseCompositionalTracker final : public HomographyTracker {
   Sums accumulate(const std::vector<Sample>& samples, const cv::Mat& image, const cv::Matx33d& P,
                   bool need_hessian) const;
 
+  // A few ESM iterations on the finest level, kept when they raise the correlation.
+  void polish_with_esm(const Level& level, const cv::Mat& image, int base, cv::Matx33d& M, int& iterations) const;
   // One ESM step (Benhimane & Malis: the mean of template and frame gradients) at level 0.
   EsmStep esm_step(const std::vector<Sample>& samples, const cv::Mat& image, const cv::Matx33d& M, double gain,
                    double h) const;

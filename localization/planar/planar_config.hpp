@@ -20,7 +20,7 @@ struct PlanarConfig {
   int max_samples = 1500;          // template pixels per level (highest gradient, spread over a grid)
   double convergence_px = 0.01;    // stop a level when no corner moves more than this (level-0 px)
   double ic_smoothing_sigma = 0.0; // Gaussian blur of the template levels (px), 0 = none
-  int esm_iterations = 10;         // ESM iterations ending the finest level (0: pure IC)
+  int esm_iterations = 4;          // ESM iterations ending the finest level (0: pure IC)
 
   // ECC (OpenCV).
   int ecc_max_iterations = 50;
