@@ -11,6 +11,7 @@
 #include "localization/face/face_config.hpp"
 #include "drone/ardrone2/ardrone_emulator.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
+#include "localization/planar/planar_config.hpp"
 #include "localization/vision_thresholds.hpp"
 #include "server/server_settings.hpp"
 
@@ -23,6 +24,7 @@ struct AppConfig {
   VisionThresholds vision;
   EstimatorConfig estimation;
   ControlConfig control;
+  PlanarConfig planar;
   ServerSettings server;
   ArdroneLinkSettings link;          // the AR.Drone 2.0 driver (docs/ardrone2.md)
   ArdroneEmulatorSettings emulator;  // the AR.Drone 2.0 protocol emulator on loopback

@@ -5,6 +5,7 @@
 #include "core/config_reader.hpp"
 #include "localization/planar/perturbation_bench.hpp"
 #include "localization/planar/planar_commands.hpp"
+#include "localization/planar/sequence_bench.hpp"
 
 namespace labo {
 
@@ -12,7 +13,8 @@ namespace {
 
 nlohmann::json to_json(const TrackerSweepStats& s) {
   return {{"convergence_percent", 100.0 * s.convergence_rate},
-          {"final_corner_rms_px", s.mean_converged_rms_px},
+          {"final_corner_rms_px_mean", s.mean_converged_rms_px},
+          {"final_corner_rms_px_median", s.median_converged_rms_px},
           {"median_ms_per_call", s.median_ms},
           {"mean_ms_per_call", s.mean_ms},
           {"mean_iterations", s.mean_iterations}};
@@ -33,11 +35,70 @@ nlohmann::json sweep_json(const std::vector<PerturbationRow>& rows, const Pertur
 
 void print_sweep(const std::vector<PerturbationRow>& rows) {
   std::printf("corner-perturbation sweep (template 200 px, 640x480 scene)\n");
-  std::printf("%6s | %9s %9s %9s | %9s %9s %9s\n", "sigma", "ECC conv%", "rms px", "ms", "IC conv%", "rms px", "ms");
+  std::printf("%6s | %9s %9s %9s %9s | %9s %9s %9s %9s\n", "sigma", "ECC conv%", "mean rms", "med rms", "ms",
+              "IC conv%", "mean rms", "med rms", "ms");
   for (const auto& r : rows) {
-    std::printf("%6.1f | %9.1f %9.3f %9.2f | %9.1f %9.3f %9.2f\n", r.sigma_px, 100 * r.ecc.convergence_rate,
-                r.ecc.mean_converged_rms_px, r.ecc.median_ms, 100 * r.ic.convergence_rate, r.ic.mean_converged_rms_px,
-                r.ic.median_ms);
+    std::printf("%6.1f | %9.1f %9.3f %9.3f %9.2f | %9.1f %9.3f %9.3f %9.2f\n", r.sigma_px, 100 * r.ecc.convergence_rate,
+                r.ecc.mean_converged_rms_px, r.ecc.median_converged_rms_px, r.ecc.median_ms, 100 * r.ic.convergence_rate,
+                r.ic.mean_converged_rms_px, r.ic.median_converged_rms_px, r.ic.median_ms);
+  }
+}
+
+nlohmann::json sequences_json(const SequenceBenchResult& r) {
+  nlohmann::json j;
+  j["renderer"] = r.renderer;
+  for (const auto& s : r.sequences) {
+    j["sequences"].push_back({{"sequence", s.sequence},
+                              {"tracker", s.tracker},
+                              {"frames", s.frames},
+                              {"frames_in_view", s.frames_in_view},
+                              {"frames_with_pose", s.frames_with_pose},
+                              {"frames_in_view_without_pose", s.frames_in_view_without_pose},
+                              {"range_m", {s.min_range_m, s.max_range_m}},
+                              {"detections", s.detections},
+                              {"losses", s.losses},
+                              {"recoveries", s.recoveries},
+                              {"max_recovery_frames", s.max_recovery_frames},
+                              {"gross_errors", s.gross_errors},
+                              {"loss_reasons", s.loss_reasons},
+                              {"error_mm", {{"median", s.median_error_mm}, {"p95", s.p95_error_mm}}},
+                              {"error_percent_of_range", {{"median", s.median_error_percent}, {"p95", s.p95_error_percent}}},
+                              {"error_deg", {{"median", s.median_error_deg}, {"p95", s.p95_error_deg}}},
+                              {"frame_ms", {{"median_all", s.median_frame_ms},
+                                            {"median_tracking", s.median_tracking_ms},
+                                            {"p95_tracking", s.p95_tracking_ms},
+                                            {"mean_detection", s.mean_detection_ms}}}});
+  }
+  for (const auto& b : r.range_bins) {
+    j["range_bins"].push_back({{"tracker", b.tracker},
+                               {"range_m", {b.min_m, b.max_m}},
+                               {"poses", b.poses},
+                               {"error_percent_of_range", {{"median", b.median_error_percent}, {"p95", b.p95_error_percent}}},
+                               {"error_deg", {{"median", b.median_error_deg}, {"p95", b.p95_error_deg}}}});
+  }
+  return j;
+}
+
+void print_sequences(const SequenceBenchResult& r) {
+  std::printf("\nsequences (%s)\n", r.renderer.c_str());
+  std::printf("%-36s %-4s %5s %5s %5s %4s %4s %4s %5s | %7s %6s %6s %6s | %6s %6s %6s\n", "sequence", "trk", "frm",
+              "view", "pose", "det", "loss", "rec", "gross", "med mm", "med %", "p95 %", "med deg", "trk ms", "p95 ms",
+              "det ms");
+  for (const auto& s : r.sequences) {
+    std::printf("%-36s %-4s %5d %5d %5d %4d %4d %4d %5d | %7.1f %6.2f %6.2f %6.2f | %6.2f %6.2f %6.1f\n",
+                s.sequence.c_str(), s.tracker.c_str(), s.frames, s.frames_in_view, s.frames_with_pose, s.detections,
+                s.losses, s.max_recovery_frames, s.gross_errors, s.median_error_mm, s.median_error_percent,
+                s.p95_error_percent, s.median_error_deg, s.median_tracking_ms, s.p95_tracking_ms, s.mean_detection_ms);
+    if (!s.loss_reasons.empty()) {
+      std::printf("    losses:");
+      for (const auto& [reason, n] : s.loss_reasons) std::printf(" %s %d", reason.c_str(), n);
+      std::printf("\n");
+    }
+  }
+  for (const auto& b : r.range_bins) {
+    std::printf("range %.1f-%.1f m %-4s poses %5d  error %% median %.2f p95 %.2f  deg median %.2f p95 %.2f\n", b.min_m,
+                b.max_m, b.tracker.c_str(), b.poses, b.median_error_percent, b.p95_error_percent, b.median_error_deg,
+                b.p95_error_deg);
   }
 }
 
@@ -51,6 +112,8 @@ const CommandSpec& bench_planar_command_spec() {
       {{"--json", "", "print JSON instead of tables"},
        {"--trials", "N", "trials per sigma in the sweep (default 100)"},
        {"--part", "P", "sweep, sequences or all (default all)"},
+       {"--sequence", "NAME", "run only the sequences whose name contains NAME"},
+       {"--config", "FILE", "read the \"vision\" and \"planar\" sections of this config (default: built-in values)"},
        {"--noise", "G", "grey-level noise added to the sweep's scenes (default 2)"}},
       0,
       0};
@@ -66,7 +129,8 @@ int run_bench_planar_command(const ParsedArgs& args) {
   PerturbationSettings settings;
   settings.trials = args.integer_or("--trials", settings.trials, 1, 10000);
   settings.pixel_noise = args.number_or("--noise", settings.pixel_noise, 0.0, 50.0);
-  const PlanarConfig config;
+  const PlanarCommandSettings settings_from_file = read_planar_command_settings(args);
+  const PlanarConfig& config = settings_from_file.planar;
   nlohmann::json out;
   if (part != "sequences") {
     const auto rows = run_perturbation_sweep(settings, config);
@@ -74,6 +138,14 @@ int run_bench_planar_command(const ParsedArgs& args) {
       out["perturbation_sweep"] = sweep_json(rows, settings);
     } else {
       print_sweep(rows);
+    }
+  }
+  if (part != "sweep") {
+    const SequenceBenchResult r = run_sequence_bench(config, settings_from_file.vision, args.value_or("--sequence", ""));
+    if (json) {
+      out["sequences"] = sequences_json(r);
+    } else {
+      print_sequences(r);
     }
   }
   if (json) std::cout << out.dump(2) << "\n";

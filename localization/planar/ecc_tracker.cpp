@@ -12,10 +12,11 @@ namespace labo {
 
 namespace {
 
-// Maps template pixels of pyramid level `level` to level-0 pixels (pixel centres scale about -0.5).
+// Maps template pixels of pyramid level `level` to level-0 pixels. cv::pyrDown keeps every other
+// pixel (level-1 pixel i is centred on level-0 pixel 2i), so the map is a pure scale.
 cv::Matx33d level_to_base(int level) {
   const double s = std::ldexp(1.0, level);
-  return {s, 0, 0.5 * s - 0.5, 0, s, 0.5 * s - 0.5, 0, 0, 1};
+  return {s, 0, 0, 0, s, 0, 0, 0, 1};
 }
 
 cv::Matx33d translation(double x, double y) { return {1, 0, x, 0, 1, y, 0, 0, 1}; }
@@ -31,7 +32,7 @@ int matching_template_level(const cv::Matx33d& H, cv::Size template_size, int ma
   for (int i = 0; i < 4; ++i) area += c[i].x * c[(i + 1) % 4].y - c[(i + 1) % 4].x * c[i].y;
   const double ratio = std::sqrt(std::abs(area) / 2.0 / (static_cast<double>(template_size.area())));
   if (!std::isfinite(ratio) || ratio <= 0) return 0;
-  const int level = static_cast<int>(std::floor(std::log2(1.0 / ratio)));
+  const int level = static_cast<int>(std::floor(std::log2(1.0 / ratio) + 0.3));
   return std::clamp(level, 0, max_level);
 }
 

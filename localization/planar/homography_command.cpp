@@ -15,15 +15,8 @@
 
 namespace labo {
 
-namespace {
-
-struct StillSettings {
-  VisionThresholds vision;
-  PlanarConfig planar;
-};
-
-StillSettings read_settings(const ParsedArgs& args) {
-  StillSettings s;
+PlanarCommandSettings read_planar_command_settings(const ParsedArgs& args) {
+  PlanarCommandSettings s;
   if (const auto file = args.value("--config")) {
     const ConfigDocument doc = ConfigDocument::load(*file);
     const ConfigReader root = doc.root();
@@ -32,8 +25,6 @@ StillSettings read_settings(const ParsedArgs& args) {
   }
   return s;
 }
-
-}  // namespace
 
 const CommandSpec& homography_command_spec() {
   static const CommandSpec spec{
@@ -52,7 +43,7 @@ int run_homography_command(const ParsedArgs& args) {
   if (method != "auto" && method != "template" && method != "sift") {
     throw UsageError("--method must be auto, template or sift, not '" + method + "'");
   }
-  const StillSettings settings = read_settings(args);
+  const PlanarCommandSettings settings = read_planar_command_settings(args);
   // The physical size does not matter for a homography; 1 m keeps the template's aspect.
   PlanarTemplate templ = [&] {
     try {

@@ -17,10 +17,11 @@ namespace {
 constexpr int kMinLevelSidePx = 16;
 constexpr int kGridCells = 8;  // per side, for spreading the samples over the panel
 
-// Level-0 image pixels -> level-j pixels (pixel centres).
+// Level-0 image pixels -> level-j pixels. cv::pyrDown keeps every other pixel (level-1 pixel i is
+// centred on level-0 pixel 2i), so this is a pure scale (not the area-resize convention).
 cv::Matx33d base_to_level(int level) {
   const double s = std::ldexp(1.0, -level);
-  return {s, 0, 0.5 * s - 0.5, 0, s, 0.5 * s - 0.5, 0, 0, 1};
+  return {s, 0, 0, 0, s, 0, 0, 0, 1};
 }
 
 cv::Matx33d increment_warp(const Eigen::Matrix<double, 8, 1>& p) {
@@ -47,6 +48,22 @@ bool plausible_quad(const std::array<cv::Point2d, 4>& c) {
   return true;
 }
 
+// Bilinear sample of an 8-bit image at the homography image of (xn, yn); false outside.
+inline bool sample_at(const cv::Mat& image, const cv::Matx33d& P, double xn, double yn, double& value) {
+  const double w = P(2, 0) * xn + P(2, 1) * yn + P(2, 2);
+  const double x = (P(0, 0) * xn + P(0, 1) * yn + P(0, 2)) / w;
+  const double y = (P(1, 0) * xn + P(1, 1) * yn + P(1, 2)) / w;
+  if (!(x >= 0 && y >= 0 && x < image.cols - 1 && y < image.rows - 1)) return false;
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const double fx = x - x0, fy = y - y0;
+  const uchar* r0 = image.ptr<uchar>(y0) + x0;
+  const uchar* r1 = r0 + image.step;
+  const double top = r0[0] + fx * (r0[1] - r0[0]);
+  const double bottom = r1[0] + fx * (r1[1] - r1[0]);
+  value = top + fy * (bottom - top);
+  return true;
+}
+
 }  // namespace
 
 struct InverseCompositionalTracker::Sums {
@@ -56,6 +73,14 @@ struct InverseCompositionalTracker::Sums {
   Eigen::Matrix<double, 8, 1> sd = Eigen::Matrix<double, 8, 1>::Zero();
   Eigen::Matrix<double, 8, 8> hessian = Eigen::Matrix<double, 8, 8>::Zero();
 };
+
+namespace {
+double correlation_of(int valid, double si, double sii, double st, double stt, double sit) {
+  const double n = std::max(1, valid), mi = si / n, mt = st / n;
+  const double denom = std::sqrt(std::max(0.0, (sii - n * mi * mi) * (stt - n * mt * mt)));
+  return denom > 0 ? (sit - n * mi * mt) / denom : 0.0;
+}
+}  // namespace
 
 InverseCompositionalTracker::InverseCompositionalTracker(const cv::Mat& template_gray, const PlanarConfig& config)
     : template_size_(template_gray.size()), config_(config) {
@@ -67,7 +92,13 @@ InverseCompositionalTracker::InverseCompositionalTracker(const cv::Mat& template
   normalized_from_template_ = cv::Matx33d(1 / s, 0, -cx / s, 0, 1 / s, -cy / s, 0, 0, 1);
   cv::Mat level = template_gray;
   for (int k = 0; std::min(level.cols, level.rows) >= kMinLevelSidePx; ++k) {
-    build_level(level, k);
+    if (config_.ic_smoothing_sigma > 0) {
+      cv::Mat smooth;
+      cv::GaussianBlur(level, smooth, cv::Size(0, 0), config_.ic_smoothing_sigma);
+      build_level(smooth, k);
+    } else {
+      build_level(level, k);
+    }
     cv::Mat next;
     cv::pyrDown(level, next);
     level = next;
@@ -122,11 +153,13 @@ void InverseCompositionalTracker::build_level(const cv::Mat& gray, int k) {
   for (const auto& c : chosen) {
     const cv::Point p = c.second;
     Sample smp{};
-    smp.xn = static_cast<float>(((p.x + 0.5) * pixel - 0.5 - cx) / s0);
-    smp.yn = static_cast<float>(((p.y + 0.5) * pixel - 0.5 - cy) / s0);
+    smp.xn = static_cast<float>((p.x * pixel - cx) / s0);  // pyrDown geometry, see base_to_level
+    smp.yn = static_cast<float>((p.y * pixel - cy) / s0);
     smp.t = static_cast<float>((gray.at<uchar>(p) - mean) / rms);
     // Gradient of the normalized template per normalized unit.
     const double gxn = gx.at<float>(p) * s0 / pixel / rms, gyn = gy.at<float>(p) * s0 / pixel / rms;
+    smp.gx = static_cast<float>(gxn);
+    smp.gy = static_cast<float>(gyn);
     const double x = smp.xn, y = smp.yn, radial = gxn * x + gyn * y;
     Eigen::Matrix<double, 8, 1> r;
     r << gxn * x, gyn * x, gxn * y, gyn * y, gxn, gyn, -x * radial, -y * radial;
@@ -144,31 +177,30 @@ void InverseCompositionalTracker::build_level(const cv::Mat& gray, int k) {
     for (int j = 0; j < 8; ++j) L.samples[i].sd[static_cast<std::size_t>(j)] = static_cast<float>(r[j]);
     L.hessian += r * r.transpose();
   }
+  const int stride = std::max(1, static_cast<int>(std::sqrt(gray.rows * gray.cols / double(config_.max_samples))));
+  for (int y = 1; y + 1 < gray.rows; y += stride) {
+    for (int x = 1; x + 1 < gray.cols; x += stride) {
+      Sample g{};
+      g.xn = static_cast<float>((x * pixel - cx) / s0);
+      g.yn = static_cast<float>((y * pixel - cy) / s0);
+      g.t = static_cast<float>(gray.at<uchar>(y, x));
+      L.grid.push_back(g);
+    }
+  }
   Eigen::FullPivLU<Eigen::Matrix<double, 8, 8>> lu(L.hessian);
   if (!lu.isInvertible()) return;
   L.hessian_inverse = lu.inverse();
   if (static_cast<int>(levels_.size()) == k) levels_.push_back(std::move(L));
 }
 
-InverseCompositionalTracker::Sums InverseCompositionalTracker::accumulate(const Level& level, const cv::Mat& image,
-                                                                          const cv::Matx33d& P,
+InverseCompositionalTracker::Sums InverseCompositionalTracker::accumulate(const std::vector<Sample>& samples,
+                                                                          const cv::Mat& image, const cv::Matx33d& P,
                                                                           bool need_hessian) const {
   Sums s;
-  s.total = static_cast<int>(level.samples.size());
-  const double xmax = image.cols - 1, ymax = image.rows - 1;
-  const std::size_t step = image.step;
-  for (const Sample& smp : level.samples) {
-    const double w = P(2, 0) * smp.xn + P(2, 1) * smp.yn + P(2, 2);
-    const double x = (P(0, 0) * smp.xn + P(0, 1) * smp.yn + P(0, 2)) / w;
-    const double y = (P(1, 0) * smp.xn + P(1, 1) * smp.yn + P(1, 2)) / w;
-    if (!(x >= 0 && y >= 0 && x < xmax && y < ymax)) continue;  // also false for NaN
-    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-    const double fx = x - x0, fy = y - y0;
-    const uchar* r0 = image.ptr<uchar>(y0) + x0;
-    const uchar* r1 = r0 + step;
-    const double top = r0[0] + fx * (r0[1] - r0[0]);
-    const double bottom = r1[0] + fx * (r1[1] - r1[0]);
-    const double v = top + fy * (bottom - top);
+  s.total = static_cast<int>(samples.size());
+  for (const Sample& smp : samples) {
+    double v = 0;
+    if (!sample_at(image, P, smp.xn, smp.yn, v)) continue;  // outside (or NaN)
     ++s.valid;
     s.i += v;
     s.ii += v * v;
@@ -185,6 +217,75 @@ InverseCompositionalTracker::Sums InverseCompositionalTracker::accumulate(const 
     }
   }
   return s;
+}
+
+InverseCompositionalTracker::EsmStep InverseCompositionalTracker::esm_step(const std::vector<Sample>& samples,
+                                                                           const cv::Mat& image, const cv::Matx33d& M,
+                                                                           double gain, double h) const {
+  // Least squares on e = (i - bias) / gain - t with the Jacobian 0.5 (grad t + grad i / gain) dW/dp;
+  // bias and gain are re-estimated from this pass's sums, the Jacobian uses the previous gain.
+  EsmStep out;
+  Eigen::Matrix<double, 8, 8> JtJ = Eigen::Matrix<double, 8, 8>::Zero();
+  Eigen::Matrix<double, 8, 1> Jt_i = Eigen::Matrix<double, 8, 1>::Zero(), Jt_t = Jt_i, Jt_1 = Jt_i;
+  double n = 0, si = 0, st = 0, sit = 0, stt = 0;
+  for (const Sample& smp : samples) {
+    double v = 0, xp = 0, xm = 0, yp = 0, ym = 0;
+    if (!sample_at(image, M, smp.xn, smp.yn, v) || !sample_at(image, M, smp.xn + h, smp.yn, xp) ||
+        !sample_at(image, M, smp.xn - h, smp.yn, xm) || !sample_at(image, M, smp.xn, smp.yn + h, yp) ||
+        !sample_at(image, M, smp.xn, smp.yn - h, ym)) {
+      continue;
+    }
+    const double gx = 0.5 * (smp.gx + (xp - xm) / (2 * h) / gain);
+    const double gy = 0.5 * (smp.gy + (yp - ym) / (2 * h) / gain);
+    const double x = smp.xn, y = smp.yn, radial = gx * x + gy * y;
+    Eigen::Matrix<double, 8, 1> r;
+    r << gx * x, gy * x, gx * y, gy * y, gx, gy, -x * radial, -y * radial;
+    JtJ.selfadjointView<Eigen::Lower>().rankUpdate(r);
+    Jt_i += r * v;
+    Jt_t += r * smp.t;
+    Jt_1 += r;
+    n += 1;
+    si += v;
+    st += smp.t;
+    sit += v * smp.t;
+    stt += static_cast<double>(smp.t) * smp.t;
+  }
+  if (n < 32) return out;
+  out.gain = (sit - si * st / n) / (stt - st * st / n);
+  if (!(out.gain > 1e-3)) return out;
+  const double bias = (si - out.gain * st) / n;
+  const Eigen::Matrix<double, 8, 1> Jt_e = (Jt_i - bias * Jt_1) / out.gain - Jt_t;
+  out.dp = -JtJ.selfadjointView<Eigen::Lower>().ldlt().solve(Jt_e);
+  out.ok = out.dp.allFinite();
+  return out;
+}
+
+void InverseCompositionalTracker::polish_with_esm(const Level& level, const cv::Mat& image, int base, cv::Matx33d& M,
+                                                  int& iterations) const {
+  // ESM polish (see the header: removes IC's bias when the frame is blurred). Kept only when it
+  // raises the correlation on the level's samples; IC's result stands otherwise.
+  const double h = std::ldexp(1.0, base) / (std::max(template_size_.width, template_size_.height) / 2.0);
+  const Sums before = accumulate(level.samples, image, M, false);
+  if (before.valid == 0) return;
+  const double rho_before = correlation_of(before.valid, before.i, before.ii, before.t, before.tt, before.it);
+  double gain = std::max(1e-3, (before.it - before.i * before.t / before.valid) /
+                                   (before.tt - before.t * before.t / before.valid));
+  cv::Matx33d polished = M;
+  for (int it = 0; it < config_.esm_iterations; ++it) {
+    const EsmStep step = esm_step(level.samples, image, polished, gain, h);
+    ++iterations;
+    if (!step.ok) break;
+    gain = step.gain;
+    const cv::Matx33d next = polished * increment_warp(step.dp);
+    if (!finite(next)) break;
+    const std::array<cv::Point2d, 4> corners{cv::Point2d(-1, -1), cv::Point2d(1, -1), cv::Point2d(1, 1), cv::Point2d(-1, 1)};
+    double moved = 0;
+    for (const auto& c : corners) moved = std::max(moved, cv::norm(apply_homography(next, c) - apply_homography(polished, c)));
+    polished = next;
+    if (moved < config_.convergence_px) break;
+  }
+  const Sums after = accumulate(level.samples, image, polished, false);
+  if (correlation_of(after.valid, after.i, after.ii, after.t, after.tt, after.it) > rho_before) M = polished;
 }
 
 TrackOutcome InverseCompositionalTracker::track(const cv::Mat& image, const cv::Matx33d& H_prior) {
@@ -214,9 +315,25 @@ TrackOutcome InverseCompositionalTracker::track(const cv::Mat& image, const cv::
     const cv::Matx33d S = base_to_level(j);
     const double tolerance = config_.convergence_px * std::ldexp(1.0, j);
     bool partial = false;
+    // Guard against drift: keep the warp of the best correlation seen on this level's samples and
+    // stop once it has not improved for a few iterations (IC's fixed point can slide along weakly
+    // constrained directions when the frame is much blurrier than the template).
+    double best_rho = -2;
+    cv::Matx33d best_M = M;
+    int since_best = 0;
     for (int it = 0; it < config_.max_iterations; ++it) {
-      Sums s = accumulate(level, img, S * M, partial);
+      Sums s = accumulate(level.samples, img, S * M, partial);
       ++out.iterations;
+      const double rho = correlation_of(s.valid, s.i, s.ii, s.t, s.tt, s.it);
+      if (rho >= best_rho) {
+        best_rho = rho;
+        best_M = M;
+        since_best = 0;
+      } else if (rho < best_rho - 2e-3 && ++since_best >= 2) {
+        M = best_M;
+        last_step = 0;
+        break;
+      }
       if (s.valid < std::max(32, s.total / 4)) {
         out.failure = "object out of view";
         return out;
@@ -229,7 +346,7 @@ TrackOutcome InverseCompositionalTracker::track(const cv::Mat& image, const cv::
       }
       if (s.valid < s.total && !partial) {
         partial = true;  // recompute with the Hessian of the visible samples
-        s = accumulate(level, img, S * M, true);
+        s = accumulate(level.samples, img, S * M, true);
       }
       const Eigen::Matrix<double, 8, 1> b = (s.sd_i - mean_i * s.sd) / gain;
       const Eigen::Matrix<double, 8, 1> dp =
@@ -246,6 +363,7 @@ TrackOutcome InverseCompositionalTracker::track(const cv::Mat& image, const cv::
       M = M_new;
       if (last_step < tolerance) break;
     }
+    if (j == 0 && config_.esm_iterations > 0) polish_with_esm(level, image, base, M, out.iterations);
   }
   out.H = M * normalized_from_template_;
   out.H *= 1.0 / out.H(2, 2);
@@ -256,10 +374,8 @@ TrackOutcome InverseCompositionalTracker::track(const cv::Mat& image, const cv::
     return out;
   }
   // Correlation of the aligned samples at the finest level used.
-  const Sums s = accumulate(levels_[static_cast<std::size_t>(base)], image, M, false);
-  const double n = std::max(1, s.valid), mi = s.i / n, mt = s.t / n;
-  const double denom = std::sqrt(std::max(0.0, (s.ii - n * mi * mi) * (s.tt - n * mt * mt)));
-  out.correlation = denom > 0 ? (s.it - n * mi * mt) / denom : 0.0;
+  const Sums s = accumulate(levels_[static_cast<std::size_t>(base)].grid, image, M, false);
+  out.correlation = correlation_of(s.valid, s.i, s.ii, s.t, s.tt, s.it);
   if (last_step > 0.1) {
     out.failure = "no convergence within the iteration limit";
     return out;

@@ -11,6 +11,12 @@
 // perspective terms), their steepest-descent rows orthogonalised against the constant and the
 // template itself (bias and gain), and the inverse Hessian. The template level used follows the
 // object's apparent size; the frame pyramid is built into reused buffers: no allocation per frame.
+//
+// IC's fixed point uses the template's gradients only, so when the frame differs from the template
+// by more than gain and bias (motion blur, defocus) it is biased. The finest level therefore ends
+// with a few ESM iterations (Benhimane & Malis 2004: Jacobian from the mean of the template's and the
+// warped frame's gradients, whose fixed point is the true least-squares alignment); they cost one
+// 8x8 normal-equation build per iteration (`esm_iterations`, 0 disables).
 #include <array>
 #include <vector>
 
@@ -32,18 +38,34 @@ class InverseCompositionalTracker final : public HomographyTracker {
   struct Sample {
     float xn, yn;   // normalized template coordinates
     float t;        // template value, zero mean and unit RMS over the level's samples
+    float gx, gy;   // gradient of that normalized template per normalized unit
     std::array<float, 8> sd;  // steepest-descent row, bias and gain projected out
   };
   struct Level {
     std::vector<Sample> samples;
+    // A regular grid over the whole panel for the reported correlation: the high-gradient samples
+    // above are the first to suffer from blur, and would understate the match.
+    std::vector<Sample> grid;
     Eigen::Matrix<double, 8, 8> hessian;
     Eigen::Matrix<double, 8, 8> hessian_inverse;
   };
   struct Sums;
+  struct EsmStep {
+    bool ok = false;
+    Eigen::Matrix<double, 8, 1> dp;
+    double gain = 1;
+  };
 
   void build_level(const cv::Mat& gray, int level);
   // Samples the frame at image level `image_level` through warp P (normalized -> level px).
-  Sums accumulate(const Level& level, const cv::Mat& image, const cv::Matx33d& P, bool need_hessian) const;
+  Sums accumulate(const std::vector<Sample>& samples, const cv::Mat& image, const cv::Matx33d& P,
+                  bool need_hessian) const;
+
+  // A few ESM iterations on the finest level, kept when they raise the correlation.
+  void polish_with_esm(const Level& level, const cv::Mat& image, int base, cv::Matx33d& M, int& iterations) const;
+  // One ESM step (Benhimane & Malis: the mean of template and frame gradients) at level 0.
+  EsmStep esm_step(const std::vector<Sample>& samples, const cv::Mat& image, const cv::Matx33d& M, double gain,
+                   double h) const;
 
   std::vector<Level> levels_;
   cv::Size template_size_;

@@ -17,15 +17,16 @@ namespace {
 struct Accumulator {
   int converged = 0, trials = 0;
   double rms_sum = 0, iterations = 0;
-  std::vector<double> ms;
+  std::vector<double> ms, rms;
 
-  void add(const TrackOutcome& o, double rms, double elapsed_ms, double threshold) {
+  void add(const TrackOutcome& o, double error, double elapsed_ms, double threshold) {
     ++trials;
     ms.push_back(elapsed_ms);
     iterations += o.iterations;
-    if (o.converged && rms <= threshold) {
+    if (o.converged && error <= threshold) {
       ++converged;
-      rms_sum += rms;
+      rms_sum += error;
+      rms.push_back(error);
     }
   }
   TrackerSweepStats stats() {
@@ -34,6 +35,8 @@ struct Accumulator {
     s.convergence_rate = static_cast<double>(converged) / trials;
     s.mean_converged_rms_px = converged > 0 ? rms_sum / converged : 0.0;
     std::sort(ms.begin(), ms.end());
+    std::sort(rms.begin(), rms.end());
+    s.median_converged_rms_px = rms.empty() ? 0.0 : rms[rms.size() / 2];
     s.median_ms = ms[ms.size() / 2];
     for (double m : ms) s.mean_ms += m / static_cast<double>(ms.size());
     s.mean_iterations = iterations / trials;

@@ -24,6 +24,7 @@ struct PerturbationSettings {
 struct TrackerSweepStats {
   double convergence_rate = 0;        // fraction of trials
   double mean_converged_rms_px = 0;   // over converged trials
+  double median_converged_rms_px = 0;
   double median_ms = 0, mean_ms = 0;  // per call, wall time
   double mean_iterations = 0;         // 0 when the tracker does not report it (ECC)
 };

@@ -12,6 +12,8 @@ PlanarConfig read_planar_config(const ConfigReader& node) {
   c.max_iterations = node.integer_or("max_iterations", c.max_iterations, 1, 200);
   c.max_samples = node.integer_or("max_samples", c.max_samples, 100, 100000);
   c.convergence_px = node.number_or("convergence_px", c.convergence_px, Range{0.0, 1.0, true});
+  c.ic_smoothing_sigma = node.number_or("ic_smoothing_sigma", c.ic_smoothing_sigma, Range::closed(0.0, 5.0));
+  c.esm_iterations = node.integer_or("esm_iterations", c.esm_iterations, 0, 100);
   c.ecc_max_iterations = node.integer_or("ecc_max_iterations", c.ecc_max_iterations, 1, 1000);
   c.ecc_epsilon = node.number_or("ecc_epsilon", c.ecc_epsilon, Range{0.0, 1.0, true});
   c.ecc_gauss_size = node.integer_or("ecc_gauss_size", c.ecc_gauss_size, 1, 15);

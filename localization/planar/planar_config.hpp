@@ -19,6 +19,8 @@ struct PlanarConfig {
   int max_iterations = 30;         // per level
   int max_samples = 1500;          // template pixels per level (highest gradient, spread over a grid)
   double convergence_px = 0.01;    // stop a level when no corner moves more than this (level-0 px)
+  double ic_smoothing_sigma = 0.0; // Gaussian blur of the template levels (px), 0 = none
+  int esm_iterations = 4;          // ESM iterations ending the finest level (0: pure IC)
 
   // ECC (OpenCV).
   int ecc_max_iterations = 50;
@@ -49,7 +51,7 @@ struct PlanarConfig {
   double min_gradient_isotropy = 0.05;  // smaller / larger eigenvalue of the gradient structure tensor
 };
 
-// Reads {"tracker": "ic"|"ecc", "pyramid_levels", "max_iterations", "max_samples", "convergence_px",
+// Reads {"tracker": "ic"|"ecc", "pyramid_levels", "max_iterations", "max_samples", "convergence_px", "ic_smoothing_sigma", "esm_iterations",
 // "ecc_max_iterations", "ecc_epsilon", "ecc_gauss_size", "detection_min_width_fraction",
 // "detection_max_width_fraction", "detection_scale_step", "detection_match_width_px", "sift_ratio",
 // "ransac_threshold_px", "sift_max_frame_features", "min_visible_fraction", "max_template_side_px",

@@ -57,7 +57,9 @@ Detection TemplateMatchDetector::detect(const cv::Mat& image, double min_width_p
     const cv::Mat& templ = template_at_width(wt);
     const cv::Mat* searched = &image;
     if (f < 1.0) {
-      cv::resize(image, resized_image_, cv::Size(), f, f, cv::INTER_AREA);
+      const cv::Size size(std::max(1, static_cast<int>(std::lround(image.cols * f))),
+                          std::max(1, static_cast<int>(std::lround(image.rows * f))));
+      cv::resize(image, resized_image_, size, 0, 0, cv::INTER_AREA);  // explicit size: exact pixel map
       searched = &resized_image_;
     }
     if (templ.cols >= searched->cols || templ.rows >= searched->rows) continue;

@@ -3,7 +3,8 @@
 // SOLVEPNP_IPPE) on the corners at physical size, which returns the two poses a plane seen from
 // afar cannot tell apart. The ambiguity is resolved before anything else uses the pose, so that the
 // pose-jump loss test does not fire on a flip:
-//  1. a candidate must put the panel in front of the camera with its front towards it;
+//  1. a candidate must put the panel in front of the camera with its front towards it, and
+//     reproject within `max_reprojection_px`;
 //  2. when one candidate reprojects clearly worse (by more than 2x and 1 px), the other wins;
 //  3. otherwise the candidate closer in rotation to the previous pose wins (continuity), and with
 //     no previous pose the lower reprojection error wins but the result is flagged ambiguous.
@@ -22,11 +23,15 @@ struct PlanarPose {
   bool ambiguous = false;            // the two IPPE solutions could not be separated by the data
   double alternative_error_px = 0;   // the rejected solution's reprojection error
   double alternative_angle_rad = 0;  // rotation between the two solutions
+  Eigen::Isometry3d T_alternative = Eigen::Isometry3d::Identity();  // the rejected solution (if any)
 };
 
 class PlanarPoseSolver {
  public:
-  PlanarPoseSolver(const cv::Matx33d& K, const std::array<cv::Point3d, 4>& object_corners);
+  // Candidates reprojecting worse than `max_reprojection_px` (RMS) are refused: the corners then do
+  // not come from a rigid panel of this size seen through this camera (a mirror image, a wrong H).
+  PlanarPoseSolver(const cv::Matx33d& K, const std::array<cv::Point3d, 4>& object_corners,
+                   double max_reprojection_px = 4.0);
   // Empty when no candidate is physically possible. `previous` is the last accepted pose.
   std::optional<PlanarPose> solve(const std::array<cv::Point2d, 4>& image_corners,
                                   const std::optional<Eigen::Isometry3d>& previous) const;
@@ -34,6 +39,7 @@ class PlanarPoseSolver {
  private:
   cv::Matx33d K_;
   std::array<cv::Point3d, 4> object_;
+  double max_reprojection_px_;
 };
 
 // Rotation angle between two orientations, radians.

@@ -91,7 +91,11 @@ PlanarTemplate PlanarTemplate::create(const cv::Mat& image, double width_m, doub
   const double side = std::max(gray.cols, gray.rows);
   const double s = side > config.max_template_side_px ? config.max_template_side_px / side : 1.0;
   if (s < 1.0) {
-    cv::resize(gray, t.working_, cv::Size(), s, s, cv::INTER_AREA);
+    // An explicit size: given scale factors, OpenCV maps pixels by the factor rather than by the
+    // ratio of the rounded sizes, which would shift the far edge by a fraction of a pixel.
+    const cv::Size size(std::max(1, static_cast<int>(std::lround(gray.cols * s))),
+                        std::max(1, static_cast<int>(std::lround(gray.rows * s))));
+    cv::resize(gray, t.working_, size, 0, 0, cv::INTER_AREA);
   } else {
     t.working_ = gray;
   }

@@ -97,7 +97,10 @@ cv::Matx33d shrink(const cv::Mat& templ, double scale, cv::Mat& out) {
     out = templ;
     return cv::Matx33d::eye();
   }
-  cv::resize(templ, out, cv::Size(), scale, scale, cv::INTER_AREA);
+  // An explicit size: with scale factors OpenCV maps pixels by the factor, not by the size ratio.
+  const cv::Size size(std::max(1, static_cast<int>(std::lround(templ.cols * scale))),
+                      std::max(1, static_cast<int>(std::lround(templ.rows * scale))));
+  cv::resize(templ, out, size, 0, 0, cv::INTER_AREA);
   const double sx = static_cast<double>(templ.cols) / out.cols, sy = static_cast<double>(templ.rows) / out.rows;
   return {sx, 0, 0.5 * sx - 0.5, 0, sy, 0.5 * sy - 0.5, 0, 0, 1};  // small px -> original px
 }
@@ -139,37 +142,68 @@ void draw_template(const cv::Mat& templ, const cv::Matx33d& H, cv::Mat& scene) {
   });
 }
 
-cv::Mat render_planar_view(const cv::Mat& templ, double width_m, double height_m, const Eigen::Isometry3d& T_cam_object,
-                           const PinholeCamera& camera, const cv::Mat& background) {
-  const Eigen::Isometry3d T_object_cam = T_cam_object.inverse();
-  const Eigen::Vector3d origin = T_object_cam.translation();
-  // Apparent scale at the panel's centre, for anti-aliasing.
-  const double depth = std::max(1e-3, T_cam_object.translation().z());
-  const double scale = camera.intrinsics().fx * width_m / depth / templ.cols;
-  cv::Mat small;
-  const cv::Matx33d original_from_small = shrink(templ, scale, small);
-  const cv::Matx33d small_from_original = original_from_small.inv();
-  cv::Mat map(camera.height(), camera.width(), CV_32FC2);
+PlanarViewRenderer::PlanarViewRenderer(const PinholeCamera& camera, cv::Mat wall, double wall_m_per_px,
+                                       double wall_depth_m)
+    : camera_(camera), wall_(std::move(wall)), wall_m_per_px_(wall_m_per_px), wall_depth_m_(wall_depth_m) {
+  rays_.reserve(static_cast<std::size_t>(camera.width() * camera.height()));
   for (int y = 0; y < camera.height(); ++y) {
-    auto* row = map.ptr<cv::Vec2f>(y);
-    for (int x = 0; x < camera.width(); ++x) {
-      const Eigen::Vector3d ray = T_object_cam.linear() * camera.unproject(Eigen::Vector2d(x, y));
-      row[x] = cv::Vec2f(-1e6f, -1e6f);
-      if (std::abs(ray.z()) < 1e-9) continue;
-      const double s = -origin.z() / ray.z();
-      if (s <= 0) continue;
-      const Eigen::Vector3d p = origin + s * ray;
-      const cv::Point2d u((p.x() / width_m + 0.5) * templ.cols - 0.5, (p.y() / height_m + 0.5) * templ.rows - 0.5);
-      const cv::Vec3d q = small_from_original * cv::Vec3d(u.x, u.y, 1.0);
-      row[x] = cv::Vec2f(static_cast<float>(q[0] / q[2]), static_cast<float>(q[1] / q[2]));
+    for (int x = 0; x < camera.width(); ++x) rays_.push_back(camera.unproject(Eigen::Vector2d(x, y)).cast<float>());
+  }
+}
+
+cv::Mat PlanarViewRenderer::render(const cv::Mat& templ, double width_m, double height_m,
+                                   const Eigen::Isometry3d& T_cam_object) const {
+  const Eigen::Isometry3d T_object_cam = T_cam_object.inverse();
+  const Eigen::Matrix3f R = T_object_cam.linear().cast<float>();
+  const Eigen::Vector3f origin = T_object_cam.translation().cast<float>();
+  const double depth = std::max(1e-3, T_cam_object.translation().z());
+  cv::Mat small;
+  const cv::Matx33d small_from_original = shrink(templ, camera_.intrinsics().fx * width_m / depth / templ.cols, small).inv();
+  cv::Mat panel_map(camera_.height(), camera_.width(), CV_32FC2), wall_map(camera_.height(), camera_.width(), CV_32FC2);
+  std::size_t k = 0;
+  for (int y = 0; y < camera_.height(); ++y) {
+    auto* prow = panel_map.ptr<cv::Vec2f>(y);
+    auto* wrow = wall_map.ptr<cv::Vec2f>(y);
+    for (int x = 0; x < camera_.width(); ++x, ++k) {
+      const Eigen::Vector3f ray = R * rays_[k];
+      prow[x] = wrow[x] = cv::Vec2f(-1e6f, -1e6f);
+      if (ray.z() <= 1e-6f) continue;  // parallel to or away from the planes
+      const float s_panel = -origin.z() / ray.z();
+      if (s_panel > 0) {
+        const Eigen::Vector3f p = origin + s_panel * ray;
+        const double u = (p.x() / width_m + 0.5) * templ.cols - 0.5, v = (p.y() / height_m + 0.5) * templ.rows - 0.5;
+        const cv::Vec3d q = small_from_original * cv::Vec3d(u, v, 1.0);
+        prow[x] = cv::Vec2f(static_cast<float>(q[0] / q[2]), static_cast<float>(q[1] / q[2]));
+      }
+      const float s_wall = (static_cast<float>(wall_depth_m_) - origin.z()) / ray.z();
+      if (s_wall > 0 && !wall_.empty()) {
+        const Eigen::Vector3f p = origin + s_wall * ray;
+        wrow[x] = cv::Vec2f(static_cast<float>(p.x() / wall_m_per_px_ + wall_.cols / 2.0),
+                            static_cast<float>(p.y() / wall_m_per_px_ + wall_.rows / 2.0));
+      }
     }
   }
-  cv::Mat out = background.clone();
+  cv::Mat out(camera_.height(), camera_.width(), CV_8UC1, cv::Scalar(120));
+  if (!wall_.empty()) cv::remap(wall_, out, wall_map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_WRAP);
   blend_warped(small, out, [&](const cv::Mat& src, cv::Mat& dst, int border, double offset) {
-    cv::Mat shifted = map + cv::Scalar(offset, offset);
+    cv::Mat shifted = panel_map + cv::Scalar(offset, offset);
     cv::remap(src, dst, shifted, cv::noArray(), cv::INTER_LINEAR, border);
   });
   return out;
+}
+
+Eigen::Isometry3d look_at_object(const Eigen::Vector3d& camera_in_object, const Eigen::Vector3d& target, double roll_rad) {
+  const Eigen::Vector3d z = (target - camera_in_object).normalized();
+  Eigen::Vector3d x = Eigen::Vector3d::UnitY().cross(z);
+  if (x.norm() < 1e-6) x = Eigen::Vector3d::UnitX();
+  x.normalize();
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d R;
+  R << x, y, z;
+  Eigen::Isometry3d T_object_cam = Eigen::Isometry3d::Identity();
+  T_object_cam.linear() = R * Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T_object_cam.translation() = camera_in_object;
+  return T_object_cam.inverse();
 }
 
 }  // namespace labo

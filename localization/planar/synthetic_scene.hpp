@@ -3,6 +3,7 @@
 // panel, a cluttered background, and views of a textured plane through a (distorted) camera at a
 // known pose. Deterministic for a given seed.
 #include <cstdint>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -20,10 +21,27 @@ cv::Mat make_clutter_background(cv::Size size, std::uint32_t seed);
 // downscaling the template first when it appears smaller.
 void draw_template(const cv::Mat& templ, const cv::Matx33d& H, cv::Mat& scene);
 
-// The view of a planar object (object frame of planar_template.hpp) of physical size width_m x
-// height_m at T_cam_object through `camera`, distortion included, over `background` (which must
-// have the camera's size). Pixels whose ray misses the panel keep the background.
-cv::Mat render_planar_view(const cv::Mat& templ, double width_m, double height_m, const Eigen::Isometry3d& T_cam_object,
-                           const PinholeCamera& camera, const cv::Mat& background);
+// Renders a planar object (object frame of planar_template.hpp) through a camera, distortion
+// included, in front of a textured wall parallel to it `wall_depth_m` behind; the camera's rays are
+// computed once. Used for sequences with ground truth when the simulated lab is not at hand.
+class PlanarViewRenderer {
+ public:
+  // `wall` is tiled at `wall_m_per_px`; an empty wall renders flat grey.
+  PlanarViewRenderer(const PinholeCamera& camera, cv::Mat wall, double wall_m_per_px, double wall_depth_m = 0.05);
+  cv::Mat render(const cv::Mat& templ, double width_m, double height_m, const Eigen::Isometry3d& T_cam_object) const;
+  const PinholeCamera& camera() const { return camera_; }
+
+ private:
+  PinholeCamera camera_;
+  std::vector<Eigen::Vector3f> rays_;  // unit rays, row-major
+  cv::Mat wall_;
+  double wall_m_per_px_;
+  double wall_depth_m_;
+};
+
+// A camera pose in the object frame looking at `target` (object frame), image "down" along the
+// object's y as far as possible, rolled by `roll_rad` about the line of sight; returns T_cam_object.
+Eigen::Isometry3d look_at_object(const Eigen::Vector3d& camera_in_object, const Eigen::Vector3d& target,
+                                 double roll_rad = 0.0);
 
 }  // namespace labo

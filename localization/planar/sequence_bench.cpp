@@ -1,0 +1,261 @@
+#include "localization/planar/sequence_bench.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <map>
+
+#include <opencv2/imgproc.hpp>
+
+#include "localization/planar/h264_roundtrip.hpp"
+#include "localization/planar/planar_localizer.hpp"
+#include "localization/planar/synthetic_scene.hpp"
+
+namespace labo {
+
+namespace {
+
+constexpr double kFps = 30.0;
+constexpr double kPi = 3.14159265358979323846;
+
+struct Sequence {
+  std::string name;
+  bool bottom_camera = false;
+  std::vector<cv::Mat> frames;
+  std::vector<Eigen::Isometry3d> truth;  // T_cam_object
+  std::vector<bool> in_view;
+};
+
+struct PanelModel {
+  cv::Mat image;
+  double width_m, height_m;
+};
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+}
+
+void add_noise(cv::Mat& frame, cv::RNG& rng, double sigma) {
+  cv::Mat noise(frame.size(), CV_16SC1), wide;
+  rng.fill(noise, cv::RNG::NORMAL, 0, sigma);
+  frame.convertTo(wide, CV_16S);
+  wide += noise;
+  wide.convertTo(frame, CV_8U);
+}
+
+double visible(const PinholeCamera& cam, const PanelModel& panel, const Eigen::Isometry3d& T_cam_object) {
+  // Fraction of a 9x9 grid of panel points that project inside the image.
+  int inside = 0;
+  for (int i = 0; i < 9; ++i) {
+    for (int j = 0; j < 9; ++j) {
+      const Eigen::Vector3d p((i / 8.0 - 0.5) * panel.width_m, (j / 8.0 - 0.5) * panel.height_m, 0);
+      const auto px = cam.project(T_cam_object * p);
+      if (px && cam.in_image(*px)) ++inside;
+    }
+  }
+  return inside / 81.0;
+}
+
+// Renders a sequence from a camera path (camera position and look-at target in the object frame,
+// roll) and per-frame image effects.
+Sequence render_sequence(const std::string& name, const PlanarViewRenderer& renderer, const PanelModel& panel, int frames,
+                         const std::function<Eigen::Isometry3d(int)>& pose_at,
+                         const std::function<void(int, cv::Mat&)>& effect, double min_visible, bool bottom = false) {
+  Sequence s;
+  s.name = name;
+  s.bottom_camera = bottom;
+  cv::RNG rng(static_cast<std::uint64_t>(std::hash<std::string>{}(name)));
+  for (int i = 0; i < frames; ++i) {
+    const Eigen::Isometry3d T = pose_at(i);
+    cv::Mat frame = renderer.render(panel.image, panel.width_m, panel.height_m, T);
+    add_noise(frame, rng, 2.0);
+    s.in_view.push_back(visible(renderer.camera(), panel, T) >= min_visible);
+    if (effect) effect(i, frame);
+    s.frames.push_back(frame);
+    s.truth.push_back(T);
+  }
+  return s;
+}
+
+Eigen::Isometry3d facing(double x, double y, double distance, double look_dx = 0, double look_dy = 0, double roll = 0) {
+  return look_at_object(Eigen::Vector3d(x, y, -distance), Eigen::Vector3d(x * 0.7 + look_dx, y * 0.7 + look_dy, 0), roll);
+}
+
+std::vector<Sequence> make_sequences(const PlanarConfig& config, const PanelModel& panel, const PanelModel& platform,
+                                     const std::string& only) {
+  const PinholeCamera front = PinholeCamera::ardrone2_front();
+  const PinholeCamera bottom = PinholeCamera::ardrone2_bottom();
+  const PlanarViewRenderer front_renderer(front, make_clutter_background(cv::Size(1600, 1600), 21), 0.0025);
+  const PlanarViewRenderer bottom_renderer(bottom, make_clutter_background(cv::Size(1600, 1600), 22), 0.0025, 0.02);
+  const double mv = config.min_visible_fraction;
+  std::vector<Sequence> out;
+  const auto wanted = [&](const char* name) { return only.empty() || std::string(name).find(only) != std::string::npos; };
+
+  if (wanted("approach_3m_to_0.5m")) out.push_back(render_sequence("approach_3m_to_0.5m", front_renderer, panel, 180, [](int i) {
+    const double a = i / 179.0, d = 3.0 - 2.5 * a;
+    return facing(0.15 * std::sin(3 * a), -0.05 + 0.05 * std::cos(2 * a), d, 0, 0, 0.04 * std::sin(5 * a));
+  }, nullptr, mv));
+  if (wanted("hover_0.8m")) out.push_back(render_sequence("hover_0.8m", front_renderer, panel, 120, [](int i) {
+    const double a = i / kFps;
+    return facing(0.03 * std::sin(1.3 * a), 0.02 * std::cos(0.9 * a), 0.8 + 0.02 * std::sin(2.1 * a),
+                  0.02 * std::sin(1.7 * a), 0.01 * std::cos(1.1 * a), 0.03 * std::sin(2.3 * a));
+  }, nullptr, mv));
+  if (wanted("lateral_pass_1.5m")) out.push_back(render_sequence("lateral_pass_1.5m", front_renderer, panel, 150, [](int i) {
+    const double x = -1.2 + 2.4 * i / 149.0;
+    return look_at_object(Eigen::Vector3d(x, 0, -1.5), Eigen::Vector3d(x, 0, 0));
+  }, nullptr, mv));
+  if (wanted("motion_blur_1.2m")) out.push_back(render_sequence("motion_blur_1.2m", front_renderer, panel, 120, [](int i) {
+    return facing(0.25 * std::sin(i / kFps * 2.5), 0, 1.2);
+  }, [](int i, cv::Mat& f) {
+    // Horizontal blur as long as the image motion during the exposure (up to ~9 px).
+    const int len = 1 + static_cast<int>(std::abs(9 * std::cos(i / kFps * 2.5)));
+    if (len > 1) {
+      cv::Mat k = cv::Mat::ones(1, len, CV_32F) / len;
+      cv::filter2D(f, f, -1, k);
+    }
+  }, mv));
+  if (wanted("h264_approach_2.5m_to_0.7m")) {
+    Sequence h264 = render_sequence("h264_approach_2.5m_to_0.7m", front_renderer, panel, 150, [](int i) {
+      const double a = i / 149.0;
+      return facing(0.1 * std::sin(2 * a), 0.0, 2.5 - 1.8 * a, 0, 0, 0.03 * std::sin(4 * a));
+    }, nullptr, mv);
+    h264.frames = h264_roundtrip(h264.frames, kFps, 1'000'000);
+    out.push_back(std::move(h264));
+  }
+  if (wanted("lighting_change_1.0m")) out.push_back(render_sequence("lighting_change_1.0m", front_renderer, panel, 150, [](int i) {
+    return facing(0.05 * std::sin(i / kFps), 0, 1.0);
+  }, [](int i, cv::Mat& f) {
+    // Gain 1 -> 0.45 -> 1.3 with a bias and a left-to-right light gradient.
+    const double a = i / 149.0;
+    const double gain = a < 0.5 ? 1.0 - 1.1 * a : 0.45 + 1.7 * (a - 0.5);
+    cv::Mat g(f.size(), CV_32F);
+    for (int x = 0; x < f.cols; ++x) g.col(x).setTo(gain * (0.8 + 0.4 * x / f.cols));
+    cv::Mat ff;
+    f.convertTo(ff, CV_32F);
+    ff = ff.mul(g) + 20.0 * std::sin(4 * a);
+    ff.convertTo(f, CV_8U);
+  }, mv));
+  if (wanted("corrupted_frames_1.5m")) {
+    Sequence drop = render_sequence("corrupted_frames_1.5m", front_renderer, panel, 150, [](int i) {
+      return facing(0.3 * std::sin(i / kFps * 0.8), 0.05 * std::cos(i / kFps), 1.5);
+    }, nullptr, mv);
+    cv::RNG rng(5);
+    for (int start : {30, 70, 110}) {
+      for (int i = start; i < start + 3; ++i) {  // three frames of garbage, as after a lost H.264 slice
+        rng.fill(drop.frames[static_cast<std::size_t>(i)], cv::RNG::UNIFORM, 0, 256);
+        drop.in_view[static_cast<std::size_t>(i)] = false;
+      }
+    }
+    out.push_back(std::move(drop));
+  }
+  if (wanted("platform_descent_bottom_2m_to_0.4m")) out.push_back(render_sequence("platform_descent_bottom_2m_to_0.4m", bottom_renderer, platform, 150, [](int i) {
+    const double a = i / 149.0;
+    return look_at_object(Eigen::Vector3d(0.1 * std::sin(3 * a), 0.08 * std::cos(2 * a), -(2.0 - 1.6 * a)),
+                          Eigen::Vector3d(0.1 * std::sin(3 * a), 0.08 * std::cos(2 * a), 0), 0.5 * a);
+  }, nullptr, mv, true));
+  return out;
+}
+
+struct ErrorSample {
+  double range_m, error_percent, error_deg;
+};
+
+SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind kind, const PlanarConfig& base_config,
+                      const VisionThresholds& vision, std::vector<ErrorSample>& pooled) {
+  PlanarConfig config = base_config;
+  config.tracker = kind;
+  const PinholeCamera camera = s.bottom_camera ? PinholeCamera::ardrone2_bottom() : PinholeCamera::ardrone2_front();
+  PlanarObjectLocalizer localizer(PlanarTemplate::create(panel.image, panel.width_m, panel.height_m, s.name, config),
+                                  camera, PlanarObjectThresholds::from(vision), config);
+  SequenceStats st;
+  st.sequence = s.name;
+  st.tracker = to_string(kind);
+  st.min_range_m = 1e9;
+  std::vector<double> err_mm, err_pct, err_deg, all_ms, tracking_ms, detection_ms;
+  bool had_pose = false;
+  int loss_wait = -1;  // frames in view since the last loss, -1 when not recovering
+  for (std::size_t i = 0; i < s.frames.size(); ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    const PlanarResult r = localizer.process(s.frames[i], static_cast<double>(i) / kFps);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    all_ms.push_back(ms);
+    ++st.frames;
+    const double range = s.truth[i].translation().norm();
+    st.min_range_m = std::min(st.min_range_m, range);
+    st.max_range_m = std::max(st.max_range_m, range);
+    if (s.in_view[i]) ++st.frames_in_view;
+    if (r.state == PlanarState::Tracking) tracking_ms.push_back(ms);
+    if (r.state != PlanarState::Tracking) detection_ms.push_back(ms);
+    if (r.state == PlanarState::Detected) ++st.detections;
+    if (r.state == PlanarState::Lost && had_pose) {
+      ++st.losses;
+      ++st.loss_reasons[to_string(r.reason)];
+      loss_wait = 0;
+    }
+    had_pose = r.has_pose;
+    if (r.has_pose) {
+      ++st.frames_with_pose;
+      if (loss_wait >= 0) {
+        ++st.recoveries;
+        st.max_recovery_frames = std::max(st.max_recovery_frames, loss_wait);
+        loss_wait = -1;
+      }
+      const double e = (r.T_cam_object.translation() - s.truth[i].translation()).norm();
+      const double deg = rotation_angle(r.T_cam_object.linear(), s.truth[i].linear()) * 180.0 / kPi;
+      err_mm.push_back(1000 * e);
+      err_pct.push_back(100 * e / range);
+      err_deg.push_back(deg);
+      pooled.push_back({range, 100 * e / range, deg});
+      if (100 * e / range > 10 || deg > 10) ++st.gross_errors;
+    } else if (s.in_view[i]) {
+      ++st.frames_in_view_without_pose;
+      if (loss_wait >= 0) ++loss_wait;
+    }
+  }
+  st.median_error_mm = percentile(err_mm, 0.5);
+  st.p95_error_mm = percentile(err_mm, 0.95);
+  st.median_error_percent = percentile(err_pct, 0.5);
+  st.p95_error_percent = percentile(err_pct, 0.95);
+  st.median_error_deg = percentile(err_deg, 0.5);
+  st.p95_error_deg = percentile(err_deg, 0.95);
+  st.median_frame_ms = percentile(all_ms, 0.5);
+  st.median_tracking_ms = percentile(tracking_ms, 0.5);
+  st.p95_tracking_ms = percentile(tracking_ms, 0.95);
+  for (double m : detection_ms) st.mean_detection_ms += m / static_cast<double>(detection_ms.size());
+  return st;
+}
+
+}  // namespace
+
+SequenceBenchResult run_sequence_bench(const PlanarConfig& config, const VisionThresholds& vision,
+                                       const std::string& only) {
+  SequenceBenchResult result;
+  result.renderer = "planar synthetic renderer (localization/planar/synthetic_scene): panel on a textured wall, "
+                    "AR.Drone 2.0 front camera with distortion / bottom camera, 2 grey-level noise";
+  const PanelModel panel{make_procedural_panel(cv::Size(320, 240), 11), 0.40, 0.30};
+  const PanelModel platform{make_procedural_panel(cv::Size(256, 256), 12), 0.60, 0.60};
+  std::vector<Sequence> sequences = make_sequences(config, panel, platform, only);
+  for (TrackerKind kind : {TrackerKind::InverseCompositional, TrackerKind::Ecc}) {
+    std::vector<ErrorSample> pooled;
+    for (const auto& s : sequences) {
+      result.sequences.push_back(run_one(s, s.bottom_camera ? platform : panel, kind, config, vision, pooled));
+    }
+    for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{0.4, 1.0}, {1.0, 2.0}, {2.0, 3.1}}) {
+      std::vector<double> pct, deg;
+      for (const auto& e : pooled) {
+        if (e.range_m >= lo && e.range_m < hi) {
+          pct.push_back(e.error_percent);
+          deg.push_back(e.error_deg);
+        }
+      }
+      result.range_bins.push_back({to_string(kind), lo, hi, static_cast<int>(pct.size()), percentile(pct, 0.5),
+                                   percentile(pct, 0.95), percentile(deg, 0.5), percentile(deg, 0.95)});
+    }
+  }
+  return result;
+}
+
+}  // namespace labo

@@ -1,0 +1,46 @@
+#pragma once
+// Sequences with ground truth for the planar pipeline: approach (3 m -> 0.5 m), hover at 0.8 m,
+// lateral pass (the panel crosses the field of view), motion blur, H.264 round trip, lighting change,
+// corrupted frames (loss and recovery), and the landing platform seen by the bottom camera during a
+// descent. Each runs through PlanarObjectLocalizer with each tracker; errors are measured against
+// the rendered pose.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "localization/planar/planar_config.hpp"
+#include "localization/vision_thresholds.hpp"
+
+namespace labo {
+
+struct SequenceStats {
+  std::string sequence, tracker;
+  int frames = 0, frames_in_view = 0, frames_with_pose = 0, frames_in_view_without_pose = 0;
+  int detections = 0, losses = 0, gross_errors = 0;  // gross: > 10 % of range or > 10 degrees
+  int recoveries = 0, max_recovery_frames = 0;       // frames in view from a loss to the next pose
+  double min_range_m = 0, max_range_m = 0;
+  double median_error_mm = 0, p95_error_mm = 0;
+  double median_error_percent = 0, p95_error_percent = 0;
+  double median_error_deg = 0, p95_error_deg = 0;
+  std::map<std::string, int> loss_reasons;
+  double median_frame_ms = 0, median_tracking_ms = 0, p95_tracking_ms = 0, mean_detection_ms = 0;
+};
+
+struct RangeBinStats {
+  std::string tracker;
+  double min_m = 0, max_m = 0;
+  int poses = 0;
+  double median_error_percent = 0, p95_error_percent = 0, median_error_deg = 0, p95_error_deg = 0;
+};
+
+struct SequenceBenchResult {
+  std::string renderer;  // which renderer produced the frames
+  std::vector<SequenceStats> sequences;
+  std::vector<RangeBinStats> range_bins;  // all sequences pooled, per tracker
+};
+
+// `only` (when not empty) keeps the sequences whose name contains it.
+SequenceBenchResult run_sequence_bench(const PlanarConfig& config, const VisionThresholds& vision,
+                                       const std::string& only = "");
+
+}  // namespace labo

@@ -1,0 +1,162 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "localization/planar/planar_localizer.hpp"
+#include "localization/planar/synthetic_scene.hpp"
+
+using namespace labo;
+
+namespace {
+
+constexpr double kW = 0.40, kH = 0.30;
+
+struct Rig {
+  PinholeCamera camera = PinholeCamera::ardrone2_front();
+  cv::Mat panel = make_procedural_panel(cv::Size(320, 240), 11);
+  PlanarViewRenderer renderer{camera, make_clutter_background(cv::Size(1200, 1200), 21), 0.0025};
+  PlanarConfig config;
+
+  PlanarObjectLocalizer localizer() const {
+    return PlanarObjectLocalizer(PlanarTemplate::create(panel, kW, kH, "panel", config), camera,
+                                 PlanarObjectThresholds::from(VisionThresholds{}), config);
+  }
+  cv::Mat view(const Eigen::Isometry3d& T) const { return renderer.render(panel, kW, kH, T); }
+};
+
+Eigen::Isometry3d at(double x, double y, double distance) {
+  return look_at_object(Eigen::Vector3d(x, y, -distance), Eigen::Vector3d(0.5 * x, 0.5 * y, 0));
+}
+
+double percent_error(const PlanarResult& r, const Eigen::Isometry3d& truth) {
+  return 100 * (r.T_cam_object.translation() - truth.translation()).norm() / truth.translation().norm();
+}
+
+double deg_error(const PlanarResult& r, const Eigen::Isometry3d& truth) {
+  return rotation_angle(r.T_cam_object.linear(), truth.linear()) * 180 / 3.14159265358979;
+}
+
+}  // namespace
+
+TEST_CASE("planar: detection and tracking give the pose of synthetic views (distorted front camera)") {
+  const Rig rig;
+  for (const double distance : {0.8, 1.6}) {
+    PlanarObjectLocalizer loc = rig.localizer();
+    const Eigen::Isometry3d T0 = at(0.1, -0.05, distance);
+    const PlanarResult first = loc.process(rig.view(T0), 0.0);
+    REQUIRE(first.state == PlanarState::Detected);
+    CHECK(percent_error(first, T0) < 1.0);
+    CHECK(deg_error(first, T0) < 3.0);
+    // A few frames of slow motion are tracked.
+    for (int i = 1; i <= 4; ++i) {
+      const Eigen::Isometry3d T = at(0.1 + 0.01 * i, -0.05, distance - 0.01 * i);
+      const PlanarResult r = loc.process(rig.view(T), i / 30.0);
+      REQUIRE(r.state == PlanarState::Tracking);
+      CHECK(r.has_pose);
+      CHECK(percent_error(r, T) < 1.0);
+      CHECK(deg_error(r, T) < 3.0);
+      CHECK(r.quality > 0.3);
+      CHECK(r.correlation > 0.8);
+      // The corners are reported in the raw (distorted) frame: the true panel corner projects there.
+      const auto corner = rig.camera.project(T * Eigen::Vector3d(-kW / 2, -kH / 2, 0));
+      REQUIRE(corner);
+      CHECK(std::hypot(r.image_corners[0].x - corner->x(), r.image_corners[0].y - corner->y()) < 1.5);
+    }
+  }
+}
+
+TEST_CASE("planar: near detection uses SIFT, far detection template matching") {
+  const Rig rig;
+  PlanarObjectLocalizer near = rig.localizer();
+  const PlanarResult a = near.process(rig.view(at(0.0, 0.0, 0.9)), 0.0, 0.9);  // below lambda = 2 m
+  REQUIRE(a.state == PlanarState::Detected);
+  CHECK(a.method == PlanarMethod::Sift);
+  CHECK(a.inliers >= 20);
+  PlanarObjectLocalizer far = rig.localizer();
+  const PlanarResult b = far.process(rig.view(at(0.0, 0.0, 2.6)), 0.0, 2.6);
+  REQUIRE(b.state == PlanarState::Detected);
+  CHECK(b.method == PlanarMethod::TemplateMatching);
+  CHECK(percent_error(b, at(0.0, 0.0, 2.6)) < 1.5);
+}
+
+TEST_CASE("planar: a loss is declared on a garbage frame and recovered at once when the panel is back") {
+  const Rig rig;
+  PlanarObjectLocalizer loc = rig.localizer();
+  const Eigen::Isometry3d T = at(0.05, 0.0, 1.2);
+  REQUIRE(loc.process(rig.view(T), 0.0).state == PlanarState::Detected);
+  REQUIRE(loc.process(rig.view(T), 1 / 30.0).state == PlanarState::Tracking);
+  cv::Mat garbage(360, 640, CV_8UC1);
+  cv::RNG(3).fill(garbage, cv::RNG::UNIFORM, 0, 256);
+  const PlanarResult lost = loc.process(garbage, 2 / 30.0);
+  CHECK(lost.state == PlanarState::Lost);
+  CHECK_FALSE(lost.has_pose);
+  CHECK((lost.reason == PlanarLoss::LowCorrelation || lost.reason == PlanarLoss::NoConvergence));
+  // Fig. 3: the next frame runs detection again (SIFT here: the last pose is near and recent).
+  const PlanarResult back = loc.process(rig.view(T), 3 / 30.0);
+  REQUIRE(back.state == PlanarState::Detected);
+  CHECK(back.method == PlanarMethod::Sift);
+  CHECK(percent_error(back, T) < 1.0);
+}
+
+TEST_CASE("planar: a jump of more than D between frames is a loss") {
+  const Rig rig;
+  PlanarObjectLocalizer loc = rig.localizer();
+  REQUIRE(loc.process(rig.view(at(0.0, 0.0, 2.4)), 0.0).has_pose);
+  // 0.35 m closer in one frame: the tracker follows the scale change, the jump test refuses it.
+  const PlanarResult r = loc.process(rig.view(at(0.0, 0.0, 2.05)), 1 / 30.0);
+  CHECK(r.state == PlanarState::Lost);
+  CHECK(r.reason == PlanarLoss::PoseJump);
+  // A move of 0.1 m is accepted.
+  PlanarObjectLocalizer slow = rig.localizer();
+  REQUIRE(slow.process(rig.view(at(0.0, 0.0, 2.4)), 0.0).has_pose);
+  CHECK(slow.process(rig.view(at(0.0, 0.0, 2.3)), 1 / 30.0).state == PlanarState::Tracking);
+}
+
+TEST_CASE("planar: a panel half out of view gives a loss or a degraded quality, never a wrong pose") {
+  const Rig rig;
+  PlanarObjectLocalizer loc = rig.localizer();
+  double x = 0.0;
+  REQUIRE(loc.process(rig.view(at(x, 0, 1.0)), 0.0).has_pose);
+  // Slide sideways until the panel leaves the image.
+  for (int i = 1; i <= 40; ++i) {
+    x += 0.02;
+    const Eigen::Isometry3d T = look_at_object(Eigen::Vector3d(x, 0, -1.0), Eigen::Vector3d(x, 0, 0));
+    const Eigen::Isometry3d T_view = look_at_object(Eigen::Vector3d(x, 0, -1.0), Eigen::Vector3d(x + 0.0, 0, 0));
+    (void)T_view;
+    const PlanarResult r = loc.process(rig.view(T), i / 30.0);
+    if (r.has_pose) {
+      CHECK(percent_error(r, T) < 2.0);
+      CHECK(deg_error(r, T) < 5.0);
+      if (r.visible_fraction < 0.99) CHECK(r.quality < 0.99 * r.visible_fraction + 1e-9);
+    }
+  }
+  // By now the panel is out of the image: no pose.
+  CHECK_FALSE(loc.process(rig.view(look_at_object(Eigen::Vector3d(1.5, 0, -1.0), Eigen::Vector3d(1.5, 0, 0))), 2.0).has_pose);
+}
+
+TEST_CASE("planar: the landing platform is localized in the bottom camera") {
+  const PinholeCamera bottom = PinholeCamera::ardrone2_bottom();
+  const cv::Mat pattern = make_procedural_panel(cv::Size(256, 256), 12);
+  const PlanarViewRenderer renderer(bottom, make_clutter_background(cv::Size(1200, 1200), 22), 0.0025, 0.02);
+  PlanarObjectLocalizer loc(PlanarTemplate::create(pattern, 0.6, 0.6, "platform", PlanarConfig{}), bottom,
+                            PlanarObjectThresholds::from(VisionThresholds{}), PlanarConfig{});
+  const Eigen::Isometry3d T = look_at_object(Eigen::Vector3d(0.1, 0.05, -1.2), Eigen::Vector3d(0.1, 0.05, 0), 0.3);
+  const PlanarResult r = loc.process(renderer.render(pattern, 0.6, 0.6, T), 0.0);
+  REQUIRE(r.has_pose);
+  CHECK(percent_error(r, T) < 1.0);
+  CHECK(deg_error(r, T) < 2.0);
+}
+
+TEST_CASE("planar: bad frames are refused without disturbing the track") {
+  const Rig rig;
+  PlanarObjectLocalizer loc = rig.localizer();
+  const Eigen::Isometry3d T = at(0.0, 0.0, 1.0);
+  REQUIRE(loc.process(rig.view(T), 0.0).has_pose);
+  const PlanarResult small = loc.process(cv::Mat(240, 320, CV_8UC1, cv::Scalar(0)), 0.01);
+  CHECK(small.reason == PlanarLoss::BadFrame);
+  CHECK(std::string(small.detail) == "frame size differs from the camera's");
+  CHECK_FALSE(small.has_pose);
+  CHECK(loc.process(cv::Mat(), 0.02).reason == PlanarLoss::BadFrame);
+  CHECK(loc.process(cv::Mat(360, 640, CV_8UC3, cv::Scalar(0, 0, 0)), 0.03).reason == PlanarLoss::BadFrame);
+  CHECK(loc.process(rig.view(T), 0.04).state == PlanarState::Tracking);
+}

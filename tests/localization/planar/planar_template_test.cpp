@@ -1,0 +1,88 @@
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/config_reader.hpp"
+#include "localization/planar/planar_template.hpp"
+#include "localization/planar/synthetic_scene.hpp"
+
+using namespace labo;
+
+namespace {
+
+std::string refusal(const cv::Mat& image, double w = 0.4, double h = 0.3) {
+  try {
+    PlanarTemplate::create(image, w, h, "t", PlanarConfig{});
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("planar: templates are refused with the reason") {
+  const cv::Mat good = make_procedural_panel(cv::Size(160, 120), 1);
+  CHECK(refusal(good).empty());
+  CHECK(refusal(cv::Mat()) == "template 't' refused: the image is empty");
+  CHECK(refusal(good(cv::Rect(0, 0, 31, 40))).find("at least 32 px") != std::string::npos);
+  CHECK(refusal(cv::Mat(100, 100, CV_8UC1, cv::Scalar(128))).find("too little texture") != std::string::npos);
+  cv::Mat stripes(100, 100, CV_8UC1);
+  for (int x = 0; x < 100; ++x) stripes.col(x).setTo((x / 5) % 2 ? 200 : 40);
+  CHECK(refusal(stripes).find("edges run in one direction") != std::string::npos);
+  CHECK(refusal(good, 0.0, 0.3).find("must be positive") != std::string::npos);
+  CHECK(refusal(good, 0.4, -1.0).find("must be positive") != std::string::npos);
+  CHECK(refusal(good, std::nan(""), 0.3).find("must be positive") != std::string::npos);
+}
+
+TEST_CASE("planar: unreadable template files are refused") {
+  const auto dir = std::filesystem::temp_directory_path() / "labo_planar_template_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "junk.png") << "not a png";
+  auto message = [](const std::filesystem::path& p) {
+    try {
+      PlanarTemplate::load(p, 0.4, 0.3, PlanarConfig{});
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK(message(dir / "missing.png").find("no such file") != std::string::npos);
+  CHECK(message(dir / "junk.png").find("not a readable image") != std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("planar: large photos are downscaled with an exact pixel map") {
+  const cv::Mat big = make_procedural_panel(cv::Size(960, 640), 2);
+  const PlanarTemplate t = PlanarTemplate::create(big, 0.6, 0.4, "big", PlanarConfig{});
+  CHECK(t.working().cols == 320);
+  CHECK(t.original_size() == cv::Size(960, 640));
+  // The original's outer corner maps to the working image's outer corner.
+  const cv::Point2d c = apply_homography(t.working_from_original(), cv::Point2d(959.5, 639.5));
+  CHECK(c.x == Approx(319.5));
+  CHECK(c.y == Approx(212.8333).epsilon(0.01));
+}
+
+TEST_CASE("planar: the planar config section is validated") {
+  auto error_of = [](const std::string& text) -> std::string {
+    try {
+      const ConfigDocument doc = ConfigDocument::parse(text, "p.json");
+      read_planar_config(doc.root());
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  CHECK(error_of(R"({"tracker": "ecc", "pyramid_levels": 4})").empty());
+  CHECK(error_of(R"({"tracker": "lk"})").find("tracker") != std::string::npos);
+  CHECK(error_of(R"({"pyramid_levels": 9})").find("pyramid_levels") != std::string::npos);
+  CHECK(error_of(R"({"ecc_gauss_size": 4})").find("odd") != std::string::npos);
+  CHECK(error_of(R"({"detection_min_width_fraction": 0.5, "detection_max_width_fraction": 0.4})").find("exceed") !=
+        std::string::npos);
+  CHECK(error_of(R"({"trackr": "ic"})").find("trackr") != std::string::npos);
+  const ConfigDocument doc = ConfigDocument::parse(R"({"tracker": "ecc"})", "p.json");
+  CHECK(read_planar_config(doc.root()).tracker == TrackerKind::Ecc);
+}
