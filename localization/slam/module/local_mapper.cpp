@@ -107,7 +107,15 @@ void LocalMapper::process(Keyframe keyframe) {
     if (n != kf && std::find(neighbours.begin(), neighbours.end(), n) == neighbours.end()) neighbours.push_back(n);
   }
   remeasure(kf, neighbours);
-  triangulate_new_points(kf, neighbours);
+  // Triangulate against the neighbours with the widest baselines first: under rotation-dominated
+  // motion the newest keyframes are too close for well-conditioned points.
+  std::vector<std::pair<double, int>> by_baseline;
+  const Eigen::Vector3d c = map_.keyframes()[static_cast<std::size_t>(kf)].center();
+  for (int n : neighbours) by_baseline.emplace_back(-(map_.keyframes()[static_cast<std::size_t>(n)].center() - c).norm(), n);
+  std::sort(by_baseline.begin(), by_baseline.end());
+  std::vector<int> wide;
+  for (const auto& [d, n] : by_baseline) wide.push_back(n);
+  triangulate_new_points(kf, wide);
   std::vector<int> free_kfs{kf};
   for (int n : map_.covisible(kf, settings_.local_ba_keyframes - 1)) free_kfs.push_back(n);
   adjust(free_kfs, false, 10);

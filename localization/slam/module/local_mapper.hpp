@@ -28,7 +28,7 @@ struct MapperSettings {
   bool global_ba = true;
   int global_ba_every = 10;       // synchronous mode
   int global_ba_max_keyframes = 120;
-  double min_parallax_deg = 1.0;
+  double min_parallax_deg = 0.5;
   int max_hamming = 50;
 };
 
