@@ -1,5 +1,7 @@
 #include "server/app_config.hpp"
 
+#include "localization/slam/slam_config.hpp"
+
 namespace labo {
 
 namespace {
@@ -19,6 +21,7 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
                                    : CamerasConfig{PinholeCamera::ardrone2_front().intrinsics(),
                                                    PinholeCamera::ardrone2_bottom().intrinsics()};
   c.vision = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
+  c.slam = root.has("slam") ? slam::read_slam_settings(root.object("slam")) : slam::SlamSettings{};
   if (root.has("server")) {
     const ConfigReader s = root.object("server");
     c.server.bind_address = s.string_or("bind", c.server.bind_address);

@@ -6,6 +6,7 @@
 
 #include "core/camera_config.hpp"
 #include "core/log.hpp"
+#include "localization/slam/slam_system.hpp"
 #include "localization/vision_thresholds.hpp"
 
 namespace labo {
@@ -21,6 +22,7 @@ struct AppConfig {
   LogLevel log_level = LogLevel::Info;
   CamerasConfig cameras;
   VisionThresholds vision;
+  slam::SlamSettings slam;
   ServerSettings server;
   std::filesystem::path lab_file;  // the simulated lab's description
 };

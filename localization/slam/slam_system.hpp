@@ -40,7 +40,7 @@ struct SlamSettings {
   double quality_lost = 0.13;
   int min_found_good = 40;
   int lost_after_bad_frames = 3;
-  double keyframe_min_interval_s = 0.2;
+  double keyframe_min_interval_s = 0.25;
   double keyframe_distance_ratio = 0.08;  // of the mean scene depth
   double keyframe_overlap_ratio = 0.55;   // tracked / points of the reference keyframe
   int local_ba_keyframes = 5;             // newest + 4 nearest
