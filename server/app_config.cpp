@@ -1,5 +1,7 @@
 #include "server/app_config.hpp"
 
+#include "localization/slam/slam_config.hpp"
+
 namespace labo {
 
 namespace {
@@ -26,6 +28,7 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
   c.link = root.has("link") ? read_ardrone_link_settings(root.object("link")) : ArdroneLinkSettings{};
   c.emulator = root.has("emulator") ? read_ardrone_emulator_settings(root.object("emulator")) : ArdroneEmulatorSettings{};
   c.planar = root.has("planar") ? read_planar_config(root.object("planar")) : PlanarConfig{};
+  c.slam = root.has("slam") ? slam::read_slam_settings(root.object("slam")) : slam::SlamSettings{};
   c.lab_file = resolve(base_dir, root.string_or("lab", "lab.json"));
   root.finish();
   return c;

@@ -12,6 +12,7 @@
 #include "drone/ardrone2/ardrone_emulator.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
 #include "localization/planar/planar_config.hpp"
+#include "localization/slam/slam_system.hpp"
 #include "localization/vision_thresholds.hpp"
 #include "server/server_settings.hpp"
 
@@ -25,6 +26,7 @@ struct AppConfig {
   EstimatorConfig estimation;
   ControlConfig control;
   PlanarConfig planar;
+  slam::SlamSettings slam;
   ServerSettings server;
   ArdroneLinkSettings link;          // the AR.Drone 2.0 driver (docs/ardrone2.md)
   ArdroneEmulatorSettings emulator;  // the AR.Drone 2.0 protocol emulator on loopback

@@ -40,7 +40,7 @@ struct SlamSettings {
   double quality_lost = 0.13;
   int min_found_good = 40;
   int lost_after_bad_frames = 3;
-  double keyframe_min_interval_s = 0.3;
+  double keyframe_min_interval_s = 0.25;
   double keyframe_distance_ratio = 0.08;  // of the mean scene depth
   double keyframe_overlap_ratio = 0.55;   // tracked / points of the reference keyframe
   int local_ba_keyframes = 5;             // newest + 4 nearest
@@ -60,7 +60,9 @@ struct SlamResult {
   bool keyframe_added = false;
   bool relocalized = false;   // this frame recovered from Lost
   std::string reason;         // why not Good (empty when Good)
-  double tracking_ms = 0.0;   // this call, wall time (measurement only; never feeds the algorithm)
+  // This call's cost, excluding mapping run inline (measurements only; never feed the algorithm):
+  double tracking_ms = 0.0;      // wall time
+  double tracking_cpu_ms = 0.0;  // CPU time of the calling thread (one core, load-independent)
 };
 
 struct SlamStatus {

@@ -22,7 +22,7 @@ FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const P
   FlightReport report;
   report.name = flight.name;
   std::vector<PosePair> pairs;
-  std::vector<double> tracking_ms;
+  std::vector<double> tracking_ms, tracking_cpu_ms;
   const cv::Mat black = cv::Mat::zeros(camera.height(), camera.width(), CV_8U);
   bool initialized = false;
   for (std::size_t i = 0; i < flight.frames.size(); ++i) {
@@ -32,13 +32,16 @@ FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const P
     ++report.frames;
     if (trace && (r.state != TrackingState::Good || r.keyframe_added)) {
       *trace << flight.name << " t=" << f.t << " " << to_string(r.state) << " found " << r.points_found << "/" << r.points_attempted
-             << (r.keyframe_added ? " +KF" : "") << " " << r.tracking_ms << " ms " << r.reason << "\n";
+             << (r.keyframe_added ? " +KF" : "") << " " << r.tracking_ms << " ms (cpu " << r.tracking_cpu_ms << ") " << r.reason << "\n";
     }
     if (!initialized && r.state != TrackingState::Initializing) {
       initialized = true;
       report.initialized_at_s = f.t;
     }
-    if (initialized) tracking_ms.push_back(r.tracking_ms);
+    if (initialized) {
+      tracking_ms.push_back(r.tracking_ms);
+      tracking_cpu_ms.push_back(r.tracking_cpu_ms);
+    }
     const double distance = (flight.target - f.T_world_cam.translation()).norm();
     if (r.T_cam_map) {
       ++report.tracked_frames;
@@ -59,6 +62,8 @@ FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const P
   report.errors = trajectory_errors(pairs);
   report.tracking_ms_median = percentile(tracking_ms, 0.5);
   report.tracking_ms_p95 = percentile(tracking_ms, 0.95);
+  report.tracking_cpu_ms_median = percentile(tracking_cpu_ms, 0.5);
+  report.tracking_cpu_ms_p95 = percentile(tracking_cpu_ms, 0.95);
   const MappingStatistics mapping = slam.mapping_statistics();
   report.mapping_ms_per_keyframe_median = percentile(mapping.keyframe_ms, 0.5);
   report.mapping_ms_per_keyframe_max = percentile(mapping.keyframe_ms, 1.0);

@@ -22,7 +22,8 @@ struct FlightReport {
   double initialized_at_s = -1;
   int initialization_attempts = 0;
   std::optional<TrajectoryErrors> errors;
-  double tracking_ms_median = 0, tracking_ms_p95 = 0;
+  double tracking_ms_median = 0, tracking_ms_p95 = 0;          // wall time
+  double tracking_cpu_ms_median = 0, tracking_cpu_ms_p95 = 0;  // thread CPU time
   double mapping_ms_per_keyframe_median = 0, mapping_ms_per_keyframe_max = 0;
   int keyframes = 0, map_points = 0, global_ba_runs = 0;
   std::optional<double> relocalization_s;  // view back -> tracking good again

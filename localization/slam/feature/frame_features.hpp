@@ -12,13 +12,22 @@ namespace labo::slam {
 
 using Descriptor = std::array<std::uint8_t, 32>;
 
+// Bit count without relying on the POPCNT instruction (the build targets generic x86-64, where
+// __builtin_popcountll becomes a library call): the classic SWAR reduction.
+inline int popcount64(std::uint64_t x) {
+  x = x - ((x >> 1) & 0x5555555555555555ull);
+  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
+  return static_cast<int>((x * 0x0101010101010101ull) >> 56);
+}
+
 inline int hamming(const Descriptor& a, const Descriptor& b) {
   int d = 0;
   for (int i = 0; i < 32; i += 8) {
     std::uint64_t x, y;
     __builtin_memcpy(&x, a.data() + i, 8);
     __builtin_memcpy(&y, b.data() + i, 8);
-    d += __builtin_popcountll(x ^ y);
+    d += popcount64(x ^ y);
   }
   return d;
 }

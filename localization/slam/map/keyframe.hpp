@@ -40,6 +40,9 @@ struct MapPoint {
   int reference_keyframe = -1;
   int reference_level = 0;
   double reference_distance = 1.0;  // from the reference keyframe's centre when created
+  // Mapper's bookkeeping: re-found or not when a new keyframe should have seen the point.
+  int remeasure_hits = 0;
+  int remeasure_misses = 0;
 
   int observed_by(int keyframe) const {
     for (const auto& o : observations) {

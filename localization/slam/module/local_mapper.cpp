@@ -107,6 +107,8 @@ void LocalMapper::process(Keyframe keyframe) {
     if (n != kf && std::find(neighbours.begin(), neighbours.end(), n) == neighbours.end()) neighbours.push_back(n);
   }
   remeasure(kf, neighbours);
+  // Triangulate against the most covisible neighbours (overlap guaranteed); those whose baseline is
+  // too short for the scene depth are skipped inside.
   triangulate_new_points(kf, neighbours);
   std::vector<int> free_kfs{kf};
   for (int n : map_.covisible(kf, settings_.local_ba_keyframes - 1)) free_kfs.push_back(n);
@@ -122,26 +124,48 @@ void LocalMapper::process(Keyframe keyframe) {
 void LocalMapper::remeasure(int kf, const std::vector<int>& neighbours) {
   const Keyframe& key = map_.keyframes()[static_cast<std::size_t>(kf)];
   std::vector<SearchCandidate> candidates;
+  std::vector<char> already;  // observed by the new keyframe through tracking
   std::set<PointId> seen;
   for (int n : neighbours) {
     for (PointId id : map_.keyframes()[static_cast<std::size_t>(n)].point_of_feature) {
       const MapPoint* p = map_.point(id);
-      if (!p || p->observed_by(kf) >= 0 || !seen.insert(id).second) continue;
+      if (!p || !seen.insert(id).second) continue;
       candidates.push_back(candidate_of(*p));
+      already.push_back(p->observed_by(kf) >= 0 ? 1 : 0);
     }
   }
   matcher_.project_candidates(candidates, key.T_cam_map);
   FeatureGrid grid(camera_.ideal_min(), camera_.ideal_max(), 24.0);
   grid.build(key.frame);
-  std::vector<int> all(candidates.size());
-  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  std::vector<int> search;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (!already[i]) search.push_back(static_cast<int>(i));
+  }
   std::vector<SearchMatch> matches;
-  matcher_.search(candidates, all, key.frame, grid, 4.0, 0, settings_.max_hamming, matches);
+  matcher_.search(candidates, search, key.frame, grid, 4.0, 0, settings_.max_hamming, matches);
+  std::vector<char> found(already);
   std::unique_lock lock(map_.mutex());
   for (const SearchMatch& m : matches) {
+    found[static_cast<std::size_t>(m.candidate)] = 1;
     if (key.point_of_feature[static_cast<std::size_t>(m.feature)] != kNoPoint) continue;
     map_.add_observation(candidates[static_cast<std::size_t>(m.candidate)].id, kf, m.feature);
   }
+  // Points that keep failing to be re-found where they should be visible are wrong (bad depth,
+  // a mismatch at creation): cull them, as they also drag the tracking quality down.
+  int culled = 0;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (!candidates[i].in_view) continue;
+    auto it = map_.points_mutable().find(candidates[i].id);
+    if (it == map_.points_mutable().end()) continue;
+    MapPoint& p = it->second;
+    (found[i] ? p.remeasure_hits : p.remeasure_misses) += 1;
+    if (p.remeasure_misses >= 3 && p.remeasure_misses > 2 * p.remeasure_hits) {
+      map_.remove_point(p.id);
+      ++culled;
+    }
+  }
+  std::lock_guard stats_lock(mutex_);
+  stats_.points_culled += culled;
 }
 
 void LocalMapper::triangulate_new_points(int kf, const std::vector<int>& neighbours) {

@@ -27,8 +27,8 @@ struct MapperSettings {
   int triangulation_neighbours = 5;
   bool global_ba = true;
   int global_ba_every = 10;       // synchronous mode
-  int global_ba_max_keyframes = 120;
-  double min_parallax_deg = 1.0;
+  int global_ba_max_keyframes = 200;
+  double min_parallax_deg = 0.5;
   int max_hamming = 50;
 };
 
@@ -38,6 +38,7 @@ struct MapperStats {
   int global_ba_runs = 0;
   int points_created = 0;
   int observations_removed = 0;
+  int points_culled = 0;
   double last_keyframe_ms = 0;  // wall time of the last keyframe's processing (measurement only)
   std::vector<double> keyframe_ms;
 };

@@ -26,7 +26,7 @@ TEST_CASE("slam: map save/load round trip, and refusals of bad map files") {
   const PinholeCamera camera = PinholeCamera::ardrone2_front();
   const SyntheticRoom room(camera);
   const Flight flight = approach_flight(room.panel_center());
-  const auto frames = testing::first_seconds(flight, 7.0);
+  const auto frames = testing::first_seconds(flight, 5.5);
   SlamSystem mapper(camera, testing::synchronous());
   const auto run = testing::run(mapper, room, frames);
   REQUIRE(run.results.back().T_cam_map);

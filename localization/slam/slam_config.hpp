@@ -1,0 +1,13 @@
+#pragma once
+// The "slam" section of the configuration: the tunable subset of SlamSettings. Every key is
+// optional (defaults in SlamSettings); values are range-checked and unknown keys refused.
+#include "core/config_reader.hpp"
+#include "localization/slam/slam_system.hpp"
+
+namespace labo::slam {
+
+// Keys: mapping ("threaded" | "synchronous"), max_features, fast_threshold, quality_good,
+// quality_lost, keyframe_min_interval_s, max_keyframes, global_ba_when_idle.
+SlamSettings read_slam_settings(const ConfigReader& node);
+
+}  // namespace labo::slam

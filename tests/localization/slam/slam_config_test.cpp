@@ -1,0 +1,21 @@
+#include <catch2/catch.hpp>
+
+#include "localization/slam/slam_config.hpp"
+
+using namespace labo;
+
+TEST_CASE("slam: config section is read, range-checked and refuses unknown keys") {
+  auto read = [](const std::string& text) {
+    const ConfigDocument doc = ConfigDocument::parse(text, "test.json");
+    return slam::read_slam_settings(doc.root());
+  };
+  const slam::SlamSettings s = read(R"({"mapping": "synchronous", "max_features": 800, "quality_good": 0.4})");
+  CHECK(s.mapping_mode == slam::MappingMode::Synchronous);
+  CHECK(s.max_features == 800);
+  CHECK(s.quality_good == Approx(0.4));
+  CHECK(read("{}").mapping_mode == slam::MappingMode::Threaded);
+  CHECK_THROWS_WITH(read(R"({"mapping": "sometimes"})"), Catch::Contains("mapping"));
+  CHECK_THROWS_WITH(read(R"({"max_features": 10})"), Catch::Contains("max_features"));
+  CHECK_THROWS_WITH(read(R"({"quality_good": 0.1, "quality_lost": 0.2})"), Catch::Contains("quality_lost"));
+  CHECK_THROWS_WITH(read(R"({"typo": 1})"), Catch::Contains("typo"));
+}
