@@ -5,7 +5,8 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake pkg-config
-  libboost-dev libboost-system-dev
+  libboost-dev libboost-system-dev libssl-dev
+  chromium
   libopencv-dev libopencv-contrib-dev
   libeigen3-dev nlohmann-json3-dev
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev

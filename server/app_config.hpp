@@ -4,24 +4,23 @@
 #include <filesystem>
 #include <string>
 
+#include "control/control_config.hpp"
 #include "core/camera_config.hpp"
 #include "core/log.hpp"
+#include "localization/estimation/estimation_config.hpp"
 #include "localization/face/face_config.hpp"
 #include "localization/vision_thresholds.hpp"
+#include "server/server_settings.hpp"
 
 namespace labo {
-
-struct ServerSettings {
-  std::string bind_address = "127.0.0.1";
-  int port = 8080;
-  std::filesystem::path web_root;  // resolved against the config file's folder
-};
 
 struct AppConfig {
   std::filesystem::path source;
   LogLevel log_level = LogLevel::Info;
   CamerasConfig cameras;
   VisionThresholds vision;
+  EstimatorConfig estimation;
+  ControlConfig control;
   ServerSettings server;
   std::filesystem::path lab_file;  // the simulated lab's description
   face::FaceConfig face;

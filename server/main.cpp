@@ -6,8 +6,12 @@
 #include <string>
 #include <vector>
 
+#include "control/experiments/sim_commands.hpp"
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
+#include "drone/ardrone2/inspect_commands.hpp"
+#include "localization/planar/planar_commands.hpp"
+#include "localization/slam/bench/slam_bench_command.hpp"
 #include "localization/face/face_commands.hpp"
 #include "server/serve_command.hpp"
 
@@ -21,8 +25,16 @@ struct Subcommand {
 std::vector<Subcommand> subcommands() {
   return {
       {labo::serve_command_spec(), labo::run_serve_command},
+      {labo::navdata_command_spec(), labo::run_navdata_command},
+      {labo::video_command_spec(), labo::run_video_command},
+      {labo::homography_command_spec(), labo::run_homography_command},
+      {labo::bench_planar_command_spec(), labo::run_bench_planar_command},
+      {labo::bench_slam_command_spec(), labo::run_bench_slam_command},
       {labo::face_bench_command_spec(), labo::run_face_bench_command},
       {labo::face_register_command_spec(), labo::run_face_register_command},
+      {labo::sim_inspect_command_spec(), labo::run_sim_inspect_command},
+      {labo::sim_perturb_command_spec(), labo::run_sim_perturb_command},
+      {labo::sim_face_follow_command_spec(), labo::run_sim_face_follow_command},
   };
 }
 

@@ -1,7 +1,10 @@
 #include "server/serve_command.hpp"
 
+#include <iostream>
+
 #include "server/app_config.hpp"
-#include "server/static_http_server.hpp"
+#include "server/http/web_server.hpp"
+#include "server/runtime/drone_backend.hpp"
 
 namespace labo {
 
@@ -12,19 +15,27 @@ const CommandSpec& serve_command_spec() {
       "Start the LaboDrone server: the web UI and API on one port, flying the simulated lab by default.",
       {{"--config", "FILE", "configuration file (default: config/default.json)"},
        {"--port", "N", "TCP port to listen on (default: from the config, 8080)"},
-       {"--bind", "ADDR", "address to listen on (default: from the config, 127.0.0.1)"}},
+       {"--bind", "ADDR", "address to listen on (default: from the config, 127.0.0.1)"},
+       {"--drone", "SPEC", "sim (default: the simulated lab on loopback), ardrone[:HOST] or replay:FILE"}},
       0,
       0};
   return spec;
 }
 
 int run_serve_command(const ParsedArgs& args) {
-  const AppConfig config = load_app_config(args.value_or("--config", default_config_path().string()));
-  StaticHttpServerOptions options;
-  options.bind_address = args.value_or("--bind", config.server.bind_address);
-  options.port = args.integer_or("--port", config.server.port, 1, 65535);
-  options.web_root = config.server.web_root;
-  return run_static_http_server(options);
+  const std::filesystem::path config_file = args.value_or("--config", default_config_path().string());
+  AppConfig config = load_app_config(config_file);
+  config.server.bind_address = args.value_or("--bind", config.server.bind_address);
+  config.server.port = args.integer_or("--port", config.server.port, 1, 65535);
+  const DroneSpec drone = parse_drone_spec(args.value_or("--drone", "sim"));  // UsageError when malformed
+  Logger log("labodrone", config.log_level);
+  auto backend = make_drone_backend(drone, config, log.child("runtime"));
+  WebServer server(config.server, config_file, backend->flight(), log.child("web"));
+  server.start();
+  std::cout << "LaboDrone is serving on http://" << config.server.bind_address << ":" << config.server.port
+            << "/ (drone: " << describe(drone) << ")" << std::endl;
+  server.run_until_signal();
+  return 0;
 }
 
 }  // namespace labo

@@ -1,0 +1,79 @@
+#pragma once
+// Configuration of flight control, read from the "control" section of config/default.json: PID gains
+// and limits per axis, the autopilot's reach/stay criteria, mission parameters and safety limits.
+// Defaults follow tum_ardrone's controller (notes/tum_ardrone.md §4-5) and were then tuned on the
+// simulated lab (docs/control.md says how).
+#include "core/config_reader.hpp"
+
+namespace labo {
+
+// One PID axis. Output = clip(kp*e + ki*I + kd*de, out_min, out_max); the integral I is capped at
+// |I| <= integral_limit (in units of error*s) and decays faster when the error opposes it.
+struct PidGains {
+  double kp = 0;
+  double ki = 0;
+  double kd = 0;
+  double integral_limit = 0;  // error*s; 0 disables the integral term
+  double out_min = -1;
+  double out_max = 1;
+};
+
+struct PoseControlGains {
+  PidGains xy{0.5, 0.0, 0.35, 0.0, -1.0, 1.0};          // -> roll / pitch
+  PidGains z{0.6, 0.001, 0.1, 200.0, -0.25, 0.8};        // -> gaz
+  PidGains yaw{1.2, 0.0, 0.0, 0.0, -1.0, 1.0};           // -> yaw rate (rad error -> command)
+  double max_tilt_command = 0.5;  // |roll|, |pitch| clip below the PCMD range, for a gentle flight
+};
+
+struct AutopilotCriteria {
+  double reach_distance_m = 0.20;   // a waypoint is reached inside this distance ...
+  double reach_yaw_rad = 0.087;     // ... and this yaw error (5 deg)
+  double stay_distance_m = 0.5;     // it completes after staying within this distance ...
+  double stay_time_s = 2.0;         // ... for this long
+  double takeoff_time_s = 5.0;      // firmware take-off sequence before control starts
+  double land_time_s = 5.0;         // land sent; the drone is declared landed at control state 2
+};
+
+struct MissionParameters {
+  double standoff_m = 0.80;            // inspect: hold distance to the panel
+  double min_standoff_m = 0.40;        // refused below this
+  double face_distance_m = 1.00;       // face-follow: hold distance to the face
+  double cruise_altitude_m = 1.0;      // stage 1/2 altitude
+  double return_altitude_m = 1.6;      // stage 4: higher, for a broad view of the floor
+  double platform_hover_altitude_m = 0.9;  // stage 5
+  double scale_manoeuvre_m = 0.5;      // stage 1: up/down amplitude for the scale estimation
+  double scale_manoeuvre_speed_mps = 0.25;
+  double detect_timeout_s = 15.0;      // stage 2 / re-detection: give up and go home after this
+  double hold_tolerance_m = 0.04;      // inspect: hold time counts only this close to the standoff pose
+  double default_hold_s = 10.0;        // inspect hold time when the request gives none
+  double max_hold_s = 600.0;
+  double face_search_yaw_rate = 0.4;   // rad/s during the yaw sweep
+  double face_search_timeout_s = 60.0;
+  double far_to_near_m = 1.6;          // localization switch: homography below this distance ...
+  double near_to_far_m = 2.0;          // ... SLAM again above this one (hysteresis)
+  double source_hold_s = 0.5;          // a source must stay good this long before it is used
+};
+
+struct SafetyLimits {
+  double link_loss_land_s = 5.0;       // land after the link has been lost this long
+  double low_battery_percent = 20.0;   // return home and land below this
+  double critical_battery_percent = 10.0;  // land where it is below this
+  double localization_lost_hover_s = 1.0;  // hover when localization has been lost this long
+  double localization_lost_land_s = 8.0;   // land after this long
+  double geofence_margin_m = 0.30;     // distance kept from walls, floor and ceiling
+};
+
+struct ControlConfig {
+  PoseControlGains gains;
+  AutopilotCriteria autopilot;
+  MissionParameters mission;
+  SafetyLimits safety;
+  double control_rate_hz = 30.0;
+};
+
+// Reads {"gains": {"xy"|"z"|"yaw": {kp, ki, kd, integral_limit, out_min, out_max}, max_tilt_command},
+// "autopilot": {...}, "mission": {...}, "safety": {...}, "control_rate_hz"}; every key optional with
+// the defaults above; refuses unknown keys and values out of range.
+ControlConfig read_control_config(const ConfigReader& node);
+
+}  // namespace labo

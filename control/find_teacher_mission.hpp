@@ -1,0 +1,68 @@
+#pragma once
+// Find the teacher and follow the face (the paper's §6.4):
+//  1 take off and climb to face height;
+//  2 search: a full yaw sweep, then the next viewpoint (room centre, then the room's quarters), until a
+//    face is tracked;
+//  3 follow: hold face_distance_m in front of the face, the face centred, the line of sight aligned with
+//    the face's, following the teacher's motion with face feedback; a lost face -> hold, then search.
+// Ends on stop_face_follow (the drone hovers where it is) or when the search times out.
+#include <vector>
+
+#include "control/home_landing.hpp"
+#include "control/mission.hpp"
+
+namespace labo {
+
+class FindTeacherMission final : public Mission {
+ public:
+  explicit FindTeacherMission(Seconds t) : since_(t) {}
+  std::string name() const override { return "find_teacher"; }
+  MissionOutcome step(MissionContext& ctx) override;
+  int stage_index() const override;
+  int stage_count() const override { return 3; }
+  std::string stage() const override { return stage_text_; }
+  bool needs_visual_localization() const override { return step_ == Step::Follow; }
+  bool accepts_stop_face_follow() const override { return true; }
+  void stop_face_follow() override { stop_requested_ = true; }
+
+ private:
+  enum class Step { TakeOff, Climb, Sweep, Reposition, Follow, Lost, Done };
+  void enter(Step step, Seconds t) {
+    step_ = step;
+    since_ = t;
+    fresh_ = true;
+  }
+  std::vector<Eigen::Vector3d> viewpoints(const MissionContext& ctx) const;
+  bool face_seen(const MissionContext& ctx) const;
+  void follow(MissionContext& ctx);
+  std::string describe(Seconds t) const;
+
+  Step step_ = Step::TakeOff;
+  Seconds since_ = 0;
+  Seconds search_started_ = -1;
+  bool fresh_ = true;
+  bool stop_requested_ = false;
+  double sweep_start_yaw_ = 0;
+  std::size_t viewpoint_ = 0;
+  std::string stage_text_ = "1 take-off";
+};
+
+// Return home and land from wherever the drone is: stages of HomeLanding (4 return, 5 platform,
+// 6 land), numbered 1-3 here.
+class ReturnHomeMission final : public Mission {
+ public:
+  explicit ReturnHomeMission(Seconds t, std::string why) : why_(std::move(why)) { home_.start(t); }
+  std::string name() const override { return "return_home"; }
+  MissionOutcome step(MissionContext& ctx) override;
+  int stage_index() const override { return home_.paper_stage() - 3; }
+  int stage_count() const override { return 3; }
+  std::string stage() const override { return stage_text_; }
+  bool needs_visual_localization() const override { return home_.paper_stage() != 6; }
+
+ private:
+  HomeLanding home_;
+  std::string why_;
+  std::string stage_text_ = "4 return";
+};
+
+}  // namespace labo

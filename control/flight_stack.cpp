@@ -1,0 +1,279 @@
+#include "control/flight_stack.hpp"
+
+#include <stdexcept>
+
+#include "control/autopilot.hpp"
+#include "control/lab_pipelines.hpp"
+#include "control/find_teacher_mission.hpp"
+#include "control/inspect_mission.hpp"
+#include "control/localization_switch.hpp"
+#include "control/request_policy.hpp"
+#include "control/safety_monitor.hpp"
+#include "core/frames.hpp"
+
+namespace labo {
+
+struct FlightStack::Impl {
+  Impl(FlightStackSetup s, std::unique_ptr<LocalizationPipelines> p)
+      : setup(std::move(s)),
+        pipelines(std::move(p)),
+        autopilot(setup.control, Geofence(setup.lab.room_min, setup.lab.room_max, setup.control.safety.geofence_margin_m)),
+        source_switch(setup.control.mission),
+        safety(setup.control.safety) {
+    if (!pipelines) throw std::invalid_argument("FlightStack: no localization pipelines");
+    pipelines->reset(make_pose(setup.lab.base, setup.lab.base_yaw_rad), 0.0);
+  }
+
+  FlightStackSetup setup;
+  std::unique_ptr<LocalizationPipelines> pipelines;
+  Autopilot autopilot;
+  LocalizationSwitch source_switch;
+  SafetyMonitor safety;
+  std::unique_ptr<Mission> mission;
+  PerceptionFocus focus;
+  CameraId camera = CameraId::Front;
+  std::optional<CameraId> camera_sent;
+  LinkState link = LinkState::Connected;
+  NavdataSample nav;
+  bool have_nav = false;
+  std::optional<Eigen::Isometry3d> ground_truth;
+  std::string last_event;
+  std::vector<std::string> alerts;
+  std::optional<FlightOutput> pending;  // an action decided by a request, sent at the next tick
+  Seconds last_tick = 0;
+
+  void finish_mission(const std::string& why) {
+    if (!mission) return;
+    last_event = "mission '" + mission->name() + "' ended: " + why;
+    mission.reset();
+  }
+
+  RequestContext request_context(Seconds t) const {
+    RequestContext c;
+    c.phase = autopilot.phase();
+    if (mission) {
+      c.running_mission = mission->name();
+      c.running_stage = mission->stage();
+      c.mission_accepts_stop_face_follow = mission->accepts_stop_face_follow();
+    }
+    c.link = link;
+    c.battery_percent = have_nav ? nav.battery_percent : 100.0;
+    const PoseEstimate pose = pipelines->predict(t);
+    c.position = pose.T_world_body.translation();
+    c.yaw = ypr_from_rotation(pose.T_world_body.linear())[0];
+    if (const auto& tg = autopilot.target()) {
+      c.has_target = true;
+      c.current_target << tg->position, tg->yaw;
+    }
+    return c;
+  }
+
+  std::optional<double> near_target_distance(const TargetObservation& obs) const {
+    if (obs.state != TrackState::Tracking) return std::nullopt;
+    return camera_distance(obs);
+  }
+
+  void update_source(Seconds t) {
+    SwitchInputs in;
+    in.t = t;
+    const TargetObservation near = focus.platform ? pipelines->platform() : pipelines->instrument();
+    in.target_state = near.state;
+    in.target_distance_m = near_target_distance(near);
+    in.slam = pipelines->slam().state;
+    in.face_mode = focus.face;
+    in.face_state = pipelines->face().state;
+    focus.feedback = source_switch.update(in);
+    pipelines->set_focus(focus);
+  }
+
+  FlightOutput apply_safety(const PoseEstimate& pose, Seconds t, bool& paused) {
+    SafetyInputs in;
+    in.t = t;
+    in.landing = autopilot.phase() == FlightPhase::Landing;
+    in.airborne = in.landing || autopilot.phase() == FlightPhase::Flying || autopilot.phase() == FlightPhase::TakingOff;
+    in.link = link;
+    in.battery_percent = have_nav ? nav.battery_percent : 100.0;
+    in.localization_required = mission && mission->needs_visual_localization();
+    in.localization_ok = pose.valid && pose.source != FeedbackSource::DeadReckoning;
+    in.returning_home = mission && mission->name() == "return_home";
+    const SafetyVerdict v = safety.evaluate(in);
+    alerts = v.alerts;
+    FlightOutput out;
+    switch (v.action) {
+      case SafetyAction::None:
+        break;
+      case SafetyAction::Hover:
+        paused = true;
+        out.action = FlightOutput::Action::Hover;
+        break;
+      case SafetyAction::ReturnHome:
+        finish_mission("safety: " + v.reason);
+        mission = std::make_unique<ReturnHomeMission>(t, v.reason);
+        last_event = "safety: " + v.reason;
+        break;
+      case SafetyAction::Land:
+        if (in.landing && link != LinkState::Lost && link != LinkState::Disconnected) break;  // already landing
+        finish_mission("safety: " + v.reason);
+        last_event = "safety: " + v.reason;
+        paused = true;
+        // Land is repeated while the link is down, so it gets through when the link comes back.
+        out = autopilot.land(t);
+        break;
+    }
+    return out;
+  }
+
+  FlightOutput tick(Seconds t) {
+    last_tick = t;
+    const PoseEstimate pose = pipelines->predict(t);
+    if (pending) {
+      FlightOutput out = *pending;
+      pending.reset();
+      return finish_tick(out, t);
+    }
+    bool paused = false;
+    FlightOutput safety_out = apply_safety(pose, t, paused);
+    if (paused) return finish_tick(safety_out, t);
+
+    FlightOutput out;
+    if (mission) {
+      const CameraIntrinsics& k = setup.cameras.front;
+      MissionContext ctx{t, pose, *pipelines, autopilot, setup.lab, setup.control, focus, camera,
+                         image_centre_ray(k.fx, k.fy, k.cx, k.cy, k.width, k.height), std::nullopt};
+      const MissionOutcome outcome = mission->step(ctx);
+      if (outcome != MissionOutcome::Running) {
+        const std::string verdict = outcome == MissionOutcome::Succeeded ? "succeeded: " : "failed: ";
+        finish_mission(verdict + mission->result());
+        if (autopilot.flying() && !autopilot.target()) autopilot.hold_here(pose, t);
+      }
+      if (ctx.phase_action) return finish_tick(*ctx.phase_action, t);
+    }
+    update_source(t);
+    out = autopilot.step(pose, t);
+    return finish_tick(out, t);
+  }
+
+  FlightOutput finish_tick(FlightOutput out, Seconds t) {
+    if (!camera_sent || *camera_sent != camera) {
+      out.select_camera = camera;
+      camera_sent = camera;
+    }
+    if (out.action == FlightOutput::Action::Move) pipelines->on_command(out.move, t);
+    else if (out.action == FlightOutput::Action::Hover) pipelines->on_command(MoveCommand{}, t);
+    return out;
+  }
+
+  CommandResult request(const MissionRequest& r, Seconds t) {
+    const CommandResult verdict =
+        check_request(r, request_context(t), setup.lab, autopilot.fence(), setup.control);
+    if (!verdict.accepted) {
+      last_event = "refused: " + verdict.reason;
+      return verdict;
+    }
+    last_event = verdict.reason;
+    const PoseEstimate pose = pipelines->predict(t);
+    switch (r.kind) {
+      case RequestKind::EmergencyStop:
+        finish_mission("emergency stop");
+        pending = autopilot.emergency(t);
+        break;
+      case RequestKind::Takeoff:
+        pending = autopilot.takeoff(t);
+        break;
+      case RequestKind::Land:
+        finish_mission("land requested");
+        camera = CameraId::Front;
+        pending = autopilot.land(t);
+        break;
+      case RequestKind::Hover:
+        finish_mission("hover requested");
+        autopilot.hold_here(pose, t);
+        break;
+      case RequestKind::Goto:
+        autopilot.go_to({r.target.head<3>(), r.target[3]}, t);
+        break;
+      case RequestKind::MoveBy: {
+        const PoseTarget from = autopilot.target().value_or(
+            PoseTarget{pose.T_world_body.translation(), ypr_from_rotation(pose.T_world_body.linear())[0]});
+        const Eigen::Vector2d d(std::cos(from.yaw) * r.target.x() - std::sin(from.yaw) * r.target.y(),
+                                std::sin(from.yaw) * r.target.x() + std::cos(from.yaw) * r.target.y());
+        autopilot.go_to({from.position + Eigen::Vector3d(d.x(), d.y(), r.target.z()), from.yaw + r.target[3]}, t);
+        break;
+      }
+      case RequestKind::Inspect: {
+        const PlanarTarget& inst = *setup.lab.find_instrument(r.instrument_id);
+        const double hold = r.hold_s > 0 ? r.hold_s : setup.control.mission.default_hold_s;
+        const double standoff = r.standoff_m > 0 ? r.standoff_m : setup.control.mission.standoff_m;
+        mission = std::make_unique<InspectMission>(inst, hold, standoff, t);
+        break;
+      }
+      case RequestKind::FindTeacher:
+        mission = std::make_unique<FindTeacherMission>(t);
+        break;
+      case RequestKind::StopFaceFollow:
+        mission->stop_face_follow();
+        break;
+      case RequestKind::ReturnHome:
+        finish_mission("return home requested");
+        mission = std::make_unique<ReturnHomeMission>(t, "requested");
+        break;
+    }
+    return verdict;
+  }
+};
+
+FlightStack::FlightStack(FlightStackSetup setup)
+    : FlightStack(setup, std::make_unique<LabPipelines>(setup.lab, setup.estimation, setup.vision)) {}
+
+FlightStack::FlightStack(FlightStackSetup setup, std::unique_ptr<LocalizationPipelines> pipelines)
+    : impl_(std::make_unique<Impl>(std::move(setup), std::move(pipelines))) {}
+
+FlightStack::~FlightStack() = default;
+
+void FlightStack::on_navdata(const NavdataSample& sample) {
+  impl_->nav = sample;
+  impl_->have_nav = true;
+  impl_->pipelines->on_navdata(sample);
+  impl_->autopilot.on_control_state(sample.control_state, sample.t);
+}
+
+void FlightStack::on_video(const VideoFrame& frame) { impl_->pipelines->on_video(frame); }
+
+void FlightStack::on_link_state(LinkState state, Seconds) { impl_->link = state; }
+
+void FlightStack::set_ground_truth(const Eigen::Isometry3d& T_world_body, Seconds) { impl_->ground_truth = T_world_body; }
+
+FlightOutput FlightStack::tick(Seconds t) { return impl_->tick(t); }
+
+CommandResult FlightStack::request(const MissionRequest& request, Seconds t) { return impl_->request(request, t); }
+
+const FlightStackSetup& FlightStack::setup() const { return impl_->setup; }
+
+FlightStatus FlightStack::status() const {
+  const Impl& m = *impl_;
+  FlightStatus s;
+  s.t = m.last_tick;
+  s.phase = m.autopilot.phase();
+  s.mission = m.mission ? m.mission->name() : "idle";
+  s.stage = m.mission ? m.mission->stage() : "";
+  s.stage_index = m.mission ? m.mission->stage_index() : 0;
+  s.stage_count = m.mission ? m.mission->stage_count() : 0;
+  s.last_event = m.last_event;
+  s.pose = m.pipelines->predict(m.last_tick);
+  if (const auto& tg = m.autopilot.target()) s.desired = Eigen::Vector4d(tg->position.x(), tg->position.y(), tg->position.z(), tg->yaw);
+  s.source = s.pose.source;
+  s.source_colour = colour_of(s.source);
+  s.last_command = m.autopilot.last_command();
+  s.battery_percent = m.nav.battery_percent;
+  s.altitude_m = m.nav.altitude_m;
+  s.link = m.link;
+  s.safety_alerts = m.alerts;
+  s.slam = m.pipelines->slam();
+  s.instrument = m.pipelines->instrument();
+  s.platform = m.pipelines->platform();
+  s.face = m.pipelines->face();
+  s.ground_truth_T_world_body = m.ground_truth;
+  return s;
+}
+
+}  // namespace labo

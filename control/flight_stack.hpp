@@ -1,0 +1,67 @@
+#pragma once
+// FlightStack: LaboDrone's flight brain. Deterministic and single-threaded: it is fed timestamped
+// navdata and frames, it is ticked at the control rate and returns the one action to send, and it
+// takes requests from users (missions and manual commands), accepting or refusing each with a reason.
+// It owns the localization pipelines, the missions (stage machines of the paper's §6.2 and §6.4),
+// the autopilot with its PID controllers, and the safety monitor. It never reads the wall clock: the
+// real-time runtime (server/) and the lockstep experiments (control/experiments/) both drive it with
+// the timestamps of their own clock, so the same inputs give the same flight.
+//
+// Usage, from one thread:
+//   FlightStack stack(setup);                  // or with your own LocalizationPipelines
+//   link listener -> stack.on_navdata / on_video / on_link_state
+//   every 1/control_rate_hz: out = stack.tick(now); send out (move/hover/takeoff/land/emergency)
+//   user -> stack.request(req, now) -> accepted or refused with the reason
+//   UI   -> stack.status()
+#include <memory>
+#include <optional>
+
+#include "control/control_config.hpp"
+#include "control/flight_types.hpp"
+#include "control/lab_geometry.hpp"
+#include "control/localization_pipelines.hpp"
+#include "core/camera_config.hpp"
+#include "localization/estimation/estimation_config.hpp"
+#include "localization/vision_thresholds.hpp"
+
+namespace labo {
+
+struct FlightStackSetup {
+  ControlConfig control;
+  LabGeometry lab;
+  CamerasConfig cameras{PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()};
+  VisionThresholds vision;
+  EstimatorConfig estimation;
+};
+
+class FlightStack {
+ public:
+  // Builds the lab's pipelines (LabPipelines: the StateEstimator; vision front-ends are attached to
+  // it as the planar, SLAM and face pipelines are wired in).
+  explicit FlightStack(FlightStackSetup setup);
+  // With given pipelines (tests, replay).
+  FlightStack(FlightStackSetup setup, std::unique_ptr<LocalizationPipelines> pipelines);
+  ~FlightStack();
+  FlightStack(const FlightStack&) = delete;
+  FlightStack& operator=(const FlightStack&) = delete;
+
+  void on_navdata(const NavdataSample& sample);
+  void on_video(const VideoFrame& frame);
+  void on_link_state(LinkState state, Seconds t);
+  // Simulated runs only: the true pose, reported in status() for plots and the UI.
+  void set_ground_truth(const Eigen::Isometry3d& T_world_body, Seconds t);
+
+  // The action to send now. Call at the control rate; every call advances the missions and safety.
+  FlightOutput tick(Seconds t);
+  // Accepted or refused with the reason. EmergencyStop is always accepted.
+  CommandResult request(const MissionRequest& request, Seconds t);
+  FlightStatus status() const;
+
+  const FlightStackSetup& setup() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace labo

@@ -1,0 +1,116 @@
+#include "control/home_landing.hpp"
+
+#include "core/frames.hpp"
+
+namespace labo {
+
+namespace {
+constexpr double kPlatformSettleS = 0.5;  // platform seen this long before centring on it
+constexpr double kLandedWaitS = 12.0;     // land sent; give up waiting after this
+}  // namespace
+
+int HomeLanding::paper_stage() const {
+  switch (step_) {
+    case Step::Climb:
+    case Step::Travel: return 4;
+    case Step::FindPlatform:
+    case Step::Centre: return 5;
+    default: return 6;
+  }
+}
+
+std::string HomeLanding::describe(Seconds t) const {
+  switch (step_) {
+    case Step::Climb: return "4 return: climbing to the return altitude";
+    case Step::Travel: return "4 return: flying above the base";
+    case Step::FindPlatform: return "5 platform: searching with the bottom camera (" + format_seconds(t - since_) + " s)";
+    case Step::Centre: return "5 platform: hovering above its centre";
+    case Step::Land: return "6 landing";
+    case Step::Landed: return "6 landed on the platform";
+    case Step::Failed: return "failed: " + failure_;
+  }
+  return "";
+}
+
+HomeLanding::Step HomeLanding::step(MissionContext& ctx) {
+  const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
+  const double yaw = ypr_from_rotation(ctx.pose.T_world_body.linear())[0];
+  const Eigen::Vector3d base = ctx.lab.base;
+  ctx.focus.instrument_id.clear();
+  ctx.focus.face = false;
+  const Step before = step_;
+  step_now(ctx, here, yaw, base);
+  fresh_ = step_ != before;
+  return step_;
+}
+
+void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, double yaw, const Eigen::Vector3d& base) {
+  const auto& m = ctx.config.mission;
+  switch (step_) {
+    case Step::Climb:
+      ctx.camera = CameraId::Front;
+      ctx.focus.platform = false;
+      if (fresh_) ctx.autopilot.go_to({{here.x(), here.y(), m.return_altitude_m}, yaw}, ctx.t);
+      if (std::abs(here.z() - m.return_altitude_m) < 0.2 || ctx.t - since_ > 8.0) enter(Step::Travel, ctx.t);
+      break;
+    case Step::Travel: {
+      const PoseTarget above{{base.x(), base.y(), m.return_altitude_m}, ctx.lab.base_yaw_rad};
+      if (fresh_) ctx.autopilot.go_to(above, ctx.t);
+      if (ctx.autopilot.reached()) {
+        ctx.camera = CameraId::Bottom;
+        ctx.focus.platform = true;
+        enter(Step::FindPlatform, ctx.t);
+      }
+      break;
+    }
+    case Step::FindPlatform: {
+      ctx.camera = CameraId::Bottom;
+      ctx.focus.platform = true;
+      const TargetObservation obs = ctx.perception.platform();
+      if (obs.state == TrackState::Tracking && ctx.t - obs.t < 0.5 && ctx.t - since_ > kPlatformSettleS) {
+        platform_world_ = world_pose_of(obs, ctx.pose, CameraId::Bottom).translation();
+        platform_placed_ = true;
+        ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad}, ctx.t);
+        enter(Step::Centre, ctx.t);
+      } else if (ctx.t - since_ > m.detect_timeout_s) {
+        // Not seen: land on the base position as estimated (reported, not hidden).
+        failure_ = "landing platform not found in " + format_seconds(m.detect_timeout_s) + " s; landing at the estimated base";
+        ctx.phase_action = ctx.autopilot.land(ctx.t);
+        enter(Step::Land, ctx.t);
+      }
+      break;
+    }
+    case Step::Centre: {
+      const TargetObservation obs = ctx.perception.platform();
+      if (obs.state == TrackState::Tracking && ctx.t - obs.t < 0.5) {
+        // Refine the platform's place while it is in view, moving the set point without a reset.
+        const Eigen::Vector3d seen = world_pose_of(obs, ctx.pose, CameraId::Bottom).translation();
+        platform_world_ = 0.9 * platform_world_ + 0.1 * seen;
+        ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad},
+                            ctx.t, false);
+      }
+      const Eigen::Vector2d off = (here - platform_world_).head<2>();
+      if (ctx.autopilot.done() || (ctx.autopilot.reached() && off.norm() < 0.05 && ctx.t - since_ > 3.0)) {
+        ctx.phase_action = ctx.autopilot.land(ctx.t);
+        enter(Step::Land, ctx.t);
+      } else if (ctx.t - since_ > 30.0) {
+        failure_ = "could not settle above the platform in 30 s; landing";
+        ctx.phase_action = ctx.autopilot.land(ctx.t);
+        enter(Step::Land, ctx.t);
+      }
+      break;
+    }
+    case Step::Land:
+      if (ctx.autopilot.phase() == FlightPhase::Landed) enter(Step::Landed, ctx.t);
+      else if (ctx.t - since_ > kLandedWaitS) {
+        failure_ = "the drone did not report landed";
+        enter(Step::Failed, ctx.t);
+      }
+      break;
+    case Step::Landed:
+    case Step::Failed:
+      break;
+  }
+}
+
+}  // namespace labo

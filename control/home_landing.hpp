@@ -1,0 +1,39 @@
+#pragma once
+// Return to the base and land on the charging platform: the paper's stages 4-6, shared by the inspect
+// mission and return-home. Climb to the return altitude where the drone is, fly above the base (SLAM
+// feedback), switch to the bottom camera and find the platform, hover above its centre, land.
+#include "control/mission.hpp"
+
+namespace labo {
+
+class HomeLanding {
+ public:
+  enum class Step { Climb, Travel, FindPlatform, Centre, Land, Landed, Failed };
+  void start(Seconds t) {
+    enter(Step::Climb, t);
+    fresh_ = true;
+  }
+  // Running until Landed (success) or Failed.
+  Step step(MissionContext& ctx);
+  Step current() const { return step_; }
+  std::string describe(Seconds t) const;
+  const std::string& failure() const { return failure_; }
+  // Paper stage of the current step: 4 return, 5 platform, 6 landing.
+  int paper_stage() const;
+
+ private:
+  void enter(Step step, Seconds t) {
+    step_ = step;
+    since_ = t;
+  }
+  void step_now(MissionContext& ctx, const Eigen::Vector3d& here, double yaw, const Eigen::Vector3d& base);
+
+  Step step_ = Step::Climb;
+  Seconds since_ = 0;
+  bool fresh_ = true;  // the step was just entered: set its target
+  std::string failure_;
+  bool platform_placed_ = false;
+  Eigen::Vector3d platform_world_ = Eigen::Vector3d::Zero();
+};
+
+}  // namespace labo

@@ -1,0 +1,224 @@
+#include "control/inspect_mission.hpp"
+
+#include <cmath>
+
+#include "core/frames.hpp"
+
+namespace labo {
+
+namespace {
+constexpr double kSlamInitTimeoutS = 8.0;   // fly on dead reckoning when SLAM does not initialize
+constexpr int kPlacementsToAverage = 10;    // detections averaged to place the instrument
+constexpr double kLostBeforeRedetectS = 0.5;
+constexpr double kRedetectBackoffM = 0.4;   // back away to widen the view while re-detecting
+constexpr double kFreshObservationS = 0.3;
+}  // namespace
+
+InspectMission::InspectMission(PlanarTarget instrument, double hold_s, double standoff_m, Seconds t)
+    : instrument_(std::move(instrument)), hold_s_(hold_s), standoff_m_(standoff_m), since_(t) {
+  T_world_instrument_ = instrument_.T_world_object;  // the lab's nominal pose until it is seen
+}
+
+int InspectMission::stage_index() const {
+  switch (step_) {
+    case Step::TakeOff:
+    case Step::Climb:
+    case Step::SlamInit:
+    case Step::ScaleUp:
+    case Step::ScaleDown: return 1;
+    case Step::Detect: return 2;
+    case Step::Approach:
+    case Step::Hold:
+    case Step::Redetect: return 3;
+    case Step::Leave: return 4;
+    case Step::Home: return home_.paper_stage();
+  }
+  return 0;
+}
+
+bool InspectMission::needs_visual_localization() const {
+  return step_ != Step::TakeOff && step_ != Step::Climb && step_ != Step::SlamInit && step_ != Step::ScaleUp &&
+         step_ != Step::ScaleDown && !(step_ == Step::Home && home_.paper_stage() == 6);
+}
+
+bool InspectMission::instrument_seen(const MissionContext& ctx) const {
+  const TargetObservation obs = ctx.perception.instrument();
+  return obs.state == TrackState::Tracking && ctx.t - obs.t < kFreshObservationS;
+}
+
+std::string InspectMission::describe(Seconds t) const {
+  const std::string id = " '" + instrument_.id + "'";
+  switch (step_) {
+    case Step::TakeOff: return "1 init: taking off";
+    case Step::Climb: return "1 init: climbing";
+    case Step::SlamInit: return "1 init: initializing SLAM";
+    case Step::ScaleUp: return "1 init: scale manoeuvre (up)";
+    case Step::ScaleDown: return "1 init: scale manoeuvre (down)";
+    case Step::Detect: return "2 detect: searching for" + id + " (" + format_seconds(t - since_) + " s)";
+    case Step::Approach: return "3 inspect: approaching" + id;
+    case Step::Hold: return "3 inspect: holding at " + format_seconds(standoff_m_) + " m, " + format_seconds(held_s_) +
+                            "/" + format_seconds(hold_s_) + " s";
+    case Step::Redetect: return "3 inspect: instrument lost, re-detecting (" + format_seconds(t - since_) + " s)";
+    case Step::Leave: return "4 return: backing away from" + id;
+    case Step::Home: return home_.describe(t);
+  }
+  return "";
+}
+
+void InspectMission::step_init(MissionContext& ctx) {
+  const auto& m = ctx.config.mission;
+  const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
+  const double yaw = ypr_from_rotation(ctx.pose.T_world_body.linear())[0];
+  ctx.focus.slam = true;
+  switch (step_) {
+    case Step::TakeOff:
+      if (ctx.autopilot.phase() == FlightPhase::Landed) ctx.phase_action = ctx.autopilot.takeoff(ctx.t);
+      if (ctx.autopilot.flying()) enter(Step::Climb, ctx.t);
+      break;
+    case Step::Climb:
+      if (fresh_) ctx.autopilot.go_to({{here.x(), here.y(), m.cruise_altitude_m}, yaw}, ctx.t);
+      if (ctx.autopilot.reached() || ctx.t - since_ > 8.0) enter(Step::SlamInit, ctx.t);
+      break;
+    case Step::SlamInit: {
+      const SlamState s = ctx.perception.slam().state;
+      if (s == SlamState::Good || s == SlamState::Dodgy || ctx.t - since_ > kSlamInitTimeoutS) {
+        scale_start_z_ = ctx.autopilot.target() ? ctx.autopilot.target()->position.z() : here.z();
+        enter(m.scale_manoeuvre_m > 0 ? Step::ScaleUp : Step::Detect, ctx.t);
+      }
+      break;
+    }
+    case Step::ScaleUp:
+    case Step::ScaleDown: {
+      // A set point moving at a slow, steady speed: the vertical motion the scale estimator needs.
+      const bool up = step_ == Step::ScaleUp;
+      const double travelled = std::min(m.scale_manoeuvre_speed_mps * (ctx.t - since_), m.scale_manoeuvre_m);
+      const double z = up ? scale_start_z_ + travelled : scale_start_z_ + m.scale_manoeuvre_m - travelled;
+      const PoseTarget base_target = ctx.autopilot.target().value_or(PoseTarget{here, yaw});
+      ctx.autopilot.go_to({{base_target.position.x(), base_target.position.y(), z}, base_target.yaw}, ctx.t, fresh_ && up);
+      fresh_ = false;
+      const bool done = travelled >= m.scale_manoeuvre_m && std::abs(here.z() - z) < 0.1;
+      if (done && up) enter(Step::ScaleDown, ctx.t);
+      else if (done || ctx.t - since_ > 3.0 * m.scale_manoeuvre_m / m.scale_manoeuvre_speed_mps + 5.0) enter(Step::Detect, ctx.t);
+      break;
+    }
+    default:
+      break;
+  }
+}
+
+void InspectMission::step_detect(MissionContext& ctx) {
+  ctx.focus.instrument_id = instrument_.id;
+  ctx.camera = CameraId::Front;
+  if (fresh_) {
+    // The paper assumes the instrument in view; we turn towards its nominal place to make it so.
+    const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
+    const Eigen::Vector3d to = instrument_.T_world_object.translation() - here;
+    ctx.autopilot.go_to({here, std::atan2(to.y(), to.x())}, ctx.t);
+    fresh_ = false;
+    placements_ = 0;
+  }
+  if (instrument_seen(ctx)) {
+    const Eigen::Isometry3d seen = world_pose_of(ctx.perception.instrument(), ctx.pose, CameraId::Front);
+    // Running mean of the position; the orientation of the latest detection.
+    ++placements_;
+    const Eigen::Vector3d p = T_world_instrument_.translation() +
+                              (seen.translation() - T_world_instrument_.translation()) / std::min(placements_, kPlacementsToAverage);
+    T_world_instrument_ = seen;
+    T_world_instrument_.translation() = placements_ == 1 ? seen.translation() : p;
+    if (placements_ >= kPlacementsToAverage) enter(Step::Approach, ctx.t);
+  } else if (ctx.t - since_ > ctx.config.mission.detect_timeout_s) {
+    result_ = "instrument '" + instrument_.id + "' not detected in " + format_seconds(ctx.config.mission.detect_timeout_s) +
+              " s; returning home";
+    home_.start(ctx.t);
+    step_ = Step::Home;
+  }
+}
+
+void InspectMission::step_inspect(MissionContext& ctx) {
+  ctx.focus.instrument_id = instrument_.id;
+  ctx.camera = CameraId::Front;
+  const PoseTarget standoff = standoff_target(T_world_instrument_, standoff_m_, ctx.centre_ray_front);
+  const double dt = last_t_ < 0 ? 0 : ctx.t - last_t_;
+  const bool seen = instrument_seen(ctx);
+  if (seen) lost_since_ = -1;
+  else if (lost_since_ < 0) lost_since_ = ctx.t;
+  const bool lost = lost_since_ >= 0 && ctx.t - lost_since_ > kLostBeforeRedetectS;
+
+  switch (step_) {
+    case Step::Approach:
+      if (fresh_) ctx.autopilot.go_to(standoff, ctx.t);
+      fresh_ = false;
+      if (lost) enter(Step::Redetect, ctx.t);
+      else if (ctx.autopilot.reached()) enter(Step::Hold, ctx.t);
+      break;
+    case Step::Hold:
+      if (fresh_) ctx.autopilot.go_to(standoff, ctx.t, false);
+      fresh_ = false;
+      if (lost) {
+        enter(Step::Redetect, ctx.t);
+      } else if (seen && ctx.autopilot.distance_to_target() < ctx.config.mission.hold_tolerance_m) {
+        held_s_ += dt;  // only time with the panel in view and the drone in place counts
+        if (held_s_ >= hold_s_) enter(Step::Leave, ctx.t);
+      }
+      break;
+    case Step::Redetect: {
+      if (fresh_) {
+        // Hold where we are, backed off along the line of sight: a wider view, no blind push forward.
+        const PoseTarget back = standoff_target(T_world_instrument_, standoff_m_ + kRedetectBackoffM, ctx.centre_ray_front);
+        ctx.autopilot.go_to(back, ctx.t);
+        fresh_ = false;
+      }
+      if (seen) enter(Step::Approach, ctx.t);
+      else if (ctx.t - since_ > ctx.config.mission.detect_timeout_s) {
+        result_ = "instrument '" + instrument_.id + "' lost during inspection and not found again; returning home";
+        home_.start(ctx.t);
+        step_ = Step::Home;
+      }
+      break;
+    }
+    case Step::Leave:
+      // Back away on the homography until the panel no longer fills the view, so SLAM can take over.
+      if (fresh_) {
+        const double away = ctx.config.mission.near_to_far_m + 0.2;
+        ctx.autopilot.go_to(standoff_target(T_world_instrument_, away, ctx.centre_ray_front), ctx.t);
+        fresh_ = false;
+      }
+      if (ctx.autopilot.reached() || ctx.t - since_ > 10.0) {
+        home_.start(ctx.t);
+        step_ = Step::Home;
+      }
+      break;
+    default:
+      break;
+  }
+}
+
+MissionOutcome InspectMission::step(MissionContext& ctx) {
+  switch (step_) {
+    case Step::TakeOff:
+    case Step::Climb:
+    case Step::SlamInit:
+    case Step::ScaleUp:
+    case Step::ScaleDown: step_init(ctx); break;
+    case Step::Detect: step_detect(ctx); break;
+    case Step::Approach:
+    case Step::Hold:
+    case Step::Redetect:
+    case Step::Leave: step_inspect(ctx); break;
+    case Step::Home: home_.step(ctx); break;
+  }
+  last_t_ = ctx.t;
+  stage_text_ = describe(ctx.t);
+  if (step_ != Step::Home) return MissionOutcome::Running;
+  if (home_.current() == HomeLanding::Step::Failed) {
+    result_ = (result_.empty() ? "" : result_ + "; ") + home_.failure();
+    return MissionOutcome::Failed;
+  }
+  if (home_.current() != HomeLanding::Step::Landed) return MissionOutcome::Running;
+  if (held_s_ < hold_s_) return MissionOutcome::Failed;  // result_ says why
+  result_ = "inspected '" + instrument_.id + "' for " + format_seconds(held_s_) + " s and landed" +
+            (home_.failure().empty() ? " on the platform" : " (" + home_.failure() + ")");
+  return MissionOutcome::Succeeded;
+}
+
+}  // namespace labo

@@ -1,0 +1,53 @@
+#pragma once
+// Inspect an instrument: the paper's §6.2, stages 1-6.
+//  1 init: take off, climb, wait for SLAM to initialize, slow up/down manoeuvre for the scale;
+//  2 detect: face the instrument, detect it (template matching far, SIFT near) and place it in the world;
+//  3 inspect: approach to the standoff with the panel centred (homography feedback near), hold for
+//    the requested time; if the instrument is lost, hold position and re-detect (never push blindly);
+//  4-6 return, platform, land (HomeLanding).
+#include "control/home_landing.hpp"
+
+namespace labo {
+
+class InspectMission final : public Mission {
+ public:
+  InspectMission(PlanarTarget instrument, double hold_s, double standoff_m, Seconds t);
+  std::string name() const override { return "inspect"; }
+  MissionOutcome step(MissionContext& ctx) override;
+  int stage_index() const override;
+  int stage_count() const override { return 6; }
+  std::string stage() const override { return stage_text_; }
+  bool needs_visual_localization() const override;
+
+  double held_s() const { return held_s_; }
+
+ private:
+  enum class Step { TakeOff, Climb, SlamInit, ScaleUp, ScaleDown, Detect, Approach, Hold, Redetect, Leave, Home };
+  void enter(Step step, Seconds t) {
+    step_ = step;
+    since_ = t;
+    fresh_ = true;
+  }
+  void step_init(MissionContext& ctx);
+  void step_detect(MissionContext& ctx);
+  void step_inspect(MissionContext& ctx);
+  bool instrument_seen(const MissionContext& ctx) const;
+  std::string describe(Seconds t) const;
+
+  PlanarTarget instrument_;
+  double hold_s_;
+  double standoff_m_;
+  Step step_ = Step::TakeOff;
+  Seconds since_ = 0;
+  bool fresh_ = true;
+  double scale_start_z_ = 0;
+  int placements_ = 0;
+  Eigen::Isometry3d T_world_instrument_ = Eigen::Isometry3d::Identity();
+  double held_s_ = 0;
+  Seconds last_t_ = -1;
+  Seconds lost_since_ = -1;
+  HomeLanding home_;
+  std::string stage_text_ = "1 init: taking off";
+};
+
+}  // namespace labo

@@ -1,0 +1,91 @@
+#pragma once
+// The seam between flight control and localization: what FlightStack feeds in (navdata, frames, the
+// commands it sends) and what it reads back (the filter's predicted pose, the instrument, landing
+// platform and face observations, the SLAM summary). FlightStack owns one LocalizationPipelines; the
+// lab implementation wires StateEstimator, PlanarObjectLocalizer, SlamSystem and FacePoseEstimator
+// (control/lab_pipelines.hpp); tests substitute a model with known perception.
+//
+// Control decides which visual source feeds the filter (SLAM far, homography near, face in
+// face-follow; LocalizationSwitch) and tells the pipelines through set_focus().
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "core/time.hpp"
+#include "drone/drone_link.hpp"
+
+namespace labo {
+
+// Which visual source drives the pose (the paper's colour code, docs/control.md).
+enum class FeedbackSource { Slam, Homography, Face, DeadReckoning };
+std::string to_string(FeedbackSource source);
+std::string colour_of(FeedbackSource source);  // "#rrggbb" for plots and the UI
+
+struct PoseEstimate {
+  Seconds t = 0;
+  bool valid = false;  // false before the first navdata
+  Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d velocity_world = Eigen::Vector3d::Zero();
+  double yaw_rate = 0;
+  FeedbackSource source = FeedbackSource::DeadReckoning;
+  double quality = 0;  // 0..1
+  double position_sigma_m = 0;  // 1-sigma position uncertainty
+};
+
+enum class TrackState { Off, Searching, Tracking, Lost };
+std::string to_string(TrackState state);
+
+// A planar target (instrument in the front camera, platform in the bottom camera) or the face.
+struct TargetObservation {
+  TrackState state = TrackState::Off;
+  Seconds t = 0;                                            // frame time of the last result
+  Eigen::Isometry3d T_cam_target = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_world_target = Eigen::Isometry3d::Identity();  // placed in the world
+  bool placed_in_world = false;
+  std::vector<cv::Point2f> image_points;  // panel corners, or the 68 face landmarks
+  double quality = 0;
+  std::string method;  // "template", "sift", "ecc", "pnp-lm", ...
+  std::string reason;  // why lost, for the UI
+};
+
+enum class SlamState { Off, Initializing, Good, Dodgy, Lost };
+std::string to_string(SlamState state);
+
+struct SlamSummary {
+  SlamState state = SlamState::Off;
+  int points_found = 0;
+  int points_attempted = 0;
+  int keyframes = 0;
+  int map_points = 0;
+  bool scale_estimated = false;
+  double scale = 1.0;  // metres per map unit
+};
+
+// What control asks localization to look for right now (vision costs time: do only what is needed).
+struct PerceptionFocus {
+  std::string instrument_id;  // empty: no instrument
+  bool platform = false;      // bottom camera, landing platform
+  bool face = false;
+  bool slam = true;
+  FeedbackSource feedback = FeedbackSource::Slam;  // the visual source allowed to correct the filter
+};
+
+class LocalizationPipelines {
+ public:
+  virtual ~LocalizationPipelines() = default;
+  virtual void on_navdata(const NavdataSample& sample) = 0;
+  virtual void on_command(const MoveCommand& command, Seconds t) = 0;
+  virtual void on_video(const VideoFrame& frame) = 0;
+  virtual void set_focus(const PerceptionFocus& focus) = 0;
+  // Re-anchors the filter (on the platform before take-off): world pose known.
+  virtual void reset(const Eigen::Isometry3d& T_world_body, Seconds t) = 0;
+
+  virtual PoseEstimate predict(Seconds t) const = 0;
+  virtual TargetObservation instrument() const = 0;
+  virtual TargetObservation platform() const = 0;
+  virtual TargetObservation face() const = 0;
+  virtual SlamSummary slam() const = 0;
+};
+
+}  // namespace labo

@@ -1,0 +1,43 @@
+#pragma once
+// Chooses the visual source that corrects the filter, as in the paper's §3 and §6.2: SLAM when far
+// from the target, the homography of the planar target when near, the face in face-follow, dead
+// reckoning (navdata + prediction) when none is usable. Hysteresis in distance (homography below
+// far_to_near_m, back to SLAM above near_to_far_m) and in time (a source must be good for
+// source_hold_s before it is taken, and lost that long before it is dropped) keeps it from chattering.
+#include <optional>
+
+#include "control/control_config.hpp"
+#include "control/localization_pipelines.hpp"
+
+namespace labo {
+
+struct SwitchInputs {
+  Seconds t = 0;
+  TrackState target_state = TrackState::Off;  // instrument (front) or platform (bottom)
+  std::optional<double> target_distance_m;    // camera to target, when known
+  SlamState slam = SlamState::Off;
+  bool face_mode = false;
+  TrackState face_state = TrackState::Off;
+};
+
+class LocalizationSwitch {
+ public:
+  explicit LocalizationSwitch(const MissionParameters& params) : params_(params) {}
+  FeedbackSource update(const SwitchInputs& in);
+  FeedbackSource current() const { return current_; }
+  void reset(FeedbackSource source = FeedbackSource::DeadReckoning);
+
+ private:
+  bool held(bool condition, Seconds& since, Seconds t) const;
+
+  MissionParameters params_;
+  FeedbackSource current_ = FeedbackSource::DeadReckoning;
+  Seconds target_good_since_ = -1;
+  Seconds target_bad_since_ = -1;
+  Seconds slam_good_since_ = -1;
+  Seconds slam_bad_since_ = -1;
+  Seconds face_good_since_ = -1;
+  Seconds face_bad_since_ = -1;
+};
+
+}  // namespace labo

@@ -1,0 +1,111 @@
+#include "control/request_policy.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "control/mission.hpp"
+
+namespace labo {
+
+namespace {
+
+bool airborne(FlightPhase p) { return p == FlightPhase::Flying || p == FlightPhase::TakingOff; }
+
+std::string known_instruments(const LabGeometry& lab) {
+  std::string s;
+  for (const auto& i : lab.instruments) s += (s.empty() ? "" : ", ") + i.id;
+  return s.empty() ? "none configured" : s;
+}
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f", v);
+  return buf;
+}
+
+// The world position a Goto or MoveBy would fly to.
+Eigen::Vector3d destination(const MissionRequest& r, const RequestContext& ctx) {
+  if (r.kind == RequestKind::Goto) return r.target.head<3>();
+  const Eigen::Vector3d from = ctx.has_target ? Eigen::Vector3d(ctx.current_target.head<3>()) : ctx.position;
+  const double yaw = ctx.has_target ? ctx.current_target[3] : ctx.yaw;
+  // MoveBy is in the body frame: dx forward, dy left.
+  const Eigen::Vector2d d(std::cos(yaw) * r.target.x() - std::sin(yaw) * r.target.y(),
+                          std::sin(yaw) * r.target.x() + std::cos(yaw) * r.target.y());
+  return from + Eigen::Vector3d(d.x(), d.y(), r.target.z());
+}
+
+}  // namespace
+
+CommandResult check_request(const MissionRequest& r, const RequestContext& ctx, const LabGeometry& lab,
+                            const Geofence& fence, const ControlConfig& config) {
+  const std::string what = to_string(r.kind);
+  if (r.kind == RequestKind::EmergencyStop) return CommandResult::ok("emergency stop: motors cut");
+  if (!r.target.allFinite() || !std::isfinite(r.hold_s) || !std::isfinite(r.standoff_m))
+    return CommandResult::refused(what + ": values must be finite numbers (got NaN or infinity)");
+  if (ctx.phase == FlightPhase::Emergency && r.kind != RequestKind::Takeoff)
+    return CommandResult::refused(what + ": the drone is in emergency; take off again to reset it");
+
+  const bool mission_running = !ctx.running_mission.empty();
+  const bool landed = !airborne(ctx.phase);
+  switch (r.kind) {
+    case RequestKind::Takeoff:
+      if (!landed) return CommandResult::refused("takeoff: the drone is already " + to_string(ctx.phase));
+      if (ctx.link != LinkState::Connected) return CommandResult::refused("takeoff: no link to the drone (" + to_string(ctx.link) + ")");
+      if (ctx.battery_percent < config.safety.low_battery_percent)
+        return CommandResult::refused("takeoff: battery " + number(ctx.battery_percent) + " % is below " +
+                                      number(config.safety.low_battery_percent) + " %");
+      return CommandResult::ok("taking off");
+    case RequestKind::Land:
+    case RequestKind::Hover:
+    case RequestKind::ReturnHome:
+      if (landed) return CommandResult::refused(what + ": needs flight, the drone is " + to_string(ctx.phase));
+      return CommandResult::ok(what + (mission_running ? " (mission '" + ctx.running_mission + "' cancelled)" : ""));
+    case RequestKind::Goto:
+    case RequestKind::MoveBy: {
+      if (landed) return CommandResult::refused(what + ": needs flight, the drone is " + to_string(ctx.phase));
+      if (mission_running)
+        return CommandResult::refused(what + ": mission '" + ctx.running_mission + "' is running (" + ctx.running_stage +
+                                      "); stop it first (hover, land or return home)");
+      const Eigen::Vector3d dest = destination(r, ctx);
+      if (!fence.contains(dest)) return CommandResult::refused(what + ": " + fence.violation(dest));
+      return CommandResult::ok(what + " to (" + number(dest.x()) + ", " + number(dest.y()) + ", " + number(dest.z()) + ") m");
+    }
+    case RequestKind::Inspect: {
+      if (mission_running)
+        return CommandResult::refused("inspect: mission '" + ctx.running_mission + "' is running (" + ctx.running_stage + ")");
+      if (!lab.find_instrument(r.instrument_id))
+        return CommandResult::refused("inspect: unknown instrument '" + r.instrument_id + "' (known: " + known_instruments(lab) + ")");
+      const double standoff = r.standoff_m > 0 ? r.standoff_m : config.mission.standoff_m;
+      if (r.standoff_m < 0 || standoff < config.mission.min_standoff_m)
+        return CommandResult::refused("inspect: standoff " + number(r.standoff_m) + " m is below the safe minimum " +
+                                      number(config.mission.min_standoff_m) + " m");
+      if (r.hold_s < 0 || r.hold_s > config.mission.max_hold_s)
+        return CommandResult::refused("inspect: hold time " + number(r.hold_s) + " s is outside [0, " +
+                                      number(config.mission.max_hold_s) + "] s");
+      const PoseTarget stand = standoff_target(lab.find_instrument(r.instrument_id)->T_world_object, standoff);
+      if (!fence.contains(stand.position))
+        return CommandResult::refused("inspect: the standoff point is outside the geofence: " + fence.violation(stand.position));
+      if (landed && ctx.link != LinkState::Connected) return CommandResult::refused("inspect: no link to the drone");
+      if (ctx.battery_percent < config.safety.low_battery_percent)
+        return CommandResult::refused("inspect: battery " + number(ctx.battery_percent) + " % is below " +
+                                      number(config.safety.low_battery_percent) + " %");
+      return CommandResult::ok("inspecting '" + r.instrument_id + "' at " + number(standoff) + " m");
+    }
+    case RequestKind::FindTeacher:
+      if (mission_running)
+        return CommandResult::refused("find_teacher: mission '" + ctx.running_mission + "' is running (" + ctx.running_stage + ")");
+      if (landed && ctx.link != LinkState::Connected) return CommandResult::refused("find_teacher: no link to the drone");
+      if (ctx.battery_percent < config.safety.low_battery_percent)
+        return CommandResult::refused("find_teacher: battery " + number(ctx.battery_percent) + " % is below " +
+                                      number(config.safety.low_battery_percent) + " %");
+      return CommandResult::ok("searching for the teacher");
+    case RequestKind::StopFaceFollow:
+      if (!ctx.mission_accepts_stop_face_follow) return CommandResult::refused("stop_face_follow: no face-follow is running");
+      return CommandResult::ok("face-follow stopping");
+    case RequestKind::EmergencyStop:
+      break;
+  }
+  return CommandResult::refused(what + ": not understood");
+}
+
+}  // namespace labo

@@ -1,0 +1,66 @@
+#include "control/safety_monitor.hpp"
+
+#include <cstdio>
+
+namespace labo {
+
+std::string to_string(SafetyAction action) {
+  switch (action) {
+    case SafetyAction::None: return "none";
+    case SafetyAction::Hover: return "hover";
+    case SafetyAction::ReturnHome: return "return_home";
+    case SafetyAction::Land: return "land";
+  }
+  return "unknown";
+}
+
+namespace {
+std::string printf_string(const char* fmt, double a, double b = 0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, fmt, a, b);
+  return buf;
+}
+}  // namespace
+
+SafetyVerdict SafetyMonitor::evaluate(const SafetyInputs& in) {
+  SafetyVerdict v;
+  auto raise = [&](SafetyAction a, std::string reason) {
+    if (static_cast<int>(a) > static_cast<int>(v.action)) {
+      v.action = a;
+      v.reason = reason;
+    }
+    v.alerts.push_back(std::move(reason));
+  };
+
+  const bool link_down = in.link == LinkState::Lost || in.link == LinkState::Disconnected;
+  if (!link_down) link_lost_since_ = -1;
+  else if (link_lost_since_ < 0) link_lost_since_ = in.t;
+  if (link_down && in.airborne) {
+    const double lost = in.t - link_lost_since_;
+    raise(lost >= limits_.link_loss_land_s ? SafetyAction::Land : SafetyAction::Hover,
+          printf_string("link lost for %.1f s (land after %.1f s)", lost, limits_.link_loss_land_s));
+  }
+
+  if (in.airborne && in.battery_percent < limits_.critical_battery_percent) {
+    raise(SafetyAction::Land, printf_string("battery %.0f %% below the critical %.0f %%: landing here", in.battery_percent,
+                                            limits_.critical_battery_percent));
+  } else if (in.airborne && !in.landing && in.battery_percent < limits_.low_battery_percent && !in.returning_home) {
+    raise(SafetyAction::ReturnHome, printf_string("battery %.0f %% below %.0f %%: returning home", in.battery_percent,
+                                                  limits_.low_battery_percent));
+  }
+
+  const bool lost = in.airborne && in.localization_required && !in.localization_ok;
+  if (!lost) localization_lost_since_ = -1;
+  else if (localization_lost_since_ < 0) localization_lost_since_ = in.t;
+  if (lost) {
+    const double d = in.t - localization_lost_since_;
+    if (d >= limits_.localization_lost_land_s)
+      raise(SafetyAction::Land, printf_string("localization lost for %.1f s: landing", d));
+    else if (d >= limits_.localization_lost_hover_s)
+      raise(SafetyAction::Hover, printf_string("localization lost for %.1f s: hovering (land at %.1f s)", d,
+                                               limits_.localization_lost_land_s));
+  }
+  return v;
+}
+
+}  // namespace labo

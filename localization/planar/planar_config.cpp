@@ -1,0 +1,40 @@
+#include "localization/planar/planar_config.hpp"
+
+namespace labo {
+
+const char* to_string(TrackerKind kind) { return kind == TrackerKind::Ecc ? "ecc" : "ic"; }
+
+PlanarConfig read_planar_config(const ConfigReader& node) {
+  PlanarConfig c;
+  c.tracker = node.choice_or("tracker", "ic", {"ic", "ecc"}) == "ecc" ? TrackerKind::Ecc
+                                                                     : TrackerKind::InverseCompositional;
+  c.pyramid_levels = node.integer_or("pyramid_levels", c.pyramid_levels, 1, 5);
+  c.max_iterations = node.integer_or("max_iterations", c.max_iterations, 1, 200);
+  c.max_samples = node.integer_or("max_samples", c.max_samples, 100, 100000);
+  c.convergence_px = node.number_or("convergence_px", c.convergence_px, Range{0.0, 1.0, true});
+  c.ecc_max_iterations = node.integer_or("ecc_max_iterations", c.ecc_max_iterations, 1, 1000);
+  c.ecc_epsilon = node.number_or("ecc_epsilon", c.ecc_epsilon, Range{0.0, 1.0, true});
+  c.ecc_gauss_size = node.integer_or("ecc_gauss_size", c.ecc_gauss_size, 1, 15);
+  if (c.ecc_gauss_size % 2 == 0) node.fail("ecc_gauss_size", "must be odd (a Gaussian kernel size)");
+  c.detection_min_width_fraction =
+      node.number_or("detection_min_width_fraction", c.detection_min_width_fraction, Range{0.0, 1.0, true});
+  c.detection_max_width_fraction =
+      node.number_or("detection_max_width_fraction", c.detection_max_width_fraction, Range{0.0, 1.0, true});
+  if (c.detection_max_width_fraction <= c.detection_min_width_fraction) {
+    node.fail("detection_max_width_fraction", "must exceed detection_min_width_fraction");
+  }
+  c.detection_scale_step = node.number_or("detection_scale_step", c.detection_scale_step, Range{1.0, 2.0, true});
+  c.detection_match_width_px = node.integer_or("detection_match_width_px", c.detection_match_width_px, 16, 256);
+  c.sift_ratio = node.number_or("sift_ratio", c.sift_ratio, Range{0.0, 1.0, true});
+  c.ransac_threshold_px = node.number_or("ransac_threshold_px", c.ransac_threshold_px, Range{0.0, 20.0, true});
+  c.sift_max_frame_features = node.integer_or("sift_max_frame_features", c.sift_max_frame_features, 50, 20000);
+  c.min_visible_fraction = node.number_or("min_visible_fraction", c.min_visible_fraction, Range{0.0, 1.0, true});
+  c.max_template_side_px = node.number_or("max_template_side_px", c.max_template_side_px, Range::closed(64, 2000));
+  c.min_intensity_stddev = node.number_or("min_intensity_stddev", c.min_intensity_stddev, Range::non_negative());
+  c.min_edge_fraction = node.number_or("min_edge_fraction", c.min_edge_fraction, Range::closed(0.0, 1.0));
+  c.min_gradient_isotropy = node.number_or("min_gradient_isotropy", c.min_gradient_isotropy, Range::closed(0.0, 1.0));
+  node.finish();
+  return c;
+}
+
+}  // namespace labo

@@ -1,0 +1,59 @@
+#pragma once
+// Settings of the planar-object pipeline (config section "planar"). The paper's thresholds α, β, D,
+// λ and N are not here: they live in the "vision" section (localization/vision_thresholds.hpp).
+#include "core/config_reader.hpp"
+
+namespace labo {
+
+enum class TrackerKind { Ecc, InverseCompositional };
+
+const char* to_string(TrackerKind kind);
+
+struct PlanarConfig {
+  // Which frame-to-frame homography tracker runs: OpenCV's findTransformECC or LaboDrone's own
+  // pyramidal inverse-compositional tracker (faster and wider basin in `labodrone bench planar`).
+  TrackerKind tracker = TrackerKind::InverseCompositional;
+
+  // Own tracker.
+  int pyramid_levels = 3;          // image levels used while tracking (coarse-to-fine)
+  int max_iterations = 30;         // per level
+  int max_samples = 1500;          // template pixels per level (highest gradient, spread over a grid)
+  double convergence_px = 0.01;    // stop a level when no corner moves more than this (level-0 px)
+
+  // ECC (OpenCV).
+  int ecc_max_iterations = 50;
+  double ecc_epsilon = 1e-3;       // on the increase of the correlation coefficient
+  int ecc_gauss_size = 5;
+
+  // Far detection by template matching: the object's width in the image, as a fraction of the image
+  // width, is searched from min to max in geometric steps; matching runs at a resolution where the
+  // template is about `detection_match_width_px` wide.
+  double detection_min_width_fraction = 0.05;
+  double detection_max_width_fraction = 0.80;
+  double detection_scale_step = 1.15;
+  int detection_match_width_px = 40;
+
+  // Near detection by SIFT.
+  double sift_ratio = 0.75;
+  double ransac_threshold_px = 3.0;
+  int sift_max_frame_features = 1500;
+
+  // Loss and quality.
+  double min_visible_fraction = 0.6;  // of the panel's area inside the image; less is a loss
+  double max_template_side_px = 320;  // larger templates are downscaled for tracking
+
+  // Texture test: a template is refused when its grey levels are nearly flat, when too few pixels
+  // carry an edge, or when the edges all run one way (a stripe pattern cannot fix a homography).
+  double min_intensity_stddev = 8.0;
+  double min_edge_fraction = 0.02;
+  double min_gradient_isotropy = 0.05;  // smaller / larger eigenvalue of the gradient structure tensor
+};
+
+// Reads {"tracker": "ic"|"ecc", "pyramid_levels", "max_iterations", "max_samples", "convergence_px",
+// "ecc_max_iterations", "ecc_epsilon", "ecc_gauss_size", "detection_min_width_fraction",
+// "detection_max_width_fraction", "detection_scale_step", "detection_match_width_px", "sift_ratio",
+// "ransac_threshold_px", "sift_max_frame_features", "min_visible_fraction", "max_template_side_px",
+// "min_intensity_stddev", "min_edge_fraction", "min_gradient_isotropy"}; every key optional.
+PlanarConfig read_planar_config(const ConfigReader& node);
+
+}  // namespace labo

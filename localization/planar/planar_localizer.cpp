@@ -1,0 +1,248 @@
+#include "localization/planar/planar_localizer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string_view>
+#include <vector>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace labo {
+
+namespace {
+
+// How long the last pose's distance still chooses the detector, and still serves for continuity.
+constexpr Seconds kRecentPoseS = 2.0;
+// Template-matching scale window around a predicted width.
+constexpr double kPredictedWidthFactor = 1.6;
+
+double visible_fraction(const std::array<cv::Point2d, 4>& corners, cv::Size size) {
+  std::vector<cv::Point2f> quad, frame{{-0.5f, -0.5f},
+                                       {size.width - 0.5f, -0.5f},
+                                       {size.width - 0.5f, size.height - 0.5f},
+                                       {-0.5f, size.height - 0.5f}},
+      inter;
+  for (const auto& c : corners) quad.emplace_back(static_cast<float>(c.x), static_cast<float>(c.y));
+  const double area = std::abs(cv::contourArea(quad));
+  if (!(area > 1.0)) return 0.0;
+  const float overlap = cv::intersectConvexConvex(quad, frame, inter, true);
+  return std::clamp(overlap / area, 0.0, 1.0);
+}
+
+}  // namespace
+
+const char* to_string(PlanarState s) {
+  switch (s) {
+    case PlanarState::Searching: return "searching";
+    case PlanarState::Detected: return "detected";
+    case PlanarState::Tracking: return "tracking";
+    case PlanarState::Lost: return "lost";
+  }
+  return "?";
+}
+
+const char* to_string(PlanarMethod m) {
+  switch (m) {
+    case PlanarMethod::None: return "none";
+    case PlanarMethod::TemplateMatching: return "template";
+    case PlanarMethod::Sift: return "sift";
+    case PlanarMethod::Ecc: return "ecc";
+    case PlanarMethod::InverseCompositional: return "ic";
+  }
+  return "?";
+}
+
+const char* to_string(PlanarLoss l) {
+  switch (l) {
+    case PlanarLoss::None: return "none";
+    case PlanarLoss::NotFound: return "not_found";
+    case PlanarLoss::NoConvergence: return "no_convergence";
+    case PlanarLoss::LowCorrelation: return "low_correlation";
+    case PlanarLoss::OutOfView: return "out_of_view";
+    case PlanarLoss::PoseJump: return "pose_jump";
+    case PlanarLoss::TurnJump: return "turn_jump";
+    case PlanarLoss::NoPose: return "no_pose";
+    case PlanarLoss::BadFrame: return "bad_frame";
+  }
+  return "?";
+}
+
+PlanarObjectThresholds PlanarObjectThresholds::from(const VisionThresholds& vision, std::optional<double> lambda_m,
+                                                    std::optional<int> min_inliers) {
+  PlanarObjectThresholds t;
+  t.min_correlation = vision.template_correlation_alpha;
+  t.max_jump_m = vision.distance_jump_m;
+  t.max_turn_rad = vision.angle_jump_beta_rad;
+  t.sift_switch_distance_m = lambda_m.value_or(vision.sift_switch_distance_m);
+  t.sift_min_inliers = min_inliers.value_or(vision.sift_min_inliers);
+  return t;
+}
+
+PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, const PinholeCamera& camera,
+                                             const PlanarObjectThresholds& thresholds, const PlanarConfig& config)
+    : template_(std::move(planar_template)),
+      camera_(camera),
+      thresholds_(thresholds),
+      config_(config),
+      tracker_(make_homography_tracker(config.tracker, template_.working(), config)),
+      template_detector_(template_.working(), config, thresholds.min_correlation),
+      sift_detector_(template_.working(), config, thresholds.sift_min_inliers),
+      pose_solver_(camera.K(), template_.object_corners()) {
+  if (camera_.has_distortion()) {
+    const cv::Size size(camera_.width(), camera_.height());
+    cv::initUndistortRectifyMap(camera_.K(), camera_.distortion_coefficients(), cv::Mat(), camera_.K(), size,
+                                CV_16SC2, map1_, map2_);
+    undistorted_.create(size, CV_8UC1);
+  }
+}
+
+void PlanarObjectLocalizer::reset() {
+  tracking_ = false;
+  last_pose_.reset();
+}
+
+const cv::Mat& PlanarObjectLocalizer::undistort(const cv::Mat& gray) {
+  if (map1_.empty()) return gray;
+  cv::remap(gray, undistorted_, map1_, map2_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  return undistorted_;
+}
+
+PlanarResult PlanarObjectLocalizer::process(const cv::Mat& gray, Seconds t, std::optional<double> predicted_distance_m) {
+  PlanarResult r;
+  r.t = t;
+  r.state = tracking_ ? PlanarState::Lost : (ever_found_ ? PlanarState::Lost : PlanarState::Searching);
+  if (gray.empty() || gray.type() != CV_8UC1 || gray.cols != camera_.width() || gray.rows != camera_.height()) {
+    r.reason = PlanarLoss::BadFrame;
+    r.detail = gray.empty()                ? "empty frame"
+               : gray.type() != CV_8UC1    ? "frame is not 8-bit single-channel grey"
+                                           : "frame size differs from the camera's";
+    return r;
+  }
+  const cv::Mat& image = undistort(gray);
+  if (tracking_) return track(image, r);
+  std::optional<double> distance = predicted_distance_m;
+  if (!distance && last_pose_ && t - last_pose_t_ < kRecentPoseS) distance = last_pose_->translation().norm();
+  return detect(image, r, distance);
+}
+
+PlanarResult PlanarObjectLocalizer::track(const cv::Mat& image, PlanarResult r) {
+  r.method = tracker_->kind() == TrackerKind::Ecc ? PlanarMethod::Ecc : PlanarMethod::InverseCompositional;
+  const TrackOutcome o = tracker_->track(image, H_working_);
+  r.correlation = o.correlation;
+  PlanarLoss loss = PlanarLoss::NoConvergence;
+  if (!o.converged) {
+    r.detail = o.failure;
+    if (std::string_view(o.failure) == "object out of view") loss = PlanarLoss::OutOfView;
+  } else {
+    loss = accept(o.H, o.correlation, true, r);
+  }
+  if (loss == PlanarLoss::None) {
+    r.state = PlanarState::Tracking;
+    return r;
+  }
+  tracking_ = false;
+  r.state = PlanarState::Lost;
+  r.reason = loss;
+  r.has_pose = false;
+  return r;
+}
+
+PlanarResult PlanarObjectLocalizer::detect(const cv::Mat& image, PlanarResult r, std::optional<double> distance_m) {
+  std::array<PlanarMethod, 2> order{PlanarMethod::TemplateMatching, PlanarMethod::Sift};
+  int count = 2;
+  if (distance_m) {
+    order[0] = *distance_m < thresholds_.sift_switch_distance_m ? PlanarMethod::Sift : PlanarMethod::TemplateMatching;
+    count = 1;
+  }
+  r.reason = PlanarLoss::NotFound;
+  for (int i = 0; i < count; ++i) {
+    Detection d;
+    if (order[static_cast<std::size_t>(i)] == PlanarMethod::Sift) {
+      d = sift_detector_.detect(image);
+      r.inliers = d.inliers;
+    } else {
+      double lo = config_.detection_min_width_fraction * image.cols;
+      double hi = config_.detection_max_width_fraction * image.cols;
+      if (distance_m && *distance_m > 0) {
+        const double expected = camera_.intrinsics().fx * template_.width_m() / *distance_m;
+        lo = std::max(lo, expected / kPredictedWidthFactor);
+        hi = std::min(hi, expected * kPredictedWidthFactor);
+      }
+      if (lo <= hi) d = template_detector_.detect(image, lo, hi);
+    }
+    if (!d.found) continue;
+    r.method = order[static_cast<std::size_t>(i)];
+    // The detector's homography is coarse: the tracker refines it, and the same checks as in
+    // tracking (without the jump test: the drone may have moved anywhere while lost) decide.
+    const TrackOutcome o = tracker_->track(image, d.H);
+    r.correlation = o.correlation;
+    if (!o.converged) {
+      r.reason = PlanarLoss::NoConvergence;
+      r.detail = o.failure;
+      continue;
+    }
+    r.reason = accept(o.H, o.correlation, false, r);
+    if (r.reason == PlanarLoss::None) {
+      r.state = PlanarState::Detected;
+      tracking_ = true;
+      ever_found_ = true;
+      return r;
+    }
+  }
+  r.has_pose = false;
+  r.state = ever_found_ ? PlanarState::Lost : PlanarState::Searching;
+  return r;
+}
+
+PlanarLoss PlanarObjectLocalizer::accept(const cv::Matx33d& H_working, double correlation, bool check_jump,
+                                         PlanarResult& r) {
+  if (correlation < thresholds_.min_correlation) return PlanarLoss::LowCorrelation;
+  const auto corners = map_corners(H_working, template_.working_corners());
+  r.visible_fraction = visible_fraction(corners, cv::Size(camera_.width(), camera_.height()));
+  if (r.visible_fraction < config_.min_visible_fraction) {
+    r.detail = "too little of the panel inside the image";
+    return PlanarLoss::OutOfView;
+  }
+  const std::optional<Eigen::Isometry3d> previous =
+      last_pose_ && r.t - last_pose_t_ < kRecentPoseS ? last_pose_ : std::nullopt;
+  const std::optional<PlanarPose> pose = pose_solver_.solve(corners, previous);
+  if (!pose) return PlanarLoss::NoPose;
+  if (check_jump && last_pose_) {
+    // Motion of the camera relative to the object between consecutive frames.
+    const Eigen::Vector3d before = last_pose_->inverse().translation();
+    const Eigen::Vector3d now = pose->T_cam_object.inverse().translation();
+    if ((now - before).norm() > thresholds_.max_jump_m) return PlanarLoss::PoseJump;
+    if (rotation_angle(last_pose_->linear(), pose->T_cam_object.linear()) > thresholds_.max_turn_rad) {
+      return PlanarLoss::TurnJump;
+    }
+  }
+  H_working_ = H_working;
+  last_pose_ = pose->T_cam_object;
+  last_pose_t_ = r.t;
+
+  r.has_pose = true;
+  r.H = H_working * template_.working_from_original();
+  for (std::size_t i = 0; i < 4; ++i) {
+    // Back through the lens: undistorted pixel -> normalized -> distorted pixel.
+    const auto& k = camera_.intrinsics();
+    const Eigen::Vector3d ray((corners[i].x - k.cx) / k.fx, (corners[i].y - k.cy) / k.fy, 1.0);
+    const auto raw = camera_.project(ray);
+    r.image_corners[i] = raw ? cv::Point2d(raw->x(), raw->y()) : corners[i];
+  }
+  r.T_cam_object = pose->T_cam_object;
+  r.distance_m = pose->T_cam_object.translation().norm();
+  r.reprojection_error_px = pose->reprojection_error_px;
+  r.pose_ambiguous = pose->ambiguous;
+  const double margin = std::clamp((correlation - thresholds_.min_correlation) / (1.0 - thresholds_.min_correlation), 0.0, 1.0);
+  r.quality = margin * r.visible_fraction * (pose->ambiguous ? 0.5 : 1.0) / (1.0 + pose->reprojection_error_px);
+  // Depth from apparent size: sigma_Z = Z * sigma_px / size_px, with corner noise growing as the
+  // correlation margin shrinks (0.3 px when aligned perfectly).
+  const double size_px = std::sqrt(std::abs(cv::contourArea(std::vector<cv::Point2f>(
+      {cv::Point2f(corners[0]), cv::Point2f(corners[1]), cv::Point2f(corners[2]), cv::Point2f(corners[3])}))));
+  const double sigma_px = 0.3 / std::max(0.1, margin);
+  r.position_sigma_m = r.distance_m * sigma_px / std::max(1.0, size_px);
+  return PlanarLoss::None;
+}
+
+}  // namespace labo

@@ -1,0 +1,80 @@
+#pragma once
+// Localization of one planar object (an instrument's front panel in the front camera, the landing
+// platform in the bottom camera) after the paper's Fig. 3:
+//   searching/lost -> detection: SIFT when the object is nearer than lambda, template matching on
+//   a pyramid otherwise (both, template first, when the distance is unknown); the detection's
+//   homography is refined by the tracker and accepted when the correlation exceeds alpha;
+//   tracking -> the previous homography is the prior of the tracker (ECC or LaboDrone's IC) in the
+//   next frame; loss on no convergence, correlation below alpha, too little of the panel in view,
+//   or a camera motion of more than D or a turn of more than beta since the previous frame (after
+//   resolving the IPPE ambiguity, planar_pose.hpp). The frame after a loss runs detection again.
+// Frames are undistorted first (precomputed maps, same K), so homographies are exact perspective
+// maps; the reported corners are in the raw frame. Steady-state tracking allocates nothing with the
+// IC tracker (OpenCV's ECC allocates internally).
+#include <memory>
+#include <optional>
+
+#include "core/camera_model.hpp"
+#include "localization/planar/homography_tracker.hpp"
+#include "localization/planar/planar_config.hpp"
+#include "localization/planar/planar_detectors.hpp"
+#include "localization/planar/planar_pose.hpp"
+#include "localization/planar/planar_result.hpp"
+#include "localization/planar/planar_template.hpp"
+#include "localization/vision_thresholds.hpp"
+
+namespace labo {
+
+struct PlanarObjectThresholds {
+  double min_correlation = 0.8;           // alpha
+  double max_jump_m = 0.30;               // D
+  double max_turn_rad = 15.0 * 3.14159265358979 / 180.0;  // beta
+  double sift_switch_distance_m = 2.0;    // lambda (per object)
+  int sift_min_inliers = 20;              // N (per object)
+
+  // From the "vision" section, with the object's own lambda and N when it has them.
+  static PlanarObjectThresholds from(const VisionThresholds& vision, std::optional<double> lambda_m = {},
+                                     std::optional<int> min_inliers = {});
+};
+
+class PlanarObjectLocalizer {
+ public:
+  PlanarObjectLocalizer(PlanarTemplate planar_template, const PinholeCamera& camera,
+                        const PlanarObjectThresholds& thresholds, const PlanarConfig& config);
+
+  // `gray` is the camera's CV_8UC1 frame. `predicted_distance_m` (from the state estimator) chooses
+  // the detector and narrows the template-matching scales; without it the last pose's distance is
+  // used while recent, else both detectors run.
+  PlanarResult process(const cv::Mat& gray, Seconds t, std::optional<double> predicted_distance_m = {});
+  // Forget the track (the next frame runs detection).
+  void reset();
+
+  const PlanarTemplate& planar_template() const { return template_; }
+  const PinholeCamera& camera() const { return camera_; }
+  TrackerKind tracker_kind() const { return tracker_->kind(); }
+
+ private:
+  PlanarResult track(const cv::Mat& image, PlanarResult r);
+  PlanarResult detect(const cv::Mat& image, PlanarResult r, std::optional<double> distance_m);
+  // Checks an aligned homography and fills the pose; returns the loss reason (None when accepted).
+  PlanarLoss accept(const cv::Matx33d& H_working, double correlation, bool check_jump, PlanarResult& r);
+  const cv::Mat& undistort(const cv::Mat& gray);
+
+  PlanarTemplate template_;
+  PinholeCamera camera_;
+  PlanarObjectThresholds thresholds_;
+  PlanarConfig config_;
+  std::unique_ptr<HomographyTracker> tracker_;
+  TemplateMatchDetector template_detector_;
+  SiftDetector sift_detector_;
+  PlanarPoseSolver pose_solver_;
+  cv::Mat map1_, map2_, undistorted_;  // precomputed undistortion maps and reused output
+
+  bool tracking_ = false;
+  bool ever_found_ = false;
+  cv::Matx33d H_working_ = cv::Matx33d::eye();  // last accepted, working template px -> undistorted px
+  std::optional<Eigen::Isometry3d> last_pose_;
+  Seconds last_pose_t_ = 0;
+};
+
+}  // namespace labo

@@ -1,0 +1,42 @@
+#pragma once
+// Camera-from-object pose of a planar object from its four corners: IPPE (solvePnPGeneric with
+// SOLVEPNP_IPPE) on the corners at physical size, which returns the two poses a plane seen from
+// afar cannot tell apart. The ambiguity is resolved before anything else uses the pose, so that the
+// pose-jump loss test does not fire on a flip:
+//  1. a candidate must put the panel in front of the camera with its front towards it;
+//  2. when one candidate reprojects clearly worse (by more than 2x and 1 px), the other wins;
+//  3. otherwise the candidate closer in rotation to the previous pose wins (continuity), and with
+//     no previous pose the lower reprojection error wins but the result is flagged ambiguous.
+// Image points are in the undistorted image (pinhole K without distortion).
+#include <array>
+#include <optional>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+namespace labo {
+
+struct PlanarPose {
+  Eigen::Isometry3d T_cam_object = Eigen::Isometry3d::Identity();
+  double reprojection_error_px = 0;  // RMS over the 4 corners
+  bool ambiguous = false;            // the two IPPE solutions could not be separated by the data
+  double alternative_error_px = 0;   // the rejected solution's reprojection error
+  double alternative_angle_rad = 0;  // rotation between the two solutions
+};
+
+class PlanarPoseSolver {
+ public:
+  PlanarPoseSolver(const cv::Matx33d& K, const std::array<cv::Point3d, 4>& object_corners);
+  // Empty when no candidate is physically possible. `previous` is the last accepted pose.
+  std::optional<PlanarPose> solve(const std::array<cv::Point2d, 4>& image_corners,
+                                  const std::optional<Eigen::Isometry3d>& previous) const;
+
+ private:
+  cv::Matx33d K_;
+  std::array<cv::Point3d, 4> object_;
+};
+
+// Rotation angle between two orientations, radians.
+double rotation_angle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);
+
+}  // namespace labo

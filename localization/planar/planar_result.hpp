@@ -1,0 +1,54 @@
+#pragma once
+// What PlanarObjectLocalizer reports for each frame.
+#include <array>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "core/time.hpp"
+
+namespace labo {
+
+enum class PlanarState { Searching, Detected, Tracking, Lost };
+enum class PlanarMethod { None, TemplateMatching, Sift, Ecc, InverseCompositional };
+// Why there is no pose in this frame (None when there is one).
+enum class PlanarLoss {
+  None,
+  NotFound,        // detection ran and did not find the object
+  NoConvergence,   // the tracker did not converge (OpenCV's ECC threw, or diverged)
+  LowCorrelation,  // aligned, but the correlation with the template is below alpha
+  OutOfView,       // too little of the panel inside the image
+  PoseJump,        // the camera moved more than D since the previous frame
+  TurnJump,        // the camera turned more than beta since the previous frame
+  NoPose,          // no physically possible pose (behind the camera, seen from the back)
+  BadFrame,        // empty, not 8-bit grey, or not the camera's size: refused, state unchanged
+};
+
+const char* to_string(PlanarState s);
+const char* to_string(PlanarMethod m);
+const char* to_string(PlanarLoss l);
+
+struct PlanarResult {
+  Seconds t = 0;
+  PlanarState state = PlanarState::Searching;
+  PlanarLoss reason = PlanarLoss::None;
+  const char* detail = "";  // the tracker's or the check's own words (static text)
+  PlanarMethod method = PlanarMethod::None;
+
+  bool has_pose = false;  // true exactly when state is Detected or Tracking
+  // Original template pixels -> pixels of the undistorted image (the camera's K, no distortion).
+  cv::Matx33d H = cv::Matx33d::eye();
+  // The panel's corners in the raw (distorted) frame, clockwise from the template's top-left.
+  std::array<cv::Point2d, 4> image_corners{};
+  Eigen::Isometry3d T_cam_object = Eigen::Isometry3d::Identity();
+  double distance_m = 0;
+  double quality = 0;                // [0, 1]: correlation margin x visible fraction x ambiguity
+  double position_sigma_m = 0;       // 1-sigma position uncertainty along the line of sight (approx.)
+  double reprojection_error_px = 0;  // IPPE, RMS over the corners
+  double correlation = 0;            // after alignment
+  double visible_fraction = 0;       // of the panel's area inside the image
+  bool pose_ambiguous = false;       // the two IPPE poses could not be told apart
+  int inliers = 0;                   // SIFT detections
+};
+
+}  // namespace labo

@@ -1,0 +1,43 @@
+#pragma once
+// The SLAM benchmark: runs SlamSystem over ground-truth flights (synthetic room for now) and reports
+// trajectory errors, timing, relocalization time and where tracking was lost near the instrument.
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "localization/slam/bench/bench_flights.hpp"
+#include "localization/slam/bench/synthetic_room.hpp"
+#include "localization/slam/bench/trajectory_metrics.hpp"
+#include "localization/slam/slam_system.hpp"
+
+namespace labo::slam {
+
+struct FlightReport {
+  std::string name;
+  int frames = 0;
+  int tracked_frames = 0;  // good or dodgy
+  int good_frames = 0;
+  int lost_frames = 0;     // after initialization
+  double initialized_at_s = -1;
+  int initialization_attempts = 0;
+  std::optional<TrajectoryErrors> errors;
+  double tracking_ms_median = 0, tracking_ms_p95 = 0;
+  double mapping_ms_per_keyframe_median = 0, mapping_ms_per_keyframe_max = 0;
+  int keyframes = 0, map_points = 0, global_ba_runs = 0;
+  std::optional<double> relocalization_s;  // view back -> tracking good again
+  std::optional<double> lost_at_distance_m;  // approach: first lost frame's distance to the panel
+  double closest_tracked_distance_m = 0;     // approach: closest good/dodgy frame
+};
+
+struct BenchOptions {
+  MappingMode mode = MappingMode::Synchronous;
+  double tour_duration_s = 120.0;
+  bool add_lens_distortion = true;
+};
+
+// trace (optional): one line per frame that is not Good or adds a keyframe.
+FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const PinholeCamera& camera, MappingMode mode,
+                        std::ostream* trace = nullptr);
+
+}  // namespace labo::slam

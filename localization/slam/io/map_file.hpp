@@ -1,0 +1,19 @@
+#pragma once
+// Map files: a lab mapped once can be reused. Binary, little-endian, versioned:
+//   "LABOSLAM" u32 version | camera (width, height, fx fy cx cy k1 k2 p1 p2 k3) | keyframes | points |
+//   u64 FNV-1a of everything before it | "ENDSLAM!".
+// Reading refuses, with the reason: a file too short or cut (truncated), a bad checksum (corrupted),
+// another version, a map built with different camera intrinsics, and indices or numbers that do not
+// make sense (a keyframe feature that does not exist, non-finite poses).
+#include <filesystem>
+
+#include "core/camera_model.hpp"
+#include "localization/slam/map/slam_map.hpp"
+
+namespace labo::slam {
+
+void write_map_file(const std::filesystem::path& file, const CameraIntrinsics& camera, const SlamMap& map);
+// Fills `out` (which should be empty); throws std::runtime_error naming the file and the reason.
+void read_map_file(const std::filesystem::path& file, const CameraIntrinsics& camera, SlamMap& out);
+
+}  // namespace labo::slam

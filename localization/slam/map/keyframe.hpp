@@ -1,0 +1,52 @@
+#pragma once
+// Keyframe and MapPoint: what the map is made of. A keyframe keeps its features and descriptors (for
+// new points, re-measurement and relocalization) and a small blurry image for ranking keyframes when
+// relocalizing. A map point keeps its position, a representative descriptor and its observations.
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "core/time.hpp"
+#include "localization/slam/feature/frame_features.hpp"
+
+namespace labo::slam {
+
+using PointId = std::int64_t;
+constexpr PointId kNoPoint = -1;
+
+struct Keyframe {
+  int id = -1;
+  Seconds t = 0;
+  Eigen::Isometry3d T_cam_map = Eigen::Isometry3d::Identity();
+  FrameFeatures frame;
+  std::vector<PointId> point_of_feature;  // one per feature, kNoPoint when none
+  cv::Mat small_image;                    // CV_32F, zero mean, blurred (relocalization ranking)
+
+  Eigen::Vector3d center() const { return T_cam_map.inverse().translation(); }
+  Eigen::Vector3d optical_axis() const { return T_cam_map.linear().row(2).transpose(); }
+};
+
+struct Observation {
+  int keyframe = -1;
+  int feature = -1;
+};
+
+struct MapPoint {
+  PointId id = kNoPoint;
+  Eigen::Vector3d p_map = Eigen::Vector3d::Zero();
+  Descriptor descriptor{};
+  std::vector<Observation> observations;
+  int reference_keyframe = -1;
+  int reference_level = 0;
+  double reference_distance = 1.0;  // from the reference keyframe's centre when created
+
+  int observed_by(int keyframe) const {
+    for (const auto& o : observations) {
+      if (o.keyframe == keyframe) return o.feature;
+    }
+    return -1;
+  }
+};
+
+}  // namespace labo::slam

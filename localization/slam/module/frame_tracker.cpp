@@ -1,0 +1,114 @@
+#include "localization/slam/module/frame_tracker.hpp"
+
+#include <algorithm>
+#include <map>
+
+namespace labo::slam {
+
+FrameTracker::FrameTracker(const IdealCamera& camera, const TrackerSettings& settings)
+    : camera_(camera), settings_(settings), matcher_(camera, settings.levels, settings.level_scale) {}
+
+void FrameTracker::collect_candidates(const SlamMap& map, const Eigen::Isometry3d& T, int reference_keyframe) {
+  candidates_.clear();
+  seen_.clear();
+  std::vector<int> kfs = map.nearest(T, settings_.local_keyframes);
+  if (reference_keyframe >= 0 && reference_keyframe < static_cast<int>(map.keyframes().size())) {
+    kfs.push_back(reference_keyframe);
+    for (int k : map.covisible(reference_keyframe, settings_.local_keyframes / 2)) kfs.push_back(k);
+  }
+  for (int k : kfs) {
+    for (PointId id : map.keyframes()[static_cast<std::size_t>(k)].point_of_feature) {
+      if (id == kNoPoint || !seen_.insert(id).second) continue;
+      const MapPoint* p = map.point(id);
+      if (!p) continue;
+      candidates_.push_back(candidate_of(*p));
+    }
+  }
+}
+
+int FrameTracker::solve(const std::vector<SearchMatch>& matches, const FrameFeatures& frame, Eigen::Isometry3d& T) {
+  observations_.clear();
+  for (const SearchMatch& m : matches) {
+    const Feature& f = frame.features[static_cast<std::size_t>(m.feature)];
+    observations_.push_back({candidates_[static_cast<std::size_t>(m.candidate)].p_map, f.px, matcher_.level_scale(f.level), true});
+  }
+  return optimize_pose(camera_, observations_, T);
+}
+
+TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame, const FeatureGrid& grid,
+                                 const Eigen::Isometry3d& prior, int last_reference_keyframe, bool coarse_stage) {
+  TrackOutcome out;
+  Eigen::Isometry3d T = prior;
+  std::shared_lock lock(map.mutex());
+  collect_candidates(map, T, last_reference_keyframe);
+  lock.unlock();  // candidates are copies: the mapper may proceed
+
+  matcher_.project_candidates(candidates_, T);
+  if (coarse_stage) {
+    // Coarse: the points predicted at the coarsest levels, searched wide.
+    coarse_.clear();
+    for (int level = settings_.levels - 1; level >= 0 && static_cast<int>(coarse_.size()) < settings_.coarse_points; --level) {
+      for (std::size_t i = 0; i < candidates_.size() && static_cast<int>(coarse_.size()) < settings_.coarse_points; ++i) {
+        if (candidates_[i].in_view && candidates_[i].predicted_level == level) coarse_.push_back(static_cast<int>(i));
+      }
+    }
+    matcher_.search(candidates_, coarse_, frame, grid, settings_.coarse_radius_px, 0, settings_.max_hamming, matches_);
+    Eigen::Isometry3d T_coarse = T;
+    if (matches_.size() >= 10 && solve(matches_, frame, T_coarse) >= 8) {
+      T = T_coarse;
+      matcher_.project_candidates(candidates_, T);
+    }
+  }
+  in_view_.clear();
+  for (std::size_t i = 0; i < candidates_.size(); ++i) {
+    if (candidates_[i].in_view) in_view_.push_back(static_cast<int>(i));
+  }
+  if (static_cast<int>(in_view_.size()) > settings_.max_points_searched) {
+    // Evenly thinned: keeps the spread over the image.
+    const double step = static_cast<double>(in_view_.size()) / settings_.max_points_searched;
+    for (int i = 0; i < settings_.max_points_searched; ++i) in_view_[static_cast<std::size_t>(i)] = in_view_[static_cast<std::size_t>(i * step)];
+    in_view_.resize(static_cast<std::size_t>(settings_.max_points_searched));
+  }
+  out.attempted = static_cast<int>(in_view_.size());
+  matcher_.search(candidates_, in_view_, frame, grid, settings_.fine_radius_px, 0, settings_.max_hamming, matches_);
+  if (matches_.size() < 20 && !coarse_stage) {
+    // The prior was off by more than the fine radius: widen once.
+    matcher_.search(candidates_, in_view_, frame, grid, 3.0 * settings_.fine_radius_px, 0, settings_.max_hamming, matches_);
+  }
+  if (matches_.size() < 6) return out;
+  const int inliers = solve(matches_, frame, T);
+  if (inliers < 6) return out;
+  out.pose_valid = true;
+  out.T_cam_map = T;
+  out.found = inliers;
+  double depth_sum = 0;
+  for (std::size_t i = 0; i < matches_.size(); ++i) {
+    if (!observations_[i].inlier) continue;
+    const SearchCandidate& c = candidates_[static_cast<std::size_t>(matches_[i].candidate)];
+    out.matches.emplace_back(matches_[i].feature, c.id);
+    depth_sum += (T * c.p_map).z();
+  }
+  out.mean_depth = depth_sum / std::max(1, inliers);
+  // Reference keyframe: the one observing most of the matched points.
+  lock.lock();
+  std::map<int, int> shared;
+  for (const auto& [f, id] : out.matches) {
+    if (const MapPoint* p = map.point(id)) {
+      for (const Observation& o : p->observations) ++shared[o.keyframe];
+    }
+  }
+  for (const auto& [kf, n] : shared) {
+    if (n > out.reference_shared) {
+      out.reference_shared = n;
+      out.reference_keyframe = kf;
+    }
+  }
+  if (out.reference_keyframe >= 0) {
+    for (PointId id : map.keyframes()[static_cast<std::size_t>(out.reference_keyframe)].point_of_feature) {
+      out.reference_points += map.point(id) ? 1 : 0;
+    }
+  }
+  return out;
+}
+
+}  // namespace labo::slam

@@ -1,0 +1,298 @@
+#include "localization/slam/module/local_mapper.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <set>
+
+#include "localization/slam/initialize/two_view_geometry.hpp"
+#include "localization/slam/optimize/bundle_adjuster.hpp"
+
+namespace labo::slam {
+namespace {
+constexpr double kChi2 = 5.991;
+}
+
+LocalMapper::LocalMapper(const IdealCamera& camera, SlamMap& map, const MapperSettings& settings)
+    : camera_(camera), map_(map), settings_(settings), matcher_(camera, settings.levels, settings.level_scale) {
+  if (settings_.threaded) thread_ = std::thread([this] { worker(); });
+}
+
+LocalMapper::~LocalMapper() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+    abort_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+double LocalMapper::sigma(int level) const { return std::pow(settings_.level_scale, level); }
+
+void LocalMapper::enqueue(Keyframe keyframe) {
+  if (!settings_.threaded) {
+    process(std::move(keyframe));
+    if (settings_.global_ba && stats_.keyframes_processed % settings_.global_ba_every == 0) global_adjustment();
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    queue_.push_back(std::move(keyframe));
+    abort_ = true;  // a running adjustment yields to the new keyframe
+  }
+  wake_.notify_all();
+}
+
+int LocalMapper::queued() const {
+  std::lock_guard lock(mutex_);
+  return static_cast<int>(queue_.size()) + (busy_ ? 1 : 0);
+}
+
+void LocalMapper::wait_idle() {
+  if (!settings_.threaded) return;
+  std::unique_lock lock(mutex_);
+  idle_.wait(lock, [this] { return (queue_.empty() && !busy_ && !global_pending_) || stop_; });
+}
+
+MapperStats LocalMapper::stats() const {
+  std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+void LocalMapper::worker() {
+  std::unique_lock lock(mutex_);
+  while (!stop_) {
+    if (!queue_.empty()) {
+      Keyframe kf = std::move(queue_.front());
+      queue_.pop_front();
+      busy_ = true;
+      abort_ = false;
+      lock.unlock();
+      process(std::move(kf));
+      lock.lock();
+      busy_ = false;
+      global_pending_ = settings_.global_ba;
+    } else if (global_pending_) {
+      busy_ = true;
+      abort_ = false;
+      lock.unlock();
+      global_adjustment();
+      lock.lock();
+      busy_ = false;
+      global_pending_ = false;
+    } else {
+      idle_.notify_all();
+      wake_.wait(lock);
+    }
+  }
+  idle_.notify_all();
+}
+
+void LocalMapper::process(Keyframe keyframe) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<PointId> associations = std::move(keyframe.point_of_feature);
+  keyframe.point_of_feature.clear();
+  int kf = 0;
+  {
+    std::unique_lock lock(map_.mutex());
+    kf = map_.add_keyframe(std::move(keyframe));
+    for (std::size_t f = 0; f < associations.size(); ++f) {
+      if (associations[f] != kNoPoint) map_.add_observation(associations[f], kf, static_cast<int>(f));
+    }
+  }
+  // Neighbours: the most covisible keyframes, completed by the nearest ones.
+  std::vector<int> neighbours = map_.covisible(kf, 8);
+  for (int n : map_.nearest(map_.keyframes()[static_cast<std::size_t>(kf)].T_cam_map, 5)) {
+    if (n != kf && std::find(neighbours.begin(), neighbours.end(), n) == neighbours.end()) neighbours.push_back(n);
+  }
+  remeasure(kf, neighbours);
+  triangulate_new_points(kf, neighbours);
+  std::vector<int> free_kfs{kf};
+  for (int n : map_.covisible(kf, settings_.local_ba_keyframes - 1)) free_kfs.push_back(n);
+  adjust(free_kfs, false, 10);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  std::lock_guard lock(mutex_);
+  ++stats_.keyframes_processed;
+  ++stats_.local_ba_runs;
+  stats_.last_keyframe_ms = ms;
+  stats_.keyframe_ms.push_back(ms);
+}
+
+void LocalMapper::remeasure(int kf, const std::vector<int>& neighbours) {
+  const Keyframe& key = map_.keyframes()[static_cast<std::size_t>(kf)];
+  std::vector<SearchCandidate> candidates;
+  std::set<PointId> seen;
+  for (int n : neighbours) {
+    for (PointId id : map_.keyframes()[static_cast<std::size_t>(n)].point_of_feature) {
+      const MapPoint* p = map_.point(id);
+      if (!p || p->observed_by(kf) >= 0 || !seen.insert(id).second) continue;
+      candidates.push_back(candidate_of(*p));
+    }
+  }
+  matcher_.project_candidates(candidates, key.T_cam_map);
+  FeatureGrid grid(camera_.ideal_min(), camera_.ideal_max(), 24.0);
+  grid.build(key.frame);
+  std::vector<int> all(candidates.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  std::vector<SearchMatch> matches;
+  matcher_.search(candidates, all, key.frame, grid, 4.0, 0, settings_.max_hamming, matches);
+  std::unique_lock lock(map_.mutex());
+  for (const SearchMatch& m : matches) {
+    if (key.point_of_feature[static_cast<std::size_t>(m.feature)] != kNoPoint) continue;
+    map_.add_observation(candidates[static_cast<std::size_t>(m.candidate)].id, kf, m.feature);
+  }
+}
+
+void LocalMapper::triangulate_new_points(int kf, const std::vector<int>& neighbours) {
+  const Keyframe& key = map_.keyframes()[static_cast<std::size_t>(kf)];
+  const Eigen::Vector3d c_key = key.center();
+  std::vector<char> key_used(key.frame.size(), 0);
+  const double cos_min_parallax = std::cos(settings_.min_parallax_deg * M_PI / 180.0);
+  int tried = 0;
+  for (int n : neighbours) {
+    if (tried++ >= settings_.triangulation_neighbours) break;
+    const Keyframe& other = map_.keyframes()[static_cast<std::size_t>(n)];
+    // Median depth of the neighbour's points decides whether the baseline is worth it.
+    std::vector<double> depths;
+    for (PointId id : other.point_of_feature) {
+      if (const MapPoint* p = map_.point(id)) depths.push_back((other.T_cam_map * p->p_map).z());
+    }
+    if (depths.size() < 10) continue;
+    std::nth_element(depths.begin(), depths.begin() + static_cast<long>(depths.size() / 2), depths.end());
+    const double baseline = (other.center() - c_key).norm();
+    if (baseline < 0.01 * depths[depths.size() / 2]) continue;
+
+    const Eigen::Isometry3d T_other_key = other.T_cam_map * key.T_cam_map.inverse();
+    const Eigen::Matrix3d R = T_other_key.linear();
+    const Eigen::Vector3d t = T_other_key.translation();
+    Eigen::Matrix3d tx;
+    tx << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
+    const Eigen::Matrix3d E = tx * R;  // x_other^T E x_key = 0, normalized coordinates
+    std::vector<PointId> new_points;
+    std::unique_lock lock(map_.mutex(), std::defer_lock);
+    std::vector<MapPoint> created;
+    std::vector<char> other_used(other.frame.size(), 0);
+    for (std::size_t i = 0; i < key.frame.size(); ++i) {
+      if (key_used[i] || key.point_of_feature[i] != kNoPoint) continue;
+      const Feature& fk = key.frame.features[i];
+      const Eigen::Vector3d xk((fk.px.x() - camera_.cx()) / camera_.fx(), (fk.px.y() - camera_.cy()) / camera_.fy(), 1.0);
+      const Eigen::Vector3d line = E * xk;
+      const double line_norm = std::hypot(line.x(), line.y());
+      if (line_norm < 1e-12) continue;
+      int best = 257, second = 257, best_j = -1;
+      for (std::size_t j = 0; j < other.frame.size(); ++j) {
+        if (other_used[j] || other.point_of_feature[j] != kNoPoint) continue;
+        const Feature& fo = other.frame.features[j];
+        if (std::abs(fo.level - fk.level) > 1) continue;
+        const int d = hamming(key.frame.descriptors[i], other.frame.descriptors[j]);
+        if (d >= second) continue;
+        // Epipolar gate: distance of the other feature to the epipolar line, in pixels.
+        const Eigen::Vector3d xo((fo.px.x() - camera_.cx()) / camera_.fx(), (fo.px.y() - camera_.cy()) / camera_.fy(), 1.0);
+        const double dist_px = std::abs(xo.dot(line)) / line_norm * camera_.fx();
+        if (dist_px > 2.0 * sigma(fo.level)) continue;
+        if (d < best) {
+          second = best;
+          best = d;
+          best_j = static_cast<int>(j);
+        } else {
+          second = d;
+        }
+      }
+      if (best_j < 0 || best > settings_.max_hamming || best > 0.8 * second) continue;
+      const Feature& fo = other.frame.features[static_cast<std::size_t>(best_j)];
+      const auto p = triangulate(camera_, key.T_cam_map, fk.px, other.T_cam_map, fo.px);
+      if (!p) continue;
+      const Eigen::Vector3d rk = *p - c_key, ro = *p - other.center();
+      if (rk.normalized().dot(ro.normalized()) > cos_min_parallax) continue;
+      const auto pk = camera_.project(key.T_cam_map * *p), po = camera_.project(other.T_cam_map * *p);
+      if (!pk || !po) continue;
+      if ((*pk - fk.px).squaredNorm() > kChi2 * sigma(fk.level) * sigma(fk.level)) continue;
+      if ((*po - fo.px).squaredNorm() > kChi2 * sigma(fo.level) * sigma(fo.level)) continue;
+      // Scale consistency: the two observations' levels must agree with the two distances.
+      const double ratio = rk.norm() / ro.norm(), level_ratio = sigma(fo.level) / sigma(fk.level);
+      if (ratio > 1.8 * level_ratio || ratio < level_ratio / 1.8) continue;
+      MapPoint mp;
+      mp.p_map = *p;
+      mp.descriptor = key.frame.descriptors[i];
+      mp.observations = {{kf, static_cast<int>(i)}, {n, best_j}};
+      mp.reference_keyframe = kf;
+      mp.reference_level = fk.level;
+      mp.reference_distance = rk.norm();
+      created.push_back(std::move(mp));
+      key_used[i] = 1;
+      other_used[static_cast<std::size_t>(best_j)] = 1;
+    }
+    lock.lock();
+    for (MapPoint& mp : created) map_.add_point(std::move(mp));
+    std::lock_guard stats_lock(mutex_);
+    stats_.points_created += static_cast<int>(created.size());
+  }
+}
+
+void LocalMapper::adjust(const std::vector<int>& free_keyframes, bool global, int max_iterations) {
+  BundleProblem problem;
+  std::set<int> free_set(free_keyframes.begin(), free_keyframes.end());
+  if (global) {
+    free_set.clear();
+    for (const Keyframe& k : map_.keyframes()) free_set.insert(k.id);
+  }
+  for (int k : free_set) {
+    for (PointId id : map_.keyframes()[static_cast<std::size_t>(k)].point_of_feature) {
+      const MapPoint* p = map_.point(id);
+      if (!p || problem.points.count(id)) continue;
+      problem.points[id] = p->p_map;
+      for (const Observation& o : p->observations) {
+        const Keyframe& okf = map_.keyframes()[static_cast<std::size_t>(o.keyframe)];
+        const Feature& f = okf.frame.features[static_cast<std::size_t>(o.feature)];
+        problem.observations.push_back({o.keyframe, id, f.px, sigma(f.level)});
+        if (!problem.poses.count(o.keyframe)) {
+          problem.poses[o.keyframe] = okf.T_cam_map;
+          problem.pose_fixed[o.keyframe] = !free_set.count(o.keyframe) || o.keyframe == 0;
+        }
+      }
+    }
+  }
+  // Monocular gauge: the first keyframe is fixed; the remaining scale freedom is held by the
+  // damping of Levenberg-Marquardt (the map is up to scale anyway).
+  if (problem.points.empty()) return;
+  BundleSettings settings;
+  settings.max_iterations = max_iterations;
+  const BundleReport report = solve_bundle(camera_, problem, settings, settings_.threaded ? &abort_ : nullptr);
+  if (report.aborted || report.iterations == 0) return;
+
+  std::unique_lock lock(map_.mutex());
+  for (const auto& [id, T] : problem.poses) {
+    if (!problem.pose_fixed[id]) map_.keyframes_mutable()[static_cast<std::size_t>(id)].T_cam_map = T;
+  }
+  auto& points = map_.points_mutable();
+  for (const auto& [id, p] : problem.points) {
+    auto it = points.find(id);
+    if (it != points.end() && p.allFinite()) it->second.p_map = p;
+  }
+  // Outliers after adjustment: observations beyond the chi-square gate or behind the camera.
+  int removed = 0;
+  for (const BundleObservation& o : problem.observations) {
+    const MapPoint* p = map_.point(o.point);
+    if (!p) continue;
+    const Eigen::Vector3d pc = map_.keyframes()[static_cast<std::size_t>(o.keyframe)].T_cam_map * p->p_map;
+    const auto px = camera_.project(pc);
+    if (!px || (*px - o.px).squaredNorm() > kChi2 * o.sigma * o.sigma) {
+      map_.remove_observation(o.point, o.keyframe);
+      ++removed;
+    }
+  }
+  std::lock_guard stats_lock(mutex_);
+  stats_.observations_removed += removed;
+}
+
+void LocalMapper::adjust_initial_map() { adjust({}, true, 20); }
+
+void LocalMapper::global_adjustment() {
+  if (map_.keyframes().size() < 3 || static_cast<int>(map_.keyframes().size()) > settings_.global_ba_max_keyframes) return;
+  adjust({}, true, 10);
+  std::lock_guard lock(mutex_);
+  ++stats_.global_ba_runs;
+}
+
+}  // namespace labo::slam

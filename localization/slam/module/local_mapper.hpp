@@ -1,0 +1,84 @@
+#pragma once
+// LocalMapper: everything that happens when a keyframe arrives. It adds the keyframe, re-measures
+// the neighbours' points in it, creates new points by epipolar search against its neighbours and
+// triangulation, runs a local bundle adjustment (the keyframe and its most covisible neighbours,
+// their points; other observers fixed) and removes outliers. When idle it runs a global adjustment.
+//
+// Threaded mode: a worker thread consumes the queue; tracking only waits for the map lock while
+// results are written. Synchronous mode: enqueue() processes the keyframe inline with the same code,
+// and runs the global adjustment every `global_ba_every` keyframes, so lockstep runs repeat exactly.
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <thread>
+
+#include "localization/slam/camera/ideal_camera.hpp"
+#include "localization/slam/map/slam_map.hpp"
+#include "localization/slam/match/projection_matcher.hpp"
+
+namespace labo::slam {
+
+struct MapperSettings {
+  bool threaded = true;
+  int levels = 4;
+  double level_scale = 1.5;
+  int local_ba_keyframes = 5;
+  int triangulation_neighbours = 5;
+  bool global_ba = true;
+  int global_ba_every = 10;       // synchronous mode
+  int global_ba_max_keyframes = 120;
+  double min_parallax_deg = 1.0;
+  int max_hamming = 50;
+};
+
+struct MapperStats {
+  int keyframes_processed = 0;
+  int local_ba_runs = 0;
+  int global_ba_runs = 0;
+  int points_created = 0;
+  int observations_removed = 0;
+  double last_keyframe_ms = 0;  // wall time of the last keyframe's processing (measurement only)
+  std::vector<double> keyframe_ms;
+};
+
+class LocalMapper {
+ public:
+  LocalMapper(const IdealCamera& camera, SlamMap& map, const MapperSettings& settings);
+  ~LocalMapper();
+  LocalMapper(const LocalMapper&) = delete;
+  LocalMapper& operator=(const LocalMapper&) = delete;
+
+  // The keyframe's point_of_feature holds the tracker's associations (kNoPoint elsewhere).
+  void enqueue(Keyframe keyframe);
+  int queued() const;
+  // Two-view bundle adjustment of a fresh map (called inline, before tracking starts).
+  void adjust_initial_map();
+  void wait_idle();
+  MapperStats stats() const;
+
+ private:
+  void worker();
+  void process(Keyframe keyframe);
+  void remeasure(int kf, const std::vector<int>& neighbours);
+  void triangulate_new_points(int kf, const std::vector<int>& neighbours);
+  void adjust(const std::vector<int>& free_keyframes, bool global, int max_iterations);
+  void global_adjustment();
+  double sigma(int level) const;
+
+  const IdealCamera& camera_;
+  SlamMap& map_;
+  MapperSettings settings_;
+  ProjectionMatcher matcher_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_, idle_;
+  std::deque<Keyframe> queue_;
+  bool busy_ = false;
+  bool stop_ = false;
+  bool global_pending_ = false;
+  std::atomic<bool> abort_{false};
+  MapperStats stats_;
+  std::thread thread_;
+};
+
+}  // namespace labo::slam

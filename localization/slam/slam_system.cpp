@@ -1,0 +1,409 @@
+#include "localization/slam/slam_system.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "localization/slam/camera/ideal_camera.hpp"
+#include "localization/slam/feature/feature_extractor.hpp"
+#include "localization/slam/initialize/map_initializer.hpp"
+#include "localization/slam/io/map_file.hpp"
+#include "localization/slam/module/frame_tracker.hpp"
+#include "localization/slam/module/local_mapper.hpp"
+#include "localization/slam/module/relocalizer.hpp"
+#include "localization/slam/optimize/se3.hpp"
+
+namespace labo::slam {
+
+std::string to_string(TrackingState state) {
+  switch (state) {
+    case TrackingState::Initializing: return "initializing";
+    case TrackingState::Good: return "good";
+    case TrackingState::Dodgy: return "dodgy";
+    case TrackingState::Lost: return "lost";
+  }
+  return "unknown";
+}
+
+namespace {
+
+void validate_settings(const SlamSettings& s) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("slam settings: " + what); };
+  if (s.pyramid_levels != 4) fail("pyramid_levels must be 4");
+  if (!(s.pyramid_scale >= 1.1 && s.pyramid_scale <= 2.5)) fail("pyramid_scale must be in [1.1, 2.5]");
+  if (s.max_features < 100 || s.max_features > 5000) fail("max_features must be in [100, 5000]");
+  if (s.fast_threshold < 5 || s.fast_threshold > 100) fail("fast_threshold must be in [5, 100]");
+  if (!(s.quality_lost > 0 && s.quality_lost < s.quality_good && s.quality_good < 1)) {
+    fail("need 0 < quality_lost < quality_good < 1");
+  }
+  if (s.lost_after_bad_frames < 1) fail("lost_after_bad_frames must be >= 1");
+  if (s.local_ba_keyframes < 2) fail("local_ba_keyframes must be >= 2");
+  if (s.init_min_points < 20) fail("init_min_points must be >= 20");
+}
+
+const PinholeCamera& validated(const PinholeCamera& camera) {
+  validate(camera.intrinsics(), "slam");
+  return camera;
+}
+
+}  // namespace
+
+struct SlamSystem::Impl {
+  Impl(const PinholeCamera& cam, const SlamSettings& s)
+      : settings(s),
+        camera(validated(cam)),
+        extractor(camera, {s.pyramid_levels, s.pyramid_scale, s.max_features, s.fast_threshold, 7, 40}),
+        grid(camera.ideal_min(), camera.ideal_max(), 24.0),
+        initializer(camera, {s.init_min_parallax_px, s.init_timeout_s, 30.0, 60, {s.init_min_points, 1.0, 1.5, 0.45}}),
+        tracker(camera, {s.pyramid_levels, s.pyramid_scale, s.max_points_searched, s.coarse_points, s.coarse_radius_px,
+                         s.fine_radius_px, 50, 10}),
+        relocalizer(camera),
+        mapper(std::make_unique<LocalMapper>(camera, map, mapper_settings(s))) {}
+
+  static MapperSettings mapper_settings(const SlamSettings& s) {
+    MapperSettings m;
+    m.threaded = s.mapping_mode == MappingMode::Threaded;
+    m.levels = s.pyramid_levels;
+    m.level_scale = s.pyramid_scale;
+    m.local_ba_keyframes = s.local_ba_keyframes;
+    m.global_ba = s.global_ba_when_idle;
+    return m;
+  }
+
+  SlamResult track(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior);
+  std::optional<std::string> refuse_input(const cv::Mat& gray, Seconds t) const;
+  SlamResult initialize(Seconds t);
+  SlamResult track_map(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior);
+  void accept_pose(const Eigen::Isometry3d& T, Seconds t);
+  bool want_keyframe(const TrackOutcome& o, Seconds t) const;
+  void add_keyframe(const TrackOutcome& o, const cv::Mat& gray, Seconds t);
+  void start_map(const InitialMap& init, const cv::Mat& gray, Seconds t);
+  void clear_tracking();
+
+  SlamSettings settings;
+  IdealCamera camera;
+  SlamMap map;
+  FeatureExtractor extractor;
+  FeatureGrid grid;
+  MapInitializer initializer;
+  FrameTracker tracker;
+  Relocalizer relocalizer;
+  std::unique_ptr<LocalMapper> mapper;
+  FrameFeatures frame;
+
+  TrackingState state = TrackingState::Initializing;
+  std::optional<Seconds> last_t;
+  std::optional<Eigen::Isometry3d> last_T, previous_T;
+  Seconds last_pose_t = 0, previous_pose_t = 0;
+  int bad_frames = 0;
+  bool relocalizing = false;
+  int reference_keyframe = -1;
+  Seconds last_keyframe_t = -1e9;
+  cv::Mat reference_small_image;  // of the initializer's reference frame
+  SlamResult last;
+};
+
+std::optional<std::string> SlamSystem::Impl::refuse_input(const cv::Mat& gray, Seconds t) const {
+  if (gray.empty()) return "empty frame";
+  if (gray.type() != CV_8UC1) return "frame must be 8-bit grey (CV_8UC1)";
+  if (gray.cols != camera.real().width() || gray.rows != camera.real().height()) {
+    return "frame is " + std::to_string(gray.cols) + "x" + std::to_string(gray.rows) + ", camera is " +
+           std::to_string(camera.real().width()) + "x" + std::to_string(camera.real().height());
+  }
+  if (!std::isfinite(t)) return "timestamp is not a finite number";
+  if (last_t && t <= *last_t) {
+    return "timestamp " + std::to_string(t) + " s is not after the previous frame's " + std::to_string(*last_t) + " s";
+  }
+  return std::nullopt;
+}
+
+SlamResult SlamSystem::Impl::track(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior) {
+  const auto start = std::chrono::steady_clock::now();
+  SlamResult result;
+  if (const auto refusal = refuse_input(gray, t)) {
+    // Refused frames change nothing: not the map, not the motion model, not the state.
+    result.state = TrackingState::Lost;
+    result.reason = "frame refused: " + *refusal;
+    return result;
+  }
+  last_t = t;
+  extractor.extract(gray, frame);
+  grid.build(frame);
+  if (state == TrackingState::Initializing) {
+    const int attempts = initializer.attempts();
+    std::optional<InitialMap> init = initializer.add_frame(frame, grid, t);
+    if (initializer.attempts() != attempts) reference_small_image = small_blurry_image(gray);
+    if (init) {
+      start_map(*init, gray, t);
+      result.state = state;
+      result.T_cam_map = last_T;
+      result.points_found = result.points_attempted = static_cast<int>(init->points.size());
+      result.quality = 1.0;
+      result.keyframe_added = true;
+    } else {
+      result.state = TrackingState::Initializing;
+      result.reason = initializer.reason();
+    }
+  } else {
+    result = track_map(gray, t, prior);
+  }
+  result.tracking_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  last = result;
+  return result;
+}
+
+void SlamSystem::Impl::start_map(const InitialMap& init, const cv::Mat& gray, Seconds t) {
+  {
+    std::unique_lock lock(map.mutex());
+    Keyframe first;
+    first.t = init.reference_t;
+    first.frame = init.reference;
+    first.small_image = reference_small_image.clone();
+    const int k0 = map.add_keyframe(std::move(first));
+    Keyframe second;
+    second.t = t;
+    second.T_cam_map = init.T_current_reference;
+    second.frame = frame;
+    second.small_image = small_blurry_image(gray);
+    const int k1 = map.add_keyframe(std::move(second));
+    const Eigen::Vector3d c0 = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < init.points.size(); ++i) {
+      MapPoint p;
+      p.p_map = init.points[i];
+      const auto [f0, f1] = init.matches[i];
+      p.descriptor = init.reference.descriptors[static_cast<std::size_t>(f0)];
+      p.observations = {{k0, f0}, {k1, f1}};
+      p.reference_keyframe = k0;
+      p.reference_level = init.reference.features[static_cast<std::size_t>(f0)].level;
+      p.reference_distance = (init.points[i] - c0).norm();
+      map.add_point(std::move(p));
+    }
+  }
+  mapper->adjust_initial_map();
+  // Rescale so that the median depth seen from the first keyframe is 1 (the map's unit).
+  {
+    std::unique_lock lock(map.mutex());
+    std::vector<double> depths;
+    for (const auto& [id, p] : map.points()) depths.push_back(p.p_map.z());
+    if (!depths.empty()) {
+      std::nth_element(depths.begin(), depths.begin() + static_cast<long>(depths.size() / 2), depths.end());
+      const double s = depths[depths.size() / 2] > 1e-9 ? 1.0 / depths[depths.size() / 2] : 1.0;
+      for (auto& [id, p] : map.points_mutable()) {
+        p.p_map *= s;
+        p.reference_distance *= s;
+      }
+      for (auto& kf : map.keyframes_mutable()) kf.T_cam_map.translation() *= s;
+    }
+  }
+  clear_tracking();
+  state = TrackingState::Good;
+  last_T = map.keyframes()[1].T_cam_map;
+  last_pose_t = t;
+  previous_T = map.keyframes()[0].T_cam_map;
+  previous_pose_t = init.reference_t;
+  reference_keyframe = 1;
+  last_keyframe_t = t;
+}
+
+void SlamSystem::Impl::clear_tracking() {
+  last_T.reset();
+  previous_T.reset();
+  bad_frames = 0;
+  relocalizing = false;
+  reference_keyframe = -1;
+}
+
+void SlamSystem::Impl::accept_pose(const Eigen::Isometry3d& T, Seconds t) {
+  previous_T = last_T;
+  previous_pose_t = last_pose_t;
+  last_T = T;
+  last_pose_t = t;
+}
+
+SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior) {
+  SlamResult result;
+  bool coarse = true;
+  Eigen::Isometry3d guess = last_T.value_or(Eigen::Isometry3d::Identity());
+  std::optional<RelocalizationCandidate> reloc;
+  if (relocalizing) {
+    reloc = relocalizer.relocalize(map, frame, small_blurry_image(gray));
+    if (!reloc && !prior) {
+      result.state = TrackingState::Lost;
+      result.reason = "lost: relocalizing against " + std::to_string(map.keyframes().size()) + " keyframes";
+      return result;
+    }
+    if (reloc) {
+      guess = reloc->T_cam_map;
+      reference_keyframe = reloc->keyframe;
+    } else {
+      guess = *prior;
+    }
+    coarse = false;
+  } else if (prior) {
+    guess = *prior;
+  } else if (last_T && previous_T && last_pose_t > previous_pose_t) {
+    // Decaying constant-velocity model, scaled to this frame's interval.
+    const Eigen::Isometry3d delta = *last_T * previous_T->inverse();
+    const double fraction = 0.9 * (t - last_pose_t) / (last_pose_t - previous_pose_t);
+    const Eigen::Isometry3d step = scale_motion(delta, std::min(fraction, 3.0));
+    guess = step * *last_T;
+    // PTAM switches the coarse stage off when the camera barely moves: less jitter.
+    coarse = rotation_angle(step) * camera.fx() + step.translation().norm() * camera.fx() > 4.0;
+  }
+  const TrackOutcome o = tracker.track(map, frame, grid, guess, reference_keyframe, coarse);
+  result.points_found = o.found;
+  result.points_attempted = o.attempted;
+  result.quality = o.attempted > 0 ? static_cast<double>(o.found) / o.attempted : 0.0;
+  TrackingState frame_state = TrackingState::Lost;
+  if (o.pose_valid && result.quality >= settings.quality_good && o.found >= settings.min_found_good) {
+    frame_state = TrackingState::Good;
+  } else if (o.pose_valid && result.quality >= settings.quality_lost && o.found >= settings.min_found_good / 2) {
+    frame_state = TrackingState::Dodgy;
+  }
+  if (relocalizing && frame_state != TrackingState::Good) frame_state = TrackingState::Lost;  // confirm with a good frame
+  if (frame_state == TrackingState::Lost) {
+    ++bad_frames;
+    if (bad_frames >= settings.lost_after_bad_frames) relocalizing = true;
+    state = TrackingState::Lost;
+    result.state = TrackingState::Lost;
+    result.reason = relocalizing ? "lost: relocalizing" : "tracking failed (" + std::to_string(o.found) + " points)";
+    return result;
+  }
+  result.relocalized = relocalizing;
+  if (relocalizing) {
+    // A relocalized pose has no velocity: restart the motion model from it.
+    previous_T.reset();
+  }
+  relocalizing = false;
+  bad_frames = 0;
+  state = frame_state;
+  result.state = frame_state;
+  result.T_cam_map = o.T_cam_map;
+  if (frame_state == TrackingState::Dodgy) result.reason = "dodgy: few points found";
+  accept_pose(o.T_cam_map, t);
+  if (o.reference_keyframe >= 0) reference_keyframe = o.reference_keyframe;
+  if (frame_state == TrackingState::Good && want_keyframe(o, t)) {
+    add_keyframe(o, gray, t);
+    result.keyframe_added = true;
+  }
+  return result;
+}
+
+bool SlamSystem::Impl::want_keyframe(const TrackOutcome& o, Seconds t) const {
+  if (t - last_keyframe_t < settings.keyframe_min_interval_s) return false;
+  if (static_cast<int>(map.keyframes().size()) >= settings.max_keyframes) return false;
+  if (mapper->queued() > 0) return false;  // the mapper is still busy with the previous one
+  // Far enough from every keyframe (relative to the scene depth) ...
+  double nearest = 1e9;
+  {
+    std::shared_lock lock(map.mutex());
+    const Eigen::Vector3d c = o.T_cam_map.inverse().translation();
+    for (const Keyframe& kf : map.keyframes()) nearest = std::min(nearest, (kf.center() - c).norm());
+  }
+  if (nearest > settings.keyframe_distance_ratio * o.mean_depth) return true;
+  // ... or the view has turned away from the reference keyframe (rotation, approach).
+  return o.reference_points > 0 && o.reference_shared < settings.keyframe_overlap_ratio * o.reference_points;
+}
+
+void SlamSystem::Impl::add_keyframe(const TrackOutcome& o, const cv::Mat& gray, Seconds t) {
+  Keyframe kf;
+  kf.t = t;
+  kf.T_cam_map = o.T_cam_map;
+  kf.frame = frame;
+  kf.point_of_feature.assign(frame.size(), kNoPoint);
+  for (const auto& [feature, id] : o.matches) kf.point_of_feature[static_cast<std::size_t>(feature)] = id;
+  kf.small_image = small_blurry_image(gray);
+  last_keyframe_t = t;
+  mapper->enqueue(std::move(kf));
+}
+
+SlamSystem::SlamSystem(const PinholeCamera& camera, const SlamSettings& settings) {
+  validate_settings(settings);
+  impl_ = std::make_unique<Impl>(camera, settings);
+}
+
+SlamSystem::~SlamSystem() = default;
+
+SlamResult SlamSystem::track(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior_T_cam_map) {
+  return impl_->track(gray, t, prior_T_cam_map);
+}
+
+SlamStatus SlamSystem::status() const {
+  SlamStatus s;
+  s.state = impl_->state;
+  s.quality = impl_->last.quality;
+  s.points_found = impl_->last.points_found;
+  s.reason = impl_->last.reason;
+  const MapperStats stats = impl_->mapper->stats();
+  s.mapping_queue = impl_->mapper->queued();
+  s.local_ba_runs = stats.local_ba_runs;
+  s.global_ba_runs = stats.global_ba_runs;
+  std::shared_lock lock(impl_->map.mutex());
+  s.map_points = static_cast<int>(impl_->map.points().size());
+  s.keyframes = static_cast<int>(impl_->map.keyframes().size());
+  // At most ~2000 points for the top-down view.
+  const std::size_t stride = std::max<std::size_t>(1, impl_->map.points().size() / 2000);
+  std::size_t i = 0;
+  for (const auto& [id, p] : impl_->map.points()) {
+    if (i++ % stride == 0) s.points_map.push_back(p.p_map);
+  }
+  for (const Keyframe& kf : impl_->map.keyframes()) s.keyframes_T_map_cam.push_back(kf.T_cam_map.inverse());
+  return s;
+}
+
+MappingStatistics SlamSystem::mapping_statistics() const {
+  const MapperStats stats = impl_->mapper->stats();
+  MappingStatistics out;
+  out.keyframe_ms = stats.keyframe_ms;
+  out.points_created = stats.points_created;
+  out.observations_removed = stats.observations_removed;
+  out.global_ba_runs = stats.global_ba_runs;
+  return out;
+}
+
+void SlamSystem::reset() {
+  impl_->mapper->wait_idle();
+  {
+    std::unique_lock lock(impl_->map.mutex());
+    impl_->map.clear();
+  }
+  impl_->initializer.reset();
+  impl_->clear_tracking();
+  impl_->state = TrackingState::Initializing;
+  impl_->last = {};
+}
+
+void SlamSystem::wait_for_mapping() { impl_->mapper->wait_idle(); }
+
+const PinholeCamera& SlamSystem::camera() const { return impl_->camera.real(); }
+
+void SlamSystem::save_map(const std::filesystem::path& file) const {
+  impl_->mapper->wait_idle();
+  std::shared_lock lock(impl_->map.mutex());
+  write_map_file(file, impl_->camera.real().intrinsics(), impl_->map);
+}
+
+void SlamSystem::load_map(const std::filesystem::path& file) {
+  SlamMap loaded;
+  read_map_file(file, impl_->camera.real().intrinsics(), loaded);  // throws before touching our map
+  impl_->mapper->wait_idle();
+  {
+    std::unique_lock lock(impl_->map.mutex());
+    impl_->map.clear();
+    for (Keyframe& kf : loaded.keyframes_mutable()) {
+      std::vector<PointId> links = std::move(kf.point_of_feature);
+      const int id = impl_->map.add_keyframe(std::move(kf));
+      impl_->map.keyframes_mutable()[static_cast<std::size_t>(id)].point_of_feature = std::move(links);
+    }
+    for (auto& [id, p] : loaded.points_mutable()) impl_->map.points_mutable().emplace(id, std::move(p));
+    impl_->map.set_next_point_id(loaded.next_point_id());
+  }
+  impl_->clear_tracking();
+  impl_->relocalizing = true;
+  impl_->state = TrackingState::Lost;
+  impl_->last = {};
+  impl_->last.state = TrackingState::Lost;
+  impl_->last.reason = "map loaded: relocalizing";
+}
+
+}  // namespace labo::slam

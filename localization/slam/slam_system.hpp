@@ -1,0 +1,122 @@
+#pragma once
+// SlamSystem: monocular keyframe SLAM for the AR.Drone's front camera (PTAM-style: tracking on every
+// frame, mapping on keyframes). Facts from /work/shared/notes/slam_web.md §A; no code from PTAM or
+// ORB-SLAM. Poses are T_cam_map (map -> camera), the map's scale is arbitrary (the state estimator's
+// ScaleEstimator makes it metric).
+//
+// Threading: track() is called from one thread. In MappingMode::Threaded the mapper runs in its own
+// thread and never blocks tracking for longer than a map lock; in MappingMode::Synchronous the same
+// mapper code runs inline inside track(), so lockstep runs are deterministic.
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "core/camera_model.hpp"
+#include "core/time.hpp"
+
+namespace labo::slam {
+
+enum class TrackingState { Initializing, Good, Dodgy, Lost };
+std::string to_string(TrackingState state);
+
+enum class MappingMode { Threaded, Synchronous };
+
+struct SlamSettings {
+  MappingMode mapping_mode = MappingMode::Threaded;
+  int pyramid_levels = 4;            // fixed by the issue; checked
+  double pyramid_scale = 1.5;        // between levels
+  int max_features = 1000;           // per frame, over all levels
+  int fast_threshold = 20;           // FAST intensity threshold (falls back to 7 in flat cells)
+  int max_points_searched = 800;     // fine stage
+  int coarse_points = 60;            // coarse stage, from levels >= 2
+  double coarse_radius_px = 30.0;    // level-0 pixels
+  double fine_radius_px = 6.0;
+  int pose_iterations = 10;
+  double quality_good = 0.3;         // found / attempted
+  double quality_lost = 0.13;
+  int min_found_good = 40;
+  int lost_after_bad_frames = 3;
+  double keyframe_min_interval_s = 0.3;
+  double keyframe_distance_ratio = 0.08;  // of the mean scene depth
+  double keyframe_overlap_ratio = 0.55;   // tracked / points of the reference keyframe
+  int local_ba_keyframes = 5;             // newest + 4 nearest
+  int max_keyframes = 400;
+  bool global_ba_when_idle = true;
+  double init_min_parallax_px = 20.0;     // median displacement before trying two-view init
+  double init_timeout_s = 3.0;            // retry with a new reference after this
+  int init_min_points = 60;
+};
+
+struct SlamResult {
+  TrackingState state = TrackingState::Initializing;
+  std::optional<Eigen::Isometry3d> T_cam_map;  // set when Good or Dodgy (up to scale)
+  int points_found = 0;
+  int points_attempted = 0;
+  double quality = 0.0;       // found / attempted
+  bool keyframe_added = false;
+  bool relocalized = false;   // this frame recovered from Lost
+  std::string reason;         // why not Good (empty when Good)
+  double tracking_ms = 0.0;   // this call, wall time (measurement only; never feeds the algorithm)
+};
+
+struct SlamStatus {
+  TrackingState state = TrackingState::Initializing;
+  double quality = 0.0;
+  int map_points = 0;
+  int keyframes = 0;
+  int points_found = 0;
+  int mapping_queue = 0;
+  int local_ba_runs = 0;
+  int global_ba_runs = 0;
+  std::string reason;
+  std::vector<Eigen::Vector3d> points_map;       // subsampled for the top-down view
+  std::vector<Eigen::Isometry3d> keyframes_T_map_cam;
+};
+
+// Mapping figures for benchmarks (wall times are measurements only).
+struct MappingStatistics {
+  std::vector<double> keyframe_ms;  // processing time of each keyframe
+  int points_created = 0;
+  int observations_removed = 0;
+  int global_ba_runs = 0;
+};
+
+class SlamSystem {
+ public:
+  // Throws std::invalid_argument on invalid intrinsics or settings (naming the field).
+  SlamSystem(const PinholeCamera& camera, const SlamSettings& settings = {});
+  ~SlamSystem();
+  SlamSystem(const SlamSystem&) = delete;
+  SlamSystem& operator=(const SlamSystem&) = delete;
+
+  // One 8-bit grey frame of the camera's size, stamped t. prior_T_cam_map (e.g. the filter's
+  // prediction) replaces the motion model's prior when given. Frames of the wrong size or type,
+  // and non-increasing timestamps, return Lost with the reason and leave the map untouched.
+  SlamResult track(const cv::Mat& gray, Seconds t,
+                   const std::optional<Eigen::Isometry3d>& prior_T_cam_map = std::nullopt);
+
+  SlamStatus status() const;
+  MappingStatistics mapping_statistics() const;
+  // Drops the map and starts initializing again.
+  void reset();
+  // Blocks until the mapper has processed every queued keyframe (tests, benchmarks, saving).
+  void wait_for_mapping();
+
+  // Binary map file (keyframes, points, descriptors, camera). save throws on I/O errors; load
+  // throws std::runtime_error (truncated, corrupted, other camera, wrong version) and then leaves
+  // the current map untouched. After load the system relocalizes against the loaded keyframes.
+  void save_map(const std::filesystem::path& file) const;
+  void load_map(const std::filesystem::path& file);
+
+  const PinholeCamera& camera() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace labo::slam

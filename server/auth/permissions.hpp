@@ -1,0 +1,28 @@
+#pragma once
+// What each role may do: the single table every WebSocket message and REST route is checked against.
+#include "server/server_settings.hpp"
+
+namespace labo {
+
+enum class Permission {
+  Watch,           // video, telemetry, events
+  EmergencyStop,   // at once, without control
+  RequestControl,  // join the queue; mission commands need control on top
+  TakeOver,        // take control from whoever holds it
+  ViewSessions,    // GET /api/users, sessions and queue state
+  Administer,      // config, instruments, recordings
+};
+
+constexpr bool role_may(Role role, Permission p) {
+  switch (p) {
+    case Permission::Watch:
+    case Permission::EmergencyStop:
+    case Permission::RequestControl: return true;
+    case Permission::TakeOver:
+    case Permission::ViewSessions: return role == Role::Teacher || role == Role::Admin;
+    case Permission::Administer: return role == Role::Admin;
+  }
+  return false;
+}
+
+}  // namespace labo

@@ -1,0 +1,45 @@
+#pragma once
+// What every connection of one WebServer shares.
+#include <atomic>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <memory>
+
+#include "core/log.hpp"
+#include "core/time.hpp"
+#include "server/api/rest_api.hpp"
+#include "server/auth/session_store.hpp"
+#include "server/lab/remote_lab.hpp"
+#include "server/lab/server_metrics.hpp"
+#include "server/server_settings.hpp"
+
+namespace labo {
+
+struct ServerContext {
+  ServerContext(boost::asio::io_context& io_context, ServerSettings s, std::filesystem::path config_file,
+                FlightService& flight, Logger l)
+      : io(io_context),
+        settings(std::move(s)),
+        log(std::move(l)),
+        acceptor(io),
+        tick_timer(io),
+        sessions(settings.users, settings.clients.session_idle_timeout_s, settings.clients.login_attempts_per_min),
+        lab(std::make_shared<RemoteLab>(flight, settings, metrics, clock, log.child("lab"))),
+        api(settings, std::move(config_file), sessions, *lab, metrics, clock) {}
+
+  // Owned by the WebServer and destroyed after the last handler lets go of this context.
+  boost::asio::io_context& io;
+  ServerSettings settings;
+  Logger log;
+  SteadyClock clock;
+  ServerMetrics metrics;
+  boost::asio::ip::tcp::acceptor acceptor;
+  boost::asio::steady_timer tick_timer;
+  SessionStore sessions;
+  std::shared_ptr<RemoteLab> lab;
+  RestApi api;
+  std::atomic<ClientId> next_client{1};
+};
+
+}  // namespace labo

@@ -1,0 +1,182 @@
+#include "server/http/websocket_session.hpp"
+
+#include <boost/asio/dispatch.hpp>
+#include <boost/asio/post.hpp>
+
+#include "server/lab/remote_lab.hpp"
+
+namespace labo {
+
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+namespace websocket = beast::websocket;
+
+WebSocketSession::WebSocketSession(asio::ip::tcp::socket&& socket, ClientId id, SessionInfo session,
+                                   std::shared_ptr<RemoteLab> lab, const ClientLimits& limits, ServerMetrics& metrics)
+    : ws_(std::move(socket)),
+      watchdog_(ws_.get_executor()),
+      id_(id),
+      session_(std::move(session)),
+      lab_(std::move(lab)),
+      limits_(limits),
+      metrics_(metrics) {}
+
+WebSocketSession::~WebSocketSession() {
+  if (joined_) {
+    lab_->leave(id_);
+    metrics_.ws_clients--;
+  }
+}
+
+void WebSocketSession::accept(beast::http::request<beast::http::string_body> upgrade) {
+  // tcp_stream timeouts must not apply to a websocket: the websocket's own (with pings) take over.
+  beast::get_lowest_layer(ws_).expires_never();
+  ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+  ws_.set_option(websocket::stream_base::decorator(
+      [](websocket::response_type& res) { res.set(beast::http::field::server, "labodrone"); }));
+  ws_.read_message_max(static_cast<std::size_t>(limits_.max_message_bytes));
+  ws_.auto_fragment(false);
+  ws_.async_accept(upgrade, beast::bind_front_handler(&WebSocketSession::on_accept, shared_from_this()));
+}
+
+void WebSocketSession::on_accept(beast::error_code ec) {
+  if (ec) return;
+  joined_ = true;
+  metrics_.ws_clients++;
+  metrics_.ws_connections_total++;
+  lab_->join(shared_from_this());
+  arm_watchdog();
+  do_read();
+}
+
+void WebSocketSession::do_read() {
+  ws_.async_read(read_buffer_, beast::bind_front_handler(&WebSocketSession::on_read, shared_from_this()));
+}
+
+void WebSocketSession::on_read(beast::error_code ec, std::size_t) {
+  if (ec == websocket::error::message_too_big) {
+    queue_event(RemoteLab::error_json(413, "message larger than " + std::to_string(limits_.max_message_bytes) + " bytes"));
+    close_now("message too big");
+    return;
+  }
+  if (ec) {  // closed by the peer, or by us: the destructor leaves the lab
+    closed_ = true;
+    watchdog_.cancel();
+    return;
+  }
+  metrics_.ws_messages_in++;
+  if (!ws_.got_text()) {
+    queue_event(RemoteLab::error_json(400, "binary messages are not accepted: send JSON text"));
+  } else {
+    lab_->on_message(*this, beast::buffers_to_string(read_buffer_.data()));
+  }
+  read_buffer_.consume(read_buffer_.size());
+  do_read();
+}
+
+void WebSocketSession::send_event(std::shared_ptr<const std::string> json) {
+  asio::post(ws_.get_executor(), [self = shared_from_this(), json = std::move(json)]() mutable {
+    self->queue_event(std::move(json));
+  });
+}
+
+void WebSocketSession::send_frame(std::shared_ptr<const std::string> wire) {
+  asio::post(ws_.get_executor(), [self = shared_from_this(), wire = std::move(wire)]() mutable {
+    self->store_frame(std::move(wire));
+  });
+}
+
+void WebSocketSession::disconnect(const std::string& reason) {
+  asio::post(ws_.get_executor(), [self = shared_from_this(), reason] { self->close_now(reason); });
+}
+
+void WebSocketSession::queue_event(std::shared_ptr<const std::string> json) {
+  if (closed_) return;
+  if (events_.size() >= static_cast<std::size_t>(limits_.event_queue_messages)) {
+    metrics_.ws_events_dropped++;
+    if (!queue_full_since_) queue_full_since_ = Clock::now();
+    return;
+  }
+  events_.push_back(std::move(json));
+  write_next();
+}
+
+void WebSocketSession::store_frame(std::shared_ptr<const std::string> wire) {
+  if (closed_ || !joined_) return;
+  if (frame_slot_) metrics_.ws_frames_skipped++;
+  frame_slot_ = std::move(wire);  // overwrite: only the newest frame waits
+  write_next();
+}
+
+void WebSocketSession::write_next() {
+  if (writing_ || closed_ || !joined_) return;
+  // Events first (acks, emergencies, stage changes), then the newest frame.
+  if (!events_.empty()) {
+    in_flight_ = std::move(events_.front());
+    events_.pop_front();
+    in_flight_is_frame_ = false;
+    if (events_.size() < static_cast<std::size_t>(limits_.event_queue_messages)) queue_full_since_.reset();
+  } else if (frame_slot_) {
+    in_flight_ = std::move(frame_slot_);
+    frame_slot_.reset();
+    in_flight_is_frame_ = true;
+  } else {
+    return;
+  }
+  writing_ = true;
+  write_started_ = Clock::now();
+  ws_.binary(in_flight_is_frame_);
+  ws_.async_write(asio::buffer(*in_flight_), beast::bind_front_handler(&WebSocketSession::on_write, shared_from_this()));
+}
+
+void WebSocketSession::on_write(beast::error_code ec, std::size_t bytes) {
+  writing_ = false;
+  in_flight_.reset();
+  if (ec) {
+    close_now("write failed: " + ec.message());
+    return;
+  }
+  metrics_.ws_bytes_out += bytes;
+  if (in_flight_is_frame_) metrics_.ws_frames_out++;
+  else metrics_.ws_events_out++;
+  write_next();
+}
+
+void WebSocketSession::arm_watchdog() {
+  watchdog_.expires_after(std::chrono::milliseconds(250));
+  watchdog_.async_wait([self = shared_from_this()](beast::error_code ec) {
+    if (!ec) self->on_watchdog();
+  });
+}
+
+void WebSocketSession::on_watchdog() {
+  if (closed_) return;
+  const auto now = Clock::now();
+  const auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
+  if (queue_full_since_ && seconds(now - *queue_full_since_) > limits_.backlog_timeout_s) {
+    metrics_.ws_slow_disconnects++;
+    close_now("event backlog full for more than " + std::to_string(limits_.backlog_timeout_s) + " s");
+    return;
+  }
+  if (writing_ && seconds(now - write_started_) > limits_.write_timeout_s) {
+    metrics_.ws_slow_disconnects++;
+    close_now("a write pending for more than " + std::to_string(limits_.write_timeout_s) + " s");
+    return;
+  }
+  arm_watchdog();
+}
+
+void WebSocketSession::close_now(const std::string& reason) {
+  if (closed_) return;
+  closed_ = true;
+  lab_->log_disconnect(id_, reason);
+  events_.clear();
+  frame_slot_.reset();
+  watchdog_.cancel();
+  // Close the TCP socket itself: a websocket close handshake would wait behind a stuck write.
+  beast::error_code ignored;
+  beast::get_lowest_layer(ws_).socket().shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
+  beast::get_lowest_layer(ws_).socket().close(ignored);
+}
+
+}  // namespace labo

@@ -1,0 +1,71 @@
+#pragma once
+// One WebSocket client (Beast 1.74). Runs on its connection's strand. A read is always pending, so
+// pings, pongs and close frames are handled even for view-only spectators. Outgoing traffic goes
+// through a bounded queue of JSON events and a one-frame video slot that a newer frame overwrites: a
+// slow viewer loses frames, never memory. A client whose event queue stays full, or whose write
+// stays pending, past its limit is disconnected.
+#include <boost/asio/steady_timer.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <chrono>
+#include <deque>
+#include <memory>
+#include <string>
+
+#include "server/lab/lab_client.hpp"
+#include "server/lab/server_metrics.hpp"
+#include "server/server_settings.hpp"
+
+namespace labo {
+
+class RemoteLab;
+
+class WebSocketSession final : public LabClient, public std::enable_shared_from_this<WebSocketSession> {
+ public:
+  WebSocketSession(boost::asio::ip::tcp::socket&& socket, ClientId id, SessionInfo session,
+                   std::shared_ptr<RemoteLab> lab, const ClientLimits& limits, ServerMetrics& metrics);
+  ~WebSocketSession() override;
+
+  void accept(boost::beast::http::request<boost::beast::http::string_body> upgrade);
+
+  ClientId id() const override { return id_; }
+  const SessionInfo& session() const override { return session_; }
+  void send_event(std::shared_ptr<const std::string> json) override;
+  void send_frame(std::shared_ptr<const std::string> wire) override;
+  void disconnect(const std::string& reason) override;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void on_accept(boost::beast::error_code ec);
+  void do_read();
+  void on_read(boost::beast::error_code ec, std::size_t bytes);
+  void queue_event(std::shared_ptr<const std::string> json);
+  void store_frame(std::shared_ptr<const std::string> wire);
+  void write_next();
+  void on_write(boost::beast::error_code ec, std::size_t bytes);
+  void arm_watchdog();
+  void on_watchdog();
+  void close_now(const std::string& reason);
+
+  boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
+  boost::beast::flat_buffer read_buffer_;
+  boost::asio::steady_timer watchdog_;
+  ClientId id_;
+  SessionInfo session_;
+  std::shared_ptr<RemoteLab> lab_;
+  ClientLimits limits_;
+  ServerMetrics& metrics_;
+
+  std::deque<std::shared_ptr<const std::string>> events_;
+  std::shared_ptr<const std::string> frame_slot_;
+  std::shared_ptr<const std::string> in_flight_;  // kept alive while its write runs
+  bool writing_ = false;
+  bool in_flight_is_frame_ = false;
+  bool joined_ = false;
+  bool closed_ = false;
+  Clock::time_point write_started_{};
+  std::optional<Clock::time_point> queue_full_since_;
+};
+
+}  // namespace labo

@@ -1,0 +1,100 @@
+#pragma once
+// What the web layer sees of the flying side: mission requests in, acknowledgements, telemetry,
+// annotated video frames and mission events out. FlightRuntime (server/flight_runtime) implements it
+// around a DroneLink and control's FlightStack; tests implement it with a scripted double. Nothing
+// here knows about HTTP or JSON.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "drone/drone_link.hpp"
+
+namespace labo {
+
+enum class MissionCommandKind { Takeoff, Inspect, FindTeacher, StopFaceFollow, ReturnHome, Land, EmergencyStop };
+std::string to_string(MissionCommandKind kind);
+std::optional<MissionCommandKind> parse_mission_command(const std::string& text);
+
+struct MissionCommand {
+  MissionCommandKind kind = MissionCommandKind::Land;
+  std::string instrument;  // Inspect: the instrument's id
+  double hold_s = 10;      // Inspect: how long to hold in front of the panel
+};
+
+struct CommandVerdict {
+  bool accepted = false;
+  std::string reason;  // why it was rejected (or a note when accepted)
+};
+
+struct PoseXyzYaw {
+  double x_m = 0, y_m = 0, z_m = 0, yaw_rad = 0;
+};
+
+// The localization source of the pose estimate, with the paper's colour code (Figs 5-9, 12).
+enum class PoseSource { Slam, Homography, Face, DeadReckoning, VisionLost };
+std::string to_string(PoseSource source);
+std::string colour_of(PoseSource source);  // "#00b000" green SLAM, blue homography, ...
+
+struct FlightTelemetry {
+  double t_unix_s = 0;
+  std::string mission = "idle";
+  std::string stage;
+  PoseXyzYaw pose;
+  std::optional<PoseXyzYaw> desired;
+  std::optional<PoseXyzYaw> ground_truth;  // simulated lab only
+  PoseSource source = PoseSource::DeadReckoning;
+  double source_quality = 0;
+  double battery_percent = 0;
+  double altitude_m = 0;
+  double link_quality = 0;  // 0..1
+  std::string link_state = "disconnected";
+  bool flying = false;
+  std::string slam_state;
+  std::vector<std::pair<double, double>> slam_points_xy;  // map points seen from above, world m (bounded)
+  std::optional<std::pair<double, double>> teacher_xy;
+  double video_fps = 0;
+};
+
+// An encoded frame ready for the wire: a 24-byte header then the JPEG (see video/frame_header.hpp).
+struct EncodedFrame {
+  std::uint32_t frame_number = 0;
+  double capture_unix_ms = 0;
+  CameraId camera = CameraId::Front;
+  std::shared_ptr<const std::string> wire;  // shared by every client: built once per frame
+};
+
+struct FlightEvent {
+  std::string kind;     // "stage", "mission", "error", "link"
+  std::string mission;  // mission name
+  std::string stage;
+  std::string message;
+};
+
+class FlightEventSink {
+ public:
+  virtual ~FlightEventSink() = default;
+  // Called from the runtime's threads: implementations hand off quickly (post, never block).
+  virtual void on_frame(const EncodedFrame& frame) = 0;
+  virtual void on_flight_event(const FlightEvent& event) = 0;
+};
+
+struct InstrumentSummary {
+  std::string id, name;
+  double width_m = 0, height_m = 0;
+};
+
+class FlightService {
+ public:
+  virtual ~FlightService() = default;
+  virtual void set_sink(FlightEventSink* sink) = 0;
+  // Thread-safe; an emergency stop acts before this returns.
+  virtual CommandVerdict request(const MissionCommand& command) = 0;
+  virtual FlightTelemetry telemetry() const = 0;
+  virtual std::vector<InstrumentSummary> instruments() const = 0;
+  // Graceful shutdown: land (waiting up to timeout_s for touchdown), then stop the threads.
+  virtual void land_and_stop(double timeout_s) = 0;
+};
+
+}  // namespace labo

@@ -1,0 +1,35 @@
+#pragma once
+// Counters and gauges of the web server, read by GET /metrics (Prometheus text format 0.0.4) and
+// the admin page. Lock-free: every field is an atomic bumped from any thread.
+#include <atomic>
+#include <cstdint>
+#include <string>
+
+namespace labo {
+
+struct ServerMetrics {
+  std::atomic<std::uint64_t> http_requests{0};
+  std::atomic<std::uint64_t> http_errors_4xx{0};
+  std::atomic<std::uint64_t> http_errors_5xx{0};
+  std::atomic<std::uint64_t> ws_connections_total{0};
+  std::atomic<std::int64_t> ws_clients{0};
+  std::atomic<std::uint64_t> ws_messages_in{0};
+  std::atomic<std::uint64_t> ws_events_out{0};
+  std::atomic<std::uint64_t> ws_events_dropped{0};
+  std::atomic<std::uint64_t> ws_frames_out{0};
+  std::atomic<std::uint64_t> ws_frames_skipped{0};  // replaced in a client's slot before being sent
+  std::atomic<std::uint64_t> ws_slow_disconnects{0};
+  std::atomic<std::uint64_t> ws_bytes_out{0};
+  std::atomic<std::uint64_t> frames_published{0};
+  std::atomic<std::uint64_t> commands_accepted{0};
+  std::atomic<std::uint64_t> commands_rejected{0};
+  std::atomic<std::uint64_t> rate_limited{0};
+  std::atomic<std::uint64_t> logins_ok{0};
+  std::atomic<std::uint64_t> logins_failed{0};
+  std::atomic<std::int64_t> queue_length{0};
+
+  // Prometheus text exposition; `extra` is appended (gauges computed by the caller).
+  std::string prometheus_text(const std::string& extra = {}) const;
+};
+
+}  // namespace labo

@@ -1,0 +1,38 @@
+#pragma once
+// What the real-time runtime needs from the deterministic flight software: control's FlightStack,
+// seen through FlightStackCore (the adapter), or a scripted double in tests. Single-threaded: the
+// runtime calls every method from its one flight thread.
+#include <vector>
+
+#include "drone/drone_link.hpp"
+#include "server/lab/flight_service.hpp"
+#include "server/video/overlay_model.hpp"
+
+namespace labo {
+
+// What the flight software wants sent to the drone after a tick.
+struct FlightAction {
+  enum class Kind { None, Move, Hover, Takeoff, Land, Emergency };
+  Kind kind = Kind::None;
+  MoveCommand move;
+  std::optional<CameraId> select_camera;
+};
+
+struct FlightSnapshot {
+  FlightTelemetry telemetry;  // t_unix_s, link state and fps are filled by the runtime
+  OverlayModel overlay;       // in the pixels of the last frame given to on_video
+  std::vector<FlightEvent> events;  // stage changes and errors since the previous status()
+};
+
+class FlightCore {
+ public:
+  virtual ~FlightCore() = default;
+  virtual void on_navdata(const NavdataSample& sample) = 0;
+  virtual void on_video(const VideoFrame& frame) = 0;
+  virtual FlightAction tick(Seconds t) = 0;
+  virtual CommandVerdict request(const MissionCommand& command, Seconds t) = 0;
+  virtual FlightSnapshot status() = 0;
+  virtual std::vector<InstrumentSummary> instruments() const = 0;
+};
+
+}  // namespace labo

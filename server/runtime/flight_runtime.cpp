@@ -1,0 +1,234 @@
+#include "server/runtime/flight_runtime.hpp"
+
+#include <chrono>
+
+#include "server/video/overlay_renderer.hpp"
+
+namespace labo {
+
+namespace {
+double unix_now_s() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+}  // namespace
+
+FlightRuntime::FlightRuntime(DroneLink& link, FlightCore& core, const Clock& clock, FlightRuntimeOptions options, Logger log)
+    : link_(link),
+      core_(core),
+      clock_(clock),
+      options_(options),
+      log_(std::move(log)),
+      clock_to_unix_s_(unix_now_s() - clock.now()),
+      instruments_(core.instruments()),
+      encoder_(options.jpeg_quality) {}
+
+FlightRuntime::~FlightRuntime() {
+  stop_threads();
+  link_.set_listener(nullptr);
+}
+
+void FlightRuntime::start() {
+  running_ = true;
+  flight_thread_ = std::thread([this] { flight_loop(); });
+  video_thread_ = std::thread([this] { video_loop(); });
+  link_.set_listener(this);
+}
+
+void FlightRuntime::set_sink(FlightEventSink* sink) {
+  std::lock_guard lock(sink_mutex_);
+  sink_ = sink;
+}
+
+std::vector<InstrumentSummary> FlightRuntime::instruments() const { return instruments_; }
+
+// --- link threads: copy in, wake a consumer, return -------------------------------------------------
+
+void FlightRuntime::on_navdata(const NavdataSample& sample) {
+  {
+    std::lock_guard lock(input_mutex_);
+    if (navdata_.size() >= options_.navdata_ring) navdata_.pop_front();  // the flight thread stalled: keep the newest
+    navdata_.push_back(sample);
+  }
+  input_cv_.notify_one();
+}
+
+void FlightRuntime::on_video(const VideoFrame& frame) {
+  frames_in_++;
+  {
+    std::lock_guard lock(input_mutex_);
+    for (FrameSlot* slot : {&core_slot_, &video_slot_}) {
+      slot->frame.t = frame.t;
+      slot->frame.camera = frame.camera;
+      slot->frame.frame_number = frame.frame_number;
+      frame.bgr.copyTo(slot->frame.bgr);
+      slot->fresh = true;
+    }
+  }
+  input_cv_.notify_one();
+  video_cv_.notify_one();
+}
+
+void FlightRuntime::on_link_state(LinkState state, Seconds t) {
+  const LinkState previous = link_state_.exchange(state);
+  if (previous == state) return;
+  log_.info(t, "link state").kv("state", to_string(state));
+  std::lock_guard lock(sink_mutex_);
+  if (sink_) sink_->on_flight_event({"link", "", "", "link " + to_string(state)});
+}
+
+// --- requests from the web threads ------------------------------------------------------------------
+
+CommandVerdict FlightRuntime::request(const MissionCommand& command) {
+  if (command.kind == MissionCommandKind::EmergencyStop) {
+    link_.emergency();  // first, from this thread: nothing queued may delay the motor cut
+    log_.warn(clock_.now(), "emergency stop sent to the drone");
+  }
+  auto pending = std::make_shared<PendingRequest>();
+  pending->command = command;
+  auto verdict = pending->verdict.get_future();
+  {
+    std::lock_guard lock(input_mutex_);
+    requests_.push_back(pending);
+  }
+  input_cv_.notify_one();
+  if (verdict.wait_for(std::chrono::duration<double>(options_.request_timeout_s)) != std::future_status::ready) {
+    if (command.kind == MissionCommandKind::EmergencyStop) return {true, "emergency sent to the drone"};
+    return {false, "the flight software did not answer within " + std::to_string(options_.request_timeout_s) + " s"};
+  }
+  return verdict.get();
+}
+
+FlightTelemetry FlightRuntime::telemetry() const {
+  std::lock_guard lock(snapshot_mutex_);
+  return snapshot_.telemetry;
+}
+
+// --- flight thread ----------------------------------------------------------------------------------
+
+void FlightRuntime::apply(const FlightAction& a) {
+  if (a.select_camera) link_.select_camera(*a.select_camera);
+  switch (a.kind) {
+    case FlightAction::Kind::None: break;
+    case FlightAction::Kind::Move: link_.move(a.move); break;
+    case FlightAction::Kind::Hover: link_.hover(); break;
+    case FlightAction::Kind::Takeoff: link_.takeoff(); break;
+    case FlightAction::Kind::Land: link_.land(); break;
+    case FlightAction::Kind::Emergency: link_.emergency(); break;
+  }
+}
+
+void FlightRuntime::flight_loop() {
+  using clock = std::chrono::steady_clock;
+  const auto period = std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(1.0 / options_.control_hz));
+  auto next_tick = clock::now();
+  std::vector<NavdataSample> samples;
+  samples.reserve(options_.navdata_ring);
+  VideoFrame frame;
+  std::deque<std::shared_ptr<PendingRequest>> requests;
+  std::uint64_t last_frames = 0;
+  Seconds last_fps_t = clock_.now();
+  double fps = 0;
+  while (running_) {
+    bool have_frame = false;
+    {
+      std::unique_lock lock(input_mutex_);
+      input_cv_.wait_until(lock, next_tick, [&] { return !running_ || !requests_.empty() || core_slot_.fresh; });
+      samples.assign(navdata_.begin(), navdata_.end());
+      navdata_.clear();
+      if (core_slot_.fresh) {
+        std::swap(frame, core_slot_.frame);
+        core_slot_.fresh = false;
+        have_frame = true;
+      }
+      requests.swap(requests_);
+    }
+    if (!running_) break;
+    for (const auto& s : samples) core_.on_navdata(s);
+    for (auto& r : requests) r->verdict.set_value(core_.request(r->command, clock_.now()));
+    requests.clear();
+    if (have_frame) core_.on_video(frame);
+    if (clock::now() >= next_tick) {
+      const Seconds now = clock_.now();
+      apply(core_.tick(now));
+      FlightSnapshot snap = core_.status();
+      if (now - last_fps_t >= 1.0) {
+        const std::uint64_t frames = frames_in_.load();
+        fps = static_cast<double>(frames - last_frames) / (now - last_fps_t);
+        last_frames = frames;
+        last_fps_t = now;
+      }
+      snap.telemetry.t_unix_s = now + clock_to_unix_s_;
+      snap.telemetry.link_state = to_string(link_state_.load());
+      snap.telemetry.video_fps = fps;
+      if (!snap.events.empty()) {
+        std::lock_guard lock(sink_mutex_);
+        if (sink_)
+          for (const auto& e : snap.events) sink_->on_flight_event(e);
+      }
+      {
+        std::lock_guard lock(snapshot_mutex_);
+        snapshot_ = std::move(snap);
+      }
+      next_tick += period;
+      if (next_tick < clock::now()) next_tick = clock::now() + period;  // overran: don't try to catch up
+    }
+  }
+}
+
+// --- video thread -----------------------------------------------------------------------------------
+
+void FlightRuntime::video_loop() {
+  VideoFrame frame;
+  OverlayModel overlay;
+  FlightTelemetry telemetry;
+  while (running_) {
+    {
+      std::unique_lock lock(input_mutex_);
+      video_cv_.wait(lock, [&] { return !running_ || video_slot_.fresh; });
+      if (!running_) break;
+      std::swap(frame, video_slot_.frame);
+      video_slot_.fresh = false;
+    }
+    {
+      std::lock_guard lock(snapshot_mutex_);
+      overlay = snapshot_.overlay;
+      telemetry = snapshot_.telemetry;
+    }
+    frame.bgr.copyTo(annotated_);
+    draw_overlays(annotated_, overlay, telemetry);
+    const EncodedFrame encoded = encoder_.encode(annotated_, frame.frame_number, unix_ms_of(frame.t), frame.camera);
+    std::lock_guard lock(sink_mutex_);
+    if (sink_) sink_->on_frame(encoded);
+  }
+}
+
+// --- shutdown ---------------------------------------------------------------------------------------
+
+void FlightRuntime::land_and_stop(double timeout_s) {
+  if (running_) {
+    const CommandVerdict v = request({MissionCommandKind::Land, "", 0});
+    log_.info(clock_.now(), "shutdown: landing").kv("accepted", v.accepted).kv("reason", v.reason);
+    if (!v.accepted) link_.land();  // the mission layer refused (e.g. already landing): tell the drone directly
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (!telemetry().flying) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    log_.info(clock_.now(), "shutdown: drone on the ground").kv("flying", telemetry().flying);
+  }
+  stop_threads();
+}
+
+void FlightRuntime::stop_threads() {
+  if (!running_.exchange(false)) return;
+  link_.set_listener(nullptr);
+  input_cv_.notify_all();
+  video_cv_.notify_all();
+  if (flight_thread_.joinable()) flight_thread_.join();
+  if (video_thread_.joinable()) video_thread_.join();
+  std::lock_guard lock(input_mutex_);
+  for (auto& r : requests_) r->verdict.set_value({false, "the server is shutting down"});
+  requests_.clear();
+}
+
+}  // namespace labo

@@ -1,0 +1,100 @@
+#pragma once
+// The real-time side of `labodrone serve`: threads around a DroneLink and a FlightCore.
+//  - the link's own threads deliver navdata and frames (DroneLinkListener): they only copy into a
+//    bounded navdata ring and two latest-frame slots, and return;
+//  - the flight thread owns the FlightCore: it feeds it navdata and the newest frame, runs queued
+//    mission requests, ticks at control_hz and sends the action to the link;
+//  - the video thread takes the newest frame, draws the overlays from the latest snapshot, encodes
+//    JPEG and publishes it to the sink (a slow encoder drops frames, never queues them).
+// Emergency stop goes to the link from the caller's thread at once, then to the core.
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "core/log.hpp"
+#include "core/time.hpp"
+#include "server/lab/flight_service.hpp"
+#include "server/runtime/flight_core.hpp"
+#include "server/video/frame_encoder.hpp"
+
+namespace labo {
+
+struct FlightRuntimeOptions {
+  double control_hz = 50;
+  int jpeg_quality = 75;
+  std::size_t navdata_ring = 256;
+  double request_timeout_s = 2.0;
+};
+
+class FlightRuntime final : public FlightService, private DroneLinkListener {
+ public:
+  // `clock` is the clock the link stamps its samples with (its epoch is mapped to Unix time here).
+  FlightRuntime(DroneLink& link, FlightCore& core, const Clock& clock, FlightRuntimeOptions options, Logger log);
+  ~FlightRuntime() override;
+
+  void start();
+  void set_sink(FlightEventSink* sink) override;
+  CommandVerdict request(const MissionCommand& command) override;
+  FlightTelemetry telemetry() const override;
+  std::vector<InstrumentSummary> instruments() const override;
+  void land_and_stop(double timeout_s) override;
+
+  double unix_ms_of(Seconds t) const { return (t + clock_to_unix_s_) * 1000.0; }
+
+ private:
+  void on_navdata(const NavdataSample& sample) override;
+  void on_video(const VideoFrame& frame) override;
+  void on_link_state(LinkState state, Seconds t) override;
+  void flight_loop();
+  void video_loop();
+  void apply(const FlightAction& action);
+  void stop_threads();
+
+  struct PendingRequest {
+    MissionCommand command;
+    std::promise<CommandVerdict> verdict;
+  };
+
+  DroneLink& link_;
+  FlightCore& core_;
+  const Clock& clock_;
+  FlightRuntimeOptions options_;
+  Logger log_;
+  double clock_to_unix_s_ = 0;
+  std::vector<InstrumentSummary> instruments_;
+
+  std::mutex input_mutex_;  // navdata ring, frame slots, requests
+  std::condition_variable input_cv_;
+  std::deque<NavdataSample> navdata_;
+  // Newest frame for the flight software and for the encoder. The link's pixels are copied in (it
+  // may reuse its buffer); a consumer swaps the slot's Mat with its own, so no copy allocates.
+  struct FrameSlot {
+    VideoFrame frame;
+    bool fresh = false;
+  };
+  FrameSlot core_slot_;
+  FrameSlot video_slot_;
+  std::condition_variable video_cv_;
+  std::deque<std::shared_ptr<PendingRequest>> requests_;
+  std::atomic<LinkState> link_state_{LinkState::Disconnected};
+  std::atomic<bool> running_{false};
+  std::atomic<std::uint64_t> frames_in_{0};
+
+  mutable std::mutex snapshot_mutex_;
+  FlightSnapshot snapshot_;
+  double video_fps_ = 0;
+
+  std::mutex sink_mutex_;
+  FlightEventSink* sink_ = nullptr;
+
+  FrameEncoder encoder_;
+  cv::Mat annotated_;
+  std::thread flight_thread_;
+  std::thread video_thread_;
+};
+
+}  // namespace labo

@@ -1,0 +1,63 @@
+#pragma once
+// The "server" section of the configuration: where to listen, the static pages, the users and their
+// roles, the control queue's rules and the per-client limits that keep a slow viewer from costing
+// memory. Read by read_server_settings(); validated like every other section.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/config_reader.hpp"
+
+namespace labo {
+
+enum class Role { Student, Teacher, Admin };
+std::string to_string(Role role);
+Role parse_role(const std::string& text);  // throws std::invalid_argument
+
+struct UserAccount {
+  std::string name;
+  Role role = Role::Student;
+  std::string password_hash;  // "pbkdf2-sha256$<iterations>$<salt b64>$<hash b64>"
+};
+
+struct ControlRules {
+  double time_limit_s = 300;             // a student's turn
+  std::vector<double> warnings_s{60, 10};  // warnings this long before the end of a turn
+  double heartbeat_timeout_s = 10;       // a controller silent this long loses control
+};
+
+struct ClientLimits {
+  int event_queue_messages = 64;   // queued JSON events per WebSocket client
+  double backlog_timeout_s = 5;    // a queue full for this long disconnects the client
+  double write_timeout_s = 10;     // one write pending this long disconnects the client
+  double commands_per_s = 5;       // token bucket for WebSocket messages
+  int command_burst = 10;
+  int max_message_bytes = 4096;    // incoming WebSocket message
+  std::size_t max_body_bytes = 8 * 1024 * 1024;  // HTTP request body (instrument photos)
+  double login_attempts_per_min = 10;            // per remote address
+  double session_idle_timeout_s = 8 * 3600;
+};
+
+struct VideoSettings {
+  int jpeg_quality = 75;     // 1..100
+  double telemetry_hz = 10;  // state messages to each client
+};
+
+struct ServerSettings {
+  std::string bind_address = "127.0.0.1";
+  int port = 8080;
+  int threads = 2;                        // io_context threads
+  std::filesystem::path web_root;         // resolved against the config file's folder
+  std::filesystem::path recordings_dir;   // flights recorded by the link, served for download
+  std::filesystem::path instruments_dir;  // uploaded instrument templates
+  std::vector<UserAccount> users;
+  ControlRules control;
+  ClientLimits clients;
+  VideoSettings video;
+};
+
+// Throws ConfigError naming the file, key path, value and expectation.
+ServerSettings read_server_settings(const ConfigReader& server, const std::filesystem::path& base_dir);
+ServerSettings default_server_settings(const std::filesystem::path& base_dir);
+
+}  // namespace labo

@@ -1,0 +1,40 @@
+#include "server/video/frame_header.hpp"
+
+#include <bit>
+
+namespace labo {
+
+namespace {
+static_assert(std::endian::native == std::endian::little, "the wire format is little-endian; add byte swaps for this host");
+template <typename T>
+void put(char* out, std::size_t at, T v) { std::memcpy(out + at, &v, sizeof(T)); }
+template <typename T>
+T get(std::string_view in, std::size_t at) {
+  T v;
+  std::memcpy(&v, in.data() + at, sizeof(T));
+  return v;
+}
+}  // namespace
+
+void FrameHeader::write(char* out) const {
+  std::memcpy(out, "LDV1", 4);
+  put(out, 4, frame_number);
+  put(out, 8, capture_unix_ms);
+  put(out, 16, camera);
+  put<std::uint8_t>(out, 17, 0);
+  put<std::uint16_t>(out, 18, 0);
+  put(out, 20, jpeg_bytes);
+}
+
+std::optional<FrameHeader> FrameHeader::read(std::string_view m) {
+  if (m.size() < kSize || m.substr(0, 4) != "LDV1") return std::nullopt;
+  FrameHeader h;
+  h.frame_number = get<std::uint32_t>(m, 4);
+  h.capture_unix_ms = get<double>(m, 8);
+  h.camera = get<std::uint8_t>(m, 16);
+  h.jpeg_bytes = get<std::uint32_t>(m, 20);
+  if (h.jpeg_bytes != m.size() - kSize) return std::nullopt;
+  return h;
+}
+
+}  // namespace labo

@@ -1,0 +1,137 @@
+// The lab page: live video with the measured glass-to-browser latency, mission commands, the control
+// queue, events, telemetry plots and the map. One WebSocket (/ws) carries JSON events (text) and
+// video frames (binary: a 24-byte header, then a JPEG; see server/video/frame_header.hpp).
+import {TelemetryView} from './telemetry_view.js';
+
+const $ = (id) => document.getElementById(id);
+const view = new TelemetryView(document);
+const state = {ws: null, role: null, nextId: 1, latencies: [], frames: 0, lastFpsT: performance.now(), heartbeat: null};
+// Exposed for tests and curious users: what the page has seen.
+window.labodrone = {framesDecoded: 0, lastFrameNumber: -1, stages: [], acks: [], latencyMedianMs: null, connected: false};
+
+function logEvent(text, cls) {
+  const li = document.createElement('li');
+  li.textContent = new Date().toLocaleTimeString() + ' ' + text;
+  if (cls) li.className = cls;
+  $('events').prepend(li);
+  while ($('events').children.length > 100) $('events').lastChild.remove();
+}
+
+function send(obj) {
+  if (state.ws && state.ws.readyState === WebSocket.OPEN) state.ws.send(JSON.stringify(obj));
+}
+
+function command(name, extra = {}) {
+  send({type: 'command', id: state.nextId++, command: name, ...extra});
+}
+
+async function onFrame(buffer) {
+  const dv = new DataView(buffer);
+  if (buffer.byteLength < 24 || String.fromCharCode(dv.getUint8(0), dv.getUint8(1), dv.getUint8(2), dv.getUint8(3)) !== 'LDV1') return;
+  const frameNumber = dv.getUint32(4, true);
+  const captureMs = dv.getFloat64(8, true);
+  const bitmap = await createImageBitmap(new Blob([new Uint8Array(buffer, 24)], {type: 'image/jpeg'}));
+  const canvas = $('video');
+  canvas.getContext('2d').drawImage(bitmap, 0, 0, canvas.width, canvas.height);
+  bitmap.close();
+  // Glass to browser: from the frame's capture time (server clock, Unix ms) to now, once on screen.
+  const latency = Date.now() - captureMs;
+  state.latencies.push(latency);
+  if (state.latencies.length > 60) state.latencies.shift();
+  const sorted = [...state.latencies].sort((a, b) => a - b);
+  const median = sorted[Math.floor(sorted.length / 2)];
+  $('frame-number').textContent = frameNumber;
+  $('latency').textContent = latency.toFixed(0);
+  $('latency-median').textContent = median.toFixed(0);
+  window.labodrone.framesDecoded++;
+  window.labodrone.lastFrameNumber = frameNumber;
+  window.labodrone.latencyMedianMs = median;
+  state.frames++;
+}
+
+function onControl(msg) {
+  const c = msg.controller;
+  $('control-state').textContent = c ? `${c.user} (${c.role}) has control` : 'nobody controls the drone';
+  $('turn').textContent = msg.you && msg.you.controlling
+    ? (msg.remaining_s >= 0 ? `your turn: ${Math.round(msg.remaining_s)} s left` : 'you have control (no time limit)')
+    : (msg.you && msg.you.position ? `you are number ${msg.you.position} in the queue` : 'you are watching');
+  const q = $('queue');
+  q.innerHTML = '';
+  for (const p of msg.queue) { const li = document.createElement('li'); li.textContent = `${p.user} (${p.role})`; q.append(li); }
+}
+
+function onMessage(msg) {
+  switch (msg.type) {
+    case 'hello': {
+      state.role = msg.role;
+      $('who').textContent = `${msg.user} · ${msg.role}`;
+      for (const el of document.querySelectorAll('.teacher-only')) el.hidden = msg.role === 'student';
+      $('admin-link').hidden = msg.role !== 'admin';
+      const sel = $('instrument'); sel.innerHTML = '';
+      for (const i of msg.instruments) { const o = document.createElement('option'); o.value = i.id; o.textContent = i.name || i.id; sel.append(o); }
+      view.instruments = msg.instruments;
+      break;
+    }
+    case 'telemetry':
+      view.add(msg);
+      $('mission').textContent = msg.mission;
+      $('stage').textContent = msg.stage || '–';
+      $('source').textContent = msg.source;
+      $('source').style.background = msg.source_colour;
+      break;
+    case 'control': onControl(msg); break;
+    case 'ack':
+      window.labodrone.acks.push(msg);
+      logEvent(`${msg.command}: ${msg.accepted ? 'accepted' : 'rejected'}${msg.reason ? ' — ' + msg.reason : ''}`, msg.accepted ? '' : 'rejected');
+      break;
+    case 'event':
+      if (msg.kind === 'stage') window.labodrone.stages.push(msg.stage);
+      logEvent(msg.message || `${msg.kind} ${msg.mission} ${msg.stage}`, msg.kind === 'error' || msg.kind === 'emergency' ? 'rejected' : '');
+      break;
+    case 'notice':
+      if (msg.kind === 'granted') logEvent('you have control' + (msg.remaining_s > 0 ? ` for ${Math.round(msg.remaining_s)} s` : ''));
+      if (msg.kind === 'warning') logEvent(`your turn ends in ${Math.round(msg.remaining_s)} s`, 'rejected');
+      if (msg.kind === 'ended') logEvent(`your turn ended: ${msg.reason}`, 'rejected');
+      break;
+    case 'error': logEvent(`error ${msg.status}: ${msg.error}`, 'rejected'); break;
+  }
+}
+
+function connect() {
+  const ws = new WebSocket((location.protocol === 'https:' ? 'wss://' : 'ws://') + location.host + '/ws');
+  ws.binaryType = 'arraybuffer';
+  state.ws = ws;
+  ws.onopen = () => {
+    $('connection').textContent = 'connected'; $('connection').className = 'badge ok';
+    window.labodrone.connected = true;
+    state.heartbeat = setInterval(() => send({type: 'heartbeat'}), 2000);
+  };
+  ws.onmessage = (ev) => { if (typeof ev.data === 'string') onMessage(JSON.parse(ev.data)); else onFrame(ev.data); };
+  ws.onclose = () => {
+    window.labodrone.connected = false;
+    clearInterval(state.heartbeat);
+    $('connection').textContent = 'disconnected — retrying'; $('connection').className = 'badge';
+    setTimeout(async () => {
+      const me = await fetch('/api/me');
+      if (me.status === 401) location.href = '/'; else connect();
+    }, 1000);
+  };
+}
+
+for (const b of document.querySelectorAll('[data-command]')) b.addEventListener('click', () => command(b.dataset.command));
+$('inspect').addEventListener('click', () => command('inspect', {instrument: $('instrument').value}));
+$('emergency').addEventListener('click', () => command('emergency_stop'));
+$('request-control').addEventListener('click', () => send({type: 'request_control'}));
+$('release-control').addEventListener('click', () => send({type: 'release_control'}));
+$('take-over').addEventListener('click', () => send({type: 'take_over'}));
+$('logout').addEventListener('click', async () => { await fetch('/api/logout', {method: 'POST'}); location.href = '/'; });
+document.addEventListener('keydown', (e) => { if (e.key === ' ' && e.target === document.body) { e.preventDefault(); command('emergency_stop'); } });
+
+setInterval(() => {
+  const now = performance.now();
+  $('fps').textContent = (state.frames * 1000 / (now - state.lastFpsT)).toFixed(1);
+  state.frames = 0; state.lastFpsT = now;
+}, 1000);
+(function redraw() { view.draw(); requestAnimationFrame(redraw); })();
+
+fetch('/api/me').then((r) => { if (r.status === 401) location.href = '/'; else connect(); });
