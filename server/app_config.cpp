@@ -23,6 +23,8 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
   c.estimation = root.has("estimation") ? read_estimation_config(root.object("estimation")) : EstimatorConfig{};
   c.face = root.has("face") ? face::read_face_config(root.object("face"), base_dir) : face::default_face_config();
   c.server = root.has("server") ? read_server_settings(root.object("server"), base_dir) : default_server_settings(base_dir);
+  c.link = root.has("link") ? read_ardrone_link_settings(root.object("link")) : ArdroneLinkSettings{};
+  c.emulator = root.has("emulator") ? read_ardrone_emulator_settings(root.object("emulator")) : ArdroneEmulatorSettings{};
   c.lab_file = resolve(base_dir, root.string_or("lab", "lab.json"));
   root.finish();
   return c;

@@ -9,6 +9,8 @@
 #include "core/log.hpp"
 #include "localization/estimation/estimation_config.hpp"
 #include "localization/face/face_config.hpp"
+#include "drone/ardrone2/ardrone_emulator.hpp"
+#include "drone/ardrone2/ardrone_link.hpp"
 #include "localization/vision_thresholds.hpp"
 #include "server/server_settings.hpp"
 
@@ -22,6 +24,8 @@ struct AppConfig {
   EstimatorConfig estimation;
   ControlConfig control;
   ServerSettings server;
+  ArdroneLinkSettings link;          // the AR.Drone 2.0 driver (docs/ardrone2.md)
+  ArdroneEmulatorSettings emulator;  // the AR.Drone 2.0 protocol emulator on loopback
   std::filesystem::path lab_file;  // the simulated lab's description
   face::FaceConfig face;
 };

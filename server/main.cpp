@@ -9,6 +9,7 @@
 #include "control/experiments/sim_commands.hpp"
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
+#include "drone/ardrone2/bench_command.hpp"
 #include "drone/ardrone2/inspect_commands.hpp"
 #include "localization/planar/planar_commands.hpp"
 #include "localization/slam/bench/slam_bench_command.hpp"
@@ -35,6 +36,7 @@ std::vector<Subcommand> subcommands() {
       {labo::sim_inspect_command_spec(), labo::run_sim_inspect_command},
       {labo::sim_perturb_command_spec(), labo::run_sim_perturb_command},
       {labo::sim_face_follow_command_spec(), labo::run_sim_face_follow_command},
+      {labo::bench_link_command_spec(), labo::run_bench_link_command},
   };
 }
 

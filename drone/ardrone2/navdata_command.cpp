@@ -17,10 +17,17 @@ namespace {
 
 constexpr std::uintmax_t kMaxDatagramFile = 65535;  // a UDP datagram cannot be larger
 
-nlohmann::json field_value(const std::vector<double>& raw, std::size_t first, std::size_t count, double scale) {
-  if (count == 1) return raw[first] * scale;
+// Raw integers print as integers; converted values as numbers.
+nlohmann::json one_value(double v, bool integer) {
+  if (integer) return static_cast<std::int64_t>(v);
+  return v;
+}
+
+nlohmann::json field_value(const std::vector<double>& raw, std::size_t first, std::size_t count, double scale,
+                           bool integer) {
+  if (count == 1) return one_value(raw[first] * scale, integer);
   nlohmann::json a = nlohmann::json::array();
-  for (std::size_t k = 0; k < count; ++k) a.push_back(raw[first + k] * scale);
+  for (std::size_t k = 0; k < count; ++k) a.push_back(one_value(raw[first + k] * scale, integer));
   return a;
 }
 
@@ -29,8 +36,9 @@ nlohmann::json option_json(const ardrone2::OptionSpec& spec, const NavdataOption
   nlohmann::json raw = nlohmann::json::object();
   std::size_t index = 0;
   for (const auto& f : spec.fields) {
-    raw[std::string(f.name)] = field_value(values.raw, index, f.count, 1.0);
-    if (!f.si_name.empty()) o[std::string(f.si_name)] = field_value(values.raw, index, f.count, f.scale);
+    const bool integer = f.type != WireType::F32 && f.type != WireType::F64;
+    raw[std::string(f.name)] = field_value(values.raw, index, f.count, 1.0, integer);
+    if (!f.si_name.empty()) o[std::string(f.si_name)] = field_value(values.raw, index, f.count, f.scale, false);
     index += f.count;
   }
   if (spec.tag == kTagDemo) {
