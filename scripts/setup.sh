@@ -31,3 +31,17 @@ if ((${#missing[@]})); then
 else
   echo "setup: all ${#PACKAGES[@]} packages present"
 fi
+
+# Face benchmark and tests: the teacher's head is textured with scikit-image's astronaut.png (public
+# domain, NASA). Only that file is taken from the Debian package python3-skimage, unpacked without
+# installing it (or its SciPy dependencies) into assets/ (git-ignored).
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+if [ ! -f "$ROOT/assets/astronaut.png" ]; then
+  tmp="$(mktemp -d)"
+  (cd "$tmp" && apt-get download -qq python3-skimage >/dev/null 2>&1 || { apt-get update -qq && apt-get download -qq python3-skimage; })
+  dpkg-deb -x "$tmp"/python3-skimage_*.deb "$tmp/x"
+  mkdir -p "$ROOT/assets"
+  cp "$(find "$tmp/x" -name astronaut.png | head -n 1)" "$ROOT/assets/astronaut.png"
+  rm -rf "$tmp"
+  echo "setup: assets/astronaut.png extracted from python3-skimage"
+fi

@@ -19,8 +19,8 @@ struct FaceBenchOptions {
   unsigned seed = 1;
   std::filesystem::path texture;  // photograph with one face (assets/astronaut.png)
   double interpupillary_distance_m = 0.063;
-  bool lossy_video = true;        // H.264-like loss: JPEG round trip (see docs/face.md)
-  int jpeg_quality = 60;
+  bool lossy_video = true;        // H.264 round trip through the link's codec
+  int video_bitrate_kbps = 1000;  // the AR.Drone 2.0's default video:max_bitrate
   bool true_shape = false;          // use the rendered head's shape instead of the registered one
   std::filesystem::path sample_dir;  // when set, a few rendered frames are written there
 };

@@ -48,7 +48,7 @@ nlohmann::json to_json(const face::FaceBenchReport& r, const face::FaceBenchOpti
   j["sequences"] = o.sequences;
   j["frames_per_sequence"] = o.frames;
   j["seed"] = o.seed;
-  j["lossy_video"] = o.lossy_video ? "jpeg" : "none";
+  j["video"] = o.lossy_video ? "h264 " + std::to_string(o.video_bitrate_kbps) + " kbit/s" : "none";
   j["frames_total"] = r.frames_total;
   j["detection_rate"] = r.frames_total ? static_cast<double>(r.frames_tracked) / r.frames_total : 0.0;
   for (std::size_t i = 0; i < r.methods.size(); ++i) {
@@ -112,7 +112,8 @@ const CommandSpec& face_bench_command_spec() {
        {"--sequences", "N", "number of sequences, guided and free alternating (default 10)"},
        {"--frames", "N", "frames per sequence (default 300)"},
        {"--seed", "N", "random seed (default 1)"},
-       {"--no-lossy-video", "", "skip the lossy video round trip"},
+       {"--no-lossy-video", "", "skip the H.264 round trip"},
+       {"--bitrate-kbps", "N", "H.264 bit rate (default 1000, the AR.Drone 2.0's)"},
        {"--samples", "DIR", "write a few rendered frames there"},
        {"--true-shape", "", "use the rendered head's shape instead of the one registered from a frontal frame"},
        {"--json", "", "print the report as JSON"}},
@@ -129,6 +130,7 @@ int run_face_bench_command(const ParsedArgs& args) {
   o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
   o.texture = args.value_or("--texture", (std::filesystem::path(LABO_SOURCE_DIR) / "assets" / "astronaut.png").string());
   o.lossy_video = !args.flag("--no-lossy-video");
+  o.video_bitrate_kbps = args.integer_or("--bitrate-kbps", 1000, 100, 20000);
   o.sample_dir = args.value_or("--samples", "");
   o.true_shape = args.flag("--true-shape");
   o.interpupillary_distance_m = setup.face.interpupillary_distance_m;

@@ -13,7 +13,7 @@
 namespace labo::face {
 
 struct FaceLimits {
-  double max_rms_per_interocular = 0.06;  // RMS landmark fit error / interocular distance (px/px)
+  double max_rms_per_interocular = 0.12;  // RMS landmark fit error / interocular distance (px/px)
   double max_yaw_rad = 1.22;              // 70°: beyond it the detector and landmarks are unreliable
   double max_pitch_rad = 0.87;            // 50°
   double min_distance_m = 0.2;

@@ -1,0 +1,148 @@
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/candide3.hpp"
+#include "localization/face/face_pose_estimator.hpp"
+#include "localization/face/person_registration.hpp"
+#include "localization/face/textured_head_renderer.hpp"
+
+using namespace labo;
+using namespace labo::face;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// The front camera without distortion keeps the rendered cases easy to reason about; the benchmark
+// runs with the real distortion.
+PinholeCamera test_camera() {
+  CameraIntrinsics k = PinholeCamera::ardrone2_front().intrinsics();
+  k.k1 = k.k2 = k.p1 = k.p2 = k.k3 = 0;
+  return PinholeCamera(k);
+}
+
+Eigen::Isometry3d pose(double yaw_deg, double pitch_deg, double roll_deg, const Eigen::Vector3d& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = head_rotation({yaw_deg * kDeg, pitch_deg * kDeg, roll_deg * kDeg});
+  T.translation() = t;
+  return T;
+}
+
+cv::Mat blank() { return cv::Mat(360, 640, CV_8UC1, cv::Scalar(120)); }
+
+// One estimator and a renderer of the astronaut head (assets/astronaut.png, made by scripts/setup.sh).
+struct RenderedHeadFixture {
+  FaceConfig config = default_face_config();
+  Candide3Model candide = Candide3Model::load(config.model);
+  FacePoseEstimator estimator{config, test_camera()};
+  TexturedHeadRenderer renderer{candide, load_head(), test_camera()};
+
+  TexturedHead load_head() {
+    const auto path = std::filesystem::path(LABO_SOURCE_DIR) / "assets" / "astronaut.png";
+    const cv::Mat photo = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+    REQUIRE_FALSE(photo.empty());  // run scripts/setup.sh
+    TexturedHead head = texture_head_from_photo(estimator, candide, photo, 0.063);
+    estimator.set_person({"astronaut", 0.063, head.shape_params, 0}, false);
+    return head;
+  }
+  cv::Mat render(std::initializer_list<Eigen::Isometry3d> poses) {
+    cv::Mat img = blank();
+    for (const auto& T : poses) renderer.render(T, img);
+    return img;
+  }
+};
+}  // namespace
+
+TEST_CASE("face: bad frames are lost with a reason, never a pose") {
+  FacePoseEstimator estimator(default_face_config(), test_camera());
+  CHECK(estimator.process(cv::Mat(), 0).reason == FaceLostReason::BadImage);
+  CHECK(estimator.process(cv::Mat(360, 640, CV_8UC3, cv::Scalar::all(0)), 0).reason == FaceLostReason::BadImage);
+  CHECK(estimator.process(cv::Mat(100, 100, CV_8UC1, cv::Scalar(0)), 0).reason == FaceLostReason::BadImage);
+  const FaceResult none = estimator.process(blank(), 0.1);
+  CHECK(none.state == FaceState::Lost);
+  CHECK(none.reason == FaceLostReason::NoFace);
+  cv::Mat noise(360, 640, CV_8UC1);
+  cv::randu(noise, 0, 255);
+  for (int i = 0; i < 3; ++i) CHECK_FALSE(estimator.process(noise, 0.2 + i).tracking());
+}
+
+TEST_CASE("face: config and person files are validated") {
+  const auto doc = ConfigDocument::parse(R"({"pnp_method": "posit"})", "test.json");
+  CHECK_THROWS_AS(read_face_config(doc.root(), "."), ConfigError);
+  const auto typo = ConfigDocument::parse(R"({"pnp_metod": "epnp"})", "test.json");
+  CHECK_THROWS_AS(read_face_config(typo.root(), "."), ConfigError);
+  const auto good = ConfigDocument::parse(R"({"pnp_method": "epnp_lm", "interpupillary_distance_mm": 60,
+      "limits": {"max_yaw_deg": 60}})", "test.json");
+  const FaceConfig c = read_face_config(good.root(), ".");
+  CHECK(c.solver.method == PnpMethod::EpnpLm);
+  CHECK(c.interpupillary_distance_m == Approx(0.060));
+
+  const auto dir = std::filesystem::temp_directory_path() / "labo_face_people_test";
+  PersonShape p{"ada", 0.061, Eigen::VectorXd::Constant(14, 0.2), 1.5};
+  save_person_shape(p, person_shape_path(dir, "ada"));
+  const PersonShape back = load_person_shape(person_shape_path(dir, "ada"), 14);
+  CHECK(back.interpupillary_distance_m == Approx(0.061));
+  CHECK(back.shape_params.isApprox(p.shape_params));
+  CHECK_THROWS(load_person_shape(person_shape_path(dir, "ada"), 13));       // wrong unit count
+  CHECK_THROWS(load_person_shape(dir / "missing.json", 14));
+  CHECK_THROWS_AS(person_shape_path(dir, "../etc/passwd"), std::invalid_argument);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("face: a rendered head is tracked at the right pose") {
+  RenderedHeadFixture f;
+  for (const auto& truth : {pose(0, 0, 0, {0, -0.02, 0.8}), pose(20, 10, -10, {0.05, 0.0, 1.2})}) {
+    f.estimator.reset();
+    FaceResult r;
+    for (int i = 0; i < 4; ++i) r = f.estimator.process(f.render({truth}), i / 30.0);
+    REQUIRE(r.tracking());
+    CHECK((r.T_cam_face.translation() - truth.translation()).norm() < 0.05);
+    CHECK(Eigen::AngleAxisd(r.T_cam_face.linear() * truth.linear().transpose()).angle() < 5 * kDeg);
+    CHECK(r.quality > 0.2);
+    CHECK(r.line_of_sight_cam.z() < -0.8);
+    CHECK(r.landmarks.cols() == 68);
+  }
+}
+
+TEST_CASE("face: several faces, a face cut by the border, a profile") {
+  RenderedHeadFixture f;
+  const Eigen::Isometry3d left = pose(0, 0, 0, {-0.2, -0.02, 0.9}), right = pose(0, 0, 0, {0.2, -0.02, 0.9});
+  SECTION("two faces and no track: refused") {
+    FaceResult r;
+    // The full-frame search cycles its scales (0.5, 1, 2): within three frames it sees both.
+    for (int i = 0; i < 3 && r.faces_found <= 0; ++i) r = f.estimator.process(f.render({left, right}), i / 30.0);
+    CHECK(r.faces_found == 2);
+    CHECK(r.reason == FaceLostReason::SeveralFaces);
+  }
+  SECTION("a second face appears: the one nearest the track is followed") {
+    for (int i = 0; i < 3; ++i) f.estimator.process(f.render({right}), i / 30.0);
+    REQUIRE(f.estimator.process(f.render({right}), 0.1).tracking());
+    FaceResult r;
+    for (int i = 0; i < 12; ++i) r = f.estimator.process(f.render({left, right}), 0.13 + i / 30.0);  // detector runs
+    REQUIRE(r.tracking());
+    CHECK(r.T_cam_face.translation().x() > 0.1);
+  }
+  SECTION("a face half out of the image is lost, not posed") {
+    const FaceResult r = f.estimator.process(f.render({pose(0, 0, 0, {0.48, -0.02, 0.8})}), 0);
+    CHECK_FALSE(r.tracking());
+  }
+  SECTION("a profile is lost") {
+    for (int i = 0; i < 3; ++i) CHECK_FALSE(f.estimator.process(f.render({pose(88, 0, 0, {0, -0.02, 0.8})}), i).tracking());
+  }
+}
+
+TEST_CASE("face: registration fits a frontal picture and refuses none or several faces") {
+  RenderedHeadFixture f;
+  const PersonShape p = register_person(f.estimator, f.render({pose(0, 0, 0, {0, -0.02, 0.8})}), "teacher", 0.063);
+  CHECK(p.shape_params.size() == 14);
+  CHECK(p.fit_rms_px < 5.0);
+  CHECK((p.shape_params - f.renderer.head().shape_params).cwiseAbs().maxCoeff() < 0.3);
+  CHECK_THROWS_WITH(register_person(f.estimator, blank(), "teacher", 0.063), Catch::Contains("no face"));
+  CHECK_THROWS_WITH(register_person(f.estimator,
+                                    f.render({pose(0, 0, 0, {-0.2, -0.02, 0.9}), pose(0, 0, 0, {0.2, -0.02, 0.9})}),
+                                    "teacher", 0.063),
+                    Catch::Contains("2 faces"));
+  CHECK_THROWS_WITH(register_person(f.estimator, f.render({pose(35, 0, 0, {0, -0.02, 0.8})}), "teacher", 0.063),
+                    Catch::Contains("turned"));
+}
