@@ -80,7 +80,8 @@ struct FlightStack::Impl {
     in.target_state = near.state;
     in.target_distance_m = near_target_distance(near);
     in.slam = pipelines->slam().state;
-    in.face_mode = focus.face;
+    const bool slam_ok = in.slam == SlamState::Good || in.slam == SlamState::Dodgy;
+    in.face_mode = focus.face && (setup.control.mission.face_as_feedback || !slam_ok);
     in.face_state = pipelines->face().state;
     focus.feedback = source_switch.update(in);
     pipelines->set_focus(focus);

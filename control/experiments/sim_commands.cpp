@@ -102,7 +102,7 @@ std::pair<double, double> set_point_error(LockstepFlight& f) {
 
 std::vector<Impulse> run_perturb(int axis, int impulses, LockstepFlight& f, const std::string& instrument, bool& reached) {
   std::vector<Impulse> out;
-  f.request(inspect_request(instrument, 1000.0));
+  f.request(inspect_request(instrument, 500.0));
   reached = f.run_until([&] { return holding(f); }, 120.0);
   if (!reached) return out;
   f.run(3.0);
@@ -153,13 +153,21 @@ FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, LockstepFl
   r.followed = f.run_until([&] { return f.stack().status().stage == "3 face-follow"; }, 90.0);
   if (!r.followed) return r;
   f.run(5.0);  // settle
-  // The teacher walks at 0.5 m/s back and forth along y between -1 and 1 m.
-  double dir = 1.0;
+  // The teacher walks at 0.5 m/s back and forth along y between -1 and 1 m, turning round with a
+  // human 0.5 m/s^2 deceleration and acceleration.
+  double dir = 1.0, speed = 0.0;
+  constexpr double kSpeed = 0.5, kAccel = 0.5, kTurnY = 1.0;
   const double end = f.now() + walk_s;
   while (f.now() < end) {
     double& y = f.face().translation().y();
-    y += dir * 0.5 * LockstepFlight::kControlDt;
-    if (y > 1.0 || y < -1.0) dir = -dir;
+    const double stopping = speed * speed / (2 * kAccel);
+    if (dir * y + stopping >= kTurnY) speed -= kAccel * LockstepFlight::kControlDt;
+    else speed = std::min(kSpeed, speed + kAccel * LockstepFlight::kControlDt);
+    if (speed <= 0) {
+      speed = 0;
+      dir = -dir;
+    }
+    y += dir * speed * LockstepFlight::kControlDt;
     f.tick();
     const Eigen::Vector3d p = f.true_T_cam(f.face()).translation();
     r.distance_error.push_back(p.z() - setup.control.mission.face_distance_m);
@@ -182,7 +190,7 @@ const CommandSpec& sim_inspect_command_spec() {
 int run_sim_inspect_command(const ParsedArgs& args) {
   const ExperimentOptions o = read_experiment_options(args);
   const double hold = args.number_or("--hold", 5.0, 0.0, 600.0);
-  const FlightStackSetup setup = experiment_setup();
+  const FlightStackSetup setup = experiment_setup(o);
   nlohmann::json runs = nlohmann::json::array();
   int ok = 0;
   std::vector<double> standoff, centre, landing;
@@ -232,7 +240,7 @@ int run_sim_perturb_command(const ParsedArgs& args) {
   if (!axis_name) throw UsageError("--axis x|y|z|yaw is required");
   const int axis = axis_index(*axis_name);
   const int impulses = args.integer_or("--impulses", 4, 1, 100);
-  const FlightStackSetup setup = experiment_setup();
+  const FlightStackSetup setup = experiment_setup(o);
   std::vector<double> recovery;
   int recovered = 0, total = 0, not_reached = 0;
   nlohmann::json runs = nlohmann::json::array();
@@ -279,7 +287,7 @@ const CommandSpec& sim_face_follow_command_spec() {
 int run_sim_face_follow_command(const ParsedArgs& args) {
   const ExperimentOptions o = read_experiment_options(args);
   const double walk = args.number_or("--walk", 30.0, 1.0, 600.0);
-  const FlightStackSetup setup = experiment_setup();
+  const FlightStackSetup setup = experiment_setup(o);
   std::vector<double> dist, centre;
   int found = 0;
   nlohmann::json runs = nlohmann::json::array();
