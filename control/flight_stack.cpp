@@ -132,6 +132,9 @@ struct FlightStack::Impl {
       pending.reset();
       return finish_tick(out, t);
     }
+    // The source switch runs even while safety holds the mission: a paused mission must be able to
+    // regain its visual source (a hover waiting for localization would otherwise never end).
+    update_source(t);
     bool paused = false;
     FlightOutput safety_out = apply_safety(pose, t, paused);
     if (paused) return finish_tick(safety_out, t);
@@ -149,7 +152,7 @@ struct FlightStack::Impl {
       }
       if (ctx.phase_action) return finish_tick(*ctx.phase_action, t);
     }
-    update_source(t);
+    update_source(t);  // the mission may have changed the focus
     out = autopilot.step(pose, t);
     return finish_tick(out, t);
   }

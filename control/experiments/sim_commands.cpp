@@ -92,17 +92,22 @@ int axis_index(const std::string& axis) {
   throw UsageError("--axis must be x, y, z or yaw (got '" + axis + "')");
 }
 
-// Error to the set point, position (m) and yaw (rad), true pose vs desired.
-std::pair<double, double> set_point_error(LockstepFlight& f) {
-  const auto d = f.stack().status().desired;
-  if (!d) return {1e9, 1e9};
-  const Eigen::Vector4d tr = xyz_yaw(f.drone().pose());
-  return {(tr.head<3>() - d->head<3>()).norm(), std::abs(wrap_angle(tr[3] - (*d)[3]))};
+// Error to the set point, position (m) and yaw (rad). The set point is relative to the instrument
+// as the estimator placed it; the truth is compared relative to the instrument's true pose, so a
+// placement error (which shifts estimate and set point alike) is not counted as a control error.
+std::pair<double, double> set_point_error(LockstepFlight& f, const PlanarTarget& instrument) {
+  const FlightStatus s = f.stack().status();
+  if (!s.desired) return {1e9, 1e9};
+  const Eigen::Isometry3d T_world_obj_est = s.instrument.placed_in_world ? s.instrument.T_world_target : instrument.T_world_object;
+  const Eigen::Isometry3d desired_in_obj = T_world_obj_est.inverse() * make_pose(s.desired->head<3>(), (*s.desired)[3]);
+  const Eigen::Isometry3d true_in_obj = instrument.T_world_object.inverse() * f.drone().pose();
+  const Eigen::Matrix3d dR = desired_in_obj.linear().transpose() * true_in_obj.linear();
+  return {(true_in_obj.translation() - desired_in_obj.translation()).norm(), std::abs(ypr_from_rotation(dR)[0])};
 }
 
-std::vector<Impulse> run_perturb(int axis, int impulses, LockstepFlight& f, const std::string& instrument, bool& reached) {
+std::vector<Impulse> run_perturb(int axis, int impulses, LockstepFlight& f, const PlanarTarget& instrument, bool& reached) {
   std::vector<Impulse> out;
-  f.request(inspect_request(instrument, 500.0));
+  f.request(inspect_request(instrument.id, 500.0));
   reached = f.run_until([&] { return holding(f); }, 120.0);
   if (!reached) return out;
   f.run(3.0);
@@ -121,7 +126,7 @@ std::vector<Impulse> run_perturb(int axis, int impulses, LockstepFlight& f, cons
     const double end = f.now() + kPeriodS;
     while (f.now() < end) {
       f.tick();
-      const auto [e, ey] = set_point_error(f);
+      const auto [e, ey] = set_point_error(f, instrument);
       imp.peak_error = std::max(imp.peak_error, axis == 3 ? ey : e);
       if (e < kRecoveredM && ey < kRecoveredYaw) {
         if (within_since < 0) within_since = f.now();
@@ -248,7 +253,7 @@ int run_sim_perturb_command(const ParsedArgs& args) {
     const unsigned seed = o.seed + static_cast<unsigned>(i);
     LockstepFlight f(setup, {}, seed);
     bool reached = false;
-    const auto imps = run_perturb(axis, impulses, f, setup.lab.instruments.front().id, reached);
+    const auto imps = run_perturb(axis, impulses, f, setup.lab.instruments.front(), reached);
     not_reached += !reached;
     nlohmann::json list = nlohmann::json::array();
     for (const auto& imp : imps) {
