@@ -20,6 +20,7 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
                                                    PinholeCamera::ardrone2_bottom().intrinsics()};
   c.control = root.has("control") ? read_control_config(root.object("control")) : ControlConfig{};
   c.vision = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
+  c.estimation = root.has("estimation") ? read_estimation_config(root.object("estimation")) : EstimatorConfig{};
   if (root.has("server")) {
     const ConfigReader s = root.object("server");
     c.server.bind_address = s.string_or("bind", c.server.bind_address);

@@ -7,6 +7,7 @@
 #include "control/control_config.hpp"
 #include "core/camera_config.hpp"
 #include "core/log.hpp"
+#include "localization/estimation/estimation_config.hpp"
 #include "localization/vision_thresholds.hpp"
 
 namespace labo {
@@ -23,6 +24,7 @@ struct AppConfig {
   CamerasConfig cameras;
   VisionThresholds vision;
   ControlConfig control;
+  EstimatorConfig estimation;
   ServerSettings server;
   std::filesystem::path lab_file;  // the simulated lab's description
 };

@@ -9,6 +9,7 @@
 #include "control/experiments/sim_commands.hpp"
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
+#include "localization/estimation/eval/sim_estimate_command.hpp"
 #include "server/serve_command.hpp"
 
 namespace {
@@ -24,6 +25,7 @@ std::vector<Subcommand> subcommands() {
       {labo::sim_inspect_command_spec(), labo::run_sim_inspect_command},
       {labo::sim_perturb_command_spec(), labo::run_sim_perturb_command},
       {labo::sim_face_follow_command_spec(), labo::run_sim_face_follow_command},
+      {labo::sim_estimate_command_spec(), labo::run_sim_estimate_command},
   };
 }
 

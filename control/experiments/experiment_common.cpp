@@ -41,6 +41,8 @@ FlightStackSetup experiment_setup(const ExperimentOptions& options) {
   const ConfigDocument doc = ConfigDocument::load(options.config);
   const ConfigReader root = doc.root();
   if (root.has("control")) setup.control = read_control_config(root.object("control"));
+  if (root.has("estimation")) setup.estimation = read_estimation_config(root.object("estimation"));
+  if (root.has("vision")) setup.vision = read_vision_thresholds(root.object("vision"));
   // The quadrotor and perception models deliver navdata and vision results without link latency and
   // act on commands at once: the estimator's delay compensation must not shift them.
   setup.estimation.video_delay_s = 0;

@@ -53,6 +53,7 @@ EstimatorConfig read_estimation_config(const ConfigReader& node) {
   if (node.has("model")) read_model(node.object("model"), c.model);
   if (node.has("noise")) read_noise(node.object("noise"), c.noise);
   c.use_navdata_vz = node.boolean_or("use_navdata_vz", c.use_navdata_vz);
+  c.altitude_step_discrimination = node.boolean_or("altitude_step_discrimination", c.altitude_step_discrimination);
   c.source_enter_count = node.integer_or("source_enter_count", c.source_enter_count, 1, 100);
   c.source_timeout_s = node.number_or("source_timeout_s", c.source_timeout_s, Range{0.0, 10.0, true});
   c.vision_gate_chi2 = node.number_or("vision_gate_chi2", c.vision_gate_chi2, Range::positive());

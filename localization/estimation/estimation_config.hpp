@@ -69,6 +69,9 @@ struct EstimatorConfig {
   double inactive_source_noise_factor = 3.0;
   // Fuse the navdata's vertical speed (the AR.Drone's observer; 0 in some firmwares' demo mode).
   bool use_navdata_vz = true;
+  // false reproduces the paper's ultrasound rule (increments above gamma dropped as floor steps), for
+  // comparison in the experiments; true tells pushes from floor steps (altitude_tracker.hpp).
+  bool altitude_step_discrimination = true;
   // Scale estimation (tum_ardrone's ML estimator, notes §3).
   double scale_sigma_map = 0.2;
   double scale_sigma_metric = 0.01;

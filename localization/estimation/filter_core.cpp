@@ -22,7 +22,9 @@ Eigen::Matrix<double, M, M> diag_sq(const Eigen::Matrix<double, M, 1>& sigma) {
 }  // namespace
 
 FilterCore::FilterCore(const EstimatorConfig& config, double gamma_m)
-    : config_(config), ekf_(config.model, config.noise), altitude_(gamma_m) {}
+    : config_(config), ekf_(config.model, config.noise),
+      altitude_(gamma_m, config.altitude_step_discrimination ? AltitudeTracker::Mode::Discriminating
+                                                              : AltitudeTracker::Mode::PaperGammaOnly) {}
 
 void FilterCore::reset(const StateVector& s, const StateCovariance& P, Seconds t) {
   ekf_.reset(s, P);
@@ -126,12 +128,12 @@ void FilterCore::observe_altitude(const NavdataSample& n, const SurfaceMap* map)
   // The sonar looks along the body's -z: its range times cos(roll) cos(pitch) is the vertical distance.
   const double range = n.altitude_m * std::cos(s(ROLL)) * std::cos(s(PITCH));
   const double xy_sigma = std::sqrt(std::max(ekf_.covariance()(X, X), ekf_.covariance()(Y, Y)));
-  const AltitudeDecision d = altitude_.process(range, t_, s(Z), s.segment<2>(X), xy_sigma, map);
+  const AltitudeDecision d = altitude_.process(range, t_, s(Z), n.vz_mps, s.segment<2>(X), xy_sigma, map);
   if (d.kind == AltitudeDecision::Kind::FloorStep) {
     ++counters_.floor_steps;
     ++odometry_.floor_steps;
   }
-  if (d.kind == AltitudeDecision::Kind::FusedAgainstStep) ++counters_.fused_against_step;
+  if (d.kind == AltitudeDecision::Kind::FusedAsMotion) ++counters_.fused_as_motion;
   if (d.fuse()) {
     Eigen::Matrix<double, 1, N> H = Eigen::Matrix<double, 1, N>::Zero();
     H(0, Z) = 1.0;

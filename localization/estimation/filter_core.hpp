@@ -24,7 +24,7 @@ struct MetricOdometry {
 
 struct NavdataCounters {
   int floor_steps = 0;
-  int fused_against_step = 0;
+  int fused_as_motion = 0;
 };
 
 class FilterCore {

@@ -26,7 +26,9 @@ double ScaleEstimator::ml_scale(double s_pp, double s_ii, double s_pi, double si
   const double sp2 = sigma_map * sigma_map, si2 = sigma_metric * sigma_metric;
   const double b = sp2 * s_ii - si2 * s_pp;
   if (std::abs(s_pi) < 1e-12) return 0.0;
-  return (b + std::sqrt(b * b + 4.0 * sp2 * si2 * s_pi * s_pi)) / (2.0 * sp2 * s_pi);
+  const double root = std::sqrt(b * b + 4.0 * sp2 * si2 * s_pi * s_pi);
+  // The two algebraically equal forms; each avoids cancellation on its side of b = 0.
+  return b >= 0 ? (b + root) / (2.0 * sp2 * s_pi) : (2.0 * si2 * s_pi) / (root - b);
 }
 
 bool ScaleEstimator::add_pair(const Eigen::Vector3d& map_displacement, const Eigen::Vector3d& metric_displacement) {

@@ -499,7 +499,7 @@ EstimatorStatistics StateEstimator::statistics() const {
   for (int i = 0; i < kCounterCount; ++i) st.counters[kCounterNames[i]] = impl_->counters[i];
   st.counters["covariance_repairs"] = static_cast<std::uint64_t>(impl_->core.ekf().repairs());
   st.counters["floor_steps"] = static_cast<std::uint64_t>(impl_->core.counters().floor_steps);
-  st.counters["ultrasound_fused_against_step"] = static_cast<std::uint64_t>(impl_->core.counters().fused_against_step);
+  st.counters["ultrasound_fused_as_motion"] = static_cast<std::uint64_t>(impl_->core.counters().fused_as_motion);
   return st;
 }
 
