@@ -25,6 +25,7 @@ std::vector<Subcommand> subcommands() {
       {labo::sim_inspect_command_spec(), labo::run_sim_inspect_command},
       {labo::sim_perturb_command_spec(), labo::run_sim_perturb_command},
       {labo::sim_face_follow_command_spec(), labo::run_sim_face_follow_command},
+      {labo::sim_compare_slam_command_spec(), labo::run_sim_compare_slam_command},
       {labo::sim_estimate_command_spec(), labo::run_sim_estimate_command},
   };
 }
