@@ -80,7 +80,8 @@ struct FlightStack::Impl {
     in.target_state = near.state;
     in.target_distance_m = near_target_distance(near);
     in.slam = pipelines->slam().state;
-    in.face_mode = focus.face;
+    const bool slam_ok = in.slam == SlamState::Good || in.slam == SlamState::Dodgy;
+    in.face_mode = focus.face && (setup.control.mission.face_as_feedback || !slam_ok);
     in.face_state = pipelines->face().state;
     focus.feedback = source_switch.update(in);
     pipelines->set_focus(focus);
@@ -131,6 +132,9 @@ struct FlightStack::Impl {
       pending.reset();
       return finish_tick(out, t);
     }
+    // The source switch runs even while safety holds the mission: a paused mission must be able to
+    // regain its visual source (a hover waiting for localization would otherwise never end).
+    update_source(t);
     bool paused = false;
     FlightOutput safety_out = apply_safety(pose, t, paused);
     if (paused) return finish_tick(safety_out, t);
@@ -148,7 +152,7 @@ struct FlightStack::Impl {
       }
       if (ctx.phase_action) return finish_tick(*ctx.phase_action, t);
     }
-    update_source(t);
+    update_source(t);  // the mission may have changed the focus
     out = autopilot.step(pose, t);
     return finish_tick(out, t);
   }

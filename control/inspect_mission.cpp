@@ -137,7 +137,14 @@ void InspectMission::step_detect(MissionContext& ctx) {
 void InspectMission::step_inspect(MissionContext& ctx) {
   ctx.focus.instrument_id = instrument_.id;
   ctx.camera = CameraId::Front;
+  // Once the estimator has placed the instrument (when its homography feeds the filter), the pose
+  // estimate is relative to that placement: the set point must be too, or any placement error becomes
+  // a standoff and centring error.
+  const TargetObservation obs = ctx.perception.instrument();
+  const bool replaced = obs.placed_in_world && !obs.T_world_target.isApprox(T_world_instrument_, 1e-9);
+  if (obs.placed_in_world) T_world_instrument_ = obs.T_world_target;
   const PoseTarget standoff = standoff_target(T_world_instrument_, standoff_m_, ctx.centre_ray_front);
+  if (replaced && !fresh_ && (step_ == Step::Approach || step_ == Step::Hold)) ctx.autopilot.go_to(standoff, ctx.t, false);
   const double dt = last_t_ < 0 ? 0 : ctx.t - last_t_;
   const bool seen = instrument_seen(ctx);
   if (seen) lost_since_ = -1;

@@ -41,6 +41,7 @@ std::vector<Subcommand> subcommands() {
       {labo::bench_link_command_spec(), labo::run_bench_link_command},
       {labo::sim_textures_command_spec(), labo::run_sim_textures_command},
       {labo::sim_lab_command_spec(), labo::run_sim_lab_command},
+      {labo::sim_compare_slam_command_spec(), labo::run_sim_compare_slam_command},
       {labo::sim_estimate_command_spec(), labo::run_sim_estimate_command},
   };
 }

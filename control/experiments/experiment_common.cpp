@@ -15,7 +15,8 @@ std::vector<OptionSpec> experiment_option_specs() {
   return {{"--seed", "N", "first random seed (default 1); run i uses seed + i"},
           {"--runs", "N", "number of seeded runs (default 1)"},
           {"--json", "", "print the summary as JSON"},
-          {"--out", "DIR", "write CSV per run, an SVG plot of the first run and summary.json"}};
+          {"--out", "DIR", "write CSV per run, an SVG plot of the first run and summary.json"},
+          {"--config", "FILE", "configuration to read the control section from (default config/default.json)"}};
 }
 
 ExperimentOptions read_experiment_options(const ParsedArgs& args) {
@@ -23,6 +24,8 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args) {
   o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
   o.runs = args.integer_or("--runs", 1, 1, 10000);
   o.json = args.flag("--json");
+  o.config = args.value_or("--config", (std::filesystem::path(LABO_SOURCE_DIR) / "config" / "default.json").string());
+  if (!std::filesystem::exists(o.config)) throw UsageError("--config " + o.config.string() + ": no such file");
   if (auto dir = args.value("--out")) {
     o.out = *dir;
     std::error_code ec;
@@ -32,15 +35,14 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args) {
   return o;
 }
 
-FlightStackSetup experiment_setup() {
+FlightStackSetup experiment_setup(const ExperimentOptions& options) {
   FlightStackSetup setup;
   setup.lab = model_lab();
-  const std::filesystem::path config = std::filesystem::path(LABO_SOURCE_DIR) / "config" / "default.json";
-  if (std::filesystem::exists(config)) {
-    const ConfigDocument doc = ConfigDocument::load(config);
-    const ConfigReader root = doc.root();
-    if (root.has("control")) setup.control = read_control_config(root.object("control"));
-  }
+  const ConfigDocument doc = ConfigDocument::load(options.config);
+  const ConfigReader root = doc.root();
+  if (root.has("control")) setup.control = read_control_config(root.object("control"));
+  if (root.has("estimation")) setup.estimation = read_estimation_config(root.object("estimation"));
+  if (root.has("vision")) setup.vision = read_vision_thresholds(root.object("vision"));
   // The quadrotor and perception models deliver navdata and vision results without link latency and
   // act on commands at once: the estimator's delay compensation must not shift them.
   setup.estimation.video_delay_s = 0;

@@ -16,12 +16,13 @@ struct ExperimentOptions {
   int runs = 1;
   bool json = false;
   std::optional<std::filesystem::path> out;
+  std::filesystem::path config;  // --config, default config/default.json
 };
 
 std::vector<OptionSpec> experiment_option_specs();
 ExperimentOptions read_experiment_options(const ParsedArgs& args);
 // The setup the experiments fly: the model lab, config/default.json's control/estimation/vision.
-FlightStackSetup experiment_setup();
+FlightStackSetup experiment_setup(const ExperimentOptions& options);
 // Writes run `index`'s CSV (and its SVG for the first run) under --out.
 void write_run_outputs(const ExperimentOptions& options, const std::string& name, int index, const LockstepFlight& flight);
 // Writes summary.json under --out, prints JSON (--json) or the text lines.

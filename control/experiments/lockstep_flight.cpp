@@ -28,10 +28,20 @@ Eigen::Isometry3d LockstepFlight::true_T_cam(const Eigen::Isometry3d& T_world_ta
 }
 
 void LockstepFlight::tick() {
-  stack_->on_navdata(perception_.navdata(drone_, t_));
-  perception_.observe(drone_, T_world_face_, t_, *pipelines_);
+  TickRecord record;
+  record.navdata = perception_.navdata(drone_, t_);
+  record.focus = pipelines_->focus();
+  record.frame = perception_.observe(drone_, T_world_face_, t_, record.focus);
+  record.truth = drone_.pose();
+  stack_->on_navdata(record.navdata);
+  record.frame.deliver_to(*pipelines_);
   stack_->set_ground_truth(drone_.pose(), t_);
   const FlightOutput out = stack_->tick(t_);
+  if (recording_) {
+    if (out.action == FlightOutput::Action::Move) record.command = out.move;
+    else if (out.action == FlightOutput::Action::Hover) record.command = MoveCommand{};
+    records_.push_back(std::move(record));
+  }
   switch (out.action) {
     case FlightOutput::Action::Move: drone_.move(out.move); break;
     case FlightOutput::Action::Hover: drone_.hover(); break;

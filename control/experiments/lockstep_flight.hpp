@@ -23,6 +23,15 @@ struct FlightSample {
   std::string stage;
 };
 
+// Everything the localization saw in one tick, for offline replays.
+struct TickRecord {
+  NavdataSample navdata;
+  PerceptionFocus focus;  // what the live system asked for (its source choice included)
+  PerceptionFrame frame;
+  std::optional<MoveCommand> command;
+  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
+};
+
 class LockstepFlight {
  public:
   LockstepFlight(const FlightStackSetup& setup, const PerceptionModelConfig& perception, unsigned seed);
@@ -38,6 +47,8 @@ class LockstepFlight {
   Seconds now() const { return t_; }
   const std::vector<FlightSample>& samples() const { return samples_; }
   const LabGeometry& lab() const { return lab_; }
+  void set_recording(bool on) { recording_ = on; }
+  const std::vector<TickRecord>& records() const { return records_; }
   // The true camera pose of the front camera relative to a target (z into it).
   Eigen::Isometry3d true_T_cam(const Eigen::Isometry3d& T_world_target) const;
 
@@ -52,6 +63,8 @@ class LockstepFlight {
   Eigen::Isometry3d T_world_face_ = Eigen::Isometry3d::Identity();
   std::vector<FlightSample> samples_;
   Seconds t_ = 0;
+  bool recording_ = false;
+  std::vector<TickRecord> records_;
 };
 
 Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T);

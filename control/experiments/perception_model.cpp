@@ -37,9 +37,17 @@ NavdataSample PerceptionModel::navdata(const QuadrotorModel& drone, Seconds t) {
   return s;
 }
 
-void PerceptionModel::observe(const QuadrotorModel& drone, const Eigen::Isometry3d& T_world_face, Seconds t,
-                              LabPipelines& out) {
-  const PerceptionFocus& focus = out.focus();
+void PerceptionFrame::deliver_to(LabPipelines& pipelines) const {
+  if (instrument) pipelines.add_instrument_result(*instrument);
+  if (platform) pipelines.add_platform_result(*platform);
+  if (face) pipelines.add_face_result(*face);
+  pipelines.add_slam_result(T_map_cam, slam, 1, t);
+}
+
+PerceptionFrame PerceptionModel::observe(const QuadrotorModel& drone, const Eigen::Isometry3d& T_world_face, Seconds t,
+                                         const PerceptionFocus& focus) {
+  PerceptionFrame out;
+  out.t = t;
   const bool airborne = drone.control_state == 3 || drone.control_state == 4;
   if (!airborne) airborne_since_ = -1;
   else if (airborne_since_ < 0) airborne_since_ = t;
@@ -57,7 +65,7 @@ void PerceptionModel::observe(const QuadrotorModel& drone, const Eigen::Isometry
     o.method = T.translation().z() > 2.0 ? "template" : "sift";
     o.quality = seen ? 0.9 : 0;
     if (seen) o.T_cam_target = noisy(T, T.translation().z());
-    out.add_instrument_result(o);
+    out.instrument = o;
   }
   for (const auto& inst : lab_.instruments) {
     const Eigen::Isometry3d T = T_world_front.inverse() * inst.T_world_object;
@@ -72,7 +80,7 @@ void PerceptionModel::observe(const QuadrotorModel& drone, const Eigen::Isometry
     o.method = "template";
     o.quality = seen ? 0.9 : 0;
     if (seen) o.T_cam_target = noisy(T, T.translation().z());
-    out.add_platform_result(o);
+    out.platform = o;
   }
   if (focus.face) {
     TargetObservation o;
@@ -83,7 +91,7 @@ void PerceptionModel::observe(const QuadrotorModel& drone, const Eigen::Isometry
     o.method = "pnp-lm";
     o.quality = seen ? 0.8 : 0;
     if (seen) o.T_cam_target = noisy(T, 1.5 * T.translation().z());
-    out.add_face_result(o);
+    out.face = o;
   }
   SlamSummary s;
   if (focus.slam && airborne_since_ >= 0) {
@@ -97,10 +105,10 @@ void PerceptionModel::observe(const QuadrotorModel& drone, const Eigen::Isometry
     T_map_cam.translation() += Eigen::Vector3d(gauss(config_.slam_noise_m), gauss(config_.slam_noise_m),
                                                gauss(config_.slam_noise_m));
     T_map_cam.translation() *= config_.map_units_per_m;
-    out.add_slam_result(T_map_cam, s, 1, t);
-  } else {
-    out.add_slam_result(Eigen::Isometry3d::Identity(), s, 1, t);
+    out.T_map_cam = T_map_cam;
   }
+  out.slam = s;
+  return out;
 }
 
 }  // namespace labo

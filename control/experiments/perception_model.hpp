@@ -5,6 +5,7 @@
 // noise growing with the square of the distance), the face's, and SLAM camera poses in an unscaled map
 // that is lost when the panel fills the view (the paper's §6.3 observation: too few keypoints near
 // the instrument). Seeded; every figure it produces is labelled "perception: model".
+#include <optional>
 #include <random>
 
 #include "control/experiments/quadrotor_model.hpp"
@@ -25,13 +26,24 @@ struct PerceptionModelConfig {
   double navdata_altitude_noise_m = 0.005;
 };
 
+// One video frame's worth of vision results, as the front-ends would hand them over; recorded for
+// offline replays (sim compare-slam).
+struct PerceptionFrame {
+  Seconds t = 0;
+  std::optional<TargetObservation> instrument, platform, face;
+  Eigen::Isometry3d T_map_cam = Eigen::Isometry3d::Identity();
+  SlamSummary slam;
+  void deliver_to(LabPipelines& pipelines) const;
+};
+
 class PerceptionModel {
  public:
   PerceptionModel(PerceptionModelConfig config, LabGeometry lab, unsigned seed);
   // Navdata with noise from the model.
   NavdataSample navdata(const QuadrotorModel& drone, Seconds t);
-  // One video frame's worth of vision results at time t, into the pipelines (as focused).
-  void observe(const QuadrotorModel& drone, const Eigen::Isometry3d& T_world_face, Seconds t, LabPipelines& out);
+  // One video frame's worth of vision results at time t for what `focus` asks for.
+  PerceptionFrame observe(const QuadrotorModel& drone, const Eigen::Isometry3d& T_world_face, Seconds t,
+                          const PerceptionFocus& focus);
 
  private:
   Eigen::Isometry3d noisy(const Eigen::Isometry3d& T, double distance);

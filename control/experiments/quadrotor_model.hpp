@@ -33,10 +33,11 @@ class QuadrotorModel {
   void land() {
     if (control_state != 2) { control_state = 8; }
   }
-  // An external push (the paper's impulses): a velocity change in m/s, and a yaw displacement in rad.
+  // An external push (the paper's impulses): a velocity change in m/s, and a yaw-rate kick that turns
+  // the drone by about `dyaw` rad before the onboard yaw-rate loop (0.2 s) absorbs it.
   void push(const Eigen::Vector3d& dv, double dyaw) {
     v += dv;
-    yaw = wrap_angle(yaw + dyaw);
+    yaw_rate += dyaw / 0.2;
   }
   void emergency() { control_state = 2; v.setZero(); p.z() = 0; cmd_ = {}; }
   void move(const MoveCommand& c) { cmd_ = c; hover_ = false; }

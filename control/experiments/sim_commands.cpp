@@ -92,17 +92,22 @@ int axis_index(const std::string& axis) {
   throw UsageError("--axis must be x, y, z or yaw (got '" + axis + "')");
 }
 
-// Error to the set point, position (m) and yaw (rad), true pose vs desired.
-std::pair<double, double> set_point_error(LockstepFlight& f) {
-  const auto d = f.stack().status().desired;
-  if (!d) return {1e9, 1e9};
-  const Eigen::Vector4d tr = xyz_yaw(f.drone().pose());
-  return {(tr.head<3>() - d->head<3>()).norm(), std::abs(wrap_angle(tr[3] - (*d)[3]))};
+// Error to the set point, position (m) and yaw (rad). The set point is relative to the instrument
+// as the estimator placed it; the truth is compared relative to the instrument's true pose, so a
+// placement error (which shifts estimate and set point alike) is not counted as a control error.
+std::pair<double, double> set_point_error(LockstepFlight& f, const PlanarTarget& instrument) {
+  const FlightStatus s = f.stack().status();
+  if (!s.desired) return {1e9, 1e9};
+  const Eigen::Isometry3d T_world_obj_est = s.instrument.placed_in_world ? s.instrument.T_world_target : instrument.T_world_object;
+  const Eigen::Isometry3d desired_in_obj = T_world_obj_est.inverse() * make_pose(s.desired->head<3>(), (*s.desired)[3]);
+  const Eigen::Isometry3d true_in_obj = instrument.T_world_object.inverse() * f.drone().pose();
+  const Eigen::Matrix3d dR = desired_in_obj.linear().transpose() * true_in_obj.linear();
+  return {(true_in_obj.translation() - desired_in_obj.translation()).norm(), std::abs(ypr_from_rotation(dR)[0])};
 }
 
-std::vector<Impulse> run_perturb(int axis, int impulses, LockstepFlight& f, const std::string& instrument, bool& reached) {
+std::vector<Impulse> run_perturb(int axis, int impulses, LockstepFlight& f, const PlanarTarget& instrument, bool& reached) {
   std::vector<Impulse> out;
-  f.request(inspect_request(instrument, 1000.0));
+  f.request(inspect_request(instrument.id, 500.0));
   reached = f.run_until([&] { return holding(f); }, 120.0);
   if (!reached) return out;
   f.run(3.0);
@@ -121,7 +126,7 @@ std::vector<Impulse> run_perturb(int axis, int impulses, LockstepFlight& f, cons
     const double end = f.now() + kPeriodS;
     while (f.now() < end) {
       f.tick();
-      const auto [e, ey] = set_point_error(f);
+      const auto [e, ey] = set_point_error(f, instrument);
       imp.peak_error = std::max(imp.peak_error, axis == 3 ? ey : e);
       if (e < kRecoveredM && ey < kRecoveredYaw) {
         if (within_since < 0) within_since = f.now();
@@ -153,13 +158,21 @@ FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, LockstepFl
   r.followed = f.run_until([&] { return f.stack().status().stage == "3 face-follow"; }, 90.0);
   if (!r.followed) return r;
   f.run(5.0);  // settle
-  // The teacher walks at 0.5 m/s back and forth along y between -1 and 1 m.
-  double dir = 1.0;
+  // The teacher walks at 0.5 m/s back and forth along y between -1 and 1 m, turning round with a
+  // human 0.5 m/s^2 deceleration and acceleration.
+  double dir = 1.0, speed = 0.0;
+  constexpr double kSpeed = 0.5, kAccel = 0.5, kTurnY = 1.0;
   const double end = f.now() + walk_s;
   while (f.now() < end) {
     double& y = f.face().translation().y();
-    y += dir * 0.5 * LockstepFlight::kControlDt;
-    if (y > 1.0 || y < -1.0) dir = -dir;
+    const double stopping = speed * speed / (2 * kAccel);
+    if (dir * y + stopping >= kTurnY) speed -= kAccel * LockstepFlight::kControlDt;
+    else speed = std::min(kSpeed, speed + kAccel * LockstepFlight::kControlDt);
+    if (speed <= 0) {
+      speed = 0;
+      dir = -dir;
+    }
+    y += dir * speed * LockstepFlight::kControlDt;
     f.tick();
     const Eigen::Vector3d p = f.true_T_cam(f.face()).translation();
     r.distance_error.push_back(p.z() - setup.control.mission.face_distance_m);
@@ -182,7 +195,7 @@ const CommandSpec& sim_inspect_command_spec() {
 int run_sim_inspect_command(const ParsedArgs& args) {
   const ExperimentOptions o = read_experiment_options(args);
   const double hold = args.number_or("--hold", 5.0, 0.0, 600.0);
-  const FlightStackSetup setup = experiment_setup();
+  const FlightStackSetup setup = experiment_setup(o);
   nlohmann::json runs = nlohmann::json::array();
   int ok = 0;
   std::vector<double> standoff, centre, landing;
@@ -232,7 +245,7 @@ int run_sim_perturb_command(const ParsedArgs& args) {
   if (!axis_name) throw UsageError("--axis x|y|z|yaw is required");
   const int axis = axis_index(*axis_name);
   const int impulses = args.integer_or("--impulses", 4, 1, 100);
-  const FlightStackSetup setup = experiment_setup();
+  const FlightStackSetup setup = experiment_setup(o);
   std::vector<double> recovery;
   int recovered = 0, total = 0, not_reached = 0;
   nlohmann::json runs = nlohmann::json::array();
@@ -240,7 +253,7 @@ int run_sim_perturb_command(const ParsedArgs& args) {
     const unsigned seed = o.seed + static_cast<unsigned>(i);
     LockstepFlight f(setup, {}, seed);
     bool reached = false;
-    const auto imps = run_perturb(axis, impulses, f, setup.lab.instruments.front().id, reached);
+    const auto imps = run_perturb(axis, impulses, f, setup.lab.instruments.front(), reached);
     not_reached += !reached;
     nlohmann::json list = nlohmann::json::array();
     for (const auto& imp : imps) {
@@ -279,7 +292,7 @@ const CommandSpec& sim_face_follow_command_spec() {
 int run_sim_face_follow_command(const ParsedArgs& args) {
   const ExperimentOptions o = read_experiment_options(args);
   const double walk = args.number_or("--walk", 30.0, 1.0, 600.0);
-  const FlightStackSetup setup = experiment_setup();
+  const FlightStackSetup setup = experiment_setup(o);
   std::vector<double> dist, centre;
   int found = 0;
   nlohmann::json runs = nlohmann::json::array();

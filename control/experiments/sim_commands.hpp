@@ -12,5 +12,7 @@ const CommandSpec& sim_perturb_command_spec();
 int run_sim_perturb_command(const ParsedArgs& args);
 const CommandSpec& sim_face_follow_command_spec();
 int run_sim_face_follow_command(const ParsedArgs& args);
+const CommandSpec& sim_compare_slam_command_spec();
+int run_sim_compare_slam_command(const ParsedArgs& args);
 
 }  // namespace labo

@@ -133,9 +133,20 @@ TEST_CASE("control: requests are refused with the reason") {
   // Abort commands are accepted while a mission runs.
   CHECK(f.request(req(RequestKind::Hover)).accepted);
   CHECK(f.stack->status().mission == "idle");
+
+  // In emergency only a new take-off is accepted; once down, without a link, nothing takes off.
+  REQUIRE(f.request(req(RequestKind::EmergencyStop)).accepted);
+  f.run(0.1);
+  refused(go(1, 0, 1), "emergency");
+  refused(inspect("oscilloscope"), "emergency");
+  f.run(1.5);
+  REQUIRE(f.stack->status().phase == FlightPhase::Landed);
+  f.stack->on_link_state(LinkState::Lost, f.t);
+  refused(req(RequestKind::Takeoff), "no link");
+  refused(req(RequestKind::FindTeacher), "no link");
 }
 
-TEST_CASE("control: goto flies to the target and holds it; nothing leaves the fence") {
+TEST_CASE("control: goto and move-by fly to the target and hold it") {
   ModelFlight f;
   take_off(f);
   REQUIRE(f.request(go(2.0, -1.0, 1.2, 0.5)).accepted);

@@ -87,3 +87,22 @@ TEST_CASE("control: config section is validated with the key path") {
   CHECK_THROWS_WITH(read(R"({"mission": {"far_to_near_m": 2.5}})"), Catch::Contains("hysteresis"));
   CHECK_THROWS_WITH(read(R"({"safety": {"link_loss_land_s": "soon"}})"), Catch::Contains("link_loss_land_s"));
 }
+
+#include "control/mission.hpp"
+#include "core/camera_model.hpp"
+#include "core/frames.hpp"
+
+TEST_CASE("control: the standoff pose puts the panel centre at the image centre at the standoff depth") {
+  Eigen::Isometry3d T_world_panel = Eigen::Isometry3d::Identity();
+  T_world_panel.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // faces -x: z (into the panel) along +x
+  T_world_panel.translation() = Eigen::Vector3d(3.0, 0.5, 1.2);
+  const CameraIntrinsics k = PinholeCamera::ardrone2_front().intrinsics();
+  const Eigen::Vector3d ray = image_centre_ray(k.fx, k.fy, k.cx, k.cy, k.width, k.height);
+  const PoseTarget t = standoff_target(T_world_panel, 0.8, ray);
+  const Eigen::Isometry3d T_cam_panel = (make_pose(t.position, t.yaw) * T_body_cam_front()).inverse() * T_world_panel;
+  const Eigen::Vector3d c = T_cam_panel.translation();
+  CHECK(c.z() == Approx(0.8));
+  CHECK(k.fx * c.x() / c.z() + k.cx == Approx(0.5 * k.width));
+  CHECK(k.fy * c.y() / c.z() + k.cy == Approx(0.5 * k.height));
+  CHECK(t.yaw == Approx(0.0).margin(1e-12));
+}
