@@ -8,6 +8,7 @@
 
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
+#include "server/hash_password_command.hpp"
 #include "server/serve_command.hpp"
 
 namespace {
@@ -20,6 +21,7 @@ struct Subcommand {
 std::vector<Subcommand> subcommands() {
   return {
       {labo::serve_command_spec(), labo::run_serve_command},
+      {labo::hash_password_command_spec(), labo::run_hash_password_command},
   };
 }
 
