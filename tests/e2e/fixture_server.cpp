@@ -1,7 +1,7 @@
 // The browser test's and the web benchmark's server: the real WebServer and FlightRuntime, with the
 // drone and the flight software replaced by the test doubles of tests/server/support (a 30 fps test
 // card and a scripted inspection). It exercises everything of the web layer without the simulated
-// lab. Usage: labo_e2e_server PORT [STAGE_SECONDS] [FPS]
+// lab. Usage: labo_e2e_server PORT [STAGE_SECONDS] [FPS] [textured|plain] [CONFIG_FILE]
 #include <iostream>
 #include <string>
 
@@ -13,11 +13,11 @@
 int main(int argc, char** argv) {
   using namespace labo;
   if (argc < 2) {
-    std::cerr << "usage: labo_e2e_server PORT [STAGE_SECONDS] [FPS]\n";
+    std::cerr << "usage: labo_e2e_server PORT [STAGE_SECONDS] [FPS] [textured|plain] [CONFIG_FILE]\n";
     return 2;
   }
   try {
-    const std::filesystem::path config_file = default_config_path();
+    const std::filesystem::path config_file = argc > 5 ? std::filesystem::path(argv[5]) : default_config_path();
     AppConfig config = load_app_config(config_file);
     config.server.port = std::stoi(argv[1]);
     const double stage_s = argc > 2 ? std::stod(argv[2]) : 2.0;
@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
     WebServer server(config.server, config_file, runtime, log.child("web"));
     runtime.start();
     const unsigned short port = server.start();
+    link.set_textured(argc > 4 && std::string(argv[4]) == "textured");
     link.start_pump(clock, fps);
     std::cout << "listening " << port << std::endl;
     server.run_until_signal();

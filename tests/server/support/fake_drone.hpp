@@ -34,9 +34,17 @@ class FakeDroneLink final : public DroneLink {
   LinkStatistics statistics() const override { return {}; }
 
   // A moving test card: stripes that scroll, and the frame number written on it.
+  // Textured frames (smoothed noise, like a real room) cost the JPEG encoder what camera images do.
+  void set_textured(bool textured) {
+    if (!textured) return texture_.release();
+    texture_.create(360, 640, CV_8UC3);
+    cv::RNG(3).fill(texture_, cv::RNG::UNIFORM, 0, 255);
+    cv::GaussianBlur(texture_, texture_, {5, 5}, 1.2);
+  }
   void deliver_frame(std::uint32_t n, Seconds t) {
     frame_.create(360, 640, CV_8UC3);
-    frame_.setTo(cv::Scalar(90, 110, 90));
+    if (texture_.empty()) frame_.setTo(cv::Scalar(90, 110, 90));
+    else texture_.copyTo(frame_);
     for (int x = -80; x < 640; x += 80) cv::rectangle(frame_, cv::Rect(x + static_cast<int>(n * 4 % 80), 120, 40, 120), {200, 200, 200}, cv::FILLED);
     cv::putText(frame_, "frame " + std::to_string(n), {40, 320}, cv::FONT_HERSHEY_SIMPLEX, 1.0, {255, 255, 255}, 2);
     VideoFrame f{t, CameraId::Front, n, frame_};
@@ -77,7 +85,7 @@ class FakeDroneLink final : public DroneLink {
  private:
   std::mutex mutex_;
   DroneLinkListener* listener_ = nullptr;
-  cv::Mat frame_;
+  cv::Mat frame_, texture_;
   std::atomic<bool> running_{false};
   std::thread pump_;
 };
