@@ -3,7 +3,7 @@ JOBS ?= $(shell nproc)
 BUILD ?= build/release
 PORT ?= 8080
 
-.PHONY: run test setup build asan bench clean
+.PHONY: run test setup build asan bench clean fuzz
 
 setup:
 	@bash scripts/setup.sh
@@ -23,6 +23,11 @@ asan: setup
 	@cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DLABO_SANITIZE=ON > /dev/null
 	@cmake --build build/asan -j $(JOBS)
 	@cd build/asan && ctest --output-on-failure -j $(JOBS)
+
+# libFuzzer harnesses for the AR.Drone parsers (navdata, PaVE, AT), FUZZ_SECONDS each.
+FUZZ_SECONDS ?= 60
+fuzz:
+	@bash scripts/fuzz.sh $(FUZZ_SECONDS)
 
 clean:
 	rm -rf build

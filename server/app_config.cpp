@@ -20,6 +20,8 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
                                                    PinholeCamera::ardrone2_bottom().intrinsics()};
   c.control = root.has("control") ? read_control_config(root.object("control")) : ControlConfig{};
   c.vision = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
+  c.link = root.has("link") ? read_ardrone_link_settings(root.object("link")) : ArdroneLinkSettings{};
+  c.emulator = root.has("emulator") ? read_ardrone_emulator_settings(root.object("emulator")) : ArdroneEmulatorSettings{};
   c.server = root.has("server") ? read_server_settings(root.object("server"), base_dir) : default_server_settings(base_dir);
   c.lab_file = resolve(base_dir, root.string_or("lab", "lab.json"));
   root.finish();

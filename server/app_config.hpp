@@ -7,6 +7,8 @@
 #include "control/control_config.hpp"
 #include "core/camera_config.hpp"
 #include "core/log.hpp"
+#include "drone/ardrone2/ardrone_emulator.hpp"
+#include "drone/ardrone2/ardrone_link.hpp"
 #include "localization/vision_thresholds.hpp"
 #include "server/server_settings.hpp"
 
@@ -19,6 +21,8 @@ struct AppConfig {
   VisionThresholds vision;
   ControlConfig control;
   ServerSettings server;
+  ArdroneLinkSettings link;          // the AR.Drone 2.0 driver (docs/ardrone2.md)
+  ArdroneEmulatorSettings emulator;  // the AR.Drone 2.0 protocol emulator on loopback
   std::filesystem::path lab_file;  // the simulated lab's description
 };
 

@@ -8,6 +8,8 @@
 
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
+#include "drone/ardrone2/bench_command.hpp"
+#include "drone/ardrone2/inspect_commands.hpp"
 #include "server/hash_password_command.hpp"
 #include "server/serve_command.hpp"
 
@@ -21,6 +23,9 @@ struct Subcommand {
 std::vector<Subcommand> subcommands() {
   return {
       {labo::serve_command_spec(), labo::run_serve_command},
+      {labo::navdata_command_spec(), labo::run_navdata_command},
+      {labo::video_command_spec(), labo::run_video_command},
+      {labo::bench_link_command_spec(), labo::run_bench_link_command},
       {labo::hash_password_command_spec(), labo::run_hash_password_command},
   };
 }

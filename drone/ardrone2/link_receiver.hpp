@@ -1,0 +1,54 @@
+#pragma once
+// What ArdroneLink and ReplayLink share, without any I/O: raw navdata datagrams and TCP video chunks
+// in (with their receive time), NavdataSample and VideoFrame events out, every bad input counted by
+// kind. Live and replayed flights therefore go through the very same code. One receiver per thread.
+#include <cstdint>
+#include <functional>
+#include <span>
+
+#include "drone/ardrone2/h264_codec.hpp"
+#include "drone/ardrone2/link_counters.hpp"
+#include "drone/ardrone2/navdata_parser.hpp"
+#include "drone/ardrone2/pave.hpp"
+#include "drone/drone_link.hpp"
+
+namespace labo::ardrone2 {
+
+class NavdataReceiver {
+ public:
+  using Handler = std::function<void(const NavdataSample&, const NavdataPacket&)>;
+  NavdataReceiver(LinkCounters& counters, Handler handler);
+  // One UDP 5554 datagram. True when it was valid and in order (the link is alive).
+  bool datagram(std::span<const std::uint8_t> bytes, Seconds t);
+  void reset_sequence() { sequence_.reset(); }
+
+ private:
+  LinkCounters& counters_;
+  Handler handler_;
+  NavdataParser parser_;
+  NavdataPacket packet_;
+  NavdataSequenceFilter sequence_;
+  NavdataSample sample_;
+};
+
+class VideoReceiver {
+ public:
+  using Handler = std::function<void(const VideoFrame&)>;
+  VideoReceiver(LinkCounters& counters, Handler handler);
+  // Bytes from TCP 5555 as they came.
+  void bytes(std::span<const std::uint8_t> bytes, Seconds t);
+  // A new TCP connection or a camera switch: drop partial data, wait for the next IDR.
+  void reset();
+  // The camera frames are attributed to (the stream does not say which camera it carries).
+  void set_camera(CameraId camera) { camera_ = camera; }
+
+ private:
+  LinkCounters& counters_;
+  Handler handler_;
+  PaveDemuxer demuxer_;
+  H264Decoder decoder_;
+  VideoFrame frame_;
+  CameraId camera_ = CameraId::Front;
+};
+
+}  // namespace labo::ardrone2

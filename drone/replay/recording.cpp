@@ -1,0 +1,96 @@
+#include "drone/replay/recording.hpp"
+
+#include <cmath>
+#include <cstring>
+
+namespace labo {
+
+namespace {
+constexpr char kSignature[8] = {'L', 'A', 'B', 'O', 'R', 'E', 'C', '1'};
+constexpr std::uint32_t kVersion = 1;
+constexpr std::size_t kRecordHeaderBytes = 16;
+
+template <typename T>
+void put(char* at, T v) {
+  std::memcpy(at, &v, sizeof(T));
+}
+template <typename T>
+T get(const char* at) {
+  T v;
+  std::memcpy(&v, at, sizeof(T));
+  return v;
+}
+}  // namespace
+
+RecordingWriter::RecordingWriter(const std::filesystem::path& file) : out_(file, std::ios::binary), path_(file) {
+  if (!out_) throw RecordingError(file.string() + ": cannot create the recording file");
+  char header[12];
+  std::memcpy(header, kSignature, 8);
+  put(header + 8, kVersion);
+  out_.write(header, sizeof(header));
+}
+
+void RecordingWriter::write(RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes) {
+  char header[kRecordHeaderBytes] = {};
+  header[0] = static_cast<char>(channel);
+  put(header + 4, t);
+  put(header + 12, static_cast<std::uint32_t>(std::min(bytes.size(), kMaxRecordBytes)));
+  std::lock_guard lock(mutex_);
+  out_.write(header, sizeof(header));
+  out_.write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(std::min(bytes.size(), kMaxRecordBytes)));
+}
+
+void RecordingWriter::note(Seconds t, const std::string& text) {
+  write(RecordChannel::Note, t, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+}
+
+void RecordingWriter::flush() {
+  std::lock_guard lock(mutex_);
+  out_.flush();
+}
+
+RecordingReader::RecordingReader(const std::filesystem::path& file) : in_(file, std::ios::binary), path_(file) {
+  if (!in_) throw RecordingError(file.string() + ": cannot open");
+  char header[12];
+  if (!in_.read(header, sizeof(header)) || std::memcmp(header, kSignature, 8) != 0)
+    throw RecordingError(file.string() + ": not a LaboDrone recording (expected the signature LABOREC1)");
+  const auto version = get<std::uint32_t>(header + 8);
+  if (version != kVersion)
+    throw RecordingError(file.string() + ": recording version " + std::to_string(version) + ", expected 1");
+}
+
+bool RecordingReader::is_recording(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  char sig[8];
+  return in.read(sig, 8) && std::memcmp(sig, kSignature, 8) == 0;
+}
+
+bool RecordingReader::next(Record& record) {
+  char header[kRecordHeaderBytes];
+  in_.read(header, sizeof(header));
+  if (in_.gcount() == 0) return false;
+  const std::string where = path_.string() + ": record " + std::to_string(index_);
+  if (in_.gcount() != static_cast<std::streamsize>(sizeof(header))) {
+    truncated_ = true;
+    return false;
+  }
+  const auto channel = static_cast<std::uint8_t>(header[0]);
+  if (channel < 1 || channel > 5) throw RecordingError(where + ": unknown channel " + std::to_string(channel));
+  const auto t = get<double>(header + 4);
+  const auto length = get<std::uint32_t>(header + 12);
+  if (!std::isfinite(t)) throw RecordingError(where + ": time is not finite");
+  if (length > kMaxRecordBytes) throw RecordingError(where + ": length " + std::to_string(length) + " beyond 16 MiB");
+  record.channel = static_cast<RecordChannel>(channel);
+  record.t = t;
+  record.bytes.resize(length);
+  in_.read(reinterpret_cast<char*>(record.bytes.data()), length);
+  if (in_.gcount() != static_cast<std::streamsize>(length)) {
+    truncated_ = true;
+    return false;
+  }
+  ++index_;
+  return true;
+}
+
+}  // namespace labo

@@ -1,0 +1,145 @@
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <unistd.h>
+#include <thread>
+#include <vector>
+
+#include "drone/ardrone2/ardrone_emulator.hpp"
+#include "drone/ardrone2/ardrone_link.hpp"
+#include "drone/replay/replay_link.hpp"
+#include "tests/drone/ardrone2/tiny_vehicle.hpp"
+
+using namespace labo;
+
+namespace {
+
+struct Events : DroneLinkListener {
+  std::mutex m;
+  std::vector<NavdataSample> navdata;
+  std::vector<VideoFrame> frames;
+  std::vector<std::pair<LinkState, Seconds>> states;
+  void on_navdata(const NavdataSample& s) override {
+    std::lock_guard l(m);
+    navdata.push_back(s);
+  }
+  void on_video(const VideoFrame& f) override {
+    std::lock_guard l(m);
+    frames.push_back(f);  // keeps a reference: the receiver must then not reuse the buffer
+  }
+  void on_link_state(LinkState s, Seconds t) override {
+    std::lock_guard l(m);
+    states.emplace_back(s, t);
+  }
+};
+
+bool same(const NavdataSample& a, const NavdataSample& b) {
+  return a.t == b.t && a.sequence == b.sequence && a.state == b.state && a.control_state == b.control_state &&
+         a.battery_percent == b.battery_percent && a.roll_rad == b.roll_rad && a.pitch_rad == b.pitch_rad &&
+         a.yaw_rad == b.yaw_rad && a.altitude_m == b.altitude_m && a.vx_mps == b.vx_mps && a.vy_mps == b.vy_mps &&
+         a.vz_mps == b.vz_mps && a.has_drone_time == b.has_drone_time && a.drone_time == b.drone_time;
+}
+
+std::filesystem::path temp_file(const std::string& name) {
+  return std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()) + ".laborec");
+}
+
+}  // namespace
+
+TEST_CASE("link: record then replay yields identical events", "[link][replay]") {
+  const auto file = temp_file("labo_record_replay");
+  Events live;
+  {
+    test::TinyVehicle vehicle;
+    ArdroneEmulatorSettings es;
+    es.at_port = es.navdata_port = es.video_port = 0;
+    es.camera_switch_delay_s = 0.1;
+    es.com_watchdog_s = 0.5;
+    ArdroneEmulator emulator(vehicle, es, Logger("test", LogLevel::Off));
+    emulator.start();
+    ArdroneLinkSettings ls;
+    ls.host = "127.0.0.1";
+    ls.at_port = emulator.at_port();
+    ls.navdata_port = emulator.navdata_port();
+    ls.video_port = emulator.video_port();
+    ls.recording = file;
+    ArdroneLink link(ls, Logger("test", LogLevel::Off));
+    link.set_listener(&live);
+    link.start();
+    link.takeoff();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1200));
+    link.select_camera(CameraId::Bottom);
+    link.move(MoveCommand{0.1, 0.2, 0.0, -0.3});
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    link.land();
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    link.stop();
+    emulator.stop();
+  }
+  REQUIRE(live.navdata.size() > 10);
+  REQUIRE(live.frames.size() > 10);
+
+  Events replayed;
+  ReplayLink replay(file, Logger("test", LogLevel::Off));
+  replay.set_listener(&replayed);
+  replay.run_to_end();
+  CHECK_FALSE(replay.truncated());
+
+  REQUIRE(replayed.navdata.size() == live.navdata.size());
+  for (std::size_t i = 0; i < live.navdata.size(); ++i) {
+    INFO("navdata " << i);
+    CHECK(same(replayed.navdata[i], live.navdata[i]));
+  }
+  REQUIRE(replayed.frames.size() == live.frames.size());
+  bool saw_bottom = false;
+  for (std::size_t i = 0; i < live.frames.size(); ++i) {
+    INFO("frame " << i);
+    CHECK(replayed.frames[i].t == live.frames[i].t);
+    CHECK(replayed.frames[i].frame_number == live.frames[i].frame_number);
+    CHECK(replayed.frames[i].camera == live.frames[i].camera);
+    saw_bottom = saw_bottom || live.frames[i].camera == CameraId::Bottom;
+    REQUIRE(replayed.frames[i].bgr.size() == live.frames[i].bgr.size());
+    CHECK(cv::norm(replayed.frames[i].bgr, live.frames[i].bgr, cv::NORM_INF) == 0.0);
+  }
+  CHECK(saw_bottom);
+  CHECK(replayed.states == live.states);
+  std::filesystem::remove(file);
+}
+
+TEST_CASE("link: recording reader refuses bad files and stops at a truncated record", "[link][replay]") {
+  const auto file = temp_file("labo_bad_recording");
+  {
+    std::ofstream out(file, std::ios::binary);
+    out << "not a recording at all";
+  }
+  CHECK_THROWS_WITH(RecordingReader(file), Catch::Contains("LABOREC1"));
+  {
+    RecordingWriter w(file);
+    const std::vector<std::uint8_t> bytes = {1, 2, 3, 4, 5};
+    w.write(RecordChannel::NavdataIn, 1.5, bytes);
+    w.write(RecordChannel::VideoIn, 2.0, bytes);
+  }
+  // Cut the last record in the middle.
+  std::filesystem::resize_file(file, std::filesystem::file_size(file) - 2);
+  RecordingReader r(file);
+  Record rec;
+  REQUIRE(r.next(rec));
+  CHECK(rec.channel == RecordChannel::NavdataIn);
+  CHECK(rec.t == 1.5);
+  CHECK(rec.bytes.size() == 5);
+  CHECK_FALSE(r.next(rec));
+  CHECK(r.truncated());
+  {
+    std::ofstream out(file, std::ios::binary | std::ios::app);
+  }
+  // An unknown channel is an error naming the record.
+  {
+    RecordingWriter w(file);
+    w.write(static_cast<RecordChannel>(9), 0.0, std::vector<std::uint8_t>{});
+  }
+  RecordingReader bad(file);
+  CHECK_THROWS_WITH(bad.next(rec), Catch::Contains("unknown channel"));
+  std::filesystem::remove(file);
+}
