@@ -16,6 +16,7 @@ class FlightStackCore final : public FlightCore {
 
   void on_navdata(const NavdataSample& sample) override;
   void on_video(const VideoFrame& frame) override;
+  void on_link_state(LinkState state, Seconds t) override { stack_->on_link_state(state, t); }
   FlightAction tick(Seconds t) override;
   CommandVerdict request(const MissionCommand& command, Seconds t) override;
   FlightSnapshot status() override;

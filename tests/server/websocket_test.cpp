@@ -171,3 +171,14 @@ TEST_CASE("web: a viewer that reads nothing costs bounded memory and is disconne
   CHECK(f.server->metrics().ws_frames_skipped.load() > 0);
   CHECK(f.server->metrics().ws_clients.load() == 1);
 }
+
+TEST_CASE("web: an oversize WebSocket message is refused and the client disconnected") {
+  ServerFixture f([](ServerSettings& s) { s.clients.max_message_bytes = 1024; });
+  WsClient c(f.port, login_cookie(f.port, "alice", "alice-pw"));
+  REQUIRE(c.wait_for("hello"));
+  c.send(json{{"type", "heartbeat"}, {"pad", std::string(4000, 'x')}}.dump());
+  // The server closes with code 1009 (message too big): reads fail instead of timing out on telemetry.
+  bool closed = false;
+  for (int i = 0; i < 100 && !closed; ++i) closed = !c.read(2.0);
+  CHECK(closed);
+}

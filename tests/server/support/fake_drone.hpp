@@ -96,6 +96,7 @@ class ScriptedCore final : public FlightCore {
   explicit ScriptedCore(double stage_s = 1.0, double request_delay_s = 0.0) : stage_s_(stage_s), request_delay_s_(request_delay_s) {}
   void on_navdata(const NavdataSample& s) override { battery_ = s.battery_percent; }
   void on_video(const VideoFrame&) override { frames++; }
+  void on_link_state(LinkState, Seconds) override {}
   FlightAction tick(Seconds t) override {
     now_ = t;
     FlightAction a;
