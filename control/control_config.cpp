@@ -22,6 +22,7 @@ PoseControlGains read_gains(const ConfigReader& node, PoseControlGains g) {
   if (node.has("z")) g.z = read_pid(node.object("z"), g.z);
   if (node.has("yaw")) g.yaw = read_pid(node.object("yaw"), g.yaw);
   g.max_tilt_command = node.number_or("max_tilt_command", g.max_tilt_command, {0.0, 1.0, true});
+  g.xy_velocity_feedforward = node.number_or("xy_velocity_feedforward", g.xy_velocity_feedforward, Range::closed(0.0, 2.0));
   node.finish();
   return g;
 }
@@ -50,9 +51,11 @@ MissionParameters read_mission(const ConfigReader& node, MissionParameters m) {
   m.scale_manoeuvre_speed_mps =
       node.number_or("scale_manoeuvre_speed_mps", m.scale_manoeuvre_speed_mps, Range::closed(0.05, 1.0));
   m.detect_timeout_s = node.number_or("detect_timeout_s", m.detect_timeout_s, Range::positive());
+  m.hold_tolerance_m = node.number_or("hold_tolerance_m", m.hold_tolerance_m, Range::closed(0.01, 0.5));
   m.default_hold_s = node.number_or("default_hold_s", m.default_hold_s, Range::non_negative());
   m.max_hold_s = node.number_or("max_hold_s", m.max_hold_s, Range::positive());
   m.face_search_yaw_rate = node.number_or("face_search_yaw_rate", m.face_search_yaw_rate, Range::closed(0.05, 2.0));
+  m.face_as_feedback = node.boolean_or("face_as_feedback", m.face_as_feedback);
   m.face_search_timeout_s = node.number_or("face_search_timeout_s", m.face_search_timeout_s, Range::positive());
   m.far_to_near_m = node.number_or("far_to_near_m", m.far_to_near_m, Range::positive());
   m.near_to_far_m = node.number_or("near_to_far_m", m.near_to_far_m, Range::positive());

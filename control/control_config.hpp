@@ -19,10 +19,15 @@ struct PidGains {
 };
 
 struct PoseControlGains {
-  PidGains xy{0.5, 0.0, 0.35, 0.0, -1.0, 1.0};          // -> roll / pitch
+  // Tuned in lockstep (docs/control.md): tum_ardrone's xy 0.5/0.35 -> 0.7/0.4 (perturbation recovery
+  // 2.9 -> 2.4 s, face-centre error RMS 0.097 -> 0.056); yaw 2.0 per rad.
+  PidGains xy{0.7, 0.0, 0.4, 0.0, -1.0, 1.0};           // -> roll / pitch
   PidGains z{0.6, 0.001, 0.1, 200.0, -0.25, 0.8};        // -> gaz
-  PidGains yaw{1.2, 0.0, 0.0, 0.0, -1.0, 1.0};           // -> yaw rate (rad error -> command)
+  PidGains yaw{2.0, 0.0, 0.0, 0.0, -1.0, 1.0};           // -> yaw rate (rad error -> command)
   double max_tilt_command = 0.5;  // |roll|, |pitch| clip below the PCMD range, for a gentle flight
+  // Tilt command per m/s of a moving set point: holds the speed against drag without a lagging error
+  // (drag 0.5-0.55 /s over g * tan(12 deg) gives about 0.25).
+  double xy_velocity_feedforward = 0.25;
 };
 
 struct AutopilotCriteria {
@@ -44,9 +49,13 @@ struct MissionParameters {
   double scale_manoeuvre_m = 0.5;      // stage 1: up/down amplitude for the scale estimation
   double scale_manoeuvre_speed_mps = 0.25;
   double detect_timeout_s = 15.0;      // stage 2 / re-detection: give up and go home after this
+  double hold_tolerance_m = 0.04;      // inspect: hold time counts only this close to the standoff pose
   double default_hold_s = 10.0;        // inspect hold time when the request gives none
   double max_hold_s = 600.0;
   double face_search_yaw_rate = 0.4;   // rad/s during the yaw sweep
+  // The teacher moves: fed to the filter as a landmark, the face's motion is taken for the drone's.
+  // Off: SLAM drives the pose and the face is the target; the face drives it only when SLAM is lost.
+  bool face_as_feedback = false;
   double face_search_timeout_s = 60.0;
   double far_to_near_m = 1.6;          // localization switch: homography below this distance ...
   double near_to_far_m = 2.0;          // ... SLAM again above this one (hysteresis)

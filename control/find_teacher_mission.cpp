@@ -11,7 +11,9 @@ namespace {
 constexpr double kFaceHeightM = 1.6;       // climb to about a standing teacher's face height
 constexpr double kFreshObservationS = 0.3;
 constexpr double kLostHoldS = 3.0;         // face lost: hold this long, then search again
-constexpr double kFollowSmoothing = 0.15;  // low-pass on the follow set point (per tick)
+constexpr double kFollowSmoothing = 0.5;    // low-pass on the face's place (per face result)
+constexpr double kVelocitySmoothing = 0.2;  // low-pass on the teacher's velocity
+constexpr double kCoastS = 0.5;             // face lost: keep following its predicted motion this long
 }  // namespace
 
 int FindTeacherMission::stage_index() const {
@@ -55,14 +57,28 @@ std::vector<Eigen::Vector3d> FindTeacherMission::viewpoints(const MissionContext
 
 void FindTeacherMission::follow(MissionContext& ctx) {
   const TargetObservation f = ctx.perception.face();
-  const Eigen::Isometry3d T_world_face = world_pose_of(f, ctx.pose, CameraId::Front);
-  const PoseTarget wanted = standoff_target(T_world_face, ctx.config.mission.face_distance_m);
-  // Follow a smoothed set point (no integral reset while the teacher walks).
-  PoseTarget next = wanted;
-  if (const auto& cur = ctx.autopilot.target(); cur && !fresh_) {
-    next.position = cur->position + kFollowSmoothing * (wanted.position - cur->position);
-    next.yaw = cur->yaw + kFollowSmoothing * wrap_angle(wanted.yaw - cur->yaw);
+  if (f.t == last_face_t_ && !fresh_) return;  // no new face result: keep the moving set point
+  Eigen::Isometry3d T_world_face = world_pose_of(f, ctx.pose, CameraId::Front);
+  // Low-pass the face's place and estimate the teacher's velocity from it (feed-forward).
+  if (fresh_ || last_face_t_ < 0) {
+    face_position_ = T_world_face.translation();
+    face_velocity_.setZero();
+  } else {
+    const double dt = std::max(f.t - last_face_t_, 1e-3);
+    const Eigen::Vector3d previous = face_position_;
+    face_position_ += kFollowSmoothing * (T_world_face.translation() - face_position_);
+    Eigen::Vector3d v = (face_position_ - previous) / dt;
+    v.z() = 0;
+    face_velocity_ += kVelocitySmoothing * (v - face_velocity_);
   }
+  last_face_t_ = f.t;
+  T_world_face.translation() = face_position_;
+  PoseTarget next = standoff_target(T_world_face, ctx.config.mission.face_distance_m, ctx.centre_ray_front);
+  next.velocity = face_velocity_;
+  // Point the camera at the face from where the drone is: the same as the line of sight once in
+  // place, and it keeps a walking teacher in view while the drone catches up.
+  const Eigen::Vector3d to_face = face_position_ - ctx.pose.T_world_body.translation();
+  next.yaw = std::atan2(to_face.y(), to_face.x());
   ctx.autopilot.go_to(next, ctx.t, fresh_);
   fresh_ = false;
 }
@@ -117,7 +133,19 @@ MissionOutcome FindTeacherMission::step(MissionContext& ctx) {
       else enter(Step::Lost, ctx.t);
       break;
     case Step::Lost:
-      if (fresh_) ctx.autopilot.hold_here(ctx.pose, ctx.t);
+      // Coast along the teacher's last motion (they most likely walked out of view), then hold.
+      if (auto target = ctx.autopilot.target(); target && ctx.t - since_ < kCoastS) {
+        PoseTarget next = *target;
+        next.position += next.velocity * (ctx.t - last_tick_);
+        face_position_ += face_velocity_ * (ctx.t - last_tick_);
+        ctx.autopilot.go_to(next, ctx.t, false);
+      } else if (target) {
+        // Hold the place, keep looking where the face went.
+        const Eigen::Vector3d to_face = face_position_ - ctx.pose.T_world_body.translation();
+        PoseTarget look{target->velocity.norm() > 0 ? ctx.pose.T_world_body.translation() : target->position,
+                        std::atan2(to_face.y(), to_face.x())};
+        ctx.autopilot.go_to(look, ctx.t, target->velocity.norm() > 0);
+      }
       fresh_ = false;
       if (face_seen(ctx)) enter(Step::Follow, ctx.t);
       else if (ctx.t - since_ > kLostHoldS) {
@@ -136,6 +164,7 @@ MissionOutcome FindTeacherMission::step(MissionContext& ctx) {
     return MissionOutcome::Failed;
   }
   stage_text_ = describe(ctx.t);
+  last_tick_ = ctx.t;
   return step_ == Step::Done ? MissionOutcome::Succeeded : MissionOutcome::Running;
 }
 

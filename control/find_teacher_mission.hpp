@@ -44,6 +44,10 @@ class FindTeacherMission final : public Mission {
   bool stop_requested_ = false;
   double sweep_start_yaw_ = 0;
   std::size_t viewpoint_ = 0;
+  Seconds last_tick_ = 0;
+  Seconds last_face_t_ = -1;
+  Eigen::Vector3d face_position_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d face_velocity_ = Eigen::Vector3d::Zero();
   std::string stage_text_ = "1 take-off";
 };
 

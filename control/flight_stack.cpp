@@ -3,7 +3,7 @@
 #include <stdexcept>
 
 #include "control/autopilot.hpp"
-#include "control/dead_reckoning_pipelines.hpp"
+#include "control/lab_pipelines.hpp"
 #include "control/find_teacher_mission.hpp"
 #include "control/inspect_mission.hpp"
 #include "control/localization_switch.hpp"
@@ -80,7 +80,8 @@ struct FlightStack::Impl {
     in.target_state = near.state;
     in.target_distance_m = near_target_distance(near);
     in.slam = pipelines->slam().state;
-    in.face_mode = focus.face;
+    const bool slam_ok = in.slam == SlamState::Good || in.slam == SlamState::Dodgy;
+    in.face_mode = focus.face && (setup.control.mission.face_as_feedback || !slam_ok);
     in.face_state = pipelines->face().state;
     focus.feedback = source_switch.update(in);
     pipelines->set_focus(focus);
@@ -131,13 +132,18 @@ struct FlightStack::Impl {
       pending.reset();
       return finish_tick(out, t);
     }
+    // The source switch runs even while safety holds the mission: a paused mission must be able to
+    // regain its visual source (a hover waiting for localization would otherwise never end).
+    update_source(t);
     bool paused = false;
     FlightOutput safety_out = apply_safety(pose, t, paused);
     if (paused) return finish_tick(safety_out, t);
 
     FlightOutput out;
     if (mission) {
-      MissionContext ctx{t, pose, *pipelines, autopilot, setup.lab, setup.control, focus, camera, std::nullopt};
+      const CameraIntrinsics& k = setup.cameras.front;
+      MissionContext ctx{t, pose, *pipelines, autopilot, setup.lab, setup.control, focus, camera,
+                         image_centre_ray(k.fx, k.fy, k.cx, k.cy, k.width, k.height), std::nullopt};
       const MissionOutcome outcome = mission->step(ctx);
       if (outcome != MissionOutcome::Running) {
         const std::string verdict = outcome == MissionOutcome::Succeeded ? "succeeded: " : "failed: ";
@@ -146,7 +152,7 @@ struct FlightStack::Impl {
       }
       if (ctx.phase_action) return finish_tick(*ctx.phase_action, t);
     }
-    update_source(t);
+    update_source(t);  // the mission may have changed the focus
     out = autopilot.step(pose, t);
     return finish_tick(out, t);
   }
@@ -221,7 +227,7 @@ struct FlightStack::Impl {
 };
 
 FlightStack::FlightStack(FlightStackSetup setup)
-    : FlightStack(std::move(setup), std::make_unique<DeadReckoningPipelines>()) {}
+    : FlightStack(setup, std::make_unique<LabPipelines>(setup.lab, setup.estimation, setup.vision)) {}
 
 FlightStack::FlightStack(FlightStackSetup setup, std::unique_ptr<LocalizationPipelines> pipelines)
     : impl_(std::make_unique<Impl>(std::move(setup), std::move(pipelines))) {}

@@ -21,6 +21,7 @@
 #include "control/lab_geometry.hpp"
 #include "control/localization_pipelines.hpp"
 #include "core/camera_config.hpp"
+#include "localization/estimation/estimation_config.hpp"
 #include "localization/vision_thresholds.hpp"
 
 namespace labo {
@@ -28,13 +29,15 @@ namespace labo {
 struct FlightStackSetup {
   ControlConfig control;
   LabGeometry lab;
-  CamerasConfig cameras;
+  CamerasConfig cameras{PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()};
   VisionThresholds vision;
+  EstimatorConfig estimation;
 };
 
 class FlightStack {
  public:
-  // Builds the lab's pipelines (estimator, planar, SLAM, face) from the setup.
+  // Builds the lab's pipelines (LabPipelines: the StateEstimator; vision front-ends are attached to
+  // it as the planar, SLAM and face pipelines are wired in).
   explicit FlightStack(FlightStackSetup setup);
   // With given pipelines (tests, replay).
   FlightStack(FlightStackSetup setup, std::unique_ptr<LocalizationPipelines> pipelines);

@@ -30,6 +30,7 @@ int InspectMission::stage_index() const {
     case Step::Approach:
     case Step::Hold:
     case Step::Redetect: return 3;
+    case Step::Leave: return 4;
     case Step::Home: return home_.paper_stage();
   }
   return 0;
@@ -58,6 +59,7 @@ std::string InspectMission::describe(Seconds t) const {
     case Step::Hold: return "3 inspect: holding at " + format_seconds(standoff_m_) + " m, " + format_seconds(held_s_) +
                             "/" + format_seconds(hold_s_) + " s";
     case Step::Redetect: return "3 inspect: instrument lost, re-detecting (" + format_seconds(t - since_) + " s)";
+    case Step::Leave: return "4 return: backing away from" + id;
     case Step::Home: return home_.describe(t);
   }
   return "";
@@ -135,7 +137,14 @@ void InspectMission::step_detect(MissionContext& ctx) {
 void InspectMission::step_inspect(MissionContext& ctx) {
   ctx.focus.instrument_id = instrument_.id;
   ctx.camera = CameraId::Front;
-  const PoseTarget standoff = standoff_target(T_world_instrument_, standoff_m_);
+  // Once the estimator has placed the instrument (when its homography feeds the filter), the pose
+  // estimate is relative to that placement: the set point must be too, or any placement error becomes
+  // a standoff and centring error.
+  const TargetObservation obs = ctx.perception.instrument();
+  const bool replaced = obs.placed_in_world && !obs.T_world_target.isApprox(T_world_instrument_, 1e-9);
+  if (obs.placed_in_world) T_world_instrument_ = obs.T_world_target;
+  const PoseTarget standoff = standoff_target(T_world_instrument_, standoff_m_, ctx.centre_ray_front);
+  if (replaced && !fresh_ && (step_ == Step::Approach || step_ == Step::Hold)) ctx.autopilot.go_to(standoff, ctx.t, false);
   const double dt = last_t_ < 0 ? 0 : ctx.t - last_t_;
   const bool seen = instrument_seen(ctx);
   if (seen) lost_since_ = -1;
@@ -154,18 +163,15 @@ void InspectMission::step_inspect(MissionContext& ctx) {
       fresh_ = false;
       if (lost) {
         enter(Step::Redetect, ctx.t);
-      } else if (seen && ctx.autopilot.distance_to_target() < ctx.config.autopilot.stay_distance_m) {
+      } else if (seen && ctx.autopilot.distance_to_target() < ctx.config.mission.hold_tolerance_m) {
         held_s_ += dt;  // only time with the panel in view and the drone in place counts
-        if (held_s_ >= hold_s_) {
-          home_.start(ctx.t);
-          step_ = Step::Home;
-        }
+        if (held_s_ >= hold_s_) enter(Step::Leave, ctx.t);
       }
       break;
     case Step::Redetect: {
       if (fresh_) {
         // Hold where we are, backed off along the line of sight: a wider view, no blind push forward.
-        const PoseTarget back = standoff_target(T_world_instrument_, standoff_m_ + kRedetectBackoffM);
+        const PoseTarget back = standoff_target(T_world_instrument_, standoff_m_ + kRedetectBackoffM, ctx.centre_ray_front);
         ctx.autopilot.go_to(back, ctx.t);
         fresh_ = false;
       }
@@ -177,6 +183,18 @@ void InspectMission::step_inspect(MissionContext& ctx) {
       }
       break;
     }
+    case Step::Leave:
+      // Back away on the homography until the panel no longer fills the view, so SLAM can take over.
+      if (fresh_) {
+        const double away = ctx.config.mission.near_to_far_m + 0.2;
+        ctx.autopilot.go_to(standoff_target(T_world_instrument_, away, ctx.centre_ray_front), ctx.t);
+        fresh_ = false;
+      }
+      if (ctx.autopilot.reached() || ctx.t - since_ > 10.0) {
+        home_.start(ctx.t);
+        step_ = Step::Home;
+      }
+      break;
     default:
       break;
   }
@@ -192,7 +210,8 @@ MissionOutcome InspectMission::step(MissionContext& ctx) {
     case Step::Detect: step_detect(ctx); break;
     case Step::Approach:
     case Step::Hold:
-    case Step::Redetect: step_inspect(ctx); break;
+    case Step::Redetect:
+    case Step::Leave: step_inspect(ctx); break;
     case Step::Home: home_.step(ctx); break;
   }
   last_t_ = ctx.t;

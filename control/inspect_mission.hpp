@@ -22,7 +22,7 @@ class InspectMission final : public Mission {
   double held_s() const { return held_s_; }
 
  private:
-  enum class Step { TakeOff, Climb, SlamInit, ScaleUp, ScaleDown, Detect, Approach, Hold, Redetect, Home };
+  enum class Step { TakeOff, Climb, SlamInit, ScaleUp, ScaleDown, Detect, Approach, Hold, Redetect, Leave, Home };
   void enter(Step step, Seconds t) {
     step_ = step;
     since_ = t;

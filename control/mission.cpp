@@ -7,18 +7,25 @@
 
 namespace labo {
 
-PoseTarget standoff_target(const Eigen::Isometry3d& T_world_target, double distance_m) {
+PoseTarget standoff_target(const Eigen::Isometry3d& T_world_target, double distance_m, const Eigen::Vector3d& centre_ray) {
   const Eigen::Vector3d centre = T_world_target.translation();
   Eigen::Vector3d into = T_world_target.linear().col(2);
   into.z() = 0;
   if (into.norm() < 1e-6) into = Eigen::Vector3d::UnitX();  // a horizontal target: look along x
   into.normalize();
+  // Camera axes when level and facing the target: z = into, y = down, x = y cross z (right).
+  const Eigen::Vector3d down(0, 0, -1);
+  const Eigen::Vector3d right = down.cross(into);
+  const Eigen::Vector3d camera = centre - distance_m * (centre_ray.x() * right + centre_ray.y() * down + into);
   const double camera_forward = T_body_cam_front().translation().x();
   PoseTarget target;
-  target.position = centre - (distance_m + camera_forward) * into;
-  target.position.z() = centre.z();
+  target.position = camera - camera_forward * into;
   target.yaw = std::atan2(into.y(), into.x());
   return target;
+}
+
+Eigen::Vector3d image_centre_ray(double fx, double fy, double cx, double cy, int width, int height) {
+  return {(0.5 * width - cx) / fx, (0.5 * height - cy) / fy, 1.0};
 }
 
 Eigen::Isometry3d place_in_world(const PoseEstimate& pose, CameraId camera, const Eigen::Isometry3d& T_cam_target) {

@@ -21,6 +21,7 @@ struct MissionContext {
   const ControlConfig& config;
   PerceptionFocus& focus;
   CameraId& camera;
+  Eigen::Vector3d centre_ray_front;  // front camera ray through the image centre (x/z, y/z, 1)
   std::optional<FlightOutput> phase_action;  // take-off / land issued this tick
 };
 
@@ -46,9 +47,14 @@ class Mission {
   std::string result_;
 };
 
-// Pose from which the camera looks straight at a planar target (or face) from `distance_m`: on the
-// target's -z side (z points into the panel), at the target's height, facing it.
-PoseTarget standoff_target(const Eigen::Isometry3d& T_world_target, double distance_m);
+// Pose from which the front camera sees a planar target (or face) at `distance_m`, facing it from its
+// -z side (z points into the panel), with the target's centre on `centre_ray` - the ray through the
+// image centre, which is not the optical axis (the principal point is off-centre) - so the panel
+// appears centred in the image.
+PoseTarget standoff_target(const Eigen::Isometry3d& T_world_target, double distance_m,
+                           const Eigen::Vector3d& centre_ray = Eigen::Vector3d::UnitZ());
+// The front camera's ray through the image centre, (x/z, y/z, 1).
+Eigen::Vector3d image_centre_ray(double fx, double fy, double cx, double cy, int width, int height);
 // Places a target seen by a camera in the world: T_world_body * T_body_cam * T_cam_target.
 Eigen::Isometry3d place_in_world(const PoseEstimate& pose, CameraId camera, const Eigen::Isometry3d& T_cam_target);
 // The observation's world pose: the pipeline's placement when it made one, else place_in_world().

@@ -61,15 +61,17 @@ MoveCommand PoseController::update(const PoseEstimate& pose, double dt) {
   const Eigen::Vector3d p = pose.T_world_body.translation();
   const double yaw = ypr_from_rotation(pose.T_world_body.linear())[0];
   const Eigen::Vector3d e = target_.position - p;
-  const Eigen::Vector3d& v = pose.velocity_world;
+  // Relative velocity: the derivative damps motion relative to a moving set point.
+  const Eigen::Vector3d v = pose.velocity_world - target_.velocity;
+  const Eigen::Vector2d feed_forward = gains_.xy_velocity_feedforward * target_.velocity.head<2>();
 
   // Horizontal: world-frame PID pair, jointly clipped to the tilt limit (direction kept), then rotated.
-  const Eigen::Vector2d raw(x_.unclipped(e.x(), v.x()), y_.unclipped(e.y(), v.y()));
+  const Eigen::Vector2d raw = Eigen::Vector2d(x_.unclipped(e.x(), v.x()), y_.unclipped(e.y(), v.y())) + feed_forward;
   const double limit = gains_.max_tilt_command;
   const bool saturated = raw.norm() >= limit;
   x_.integrate(e.x(), dt, saturated && raw.x() * e.x() > 0);
   y_.integrate(e.y(), dt, saturated && raw.y() * e.y() > 0);
-  Eigen::Vector2d u(x_.unclipped(e.x(), v.x()), y_.unclipped(e.y(), v.y()));
+  Eigen::Vector2d u = Eigen::Vector2d(x_.unclipped(e.x(), v.x()), y_.unclipped(e.y(), v.y())) + feed_forward;
   if (u.norm() > limit) u *= limit / u.norm();
   const Eigen::Vector2d u_body = world_to_body_xy(u, yaw);
 

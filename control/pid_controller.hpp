@@ -35,6 +35,9 @@ class PidAxis {
 struct PoseTarget {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   double yaw = 0;
+  // A moving set point's velocity (world): the derivative acts on (target velocity - velocity) and
+  // the horizontal command gets a feed-forward tilt for it, so a followed target is not lagged.
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
 };
 
 class PoseController {

@@ -7,8 +7,12 @@
 #include "control/control_config.hpp"
 #include "core/camera_config.hpp"
 #include "core/log.hpp"
+<<<<<<< HEAD
 #include "drone/ardrone2/ardrone_emulator.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
+=======
+#include "localization/estimation/estimation_config.hpp"
+>>>>>>> refs/heads/control
 #include "localization/vision_thresholds.hpp"
 #include "server/server_settings.hpp"
 
@@ -20,6 +24,7 @@ struct AppConfig {
   CamerasConfig cameras;
   VisionThresholds vision;
   ControlConfig control;
+  EstimatorConfig estimation;
   ServerSettings server;
   ArdroneLinkSettings link;          // the AR.Drone 2.0 driver (docs/ardrone2.md)
   ArdroneEmulatorSettings emulator;  // the AR.Drone 2.0 protocol emulator on loopback

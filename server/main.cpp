@@ -6,11 +6,13 @@
 #include <string>
 #include <vector>
 
+#include "control/experiments/sim_commands.hpp"
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
 #include "drone/ardrone2/bench_command.hpp"
 #include "drone/ardrone2/inspect_commands.hpp"
 #include "server/hash_password_command.hpp"
+#include "localization/estimation/eval/sim_estimate_command.hpp"
 #include "server/serve_command.hpp"
 
 namespace {
@@ -27,6 +29,10 @@ std::vector<Subcommand> subcommands() {
       {labo::video_command_spec(), labo::run_video_command},
       {labo::bench_link_command_spec(), labo::run_bench_link_command},
       {labo::hash_password_command_spec(), labo::run_hash_password_command},
+      {labo::sim_inspect_command_spec(), labo::run_sim_inspect_command},
+      {labo::sim_perturb_command_spec(), labo::run_sim_perturb_command},
+      {labo::sim_face_follow_command_spec(), labo::run_sim_face_follow_command},
+      {labo::sim_estimate_command_spec(), labo::run_sim_estimate_command},
   };
 }
 

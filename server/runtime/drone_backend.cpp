@@ -19,7 +19,12 @@ FlightStackSetup flight_setup(const AppConfig& config) {
   // The lab's geometry (instruments, base, room) comes from the simulated lab's description
   // (branch sim); until it is merged the room is control's default and no instrument is known, so
   // inspect requests are refused by FlightStack with the reason.
-  return FlightStackSetup{config.control, LabGeometry{}, config.cameras, config.vision};
+  FlightStackSetup setup;
+  setup.control = config.control;
+  setup.cameras = config.cameras;
+  setup.vision = config.vision;
+  setup.estimation = config.estimation;
+  return setup;
 }
 
 FlightRuntimeOptions runtime_options(const AppConfig& config) {

@@ -1,0 +1,321 @@
+#include "control/experiments/sim_commands.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "control/experiments/experiment_common.hpp"
+#include "core/frames.hpp"
+
+namespace labo {
+
+namespace {
+
+constexpr const char* kVehicleNote =
+    "vehicle: quadrotor model (control/experiments/quadrotor_model.hpp); perception: model (no rendering); "
+    "estimator: StateEstimator";
+
+std::string fmt(const char* f, double a, double b = 0, double c = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, f, a, b, c);
+  return buf;
+}
+
+MissionRequest inspect_request(const std::string& id, double hold_s) {
+  MissionRequest r;
+  r.kind = RequestKind::Inspect;
+  r.instrument_id = id;
+  r.hold_s = hold_s;
+  return r;
+}
+
+bool holding(LockstepFlight& f) { return f.stack().status().stage.find("holding") != std::string::npos; }
+
+// ---- sim inspect -------------------------------------------------------------------------------
+
+struct InspectRun {
+  bool mission_succeeded = false;
+  double standoff_error_m = std::numeric_limits<double>::infinity();
+  double centre_offset = std::numeric_limits<double>::infinity();
+  double landing_error_m = std::numeric_limits<double>::infinity();
+  bool crashed = false;
+  double duration_s = 0;
+  std::string result;
+  bool success() const {
+    return mission_succeeded && standoff_error_m <= 0.05 && centre_offset <= 0.05 && landing_error_m <= 0.10 && !crashed;
+  }
+};
+
+InspectRun run_inspect(const FlightStackSetup& setup, unsigned seed, double hold_s, LockstepFlight& f) {
+  InspectRun r;
+  const PlanarTarget& inst = setup.lab.instruments.front();
+  if (!f.request(inspect_request(inst.id, hold_s)).accepted) return r;
+  std::vector<double> standoff, centre;
+  (void)seed;
+  f.run_until([&] {
+    if (holding(f)) {
+      const Eigen::Vector3d p = f.true_T_cam(inst.T_world_object).translation();
+      standoff.push_back(std::abs(p.z() - setup.control.mission.standoff_m));
+      centre.push_back(centre_offset_fraction(p, setup.cameras.front));
+    }
+    return f.stack().status().mission == "idle";
+  }, 240.0);
+  const std::string ev = f.stack().status().last_event;
+  r.result = ev;
+  r.mission_succeeded = ev.find("succeeded") != std::string::npos;
+  // The hold's last second: where the student sees the panel.
+  const std::size_t n = std::min<std::size_t>(30, standoff.size());
+  if (n > 0) {
+    r.standoff_error_m = rms({standoff.end() - static_cast<long>(n), standoff.end()});
+    r.centre_offset = rms({centre.end() - static_cast<long>(n), centre.end()});
+  }
+  if (f.stack().status().phase == FlightPhase::Landed)
+    r.landing_error_m = (f.drone().p - setup.lab.platform.T_world_object.translation()).head<2>().norm();
+  r.crashed = f.drone().crashed;
+  r.duration_s = f.now();
+  return r;
+}
+
+// ---- sim perturb -------------------------------------------------------------------------------
+
+struct Impulse {
+  double t = 0;
+  double recovery_s = std::numeric_limits<double>::infinity();
+  double peak_error = 0;
+};
+
+int axis_index(const std::string& axis) {
+  if (axis == "x") return 0;
+  if (axis == "y") return 1;
+  if (axis == "z") return 2;
+  if (axis == "yaw") return 3;
+  throw UsageError("--axis must be x, y, z or yaw (got '" + axis + "')");
+}
+
+// Error to the set point, position (m) and yaw (rad). The set point is relative to the instrument
+// as the estimator placed it; the truth is compared relative to the instrument's true pose, so a
+// placement error (which shifts estimate and set point alike) is not counted as a control error.
+std::pair<double, double> set_point_error(LockstepFlight& f, const PlanarTarget& instrument) {
+  const FlightStatus s = f.stack().status();
+  if (!s.desired) return {1e9, 1e9};
+  const Eigen::Isometry3d T_world_obj_est = s.instrument.placed_in_world ? s.instrument.T_world_target : instrument.T_world_object;
+  const Eigen::Isometry3d desired_in_obj = T_world_obj_est.inverse() * make_pose(s.desired->head<3>(), (*s.desired)[3]);
+  const Eigen::Isometry3d true_in_obj = instrument.T_world_object.inverse() * f.drone().pose();
+  const Eigen::Matrix3d dR = desired_in_obj.linear().transpose() * true_in_obj.linear();
+  return {(true_in_obj.translation() - desired_in_obj.translation()).norm(), std::abs(ypr_from_rotation(dR)[0])};
+}
+
+std::vector<Impulse> run_perturb(int axis, int impulses, LockstepFlight& f, const PlanarTarget& instrument, bool& reached) {
+  std::vector<Impulse> out;
+  f.request(inspect_request(instrument.id, 500.0));
+  reached = f.run_until([&] { return holding(f); }, 120.0);
+  if (!reached) return out;
+  f.run(3.0);
+  constexpr double kRecoveredM = 0.10, kRecoveredYaw = 0.087, kStayS = 1.0, kPeriodS = 10.0;
+  for (int i = 0; i < impulses; ++i) {
+    const double sign = i % 2 == 0 ? 1.0 : -1.0;
+    Impulse imp;
+    imp.t = f.now();
+    Eigen::Vector3d dv = Eigen::Vector3d::Zero();
+    double dyaw = 0;
+    if (axis < 2) dv[axis] = 0.8 * sign;
+    else if (axis == 2) dv.z() = 0.6 * sign;
+    else dyaw = 0.4 * sign;
+    f.drone().push(dv, dyaw);
+    double within_since = -1;
+    const double end = f.now() + kPeriodS;
+    while (f.now() < end) {
+      f.tick();
+      const auto [e, ey] = set_point_error(f, instrument);
+      imp.peak_error = std::max(imp.peak_error, axis == 3 ? ey : e);
+      if (e < kRecoveredM && ey < kRecoveredYaw) {
+        if (within_since < 0) within_since = f.now();
+        if (f.now() - within_since >= kStayS && !std::isfinite(imp.recovery_s)) imp.recovery_s = within_since - imp.t;
+      } else {
+        within_since = -1;
+      }
+    }
+    out.push_back(imp);
+  }
+  return out;
+}
+
+// ---- sim face-follow ---------------------------------------------------------------------------
+
+struct FaceRun {
+  bool followed = false;
+  std::vector<double> distance_error, centre_error;
+};
+
+FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, LockstepFlight& f) {
+  FaceRun r;
+  f.face() = f.lab().instruments.empty() ? Eigen::Isometry3d::Identity() : Eigen::Isometry3d::Identity();
+  f.face().linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // looking at the base
+  f.face().translation() = Eigen::Vector3d(2.5, -0.5, 1.6);
+  MissionRequest req;
+  req.kind = RequestKind::FindTeacher;
+  f.request(req);
+  r.followed = f.run_until([&] { return f.stack().status().stage == "3 face-follow"; }, 90.0);
+  if (!r.followed) return r;
+  f.run(5.0);  // settle
+  // The teacher walks at 0.5 m/s back and forth along y between -1 and 1 m, turning round with a
+  // human 0.5 m/s^2 deceleration and acceleration.
+  double dir = 1.0, speed = 0.0;
+  constexpr double kSpeed = 0.5, kAccel = 0.5, kTurnY = 1.0;
+  const double end = f.now() + walk_s;
+  while (f.now() < end) {
+    double& y = f.face().translation().y();
+    const double stopping = speed * speed / (2 * kAccel);
+    if (dir * y + stopping >= kTurnY) speed -= kAccel * LockstepFlight::kControlDt;
+    else speed = std::min(kSpeed, speed + kAccel * LockstepFlight::kControlDt);
+    if (speed <= 0) {
+      speed = 0;
+      dir = -dir;
+    }
+    y += dir * speed * LockstepFlight::kControlDt;
+    f.tick();
+    const Eigen::Vector3d p = f.true_T_cam(f.face()).translation();
+    r.distance_error.push_back(p.z() - setup.control.mission.face_distance_m);
+    r.centre_error.push_back(p.z() > 0.1 ? centre_offset_fraction(p, setup.cameras.front) : 1.0);
+  }
+  return r;
+}
+
+}  // namespace
+
+const CommandSpec& sim_inspect_command_spec() {
+  static const CommandSpec spec = [] {
+    CommandSpec s{"sim inspect", "", "lockstep inspect missions (paper 6.2): success rate over seeds", experiment_option_specs()};
+    s.options.push_back({"--hold", "S", "inspection hold time (default 5 s)"});
+    return s;
+  }();
+  return spec;
+}
+
+int run_sim_inspect_command(const ParsedArgs& args) {
+  const ExperimentOptions o = read_experiment_options(args);
+  const double hold = args.number_or("--hold", 5.0, 0.0, 600.0);
+  const FlightStackSetup setup = experiment_setup(o);
+  nlohmann::json runs = nlohmann::json::array();
+  int ok = 0;
+  std::vector<double> standoff, centre, landing;
+  for (int i = 0; i < o.runs; ++i) {
+    const unsigned seed = o.seed + static_cast<unsigned>(i);
+    LockstepFlight f(setup, {}, seed);
+    const InspectRun r = run_inspect(setup, seed, hold, f);
+    ok += r.success();
+    if (std::isfinite(r.standoff_error_m)) standoff.push_back(r.standoff_error_m);
+    if (std::isfinite(r.centre_offset)) centre.push_back(r.centre_offset);
+    if (std::isfinite(r.landing_error_m)) landing.push_back(r.landing_error_m);
+    runs.push_back({{"seed", seed}, {"success", r.success()}, {"mission_succeeded", r.mission_succeeded},
+                    {"standoff_error_m", std::isfinite(r.standoff_error_m) ? r.standoff_error_m : -1},
+                    {"centre_offset_fraction", std::isfinite(r.centre_offset) ? r.centre_offset : -1},
+                    {"landing_error_m", std::isfinite(r.landing_error_m) ? r.landing_error_m : -1},
+                    {"crashed", r.crashed}, {"duration_s", r.duration_s}, {"result", r.result}});
+    write_run_outputs(o, "inspect", i, f);
+  }
+  const double rate = double(ok) / o.runs;
+  nlohmann::json summary = {{"experiment", "sim inspect"}, {"note", kVehicleNote}, {"seed", o.seed}, {"runs", o.runs},
+                            {"success_rate", rate}, {"target_success_rate", 0.98},
+                            {"standoff_error_m_p95", percentile(standoff, 95)}, {"centre_offset_fraction_p95", percentile(centre, 95)},
+                            {"landing_error_m_p95", percentile(landing, 95)}, {"per_run", runs}};
+  report(o, "inspect", summary,
+         {kVehicleNote,
+          fmt("inspect: %.0f/%.0f runs succeeded (%.1f %%, target >= 98 %%)", ok, o.runs, 100 * rate),
+          fmt("standoff error p95 %.3f m (target <= 0.05); centre offset p95 %.3f of the width (target <= 0.05)",
+              percentile(standoff, 95), percentile(centre, 95)),
+          fmt("landing error p95 %.3f m (target <= 0.10)", percentile(landing, 95))});
+  return 0;
+}
+
+const CommandSpec& sim_perturb_command_spec() {
+  static const CommandSpec spec = [] {
+    CommandSpec s{"sim perturb", "", "impulses on one axis while holding in front of the instrument (paper 6.1)",
+                  experiment_option_specs()};
+    s.options.push_back({"--axis", "x|y|z|yaw", "the perturbed axis (required)"});
+    s.options.push_back({"--impulses", "N", "impulses per run, alternating sign (default 4)"});
+    return s;
+  }();
+  return spec;
+}
+
+int run_sim_perturb_command(const ParsedArgs& args) {
+  const ExperimentOptions o = read_experiment_options(args);
+  const auto axis_name = args.value("--axis");
+  if (!axis_name) throw UsageError("--axis x|y|z|yaw is required");
+  const int axis = axis_index(*axis_name);
+  const int impulses = args.integer_or("--impulses", 4, 1, 100);
+  const FlightStackSetup setup = experiment_setup(o);
+  std::vector<double> recovery;
+  int recovered = 0, total = 0, not_reached = 0;
+  nlohmann::json runs = nlohmann::json::array();
+  for (int i = 0; i < o.runs; ++i) {
+    const unsigned seed = o.seed + static_cast<unsigned>(i);
+    LockstepFlight f(setup, {}, seed);
+    bool reached = false;
+    const auto imps = run_perturb(axis, impulses, f, setup.lab.instruments.front(), reached);
+    not_reached += !reached;
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& imp : imps) {
+      ++total;
+      const bool ok = std::isfinite(imp.recovery_s) && imp.recovery_s <= 5.0;
+      recovered += ok;
+      recovery.push_back(std::isfinite(imp.recovery_s) ? imp.recovery_s : 99.0);
+      list.push_back({{"t", imp.t}, {"recovery_s", std::isfinite(imp.recovery_s) ? imp.recovery_s : -1}, {"peak_error", imp.peak_error}});
+    }
+    runs.push_back({{"seed", seed}, {"reached_hold", reached}, {"impulses", list}});
+    write_run_outputs(o, "perturb_" + *axis_name, i, f);
+  }
+  nlohmann::json summary = {{"experiment", "sim perturb"}, {"axis", *axis_name}, {"note", kVehicleNote}, {"seed", o.seed},
+                            {"runs", o.runs}, {"impulses", total}, {"recovered_within_5s", recovered},
+                            {"runs_not_reaching_hold", not_reached},
+                            {"recovery_s_median", percentile(recovery, 50)}, {"recovery_s_p95", percentile(recovery, 95)},
+                            {"target", "within 0.1 m (and 5 deg) of the set point in <= 5 s"}, {"per_run", runs}};
+  report(o, "perturb_" + *axis_name, summary,
+         {kVehicleNote,
+          "perturb " + *axis_name + fmt(": %.0f/%.0f impulses recovered within 5 s", recovered, total),
+          fmt("recovery time median %.2f s, p95 %.2f s (target <= 5 s; 99 = never)", percentile(recovery, 50), percentile(recovery, 95)),
+          fmt("runs that never reached the hold: %.0f", not_reached)});
+  return 0;
+}
+
+const CommandSpec& sim_face_follow_command_spec() {
+  static const CommandSpec spec = [] {
+    CommandSpec s{"sim face-follow", "", "find the teacher and follow the face while they walk at 0.5 m/s (paper 6.4)",
+                  experiment_option_specs()};
+    s.options.push_back({"--walk", "S", "seconds of walking measured (default 30)"});
+    return s;
+  }();
+  return spec;
+}
+
+int run_sim_face_follow_command(const ParsedArgs& args) {
+  const ExperimentOptions o = read_experiment_options(args);
+  const double walk = args.number_or("--walk", 30.0, 1.0, 600.0);
+  const FlightStackSetup setup = experiment_setup(o);
+  std::vector<double> dist, centre;
+  int found = 0;
+  nlohmann::json runs = nlohmann::json::array();
+  for (int i = 0; i < o.runs; ++i) {
+    const unsigned seed = o.seed + static_cast<unsigned>(i);
+    LockstepFlight f(setup, {}, seed);
+    const FaceRun r = run_face_follow(setup, walk, f);
+    found += r.followed;
+    dist.insert(dist.end(), r.distance_error.begin(), r.distance_error.end());
+    centre.insert(centre.end(), r.centre_error.begin(), r.centre_error.end());
+    runs.push_back({{"seed", seed}, {"followed", r.followed}, {"distance_error_rms_m", rms(r.distance_error)},
+                    {"centre_error_rms", rms(r.centre_error)}});
+    write_run_outputs(o, "face_follow", i, f);
+  }
+  nlohmann::json summary = {{"experiment", "sim face-follow"}, {"note", kVehicleNote}, {"seed", o.seed}, {"runs", o.runs},
+                            {"runs_face_found", found}, {"distance_error_rms_m", rms(dist)}, {"target_distance_error_rms_m", 0.10},
+                            {"centre_error_rms", rms(centre)}, {"centre_error_p95", percentile(centre, 95)},
+                            {"target_centre_error", 0.10}, {"per_run", runs}};
+  report(o, "face_follow", summary,
+         {kVehicleNote, fmt("face found and followed in %.0f/%.0f runs", found, o.runs),
+          fmt("distance error RMS %.3f m (target <= 0.10); face-centre error RMS %.3f, p95 %.3f of the width (target <= 0.10)",
+              rms(dist), rms(centre), percentile(centre, 95))});
+  return 0;
+}
+
+}  // namespace labo

@@ -1,0 +1,135 @@
+#include "control/lab_pipelines.hpp"
+
+#include <numbers>
+
+namespace labo {
+
+namespace {
+constexpr int kPlatformIndex = 0;  // object indices: platform 0, instruments 1..n in lab order
+
+FeedbackSource feedback_of(LocalizationSource s) {
+  switch (s) {
+    case LocalizationSource::Slam: return FeedbackSource::Slam;
+    case LocalizationSource::Homography: return FeedbackSource::Homography;
+    case LocalizationSource::Face: return FeedbackSource::Face;
+    case LocalizationSource::DeadReckoning: return FeedbackSource::DeadReckoning;
+  }
+  return FeedbackSource::DeadReckoning;
+}
+}  // namespace
+
+Eigen::Isometry3d flip_about_y() {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  return T;
+}
+
+LabPipelines::LabPipelines(LabGeometry lab, const EstimatorConfig& config, const VisionThresholds& thresholds)
+    : lab_(std::move(lab)), estimator_(config, thresholds) {}
+
+int LabPipelines::instrument_index(const std::string& id) const {
+  for (std::size_t i = 0; i < lab_.instruments.size(); ++i)
+    if (lab_.instruments[i].id == id) return static_cast<int>(i) + 1;
+  return -1;
+}
+
+void LabPipelines::reset(const Eigen::Isometry3d& T_world_body, Seconds t) { estimator_.reset(T_world_body, t); }
+
+void LabPipelines::on_navdata(const NavdataSample& sample) { estimator_.add_navdata(sample); }
+
+void LabPipelines::on_command(const MoveCommand& command, Seconds t) { estimator_.add_command(command, t); }
+
+void LabPipelines::on_video(const VideoFrame& frame) {
+  if (frame.camera == CameraId::Front && instrument_fe_ && !focus_.instrument_id.empty())
+    if (auto r = instrument_fe_->process(frame, focus_)) add_instrument_result(*r);
+  if (frame.camera == CameraId::Bottom && platform_fe_ && focus_.platform)
+    if (auto r = platform_fe_->process(frame, focus_)) add_platform_result(*r);
+  if (frame.camera == CameraId::Front && face_fe_ && focus_.face)
+    if (auto r = face_fe_->process(frame, focus_)) add_face_result(*r);
+}
+
+void LabPipelines::add_instrument_result(const TargetObservation& obs) {
+  instrument_ = obs;
+  const int index = instrument_index(focus_.instrument_id);
+  if (index < 0) return;
+  if (obs.state == TrackState::Tracking && focus_.feedback == FeedbackSource::Homography) {
+    ObjectObservation o;
+    o.t = obs.t;
+    o.object_index = index;
+    o.camera = CameraId::Front;
+    o.T_cam_object = obs.T_cam_target;
+    o.T_world_object_surveyed = lab_.instruments[static_cast<std::size_t>(index - 1)].T_world_object;
+    o.quality = obs.quality;
+    estimator_.add_object_pose(o);
+  }
+  if (auto placed = estimator_.T_world_object(index)) {
+    instrument_.T_world_target = *placed;
+    instrument_.placed_in_world = true;
+  }
+}
+
+void LabPipelines::add_platform_result(const TargetObservation& obs) {
+  platform_ = obs;
+  if (obs.state == TrackState::Tracking && focus_.feedback == FeedbackSource::Homography) {
+    ObjectObservation o;
+    o.t = obs.t;
+    o.object_index = kPlatformIndex;
+    o.camera = CameraId::Bottom;
+    o.T_cam_object = obs.T_cam_target;
+    o.T_world_object_surveyed = lab_.platform.T_world_object;
+    o.quality = obs.quality;
+    estimator_.add_object_pose(o);
+  }
+  if (auto placed = estimator_.T_world_object(kPlatformIndex)) {
+    platform_.T_world_target = *placed;
+    platform_.placed_in_world = true;
+  }
+}
+
+void LabPipelines::add_face_result(const TargetObservation& obs) {
+  face_ = obs;
+  if (obs.state == TrackState::Tracking && focus_.feedback == FeedbackSource::Face) {
+    FaceObservation f;
+    f.t = obs.t;
+    f.T_cam_face = obs.T_cam_target * flip_about_y();
+    f.quality = obs.quality;
+    estimator_.add_face_pose(f);
+  }
+}
+
+void LabPipelines::add_slam_result(const Eigen::Isometry3d& T_map_cam, const SlamSummary& summary, int map_id, Seconds t) {
+  slam_ = summary;
+  const bool good = summary.state == SlamState::Good;
+  if (!good || !focus_.slam) return;
+  SlamObservation s;
+  s.t = t;
+  s.T_map_cam = T_map_cam;
+  s.map_id = map_id;
+  s.tracking_good = true;
+  s.quality = summary.points_attempted > 0 ? double(summary.points_found) / summary.points_attempted : 1.0;
+  estimator_.add_slam_pose(s);
+}
+
+SlamSummary LabPipelines::slam() const {
+  SlamSummary s = slam_;
+  const ScaleStatus& scale = estimator_.scale_status();
+  s.scale_estimated = scale.estimated;
+  s.scale = scale.scale;
+  return s;
+}
+
+PoseEstimate LabPipelines::predict(Seconds t) const {
+  const FusedState f = estimator_.predict_for_control(t);
+  PoseEstimate e;
+  e.t = t;
+  e.valid = f.initialized;
+  e.T_world_body = f.T_world_body;
+  e.velocity_world = f.velocity_world;
+  e.yaw_rate = f.yaw_rate;
+  e.source = feedback_of(f.source);
+  e.quality = f.quality;
+  e.position_sigma_m = f.position_sigma_m;
+  return e;
+}
+
+}  // namespace labo

@@ -1,0 +1,73 @@
+#pragma once
+// DroneEkf: the extended Kalman filter core of the StateEstimator: the 10-state vector, its
+// covariance, the AR.Drone motion model (MotionModelConstants) and a generic measurement update in
+// Joseph form that keeps the covariance symmetric positive definite (repairs are counted).
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <optional>
+
+#include "drone/drone_link.hpp"
+#include "localization/estimation/estimation_config.hpp"
+#include "localization/estimation/state_estimator.hpp"
+
+namespace labo {
+
+class DroneEkf {
+ public:
+  DroneEkf(const MotionModelConstants& model, const EstimatorNoise& noise) : model_(model), noise_(noise) {}
+
+  void reset(const StateVector& s, const StateCovariance& P) {
+    s_ = s;
+    P_ = P;
+  }
+  void set_model(const MotionModelConstants& model) { model_ = model; }
+
+  // Propagates by dt seconds (split in steps of at most 10 ms). Without a command the attitude, yaw
+  // rate and vertical speed are held (random walk); the horizontal dynamics always follow the tilt.
+  void predict(double dt, const std::optional<MoveCommand>& command);
+
+  // The continuous-time derivative of the state under a command (exposed for the model fit).
+  StateVector derivative(const StateVector& s, const std::optional<MoveCommand>& command) const;
+
+  // Measurement update with innovation y = z - h(s), Jacobian H and noise covariance R. Returns the
+  // squared Mahalanobis distance of the innovation. The caller wraps angle innovations.
+  template <int M>
+  double update(const Eigen::Matrix<double, M, 1>& y, const Eigen::Matrix<double, M, est::N>& H,
+                const Eigen::Matrix<double, M, M>& R) {
+    const Eigen::Matrix<double, M, M> S = H * P_ * H.transpose() + R;
+    const Eigen::LDLT<Eigen::Matrix<double, M, M>> ldlt(S);
+    if (ldlt.info() != Eigen::Success) return std::numeric_limits<double>::infinity();
+    const Eigen::Matrix<double, est::N, M> K = ldlt.solve(H * P_).transpose();
+    s_ += K * y;
+    const StateCovariance IKH = StateCovariance::Identity() - K * H;
+    P_ = IKH * P_ * IKH.transpose() + K * R * K.transpose();
+    keep_positive_definite();
+    s_(est::YAW) = wrap(s_(est::YAW));
+    return y.dot(ldlt.solve(y));
+  }
+  template <int M>
+  double mahalanobis(const Eigen::Matrix<double, M, 1>& y, const Eigen::Matrix<double, M, est::N>& H,
+                     const Eigen::Matrix<double, M, M>& R) const {
+    const Eigen::Matrix<double, M, M> S = H * P_ * H.transpose() + R;
+    return y.dot(S.ldlt().solve(y));
+  }
+
+  const StateVector& state() const { return s_; }
+  StateVector& mutable_state() { return s_; }
+  const StateCovariance& covariance() const { return P_; }
+  int repairs() const { return repairs_; }
+
+  static double wrap(double a);
+
+ private:
+  void step(double dt, const std::optional<MoveCommand>& command);
+  void keep_positive_definite();
+
+  MotionModelConstants model_;
+  EstimatorNoise noise_;
+  StateVector s_ = StateVector::Zero();
+  StateCovariance P_ = StateCovariance::Identity();
+  int repairs_ = 0;
+};
+
+}  // namespace labo

@@ -1,0 +1,93 @@
+#pragma once
+// Configuration of the state estimator: link delays, the AR.Drone motion-model constants (refitted on
+// the simulated lab, docs/state-estimation.md), measurement noise, gates and source switching. Read
+// from the "estimation" section of the config by read_estimation_config; the paper's vision
+// thresholds D, beta and gamma come from the "vision" section (VisionThresholds).
+#include "core/config_reader.hpp"
+#include "core/time.hpp"
+
+namespace labo {
+
+// First-order responses of the AR.Drone's onboard controllers to the normalized PCMD (MoveCommand):
+//   roll'    = attitude_rate_hz * (tilt_max_rad * u_roll  - roll)      (pitch alike)
+//   yawrate' = yaw_response_hz  * (yaw_rate_max_radps * u_yaw - yawrate)
+//   vz'      = vertical_response_hz * (vz_max_mps * u_gaz - vz)
+//   a_h      = thrust_accel_mps2 * f_h(roll, pitch, yaw) - drag_per_s * v_h
+// where f_h is the horizontal part of the body z axis in the world.
+struct MotionModelConstants {
+  double attitude_rate_hz = 7.0;
+  double tilt_max_rad = 0.21;
+  double yaw_response_hz = 5.0;
+  double yaw_rate_max_radps = 1.75;
+  double vertical_response_hz = 3.0;
+  double vz_max_mps = 0.7;
+  double thrust_accel_mps2 = 9.81;
+  double drag_per_s = 0.55;
+};
+
+struct EstimatorNoise {
+  // Process noise densities (white, continuous).
+  double accel_xy_mps2 = 1.0;
+  double accel_z_mps2 = 0.8;
+  double attitude_radps = 0.3;
+  double yaw_accel_radps2 = 1.5;
+  // Navdata.
+  double attitude_obs_rad = 0.01;       // roll/pitch
+  double yaw_increment_rad = 0.01;
+  double velocity_mps = 0.05;           // bottom camera, without vision
+  double velocity_with_vision_mps = 0.15;
+  double vertical_velocity_mps = 0.08;  // navdata vz
+  double ultrasound_m = 0.02;
+  // Vision (per fused frame).
+  double slam_position_m = 0.03;
+  double slam_yaw_rad = 0.02;
+  double object_position_m = 0.02;
+  double object_yaw_rad = 0.02;
+  double face_position_m = 0.04;
+  double face_yaw_rad = 0.05;
+  double survey_position_m = 0.05;      // lab.json object poses
+};
+
+struct EstimatorConfig {
+  Seconds video_delay_s = 0.075;
+  Seconds navdata_delay_s = 0.040;
+  Seconds control_delay_s = 0.100;
+  // How long the persistent filter waits for late vision results before it moves on with navdata
+  // only (a vision result older than the filter is then rejected as late).
+  Seconds vision_latency_allowance_s = 0.25;
+  // Timestamps more than this ahead of the newest navdata are refused as far-future.
+  Seconds max_future_s = 1.0;
+  MotionModelConstants model;
+  EstimatorNoise noise;
+  // Source switching: a source drives the estimate after `source_enter_count` consecutive accepted
+  // frames and stops after `source_timeout_s` without one.
+  int source_enter_count = 3;
+  Seconds source_timeout_s = 0.4;
+  // Vision residual gate (Mahalanobis distance^2, 4 dof) once a source is established.
+  double vision_gate_chi2 = 40.0;
+  // A vision source that does not drive the estimate is fused with its noise times this factor.
+  double inactive_source_noise_factor = 3.0;
+  // Fuse the navdata's vertical speed (the AR.Drone's observer; 0 in some firmwares' demo mode).
+  bool use_navdata_vz = true;
+  // false reproduces the paper's ultrasound rule (increments above gamma dropped as floor steps), for
+  // comparison in the experiments; true tells pushes from floor steps (altitude_tracker.hpp).
+  bool altitude_step_discrimination = true;
+  // Scale estimation (tum_ardrone's ML estimator, notes §3).
+  double scale_sigma_map = 0.2;
+  double scale_sigma_metric = 0.01;
+  double scale_pair_sigma_metric = 0.1;
+  Seconds scale_interval_min_s = 1.0;
+  Seconds scale_interval_max_s = 3.0;
+  double scale_weight_xy = 0.05;
+  double scale_weight_z = 3.0;
+  double initial_scale = 1.0;
+  // An object's world pose is refined over its first sightings while SLAM localizes the drone.
+  int object_placement_frames = 30;
+  // The face's world pose follows the teacher with this time constant.
+  Seconds face_memory_s = 1.0;
+};
+
+// Reads the "estimation" section; every key optional, defaults above, delays in ms at this edge.
+EstimatorConfig read_estimation_config(const ConfigReader& node);
+
+}  // namespace labo

@@ -1,0 +1,175 @@
+#include "localization/estimation/eval/sim_estimate_command.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "core/config_reader.hpp"
+#include "localization/estimation/eval/estimation_experiment.hpp"
+#include "localization/estimation/eval/model_fit.hpp"
+#include "localization/estimation/eval/surrogate_plant.hpp"
+
+namespace labo {
+
+namespace {
+nlohmann::json impulse_json(const ImpulseResult& r) {
+  return {{"peak_displacement_m", r.peak_displacement_m},
+          {"returned_within_0_1_m", r.returned},
+          {"return_time_s", r.returned ? nlohmann::json(r.return_time_s) : nlohmann::json(nullptr)},
+          {"final_estimate_error_m", r.final_estimate_error_m}};
+}
+
+nlohmann::json tracking_json(const TrackingErrors& e) {
+  return {{"position_rmse_m", e.position_rmse_m}, {"yaw_rmse_deg", e.yaw_rmse_deg}, {"control_rmse_m", e.control_rmse_m}};
+}
+
+nlohmann::json run_json(const EstimationResults& r, unsigned seed) {
+  return {{"seed", seed},
+          {"scale", {{"error_percent", r.scale_error_percent}, {"accuracy", r.scale_accuracy}, {"pairs", r.scale_pairs}}},
+          {"hover_slam", tracking_json(r.hover_slam)},
+          {"servo_instrument", tracking_json(r.servo)},
+          {"dead_reckoning", {{"drift_m_per_s", r.dead_reckoning_drift_m_per_s},
+                              {"yaw_drift_deg_per_s", r.dead_reckoning_yaw_drift_deg_per_s}}},
+          {"z_impulse", {{"servo_instrument", impulse_json(r.impulse_servo)},
+                         {"dead_reckoning", impulse_json(r.impulse_dead_reckoning)},
+                         {"dead_reckoning_paper_gamma_rule", impulse_json(r.impulse_paper_rule)}}},
+          {"delay_compensation", {{"controller_input_error_with_m", r.controller_input_error_compensated_m},
+                                  {"controller_input_error_without_m", r.controller_input_error_uncompensated_m},
+                                  {"control_rmse_with_m", r.control_rmse_compensated_m},
+                                  {"control_rmse_without_m", r.control_rmse_uncompensated_m},
+                                  {"gain_percent", 100.0 * (1.0 - r.control_rmse_compensated_m /
+                                                                      std::max(1e-9, r.control_rmse_uncompensated_m))}}},
+          {"rejected_inputs", r.rejected_inputs}};
+}
+
+nlohmann::json constants_json(const MotionModelConstants& m) {
+  return {{"attitude_rate_hz", m.attitude_rate_hz},
+          {"tilt_max_deg", m.tilt_max_rad * 180.0 / M_PI},
+          {"yaw_response_hz", m.yaw_response_hz},
+          {"yaw_rate_max_deg_s", m.yaw_rate_max_radps * 180.0 / M_PI},
+          {"vertical_response_hz", m.vertical_response_hz},
+          {"vz_max_mps", m.vz_max_mps},
+          {"thrust_accel_mps2", m.thrust_accel_mps2},
+          {"drag_per_s", m.drag_per_s}};
+}
+
+nlohmann::json model_fit_json(const ModelFitReport& fit) {
+  nlohmann::json laws = nlohmann::json::array();
+  for (const ModelFitLaw& l : fit.laws) {
+    laws.push_back({{"law", l.name}, {"samples", l.samples},
+                    {"heldout_residual_rms_before", l.residual_rms_before},
+                    {"heldout_residual_rms_after", l.residual_rms_after}});
+  }
+  return {{"flight_s", fit.flight_s}, {"before", constants_json(fit.before)}, {"fitted", constants_json(fit.fitted)},
+          {"laws", laws}};
+}
+
+using Field = std::function<double(const EstimationResults&)>;
+double mean_of(const std::vector<EstimationResults>& rs, const Field& field) {
+  double s = 0;
+  for (const auto& r : rs) s += field(r);
+  return rs.empty() ? 0.0 : s / static_cast<double>(rs.size());
+}
+double max_of(const std::vector<EstimationResults>& rs, const Field& field) {
+  double m = 0;
+  for (const auto& r : rs) m = std::max(m, field(r));
+  return m;
+}
+Field member(double EstimationResults::*f) {
+  return [f](const EstimationResults& r) { return r.*f; };
+}
+}  // namespace
+
+const CommandSpec& sim_estimate_command_spec() {
+  static const CommandSpec spec{
+      "sim estimate",
+      "",
+      "State-estimation experiments in lockstep: hover/servo/dead-reckoning RMSE, scale, z impulse, delays.",
+      {{"--seed", "S", "first seed (default 1)"},
+       {"--runs", "N", "number of seeds S, S+1, ... (default 1)"},
+       {"--json", "", "print JSON (the default output; kept for scripts)"},
+       {"--config", "FILE", "configuration file (default: config/default.json)"},
+       {"--fit-model", "", "also refit the motion-model constants on the plant and report the fit"}},
+      0,
+      0};
+  return spec;
+}
+
+int run_sim_estimate_command(const ParsedArgs& args) {
+  const unsigned first_seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1'000'000));
+  const int runs = args.integer_or("--runs", 1, 1, 1000);
+  const std::filesystem::path config_path =
+      args.value_or("--config", (std::filesystem::path(LABO_SOURCE_DIR) / "config" / "default.json").string());
+  const ConfigDocument doc = ConfigDocument::load(config_path);
+  const ConfigReader root = doc.root();
+  const EstimatorConfig config =
+      root.has("estimation") ? read_estimation_config(root.object("estimation")) : EstimatorConfig{};
+  const VisionThresholds thresholds = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
+  const PlantFactory surrogate = [](unsigned seed, Seconds navdata_period) -> std::unique_ptr<EstimationPlant> {
+    SurrogatePlantOptions options;
+    options.navdata_period = navdata_period;
+    return std::make_unique<SurrogatePlant>(seed, options);
+  };
+
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<EstimationResults> results;
+  nlohmann::json per_run = nlohmann::json::array();
+  for (int i = 0; i < runs; ++i) {
+    const unsigned seed = first_seed + static_cast<unsigned>(i);
+    results.push_back(run_estimation_experiments(surrogate, seed, config, thresholds));
+    per_run.push_back(run_json(results.back(), seed));
+  }
+  int scale_ok = 0, impulse_ok = 0, impulse_dr_ok = 0, paper_ok = 0;
+  for (const auto& r : results) {
+    scale_ok += r.scale_error_percent <= 3.0 ? 1 : 0;
+    impulse_ok += (r.impulse_servo.returned && r.impulse_servo.return_time_s <= 5.0) ? 1 : 0;
+    impulse_dr_ok += (r.impulse_dead_reckoning.returned && r.impulse_dead_reckoning.return_time_s <= 5.0) ? 1 : 0;
+    paper_ok += (r.impulse_paper_rule.returned && r.impulse_paper_rule.return_time_s <= 5.0) ? 1 : 0;
+  }
+  const double n = static_cast<double>(results.size());
+  nlohmann::json out;
+  out["command"] = "sim estimate";
+  out["plant"] = results.front().plant;
+  out["plant_note"] =
+      "SurrogatePlant: a stand-in quadrotor with its own physics and AR.Drone-like sensor flaws, used because the "
+      "simulated lab's SimDroneLink was not available on this branch";
+  out["vision_input"] = results.front().vision_input;
+  out["runs"] = per_run;
+  out["summary"] = {
+      {"seeds", runs},
+      {"scale_within_3_percent_fraction", scale_ok / n},
+      {"scale_error_percent_mean", mean_of(results, member(&EstimationResults::scale_error_percent))},
+      {"scale_error_percent_max", max_of(results, member(&EstimationResults::scale_error_percent))},
+      {"hover_slam_position_rmse_m_mean", mean_of(results, [](const EstimationResults& r) { return r.hover_slam.position_rmse_m; })},
+      {"hover_slam_position_rmse_m_max", max_of(results, [](const EstimationResults& r) { return r.hover_slam.position_rmse_m; })},
+      {"hover_slam_yaw_rmse_deg_mean", mean_of(results, [](const EstimationResults& r) { return r.hover_slam.yaw_rmse_deg; })},
+      {"servo_position_rmse_m_mean", mean_of(results, [](const EstimationResults& r) { return r.servo.position_rmse_m; })},
+      {"servo_position_rmse_m_max", max_of(results, [](const EstimationResults& r) { return r.servo.position_rmse_m; })},
+      {"servo_yaw_rmse_deg_mean", mean_of(results, [](const EstimationResults& r) { return r.servo.yaw_rmse_deg; })},
+      {"dead_reckoning_drift_m_per_s_mean", mean_of(results, member(&EstimationResults::dead_reckoning_drift_m_per_s))},
+      {"dead_reckoning_yaw_drift_deg_per_s_mean", mean_of(results, member(&EstimationResults::dead_reckoning_yaw_drift_deg_per_s))},
+      {"z_impulse_servo_returned_within_5_s_fraction", impulse_ok / n},
+      {"z_impulse_dead_reckoning_returned_within_5_s_fraction", impulse_dr_ok / n},
+      {"z_impulse_paper_gamma_rule_returned_within_5_s_fraction", paper_ok / n},
+      {"controller_input_error_with_delay_compensation_m_mean",
+       mean_of(results, member(&EstimationResults::controller_input_error_compensated_m))},
+      {"controller_input_error_without_delay_compensation_m_mean",
+       mean_of(results, member(&EstimationResults::controller_input_error_uncompensated_m))},
+      {"control_rmse_with_delay_compensation_m_mean", mean_of(results, member(&EstimationResults::control_rmse_compensated_m))},
+      {"control_rmse_without_delay_compensation_m_mean", mean_of(results, member(&EstimationResults::control_rmse_uncompensated_m))}};
+  out["targets"] = {{"scale_within_3_percent_fraction", ">= 0.95"},
+                    {"hover_slam_position_rmse_m", "<= 0.05"},
+                    {"z_impulse_returned_within_5_s_fraction", "1.0 (within 0.1 m of the set point)"}};
+  if (args.flag("--fit-model")) {
+    const ModelFitReport fit = fit_motion_model(*surrogate(first_seed + 5000, 1.0 / 200.0), config.model);
+    out["model_fit"] = model_fit_json(fit);
+  }
+  out["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << out.dump(2) << "\n";
+  return 0;
+}
+
+}  // namespace labo

@@ -1,0 +1,506 @@
+#include "localization/estimation/state_estimator.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "core/frames.hpp"
+#include "localization/estimation/filter_core.hpp"
+#include "localization/estimation/landmark.hpp"
+#include "localization/estimation/source_selector.hpp"
+#include "localization/estimation/timed_queue.hpp"
+#include "localization/estimation/vision_gate.hpp"
+
+namespace labo {
+
+using namespace est;
+
+namespace {
+constexpr std::size_t kNavdataCapacity = 2048;
+constexpr std::size_t kCommandCapacity = 512;
+constexpr Seconds kFaceForgetS = 2.0;          // a face unseen this long is placed anew
+constexpr int kForcedAcceptAfter = 10;         // innovation-gated frames in a row before re-sync
+constexpr int kMapRotationFrames = 30;         // first SLAM frames averaging the map's rotation
+
+bool finite_pose(const Eigen::Isometry3d& T) {
+  if (!T.matrix().allFinite()) return false;
+  const Eigen::Matrix3d R = T.linear();
+  return (R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-3 && std::abs(R.determinant() - 1.0) < 1e-3;
+}
+
+Eigen::Isometry3d T_body_cam(CameraId camera) {
+  return camera == CameraId::Front ? T_body_cam_front() : T_body_cam_bottom();
+}
+
+Eigen::Isometry3d body_pose(const StateVector& s) {
+  return make_pose(s.segment<3>(X), s(YAW), s(PITCH), s(ROLL));
+}
+
+double position_var(const StateCovariance& P) { return P.block<3, 3>(X, X).trace() / 3.0; }
+
+enum Counter {
+  kNavdata, kCommands, kSlam, kObject, kFace, kRejectedNonfinite, kRejectedOutOfOrder, kRejectedFuture,
+  kRejectedLate, kRejectedJumpDistance, kRejectedJumpAngle, kRejectedInnovation, kRejectedNotTracking,
+  kRejectedBadInput, kCommandsNonfinite, kNavdataOverflow, kSlamMaps, kObjectsPlaced, kScalePairs,
+  kVisionSettling, kCounterCount
+};
+constexpr const char* kCounterNames[kCounterCount] = {
+    "navdata", "commands", "slam_fused", "object_fused", "face_fused", "rejected_nonfinite",
+    "rejected_out_of_order", "rejected_future", "rejected_late", "rejected_jump_distance", "rejected_jump_angle",
+    "rejected_innovation", "rejected_not_tracking", "rejected_bad_input", "commands_nonfinite_hover",
+    "navdata_queue_overflow", "slam_maps", "objects_placed", "scale_pairs", "vision_settling"};
+
+struct ScalePairStart {
+  Seconds t = 0;
+  Eigen::Vector3d p_map_cam = Eigen::Vector3d::Zero();
+  MetricOdometry odometry;
+  Eigen::Vector3d lever_world = Eigen::Vector3d::Zero();  // camera offset from the body, world axes
+};
+
+int source_index(LocalizationSource s) { return static_cast<int>(s); }
+}  // namespace
+
+struct StateEstimator::Impl {
+  Impl(const EstimatorConfig& c, const VisionThresholds& th)
+      : config(c), thresholds(th), core(c, th.ultrasound_step_gamma_m), navdata(kNavdataCapacity),
+        commands(kCommandCapacity), selector(c.source_enter_count, c.source_timeout_s),
+        scale(c.scale_sigma_map, c.scale_sigma_metric, c.scale_pair_sigma_metric, c.initial_scale) {}
+
+  EstimatorConfig config;
+  VisionThresholds thresholds;
+  FilterCore core;
+  TimedQueue<NavdataSample> navdata;  // at measurement time (receive - navdata delay)
+  TimedQueue<MoveCommand> commands;   // at effect time (sent + control delay)
+  SourceSelector selector;
+  ScaleEstimator scale;
+  MapToWorld map;
+  int map_id = 0;
+  int map_frames = 0;
+  std::optional<ScalePairStart> pair_start;
+  std::map<int, Landmark> objects;
+  std::map<int, Seconds> object_last_t;
+  std::optional<Landmark> face;
+  SurfaceMap surfaces;
+  bool has_surfaces = false;
+  std::array<VisionGate, 3> gates{};
+  std::array<Seconds, 3> last_obs_t{-1e18, -1e18, -1e18};
+  std::array<int, 3> gated_in_row{};
+  Seconds latest_input_t = -std::numeric_limits<double>::infinity();
+  Seconds last_navdata_t = -std::numeric_limits<double>::infinity();
+  Seconds last_command_t = -std::numeric_limits<double>::infinity();
+  std::array<std::uint64_t, kCounterCount> counters{};
+
+  void count(Counter c) { ++counters[c]; }
+
+  // Replays queued inputs into `c` up to time `target` (measurement time). `consume` pops them.
+  void run(FilterCore& c, Seconds target, bool consume, Seconds vision_t) {
+    std::size_t ni = 0, ci = 0;
+    while (true) {
+      const Seconds tn = ni < navdata.size() ? navdata.at(ni).t : std::numeric_limits<double>::infinity();
+      const Seconds tc = ci < commands.size() ? commands.at(ci).t : std::numeric_limits<double>::infinity();
+      const Seconds te = std::min(tn, tc);
+      if (te > target) break;
+      c.predict_to(te);
+      if (tc <= tn) {
+        c.set_command(commands.at(ci).item, tc);
+        ++ci;
+      } else {
+        if (te >= c.time()) c.apply_navdata(navdata.at(ni).item, selector.any_fused_recently(vision_t),
+                                            has_surfaces ? &surfaces : nullptr);
+        ++ni;
+      }
+    }
+    c.predict_to(target);
+    if (consume) {
+      for (; ci > 0; --ci) commands.pop();
+      for (; ni > 0; --ni) navdata.pop();
+    }
+  }
+
+  void advance(Seconds target) {
+    if (target > core.time()) run(core, target, true, target);
+  }
+
+  bool accept_time(Seconds t) {
+    if (!std::isfinite(t)) {
+      count(kRejectedNonfinite);
+      return false;
+    }
+    if (std::isfinite(latest_input_t) && t > latest_input_t + config.max_future_s) {
+      count(kRejectedFuture);
+      return false;
+    }
+    return true;
+  }
+
+  // Vision: consistency (D, beta), settling, innovation gate, fusion of position and yaw.
+  bool fuse_vision(LocalizationSource source, Seconds t_meas, const Eigen::Isometry3d& T_world_body,
+                   double sigma_pos, double sigma_yaw, double quality) {
+    const int i = source_index(source);
+    const VisionGate::Verdict verdict = gates[i].check(T_world_body, t_meas, thresholds.distance_jump_m,
+                                                        thresholds.angle_jump_beta_rad);
+    if (verdict != VisionGate::Verdict::Consistent) {
+      count(verdict == VisionGate::Verdict::JumpDistance ? kRejectedJumpDistance : kRejectedJumpAngle);
+      selector.on_inconsistent(source);
+      return false;
+    }
+    const bool was_established = selector.established(source, t_meas);
+    selector.on_consistent(source, t_meas, quality);
+    if (selector.consecutive(source) < config.source_enter_count) {
+      count(kVisionSettling);
+      return true;
+    }
+    const double factor = selector.active(t_meas) == source ? 1.0 : config.inactive_source_noise_factor;
+    const double q = std::clamp(quality, 0.2, 1.0);
+    const double sp = sigma_pos * factor / q, sy = sigma_yaw * factor / q;
+    const StateVector& s = core.ekf().state();
+    Eigen::Matrix<double, 4, 1> y;
+    y.head<3>() = T_world_body.translation() - s.segment<3>(X);
+    y(3) = wrap_angle(ypr_from_rotation(T_world_body.linear())(0) - s(YAW));
+    Eigen::Matrix<double, 4, N> H = Eigen::Matrix<double, 4, N>::Zero();
+    H(0, X) = H(1, Y) = H(2, Z) = H(3, YAW) = 1.0;
+    const Eigen::Matrix<double, 4, 4> R = Eigen::Vector4d(sp * sp, sp * sp, sp * sp, sy * sy).asDiagonal();
+    if (was_established && gated_in_row[i] < kForcedAcceptAfter &&
+        core.ekf().mahalanobis<4>(y, H, R) > config.vision_gate_chi2) {
+      ++gated_in_row[i];
+      count(kRejectedInnovation);
+      return false;
+    }
+    gated_in_row[i] = 0;
+    core.ekf().update<4>(y, H, R);
+    selector.on_fused(source, t_meas);
+    return true;
+  }
+
+  // The common front of every vision input: time checks, then the filter advanced to its time.
+  bool admit_vision(LocalizationSource source, Seconds t, Seconds& t_meas) {
+    if (!accept_time(t)) return false;
+    const int i = source_index(source);
+    if (source != LocalizationSource::Homography && t <= last_obs_t[i]) {
+      count(kRejectedOutOfOrder);
+      return false;
+    }
+    t_meas = t - config.video_delay_s;
+    if (!core.initialized() || t_meas < core.time()) {
+      count(kRejectedLate);
+      return false;
+    }
+    if (source != LocalizationSource::Homography) last_obs_t[i] = t;
+    advance(t_meas);
+    return true;
+  }
+
+  void update_scale_pairs(const SlamObservation& o, Seconds t_meas) {
+    const StateVector& s = core.ekf().state();
+    const Eigen::Vector3d lever = body_pose(s).linear() * T_body_cam_front().translation();
+    const auto restart = [&] {
+      pair_start = ScalePairStart{t_meas, o.T_map_cam.translation(), core.odometry(), lever};
+      core.odometry().reset_gap();
+    };
+    if (!pair_start) return restart();
+    const Seconds dt = t_meas - pair_start->t;
+    if (dt > config.scale_interval_max_s) return restart();
+    if (dt < config.scale_interval_min_s) return;
+    const MetricOdometry& now = core.odometry();
+    const bool z_corrupted = now.floor_steps != pair_start->odometry.floor_steps;
+    const bool coverage_ok = now.max_gap <= 0.1;
+    Eigen::Vector3d metric(now.xy.x() - pair_start->odometry.xy.x(), now.xy.y() - pair_start->odometry.xy.y(),
+                           now.z - pair_start->odometry.z);
+    metric += lever - pair_start->lever_world;  // camera displacement = body displacement + lever change
+    const Eigen::Vector3d map_d = map.rotate_to_world(o.T_map_cam.translation() - pair_start->p_map_cam);
+    const Eigen::Vector3d w(config.scale_weight_xy, config.scale_weight_xy, z_corrupted ? 0.0 : config.scale_weight_z);
+    if (coverage_ok && scale.add_pair(w.cwiseProduct(map_d), w.cwiseProduct(metric))) {
+      count(kScalePairs);
+      map.set_scale(scale.scale());
+    }
+    restart();
+  }
+
+  FusedState make_state(const FilterCore& c, Seconds t) const {
+    FusedState f;
+    const StateVector& s = c.ekf().state();
+    f.t = t;
+    f.initialized = c.initialized();
+    f.state = s;
+    f.covariance = c.ekf().covariance();
+    f.position_world = s.segment<3>(X);
+    f.velocity_world = s.segment<3>(VX);
+    f.roll = s(ROLL);
+    f.pitch = s(PITCH);
+    f.yaw = s(YAW);
+    f.yaw_rate = s(YAW_RATE);
+    f.T_world_body = body_pose(s);
+    f.source = selector.active(t);
+    f.colour = selector.colour(t);
+    f.quality = selector.quality(t);
+    f.position_sigma_m = std::sqrt(f.covariance.block<3, 3>(X, X).diagonal().maxCoeff());
+    return f;
+  }
+};
+
+StateEstimator::StateEstimator(const EstimatorConfig& config, const VisionThresholds& thresholds)
+    : impl_(std::make_unique<Impl>(config, thresholds)) {}
+StateEstimator::~StateEstimator() = default;
+StateEstimator::StateEstimator(StateEstimator&&) noexcept = default;
+StateEstimator& StateEstimator::operator=(StateEstimator&&) noexcept = default;
+
+void StateEstimator::reset(const Eigen::Isometry3d& T_world_body, Seconds t) {
+  Impl& m = *impl_;
+  StateVector s = StateVector::Zero();
+  s.segment<3>(X) = T_world_body.translation();
+  const Eigen::Vector3d ypr = ypr_from_rotation(T_world_body.linear());
+  s(YAW) = ypr(0);
+  s(PITCH) = ypr(1);
+  s(ROLL) = ypr(2);
+  StateCovariance P = StateCovariance::Zero();
+  P.diagonal() << 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-3, 1e-3, 1e-4, 1e-4;
+  m.core.reset(s, P, t);
+  m.navdata.clear();
+  m.commands.clear();
+  m.selector.reset();
+  m.scale.reset(m.config.initial_scale);
+  m.map.reset();
+  m.pair_start.reset();
+  m.objects.clear();
+  m.object_last_t.clear();
+  m.face.reset();
+  m.gates = {};
+  m.last_obs_t = {-1e18, -1e18, -1e18};
+  m.latest_input_t = t;
+  m.last_navdata_t = m.last_command_t = -std::numeric_limits<double>::infinity();
+}
+
+void StateEstimator::set_surface_map(const SurfaceMap& map) {
+  impl_->surfaces = map;
+  impl_->has_surfaces = true;
+}
+
+void StateEstimator::set_delays(Seconds video_delay, Seconds navdata_delay, Seconds control_delay) {
+  for (Seconds d : {video_delay, navdata_delay, control_delay}) {
+    if (!std::isfinite(d) || d < 0 || d > 2.0) {
+      throw std::invalid_argument("estimator delays must be finite and in [0, 2] s");
+    }
+  }
+  impl_->config.video_delay_s = video_delay;
+  impl_->config.navdata_delay_s = navdata_delay;
+  impl_->config.control_delay_s = control_delay;
+}
+
+bool StateEstimator::add_navdata(const NavdataSample& n) {
+  Impl& m = *impl_;
+  if (!m.accept_time(n.t)) return false;
+  for (double v : {n.roll_rad, n.pitch_rad, n.yaw_rad, n.altitude_m, n.vx_mps, n.vy_mps, n.vz_mps}) {
+    if (!std::isfinite(v)) {
+      m.count(kRejectedNonfinite);
+      return false;
+    }
+  }
+  if (n.t <= m.last_navdata_t) {
+    m.count(kRejectedOutOfOrder);
+    return false;
+  }
+  const Seconds t_meas = n.t - m.config.navdata_delay_s;
+  if (!m.core.initialized()) {
+    // No reset(): start where the navdata says, at the world origin with the navdata's attitude.
+    reset(make_pose(Eigen::Vector3d(0, 0, n.altitude_m), 0.0, n.pitch_rad, n.roll_rad), t_meas);
+  }
+  if (t_meas < m.core.time()) {
+    m.count(kRejectedLate);
+    return false;
+  }
+  m.last_navdata_t = n.t;
+  m.latest_input_t = std::max(m.latest_input_t, n.t);
+  if (m.navdata.full()) {
+    m.count(kNavdataOverflow);
+    m.advance(m.navdata.front().t);
+  }
+  m.navdata.push(t_meas, n);
+  m.count(kNavdata);
+  // Move on, leaving room for vision results that may still arrive for recent frames.
+  m.advance(n.t - m.config.video_delay_s - m.config.vision_latency_allowance_s);
+  return true;
+}
+
+bool StateEstimator::add_command(const MoveCommand& command, Seconds t_sent) {
+  Impl& m = *impl_;
+  if (!m.accept_time(t_sent)) return false;
+  if (t_sent < m.last_command_t) {
+    m.count(kRejectedOutOfOrder);
+    return false;
+  }
+  MoveCommand c = command;
+  if (!std::isfinite(c.roll) || !std::isfinite(c.pitch) || !std::isfinite(c.gaz) || !std::isfinite(c.yaw_rate)) {
+    c = MoveCommand{};  // the link sends a hover for a non-finite command
+    m.count(kCommandsNonfinite);
+  }
+  const Seconds t_effect = t_sent + m.config.control_delay_s;
+  if (t_effect < m.core.time()) {
+    m.count(kRejectedLate);
+    return false;
+  }
+  m.last_command_t = t_sent;
+  if (m.commands.full()) m.advance(m.commands.front().t);
+  m.commands.push(t_effect, c);
+  m.count(kCommands);
+  return true;
+}
+
+bool StateEstimator::add_slam_pose(const SlamObservation& o) {
+  Impl& m = *impl_;
+  if (!finite_pose(o.T_map_cam) || !std::isfinite(o.quality)) {
+    m.count(kRejectedNonfinite);
+    return false;
+  }
+  if (!o.tracking_good) {
+    if (std::isfinite(o.t)) m.selector.on_inconsistent(LocalizationSource::Slam);
+    m.count(kRejectedNotTracking);
+    return false;
+  }
+  Seconds t_meas = 0;
+  if (!m.admit_vision(LocalizationSource::Slam, o.t, t_meas)) return false;
+  const StateVector& s = m.core.ekf().state();
+  const Eigen::Isometry3d T_world_cam_est = body_pose(s) * T_body_cam_front();
+  if (!m.map.initialized() || o.map_id != m.map_id) {
+    // A new map: place it where the filter says the camera is; its scale starts from scratch.
+    m.map_id = o.map_id;
+    m.scale.reset(m.config.initial_scale);
+    m.map.initialize(o.T_map_cam, T_world_cam_est, m.scale.scale());
+    m.map_frames = 1;
+    m.pair_start.reset();
+    m.gates[source_index(LocalizationSource::Slam)] = {};
+    m.count(kSlamMaps);
+    return true;
+  }
+  if (m.map_frames < kMapRotationFrames) {
+    ++m.map_frames;
+    m.map.refine_rotation(o.T_map_cam, T_world_cam_est, 1.0 / m.map_frames);
+  }
+  const Eigen::Isometry3d T_world_body = m.map.T_world_cam(o.T_map_cam) * T_body_cam_front().inverse();
+  const bool fused = m.fuse_vision(LocalizationSource::Slam, t_meas, T_world_body, m.config.noise.slam_position_m,
+                                   m.config.noise.slam_yaw_rad, o.quality);
+  if (fused) {
+    m.count(kSlam);
+    m.update_scale_pairs(o, t_meas);
+  }
+  return fused;
+}
+
+bool StateEstimator::add_object_pose(const ObjectObservation& o) {
+  Impl& m = *impl_;
+  if (!finite_pose(o.T_cam_object) || !std::isfinite(o.quality) ||
+      (o.T_world_object_surveyed && !finite_pose(*o.T_world_object_surveyed))) {
+    m.count(kRejectedNonfinite);
+    return false;
+  }
+  if (o.object_index < 0) {
+    m.count(kRejectedBadInput);
+    return false;
+  }
+  const auto last = m.object_last_t.find(o.object_index);
+  if (std::isfinite(o.t) && last != m.object_last_t.end() && o.t <= last->second) {
+    m.count(kRejectedOutOfOrder);
+    return false;
+  }
+  Seconds t_meas = 0;
+  if (!m.admit_vision(LocalizationSource::Homography, o.t, t_meas)) return false;
+  m.object_last_t[o.object_index] = o.t;
+  const Eigen::Isometry3d T_bc = T_body_cam(o.camera);
+  const StateVector& s = m.core.ekf().state();
+  const Eigen::Isometry3d cascade = body_pose(s) * T_bc * o.T_cam_object;
+  const double distance = o.T_cam_object.translation().norm();
+  const double sigma_obs = m.config.noise.object_position_m * std::max(1.0, distance);
+  const double cascade_var = position_var(m.core.ekf().covariance()) + sigma_obs * sigma_obs;
+  auto it = m.objects.find(o.object_index);
+  if (it == m.objects.end()) {
+    const double survey_var = m.config.noise.survey_position_m * m.config.noise.survey_position_m;
+    it = m.objects.emplace(o.object_index, place_landmark(cascade, cascade_var,
+                                                          o.T_world_object_surveyed ? &*o.T_world_object_surveyed : nullptr,
+                                                          survey_var, t_meas)).first;
+    m.count(kObjectsPlaced);
+  } else if (it->second.refinements < m.config.object_placement_frames &&
+             m.selector.active(t_meas) == LocalizationSource::Slam) {
+    // SLAM localizes the drone independently of the object: refine the object, not the drone.
+    it->second.fuse(cascade, cascade_var);
+    it->second.last_seen = t_meas;
+    m.selector.on_consistent(LocalizationSource::Homography, t_meas, o.quality);
+    return true;
+  }
+  it->second.last_seen = t_meas;
+  const Eigen::Isometry3d T_world_body = it->second.T_world_landmark * o.T_cam_object.inverse() * T_bc.inverse();
+  const double sigma_pos = std::sqrt(sigma_obs * sigma_obs + it->second.position_var);
+  const bool fused = m.fuse_vision(LocalizationSource::Homography, t_meas, T_world_body, sigma_pos,
+                                   m.config.noise.object_yaw_rad, o.quality);
+  if (fused) m.count(kObject);
+  return fused;
+}
+
+bool StateEstimator::add_face_pose(const FaceObservation& o) {
+  Impl& m = *impl_;
+  if (!finite_pose(o.T_cam_face) || !std::isfinite(o.quality)) {
+    m.count(kRejectedNonfinite);
+    return false;
+  }
+  Seconds t_meas = 0;
+  if (!m.admit_vision(LocalizationSource::Face, o.t, t_meas)) return false;
+  const Eigen::Isometry3d T_bc = T_body_cam_front();
+  const StateVector& s = m.core.ekf().state();
+  const double sigma_obs = m.config.noise.face_position_m * std::max(1.0, o.T_cam_face.translation().norm());
+  if (!m.face || t_meas - m.face->last_seen > kFaceForgetS) {
+    m.face = place_landmark(body_pose(s) * T_bc * o.T_cam_face,
+                            position_var(m.core.ekf().covariance()) + sigma_obs * sigma_obs, nullptr, 0, t_meas);
+  }
+  const Eigen::Isometry3d T_world_body = m.face->T_world_landmark * o.T_cam_face.inverse() * T_bc.inverse();
+  const double sigma_pos = std::sqrt(sigma_obs * sigma_obs + m.face->position_var);
+  const bool fused = m.fuse_vision(LocalizationSource::Face, t_meas, T_world_body, sigma_pos,
+                                   m.config.noise.face_yaw_rad, o.quality);
+  // The teacher moves: the face's world pose follows the cascade, fast while another source holds the
+  // drone, with the face memory's time constant while the face itself is the reference.
+  const Seconds dt = std::max(0.0, t_meas - m.face->last_seen);
+  const bool face_is_reference = m.selector.active(t_meas) == LocalizationSource::Face;
+  const double k = face_is_reference ? 1.0 - std::exp(-dt / m.config.face_memory_s) : 0.5;
+  m.face->blend(body_pose(m.core.ekf().state()) * T_bc * o.T_cam_face, k);
+  m.face->last_seen = t_meas;
+  if (fused) m.count(kFace);
+  return fused;
+}
+
+FusedState StateEstimator::predict(Seconds t) const {
+  Impl& m = *impl_;
+  FilterCore copy = m.core;
+  if (t > copy.time()) m.run(copy, t, false, t);
+  return m.make_state(copy, t);
+}
+
+FusedState StateEstimator::predict_for_control(Seconds now) const {
+  return predict(now + impl_->config.control_delay_s);
+}
+
+FusedState StateEstimator::filtered() const { return impl_->make_state(impl_->core, impl_->core.time()); }
+Seconds StateEstimator::filter_time() const { return impl_->core.time(); }
+const ScaleStatus& StateEstimator::scale_status() const { return impl_->scale.status(); }
+const MapToWorld& StateEstimator::map_to_world() const { return impl_->map; }
+
+std::optional<Eigen::Isometry3d> StateEstimator::T_world_object(int object_index) const {
+  const auto it = impl_->objects.find(object_index);
+  if (it == impl_->objects.end()) return std::nullopt;
+  return it->second.T_world_landmark;
+}
+
+std::optional<Eigen::Isometry3d> StateEstimator::T_world_face() const {
+  if (!impl_->face) return std::nullopt;
+  return impl_->face->T_world_landmark;
+}
+
+LocalizationSource StateEstimator::source() const { return impl_->selector.active(impl_->core.time()); }
+SourceColour StateEstimator::colour() const { return impl_->selector.colour(impl_->core.time()); }
+const EstimatorConfig& StateEstimator::config() const { return impl_->config; }
+
+EstimatorStatistics StateEstimator::statistics() const {
+  EstimatorStatistics st;
+  for (int i = 0; i < kCounterCount; ++i) st.counters[kCounterNames[i]] = impl_->counters[i];
+  st.counters["covariance_repairs"] = static_cast<std::uint64_t>(impl_->core.ekf().repairs());
+  st.counters["floor_steps"] = static_cast<std::uint64_t>(impl_->core.counters().floor_steps);
+  st.counters["ultrasound_fused_as_motion"] = static_cast<std::uint64_t>(impl_->core.counters().fused_as_motion);
+  return st;
+}
+
+}  // namespace labo

@@ -1,0 +1,38 @@
+#include "localization/estimation/surface_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace labo {
+
+double SurfaceMap::height_at(const Eigen::Vector2d& xy) const {
+  double h = floor_z_;
+  bool on_rect = false;
+  for (const SurfaceRect& r : rects_) {
+    if ((xy.array() >= r.min_xy.array()).all() && (xy.array() <= r.max_xy.array()).all()) {
+      h = on_rect ? std::max(h, r.top_z) : std::max(floor_z_, r.top_z);
+      on_rect = true;
+    }
+  }
+  return h;
+}
+
+std::optional<double> SurfaceMap::unambiguous_height(const Eigen::Vector2d& xy, double margin) const {
+  const double h = height_at(xy);
+  // An edge of a rectangle within `margin` whose two sides differ in height makes the position
+  // ambiguous: probe the square of half-size `margin` at its corners and edge midpoints.
+  for (int i = -1; i <= 1; ++i) {
+    for (int j = -1; j <= 1; ++j) {
+      if (std::abs(height_at(xy + margin * Eigen::Vector2d(i, j)) - h) > 1e-3) return std::nullopt;
+    }
+  }
+  // A rectangle smaller than the probe grid could hide between probes: check overlap directly.
+  for (const SurfaceRect& r : rects_) {
+    const bool overlaps = (xy.array() + margin >= r.min_xy.array()).all() && (xy.array() - margin <= r.max_xy.array()).all();
+    const bool contains = (xy.array() - margin >= r.min_xy.array()).all() && (xy.array() + margin <= r.max_xy.array()).all();
+    if (overlaps && !contains && std::abs(std::max(r.top_z, floor_z_) - h) > 1e-3) return std::nullopt;
+  }
+  return h;
+}
+
+}  // namespace labo

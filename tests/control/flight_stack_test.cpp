@@ -1,0 +1,258 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "control/flight_stack.hpp"
+#include "tests/control/model_flight.hpp"
+
+using namespace labo;
+using labo::test::ModelFlight;
+
+namespace {
+MissionRequest req(RequestKind kind) {
+  MissionRequest r;
+  r.kind = kind;
+  return r;
+}
+MissionRequest inspect(const std::string& id, double hold_s = 3.0, double standoff = 0) {
+  MissionRequest r = req(RequestKind::Inspect);
+  r.instrument_id = id;
+  r.hold_s = hold_s;
+  r.standoff_m = standoff;
+  return r;
+}
+MissionRequest go(double x, double y, double z, double yaw = 0) {
+  MissionRequest r = req(RequestKind::Goto);
+  r.target << x, y, z, yaw;
+  return r;
+}
+void take_off(ModelFlight& f) {
+  REQUIRE(f.request(req(RequestKind::Takeoff)).accepted);
+  REQUIRE(f.run_until([&] { return f.stack->status().phase == FlightPhase::Flying; }, 8.0));
+}
+}  // namespace
+
+TEST_CASE("control: inspect runs stages 1-6 in order and ends on the platform") {
+  ModelFlight f;
+  REQUIRE(f.request(inspect("oscilloscope", 3.0)).accepted);
+  std::vector<int> stages;
+  double standoff_error = 1e9, centre_offset = 1e9;
+  bool saw_homography = false;
+  const bool ended = f.run_until([&] {
+    const FlightStatus s = f.stack->status();
+    if (s.stage_index > 0 && (stages.empty() || stages.back() != s.stage_index)) stages.push_back(s.stage_index);
+    if (s.source == FeedbackSource::Homography) saw_homography = true;
+    if (s.stage.find("holding") != std::string::npos) {
+      const Eigen::Isometry3d T_cam_obj =
+          (f.world->drone.pose() * T_body_cam_front()).inverse() * f.lab.instruments[0].T_world_object;
+      standoff_error = std::abs(T_cam_obj.translation().z() - 0.80);
+      const CameraIntrinsics k = PinholeCamera::ardrone2_front().intrinsics();
+      const Eigen::Vector3d c = T_cam_obj.translation();
+      const double u = k.fx * c.x() / c.z() + k.cx, v = k.fy * c.y() / c.z() + k.cy;
+      centre_offset = std::hypot(u - 0.5 * k.width, v - 0.5 * k.height) / k.width;
+    }
+    return s.mission == "idle";
+  }, 120.0);
+  REQUIRE(ended);
+  INFO(f.stack->status().last_event);
+  CHECK(f.stack->status().last_event.find("succeeded") != std::string::npos);
+  CHECK(stages == std::vector<int>{1, 2, 3, 4, 5, 6});
+  CHECK(saw_homography);
+  CHECK(standoff_error < 0.05);
+  CHECK(centre_offset < 0.05);
+  CHECK(f.stack->status().phase == FlightPhase::Landed);
+  CHECK(f.world->drone.p.head<2>().norm() < 0.10);
+  CHECK_FALSE(f.world->drone.crashed);
+}
+
+TEST_CASE("control: losing the instrument in stage 3 triggers re-detection, not a push forward") {
+  ModelFlight f;
+  REQUIRE(f.request(inspect("oscilloscope", 20.0)).accepted);
+  REQUIRE(f.run_until([&] { return f.stack->status().stage.find("holding") != std::string::npos; }, 90.0));
+  f.world->instrument_visible = false;
+  REQUIRE(f.run_until([&] { return f.stack->status().stage.find("re-detecting") != std::string::npos; }, 2.0));
+  const double x_at_loss = f.world->drone.p.x();
+  f.run(3.0);
+  CHECK(f.world->drone.p.x() < x_at_loss + 0.05);  // the panel is at +x: no approach while blind
+  CHECK(f.stack->status().stage_index == 3);
+  f.world->instrument_visible = true;
+  CHECK(f.run_until([&] { return f.stack->status().stage.find("holding") != std::string::npos; }, 20.0));
+}
+
+TEST_CASE("control: the localization source switches with hysteresis near the instrument") {
+  ModelFlight f;
+  REQUIRE(f.request(inspect("oscilloscope", 2.0)).accepted);
+  std::vector<FeedbackSource> seq;
+  f.run_until([&] {
+    const FeedbackSource s = f.stack->status().source;
+    if (seq.empty() || seq.back() != s) seq.push_back(s);
+    return f.stack->status().stage_index >= 5;
+  }, 90.0);
+  // dead reckoning before SLAM, SLAM far, homography near, SLAM again on the way home, no chattering.
+  REQUIRE(seq.size() >= 3);
+  CHECK(std::count(seq.begin(), seq.end(), FeedbackSource::Homography) == 1);
+  CHECK(seq.size() <= 5);
+}
+
+TEST_CASE("control: requests are refused with the reason") {
+  ModelFlight f;
+  auto refused = [&](const MissionRequest& r, const std::string& why) {
+    const CommandResult c = f.request(r);
+    INFO(to_string(r.kind) << ": " << c.reason);
+    CHECK_FALSE(c.accepted);
+    CHECK(c.reason.find(why) != std::string::npos);
+  };
+  // Landed: commands that need flight.
+  refused(go(1, 0, 1), "needs flight");
+  refused(req(RequestKind::Land), "needs flight");
+  refused(req(RequestKind::Hover), "needs flight");
+  refused(req(RequestKind::ReturnHome), "needs flight");
+  refused(req(RequestKind::StopFaceFollow), "no face-follow");
+  refused(inspect("multimeter"), "unknown instrument 'multimeter' (known: oscilloscope)");
+  refused(inspect("oscilloscope", 3.0, 0.2), "below the safe minimum");
+  refused(inspect("oscilloscope", -1.0), "hold time");
+  refused(inspect("oscilloscope", std::numeric_limits<double>::quiet_NaN()), "finite");
+
+  take_off(f);
+  refused(req(RequestKind::Takeoff), "already");
+  refused(go(9, 0, 1), "outside the geofence");
+  refused(go(1, 0, 5), "z = 5.00 m is outside the geofence");
+  refused(go(std::numeric_limits<double>::quiet_NaN(), 0, 1), "finite");
+  refused(go(1, 0, std::numeric_limits<double>::infinity()), "finite");
+  MissionRequest far = req(RequestKind::MoveBy);
+  far.target << 20, 0, 0, 0;
+  refused(far, "outside the geofence");
+
+  REQUIRE(f.request(inspect("oscilloscope", 5.0)).accepted);
+  f.run(1.0);
+  refused(inspect("oscilloscope"), "mission 'inspect' is running");
+  refused(req(RequestKind::FindTeacher), "mission 'inspect' is running");
+  refused(go(1, 0, 1), "mission 'inspect' is running");
+  CHECK(f.stack->status().last_event.find("refused") != std::string::npos);
+  // Abort commands are accepted while a mission runs.
+  CHECK(f.request(req(RequestKind::Hover)).accepted);
+  CHECK(f.stack->status().mission == "idle");
+}
+
+TEST_CASE("control: goto flies to the target and holds it; nothing leaves the fence") {
+  ModelFlight f;
+  take_off(f);
+  REQUIRE(f.request(go(2.0, -1.0, 1.2, 0.5)).accepted);
+  f.run(12.0);
+  CHECK((f.world->drone.p - Eigen::Vector3d(2.0, -1.0, 1.2)).norm() < 0.1);
+  CHECK(std::abs(wrap_angle(f.world->drone.yaw - 0.5)) < 0.05);
+  MissionRequest by = req(RequestKind::MoveBy);
+  by.target << 1.0, 0.0, 0.0, 0.0;  // 1 m forward along yaw 0.5
+  REQUIRE(f.request(by).accepted);
+  f.run(10.0);
+  CHECK((f.world->drone.p - Eigen::Vector3d(2.0 + std::cos(0.5), -1.0 + std::sin(0.5), 1.2)).norm() < 0.1);
+}
+
+TEST_CASE("control: emergency stop always works") {
+  ModelFlight f;
+  REQUIRE(f.request(inspect("oscilloscope")).accepted);
+  f.run(12.0);
+  const CommandResult c = f.request(req(RequestKind::EmergencyStop));
+  CHECK(c.accepted);
+  f.run(1.0 / 30.0);
+  CHECK(f.last.action == FlightOutput::Action::Emergency);
+  CHECK(f.stack->status().phase == FlightPhase::Emergency);
+  CHECK(f.stack->status().mission == "idle");
+  // Also while landed, and twice.
+  CHECK(f.request(req(RequestKind::EmergencyStop)).accepted);
+}
+
+TEST_CASE("control: link loss: hover, then land after the configured time") {
+  ControlConfig cfg;
+  cfg.safety.link_loss_land_s = 2.0;
+  ModelFlight f(cfg);
+  take_off(f);
+  f.stack->on_link_state(LinkState::Lost, f.t);
+  f.run(1.0);
+  CHECK(f.last.action == FlightOutput::Action::Hover);
+  CHECK_FALSE(f.stack->status().safety_alerts.empty());
+  f.run(1.5);
+  CHECK(f.stack->status().phase == FlightPhase::Landing);
+  CHECK(f.last.action == FlightOutput::Action::Land);  // repeated while the link is down
+  f.stack->on_link_state(LinkState::Connected, f.t);
+  CHECK(f.run_until([&] { return f.stack->status().phase == FlightPhase::Landed; }, 10.0));
+}
+
+TEST_CASE("control: low battery returns home and lands; critical battery lands at once") {
+  ModelFlight f;
+  take_off(f);
+  REQUIRE(f.request(go(2.0, 1.0, 1.2)).accepted);
+  f.run(6.0);
+  f.world->drone.battery = 15;
+  f.run(0.2);
+  CHECK(f.stack->status().mission == "return_home");
+  CHECK(f.stack->status().last_event.find("battery") != std::string::npos);
+  CHECK(f.run_until([&] { return f.stack->status().phase == FlightPhase::Landed; }, 60.0));
+  CHECK(f.world->drone.p.head<2>().norm() < 0.1);
+
+  ModelFlight g;
+  take_off(g);
+  g.world->drone.battery = 5;
+  g.run(0.2);
+  CHECK(g.stack->status().phase == FlightPhase::Landing);
+}
+
+TEST_CASE("control: localization lost too long: hover, then land") {
+  ControlConfig cfg;
+  cfg.safety.localization_lost_hover_s = 0.5;
+  cfg.safety.localization_lost_land_s = 3.0;
+  ModelFlight f(cfg);
+  REQUIRE(f.request(inspect("oscilloscope", 30.0)).accepted);
+  REQUIRE(f.run_until([&] { return f.stack->status().stage_index == 3; }, 60.0));
+  f.world->slam_available = false;
+  f.world->instrument_visible = false;
+  f.run(1.0);
+  CHECK(f.last.action == FlightOutput::Action::Hover);
+  f.run(2.5);
+  CHECK(f.stack->status().phase == FlightPhase::Landing);
+  CHECK(f.stack->status().last_event.find("localization lost") != std::string::npos);
+}
+
+TEST_CASE("control: return home lands on the platform from anywhere") {
+  ModelFlight f;
+  take_off(f);
+  REQUIRE(f.request(go(3.0, -2.0, 1.0)).accepted);
+  f.run(10.0);
+  REQUIRE(f.request(req(RequestKind::ReturnHome)).accepted);
+  std::set<int> stages;
+  REQUIRE(f.run_until([&] {
+    stages.insert(f.stack->status().stage_index);
+    return f.stack->status().phase == FlightPhase::Landed;
+  }, 60.0));
+  CHECK(stages.count(1) == 1);
+  CHECK(stages.count(2) == 1);
+  CHECK(stages.count(3) == 1);
+  CHECK(f.world->drone.p.head<2>().norm() < 0.10);
+}
+
+TEST_CASE("control: find teacher searches, follows the face and stops on request") {
+  ModelFlight f;
+  REQUIRE(f.request(req(RequestKind::FindTeacher)).accepted);
+  REQUIRE(f.run_until([&] { return f.stack->status().stage == "3 face-follow"; }, 60.0));
+  f.run(8.0);
+  auto face_in_cam = [&]() -> Eigen::Vector3d {
+    return ((f.world->drone.pose() * T_body_cam_front()).inverse() * f.world->T_world_face).translation();
+  };
+  CHECK(std::abs(face_in_cam().z() - 1.0) < 0.1);
+  const CameraIntrinsics k = PinholeCamera::ardrone2_front().intrinsics();
+  CHECK(std::abs(k.fx * face_in_cam().x() / face_in_cam().z() + k.cx - 0.5 * k.width) < 0.1 * k.width);
+  // The teacher walks at 0.5 m/s along y for 2 s: the drone follows.
+  double worst = 0;
+  for (int i = 0; i < 60; ++i) {
+    f.world->T_world_face.translation().y() += 0.5 / 30.0;
+    f.run(1.0 / 30.0);
+  }
+  f.run(6.0);
+  worst = std::abs(face_in_cam().z() - 1.0);
+  CHECK(worst < 0.1);
+  REQUIRE(f.request(req(RequestKind::StopFaceFollow)).accepted);
+  f.run(0.1);
+  CHECK(f.stack->status().mission == "idle");
+  CHECK(f.stack->status().phase == FlightPhase::Flying);
+}

@@ -1,0 +1,160 @@
+#pragma once
+// Test harness: FlightStack flying the ArdroneModel in lockstep, with ModelPipelines that localize
+// perfectly from the model's true pose and "see" the instrument, platform and face by geometry (in the
+// camera's field of view, in range, facing the camera). Tests switch sight off to provoke losses.
+#include <cmath>
+#include <memory>
+
+#include "control/flight_stack.hpp"
+#include "control/experiments/model_lab.hpp"
+#include "control/experiments/quadrotor_model.hpp"
+
+namespace labo::test {
+
+struct ModelWorld {
+  QuadrotorModel drone;
+  bool instrument_visible = true;
+  bool platform_visible = true;
+  bool face_visible = true;
+  bool slam_available = true;
+  double airborne_since = -1;
+  Eigen::Isometry3d T_world_face = facing_base({2.5, -0.5, 1.6});  // z into the head, looking at the base
+};
+
+inline bool in_front_view(const Eigen::Isometry3d& T_cam_target, double max_range) {
+  const Eigen::Vector3d p = T_cam_target.translation();
+  if (p.z() <= 0.1 || p.z() > max_range) return false;
+  if (std::abs(p.x() / p.z()) > 0.5 || std::abs(p.y() / p.z()) > 0.3) return false;
+  return T_cam_target.linear().col(2).z() > 0.3;  // the panel's z (into it) points away from the camera
+}
+
+class ModelPipelines final : public LocalizationPipelines {
+ public:
+  ModelPipelines(std::shared_ptr<ModelWorld> world, LabGeometry lab) : world_(std::move(world)), lab_(std::move(lab)) {}
+  void on_navdata(const NavdataSample& s) override { t_ = s.t; }
+  void on_command(const MoveCommand&, Seconds) override {}
+  void on_video(const VideoFrame&) override {}
+  void set_focus(const PerceptionFocus& f) override { focus_ = f; }
+  void reset(const Eigen::Isometry3d&, Seconds) override {}
+
+  PoseEstimate predict(Seconds t) const override {
+    PoseEstimate e;
+    e.valid = true;
+    e.t = t;
+    e.T_world_body = world_->drone.pose();
+    e.velocity_world = world_->drone.v;
+    e.yaw_rate = world_->drone.yaw_rate;
+    e.quality = 1;
+    const bool slam_ok = slam().state == SlamState::Good;
+    switch (focus_.feedback) {
+      case FeedbackSource::Homography:
+        e.source = (focus_.platform ? platform() : instrument()).state == TrackState::Tracking
+                       ? FeedbackSource::Homography : FeedbackSource::DeadReckoning;
+        break;
+      case FeedbackSource::Face:
+        e.source = face().state == TrackState::Tracking ? FeedbackSource::Face : FeedbackSource::DeadReckoning;
+        break;
+      case FeedbackSource::Slam:
+        e.source = slam_ok ? FeedbackSource::Slam : FeedbackSource::DeadReckoning;
+        break;
+      case FeedbackSource::DeadReckoning:
+        e.source = FeedbackSource::DeadReckoning;
+        break;
+    }
+    return e;
+  }
+  TargetObservation instrument() const override {
+    TargetObservation o;
+    const PlanarTarget* inst = lab_.find_instrument(focus_.instrument_id);
+    if (!inst) return o;
+    const Eigen::Isometry3d T_world_cam = world_->drone.pose() * T_body_cam_front();
+    o.T_cam_target = T_world_cam.inverse() * inst->T_world_object;
+    o.state = world_->instrument_visible && in_front_view(o.T_cam_target, 5.0) ? TrackState::Tracking : TrackState::Lost;
+    o.t = t_;
+    return o;
+  }
+  TargetObservation platform() const override {
+    TargetObservation o;
+    if (!focus_.platform) return o;
+    const Eigen::Isometry3d T_world_cam = world_->drone.pose() * T_body_cam_bottom();
+    o.T_cam_target = T_world_cam.inverse() * lab_.platform.T_world_object;
+    const Eigen::Vector3d p = o.T_cam_target.translation();
+    o.state = world_->platform_visible && p.z() > 0.2 && std::abs(p.x() / p.z()) < 0.45 && std::abs(p.y() / p.z()) < 0.25
+                  ? TrackState::Tracking : TrackState::Lost;
+    o.t = t_;
+    return o;
+  }
+  TargetObservation face() const override {
+    TargetObservation o;
+    if (!focus_.face) return o;
+    const Eigen::Isometry3d T_world_cam = world_->drone.pose() * T_body_cam_front();
+    o.T_cam_target = T_world_cam.inverse() * world_->T_world_face;
+    o.state = world_->face_visible && in_front_view(o.T_cam_target, 4.0) ? TrackState::Tracking : TrackState::Lost;
+    o.t = t_;
+    return o;
+  }
+  SlamSummary slam() const override {
+    SlamSummary s;
+    const bool up = world_->drone.control_state == 3 || world_->drone.control_state == 4;
+    s.state = !focus_.slam ? SlamState::Off : (world_->slam_available && up ? SlamState::Good : SlamState::Initializing);
+    s.scale_estimated = s.state == SlamState::Good;
+    return s;
+  }
+
+ private:
+  std::shared_ptr<ModelWorld> world_;
+  LabGeometry lab_;
+  PerceptionFocus focus_;
+  Seconds t_ = 0;
+};
+
+class ModelFlight {
+ public:
+  explicit ModelFlight(ControlConfig config = {}) : world(std::make_shared<ModelWorld>()), lab(model_lab()) {
+    FlightStackSetup setup;
+    setup.control = config;
+    setup.lab = lab;
+    stack = std::make_unique<FlightStack>(setup, std::make_unique<ModelPipelines>(world, lab));
+  }
+  // Advances `seconds` in 1/30 s control ticks, 5 physics sub-steps each.
+  void run(double seconds) {
+    const double dt = 1.0 / 30.0;
+    for (double end = t + seconds; t < end - 1e-9;) {
+      stack->on_navdata(world->drone.navdata(t));
+      last = stack->tick(t);
+      apply(last);
+      for (int i = 0; i < 5; ++i) world->drone.step(dt / 5);
+      t += dt;
+    }
+  }
+  // Runs until pred() or the time-out; returns whether pred() became true.
+  template <class Pred>
+  bool run_until(Pred pred, double timeout_s) {
+    for (double end = t + timeout_s; t < end;) {
+      run(1.0 / 30.0);
+      if (pred()) return true;
+    }
+    return false;
+  }
+  CommandResult request(MissionRequest r) { return stack->request(r, t); }
+
+  std::shared_ptr<ModelWorld> world;
+  LabGeometry lab;
+  std::unique_ptr<FlightStack> stack;
+  FlightOutput last;
+  double t = 0;
+
+ private:
+  void apply(const FlightOutput& out) {
+    switch (out.action) {
+      case FlightOutput::Action::Move: world->drone.move(out.move); break;
+      case FlightOutput::Action::Hover: world->drone.hover(); break;
+      case FlightOutput::Action::Takeoff: world->drone.takeoff(); break;
+      case FlightOutput::Action::Land: world->drone.land(); break;
+      case FlightOutput::Action::Emergency: world->drone.emergency(); break;
+      case FlightOutput::Action::None: break;
+    }
+  }
+};
+
+}  // namespace labo::test

@@ -1,0 +1,89 @@
+#include <catch2/catch.hpp>
+
+#include "control/control_config.hpp"
+#include "control/geofence.hpp"
+#include "control/localization_switch.hpp"
+#include "control/safety_monitor.hpp"
+#include "core/config_reader.hpp"
+
+using namespace labo;
+
+TEST_CASE("control: localization switch uses homography near, SLAM far, with hysteresis") {
+  MissionParameters p;  // far_to_near 1.6 m, near_to_far 2.0 m, hold 0.5 s
+  LocalizationSwitch sw(p);
+  SwitchInputs in;
+  in.slam = SlamState::Good;
+  in.target_state = TrackState::Tracking;
+  in.target_distance_m = 2.5;
+  for (in.t = 0; in.t < 1.0; in.t += 0.1) sw.update(in);
+  CHECK(sw.current() == FeedbackSource::Slam);
+  in.target_distance_m = 1.5;  // near, but must hold 0.5 s first
+  in.t = 1.0;
+  CHECK(sw.update(in) == FeedbackSource::Slam);
+  in.t = 1.6;
+  CHECK(sw.update(in) == FeedbackSource::Homography);
+  in.target_distance_m = 1.9;  // inside the hysteresis band: stays
+  in.t = 2.0;
+  CHECK(sw.update(in) == FeedbackSource::Homography);
+  in.target_state = TrackState::Lost;  // a short drop-out is bridged
+  in.t = 2.2;
+  CHECK(sw.update(in) == FeedbackSource::Homography);
+  in.t = 2.8;  // lost for 0.6 s: back to SLAM
+  CHECK(sw.update(in) == FeedbackSource::Slam);
+  in.slam = SlamState::Lost;
+  in.t = 3.0;
+  sw.update(in);
+  in.t = 3.6;
+  CHECK(sw.update(in) == FeedbackSource::DeadReckoning);
+  in.target_state = TrackState::Tracking;
+  in.target_distance_m = 2.1;  // beyond near_to_far: never homography
+  in.t = 5.0;
+  CHECK(sw.update(in) == FeedbackSource::DeadReckoning);
+}
+
+TEST_CASE("control: geofence keeps the margin and names the violated bound") {
+  const Geofence fence({-2, -2, 0}, {2, 2, 2.5}, 0.3);
+  CHECK(fence.contains({1.7, 0, 1}));
+  CHECK_FALSE(fence.contains({1.8, 0, 1}));
+  CHECK_FALSE(fence.contains({0, 0, 2.3}));
+  CHECK(fence.contains({0, 0, 0}));  // the floor keeps no margin: landing happens there
+  CHECK(fence.violation({0, -5, 1}) == "y = -5.00 m is outside the geofence [-1.70, 1.70] m");
+  CHECK(fence.clamp({9, -9, 9}).isApprox(Eigen::Vector3d(1.7, -1.7, 2.2)));
+  CHECK_THROWS(Geofence({0, 0, 0}, {0.5, 3, 3}, 0.3));
+}
+
+TEST_CASE("control: safety monitor escalates link loss and localization loss over time") {
+  SafetyLimits lim;
+  lim.link_loss_land_s = 2.0;
+  SafetyMonitor m(lim);
+  SafetyInputs in;
+  in.airborne = true;
+  in.link = LinkState::Lost;
+  in.t = 0;
+  CHECK(m.evaluate(in).action == SafetyAction::Hover);
+  in.t = 2.1;
+  CHECK(m.evaluate(in).action == SafetyAction::Land);
+  in.link = LinkState::Connected;
+  in.battery_percent = 15;
+  CHECK(m.evaluate(in).action == SafetyAction::ReturnHome);
+  in.returning_home = true;
+  CHECK(m.evaluate(in).action == SafetyAction::None);
+  in.battery_percent = 5;
+  CHECK(m.evaluate(in).action == SafetyAction::Land);
+}
+
+TEST_CASE("control: config section is validated with the key path") {
+  auto read = [](const std::string& text) {
+    const ConfigDocument doc = ConfigDocument::parse(text, "test.json");
+    return read_control_config(doc.root());
+  };
+  const ControlConfig c = read(R"({"gains": {"xy": {"kp": 0.4}}, "mission": {"standoff_m": 0.9}})");
+  CHECK(c.gains.xy.kp == 0.4);
+  CHECK(c.mission.standoff_m == 0.9);
+  CHECK(c.mission.face_distance_m == 1.0);
+  CHECK_THROWS_WITH(read(R"({"gains": {"xy": {"kp": -1}}})"), Catch::Contains("gains.xy.kp"));
+  CHECK_THROWS_WITH(read(R"({"gains": {"xy": {"kq": 1}}})"), Catch::Contains("kq"));
+  CHECK_THROWS_WITH(read(R"({"mission": {"standoff_m": 0.3}})"), Catch::Contains("min_standoff_m"));
+  CHECK_THROWS_WITH(read(R"({"mission": {"far_to_near_m": 2.5}})"), Catch::Contains("hysteresis"));
+  CHECK_THROWS_WITH(read(R"({"safety": {"link_loss_land_s": "soon"}})"), Catch::Contains("link_loss_land_s"));
+}

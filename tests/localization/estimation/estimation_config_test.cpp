@@ -1,0 +1,26 @@
+#include <catch2/catch.hpp>
+
+#include "core/config_reader.hpp"
+#include "localization/estimation/estimation_config.hpp"
+
+using namespace labo;
+
+TEST_CASE("estimation: config reads delays in ms and model constants, refuses bad values") {
+  const ConfigDocument doc = ConfigDocument::parse(
+      R"({"video_delay_ms": 80, "navdata_delay_ms": 30, "control_delay_ms": 120,
+          "model": {"tilt_max_deg": 15, "drag_per_s": 0.7}})",
+      "test.json");
+  const EstimatorConfig c = read_estimation_config(doc.root());
+  CHECK(c.video_delay_s == Approx(0.080));
+  CHECK(c.navdata_delay_s == Approx(0.030));
+  CHECK(c.control_delay_s == Approx(0.120));
+  CHECK(c.model.tilt_max_rad == Approx(15.0 * 3.14159265358979 / 180.0));
+  CHECK(c.model.drag_per_s == Approx(0.7));
+
+  const ConfigDocument bad = ConfigDocument::parse(R"({"video_delay_ms": -5})", "bad.json");
+  CHECK_THROWS_WITH(read_estimation_config(bad.root()), Catch::Contains("video_delay_ms"));
+  const ConfigDocument unknown = ConfigDocument::parse(R"({"model": {"tilt_max": 12}})", "unknown.json");
+  CHECK_THROWS_WITH(read_estimation_config(unknown.root()), Catch::Contains("tilt_max"));
+  const ConfigDocument order = ConfigDocument::parse(R"({"scale_interval_min_s": 3, "scale_interval_max_s": 2})", "o.json");
+  CHECK_THROWS_WITH(read_estimation_config(order.root()), Catch::Contains("scale_interval_max_s"));
+}

@@ -1,0 +1,192 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+
+#include "localization/estimation/state_estimator.hpp"
+#include "synthetic_flight.hpp"
+
+using namespace labo;
+using labo::test::DelayedLink;
+using labo::test::SyntheticFlight;
+using labo::test::symmetric_positive_definite;
+
+namespace {
+EstimatorConfig no_delays() {
+  EstimatorConfig c;
+  c.video_delay_s = c.navdata_delay_s = c.control_delay_s = 0.0;
+  return c;
+}
+
+SlamObservation slam_at(const Eigen::Isometry3d& T_world_body, Seconds t) {
+  SlamObservation o;
+  o.t = t;
+  o.T_map_cam = T_world_body * T_body_cam_front();  // map = world, scale 1
+  return o;
+}
+}  // namespace
+
+TEST_CASE("estimation: bad inputs are rejected and counted") {
+  StateEstimator est(no_delays());
+  est.reset(make_pose({0, 0, 1}, 0), 0.0);
+  SyntheticFlight truth(1);
+  NavdataSample n = truth.navdata();
+  n.t = 0.01;
+  CHECK(est.add_navdata(n));
+  NavdataSample nan = n;
+  nan.t = 0.02;
+  nan.vx_mps = std::numeric_limits<double>::quiet_NaN();
+  CHECK_FALSE(est.add_navdata(nan));
+  NavdataSample inf = n;
+  inf.t = 0.02;
+  inf.altitude_m = std::numeric_limits<double>::infinity();
+  CHECK_FALSE(est.add_navdata(inf));
+  NavdataSample old = n;
+  old.t = 0.005;
+  CHECK_FALSE(est.add_navdata(old));
+  NavdataSample future = n;
+  future.t = 1e6;
+  CHECK_FALSE(est.add_navdata(future));
+  NavdataSample nan_time = n;
+  nan_time.t = std::numeric_limits<double>::quiet_NaN();
+  CHECK_FALSE(est.add_navdata(nan_time));
+  CHECK_FALSE(est.add_command(MoveCommand{}, std::numeric_limits<double>::infinity()));
+  CHECK(est.add_command(MoveCommand{std::nan(""), 0, 0, 0}, 0.02));  // taken as the hover the link sends
+
+  // Vision: a rotation that is not one, a jump of more than D, a turn of more than beta.
+  SlamObservation broken = slam_at(truth.T_world_body(), 0.03);
+  broken.T_map_cam.linear() *= 2.0;
+  CHECK_FALSE(est.add_slam_pose(broken));
+  Seconds t = 0.03;
+  for (int i = 0; i < 5; ++i, t += 0.033) CHECK(est.add_slam_pose(slam_at(truth.T_world_body(), t)));
+  CHECK_FALSE(est.add_slam_pose(slam_at(make_pose({0.5, 0, 1}, 0.0), t)));   // 0.5 m > D
+  t += 0.033;
+  for (int i = 0; i < 3; ++i, t += 0.033) est.add_slam_pose(slam_at(truth.T_world_body(), t));
+  CHECK_FALSE(est.add_slam_pose(slam_at(make_pose({0, 0, 1}, 0.5), t)));    // 29 deg > beta
+  CHECK_FALSE(est.add_slam_pose(slam_at(truth.T_world_body(), t - 0.1)));   // out of order
+  ObjectObservation bad_index;
+  bad_index.t = t + 0.01;
+  bad_index.object_index = -1;
+  CHECK_FALSE(est.add_object_pose(bad_index));
+
+  const EstimatorStatistics st = est.statistics();
+  CHECK(st.count("rejected_nonfinite") == 5);
+  CHECK(st.count("rejected_out_of_order") == 2);
+  CHECK(st.count("rejected_future") == 1);
+  CHECK(st.count("rejected_jump_distance") == 2);  // the jumped frame and the one after it
+  CHECK(st.count("rejected_jump_angle") == 1);
+  CHECK(st.count("rejected_bad_input") == 1);
+  CHECK(st.count("commands_nonfinite_hover") == 1);
+  CHECK(symmetric_positive_definite(est.filtered().covariance));
+}
+
+TEST_CASE("estimation: covariance stays symmetric positive definite over long random sequences") {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> pick(0, 9);
+  StateEstimator est;
+  est.reset(make_pose({0, 0, 1}, 0), 0.0);
+  Seconds t = 0;
+  for (int i = 0; i < 20000; ++i) {
+    t += 0.005;
+    NavdataSample n;
+    n.t = t;
+    n.control_state = pick(rng) == 0 ? 2 : 3;
+    n.roll_rad = 0.3 * u(rng);
+    n.pitch_rad = 0.3 * u(rng);
+    n.yaw_rad = 3.0 * u(rng);                  // wild yaw: jumps and wraps
+    n.vx_mps = 3 * u(rng);
+    n.vy_mps = 3 * u(rng);
+    n.vz_mps = 2 * u(rng);
+    n.altitude_m = 1.0 + u(rng);               // floor steps everywhere
+    est.add_navdata(n);
+    if (i % 3 == 0) est.add_command({u(rng), u(rng), u(rng), u(rng)}, t);
+    if (i % 6 == 0) {
+      const Eigen::Isometry3d T = make_pose({3 * u(rng), 3 * u(rng), 1 + u(rng)}, 3 * u(rng), 0.2 * u(rng), 0.2 * u(rng));
+      switch (pick(rng) % 3) {
+        case 0: est.add_slam_pose(slam_at(T, t)); break;
+        case 1: {
+          ObjectObservation o;
+          o.t = t;
+          o.object_index = pick(rng) % 2;
+          o.T_cam_object = make_pose({0.3 * u(rng), 0.3 * u(rng), 1.0 + 0.5 * u(rng)}, 0.2 * u(rng), 0, 0);
+          est.add_object_pose(o);
+          break;
+        }
+        default: {
+          FaceObservation f;
+          f.t = t;
+          f.T_cam_face = make_pose({0.2 * u(rng), 0.2 * u(rng), 1.5 + 0.5 * u(rng)}, 0.3 * u(rng), 0, 0);
+          est.add_face_pose(f);
+        }
+      }
+    }
+    if (i % 500 == 0) {
+      REQUIRE(symmetric_positive_definite(est.filtered().covariance));
+      REQUIRE(symmetric_positive_definite(est.predict(t + 0.1).covariance));
+    }
+  }
+  CHECK(symmetric_positive_definite(est.filtered().covariance));
+  CHECK(est.filtered().state.allFinite());
+}
+
+TEST_CASE("estimation: dead reckoning on navdata follows a flight with little drift") {
+  SyntheticFlight truth(3);
+  StateEstimator est(no_delays());
+  est.reset(truth.T_world_body(), 0.0);
+  DelayedLink link{truth, 0.0, 0.0, 1.0 / 200.0, {}, {}, 0.0};
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  for (int k = 0; k < 20; ++k) {  // 20 s of random commands, 1 s each
+    const MoveCommand c{u(rng), u(rng), u(rng), u(rng)};
+    link.send(c, truth.t);
+    est.add_command(c, truth.t);
+    link.run_until(truth.t + 1.0, [&](const NavdataSample& n) { est.add_navdata(n); });
+  }
+  const FusedState f = est.predict(truth.t);
+  const double drift = (f.position_world - truth.s().segment<3>(est::X)).norm();
+  INFO("drift " << drift << " m after 20 s");
+  CHECK(drift < 0.4);
+  CHECK(std::abs(wrap_angle(f.yaw - truth.s()(est::YAW))) < 0.05);
+  CHECK(f.source == LocalizationSource::DeadReckoning);
+  CHECK(f.colour == SourceColour::Red);
+}
+
+TEST_CASE("estimation: delay compensation predicts the pose at the time a command acts") {
+  // The controller's question: where will the drone be when the command computed now acts (now + 100 ms)?
+  const auto rms_error = [](bool compensate) {
+    SyntheticFlight truth(4);
+    EstimatorConfig c;
+    c.navdata_delay_s = compensate ? 0.040 : 0.0;
+    c.control_delay_s = compensate ? 0.100 : 0.0;
+    StateEstimator est(c);
+    est.reset(truth.T_world_body(), 0.0);
+    DelayedLink link{truth, 0.040, 0.100, 1.0 / 200.0, {}, {}, 0.0};
+    std::vector<std::pair<Seconds, Eigen::Vector3d>> predictions;
+    std::vector<Eigen::Vector3d> truth_by_ms;
+    for (int k = 0; k < 200; ++k) {  // 10 s, a new command every 50 ms: a roll/pitch sweep
+      const double phase = 0.05 * k;
+      const MoveCommand cmd{0.6 * std::sin(1.3 * phase), 0.6 * std::cos(phase), 0.0, 0.0};
+      if (k > 20) predictions.emplace_back(truth.t + 0.1, est.predict_for_control(truth.t).position_world);
+      link.send(cmd, truth.t);
+      est.add_command(cmd, truth.t);
+      const Seconds end = truth.t + 0.05;
+      while (truth.t < end - 1e-9) {
+        link.run_until(truth.t + 0.001, [&](const NavdataSample& s) { est.add_navdata(s); });
+        truth_by_ms.push_back(truth.s().segment<3>(est::X));
+      }
+    }
+    double sum2 = 0;
+    int n = 0;
+    for (const auto& [t, p] : predictions) {
+      const auto idx = static_cast<std::size_t>(std::lround(t * 1000.0)) - 1;
+      if (idx >= truth_by_ms.size()) continue;
+      sum2 += (p - truth_by_ms[idx]).squaredNorm();
+      ++n;
+    }
+    return std::sqrt(sum2 / n);
+  };
+  const double with = rms_error(true), without = rms_error(false);
+  INFO("control-time position error: compensated " << with << " m, uncompensated " << without << " m");
+  CHECK(with < 0.5 * without);
+  CHECK(with < 0.05);
+}
