@@ -20,22 +20,10 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
                                                    PinholeCamera::ardrone2_bottom().intrinsics()};
   c.control = root.has("control") ? read_control_config(root.object("control")) : ControlConfig{};
   c.vision = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
-<<<<<<< HEAD
   c.link = root.has("link") ? read_ardrone_link_settings(root.object("link")) : ArdroneLinkSettings{};
   c.emulator = root.has("emulator") ? read_ardrone_emulator_settings(root.object("emulator")) : ArdroneEmulatorSettings{};
   c.server = root.has("server") ? read_server_settings(root.object("server"), base_dir) : default_server_settings(base_dir);
-=======
   c.estimation = root.has("estimation") ? read_estimation_config(root.object("estimation")) : EstimatorConfig{};
-  if (root.has("server")) {
-    const ConfigReader s = root.object("server");
-    c.server.bind_address = s.string_or("bind", c.server.bind_address);
-    c.server.port = s.integer_or("port", c.server.port, 1, 65535);
-    c.server.web_root = resolve(base_dir, s.string_or("web_root", "../web"));
-    s.finish();
-  } else {
-    c.server.web_root = resolve(base_dir, "../web");
-  }
->>>>>>> refs/heads/control
   c.lab_file = resolve(base_dir, root.string_or("lab", "lab.json"));
   root.finish();
   return c;

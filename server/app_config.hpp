@@ -7,12 +7,9 @@
 #include "control/control_config.hpp"
 #include "core/camera_config.hpp"
 #include "core/log.hpp"
-<<<<<<< HEAD
 #include "drone/ardrone2/ardrone_emulator.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
-=======
 #include "localization/estimation/estimation_config.hpp"
->>>>>>> refs/heads/control
 #include "localization/vision_thresholds.hpp"
 #include "server/server_settings.hpp"
 
