@@ -14,6 +14,7 @@
 #include "localization/planar/planar_commands.hpp"
 #include "localization/slam/bench/slam_bench_command.hpp"
 #include "localization/face/face_commands.hpp"
+#include "server/hash_password_command.hpp"
 #include "localization/estimation/eval/sim_estimate_command.hpp"
 #include "server/serve_command.hpp"
 #include "drone/lab/lab_commands.hpp"
@@ -35,6 +36,8 @@ std::vector<Subcommand> subcommands() {
       {labo::bench_slam_command_spec(), labo::run_bench_slam_command},
       {labo::face_bench_command_spec(), labo::run_face_bench_command},
       {labo::face_register_command_spec(), labo::run_face_register_command},
+      {labo::bench_link_command_spec(), labo::run_bench_link_command},
+      {labo::hash_password_command_spec(), labo::run_hash_password_command},
       {labo::sim_inspect_command_spec(), labo::run_sim_inspect_command},
       {labo::sim_perturb_command_spec(), labo::run_sim_perturb_command},
       {labo::sim_face_follow_command_spec(), labo::run_sim_face_follow_command},

@@ -39,30 +39,32 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
   void on_header(beast::error_code ec, std::size_t) {
     if (ec == http::error::end_of_stream || ec == beast::error::timeout || ec == asio::error::operation_aborted) return close();
+    if (ec == http::error::body_limit) return reply_and_close(too_large());
     if (ec == http::error::header_limit) return reply_and_close(HttpReply::error(http::status::request_header_fields_too_large, "request header over 16 KiB"));
     if (ec) return reply_and_close(HttpReply::error(http::status::bad_request, "malformed HTTP request: " + ec.message()));
     const auto& req = parser_->get();
     // Boost 1.74 does not check Content-Length against body_limit (fixed in Beast v313): do it here,
     // before a byte of the body is read.
     if (const auto length = parser_->content_length(); length && *length > ctx_->settings.clients.max_body_bytes)
-      return reply_and_close(HttpReply::error(http::status::payload_too_large,
-                                              "body of " + std::to_string(*length) + " bytes is over the limit of " +
-                                                  std::to_string(ctx_->settings.clients.max_body_bytes)));
+      return reply_and_close(too_large());
     if (beast::websocket::is_upgrade(req)) return upgrade();
     if (parser_->is_done()) return on_body({}, 0);
     http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::on_body, shared_from_this()));
   }
 
   void on_body(beast::error_code ec, std::size_t) {
-    if (ec == http::error::body_limit)
-      return reply_and_close(HttpReply::error(http::status::payload_too_large, "body over the limit of " +
-                                                                                   std::to_string(ctx_->settings.clients.max_body_bytes) + " bytes"));
+    if (ec == http::error::body_limit) return reply_and_close(too_large());
     if (ec == http::error::end_of_stream || ec == beast::error::timeout) return close();
     if (ec) return reply_and_close(HttpReply::error(http::status::bad_request, "malformed HTTP body: " + ec.message()));
     const HttpRequest req = parser_->release();
     HttpReply reply = ctx_->api.handle(req, remote_);
     const bool head = req.method() == http::verb::head;
     send(std::move(reply), req.keep_alive(), req.version(), head);
+  }
+
+  HttpReply too_large() const {
+    return HttpReply::error(http::status::payload_too_large,
+                            "request body over the limit of " + std::to_string(ctx_->settings.clients.max_body_bytes) + " bytes");
   }
 
   void upgrade() {

@@ -55,8 +55,8 @@ void WebSocketSession::do_read() {
 
 void WebSocketSession::on_read(beast::error_code ec, std::size_t) {
   if (ec == websocket::error::message_too_big) {
-    queue_event(RemoteLab::error_json(413, "message larger than " + std::to_string(limits_.max_message_bytes) + " bytes"));
-    close_now("message too big");
+    // Beast has already failed the stream with close code 1009 (message too big).
+    close_now("message larger than " + std::to_string(limits_.max_message_bytes) + " bytes");
     return;
   }
   if (ec) {  // closed by the peer, or by us: the destructor leaves the lab

@@ -83,6 +83,7 @@ class FlightEventSink {
 struct InstrumentSummary {
   std::string id, name;
   double width_m = 0, height_m = 0;
+  double x_m = 0, y_m = 0;  // panel centre in the world, for the map
 };
 
 class FlightService {

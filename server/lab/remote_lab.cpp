@@ -61,7 +61,7 @@ void RemoteLab::join(const std::shared_ptr<LabClient>& client) {
   const SessionInfo& s = client->session();
   json instruments = json::array();
   for (const InstrumentSummary& i : flight_.instruments())
-    instruments.push_back({{"id", i.id}, {"name", i.name}, {"width_m", i.width_m}, {"height_m", i.height_m}});
+    instruments.push_back({{"id", i.id}, {"name", i.name}, {"width_m", i.width_m}, {"height_m", i.height_m}, {"x", i.x_m}, {"y", i.y_m}});
   client->send_event(shared_json({{"type", "hello"},
                                   {"client", client->id()},
                                   {"user", s.user},

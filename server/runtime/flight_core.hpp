@@ -29,6 +29,7 @@ class FlightCore {
   virtual ~FlightCore() = default;
   virtual void on_navdata(const NavdataSample& sample) = 0;
   virtual void on_video(const VideoFrame& frame) = 0;
+  virtual void on_link_state(LinkState state, Seconds t) = 0;
   virtual FlightAction tick(Seconds t) = 0;
   virtual CommandVerdict request(const MissionCommand& command, Seconds t) = 0;
   virtual FlightSnapshot status() = 0;

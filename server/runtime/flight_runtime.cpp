@@ -128,6 +128,7 @@ void FlightRuntime::flight_loop() {
   std::uint64_t last_frames = 0;
   Seconds last_fps_t = clock_.now();
   double fps = 0;
+  LinkState told_state = LinkState::Disconnected;
   while (running_) {
     bool have_frame = false;
     {
@@ -143,6 +144,10 @@ void FlightRuntime::flight_loop() {
       requests.swap(requests_);
     }
     if (!running_) break;
+    if (const LinkState state = link_state_.load(); state != told_state) {
+      core_.on_link_state(state, clock_.now());  // from this thread: the core is single-threaded
+      told_state = state;
+    }
     for (const auto& s : samples) core_.on_navdata(s);
     for (auto& r : requests) r->verdict.set_value(core_.request(r->command, clock_.now()));
     requests.clear();

@@ -1,0 +1,149 @@
+#include "server/runtime/flight_stack_core.hpp"
+
+namespace labo {
+
+namespace {
+
+PoseXyzYaw xyz_yaw(const Eigen::Isometry3d& T) {
+  const Eigen::Matrix3d R = T.linear();
+  return {T.translation().x(), T.translation().y(), T.translation().z(), std::atan2(R(1, 0), R(0, 0))};
+}
+
+PoseSource source_of(FeedbackSource s, const FlightStatus& status) {
+  switch (s) {
+    case FeedbackSource::Slam: return PoseSource::Slam;
+    case FeedbackSource::Homography:
+      return status.instrument.state == TrackState::Lost ? PoseSource::VisionLost : PoseSource::Homography;
+    case FeedbackSource::Face: return PoseSource::Face;
+    case FeedbackSource::DeadReckoning: return PoseSource::DeadReckoning;
+  }
+  return PoseSource::DeadReckoning;
+}
+
+std::optional<AxesPx> project_axes(const PinholeCamera& camera, const Eigen::Isometry3d& T_cam_target, double length_m) {
+  const auto o = camera.project(T_cam_target * Eigen::Vector3d::Zero());
+  const auto x = camera.project(T_cam_target * Eigen::Vector3d(length_m, 0, 0));
+  const auto y = camera.project(T_cam_target * Eigen::Vector3d(0, length_m, 0));
+  const auto z = camera.project(T_cam_target * Eigen::Vector3d(0, 0, length_m));
+  if (!o || !x || !y || !z) return std::nullopt;
+  const auto pt = [](const Eigen::Vector2d& p) { return cv::Point2f(static_cast<float>(p.x()), static_cast<float>(p.y())); };
+  return AxesPx{pt(*o), pt(*x), pt(*y), pt(*z)};
+}
+
+}  // namespace
+
+const std::vector<std::pair<int, int>>& face_landmark_edges() {
+  static const std::vector<std::pair<int, int>> edges = [] {
+    std::vector<std::pair<int, int>> e;
+    const auto chain = [&](int a, int b, bool closed) {
+      for (int i = a; i < b; ++i) e.emplace_back(i, i + 1);
+      if (closed) e.emplace_back(b, a);
+    };
+    chain(0, 16, false);   // jaw
+    chain(17, 21, false);  // brows
+    chain(22, 26, false);
+    chain(27, 30, false);  // nose bridge
+    chain(31, 35, false);  // nostrils
+    chain(36, 41, true);   // eyes
+    chain(42, 47, true);
+    chain(48, 59, true);   // outer lip
+    chain(60, 67, true);   // inner lip
+    return e;
+  }();
+  return edges;
+}
+
+FlightStackCore::FlightStackCore(std::unique_ptr<FlightStack> stack, const CamerasConfig& cameras)
+    : stack_(std::move(stack)), front_(cameras.front), bottom_(cameras.bottom) {}
+
+void FlightStackCore::on_navdata(const NavdataSample& sample) { stack_->on_navdata(sample); }
+
+void FlightStackCore::on_video(const VideoFrame& frame) {
+  camera_ = frame.camera;
+  stack_->on_video(frame);
+}
+
+FlightAction FlightStackCore::tick(Seconds t) {
+  const FlightOutput out = stack_->tick(t);
+  FlightAction a;
+  a.move = out.move;
+  a.select_camera = out.select_camera;
+  switch (out.action) {
+    case FlightOutput::Action::None: a.kind = FlightAction::Kind::None; break;
+    case FlightOutput::Action::Move: a.kind = FlightAction::Kind::Move; break;
+    case FlightOutput::Action::Hover: a.kind = FlightAction::Kind::Hover; break;
+    case FlightOutput::Action::Takeoff: a.kind = FlightAction::Kind::Takeoff; break;
+    case FlightOutput::Action::Land: a.kind = FlightAction::Kind::Land; break;
+    case FlightOutput::Action::Emergency: a.kind = FlightAction::Kind::Emergency; break;
+  }
+  return a;
+}
+
+CommandVerdict FlightStackCore::request(const MissionCommand& c, Seconds t) {
+  MissionRequest r;
+  switch (c.kind) {
+    case MissionCommandKind::Takeoff: r.kind = RequestKind::Takeoff; break;
+    case MissionCommandKind::Inspect: r.kind = RequestKind::Inspect; break;
+    case MissionCommandKind::FindTeacher: r.kind = RequestKind::FindTeacher; break;
+    case MissionCommandKind::StopFaceFollow: r.kind = RequestKind::StopFaceFollow; break;
+    case MissionCommandKind::ReturnHome: r.kind = RequestKind::ReturnHome; break;
+    case MissionCommandKind::Land: r.kind = RequestKind::Land; break;
+    case MissionCommandKind::EmergencyStop: r.kind = RequestKind::EmergencyStop; break;
+  }
+  r.instrument_id = c.instrument;
+  r.hold_s = c.hold_s;
+  const CommandResult result = stack_->request(r, t);
+  return {result.accepted, result.reason};
+}
+
+FlightSnapshot FlightStackCore::status() {
+  const FlightStatus s = stack_->status();
+  FlightSnapshot snap;
+  FlightTelemetry& t = snap.telemetry;
+  t.mission = s.mission;
+  t.stage = s.stage;
+  t.pose = xyz_yaw(s.pose.T_world_body);
+  if (s.desired) t.desired = PoseXyzYaw{(*s.desired)(0), (*s.desired)(1), (*s.desired)(2), (*s.desired)(3)};
+  if (s.ground_truth_T_world_body) t.ground_truth = xyz_yaw(*s.ground_truth_T_world_body);
+  t.source = source_of(s.pose.source, s);
+  t.source_quality = s.pose.quality;
+  t.battery_percent = s.battery_percent;
+  t.altitude_m = s.altitude_m;
+  t.link_quality = s.link == LinkState::Connected ? 1.0 : s.link == LinkState::Degraded ? 0.5 : 0.0;
+  t.flying = s.phase != FlightPhase::Landed && s.phase != FlightPhase::Emergency;
+  t.slam_state = to_string(s.slam.state);
+  if (s.face.placed_in_world) t.teacher_xy = std::pair{s.face.T_world_target.translation().x(), s.face.T_world_target.translation().y()};
+
+  const PinholeCamera& camera = camera_ == CameraId::Front ? front_ : bottom_;
+  if (s.instrument.state == TrackState::Tracking && s.instrument.image_points.size() == 4) {
+    snap.overlay.panel_corners = s.instrument.image_points;
+    snap.overlay.panel_axes = project_axes(camera, s.instrument.T_cam_target, 0.15);
+  } else if (s.platform.state == TrackState::Tracking && s.platform.image_points.size() == 4) {
+    snap.overlay.panel_corners = s.platform.image_points;
+    snap.overlay.panel_axes = project_axes(camera, s.platform.T_cam_target, 0.15);
+  }
+  if (s.face.state == TrackState::Tracking && !s.face.image_points.empty()) {
+    snap.overlay.face_points = s.face.image_points;
+    if (s.face.image_points.size() == 68) snap.overlay.face_edges = face_landmark_edges();
+    snap.overlay.face_axes = project_axes(camera, s.face.T_cam_target, 0.10);
+  }
+
+  if (s.mission != last_mission_ || s.stage != last_stage_) {
+    snap.events.push_back({"stage", s.mission, s.stage, s.mission + ": " + s.stage});
+    last_mission_ = s.mission;
+    last_stage_ = s.stage;
+  }
+  if (!s.last_event.empty() && s.last_event != last_event_) {
+    snap.events.push_back({"log", s.mission, s.stage, s.last_event});
+    last_event_ = s.last_event;
+  }
+  return snap;
+}
+
+std::vector<InstrumentSummary> FlightStackCore::instruments() const {
+  std::vector<InstrumentSummary> out;
+  for (const PlanarTarget& p : stack_->setup().lab.instruments) out.push_back({p.id, p.name, p.width_m, p.height_m, p.T_world_object.translation().x(), p.T_world_object.translation().y()});
+  return out;
+}
+
+}  // namespace labo

@@ -1,0 +1,37 @@
+#pragma once
+// FlightCore over control's FlightStack: converts FlightStack's requests, outputs and status to the
+// web layer's types, projects the tracked panel's and the face's axes into the image for the overlay,
+// and turns stage changes and FlightStack's event log into FlightEvents.
+#include <memory>
+
+#include "control/flight_stack.hpp"
+#include "core/camera_model.hpp"
+#include "server/runtime/flight_core.hpp"
+
+namespace labo {
+
+class FlightStackCore final : public FlightCore {
+ public:
+  FlightStackCore(std::unique_ptr<FlightStack> stack, const CamerasConfig& cameras);
+
+  void on_navdata(const NavdataSample& sample) override;
+  void on_video(const VideoFrame& frame) override;
+  void on_link_state(LinkState state, Seconds t) override { stack_->on_link_state(state, t); }
+  FlightAction tick(Seconds t) override;
+  CommandVerdict request(const MissionCommand& command, Seconds t) override;
+  FlightSnapshot status() override;
+  std::vector<InstrumentSummary> instruments() const override;
+
+  FlightStack& stack() { return *stack_; }
+
+ private:
+  std::unique_ptr<FlightStack> stack_;
+  PinholeCamera front_, bottom_;
+  CameraId camera_ = CameraId::Front;
+  std::string last_mission_, last_stage_, last_event_;
+};
+
+// The 68-landmark face outline as edges (jaw, brows, nose, eyes, lips), for the overlay.
+const std::vector<std::pair<int, int>>& face_landmark_edges();
+
+}  // namespace labo

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Runs the browser test: installs Debian's chromium and the npm package when missing, starts
+# labo_e2e_server on a free port, drives it with student_flow.mjs, stops the server.
+# Usage: run_browser_test.sh SERVER_BINARY OUT_DIR
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+server="$1"; out="$2"
+mkdir -p "$out"
+if ! command -v chromium >/dev/null; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends chromium
+fi
+if [ ! -d "$here/node_modules/playwright-core" ]; then
+  (cd "$here" && npm install --no-audit --no-fund --silent)
+fi
+port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+"$server" "$port" 1.5 30 > "$out/server.log" 2>&1 &
+pid=$!
+trap 'kill -TERM $pid 2>/dev/null; wait $pid 2>/dev/null || true' EXIT
+for _ in $(seq 100); do
+  curl -sf "http://127.0.0.1:$port/api/health" >/dev/null && break
+  sleep 0.1
+done
+node "$here/student_flow.mjs" "http://127.0.0.1:$port" "$out/student_flow.png"

@@ -1,0 +1,63 @@
+// End-to-end in a real browser: headless Debian chromium driven by playwright-core. A student logs
+// in, takes control, starts an inspection, sees video frames arrive and the stages advance, presses
+// the emergency stop and sees it accepted; the page is saved as a screenshot.
+// Usage: node student_flow.mjs BASE_URL SCREENSHOT.png
+import {chromium} from 'playwright-core';
+
+const [base, screenshot] = process.argv.slice(2);
+const fail = (msg) => { console.error('FAIL: ' + msg); process.exitCode = 1; };
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+         '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+});
+try {
+  const page = await browser.newPage({viewport: {width: 1480, height: 900}});
+  page.on('pageerror', (e) => fail('page error: ' + e.message));
+  await page.goto(base + '/');
+  // A wrong password first: the page must say so.
+  await page.fill('#user', 'student1');
+  await page.fill('#password', 'wrong');
+  await page.click('#login-button');
+  await page.waitForFunction(() => document.getElementById('login-error').textContent.includes('wrong password'));
+  await page.fill('#password', 'student1-pass');
+  await page.click('#login-button');
+  await page.waitForURL('**/lab.html');
+  await page.waitForFunction(() => window.labodrone && window.labodrone.connected, null, {timeout: 10000});
+
+  // Video arrives, with a measured latency.
+  await page.waitForFunction(() => window.labodrone.framesDecoded >= 30, null, {timeout: 15000});
+  const t0 = await page.evaluate(() => ({n: window.labodrone.framesDecoded, t: performance.now()}));
+  await page.waitForTimeout(2000);
+  const t1 = await page.evaluate(() => ({n: window.labodrone.framesDecoded, t: performance.now(), lat: window.labodrone.latencyMedianMs}));
+  const fps = (t1.n - t0.n) * 1000 / (t1.t - t0.t);
+  console.log(`frames/s in the browser: ${fps.toFixed(1)}; median glass-to-browser latency: ${t1.lat.toFixed(0)} ms`);
+  if (fps < 20) fail(`only ${fps.toFixed(1)} frames/s reached the page`);
+
+  // Without control, a command is refused with the reason.
+  await page.click('#inspect');
+  await page.waitForFunction(() => window.labodrone.acks.some((a) => !a.accepted && a.reason.includes('control')));
+  // Take control and inspect; the stages must advance.
+  await page.click('#request-control');
+  await page.waitForFunction(() => document.getElementById('turn').textContent.includes('your turn'));
+  await page.selectOption('#instrument', 'oscilloscope');
+  await page.click('#inspect');
+  await page.waitForFunction(() => window.labodrone.acks.some((a) => a.command === 'inspect' && a.accepted));
+  await page.waitForFunction(() => new Set(window.labodrone.stages.filter((s) => s)).size >= 3, null, {timeout: 20000});
+  const stages = await page.evaluate(() => [...new Set(window.labodrone.stages)]);
+  console.log('stages seen: ' + stages.join(' → '));
+  const shown = await page.textContent('#stage');
+  if (!shown || shown === '–') fail('the stage is not shown');
+
+  await page.click('#emergency');
+  await page.waitForFunction(() => window.labodrone.acks.some((a) => a.command === 'emergency_stop' && a.accepted));
+  await page.waitForFunction(() => document.getElementById('mission').textContent === 'emergency');
+  await page.waitForTimeout(500);
+  await page.screenshot({path: screenshot, fullPage: true});
+  console.log('screenshot: ' + screenshot);
+} catch (e) {
+  fail(e.message);
+} finally {
+  await browser.close();
+}
+if (!process.exitCode) console.log('1 passed, 0 failed');

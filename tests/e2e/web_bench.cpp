@@ -1,0 +1,133 @@
+// Web benchmark, against a running server (labo_e2e_server or labodrone serve):
+//   labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0]
+// Connects CLIENTS spectators (one session, CLIENTS WebSockets), each reading everything, and
+// reports per-client frames/s, the glass-to-client latency (now - the frame's capture time; same
+// machine, same clock) and the server's CPU (from /proc/PID/stat) over the run. With STUCK_SECONDS
+// it then opens one viewer that never reads and samples the server's resident memory meanwhile.
+#include <algorithm>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+#include <unistd.h>
+
+#include "server/video/frame_header.hpp"
+#include "tests/server/support/test_clients.hpp"
+
+using namespace labo;
+using namespace labo::test;
+
+namespace {
+
+double unix_ms() {
+  return std::chrono::duration<double, std::milli>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+double cpu_seconds(int pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  std::getline(in, line);
+  std::istringstream fields(line.substr(line.rfind(')') + 2));
+  std::string f;
+  double utime = 0, stime = 0;
+  for (int i = 3; fields >> f; ++i) {
+    if (i == 14) utime = std::stod(f);
+    if (i == 15) {
+      stime = std::stod(f);
+      break;
+    }
+  }
+  return (utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
+}
+
+long rss_kib(int pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  return -1;
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(p * (v.size() - 1))];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::cerr << "usage: labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0]\n";
+    return 2;
+  }
+  const auto port = static_cast<unsigned short>(std::stoi(argv[1]));
+  const int pid = std::stoi(argv[2]);
+  const int clients = argc > 3 ? std::stoi(argv[3]) : 20;
+  const double seconds = argc > 4 ? std::stod(argv[4]) : 20;
+  const double stuck_seconds = argc > 5 ? std::stod(argv[5]) : 0;
+  const std::string cookie = login_cookie(port, "student1", "student1-pass");
+  if (cookie.empty()) {
+    std::cerr << "cannot log in as student1\n";
+    return 1;
+  }
+  std::vector<std::unique_ptr<WsClient>> ws;
+  for (int i = 0; i < clients; ++i) ws.push_back(std::make_unique<WsClient>(port, cookie));
+  std::mutex mutex;
+  std::vector<double> latencies;
+  std::vector<double> fps(clients);
+  const double cpu0 = cpu_seconds(pid);
+  const auto start = std::chrono::steady_clock::now();
+  const auto deadline = start + std::chrono::duration<double>(seconds);
+  std::vector<std::thread> threads;
+  for (int i = 0; i < clients; ++i) {
+    threads.emplace_back([&, i] {
+      int frames = 0;
+      std::vector<double> mine;
+      while (std::chrono::steady_clock::now() < deadline) {
+        auto m = ws[i]->read(1.0);
+        if (!m) break;
+        if (!m->binary) continue;
+        const auto h = FrameHeader::read(m->data);
+        if (!h) continue;
+        ++frames;
+        mine.push_back(unix_ms() - h->capture_unix_ms);
+      }
+      std::lock_guard lock(mutex);
+      fps[i] = frames / seconds;
+      latencies.insert(latencies.end(), mine.begin(), mine.end());
+    });
+  }
+  for (auto& t : threads) t.join();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double server_cores = (cpu_seconds(pid) - cpu0) / wall;
+  std::cout << "spectators: " << clients << ", " << seconds << " s\n"
+            << "frames/s per client: min " << *std::min_element(fps.begin(), fps.end()) << ", median "
+            << percentile(fps, 0.5) << "\n"
+            << "glass-to-client latency ms: median " << percentile(latencies, 0.5) << ", p95 " << percentile(latencies, 0.95)
+            << ", max " << percentile(latencies, 1.0) << "\n"
+            << "server CPU: " << server_cores << " cores\n";
+  ws.clear();
+
+  if (stuck_seconds > 0) {
+    // A viewer that never reads: its socket buffers fill, then the server must drop its frames and
+    // finally disconnect it, with memory flat meanwhile.
+    asio::io_context io;
+    beast::websocket::stream<beast::tcp_stream> stuck(io);
+    beast::get_lowest_layer(stuck).socket().open(asio::ip::tcp::v4());
+    beast::get_lowest_layer(stuck).socket().set_option(asio::socket_base::receive_buffer_size(4096));
+    beast::get_lowest_layer(stuck).connect({asio::ip::make_address("127.0.0.1"), port});
+    stuck.set_option(beast::websocket::stream_base::decorator([&](beast::websocket::request_type& r) { r.set(http::field::cookie, cookie); }));
+    stuck.handshake("127.0.0.1", "/ws");
+    const long rss0 = rss_kib(pid);
+    long rss_max = rss0;
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(stuck_seconds);
+    while (std::chrono::steady_clock::now() < end) {
+      std::this_thread::sleep_for(std::chrono::seconds(1));
+      rss_max = std::max(rss_max, rss_kib(pid));
+    }
+    std::cout << "non-reading viewer for " << stuck_seconds << " s: server RSS " << rss0 / 1024.0 << " MiB at start, max "
+              << rss_max / 1024.0 << " MiB, end " << rss_kib(pid) / 1024.0 << " MiB\n";
+  }
+  return 0;
+}

@@ -1,0 +1,81 @@
+#include <catch2/catch.hpp>
+#include <mutex>
+#include <opencv2/imgcodecs.hpp>
+#include <thread>
+
+#include "server/runtime/flight_runtime.hpp"
+#include "server/video/frame_header.hpp"
+#include "tests/server/support/fake_drone.hpp"
+
+using namespace labo;
+using namespace labo::test;
+
+namespace {
+struct CapturingSink final : FlightEventSink {
+  void on_frame(const EncodedFrame& f) override {
+    std::lock_guard lock(mutex);
+    frames.push_back(f);
+  }
+  void on_flight_event(const FlightEvent& e) override {
+    std::lock_guard lock(mutex);
+    events.push_back(e);
+  }
+  std::mutex mutex;
+  std::vector<EncodedFrame> frames;
+  std::vector<FlightEvent> events;
+};
+}  // namespace
+
+TEST_CASE("web: the flight runtime annotates and encodes frames, and passes stage changes on") {
+  SteadyClock clock;
+  FakeDroneLink link;
+  ScriptedCore core(0.2);
+  CapturingSink sink;
+  FlightRuntime runtime(link, core, clock, {}, Logger("test", LogLevel::Warn));
+  runtime.set_sink(&sink);
+  runtime.start();
+  CHECK(runtime.request({MissionCommandKind::Inspect, "oscilloscope", 5}).accepted);
+  CHECK_FALSE(runtime.request({MissionCommandKind::Inspect, "toaster", 5}).accepted);
+  for (std::uint32_t n = 0; n < 20; ++n) {
+    link.deliver_frame(n, clock.now());
+    std::this_thread::sleep_for(std::chrono::milliseconds(40));
+  }
+  runtime.land_and_stop(1.0);
+  std::lock_guard lock(sink.mutex);
+  REQUIRE(sink.frames.size() >= 10);
+  const EncodedFrame& last = sink.frames.back();
+  const auto header = FrameHeader::read(*last.wire);
+  REQUIRE(header);
+  CHECK(header->frame_number == last.frame_number);
+  CHECK(std::abs(header->capture_unix_ms / 1000.0 - std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count()) < 5.0);
+  const std::vector<std::uint8_t> jpeg(last.wire->begin() + FrameHeader::kSize, last.wire->end());
+  const cv::Mat decoded = cv::imdecode(jpeg, cv::IMREAD_COLOR);
+  REQUIRE(decoded.cols == 640);
+  // The homography source's border is blue (BGR ~ (255, 96, 16)), the panel outline cyan.
+  const cv::Vec3b border = decoded.at<cv::Vec3b>(200, 1);
+  CHECK(border[0] > 180);
+  CHECK(border[2] < 90);
+  const cv::Vec3b outline = decoded.at<cv::Vec3b>(100, 300);
+  CHECK(outline[0] > 180);
+  CHECK(outline[1] > 180);
+  int stages = 0;
+  for (const auto& e : sink.events) stages += e.kind == "stage";
+  CHECK(stages >= 3);
+  CHECK(core.frames.load() > 0);
+}
+
+TEST_CASE("web: an emergency stop reaches the drone before the flight software answers") {
+  SteadyClock clock;
+  FakeDroneLink link;
+  ScriptedCore core(1.0, 0.3);  // the flight software takes 300 ms per request
+  FlightRuntime runtime(link, core, clock, {}, Logger("test", LogLevel::Warn));
+  runtime.start();
+  const auto start = std::chrono::steady_clock::now();
+  const CommandVerdict v = runtime.request({MissionCommandKind::EmergencyStop, "", 0});
+  const auto answered = std::chrono::steady_clock::now();
+  CHECK(v.accepted);
+  REQUIRE(link.emergencies.load() == 1);
+  CHECK(std::chrono::duration<double>(link.emergency_at - start).count() < 0.05);
+  CHECK(std::chrono::duration<double>(answered - start).count() >= 0.25);
+  runtime.land_and_stop(0.5);
+}

@@ -1,0 +1,168 @@
+#pragma once
+// Test doubles for the runtime: a DroneLink that records what it is told and delivers frames and
+// navdata when asked (or from its own 30 fps thread), and a FlightCore that walks a scripted
+// inspection through its stages. Tests and the browser test's fixture server only.
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <opencv2/imgproc.hpp>
+#include <thread>
+
+#include "server/runtime/flight_core.hpp"
+
+namespace labo::test {
+
+class FakeDroneLink final : public DroneLink {
+ public:
+  ~FakeDroneLink() override { stop_pump(); }
+  void set_listener(DroneLinkListener* l) override {
+    std::lock_guard lock(mutex_);
+    listener_ = l;
+  }
+  void takeoff() override { takeoffs++; }
+  void land() override { lands++; }
+  void emergency() override {
+    emergency_at = std::chrono::steady_clock::now();
+    emergencies++;
+  }
+  void flat_trim() override {}
+  void move(const MoveCommand&) override { moves++; }
+  void hover() override {}
+  void select_camera(CameraId) override {}
+  void set_config(const std::string&, const std::string&) override {}
+  LinkState state() const override { return LinkState::Connected; }
+  LinkStatistics statistics() const override { return {}; }
+
+  // A moving test card: stripes that scroll, and the frame number written on it.
+  // Textured frames (smoothed noise, like a real room) cost the JPEG encoder what camera images do.
+  void set_textured(bool textured) {
+    if (!textured) return texture_.release();
+    texture_.create(360, 640, CV_8UC3);
+    cv::RNG(3).fill(texture_, cv::RNG::UNIFORM, 0, 255);
+    cv::GaussianBlur(texture_, texture_, {5, 5}, 1.2);
+  }
+  void deliver_frame(std::uint32_t n, Seconds t) {
+    frame_.create(360, 640, CV_8UC3);
+    if (texture_.empty()) frame_.setTo(cv::Scalar(90, 110, 90));
+    else texture_.copyTo(frame_);
+    for (int x = -80; x < 640; x += 80) cv::rectangle(frame_, cv::Rect(x + static_cast<int>(n * 4 % 80), 120, 40, 120), {200, 200, 200}, cv::FILLED);
+    cv::putText(frame_, "frame " + std::to_string(n), {40, 320}, cv::FONT_HERSHEY_SIMPLEX, 1.0, {255, 255, 255}, 2);
+    VideoFrame f{t, CameraId::Front, n, frame_};
+    std::lock_guard lock(mutex_);
+    if (listener_) listener_->on_video(f);
+  }
+  void deliver_navdata(Seconds t, double altitude_m) {
+    NavdataSample s;
+    s.t = t;
+    s.altitude_m = altitude_m;
+    s.battery_percent = 87;
+    std::lock_guard lock(mutex_);
+    if (listener_) listener_->on_navdata(s);
+  }
+  // Frames at `fps` and navdata at 15 Hz from a thread, stamped with `clock`.
+  void start_pump(const Clock& clock, double fps) {
+    running_ = true;
+    pump_ = std::thread([this, &clock, fps] {
+      std::uint32_t n = 0;
+      auto next = std::chrono::steady_clock::now();
+      while (running_) {
+        deliver_frame(n, clock.now());
+        if (n % 2 == 0) deliver_navdata(clock.now(), 1.0);
+        ++n;
+        next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / fps));
+        std::this_thread::sleep_until(next);
+      }
+    });
+  }
+  void stop_pump() {
+    running_ = false;
+    if (pump_.joinable()) pump_.join();
+  }
+
+  std::atomic<int> takeoffs{0}, lands{0}, emergencies{0}, moves{0};
+  std::chrono::steady_clock::time_point emergency_at{};
+
+ private:
+  std::mutex mutex_;
+  DroneLinkListener* listener_ = nullptr;
+  cv::Mat frame_, texture_;
+  std::atomic<bool> running_{false};
+  std::thread pump_;
+};
+
+// Walks an inspection through named stages, `stage_s` seconds each, and reports a tracked panel.
+class ScriptedCore final : public FlightCore {
+ public:
+  explicit ScriptedCore(double stage_s = 1.0, double request_delay_s = 0.0) : stage_s_(stage_s), request_delay_s_(request_delay_s) {}
+  void on_navdata(const NavdataSample& s) override { battery_ = s.battery_percent; }
+  void on_video(const VideoFrame&) override { frames++; }
+  void on_link_state(LinkState, Seconds) override {}
+  FlightAction tick(Seconds t) override {
+    now_ = t;
+    FlightAction a;
+    if (mission_ == "inspect") {
+      const int stage = 1 + static_cast<int>((t - started_) / stage_s_);
+      stage_ = stage <= 6 ? std::to_string(stage) + " " + kStages[stage - 1] : "done";
+      if (stage > 6) mission_ = "idle";
+      a.kind = FlightAction::Kind::Move;
+      a.move.pitch = 0.1;
+    }
+    return a;
+  }
+  CommandVerdict request(const MissionCommand& c, Seconds t) override {
+    if (request_delay_s_ > 0) std::this_thread::sleep_for(std::chrono::duration<double>(request_delay_s_));
+    requests++;
+    switch (c.kind) {
+      case MissionCommandKind::Inspect:
+        if (c.instrument != "oscilloscope") return {false, "no instrument '" + c.instrument + "'"};
+        mission_ = "inspect";
+        started_ = t;
+        flying_ = true;
+        return {true, "inspecting " + c.instrument};
+      case MissionCommandKind::EmergencyStop:
+        mission_ = "emergency";
+        stage_ = "motors cut";
+        flying_ = false;
+        return {true, "motors cut"};
+      case MissionCommandKind::Land:
+        flying_ = false;
+        mission_ = "idle";
+        return {true, "landing"};
+      default:
+        flying_ = c.kind != MissionCommandKind::ReturnHome;
+        return {true, to_string(c.kind)};
+    }
+  }
+  FlightSnapshot status() override {
+    FlightSnapshot s;
+    s.telemetry.mission = mission_;
+    s.telemetry.stage = stage_;
+    s.telemetry.flying = flying_;
+    s.telemetry.battery_percent = battery_;
+    s.telemetry.altitude_m = flying_ ? 1.0 : 0.0;
+    s.telemetry.pose = {0.5 * std::sin(now_), 0.3 * std::cos(now_), flying_ ? 1.0 : 0.0, 0.1 * now_};
+    s.telemetry.desired = PoseXyzYaw{1.2, 0.0, 1.0, 0.0};
+    s.telemetry.source = mission_ == "inspect" ? PoseSource::Homography : PoseSource::Slam;
+    s.telemetry.link_quality = 0.9;
+    s.overlay.panel_corners = {{220, 100}, {420, 100}, {420, 220}, {220, 220}};
+    s.overlay.panel_axes = AxesPx{{320, 160}, {380, 160}, {320, 220}, {300, 140}};
+    if (stage_ != last_stage_) {
+      s.events.push_back({"stage", mission_, stage_, mission_ + ": " + stage_});
+      last_stage_ = stage_;
+    }
+    return s;
+  }
+  std::vector<InstrumentSummary> instruments() const override { return {{"oscilloscope", "Oscilloscope", 0.3, 0.15, 2.0, 0.5}}; }
+
+  std::atomic<int> frames{0};
+  std::atomic<int> requests{0};
+
+ private:
+  static constexpr const char* kStages[6] = {"take off", "explore", "approach", "hold", "return", "land"};
+  double stage_s_, request_delay_s_;
+  std::string mission_ = "idle", stage_, last_stage_;
+  double started_ = 0, now_ = 0, battery_ = 0;
+  bool flying_ = false;
+};
+
+}  // namespace labo::test

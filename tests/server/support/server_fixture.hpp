@@ -1,0 +1,53 @@
+#pragma once
+// A WebServer on a free loopback port over a ScriptedFlight, with four users and its own temporary
+// config file and folders. Tests only.
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "server/app_config.hpp"
+#include "server/auth/password_hash.hpp"
+#include "server/http/web_server.hpp"
+#include "tests/server/support/scripted_flight.hpp"
+
+namespace labo::test {
+
+inline std::filesystem::path fresh_temp_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("labo_web_" + name + "_" + random_hex(4));
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+struct ServerFixture {
+  explicit ServerFixture(const std::function<void(ServerSettings&)>& tweak = {}) : dir(fresh_temp_dir("srv")) {
+    // A config file the PUT /api/config tests may overwrite: a copy of the default one.
+    std::filesystem::create_directories(dir / "config");
+    config_file = dir / "config" / "default.json";
+    std::filesystem::copy_file(default_config_path(), config_file);
+    settings = default_server_settings(dir / "config");
+    settings.port = 0;
+    settings.web_root = std::filesystem::path(LABO_SOURCE_DIR) / "web";
+    std::filesystem::create_directories(settings.recordings_dir);
+    std::ofstream(settings.recordings_dir / "flight1.ldrec") << "recorded bytes";
+    const auto user = [](const std::string& name, Role role) {
+      return UserAccount{name, role, PasswordHash::create(name + "-pw", PasswordHash::kMinIterations).encode()};
+    };
+    settings.users = {user("alice", Role::Student), user("bob", Role::Student), user("tess", Role::Teacher), user("root", Role::Admin)};
+    if (tweak) tweak(settings);
+    server = std::make_unique<WebServer>(settings, config_file, flight, Logger("test", LogLevel::Warn));
+    port = server->start();
+  }
+  ~ServerFixture() {
+    server.reset();
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+  }
+
+  std::filesystem::path dir, config_file;
+  ServerSettings settings;
+  ScriptedFlight flight;
+  std::unique_ptr<WebServer> server;
+  unsigned short port = 0;
+};
+
+}  // namespace labo::test
