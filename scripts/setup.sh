@@ -44,13 +44,15 @@ if [ ! -f "$ROOT/assets/astronaut.png" ]; then
   cp "$(find "$tmp/x" -name astronaut.png | head -n 1)" "$ROOT/assets/astronaut.png"
   rm -rf "$tmp"
   echo "setup: assets/astronaut.png extracted from python3-skimage"
+fi
+
 # The browser test (tests/e2e): Node.js with npm, and playwright-core from the npm registry. Debian's
 # chromium (above) is the browser; playwright never downloads one.
 if ! command -v npm >/dev/null; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends nodejs npm
 fi
-e2e_dir="$(dirname "$0")/../tests/e2e"
+e2e_dir="$ROOT/tests/e2e"
 if [ ! -d "$e2e_dir/node_modules/playwright-core" ]; then
   echo "setup: installing playwright-core (npm) for the browser test"
   (cd "$e2e_dir" && npm install --no-audit --no-fund --silent)

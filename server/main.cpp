@@ -41,7 +41,6 @@ std::vector<Subcommand> subcommands() {
       {labo::sim_inspect_command_spec(), labo::run_sim_inspect_command},
       {labo::sim_perturb_command_spec(), labo::run_sim_perturb_command},
       {labo::sim_face_follow_command_spec(), labo::run_sim_face_follow_command},
-      {labo::bench_link_command_spec(), labo::run_bench_link_command},
       {labo::sim_textures_command_spec(), labo::run_sim_textures_command},
       {labo::sim_lab_command_spec(), labo::run_sim_lab_command},
       {labo::sim_compare_slam_command_spec(), labo::run_sim_compare_slam_command},
