@@ -3,6 +3,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include "core/source_tree.hpp"
 
 namespace labo {
 
@@ -91,7 +92,7 @@ class WfmReader {
 }  // namespace
 
 std::filesystem::path Candide3Model::default_path() {
-  return std::filesystem::path(LABO_SOURCE_DIR) / "config" / "face" / "candide3.wfm";
+  return labo::source_root() / "config" / "face" / "candide3.wfm";
 }
 
 Candide3Model Candide3Model::load(const std::filesystem::path& file) {
@@ -145,7 +146,7 @@ std::vector<Eigen::Vector3d> Candide3Model::deformed(std::span<const double> sha
 }
 
 std::filesystem::path default_ibug68_mapping_path() {
-  return std::filesystem::path(LABO_SOURCE_DIR) / "config" / "face" / "ibug68_to_candide3.csv";
+  return labo::source_root() / "config" / "face" / "ibug68_to_candide3.csv";
 }
 
 namespace {

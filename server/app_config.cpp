@@ -1,6 +1,7 @@
 #include "server/app_config.hpp"
 
 #include "localization/slam/slam_config.hpp"
+#include "core/source_tree.hpp"
 
 namespace labo {
 
@@ -11,7 +12,7 @@ std::filesystem::path resolve(const std::filesystem::path& base, const std::stri
 }
 }  // namespace
 
-std::filesystem::path default_config_path() { return std::filesystem::path(LABO_SOURCE_DIR) / "config" / "default.json"; }
+std::filesystem::path default_config_path() { return labo::source_root() / "config" / "default.json"; }
 
 AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path& base_dir) {
   AppConfig c;

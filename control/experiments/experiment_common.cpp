@@ -8,6 +8,7 @@
 #include "control/experiments/flight_plot.hpp"
 #include "control/experiments/model_lab.hpp"
 #include "core/config_reader.hpp"
+#include "core/source_tree.hpp"
 
 namespace labo {
 
@@ -24,7 +25,7 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args) {
   o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
   o.runs = args.integer_or("--runs", 1, 1, 10000);
   o.json = args.flag("--json");
-  o.config = args.value_or("--config", (std::filesystem::path(LABO_SOURCE_DIR) / "config" / "default.json").string());
+  o.config = args.value_or("--config", (labo::source_root() / "config" / "default.json").string());
   if (!std::filesystem::exists(o.config)) throw UsageError("--config " + o.config.string() + ": no such file");
   if (auto dir = args.value("--out")) {
     o.out = *dir;

@@ -4,6 +4,7 @@
 
 #include "drone/lab/instrument_panels.hpp"
 #include "drone/lab/lab_description.hpp"
+#include "core/source_tree.hpp"
 
 namespace labo {
 
@@ -19,7 +20,7 @@ const CommandSpec& sim_textures_command_spec() {
 
 int run_sim_textures_command(const ParsedArgs& args) {
   const std::filesystem::path dir =
-      args.value_or("--out", (std::filesystem::path(LABO_SOURCE_DIR) / "config" / "instruments").string());
+      args.value_or("--out", (labo::source_root() / "config" / "instruments").string());
   for (const auto& p : write_instrument_templates(dir)) std::cout << "wrote " << p.string() << "\n";
   return 0;
 }

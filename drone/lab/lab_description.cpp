@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/config_reader.hpp"
+#include "core/source_tree.hpp"
 
 namespace labo {
 
@@ -396,6 +397,6 @@ LabDescription load_lab_description(const std::filesystem::path& file) {
   return lab;
 }
 
-std::filesystem::path default_lab_path() { return std::filesystem::path(LABO_SOURCE_DIR) / "config" / "lab.json"; }
+std::filesystem::path default_lab_path() { return labo::source_root() / "config" / "lab.json"; }
 
 }  // namespace labo

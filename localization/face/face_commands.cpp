@@ -10,6 +10,7 @@
 #include "localization/face/face_bench.hpp"
 #include "localization/face/face_pose_estimator.hpp"
 #include "localization/face/person_registration.hpp"
+#include "core/source_tree.hpp"
 
 namespace labo {
 
@@ -22,7 +23,7 @@ struct FaceSetup {
 
 FaceSetup load_face_setup(const ParsedArgs& args) {
   const std::filesystem::path file =
-      args.value_or("--config", (std::filesystem::path(LABO_SOURCE_DIR) / "config" / "default.json").string());
+      args.value_or("--config", (labo::source_root() / "config" / "default.json").string());
   const ConfigDocument doc = ConfigDocument::load(file);
   const ConfigReader root = doc.root();
   const CameraIntrinsics front = root.has("cameras") ? read_cameras_config(root.object("cameras")).front
@@ -128,7 +129,7 @@ int run_face_bench_command(const ParsedArgs& args) {
   o.sequences = args.integer_or("--sequences", 10, 1, 1000);
   o.frames = args.integer_or("--frames", 300, 3, 100000);
   o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
-  o.texture = args.value_or("--texture", (std::filesystem::path(LABO_SOURCE_DIR) / "assets" / "astronaut.png").string());
+  o.texture = args.value_or("--texture", (labo::source_root() / "assets" / "astronaut.png").string());
   o.lossy_video = !args.flag("--no-lossy-video");
   o.video_bitrate_kbps = args.integer_or("--bitrate-kbps", 1000, 100, 20000);
   o.sample_dir = args.value_or("--samples", "");

@@ -5,6 +5,7 @@
 
 #include "core/candide3.hpp"
 #include "localization/face/landmark_detector.hpp"
+#include "core/source_tree.hpp"
 
 namespace labo::face {
 
@@ -21,7 +22,7 @@ FaceConfig default_face_config() {
   c.shape_predictor = LandmarkDetector::default_path();
   c.model = Candide3Model::default_path();
   c.mapping = default_ibug68_mapping_path();
-  c.people_dir = std::filesystem::path(LABO_SOURCE_DIR) / "config" / "face" / "people";
+  c.people_dir = labo::source_root() / "config" / "face" / "people";
   return c;
 }
 

@@ -10,6 +10,7 @@
 #include "localization/estimation/eval/estimation_experiment.hpp"
 #include "localization/estimation/eval/model_fit.hpp"
 #include "localization/estimation/eval/surrogate_plant.hpp"
+#include "core/source_tree.hpp"
 
 namespace labo {
 
@@ -101,7 +102,7 @@ int run_sim_estimate_command(const ParsedArgs& args) {
   const unsigned first_seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1'000'000));
   const int runs = args.integer_or("--runs", 1, 1, 1000);
   const std::filesystem::path config_path =
-      args.value_or("--config", (std::filesystem::path(LABO_SOURCE_DIR) / "config" / "default.json").string());
+      args.value_or("--config", (labo::source_root() / "config" / "default.json").string());
   const ConfigDocument doc = ConfigDocument::load(config_path);
   const ConfigReader root = doc.root();
   const EstimatorConfig config =

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <vector>
+#include "core/source_tree.hpp"
 
 namespace labo::test {
 

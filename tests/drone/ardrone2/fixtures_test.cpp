@@ -13,7 +13,7 @@ namespace labo::test {
 
 using namespace ardrone2;
 
-std::filesystem::path fixture_dir() { return std::filesystem::path(LABO_TEST_DATA_DIR) / "ardrone2"; }
+std::filesystem::path fixture_dir() { return (labo::source_root() / "tests" / "data") / "ardrone2"; }
 
 std::vector<std::uint8_t> read_bytes(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
@@ -98,6 +98,7 @@ std::vector<std::uint8_t> video_capture(int frames) {
 
 // Hidden: rewrites the committed fixtures. Run `build/release/tests/test_drone "[.generate]"`.
 #include <catch2/catch.hpp>
+#include "core/source_tree.hpp"
 
 TEST_CASE("link: generate the ardrone2 fixtures", "[.generate]") {
   using namespace labo::test;

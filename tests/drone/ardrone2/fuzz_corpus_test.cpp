@@ -5,12 +5,13 @@
 
 #include "fuzz/fuzz_targets.hpp"
 #include "tests/drone/ardrone2/fixtures.hpp"
+#include "core/source_tree.hpp"
 
 namespace {
 
 template <typename Target>
 std::size_t replay_corpus(const std::string& name, Target target) {
-  const auto dir = std::filesystem::path(LABO_TEST_DATA_DIR) / "fuzz" / name;
+  const auto dir = (labo::source_root() / "tests" / "data") / "fuzz" / name;
   std::size_t n = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     const auto bytes = labo::test::read_bytes(entry.path());

@@ -7,6 +7,7 @@
 #include "localization/face/face_pose_estimator.hpp"
 #include "localization/face/person_registration.hpp"
 #include "localization/face/textured_head_renderer.hpp"
+#include "core/source_tree.hpp"
 
 using namespace labo;
 using namespace labo::face;
@@ -39,7 +40,7 @@ struct RenderedHeadFixture {
   TexturedHeadRenderer renderer{candide, load_head(), test_camera()};
 
   TexturedHead load_head() {
-    const auto path = std::filesystem::path(LABO_SOURCE_DIR) / "assets" / "astronaut.png";
+    const auto path = labo::source_root() / "assets" / "astronaut.png";
     const cv::Mat photo = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
     REQUIRE_FALSE(photo.empty());  // run scripts/setup.sh
     TexturedHead head = texture_head_from_photo(estimator, candide, photo, 0.063);

@@ -9,6 +9,7 @@
 #include "server/auth/password_hash.hpp"
 #include "server/http/web_server.hpp"
 #include "tests/server/support/scripted_flight.hpp"
+#include "core/source_tree.hpp"
 
 namespace labo::test {
 
@@ -26,7 +27,7 @@ struct ServerFixture {
     std::filesystem::copy_file(default_config_path(), config_file);
     settings = default_server_settings(dir / "config");
     settings.port = 0;
-    settings.web_root = std::filesystem::path(LABO_SOURCE_DIR) / "web";
+    settings.web_root = labo::source_root() / "web";
     std::filesystem::create_directories(settings.recordings_dir);
     std::ofstream(settings.recordings_dir / "flight1.ldrec") << "recorded bytes";
     const auto user = [](const std::string& name, Role role) {
