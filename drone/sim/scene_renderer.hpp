@@ -27,8 +27,8 @@ class SceneRenderer {
  public:
   virtual ~SceneRenderer() = default;
   // The camera's view, BGR at the camera's configured size, into `bgr` (reallocated only when its
-  // size or type differ, so a caller reusing one Mat does not allocate per frame). `exposure_s` is
-  // the shutter time motion blur integrates over.
+  // size or type differ, so a caller reusing one Mat does not allocate per frame).
+  // Motion blur integrates the scene's velocities over the camera's shutter time.
   virtual void render(CameraId camera, const SceneState& scene, cv::Mat& bgr) = 0;
 };
 
