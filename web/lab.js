@@ -78,6 +78,11 @@ function onMessage(msg) {
       $('stage').textContent = msg.stage || '–';
       $('source').textContent = msg.source;
       $('source').style.background = msg.source_colour;
+      $('link-state').textContent = msg.link_state;
+      $('battery').textContent = `${Math.round(msg.battery_percent)} %`;
+      $('battery').className = msg.battery_percent < 20 ? 'low' : '';
+      $('altitude').textContent = `${msg.altitude_m.toFixed(2)} m`;
+      $('slam-state').textContent = msg.slam_state;
       break;
     case 'control': onControl(msg); break;
     case 'ack':
