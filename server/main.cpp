@@ -24,7 +24,8 @@
 
 namespace {
 
-// The simulated teacher's face for the render commands (drone/ cannot call localization/).
+// The simulated teacher's face for the commands that run the simulated lab (drone/ cannot call
+// localization/).
 labo::TexturedHeadModel teacher_head(const labo::LabDescription& lab) { return labo::face::load_lab_teacher_head(lab); }
 
 struct Subcommand {
@@ -53,7 +54,7 @@ std::vector<Subcommand> subcommands() {
        [](const labo::ParsedArgs& a) { return labo::run_sim_render_command(a, teacher_head); }},
       {labo::bench_render_command_spec(),
        [](const labo::ParsedArgs& a) { return labo::run_bench_render_command(a, teacher_head); }},
-      {labo::emulate_command_spec(), labo::run_emulate_command},
+      {labo::emulate_command_spec(), [](const labo::ParsedArgs& a) { return labo::run_emulate_command(a, teacher_head); }},
       {labo::sim_compare_slam_command_spec(), labo::run_sim_compare_slam_command},
       {labo::sim_estimate_command_spec(), labo::run_sim_estimate_command},
   };
