@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "control/experiments/bench_vision_command.hpp"
 #include "control/experiments/sim_commands.hpp"
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
@@ -44,6 +45,7 @@ std::vector<Subcommand> subcommands() {
       {labo::face_bench_command_spec(), labo::run_face_bench_command},
       {labo::face_register_command_spec(), labo::run_face_register_command},
       {labo::bench_link_command_spec(), labo::run_bench_link_command},
+      {labo::bench_vision_command_spec(), labo::run_bench_vision_command},
       {labo::hash_password_command_spec(), labo::run_hash_password_command},
       {labo::sim_inspect_command_spec(), labo::run_sim_inspect_command},
       {labo::sim_perturb_command_spec(), labo::run_sim_perturb_command},

@@ -20,14 +20,16 @@ namespace labo {
 namespace {
 
 FlightStackSetup flight_setup(const AppConfig& config) {
-  // The lab's geometry (instruments, base, room) comes from the simulated lab's description
-  // (branch sim); until it is merged the room is control's default and no instrument is known, so
-  // inspect requests are refused by FlightStack with the reason.
+  // The lab's geometry (room, base, instruments, platform) from the lab description the config
+  // names (validated when the config was loaded).
   FlightStackSetup setup;
+  setup.lab = lab_geometry_from(config.lab);
   setup.control = config.control;
   setup.cameras = config.cameras;
   setup.vision = config.vision;
   setup.estimation = config.estimation;
+  // The real vision pipelines on the drone's frames (control/lab_pipelines_factory.hpp).
+  setup.front_ends = FrontEndSettings{config.planar, config.slam, config.face, true};
   return setup;
 }
 
