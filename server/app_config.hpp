@@ -11,6 +11,7 @@
 #include "localization/face/face_config.hpp"
 #include "drone/ardrone2/ardrone_emulator.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
+#include "drone/sim/sim_config.hpp"
 #include "localization/planar/planar_config.hpp"
 #include "localization/slam/slam_system.hpp"
 #include "localization/vision_thresholds.hpp"
@@ -31,6 +32,7 @@ struct AppConfig {
   ArdroneLinkSettings link;          // the AR.Drone 2.0 driver (docs/ardrone2.md)
   ArdroneEmulatorSettings emulator;  // the AR.Drone 2.0 protocol emulator on loopback
   std::filesystem::path lab_file;  // the simulated lab's description
+  SimConfig sim;                   // the simulated lab's physics, sensors, link, disturbances (docs/sim.md)
   face::FaceConfig face;
 };
 

@@ -18,6 +18,7 @@
 #include "localization/estimation/eval/sim_estimate_command.hpp"
 #include "server/serve_command.hpp"
 #include "drone/lab/lab_commands.hpp"
+#include "drone/sim/bench_sim_command.hpp"
 #include "drone/sim/emulate_command.hpp"
 
 namespace {
@@ -45,6 +46,7 @@ std::vector<Subcommand> subcommands() {
       {labo::sim_textures_command_spec(), labo::run_sim_textures_command},
       {labo::sim_lab_command_spec(), labo::run_sim_lab_command},
       {labo::emulate_command_spec(), labo::run_emulate_command},
+      {labo::bench_sim_command_spec(), labo::run_bench_sim_command},
       {labo::sim_compare_slam_command_spec(), labo::run_sim_compare_slam_command},
       {labo::sim_estimate_command_spec(), labo::run_sim_estimate_command},
   };

@@ -110,7 +110,7 @@ class ReplayBackend final : public DroneBackend {
 class SimBackend final : public DroneBackend {
  public:
   SimBackend(const AppConfig& config, Logger log)
-      : lab_(make_simulated_lab(load_lab_description(config.lab_file), config.cameras, SimulatedLabSettings{})),
+      : lab_(make_simulated_lab(load_lab_description(config.lab_file), config.cameras, config.sim.lab)),
         emulator_(*lab_, emulator_settings(config), log.child("emulator")),
         link_(link_settings(config, emulator_), log.child("link")),
         core_(std::make_unique<FlightStack>(flight_setup(config)), config.cameras),

@@ -12,30 +12,16 @@
 #include "core/frames.hpp"
 #include "drone/sim/flat_scene_renderer.hpp"
 #include "drone/sim/sim_setup.hpp"
+#include "tests/drone/sim/sim_fixtures.hpp"
 
 using namespace labo;
 
 namespace {
 
-const LabDescription& lab() {
-  static const LabDescription l = load_lab_description(default_lab_path());
-  return l;
-}
-
-CamerasConfig cameras() { return {PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()}; }
-
-class GreyRenderer final : public SceneRenderer {
- public:
-  void render(CameraId, const SceneState&, cv::Mat& bgr) override {
-    bgr.create(360, 640, CV_8UC3);
-    bgr.setTo(cv::Scalar(128, 128, 128));
-  }
-};
-
 SimulatedLab make_lab(std::uint64_t seed) {
   SimulatedLabSettings s;
   s.seed = seed;
-  return SimulatedLab(lab(), s, std::make_unique<GreyRenderer>());
+  return SimulatedLab(test::shipped_lab(), s, std::make_unique<test::GreyRenderer>());
 }
 
 // A scripted flight; the vehicle is advanced every `granularity_s` between commands, as an emulator
@@ -140,7 +126,7 @@ TEST_CASE("sim lab: the fallback renderer puts a panel's point where the camera 
   cv::circle(panel, cv::Point(600, 120), 12, cv::Scalar(0, 0, 255), cv::FILLED);
   const auto file = dir / "dot_panel.png";
   cv::imwrite(file.string(), panel);
-  LabDescription l = lab();
+  LabDescription l = test::shipped_lab();
   InstrumentSpec& scope = l.instruments.front();
   REQUIRE(scope.id == "oscilloscope");
   scope.template_path = file;
@@ -148,7 +134,7 @@ TEST_CASE("sim lab: the fallback renderer puts a panel's point where the camera 
   const Eigen::Vector3d dot_object(((dot_px.x + 0.5) / 800 - 0.5) * scope.width_m, ((dot_px.y + 0.5) / 400 - 0.5) * scope.height_m, 0);
   const Eigen::Vector3d dot_world = scope.T_world_object * dot_object;
 
-  FlatSceneRenderer renderer(l, cameras());
+  FlatSceneRenderer renderer(l, test::stock_cameras());
   const PinholeCamera front = PinholeCamera::ardrone2_front();
   // Seen from 1.2 m, from the side and tilted, so the dot lands off-centre where the lens bends most.
   const Eigen::Vector3d panel_centre = scope.T_world_object.translation();
@@ -176,7 +162,7 @@ TEST_CASE("sim lab: the fallback renderer puts a panel's point where the camera 
 }
 
 TEST_CASE("sim lab: both cameras render the lab at their configured size", "[sim][render]") {
-  auto v = make_simulated_lab(lab(), cameras(), SimulatedLabSettings{});
+  auto v = make_simulated_lab(test::shipped_lab(), test::stock_cameras(), SimulatedLabSettings{});
   cv::Mat front, bottom;
   v->render(CameraId::Front, front);
   v->render(CameraId::Bottom, bottom);
