@@ -20,8 +20,13 @@
 #include "server/serve_command.hpp"
 #include "drone/lab/lab_commands.hpp"
 #include "drone/sim/emulate_command.hpp"
+#include "drone/sim/render_commands.hpp"
+#include "localization/face/teacher_head.hpp"
 
 namespace {
+
+// The simulated teacher's face for the render commands (drone/ cannot call localization/).
+labo::TexturedHeadModel teacher_head(const labo::LabDescription& lab) { return labo::face::load_lab_teacher_head(lab); }
 
 struct Subcommand {
   const labo::CommandSpec& spec;
@@ -46,6 +51,10 @@ std::vector<Subcommand> subcommands() {
       {labo::sim_face_follow_command_spec(), labo::run_sim_face_follow_command},
       {labo::sim_textures_command_spec(), labo::run_sim_textures_command},
       {labo::sim_lab_command_spec(), labo::run_sim_lab_command},
+      {labo::sim_render_command_spec(),
+       [](const labo::ParsedArgs& a) { return labo::run_sim_render_command(a, teacher_head); }},
+      {labo::bench_render_command_spec(),
+       [](const labo::ParsedArgs& a) { return labo::run_bench_render_command(a, teacher_head); }},
       {labo::emulate_command_spec(), labo::run_emulate_command},
       {labo::sim_compare_slam_command_spec(), labo::run_sim_compare_slam_command},
       {labo::sim_estimate_command_spec(), labo::run_sim_estimate_command},
