@@ -58,9 +58,9 @@ struct RunResult {
   int crashes = 0;
 };
 
-RunResult run_flight(const LabDescription& lab, const CamerasConfig& cameras, const SimConfig& config, Seconds duration,
-                     bool h264, GroundTruthLog* truth_log) {
-  auto sim = make_simulated_lab(lab, cameras, config.lab);
+RunResult run_flight(const LabDescription& lab, const CamerasConfig& cameras, const SimConfig& config,
+                     const TexturedHeadModel& head, Seconds duration, bool h264, GroundTruthLog* truth_log) {
+  auto sim = make_simulated_lab(lab, cameras, config.lab, head);
   sim->set_profiling(true);
   SimLinkSettings ls = config.link;
   ls.h264 = h264;
@@ -138,7 +138,7 @@ const CommandSpec& bench_sim_command_spec() {
   return spec;
 }
 
-int run_bench_sim_command(const ParsedArgs& args) {
+int run_bench_sim_command(const ParsedArgs& args, const TeacherHeadLoader& load_head) {
   const std::filesystem::path config_file =
       args.value_or("--config", (source_root() / "config" / "default.json").string());
   const double duration = args.number_or("--seconds", 40.0, 15.0, 3600.0);
@@ -146,6 +146,7 @@ int run_bench_sim_command(const ParsedArgs& args) {
   const CamerasConfig& cameras = in.cameras;
   const SimConfig& sim = in.sim;
   const LabDescription& lab = in.lab;
+  const TexturedHeadModel head = load_head(lab);
 
   // One core: pin the process to the CPU it runs on, and no OpenCV worker threads.
   cpu_set_t one;
@@ -162,8 +163,8 @@ int run_bench_sim_command(const ParsedArgs& args) {
               load_average().c_str());
   std::optional<GroundTruthLog> truth_log;
   if (const auto file = args.value("--ground-truth")) truth_log.emplace(*file, lab);
-  print("without H.264", run_flight(lab, cameras, sim, duration, false, truth_log ? &*truth_log : nullptr), duration, 5.0);
-  print("with H.264", run_flight(lab, cameras, sim, duration, true, nullptr), duration, 2.0);
+  print("without H.264", run_flight(lab, cameras, sim, head, duration, false, truth_log ? &*truth_log : nullptr), duration, 5.0);
+  print("with H.264", run_flight(lab, cameras, sim, head, duration, true, nullptr), duration, 2.0);
   if (truth_log) std::printf("ground truth: %zu rows in %s\n", truth_log->rows(), args.value("--ground-truth")->c_str());
   return 0;
 }

@@ -49,7 +49,7 @@ const CommandSpec& emulate_command_spec() {
   return spec;
 }
 
-int run_emulate_command(const ParsedArgs& args) {
+int run_emulate_command(const ParsedArgs& args, const TeacherHeadLoader& load_head) {
   const std::filesystem::path config_file =
       args.value_or("--config", (source_root() / "config" / "default.json").string());
   const double seconds = args.number_or("--seconds", 0.0, 0.0, 1e9);
@@ -61,7 +61,7 @@ int run_emulate_command(const ParsedArgs& args) {
 
   const sigset_t stop_signals = block_stop_signals();
   Logger log("labodrone", LogLevel::Info);
-  auto vehicle = make_simulated_lab(lab, in.cameras, in.sim.lab);
+  auto vehicle = make_simulated_lab(lab, in.cameras, in.sim.lab, load_head(lab));
   ArdroneEmulator emulator(*vehicle, settings, log.child("emulator"));
   emulator.start();  // throws naming the port when one is taken
   std::cout << "AR.Drone 2.0 emulator on " << settings.bind_host << ": AT UDP " << emulator.at_port()

@@ -11,6 +11,7 @@
 #include "drone/lab/lab_description.hpp"
 #include "drone/replay/replay_link.hpp"
 #include "drone/sim/sim_setup.hpp"
+#include "localization/face/teacher_head.hpp"
 #include "server/runtime/flight_runtime.hpp"
 #include "server/runtime/flight_stack_core.hpp"
 
@@ -19,14 +20,16 @@ namespace labo {
 namespace {
 
 FlightStackSetup flight_setup(const AppConfig& config) {
-  // The lab's geometry (instruments, base, room) comes from the simulated lab's description
-  // (branch sim); until it is merged the room is control's default and no instrument is known, so
-  // inspect requests are refused by FlightStack with the reason.
+  // The lab's geometry (room, base, instruments, platform) from the lab description the config
+  // names (validated when the config was loaded).
   FlightStackSetup setup;
+  setup.lab = lab_geometry_from(config.lab);
   setup.control = config.control;
   setup.cameras = config.cameras;
   setup.vision = config.vision;
   setup.estimation = config.estimation;
+  // The real vision pipelines on the drone's frames (control/lab_pipelines_factory.hpp).
+  setup.front_ends = FrontEndSettings{config.planar, config.slam, config.face, true};
   return setup;
 }
 
@@ -110,7 +113,7 @@ class ReplayBackend final : public DroneBackend {
 class SimBackend final : public DroneBackend {
  public:
   SimBackend(const AppConfig& config, Logger log)
-      : lab_(make_simulated_lab(load_lab_description(config.lab_file), config.cameras, config.sim.lab)),
+      : lab_(make_lab(config)),
         emulator_(*lab_, emulator_settings(config), log.child("emulator")),
         link_(link_settings(config, emulator_), log.child("link")),
         core_(std::make_unique<FlightStack>(flight_setup(config)), config.cameras),
@@ -126,6 +129,11 @@ class SimBackend final : public DroneBackend {
   FlightService& flight() override { return runtime_; }
 
  private:
+  // The lab's cameras show the teacher's face textured from their photograph, built here because
+  // drone/ cannot call localization/.
+  static std::unique_ptr<SimulatedLab> make_lab(const AppConfig& config) {
+    return make_simulated_lab(config.lab, config.cameras, config.sim.lab, face::load_lab_teacher_head(config.lab, config.face));
+  }
   static ArdroneEmulatorSettings emulator_settings(const AppConfig& config) {
     ArdroneEmulatorSettings s = config.emulator;
     s.bind_host = "127.0.0.1";

@@ -33,10 +33,12 @@ struct Rig {
   std::unique_ptr<SimulatedLab> sim;
   std::unique_ptr<SimDroneLink> link;
   Recorder rec;
-  explicit Rig(SimLinkSettings ls = {}, std::uint64_t seed = 1) {
+  // `rendered`: the lab's real cameras; otherwise a grey picture (tests about timing and commands).
+  explicit Rig(SimLinkSettings ls = {}, std::uint64_t seed = 1, bool rendered = false) {
     SimulatedLabSettings s;
     s.seed = seed;
-    sim = make_simulated_lab(test::shipped_lab(), test::stock_cameras(), s);
+    sim = rendered ? make_simulated_lab(test::shipped_lab(), test::stock_cameras(), s)
+                   : std::make_unique<SimulatedLab>(test::shipped_lab(), s, std::make_unique<test::GreyRenderer>());
     ls.seed = seed;
     link = std::make_unique<SimDroneLink>(*sim, ls);
     link->set_listener(&rec);
@@ -182,7 +184,7 @@ TEST_CASE("sim link: with H.264 the frames carry the real compression loss", "[s
   SimLinkSettings raw_settings, coded_settings;
   raw_settings.jitter_s = coded_settings.jitter_s = 0;
   coded_settings.h264 = true;
-  Rig raw(raw_settings), coded(coded_settings);
+  Rig raw(raw_settings, 1, true), coded(coded_settings, 1, true);
   raw.run_to(1.0);
   coded.run_to(1.0);
   REQUIRE(coded.rec.frames.size() >= 25);
@@ -199,7 +201,7 @@ TEST_CASE("sim link: with H.264 the frames carry the real compression loss", "[s
 TEST_CASE("sim link: both cameras every frame when asked", "[sim][link]") {
   SimLinkSettings ls;
   ls.both_cameras = true;
-  Rig rig(ls);
+  Rig rig(ls, 1, true);
   rig.rec.keep_pixels = false;
   rig.run_to(1.0);
   int front = 0, bottom = 0;
@@ -214,14 +216,14 @@ TEST_CASE("sim link: the same seeds give the same flight bit for bit, with H.264
     ls.h264 = true;
     ls.navdata_loss = 0.05;
     ls.command_loss = 0.05;
-    Rig rig(ls, seed);
+    Rig rig(ls, seed, true);
     rig.run_to(0.3);
     rig.link->takeoff();
-    rig.run_to(5.0);
+    rig.run_to(2.5);
     rig.link->move({0.2, 0.3, 0.1, -0.2});
-    rig.run_to(6.5);
+    rig.run_to(3.5);
     rig.link->hover();
-    rig.run_to(7.0);
+    rig.run_to(4.0);
     return std::move(rig.rec);
   };
   const Recorder a = fly(7), b = fly(7), c = fly(8);
