@@ -19,13 +19,15 @@
 #include "localization/estimation/eval/sim_estimate_command.hpp"
 #include "server/serve_command.hpp"
 #include "drone/lab/lab_commands.hpp"
+#include "drone/sim/bench_sim_command.hpp"
 #include "drone/sim/emulate_command.hpp"
 #include "drone/sim/render_commands.hpp"
 #include "localization/face/teacher_head.hpp"
 
 namespace {
 
-// The simulated teacher's face for the render commands (drone/ cannot call localization/).
+// The simulated teacher's face for the commands that run the simulated lab (drone/ cannot call
+// localization/).
 labo::TexturedHeadModel teacher_head(const labo::LabDescription& lab) { return labo::face::load_lab_teacher_head(lab); }
 
 struct Subcommand {
@@ -55,7 +57,8 @@ std::vector<Subcommand> subcommands() {
        [](const labo::ParsedArgs& a) { return labo::run_sim_render_command(a, teacher_head); }},
       {labo::bench_render_command_spec(),
        [](const labo::ParsedArgs& a) { return labo::run_bench_render_command(a, teacher_head); }},
-      {labo::emulate_command_spec(), labo::run_emulate_command},
+      {labo::emulate_command_spec(), [](const labo::ParsedArgs& a) { return labo::run_emulate_command(a, teacher_head); }},
+      {labo::bench_sim_command_spec(), [](const labo::ParsedArgs& a) { return labo::run_bench_sim_command(a, teacher_head); }},
       {labo::sim_compare_slam_command_spec(), labo::run_sim_compare_slam_command},
       {labo::sim_estimate_command_spec(), labo::run_sim_estimate_command},
   };

@@ -6,6 +6,7 @@
 // photograph's pixel under it).
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -21,5 +22,10 @@ struct TexturedHeadModel {
 // Throws std::invalid_argument naming what is wrong: no vertices or triangles, texture coordinates
 // not one per vertex, a triangle index out of range, a non-finite vertex, an empty or non-BGR texture.
 void validate(const TexturedHeadModel& head);
+
+struct LabDescription;
+// Builds the lab's teacher head (from the photograph of the lab's teacher spec); commands in drone/
+// take one from their caller, since only localization/ can make it.
+using TeacherHeadLoader = std::function<TexturedHeadModel(const LabDescription&)>;
 
 }  // namespace labo

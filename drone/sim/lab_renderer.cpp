@@ -1,5 +1,7 @@
 #include "drone/sim/lab_renderer.hpp"
 
+#include <algorithm>
+
 #include "core/frames.hpp"
 
 namespace labo {
@@ -15,6 +17,7 @@ LabRenderer::CameraPipeline::CameraPipeline(const PinholeCamera& camera, const L
 LabRenderer::LabRenderer(const LabDescription& lab, const CamerasConfig& cameras, std::optional<TexturedHeadModel> head,
                          unsigned seed, LabRenderOptions options)
     : options_(options),
+      lab_(lab),
       scene_(build_lab_scene(lab)),
       teacher_(lab.teacher, std::move(head)),
       seed_(seed),
@@ -39,10 +42,18 @@ const LabRenderer::FrameStats& LabRenderer::last_stats(CameraId id) const {
   return (id == CameraId::Front ? *front_ : *bottom_).stats;
 }
 
+Eigen::Isometry3d LabRenderer::camera_pose(const CameraPipeline& p, const Eigen::Isometry3d& T_world_body) const {
+  constexpr double kClearance_m = 0.01;
+  Eigen::Isometry3d T = T_world_body * p.T_body_cam;
+  const Eigen::Vector3d c = T.translation();
+  T.translation().z() = std::max(c.z(), lab_.surface_height(c.x(), c.y()) + kClearance_m);
+  return T;
+}
+
 void LabRenderer::render(CameraId id, const SceneState& scene, cv::Mat& bgr) {
   CameraPipeline& p = pipeline(id);
   const int w = p.rays.width(), h = p.rays.height();
-  const Eigen::Isometry3d T_world_cam = scene.T_world_body * p.T_body_cam;
+  const Eigen::Isometry3d T_world_cam = camera_pose(p, scene.T_world_body);
 
   teacher_.project(scene, T_world_cam, p.rays.camera(), p.rays.max_radius(), p.teacher);
   const PixelBox& box = p.teacher.box;
@@ -70,7 +81,7 @@ void LabRenderer::set_options(const LabRenderOptions& options) {
 
 int LabRenderer::rect_at(CameraId id, const Eigen::Isometry3d& T_world_body, int px, int py) {
   CameraPipeline& p = pipeline(id);
-  return p.tracer.rect_at(T_world_body * p.T_body_cam, px, py);
+  return p.tracer.rect_at(camera_pose(p, T_world_body), px, py);
 }
 
 std::unique_ptr<SceneRenderer> make_lab_renderer(const LabDescription& lab, const CamerasConfig& cameras,

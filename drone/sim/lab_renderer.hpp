@@ -46,7 +46,9 @@ class LabRenderer final : public SceneRenderer {
   void set_options(const LabRenderOptions& options);
   const LabScene& scene() const { return scene_; }
   const PinholeCamera& camera(CameraId id) const;
-  // The camera's pose on the drone (core/frames.hpp mountings).
+  // The camera's pose on the drone (core/frames.hpp mountings). A camera is never drawn lower than
+  // 1 cm above the surface under it: on the ground the bottom camera's mounting is below the hull's
+  // underside, the body frame's origin.
   static Eigen::Isometry3d T_body_cam(CameraId id);
   // What the last render of `camera` did, for benchmarks.
   struct FrameStats {
@@ -72,7 +74,10 @@ class LabRenderer final : public SceneRenderer {
   };
   CameraPipeline& pipeline(CameraId id);
 
+  Eigen::Isometry3d camera_pose(const CameraPipeline& p, const Eigen::Isometry3d& T_world_body) const;
+
   LabRenderOptions options_;
+  LabDescription lab_;
   LabScene scene_;
   TeacherFigure teacher_;
   unsigned seed_;

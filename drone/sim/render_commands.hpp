@@ -5,15 +5,11 @@
 //
 // The teacher's face is built from a photograph by localization/ (drone/ cannot call it): the caller
 // passes the loader.
-#include <functional>
-
 #include "core/cli_args.hpp"
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/head_model.hpp"
 
 namespace labo {
-
-using TeacherHeadLoader = std::function<TexturedHeadModel(const LabDescription&)>;
 
 const CommandSpec& sim_render_command_spec();
 int run_sim_render_command(const ParsedArgs& args, const TeacherHeadLoader& load_head);

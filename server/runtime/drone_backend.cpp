@@ -11,6 +11,7 @@
 #include "drone/lab/lab_description.hpp"
 #include "drone/replay/replay_link.hpp"
 #include "drone/sim/sim_setup.hpp"
+#include "localization/face/teacher_head.hpp"
 #include "server/runtime/flight_runtime.hpp"
 #include "server/runtime/flight_stack_core.hpp"
 
@@ -112,7 +113,7 @@ class ReplayBackend final : public DroneBackend {
 class SimBackend final : public DroneBackend {
  public:
   SimBackend(const AppConfig& config, Logger log)
-      : lab_(make_simulated_lab(load_lab_description(config.lab_file), config.cameras, SimulatedLabSettings{})),
+      : lab_(make_lab(config)),
         emulator_(*lab_, emulator_settings(config), log.child("emulator")),
         link_(link_settings(config, emulator_), log.child("link")),
         core_(std::make_unique<FlightStack>(flight_setup(config)), config.cameras),
@@ -128,6 +129,11 @@ class SimBackend final : public DroneBackend {
   FlightService& flight() override { return runtime_; }
 
  private:
+  // The lab's cameras show the teacher's face textured from their photograph, built here because
+  // drone/ cannot call localization/.
+  static std::unique_ptr<SimulatedLab> make_lab(const AppConfig& config) {
+    return make_simulated_lab(config.lab, config.cameras, config.sim.lab, face::load_lab_teacher_head(config.lab, config.face));
+  }
   static ArdroneEmulatorSettings emulator_settings(const AppConfig& config) {
     ArdroneEmulatorSettings s = config.emulator;
     s.bind_host = "127.0.0.1";

@@ -90,3 +90,16 @@ TEST_CASE("render: the bottom camera sees the landing pattern upright on the pla
   CHECK(upright.mean_abs_diff < 8);
   CHECK(turned.mean_abs_diff > 2 * upright.mean_abs_diff);
 }
+
+TEST_CASE("render: landed on the platform, the bottom camera (below the hull) sees the pattern from 1 cm") {
+  const LabDescription lab = load_lab_description(default_lab_path());
+  LabRenderer renderer(lab, ardrone_cameras(), std::nullopt, 1, sharp_options());
+  cv::Mat bgr, grey;
+  renderer.render(CameraId::Bottom, still_scene(lab.T_world_base), bgr);
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  // From 1 cm the pattern's texels are magnified: the image is the pattern's white or black, nothing
+  // of the floor's colours.
+  const int rect = renderer.rect_at(CameraId::Bottom, lab.T_world_base, 320, 180);
+  REQUIRE(rect >= 0);
+  CHECK(renderer.scene().rects[static_cast<std::size_t>(rect)].name == lab.platform.id + ".panel");
+}

@@ -1,6 +1,6 @@
 // SimulatedLab as an EmulatedVehicle: seed determinism bit for bit whatever the caller's step
-// pattern, the firmware's behaviour through the vehicle interface, and the fallback renderer's
-// geometry (a known point on a panel projects where the camera model says).
+// pattern, the firmware's behaviour through the vehicle interface, both cameras rendered (the
+// renderer's own tests are tests/drone/sim/render_*_test.cpp).
 #include <catch2/catch.hpp>
 
 #include <cstring>
@@ -10,32 +10,17 @@
 
 #include "core/camera_config.hpp"
 #include "core/frames.hpp"
-#include "drone/sim/flat_scene_renderer.hpp"
 #include "drone/sim/sim_setup.hpp"
+#include "tests/drone/sim/sim_fixtures.hpp"
 
 using namespace labo;
 
 namespace {
 
-const LabDescription& lab() {
-  static const LabDescription l = load_lab_description(default_lab_path());
-  return l;
-}
-
-CamerasConfig cameras() { return {PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()}; }
-
-class GreyRenderer final : public SceneRenderer {
- public:
-  void render(CameraId, const SceneState&, cv::Mat& bgr) override {
-    bgr.create(360, 640, CV_8UC3);
-    bgr.setTo(cv::Scalar(128, 128, 128));
-  }
-};
-
 SimulatedLab make_lab(std::uint64_t seed) {
   SimulatedLabSettings s;
   s.seed = seed;
-  return SimulatedLab(lab(), s, std::make_unique<GreyRenderer>());
+  return SimulatedLab(test::shipped_lab(), s, std::make_unique<test::GreyRenderer>());
 }
 
 // A scripted flight; the vehicle is advanced every `granularity_s` between commands, as an emulator
@@ -131,52 +116,8 @@ TEST_CASE("sim lab: telemetry reports the firmware's states, battery and the cra
   CHECK(v.truth().crash_reason == "wall_xmin");
 }
 
-TEST_CASE("sim lab: the fallback renderer puts a panel's point where the camera model projects it", "[sim][render]") {
-  // The oscilloscope's panel replaced by grey with a red dot at a known texel.
-  const auto dir = std::filesystem::temp_directory_path() / "labo_sim_render_test";
-  std::filesystem::create_directories(dir);
-  cv::Mat panel(400, 800, CV_8UC3, cv::Scalar(128, 128, 128));
-  const cv::Point2d dot_px(600.0, 120.0);
-  cv::circle(panel, cv::Point(600, 120), 12, cv::Scalar(0, 0, 255), cv::FILLED);
-  const auto file = dir / "dot_panel.png";
-  cv::imwrite(file.string(), panel);
-  LabDescription l = lab();
-  InstrumentSpec& scope = l.instruments.front();
-  REQUIRE(scope.id == "oscilloscope");
-  scope.template_path = file;
-  // The dot's centre on the panel (object frame: x right, y down, metres from the centre).
-  const Eigen::Vector3d dot_object(((dot_px.x + 0.5) / 800 - 0.5) * scope.width_m, ((dot_px.y + 0.5) / 400 - 0.5) * scope.height_m, 0);
-  const Eigen::Vector3d dot_world = scope.T_world_object * dot_object;
-
-  FlatSceneRenderer renderer(l, cameras());
-  const PinholeCamera front = PinholeCamera::ardrone2_front();
-  // Seen from 1.2 m, from the side and tilted, so the dot lands off-centre where the lens bends most.
-  const Eigen::Vector3d panel_centre = scope.T_world_object.translation();
-  for (const auto& [offset, yaw, roll] : {std::tuple{Eigen::Vector3d(-1.2, 0.0, 0.1), 0.0, 0.0},
-                                          std::tuple{Eigen::Vector3d(-1.1, -0.4, -0.1), 0.25, 0.1},
-                                          std::tuple{Eigen::Vector3d(-0.9, 0.5, 0.3), -0.55, -0.15}}) {
-    SceneState scene;
-    scene.teacher_present = false;
-    scene.T_world_body = make_pose(panel_centre + offset - Eigen::Vector3d(0.2, 0, 0), yaw, 0.05, roll);
-    cv::Mat image;
-    renderer.render(CameraId::Front, scene, image);
-    REQUIRE(image.size() == cv::Size(640, 360));
-    const Eigen::Isometry3d T_cam_world = (scene.T_world_body * T_body_cam_front()).inverse();
-    const auto expected = front.project(T_cam_world * dot_world);
-    REQUIRE(expected);
-    REQUIRE(front.in_image(*expected, 20));
-    cv::Mat red;
-    cv::inRange(image, cv::Scalar(0, 0, 180), cv::Scalar(80, 80, 255), red);
-    const cv::Moments m = cv::moments(red, true);
-    REQUIRE(m.m00 > 20);
-    const Eigen::Vector2d found(m.m10 / m.m00, m.m01 / m.m00);
-    INFO("expected " << expected->transpose() << " found " << found.transpose());
-    CHECK((found - *expected).norm() < 1.0);
-  }
-}
-
 TEST_CASE("sim lab: both cameras render the lab at their configured size", "[sim][render]") {
-  auto v = make_simulated_lab(lab(), cameras(), SimulatedLabSettings{});
+  auto v = make_simulated_lab(test::shipped_lab(), test::stock_cameras(), SimulatedLabSettings{});
   cv::Mat front, bottom;
   v->render(CameraId::Front, front);
   v->render(CameraId::Bottom, bottom);
