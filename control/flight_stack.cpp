@@ -4,6 +4,7 @@
 
 #include "control/autopilot.hpp"
 #include "control/lab_pipelines.hpp"
+#include "control/lab_pipelines_factory.hpp"
 #include "control/find_teacher_mission.hpp"
 #include "control/inspect_mission.hpp"
 #include "control/localization_switch.hpp"
@@ -226,8 +227,14 @@ struct FlightStack::Impl {
   }
 };
 
-FlightStack::FlightStack(FlightStackSetup setup)
-    : FlightStack(setup, std::make_unique<LabPipelines>(setup.lab, setup.estimation, setup.vision)) {}
+namespace {
+std::unique_ptr<LabPipelines> pipelines_for(const FlightStackSetup& setup) {
+  if (setup.front_ends) return make_lab_pipelines(setup, *setup.front_ends);
+  return std::make_unique<LabPipelines>(setup.lab, setup.estimation, setup.vision);
+}
+}  // namespace
+
+FlightStack::FlightStack(FlightStackSetup setup) : FlightStack(setup, pipelines_for(setup)) {}
 
 FlightStack::FlightStack(FlightStackSetup setup, std::unique_ptr<LocalizationPipelines> pipelines)
     : impl_(std::make_unique<Impl>(std::move(setup), std::move(pipelines))) {}

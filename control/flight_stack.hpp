@@ -17,6 +17,7 @@
 #include <optional>
 
 #include "control/control_config.hpp"
+#include "control/front_end_settings.hpp"
 #include "control/flight_types.hpp"
 #include "control/lab_geometry.hpp"
 #include "control/localization_pipelines.hpp"
@@ -32,12 +33,15 @@ struct FlightStackSetup {
   CamerasConfig cameras{PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()};
   VisionThresholds vision;
   EstimatorConfig estimation;
+  // Set: LabPipelines runs the real vision front-ends on the frames (make_lab_pipelines()). Unset:
+  // vision results come only through LabPipelines::add_*_result() (tests, the perception model).
+  std::optional<FrontEndSettings> front_ends;
 };
 
 class FlightStack {
  public:
-  // Builds the lab's pipelines (LabPipelines: the StateEstimator; vision front-ends are attached to
-  // it as the planar, SLAM and face pipelines are wired in).
+  // Builds the lab's pipelines: LabPipelines (the StateEstimator), with the real vision front-ends
+  // when setup.front_ends is set.
   explicit FlightStack(FlightStackSetup setup);
   // With given pipelines (tests, replay).
   FlightStack(FlightStackSetup setup, std::unique_ptr<LocalizationPipelines> pipelines);

@@ -85,10 +85,4 @@ std::string to_string(FlightPhase phase) {
   return "unknown";
 }
 
-const PlanarTarget* LabGeometry::find_instrument(const std::string& id) const {
-  for (const auto& i : instruments)
-    if (i.id == id) return &i;
-  return nullptr;
-}
-
 }  // namespace labo

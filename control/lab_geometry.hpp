@@ -1,14 +1,18 @@
 #pragma once
 // What flight control needs to know of the lab: the room (geofence), the base (home), the instruments
-// that can be inspected and the landing platform. Built from the sim's LabDescription
-// (drone/lab/lab_description.hpp) by lab_geometry_from() so control does not depend on how the lab
-// file is laid out.
+// that can be inspected and the landing platform, each with what its vision front-end needs (template
+// image, physical size, the paper's per-object lambda and N). Built from the lab description
+// (drone/lab/lab_description.hpp) by lab_geometry_from(), so control does not depend on how the lab
+// file is laid out; tests and the model experiments build one by hand.
 #include <Eigen/Geometry>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace labo {
+
+struct LabDescription;
 
 // A planar target: object frame at the panel's centre, x right, y down, z into the panel.
 struct PlanarTarget {
@@ -17,6 +21,12 @@ struct PlanarTarget {
   Eigen::Isometry3d T_world_object = Eigen::Isometry3d::Identity();
   double width_m = 0;
   double height_m = 0;
+  // For the vision front-end: the panel's template image (empty: no template known, e.g. the model
+  // lab, where perception is modelled) and the object's own lambda (SIFT closer, template matching
+  // farther) and N (minimum SIFT inliers); unset means the "vision" section's defaults.
+  std::filesystem::path template_path;
+  std::optional<double> sift_switch_distance_m;
+  std::optional<int> sift_min_inliers;
 };
 
 struct LabGeometry {
@@ -29,5 +39,9 @@ struct LabGeometry {
 
   const PlanarTarget* find_instrument(const std::string& id) const;
 };
+
+// The room, the base (the drone's pose on the platform's top), every instrument's front panel and
+// the platform's top as planar targets with their templates and per-object thresholds.
+LabGeometry lab_geometry_from(const LabDescription& lab);
 
 }  // namespace labo

@@ -1,11 +1,18 @@
 #include "control/lab_pipelines.hpp"
 
 #include <numbers>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+#include "core/frames.hpp"
 
 namespace labo {
 
 namespace {
 constexpr int kPlatformIndex = 0;  // object indices: platform 0, instruments 1..n in lab order
+// Beyond this 1-sigma position uncertainty a predicted distance could pick the wrong detector or
+// narrow the template search away from the target: the planar front-end then searches at every scale.
+constexpr double kMaxSigmaForDistanceM = 0.5;
 
 FeedbackSource feedback_of(LocalizationSource s) {
   switch (s) {
@@ -25,7 +32,13 @@ Eigen::Isometry3d flip_about_y() {
 }
 
 LabPipelines::LabPipelines(LabGeometry lab, const EstimatorConfig& config, const VisionThresholds& thresholds)
-    : lab_(std::move(lab)), estimator_(config, thresholds) {}
+    : lab_(std::move(lab)), estimator_(config, thresholds), instrument_fes_(lab_.instruments.size()) {}
+
+void LabPipelines::set_instrument_front_end(const std::string& id, std::unique_ptr<TargetFrontEnd> front_end) {
+  const int index = instrument_index(id);
+  if (index < 0) throw std::invalid_argument("LabPipelines: no instrument '" + id + "' in the lab");
+  instrument_fes_[static_cast<std::size_t>(index - 1)] = std::move(front_end);
+}
 
 int LabPipelines::instrument_index(const std::string& id) const {
   for (std::size_t i = 0; i < lab_.instruments.size(); ++i)
@@ -40,12 +53,62 @@ void LabPipelines::on_navdata(const NavdataSample& sample) { estimator_.add_navd
 void LabPipelines::on_command(const MoveCommand& command, Seconds t) { estimator_.add_command(command, t); }
 
 void LabPipelines::on_video(const VideoFrame& frame) {
-  if (frame.camera == CameraId::Front && instrument_fe_ && !focus_.instrument_id.empty())
-    if (auto r = instrument_fe_->process(frame, focus_)) add_instrument_result(*r);
-  if (frame.camera == CameraId::Bottom && platform_fe_ && focus_.platform)
-    if (auto r = platform_fe_->process(frame, focus_)) add_platform_result(*r);
-  if (frame.camera == CameraId::Front && face_fe_ && focus_.face)
-    if (auto r = face_fe_->process(frame, focus_)) add_face_result(*r);
+  if (frame.bgr.empty()) return;
+  if (frame.camera == CameraId::Front) run_front_camera(frame);
+  else run_bottom_camera(frame);
+}
+
+std::optional<double> LabPipelines::expected_distance(const Eigen::Isometry3d& T_world_target, CameraId camera,
+                                                      Seconds t) const {
+  const FusedState f = estimator_.predict(t);
+  if (!f.initialized || f.position_sigma_m > kMaxSigmaForDistanceM) return std::nullopt;
+  const Eigen::Isometry3d T_body_cam = camera == CameraId::Front ? T_body_cam_front() : T_body_cam_bottom();
+  return ((f.T_world_body * T_body_cam).inverse() * T_world_target).translation().norm();
+}
+
+const cv::Mat* LabPipelines::grey_of(const cv::Mat& image) {
+  // BGR as decoded; grey passes through; anything else is no camera frame (the front-ends refuse
+  // wrong sizes themselves).
+  if (image.type() == CV_8UC1) return &image;
+  if (image.type() != CV_8UC3) return nullptr;
+  cv::cvtColor(image, gray_, cv::COLOR_BGR2GRAY);  // reuses gray_ at a steady frame size
+  return &gray_;
+}
+
+void LabPipelines::run_front_camera(const VideoFrame& frame) {
+  const bool instrument = !focus_.instrument_id.empty();
+  const bool want = (slam_fe_ && focus_.slam) || (face_fe_ && focus_.face) || instrument;
+  if (!want) return;
+  const cv::Mat* gray = grey_of(frame.bgr);
+  if (!gray) return;
+  if (slam_fe_ && focus_.slam) {
+    const SlamFrame& s = slam_fe_->process(*gray, frame.t);
+    add_slam_result(s.T_map_cam, s.summary, s.map_id, frame.t);
+  }
+  if (instrument) {
+    const int index = instrument_index(focus_.instrument_id);
+    if (index > 0) {
+      if (auto& fe = instrument_fes_[static_cast<std::size_t>(index - 1)]) {
+        const Eigen::Isometry3d T_world_object = estimator_.T_world_object(index).value_or(
+            lab_.instruments[static_cast<std::size_t>(index - 1)].T_world_object);
+        add_instrument_result(fe->process(*gray, frame.t, expected_distance(T_world_object, CameraId::Front, frame.t)));
+      }
+    }
+  }
+  if (face_fe_ && focus_.face) add_face_result(face_fe_->process(*gray, frame.t, std::nullopt));
+}
+
+void LabPipelines::run_bottom_camera(const VideoFrame& frame) {
+  // SLAM sees nothing while the bottom camera streams: reported off, not as its last state.
+  if (slam_fe_) {
+    const SlamFrame& s = slam_fe_->pause();
+    add_slam_result(s.T_map_cam, s.summary, s.map_id, frame.t);
+  }
+  if (!platform_fe_ || !focus_.platform) return;
+  const cv::Mat* gray = grey_of(frame.bgr);
+  if (!gray) return;
+  const Eigen::Isometry3d T_world_platform = estimator_.T_world_object(kPlatformIndex).value_or(lab_.platform.T_world_object);
+  add_platform_result(platform_fe_->process(*gray, frame.t, expected_distance(T_world_platform, CameraId::Bottom, frame.t)));
 }
 
 void LabPipelines::add_instrument_result(const TargetObservation& obs) {

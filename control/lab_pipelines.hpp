@@ -4,8 +4,10 @@
 // (SLAM far, the instrument's or platform's homography near, the face in face-follow).
 //
 // Vision results come in through add_*_result(), stamped with their frame time: from the vision
-// front-ends run on each frame by on_video() (a VisionFrontEnds member per camera, wired as the
-// planar/SLAM/face branches land), or from a perception model in the lockstep experiments.
+// front-ends (control/vision_front_end.hpp) run by on_video() on each frame, as the current focus
+// selects - SLAM on front frames, the focused instrument's panel in the front camera, the platform in
+// the bottom camera, the face in face-follow - or from a perception model in the lockstep experiments.
+// make_lab_pipelines() (control/lab_pipelines_factory.hpp) attaches the real front-ends.
 // Convention: every TargetObservation's T_cam_target has z pointing into the target (away from a viewer
 // in front of it), for panels and faces alike; faces are converted at this edge.
 #include <memory>
@@ -14,24 +16,21 @@
 
 #include "control/lab_geometry.hpp"
 #include "control/localization_pipelines.hpp"
+#include "control/vision_front_end.hpp"
 #include "localization/estimation/state_estimator.hpp"
 
 namespace labo {
-
-// Optional per-frame vision; each returns nothing when it has no result for this frame.
-class VisionFrontEnd {
- public:
-  virtual ~VisionFrontEnd() = default;
-  virtual std::optional<TargetObservation> process(const VideoFrame& frame, const PerceptionFocus& focus) = 0;
-};
 
 class LabPipelines final : public LocalizationPipelines {
  public:
   LabPipelines(LabGeometry lab, const EstimatorConfig& config, const VisionThresholds& thresholds);
 
-  void set_instrument_front_end(std::unique_ptr<VisionFrontEnd> front_end) { instrument_fe_ = std::move(front_end); }
-  void set_platform_front_end(std::unique_ptr<VisionFrontEnd> front_end) { platform_fe_ = std::move(front_end); }
-  void set_face_front_end(std::unique_ptr<VisionFrontEnd> front_end) { face_fe_ = std::move(front_end); }
+  // Front-ends run by on_video(); without one, that kind of result only comes through add_*_result().
+  // Throws std::invalid_argument for an instrument id the lab does not have.
+  void set_instrument_front_end(const std::string& id, std::unique_ptr<TargetFrontEnd> front_end);
+  void set_platform_front_end(std::unique_ptr<TargetFrontEnd> front_end) { platform_fe_ = std::move(front_end); }
+  void set_face_front_end(std::unique_ptr<TargetFrontEnd> front_end) { face_fe_ = std::move(front_end); }
+  void set_slam_front_end(std::unique_ptr<SlamFrontEnd> front_end) { slam_fe_ = std::move(front_end); }
 
   // Vision results (frame-stamped). The estimator is corrected only by the chosen source.
   void add_instrument_result(const TargetObservation& obs);
@@ -56,13 +55,22 @@ class LabPipelines final : public LocalizationPipelines {
 
  private:
   int instrument_index(const std::string& id) const;
+  // Camera to target, as the estimator predicts it for a frame at t; empty when the estimate is too
+  // uncertain to choose a detector with.
+  std::optional<double> expected_distance(const Eigen::Isometry3d& T_world_target, CameraId camera, Seconds t) const;
+  const cv::Mat* grey_of(const cv::Mat& image);
+  void run_front_camera(const VideoFrame& frame);
+  void run_bottom_camera(const VideoFrame& frame);
 
   LabGeometry lab_;
   StateEstimator estimator_;
   PerceptionFocus focus_;
   TargetObservation instrument_, platform_, face_;
   SlamSummary slam_;
-  std::unique_ptr<VisionFrontEnd> instrument_fe_, platform_fe_, face_fe_;
+  std::vector<std::unique_ptr<TargetFrontEnd>> instrument_fes_;  // parallel to lab_.instruments
+  std::unique_ptr<TargetFrontEnd> platform_fe_, face_fe_;
+  std::unique_ptr<SlamFrontEnd> slam_fe_;
+  cv::Mat gray_;  // the frame in grey, reused
 };
 
 // Rotation by pi about y: between "z into the face" (control) and "z out of the face" (face/).

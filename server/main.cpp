@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "control/experiments/bench_vision_command.hpp"
 #include "control/experiments/sim_commands.hpp"
 #include "core/cli_args.hpp"
 #include "core/config_reader.hpp"
@@ -18,8 +19,16 @@
 #include "localization/estimation/eval/sim_estimate_command.hpp"
 #include "server/serve_command.hpp"
 #include "drone/lab/lab_commands.hpp"
+#include "drone/sim/bench_sim_command.hpp"
+#include "drone/sim/emulate_command.hpp"
+#include "drone/sim/render_commands.hpp"
+#include "localization/face/teacher_head.hpp"
 
 namespace {
+
+// The simulated teacher's face for the commands that run the simulated lab (drone/ cannot call
+// localization/).
+labo::TexturedHeadModel teacher_head(const labo::LabDescription& lab) { return labo::face::load_lab_teacher_head(lab); }
 
 struct Subcommand {
   const labo::CommandSpec& spec;
@@ -37,12 +46,19 @@ std::vector<Subcommand> subcommands() {
       {labo::face_bench_command_spec(), labo::run_face_bench_command},
       {labo::face_register_command_spec(), labo::run_face_register_command},
       {labo::bench_link_command_spec(), labo::run_bench_link_command},
+      {labo::bench_vision_command_spec(), labo::run_bench_vision_command},
       {labo::hash_password_command_spec(), labo::run_hash_password_command},
       {labo::sim_inspect_command_spec(), labo::run_sim_inspect_command},
       {labo::sim_perturb_command_spec(), labo::run_sim_perturb_command},
       {labo::sim_face_follow_command_spec(), labo::run_sim_face_follow_command},
       {labo::sim_textures_command_spec(), labo::run_sim_textures_command},
       {labo::sim_lab_command_spec(), labo::run_sim_lab_command},
+      {labo::sim_render_command_spec(),
+       [](const labo::ParsedArgs& a) { return labo::run_sim_render_command(a, teacher_head); }},
+      {labo::bench_render_command_spec(),
+       [](const labo::ParsedArgs& a) { return labo::run_bench_render_command(a, teacher_head); }},
+      {labo::emulate_command_spec(), [](const labo::ParsedArgs& a) { return labo::run_emulate_command(a, teacher_head); }},
+      {labo::bench_sim_command_spec(), [](const labo::ParsedArgs& a) { return labo::run_bench_sim_command(a, teacher_head); }},
       {labo::sim_compare_slam_command_spec(), labo::run_sim_compare_slam_command},
       {labo::sim_estimate_command_spec(), labo::run_sim_estimate_command},
   };

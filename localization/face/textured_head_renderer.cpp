@@ -35,15 +35,20 @@ TexturedHead texture_head_from_photo(FacePoseEstimator& estimator, const Candide
   return head;
 }
 
+std::vector<Eigen::Vector3d> head_vertices_m(const Candide3Model& candide, const TexturedHead& head) {
+  const std::vector<double> tau(head.shape_params.data(), head.shape_params.data() + head.shape_params.size());
+  std::vector<Eigen::Vector3d> vertices = candide.deformed(tau);
+  // The same metric scale as the estimator's landmark model: eye centres `ipd` apart.
+  const FaceLandmarkModel lm = make_face_landmark_model(candide, load_ibug68_mapping(default_ibug68_mapping_path()));
+  const double mpu = lm.metres_per_unit(head.shape_params, head.interpupillary_distance_m);
+  for (auto& v : vertices) v *= mpu;
+  return vertices;
+}
+
 TexturedHeadRenderer::TexturedHeadRenderer(const Candide3Model& candide, TexturedHead head, const PinholeCamera& camera)
     : triangles_(candide.triangles()), head_(std::move(head)), camera_(camera) {
   if (head_.texture.empty() || head_.texture.type() != CV_8UC1) throw std::invalid_argument("head renderer: texture must be 8-bit grey");
-  const std::vector<double> tau(head_.shape_params.data(), head_.shape_params.data() + head_.shape_params.size());
-  const auto vertices = candide.deformed(tau);
-  // The same metric scale as the estimator's landmark model: eye centres `ipd` apart.
-  const FaceLandmarkModel lm = make_face_landmark_model(candide, load_ibug68_mapping(default_ibug68_mapping_path()));
-  const double mpu = lm.metres_per_unit(head_.shape_params, head_.interpupillary_distance_m);
-  for (const auto& v : vertices) vertices_m_.push_back(v * mpu);
+  vertices_m_ = head_vertices_m(candide, head_);
   // Distortion maps: for every distorted (real) pixel, the ideal pixel it shows.
   const auto& k = camera_.intrinsics();
   map_x_.create(k.height, k.width, CV_32FC1);

@@ -26,6 +26,10 @@ struct TexturedHead {
 TexturedHead texture_head_from_photo(FacePoseEstimator& estimator, const Candide3Model& candide,
                                      const cv::Mat& photo_gray, double interpupillary_distance_m);
 
+// The head's CANDIDE-3 vertices in the face frame, metres: the fitted shape at the estimator's metric
+// scale (eye centres `interpupillary_distance_m` apart).
+std::vector<Eigen::Vector3d> head_vertices_m(const Candide3Model& candide, const TexturedHead& head);
+
 class TexturedHeadRenderer {
  public:
   TexturedHeadRenderer(const Candide3Model& candide, TexturedHead head, const PinholeCamera& camera);

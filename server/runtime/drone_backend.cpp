@@ -6,8 +6,12 @@
 #include <thread>
 
 #include "control/flight_stack.hpp"
+#include "drone/ardrone2/ardrone_emulator.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
+#include "drone/lab/lab_description.hpp"
 #include "drone/replay/replay_link.hpp"
+#include "drone/sim/sim_setup.hpp"
+#include "localization/face/teacher_head.hpp"
 #include "server/runtime/flight_runtime.hpp"
 #include "server/runtime/flight_stack_core.hpp"
 
@@ -16,14 +20,16 @@ namespace labo {
 namespace {
 
 FlightStackSetup flight_setup(const AppConfig& config) {
-  // The lab's geometry (instruments, base, room) comes from the simulated lab's description
-  // (branch sim); until it is merged the room is control's default and no instrument is known, so
-  // inspect requests are refused by FlightStack with the reason.
+  // The lab's geometry (room, base, instruments, platform) from the lab description the config
+  // names (validated when the config was loaded).
   FlightStackSetup setup;
+  setup.lab = lab_geometry_from(config.lab);
   setup.control = config.control;
   setup.cameras = config.cameras;
   setup.vision = config.vision;
   setup.estimation = config.estimation;
+  // The real vision pipelines on the drone's frames (control/lab_pipelines_factory.hpp).
+  setup.front_ends = FrontEndSettings{config.planar, config.slam, config.face, true};
   return setup;
 }
 
@@ -101,17 +107,67 @@ class ReplayBackend final : public DroneBackend {
   std::thread player_;
 };
 
+// The simulated lab as an AR.Drone 2.0 on loopback, flown by the real driver: SimulatedLab under
+// ArdroneEmulator (real time, free ports so several servers and tests can run side by side),
+// ArdroneLink connected to it, and the flight runtime on top exactly as for a real drone.
+class SimBackend final : public DroneBackend {
+ public:
+  SimBackend(const AppConfig& config, Logger log)
+      : lab_(make_lab(config)),
+        emulator_(*lab_, emulator_settings(config), log.child("emulator")),
+        link_(link_settings(config, emulator_), log.child("link")),
+        core_(std::make_unique<FlightStack>(flight_setup(config)), config.cameras),
+        runtime_(link_, core_, clock_, runtime_options(config), log) {
+    runtime_.start();
+    link_.start();
+  }
+  ~SimBackend() override {
+    runtime_.land_and_stop(0);  // the web server has landed the drone already
+    link_.stop();
+    emulator_.stop();
+  }
+  FlightService& flight() override { return runtime_; }
+
+ private:
+  // The lab's cameras show the teacher's face textured from their photograph, built here because
+  // drone/ cannot call localization/.
+  static std::unique_ptr<SimulatedLab> make_lab(const AppConfig& config) {
+    return make_simulated_lab(config.lab, config.cameras, config.sim.lab, face::load_lab_teacher_head(config.lab, config.face));
+  }
+  static ArdroneEmulatorSettings emulator_settings(const AppConfig& config) {
+    ArdroneEmulatorSettings s = config.emulator;
+    s.bind_host = "127.0.0.1";
+    s.at_port = s.navdata_port = s.video_port = 0;
+    return s;
+  }
+  // Starts the emulator (its ports are known once bound) and points the driver at it.
+  static ArdroneLinkSettings link_settings(const AppConfig& config, ArdroneEmulator& emulator) {
+    emulator.start();
+    ArdroneLinkSettings s = config.link;
+    s.host = "127.0.0.1";
+    s.at_port = emulator.at_port();
+    s.navdata_port = emulator.navdata_port();
+    s.video_port = emulator.video_port();
+    return s;
+  }
+
+  std::unique_ptr<SimulatedLab> lab_;
+  ArdroneEmulator emulator_;
+  SteadyClock clock_;
+  ArdroneLink link_;
+  FlightStackCore core_;
+  FlightRuntime runtime_;
+};
+
 }  // namespace
 
 std::unique_ptr<DroneBackend> make_drone_backend(const DroneSpec& spec, const AppConfig& config, Logger log) {
   switch (spec.kind) {
     case DroneSpec::Kind::Ardrone: return std::make_unique<ArdroneBackend>(spec, config, std::move(log));
     case DroneSpec::Kind::Replay: return std::make_unique<ReplayBackend>(spec, config, std::move(log));
-    case DroneSpec::Kind::Sim: break;
+    case DroneSpec::Kind::Sim: return std::make_unique<SimBackend>(config, std::move(log));
   }
-  // The simulated lab (SimulatedLab under ArdroneEmulator) is branch sim's; not merged in this build.
-  throw std::runtime_error("--drone sim needs the simulated lab (branch sim), not merged in this build yet; "
-                           "use --drone ardrone[:HOST] or --drone replay:FILE");
+  throw std::logic_error("unknown drone kind");
 }
 
 }  // namespace labo

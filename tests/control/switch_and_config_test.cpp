@@ -36,9 +36,16 @@ TEST_CASE("control: localization switch uses homography near, SLAM far, with hys
   in.t = 3.6;
   CHECK(sw.update(in) == FeedbackSource::DeadReckoning);
   in.target_state = TrackState::Tracking;
-  in.target_distance_m = 2.1;  // beyond near_to_far: never homography
+  in.target_distance_m = 3.5;  // far, but better than dead reckoning once held 0.5 s
   in.t = 5.0;
   CHECK(sw.update(in) == FeedbackSource::DeadReckoning);
+  in.t = 5.6;
+  CHECK(sw.update(in) == FeedbackSource::Homography);
+  in.slam = SlamState::Good;  // SLAM back: far, so SLAM once it has been good for 0.5 s
+  in.t = 6.0;
+  CHECK(sw.update(in) == FeedbackSource::Homography);
+  in.t = 6.6;
+  CHECK(sw.update(in) == FeedbackSource::Slam);
 }
 
 TEST_CASE("control: geofence keeps the margin and names the violated bound") {

@@ -1,5 +1,8 @@
 #include <catch2/catch.hpp>
 
+#include <filesystem>
+#include <fstream>
+
 #include "server/app_config.hpp"
 
 using namespace labo;
@@ -37,4 +40,29 @@ TEST_CASE("app config: bad sections are refused with the key path") {
   CHECK_THAT(error_of(R"({"servre": {}})"), Catch::Contains("bad.json: unknown key servre"));
   CHECK_THAT(error_of(R"({"log_level": "loud"})"), Catch::Contains("log_level: found \"loud\""));
   CHECK_THAT(error_of(R"({"cameras": {"front": {}}})"), Catch::Contains("cameras.front.width: missing"));
+}
+
+TEST_CASE("app config: the lab description it names is loaded and validated") {
+  const AppConfig c = load_app_config(default_config_path());
+  CHECK(c.lab_file == default_config_path().parent_path() / "lab.json");
+  REQUIRE(c.lab.instruments.size() == 3);
+  CHECK(c.lab.find_instrument("oscilloscope"));
+
+  const auto dir = std::filesystem::temp_directory_path() / "labo_app_config_lab_test";
+  std::filesystem::create_directories(dir);
+  auto error_of = [&](const std::string& text) -> std::string {
+    try {
+      const ConfigDocument doc = ConfigDocument::parse(text, "bad.json");
+      read_app_config(doc.root(), dir);
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  CHECK_THAT(error_of(R"({"lab": "missing_lab.json"})"),
+             Catch::Contains("bad.json: lab: no lab description at ") && Catch::Contains("missing_lab.json"));
+  // A lab file with an error is refused with the lab file's name and key path.
+  std::ofstream(dir / "broken_lab.json") << R"({"room": {"min": [0, 0, 0], "max": [1, 1, 1]}})";
+  CHECK_THAT(error_of(R"({"lab": "broken_lab.json"})"), Catch::Contains("broken_lab.json") && Catch::Contains("room"));
+  std::filesystem::remove_all(dir);
 }

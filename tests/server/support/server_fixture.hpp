@@ -25,6 +25,10 @@ struct ServerFixture {
     std::filesystem::create_directories(dir / "config");
     config_file = dir / "config" / "default.json";
     std::filesystem::copy_file(default_config_path(), config_file);
+    // The lab description it names (validated with the config) and its panels' templates.
+    const auto source_config = default_config_path().parent_path();
+    std::filesystem::copy_file(source_config / "lab.json", dir / "config" / "lab.json");
+    std::filesystem::copy(source_config / "instruments", dir / "config" / "instruments");
     settings = default_server_settings(dir / "config");
     settings.port = 0;
     settings.web_root = labo::source_root() / "web";

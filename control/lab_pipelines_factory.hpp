@@ -1,0 +1,17 @@
+#pragma once
+// LabPipelines with the real vision front-ends: a PlanarFrontEnd per instrument with a template
+// (front camera) and for the landing platform (bottom camera), the SLAM front-end on the front
+// camera, and the face front-end for the teacher. Used by FlightStack when its setup asks for real
+// vision (the server, `labodrone sim ... --vision real`).
+#include <memory>
+
+#include "control/flight_stack.hpp"
+#include "control/lab_pipelines.hpp"
+
+namespace labo {
+
+// Throws std::invalid_argument (a template that cannot be used, naming the target) or
+// std::runtime_error (a face model file that cannot be read, naming it).
+std::unique_ptr<LabPipelines> make_lab_pipelines(const FlightStackSetup& setup, const FrontEndSettings& settings);
+
+}  // namespace labo

@@ -1,0 +1,54 @@
+#include "control/slam_front_end.hpp"
+
+#include <stdexcept>
+
+namespace labo {
+
+SlamState slam_state_of(slam::TrackingState state) {
+  switch (state) {
+    case slam::TrackingState::Initializing: return SlamState::Initializing;
+    case slam::TrackingState::Good: return SlamState::Good;
+    case slam::TrackingState::Dodgy: return SlamState::Dodgy;
+    case slam::TrackingState::Lost: return SlamState::Lost;
+  }
+  return SlamState::Lost;
+}
+
+SlamSystemFrontEnd::SlamSystemFrontEnd(std::unique_ptr<slam::SlamSystem> slam) : slam_(std::move(slam)) {
+  if (!slam_) throw std::invalid_argument("SlamSystemFrontEnd: no SLAM system");
+}
+
+void SlamSystemFrontEnd::restart_map() {
+  slam_->reset();
+  ++frame_.map_id;
+  frame_.has_pose = false;
+  frame_.summary = SlamSummary{};
+}
+
+const SlamFrame& SlamSystemFrontEnd::pause() {
+  frame_.has_pose = false;
+  frame_.summary.state = SlamState::Off;
+  frame_.summary.points_found = frame_.summary.points_attempted = 0;
+  return frame_;
+}
+
+const SlamFrame& SlamSystemFrontEnd::process(const cv::Mat& gray, Seconds t) {
+  result_ = slam_->track(gray, t);
+  SlamSummary& s = frame_.summary;
+  s.state = slam_state_of(result_.state);
+  s.points_found = result_.points_found;
+  s.points_attempted = result_.points_attempted;
+  frame_.has_pose = result_.T_cam_map.has_value() &&
+                    (result_.state == slam::TrackingState::Good || result_.state == slam::TrackingState::Dodgy);
+  if (frame_.has_pose) frame_.T_map_cam = result_.T_cam_map->inverse();
+  // The map's size changes only with keyframes; status() copies the map's points, so it is read
+  // then and not on every frame.
+  if (result_.keyframe_added || result_.relocalized) {
+    const slam::SlamStatus status = slam_->status();
+    s.keyframes = status.keyframes;
+    s.map_points = status.map_points;
+  }
+  return frame_;
+}
+
+}  // namespace labo

@@ -1,0 +1,83 @@
+#include "drone/sim/emulate_command.hpp"
+
+#include <csignal>
+#include <ctime>
+#include <iomanip>
+#include <iostream>
+
+#include "core/log.hpp"
+#include "core/source_tree.hpp"
+#include "drone/ardrone2/ardrone_emulator.hpp"
+#include "drone/sim/sim_setup.hpp"
+
+namespace labo {
+
+namespace {
+
+// Blocks SIGINT and SIGTERM in this thread and in the threads it starts afterwards, so that they
+// are taken by wait_for_signal() instead of killing the process mid-packet.
+sigset_t block_stop_signals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  return set;
+}
+
+// True when a stop signal arrived within `timeout_s`.
+bool wait_for_signal(const sigset_t& set, double timeout_s) {
+  timespec ts;
+  ts.tv_sec = static_cast<time_t>(timeout_s);
+  ts.tv_nsec = static_cast<long>((timeout_s - static_cast<double>(ts.tv_sec)) * 1e9);
+  return sigtimedwait(&set, nullptr, &ts) > 0;
+}
+
+}  // namespace
+
+const CommandSpec& emulate_command_spec() {
+  static const CommandSpec spec{
+      "emulate",
+      "",
+      "Run the simulated lab as an AR.Drone 2.0 (UDP 5556/5554, TCP 5555) until Ctrl-C.",
+      {{"--config", "FILE", "configuration file: cameras, emulator ports, lab, sim (default: config/default.json)"},
+       {"--bind", "ADDR", "address to listen on (default: the config's emulator.bind_host, 127.0.0.1)"},
+       {"--lab", "FILE", "lab description (default: the config's lab)"},
+       {"--seconds", "S", "stop after S seconds (default: run until Ctrl-C)"}},
+      0,
+      0};
+  return spec;
+}
+
+int run_emulate_command(const ParsedArgs& args, const TeacherHeadLoader& load_head) {
+  const std::filesystem::path config_file =
+      args.value_or("--config", (source_root() / "config" / "default.json").string());
+  const double seconds = args.number_or("--seconds", 0.0, 0.0, 1e9);
+  const std::optional<std::string> lab_file = args.value("--lab");
+  SimInputs in = load_sim_inputs(config_file, lab_file ? std::optional<std::filesystem::path>(*lab_file) : std::nullopt);
+  ArdroneEmulatorSettings& settings = in.emulator;
+  settings.bind_host = args.value_or("--bind", settings.bind_host);
+  const LabDescription& lab = in.lab;
+
+  const sigset_t stop_signals = block_stop_signals();
+  Logger log("labodrone", LogLevel::Info);
+  auto vehicle = make_simulated_lab(lab, in.cameras, in.sim.lab, load_head(lab));
+  ArdroneEmulator emulator(*vehicle, settings, log.child("emulator"));
+  emulator.start();  // throws naming the port when one is taken
+  std::cout << "AR.Drone 2.0 emulator on " << settings.bind_host << ": AT UDP " << emulator.at_port()
+            << ", navdata UDP " << emulator.navdata_port() << ", video TCP " << emulator.video_port() << " (lab "
+            << lab.source.string() << "); Ctrl-C stops" << std::endl;
+  SteadyClock clock;
+  while (!(seconds > 0 && clock.now() >= seconds)) {
+    const double wait = seconds > 0 ? std::min(10.0, seconds - clock.now()) : 10.0;
+    if (wait_for_signal(stop_signals, std::max(0.01, wait))) break;
+  }
+  emulator.stop();
+  const QuadrotorState& s = vehicle->truth();
+  std::cout << std::fixed << std::setprecision(2) << "stopped at t=" << s.t << " s: " << to_string(s.phase)
+            << " at (" << s.position_m.x() << ", " << s.position_m.y() << ", " << s.position_m.z() << ") m, battery "
+            << s.battery_percent << "%, crashes " << s.crashes << std::endl;
+  return 0;
+}
+
+}  // namespace labo

@@ -1,0 +1,14 @@
+#pragma once
+// `labodrone emulate`: the simulated lab as an AR.Drone 2.0 on UDP 5556/5554 and TCP 5555 (the
+// ports of the config's "emulator" section), in real time, until Ctrl-C. Any AR.Drone 2.0 client
+// (LaboDrone's own `serve --drone ardrone:127.0.0.1`, node-ar-drone, ardrone_autonomy) can fly it.
+// The teacher's face comes from the caller (`load_head`, localization/face/teacher_head.hpp).
+#include "core/cli_args.hpp"
+#include "drone/sim/head_model.hpp"
+
+namespace labo {
+
+const CommandSpec& emulate_command_spec();
+int run_emulate_command(const ParsedArgs& args, const TeacherHeadLoader& load_head);
+
+}  // namespace labo

@@ -1,0 +1,59 @@
+#include <catch2/catch.hpp>
+
+#include "control/flight_stack.hpp"
+#include "control/lab_geometry.hpp"
+#include "drone/lab/lab_description.hpp"
+
+using namespace labo;
+
+TEST_CASE("control: lab_geometry_from maps config/lab.json's room, base, instruments and platform") {
+  const LabDescription lab = load_lab_description(default_lab_path());
+  const LabGeometry g = lab_geometry_from(lab);
+  CHECK(g.room_min.isApprox(Eigen::Vector3d(-1.5, -3.0, 0.0)));
+  CHECK(g.room_max.isApprox(Eigen::Vector3d(6.5, 3.0, 3.0)));
+  // The drone starts on the platform's top, 0.10 m above the floor, facing +x.
+  CHECK(g.base.isApprox(Eigen::Vector3d(0.0, 0.0, 0.10)));
+  CHECK(g.base_yaw_rad == Approx(0.0).margin(1e-12));
+
+  REQUIRE(g.instruments.size() == 3);
+  const PlanarTarget* osc = g.find_instrument("oscilloscope");
+  REQUIRE(osc);
+  CHECK(osc->name == "Oscilloscope DS-1054");
+  CHECK(osc->width_m == Approx(0.40));
+  CHECK(osc->height_m == Approx(0.20));
+  CHECK(osc->T_world_object.translation().isApprox(Eigen::Vector3d(5.85, -1.2, 1.0)));
+  // Facing 180 deg: a viewer looks along +x, which is the object's z (into the panel); y is down.
+  CHECK(osc->T_world_object.linear().col(2).isApprox(Eigen::Vector3d::UnitX(), 1e-9));
+  CHECK(osc->T_world_object.linear().col(1).isApprox(-Eigen::Vector3d::UnitZ(), 1e-9));
+  CHECK(std::filesystem::exists(osc->template_path));
+  CHECK(osc->sift_switch_distance_m == Approx(2.0));
+  CHECK(osc->sift_min_inliers == 20);
+  const PlanarTarget* gen = g.find_instrument("signal_generator");
+  REQUIRE(gen);
+  CHECK(gen->sift_switch_distance_m == Approx(1.8));
+  CHECK(gen->sift_min_inliers == 16);
+  CHECK_FALSE(g.find_instrument("platform"));  // the platform is not an instrument to inspect
+
+  CHECK(g.platform.id == "platform");
+  CHECK(g.platform.width_m == Approx(0.60));
+  CHECK(g.platform.T_world_object.translation().isApprox(Eigen::Vector3d(0.0, 0.0, 0.10)));
+  CHECK(g.platform.T_world_object.linear().col(2).isApprox(-Eigen::Vector3d::UnitZ(), 1e-9));  // z down, into it
+  CHECK(std::filesystem::exists(g.platform.template_path));
+}
+
+TEST_CASE("control: a FlightStack on the lab's geometry accepts its instruments and refuses others by name") {
+  FlightStackSetup setup;
+  setup.lab = lab_geometry_from(load_lab_description(default_lab_path()));
+  FlightStack stack(setup);
+  MissionRequest r;
+  r.kind = RequestKind::Inspect;
+  r.instrument_id = "multimeter";
+  const CommandResult refused = stack.request(r, 0.0);
+  CHECK_FALSE(refused.accepted);
+  CHECK_THAT(refused.reason, Catch::Contains("multimeter") && Catch::Contains("oscilloscope") &&
+                                 Catch::Contains("signal_generator") && Catch::Contains("power_supply"));
+  r.instrument_id = "power_supply";
+  const CommandResult accepted = stack.request(r, 0.0);
+  INFO(accepted.reason);
+  CHECK(accepted.accepted);
+}

@@ -1,0 +1,259 @@
+#include <catch2/catch.hpp>
+
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "control/face_front_end.hpp"
+#include "control/lab_pipelines_factory.hpp"
+#include "control/planar_front_end.hpp"
+#include "control/slam_front_end.hpp"
+#include "core/candide3.hpp"
+#include "core/frames.hpp"
+#include "core/source_tree.hpp"
+#include "drone/lab/lab_description.hpp"
+#include "localization/face/textured_head_renderer.hpp"
+#include "localization/planar/synthetic_scene.hpp"
+#include "localization/slam/bench/bench_flights.hpp"
+#include "localization/slam/bench/synthetic_room.hpp"
+#include "localization/slam/bench/trajectory_metrics.hpp"
+
+using namespace labo;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+const LabGeometry& lab() {
+  static const LabGeometry g = lab_geometry_from(load_lab_description(default_lab_path()));
+  return g;
+}
+
+double angle_between(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
+}
+
+// A planar target of the lab drawn through a camera at a known pose, in front of a cluttered wall.
+struct PanelScene {
+  PlanarTarget target;
+  PinholeCamera camera;
+  cv::Mat templ = cv::imread(target.template_path.string(), cv::IMREAD_GRAYSCALE);
+  PlanarViewRenderer renderer{camera, make_clutter_background(cv::Size(1200, 1200), 5), 0.0025};
+
+  cv::Mat view(const Eigen::Isometry3d& T_cam_object) const {
+    return renderer.render(templ, target.width_m, target.height_m, T_cam_object);
+  }
+};
+
+// The front camera's pose in the world when the drone hovers at `body` (x, y, z) with `yaw`.
+Eigen::Isometry3d front_camera_at(const Eigen::Vector3d& body, double yaw) {
+  return make_pose(body, yaw) * T_body_cam_front();
+}
+
+VideoFrame bgr_frame(const cv::Mat& gray, Seconds t, CameraId camera) {
+  VideoFrame f;
+  f.t = t;
+  f.camera = camera;
+  cv::cvtColor(gray, f.bgr, cv::COLOR_GRAY2BGR);
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("vision front-ends: the instrument panel is detected near with SIFT, far with templates, then tracked") {
+  const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
+  for (const double distance : {1.2, 2.8}) {
+    PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, PlanarConfig{});
+    INFO("distance " << distance);
+    for (int i = 0; i < 4; ++i) {
+      // A slow drift to the right and forward, as the drone approaches.
+      const Eigen::Isometry3d truth =
+          look_at_object(Eigen::Vector3d(0.05 + 0.01 * i, -0.03, -distance + 0.01 * i), Eigen::Vector3d::Zero());
+      const TargetObservation& o = fe.process(scene.view(truth), i / 30.0, distance);
+      REQUIRE(o.state == TrackState::Tracking);
+      CHECK(o.t == Approx(i / 30.0));
+      CHECK((o.T_cam_target.translation() - truth.translation()).norm() < 0.02 * distance);
+      // A 0.4 m panel spans 80 px at 2.8 m: its tilt is known to a few degrees only.
+      CHECK(angle_between(o.T_cam_target, truth) < (distance < 2.0 ? 2.0 : 6.0) * kDeg);
+      CHECK(o.quality > 0.2);
+      REQUIRE(o.image_points.size() == 4);
+      // Corners in the raw (distorted) image, clockwise from the panel's top-left.
+      const auto corner = scene.camera.project(truth * Eigen::Vector3d(-osc.width_m / 2, -osc.height_m / 2, 0));
+      REQUIRE(corner);
+      CHECK(std::hypot(o.image_points[0].x - corner->x(), o.image_points[0].y - corner->y()) < 2.0);
+      if (i == 0) CHECK(o.method == (distance < 2.0 ? "sift" : "template"));  // lambda = 2 m for the oscilloscope
+      else CHECK(o.method == "ic");
+    }
+  }
+}
+
+TEST_CASE("vision front-ends: a panel out of view is lost with the reason, then found again") {
+  const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
+  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, PlanarConfig{});
+  const Eigen::Isometry3d seen = look_at_object(Eigen::Vector3d(0, 0, -1.0), Eigen::Vector3d::Zero());
+  REQUIRE(fe.process(scene.view(seen), 0.0, 1.0).state == TrackState::Tracking);
+  cv::Mat wall = scene.view(look_at_object(Eigen::Vector3d(2.0, 0, -1.0), Eigen::Vector3d(2.0, 0, 0)));  // beside it
+  const TargetObservation& lost = fe.process(wall, 1 / 30.0, 1.0);
+  CHECK(lost.state == TrackState::Lost);
+  CHECK_FALSE(lost.reason.empty());
+  CHECK(lost.image_points.empty());
+  CHECK(fe.process(scene.view(seen), 2 / 30.0, 1.0).state == TrackState::Tracking);
+  // A frame that is no camera frame is refused, not posed.
+  CHECK(fe.process(cv::Mat(10, 10, CV_8UC1, cv::Scalar(0)), 3 / 30.0, 1.0).reason == "bad_frame");
+}
+
+TEST_CASE("vision front-ends: a wrong predicted distance costs one frame, not the target") {
+  const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
+  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, PlanarConfig{});
+  const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d::Zero());
+  // Predicted at 1 m: SIFT runs, and the 70 px panel gives it too few inliers.
+  const TargetObservation& first = fe.process(scene.view(truth), 0.0, 1.0);
+  CHECK(first.state != TrackState::Tracking);
+  CHECK(first.reason == "not_found");
+  // The next frame runs both detectors: template matching finds it.
+  const TargetObservation& second = fe.process(scene.view(truth), 1 / 30.0, 1.0);
+  REQUIRE(second.state == TrackState::Tracking);
+  CHECK(second.method == "template");
+  CHECK((second.T_cam_target.translation() - truth.translation()).norm() < 0.06);
+}
+
+TEST_CASE("vision front-ends: a target without a template is refused by name") {
+  PlanarTarget t;
+  t.id = "modelled";
+  t.width_m = 0.4;
+  t.height_m = 0.2;
+  CHECK_THROWS_WITH(PlanarFrontEnd(t, PinholeCamera::ardrone2_front(), VisionThresholds{}, PlanarConfig{}),
+                    Catch::Contains("'modelled'") && Catch::Contains("no template"));
+  t.template_path = "/nonexistent/panel.png";
+  CHECK_THROWS_WITH(PlanarFrontEnd(t, PinholeCamera::ardrone2_front(), VisionThresholds{}, PlanarConfig{}),
+                    Catch::Contains("'modelled'"));
+}
+
+TEST_CASE("vision front-ends: LabPipelines runs the focused instrument on front frames and the platform on bottom frames") {
+  FlightStackSetup setup;
+  setup.lab = lab();
+  FrontEndSettings settings;
+  settings.with_face = false;
+  settings.slam.mapping_mode = slam::MappingMode::Synchronous;
+  const auto pipelines = make_lab_pipelines(setup, settings);
+  const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  // Hovering 1.3 m in front of the oscilloscope (the camera sits 0.2 m ahead of the body centre).
+  const Eigen::Vector3d body = osc.T_world_object.translation() - Eigen::Vector3d(1.5, 0.05, 0.0);
+  pipelines->reset(make_pose(body, 0.0), 0.0);
+  const Eigen::Isometry3d T_cam_osc = front_camera_at(body, 0.0).inverse() * osc.T_world_object;
+  const PanelScene panel{osc, PinholeCamera::ardrone2_front()};
+
+  PerceptionFocus focus;
+  focus.slam = false;
+  pipelines->set_focus(focus);
+  pipelines->on_video(bgr_frame(panel.view(T_cam_osc), 0.1, CameraId::Front));
+  CHECK(pipelines->instrument().state == TrackState::Off);  // not asked for: not run
+
+  focus.instrument_id = "oscilloscope";
+  pipelines->set_focus(focus);
+  pipelines->on_video(bgr_frame(panel.view(T_cam_osc), 0.2, CameraId::Front));
+  const TargetObservation o = pipelines->instrument();
+  REQUIRE(o.state == TrackState::Tracking);
+  CHECK(o.method == "sift");  // the estimator predicts 1.3 m, below the oscilloscope's lambda
+  CHECK((o.T_cam_target.translation() - T_cam_osc.translation()).norm() < 0.03);
+  CHECK(angle_between(o.T_cam_target, T_cam_osc) < 2.0 * kDeg);
+
+  // Above the platform, looking down with the bottom camera.
+  const Eigen::Vector3d above = lab().platform.T_world_object.translation() + Eigen::Vector3d(0.08, -0.05, 0.9);
+  pipelines->reset(make_pose(above, 0.0), 1.0);
+  const Eigen::Isometry3d T_cam_platform =
+      (make_pose(above, 0.0) * T_body_cam_bottom()).inverse() * lab().platform.T_world_object;
+  const PanelScene pad{lab().platform, PinholeCamera::ardrone2_bottom()};
+  focus.instrument_id.clear();
+  focus.platform = true;
+  pipelines->set_focus(focus);
+  pipelines->on_video(bgr_frame(pad.view(T_cam_platform), 1.1, CameraId::Bottom));
+  const TargetObservation p = pipelines->platform();
+  REQUIRE(p.state == TrackState::Tracking);
+  CHECK((p.T_cam_target.translation() - T_cam_platform.translation()).norm() < 0.03);
+  CHECK(angle_between(p.T_cam_target, T_cam_platform) < 2.0 * kDeg);
+  // SLAM sees nothing while the bottom camera streams.
+  CHECK(pipelines->slam().state == SlamState::Off);
+}
+
+TEST_CASE("vision front-ends: SLAM on front frames gives the camera's trajectory up to a similarity") {
+  const PinholeCamera camera = PinholeCamera::ardrone2_front();
+  const slam::SyntheticRoom room(camera);
+  slam::SlamSettings settings;
+  settings.mapping_mode = slam::MappingMode::Synchronous;
+  SlamSystemFrontEnd fe(std::make_unique<slam::SlamSystem>(camera, settings));
+  const slam::Flight flight = slam::approach_flight(room.panel_center());
+  std::vector<slam::PosePair> tracked;
+  bool initializing_seen = false;
+  for (std::size_t i = 0; i < flight.frames.size() && flight.frames[i].t < 6.0; ++i) {
+    const auto& f = flight.frames[i];
+    const SlamFrame& s = fe.process(room.render(f.T_world_cam, static_cast<unsigned>(i)), f.t);
+    initializing_seen = initializing_seen || s.summary.state == SlamState::Initializing;
+    CHECK(s.has_pose == (s.summary.state == SlamState::Good || s.summary.state == SlamState::Dodgy));
+    if (s.has_pose) tracked.push_back({f.t, s.T_map_cam, f.T_world_cam});
+  }
+  CHECK(initializing_seen);
+  REQUIRE(tracked.size() > 60);
+  const auto errors = slam::trajectory_errors(tracked);
+  REQUIRE(errors);
+  INFO("ATE " << errors->ate_rmse_m * 100 << " cm over " << errors->poses << " poses");
+  CHECK(errors->ate_rmse_m < 0.05);
+  CHECK(fe.process(room.render(flight.frames[200].T_world_cam, 999), 6.5).summary.keyframes >= 2);
+
+  const SlamFrame& paused = fe.pause();
+  CHECK(paused.summary.state == SlamState::Off);
+  CHECK_FALSE(paused.has_pose);
+  CHECK(paused.map_id == 1);
+  fe.restart_map();
+  const SlamFrame& again = fe.process(room.render(flight.frames[0].T_world_cam, 1000), 7.0);
+  CHECK(again.map_id == 2);
+  CHECK(again.summary.state == SlamState::Initializing);
+}
+
+namespace {
+// The front camera without distortion, like the face tests: the textured head renderer and the
+// estimator share it.
+PinholeCamera undistorted_front() { return PinholeCamera::ardrone2_front().without_distortion(); }
+
+Eigen::Isometry3d head_at(double yaw_deg, const Eigen::Vector3d& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = face::head_rotation({yaw_deg * kDeg, 0.0, 0.0});
+  T.translation() = t;
+  return T;
+}
+}  // namespace
+
+TEST_CASE("vision front-ends: the teacher's face gives a pose with z into the face and 68 landmarks") {
+  const face::FaceConfig config = face::default_face_config();
+  const Candide3Model candide = Candide3Model::load(config.model);
+  auto estimator = std::make_unique<face::FacePoseEstimator>(config, undistorted_front());
+  const cv::Mat photo = cv::imread((labo::source_root() / "assets" / "astronaut.png").string(), cv::IMREAD_GRAYSCALE);
+  REQUIRE_FALSE(photo.empty());  // run scripts/setup.sh
+  face::TexturedHead head = face::texture_head_from_photo(*estimator, candide, photo, 0.063);
+  estimator->set_person({"astronaut", 0.063, head.shape_params, 0}, false);
+  face::TexturedHeadRenderer renderer(candide, head, undistorted_front());
+  FaceFrontEnd fe(std::move(estimator));
+
+  const Eigen::Isometry3d T_cam_face = head_at(15, {0.04, -0.02, 1.0});
+  const TargetObservation* o = nullptr;
+  for (int i = 0; i < 4; ++i) {
+    cv::Mat img(360, 640, CV_8UC1, cv::Scalar(120));
+    renderer.render(T_cam_face, img);
+    o = &fe.process(img, i / 30.0, std::nullopt);
+  }
+  REQUIRE(o->state == TrackState::Tracking);
+  CHECK(o->image_points.size() == 68);
+  // face/ has z out of the face; control's targets have z into it.
+  const Eigen::Isometry3d expected = T_cam_face * flip_about_y();
+  CHECK((o->T_cam_target.translation() - expected.translation()).norm() < 0.05);
+  CHECK(angle_between(o->T_cam_target, expected) < 5.0 * kDeg);
+  CHECK(o->T_cam_target.linear().col(2).z() > 0.8);  // looking at the camera: z points away from it
+
+  cv::Mat empty(360, 640, CV_8UC1, cv::Scalar(120));
+  const TargetObservation& lost = fe.process(empty, 1.0, std::nullopt);
+  CHECK(lost.state == TrackState::Lost);
+  CHECK_FALSE(lost.reason.empty());
+}
