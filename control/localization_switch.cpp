@@ -13,7 +13,7 @@ bool LocalizationSwitch::held(bool condition, Seconds& since, Seconds t) const {
 
 void LocalizationSwitch::reset(FeedbackSource source) {
   current_ = source;
-  target_good_since_ = target_bad_since_ = slam_good_since_ = slam_bad_since_ = -1;
+  target_good_since_ = target_seen_since_ = target_bad_since_ = slam_good_since_ = slam_bad_since_ = -1;
   face_good_since_ = face_bad_since_ = -1;
 }
 
@@ -25,6 +25,8 @@ FeedbackSource LocalizationSwitch::update(const SwitchInputs& in) {
   const bool near = in.target_distance_m && *in.target_distance_m < params_.far_to_near_m;
   const bool far = !in.target_distance_m || *in.target_distance_m > params_.near_to_far_m;
   const bool target_good = held(tracking && near, target_good_since_, in.t);
+  // Tracked at any distance: better than dead reckoning when SLAM is not usable.
+  const bool target_seen = held(tracking, target_seen_since_, in.t);
   const bool target_gone = held(!tracking, target_bad_since_, in.t);
   const bool face_good = held(in.face_state == TrackState::Tracking, face_good_since_, in.t);
   const bool face_gone = held(in.face_state != TrackState::Tracking, face_bad_since_, in.t);
@@ -36,7 +38,7 @@ FeedbackSource LocalizationSwitch::update(const SwitchInputs& in) {
       if (!in.face_mode || face_gone) current_ = fallback();
       break;
     case FeedbackSource::Homography:
-      if (far || target_gone) current_ = fallback();
+      if (target_gone || (far && slam_good)) current_ = fallback();
       break;
     case FeedbackSource::Slam:
       if (slam_gone) current_ = FeedbackSource::DeadReckoning;
@@ -46,7 +48,8 @@ FeedbackSource LocalizationSwitch::update(const SwitchInputs& in) {
       break;
   }
   if (in.face_mode && face_good) current_ = FeedbackSource::Face;
-  else if (!in.face_mode && target_good) current_ = FeedbackSource::Homography;
+  else if (!in.face_mode && (target_good || (target_seen && current_ == FeedbackSource::DeadReckoning)))
+    current_ = FeedbackSource::Homography;
   return current_;
 }
 

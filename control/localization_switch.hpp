@@ -4,6 +4,8 @@
 // reckoning (navdata + prediction) when none is usable. Hysteresis in distance (homography below
 // far_to_near_m, back to SLAM above near_to_far_m) and in time (a source must be good for
 // source_hold_s before it is taken, and lost that long before it is dropped) keeps it from chattering.
+// When SLAM is not usable, a target tracked at any distance is taken over dead reckoning, and kept
+// beyond near_to_far_m until SLAM is good again.
 #include <optional>
 
 #include "control/control_config.hpp"
@@ -33,6 +35,7 @@ class LocalizationSwitch {
   MissionParameters params_;
   FeedbackSource current_ = FeedbackSource::DeadReckoning;
   Seconds target_good_since_ = -1;
+  Seconds target_seen_since_ = -1;
   Seconds target_bad_since_ = -1;
   Seconds slam_good_since_ = -1;
   Seconds slam_bad_since_ = -1;

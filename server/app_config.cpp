@@ -31,6 +31,7 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
   c.planar = root.has("planar") ? read_planar_config(root.object("planar")) : PlanarConfig{};
   c.slam = root.has("slam") ? slam::read_slam_settings(root.object("slam")) : slam::SlamSettings{};
   c.lab_file = resolve(base_dir, root.string_or("lab", "lab.json"));
+  c.sim = root.has("sim") ? read_sim_config(root.object("sim")) : SimConfig{};
   root.finish();
   // The lab is read last, so a misspelt key of this file is reported before a problem in the lab's.
   if (!std::filesystem::is_regular_file(c.lab_file))

@@ -12,6 +12,7 @@
 #include "drone/ardrone2/ardrone_emulator.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
 #include "drone/lab/lab_description.hpp"
+#include "drone/sim/sim_config.hpp"
 #include "localization/planar/planar_config.hpp"
 #include "localization/slam/slam_system.hpp"
 #include "localization/vision_thresholds.hpp"
@@ -33,6 +34,7 @@ struct AppConfig {
   ArdroneEmulatorSettings emulator;  // the AR.Drone 2.0 protocol emulator on loopback
   std::filesystem::path lab_file;  // "lab": the lab description, relative to the config file
   LabDescription lab;              // loaded from lab_file and validated (docs/sim.md)
+  SimConfig sim;                   // the simulated lab's physics, sensors, link, disturbances (docs/sim.md)
   face::FaceConfig face;
 };
 

@@ -19,6 +19,7 @@
 #include "localization/estimation/eval/sim_estimate_command.hpp"
 #include "server/serve_command.hpp"
 #include "drone/lab/lab_commands.hpp"
+#include "drone/sim/bench_sim_command.hpp"
 #include "drone/sim/emulate_command.hpp"
 #include "drone/sim/render_commands.hpp"
 #include "localization/face/teacher_head.hpp"
@@ -57,6 +58,7 @@ std::vector<Subcommand> subcommands() {
       {labo::bench_render_command_spec(),
        [](const labo::ParsedArgs& a) { return labo::run_bench_render_command(a, teacher_head); }},
       {labo::emulate_command_spec(), [](const labo::ParsedArgs& a) { return labo::run_emulate_command(a, teacher_head); }},
+      {labo::bench_sim_command_spec(), [](const labo::ParsedArgs& a) { return labo::run_bench_sim_command(a, teacher_head); }},
       {labo::sim_compare_slam_command_spec(), labo::run_sim_compare_slam_command},
       {labo::sim_estimate_command_spec(), labo::run_sim_estimate_command},
   };

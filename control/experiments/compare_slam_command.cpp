@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "control/experiments/experiment_common.hpp"
+#include "control/experiments/lockstep_flight.hpp"
 #include "control/experiments/sim_commands.hpp"
 #include "control/mission.hpp"
 #include "core/frames.hpp"
@@ -80,7 +81,7 @@ const CommandSpec& sim_compare_slam_command_spec() {
 
 int run_sim_compare_slam_command(const ParsedArgs& args) {
   const ExperimentOptions o = read_experiment_options(args);
-  const FlightStackSetup setup = experiment_setup(o);
+  const FlightStackSetup setup = make_experiment(o, false).setup;
   const PlanarTarget& inst = setup.lab.instruments.front();
   std::vector<double> slam_err, prop_err, slam_rel, prop_rel;
   double slam_visual = 0, prop_visual = 0, hold_ticks = 0;

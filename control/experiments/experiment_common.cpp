@@ -6,7 +6,11 @@
 #include <iostream>
 
 #include "control/experiments/flight_plot.hpp"
+#include "control/experiments/lockstep_flight.hpp"
 #include "control/experiments/model_lab.hpp"
+#include "control/experiments/sim_lab_flight.hpp"
+#include "control/front_end_settings.hpp"
+#include "core/camera_config.hpp"
 #include "core/config_reader.hpp"
 #include "core/source_tree.hpp"
 
@@ -20,8 +24,20 @@ std::vector<OptionSpec> experiment_option_specs() {
           {"--config", "FILE", "configuration to read the control section from (default config/default.json)"}};
 }
 
+std::vector<OptionSpec> real_vision_option_specs() {
+  return {{"--vision", "model|real",
+           "model (default): quadrotor and perception models; real: the simulated lab with rendered cameras and the "
+           "real vision pipelines"},
+          {"--fps", "N", "with --vision real: frames rendered and processed per second (default 30)"}};
+}
+
 ExperimentOptions read_experiment_options(const ParsedArgs& args) {
   ExperimentOptions o;
+  const std::string vision = args.value_or("--vision", "model");
+  if (vision != "model" && vision != "real") throw UsageError("--vision must be model or real (got '" + vision + "')");
+  o.real_vision = vision == "real";
+  o.video_fps = args.number_or("--fps", 30.0, 1.0, 60.0);
+  if (args.value("--fps") && !o.real_vision) throw UsageError("--fps needs --vision real");
   o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
   o.runs = args.integer_or("--runs", 1, 1, 10000);
   o.json = args.flag("--json");
@@ -36,29 +52,50 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args) {
   return o;
 }
 
-FlightStackSetup experiment_setup(const ExperimentOptions& options) {
-  FlightStackSetup setup;
-  setup.lab = model_lab();
+Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
+  Experiment e;
+  FlightStackSetup& setup = e.setup;
   const ConfigDocument doc = ConfigDocument::load(options.config);
   const ConfigReader root = doc.root();
   if (root.has("control")) setup.control = read_control_config(root.object("control"));
   if (root.has("estimation")) setup.estimation = read_estimation_config(root.object("estimation"));
   if (root.has("vision")) setup.vision = read_vision_thresholds(root.object("vision"));
-  // The quadrotor and perception models deliver navdata and vision results without link latency and
-  // act on commands at once: the estimator's delay compensation must not shift them.
+  // The models, and the simulated lab run directly (no link), deliver navdata and frames without
+  // latency and act on commands at once: the estimator's delay compensation must not shift them.
   setup.estimation.video_delay_s = 0;
   setup.estimation.navdata_delay_s = 0;
   setup.estimation.control_delay_s = 0;
-  return setup;
+  if (!options.real_vision) {
+    setup.lab = model_lab();
+    return e;
+  }
+  const std::filesystem::path base_dir = options.config.parent_path();
+  const std::filesystem::path lab_file = base_dir / root.string_or("lab", "lab.json");
+  e.lab = load_lab_description(lab_file.lexically_normal());
+  setup.lab = lab_geometry_from(*e.lab);
+  if (root.has("cameras")) setup.cameras = read_cameras_config(root.object("cameras"));
+  FrontEndSettings front_ends = read_front_end_settings(root, base_dir);
+  front_ends.slam.mapping_mode = slam::MappingMode::Synchronous;  // lockstep: the same flight every time
+  front_ends.with_face = with_face;
+  setup.front_ends = front_ends;
+  return e;
 }
 
-void write_run_outputs(const ExperimentOptions& options, const std::string& name, int index, const LockstepFlight& flight) {
+std::unique_ptr<ExperimentFlight> make_flight(const ExperimentOptions& options, const Experiment& experiment, unsigned seed) {
+  if (!experiment.lab) return std::make_unique<LockstepFlight>(experiment.setup, PerceptionModelConfig{}, seed);
+  SimLabFlightOptions o;
+  o.seed = seed;
+  o.video_fps = options.video_fps;
+  return std::make_unique<SimLabFlight>(experiment.setup, *experiment.lab, o);
+}
+
+void write_run_outputs(const ExperimentOptions& options, const std::string& name, int index, const ExperimentFlight& flight) {
   if (!options.out) return;
   const std::string stem = name + "_seed" + std::to_string(options.seed + static_cast<unsigned>(index));
   write_flight_csv(*options.out / (stem + ".csv"), flight.samples());
   if (index == 0)
     write_flight_svg(*options.out / (stem + ".svg"), flight.samples(),
-                     "labodrone sim " + name + " (seed " + std::to_string(options.seed) + "; quadrotor model, perception model)");
+                     "labodrone sim " + name + " (seed " + std::to_string(options.seed) + "; " + flight.description() + ")");
 }
 
 void report(const ExperimentOptions& options, const std::string& name, const nlohmann::json& summary,

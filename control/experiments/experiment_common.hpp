@@ -6,8 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "control/experiments/lockstep_flight.hpp"
+#include <memory>
+
+#include "control/experiments/experiment_flight.hpp"
 #include "core/cli_args.hpp"
+#include "drone/lab/lab_description.hpp"
 
 namespace labo {
 
@@ -17,14 +20,28 @@ struct ExperimentOptions {
   bool json = false;
   std::optional<std::filesystem::path> out;
   std::filesystem::path config;  // --config, default config/default.json
+  bool real_vision = false;      // --vision real: the simulated lab, rendered cameras, real front-ends
+  double video_fps = 30;         // --fps, with --vision real
 };
 
 std::vector<OptionSpec> experiment_option_specs();
+// --vision model|real and --fps, for the experiments that can fly the simulated lab.
+std::vector<OptionSpec> real_vision_option_specs();
 ExperimentOptions read_experiment_options(const ParsedArgs& args);
-// The setup the experiments fly: the model lab, config/default.json's control/estimation/vision.
-FlightStackSetup experiment_setup(const ExperimentOptions& options);
+
+// What the experiments fly: the setup (config's control/estimation/vision sections; the model lab,
+// or with --vision real the config's lab file, cameras and vision front-ends) and, with --vision
+// real, the lab description the simulated lab is built from.
+struct Experiment {
+  FlightStackSetup setup;
+  std::optional<LabDescription> lab;
+};
+// `with_face`: load the face front-end (find teacher) with --vision real.
+Experiment make_experiment(const ExperimentOptions& options, bool with_face);
+// One run's flight: LockstepFlight (models) or, with --vision real, SimLabFlight.
+std::unique_ptr<ExperimentFlight> make_flight(const ExperimentOptions& options, const Experiment& experiment, unsigned seed);
 // Writes run `index`'s CSV (and its SVG for the first run) under --out.
-void write_run_outputs(const ExperimentOptions& options, const std::string& name, int index, const LockstepFlight& flight);
+void write_run_outputs(const ExperimentOptions& options, const std::string& name, int index, const ExperimentFlight& flight);
 // Writes summary.json under --out, prints JSON (--json) or the text lines.
 void report(const ExperimentOptions& options, const std::string& name, const nlohmann::json& summary,
             const std::vector<std::string>& text_lines);

@@ -1,16 +1,13 @@
 #include "control/experiments/lockstep_flight.hpp"
 
+#include <algorithm>
+
 #include "core/frames.hpp"
 
 namespace labo {
 
 namespace {
 constexpr int kPhysicsSubsteps = 5;
-}
-
-Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T) {
-  const Eigen::Vector3d p = T.translation();
-  return {p.x(), p.y(), p.z(), ypr_from_rotation(T.linear())[0]};
 }
 
 LockstepFlight::LockstepFlight(const FlightStackSetup& setup, const PerceptionModelConfig& perception, unsigned seed)
@@ -21,13 +18,26 @@ LockstepFlight::LockstepFlight(const FlightStackSetup& setup, const PerceptionMo
   pipelines_ = pipelines.get();
   stack_ = std::make_unique<FlightStack>(setup, std::move(pipelines));
   samples_.reserve(20000);
+  // The teacher stands 2.5 m out, looking at the base (z into the face, control's convention).
+  T_world_face_.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  T_world_face_.translation() = Eigen::Vector3d(2.5, -0.5, 1.6);
 }
 
-Eigen::Isometry3d LockstepFlight::true_T_cam(const Eigen::Isometry3d& T_world_target) const {
-  return (drone_.pose() * T_body_cam_front()).inverse() * T_world_target;
+void LockstepFlight::walk_teacher() {
+  constexpr double kSpeed = 0.5, kAccel = 0.5, kTurnY = 1.0;
+  double& y = T_world_face_.translation().y();
+  const double stopping = walk_speed_ * walk_speed_ / (2 * kAccel);
+  if (walk_direction_ * y + stopping >= kTurnY) walk_speed_ -= kAccel * kControlDt;
+  else walk_speed_ = std::min(kSpeed, walk_speed_ + kAccel * kControlDt);
+  if (walk_speed_ <= 0) {
+    walk_speed_ = 0;
+    walk_direction_ = -walk_direction_;
+  }
+  y += walk_direction_ * walk_speed_ * kControlDt;
 }
 
 void LockstepFlight::tick() {
+  if (walking_) walk_teacher();
   TickRecord record;
   record.navdata = perception_.navdata(drone_, t_);
   record.focus = pipelines_->focus();
@@ -50,32 +60,9 @@ void LockstepFlight::tick() {
     case FlightOutput::Action::Emergency: drone_.emergency(); break;
     case FlightOutput::Action::None: break;
   }
-  const FlightStatus s = stack_->status();
-  FlightSample sample;
-  sample.t = t_;
-  sample.estimated = xyz_yaw(s.pose.T_world_body);
-  sample.truth = xyz_yaw(drone_.pose());
-  sample.desired = s.desired;
-  sample.source = s.source;
-  sample.stage_index = s.stage_index;
-  sample.stage = s.stage;
-  samples_.push_back(std::move(sample));
+  samples_.push_back(sample_of(stack_->status(), drone_.pose(), t_));
   for (int i = 0; i < kPhysicsSubsteps; ++i) drone_.step(kControlDt / kPhysicsSubsteps);
   t_ += kControlDt;
-}
-
-void LockstepFlight::run(double seconds) {
-  const Seconds end = t_ + seconds - 1e-9;
-  while (t_ < end) tick();
-}
-
-bool LockstepFlight::run_until(const std::function<bool()>& done, double timeout_s) {
-  const Seconds end = t_ + timeout_s;
-  while (t_ < end) {
-    tick();
-    if (done()) return true;
-  }
-  return false;
 }
 
 }  // namespace labo

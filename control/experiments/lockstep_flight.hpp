@@ -1,27 +1,16 @@
 #pragma once
-// One lockstep flight for the experiments: FlightStack (with LabPipelines and the StateEstimator)
-// flying the QuadrotorModel, the PerceptionModel standing in for rendered frames and vision, a teacher
+// One lockstep flight for the experiments (an ExperimentFlight): FlightStack (with LabPipelines and
+// the StateEstimator) flying the QuadrotorModel, the PerceptionModel standing in for rendered frames and vision, a teacher
 // whose face can walk. 30 Hz control ticks, 5 physics sub-steps each. Records estimated, true and
 // desired pose with the localization source and mission stage for the CSV files and plots.
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "control/experiments/experiment_flight.hpp"
 #include "control/experiments/perception_model.hpp"
-#include "control/flight_stack.hpp"
 
 namespace labo {
-
-struct FlightSample {
-  Seconds t = 0;
-  Eigen::Vector4d estimated = Eigen::Vector4d::Zero();  // x, y, z, yaw
-  Eigen::Vector4d truth = Eigen::Vector4d::Zero();
-  std::optional<Eigen::Vector4d> desired;
-  FeedbackSource source = FeedbackSource::DeadReckoning;
-  int stage_index = 0;
-  std::string stage;
-};
 
 // Everything the localization saw in one tick, for offline replays.
 struct TickRecord {
@@ -32,27 +21,26 @@ struct TickRecord {
   Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
 };
 
-class LockstepFlight {
+class LockstepFlight final : public ExperimentFlight {
  public:
   LockstepFlight(const FlightStackSetup& setup, const PerceptionModelConfig& perception, unsigned seed);
 
-  void tick();  // one control period
-  bool run_until(const std::function<bool()>& done, double timeout_s);
-  void run(double seconds);
-  CommandResult request(const MissionRequest& r) { return stack_->request(r, t_); }
+  void tick() override;
+  FlightStack& stack() override { return *stack_; }
+  Seconds now() const override { return t_; }
+  Eigen::Isometry3d true_pose() const override { return drone_.pose(); }
+  std::optional<Eigen::Isometry3d> true_face() const override { return T_world_face_; }
+  // Back and forth along y between -1 and 1 m at 0.5 m/s, turning with a human 0.5 m/s^2.
+  void start_teacher_walk() override { walking_ = true; }
+  bool crashed() const override { return drone_.crashed; }
+  const LabGeometry& lab() const override { return lab_; }
+  const std::vector<FlightSample>& samples() const override { return samples_; }
+  std::string description() const override { return "quadrotor model, perception model"; }
 
-  FlightStack& stack() { return *stack_; }
   QuadrotorModel& drone() { return drone_; }
   Eigen::Isometry3d& face() { return T_world_face_; }
-  Seconds now() const { return t_; }
-  const std::vector<FlightSample>& samples() const { return samples_; }
-  const LabGeometry& lab() const { return lab_; }
   void set_recording(bool on) { recording_ = on; }
   const std::vector<TickRecord>& records() const { return records_; }
-  // The true camera pose of the front camera relative to a target (z into it).
-  Eigen::Isometry3d true_T_cam(const Eigen::Isometry3d& T_world_target) const;
-
-  static constexpr double kControlDt = 1.0 / 30.0;
 
  private:
   LabGeometry lab_;
@@ -60,13 +48,15 @@ class LockstepFlight {
   PerceptionModel perception_;
   LabPipelines* pipelines_ = nullptr;  // owned by stack_
   std::unique_ptr<FlightStack> stack_;
+  void walk_teacher();
+
   Eigen::Isometry3d T_world_face_ = Eigen::Isometry3d::Identity();
+  bool walking_ = false;
+  double walk_direction_ = 1.0, walk_speed_ = 0.0;
   std::vector<FlightSample> samples_;
   Seconds t_ = 0;
   bool recording_ = false;
   std::vector<TickRecord> records_;
 };
-
-Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T);
 
 }  // namespace labo

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "control/experiments/experiment_common.hpp"
+#include "control/experiments/lockstep_flight.hpp"
 #include "core/frames.hpp"
 
 namespace labo {
@@ -14,6 +15,12 @@ namespace {
 constexpr const char* kVehicleNote =
     "vehicle: quadrotor model (control/experiments/quadrotor_model.hpp); perception: model (no rendering); "
     "estimator: StateEstimator";
+constexpr const char* kRealVisionNote =
+    "vehicle: simulated lab (drone/sim: firmware dynamics, sensor model); cameras: rendered by the lab's "
+    "SceneRenderer; perception: the real vision front-ends (planar, SLAM, face); estimator: StateEstimator; "
+    "no link delays";
+
+const char* note_of(const ExperimentOptions& o) { return o.real_vision ? kRealVisionNote : kVehicleNote; }
 
 std::string fmt(const char* f, double a, double b = 0, double c = 0) {
   char buf[256];
@@ -29,7 +36,7 @@ MissionRequest inspect_request(const std::string& id, double hold_s) {
   return r;
 }
 
-bool holding(LockstepFlight& f) { return f.stack().status().stage.find("holding") != std::string::npos; }
+bool holding(ExperimentFlight& f) { return f.stack().status().stage.find("holding") != std::string::npos; }
 
 // ---- sim inspect -------------------------------------------------------------------------------
 
@@ -46,12 +53,14 @@ struct InspectRun {
   }
 };
 
-InspectRun run_inspect(const FlightStackSetup& setup, unsigned seed, double hold_s, LockstepFlight& f) {
+InspectRun run_inspect(const FlightStackSetup& setup, const PlanarTarget& inst, double hold_s, ExperimentFlight& f) {
   InspectRun r;
-  const PlanarTarget& inst = setup.lab.instruments.front();
-  if (!f.request(inspect_request(inst.id, hold_s)).accepted) return r;
+  const CommandResult accepted = f.request(inspect_request(inst.id, hold_s));
+  if (!accepted.accepted) {
+    r.result = "refused: " + accepted.reason;
+    return r;
+  }
   std::vector<double> standoff, centre;
-  (void)seed;
   f.run_until([&] {
     if (holding(f)) {
       const Eigen::Vector3d p = f.true_T_cam(inst.T_world_object).translation();
@@ -70,8 +79,8 @@ InspectRun run_inspect(const FlightStackSetup& setup, unsigned seed, double hold
     r.centre_offset = rms({centre.end() - static_cast<long>(n), centre.end()});
   }
   if (f.stack().status().phase == FlightPhase::Landed)
-    r.landing_error_m = (f.drone().p - setup.lab.platform.T_world_object.translation()).head<2>().norm();
-  r.crashed = f.drone().crashed;
+    r.landing_error_m = (f.true_pose().translation() - setup.lab.platform.T_world_object.translation()).head<2>().norm();
+  r.crashed = f.crashed();
   r.duration_s = f.now();
   return r;
 }
@@ -147,34 +156,21 @@ struct FaceRun {
   std::vector<double> distance_error, centre_error;
 };
 
-FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, LockstepFlight& f) {
+FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, ExperimentFlight& f) {
   FaceRun r;
-  f.face() = f.lab().instruments.empty() ? Eigen::Isometry3d::Identity() : Eigen::Isometry3d::Identity();
-  f.face().linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // looking at the base
-  f.face().translation() = Eigen::Vector3d(2.5, -0.5, 1.6);
   MissionRequest req;
   req.kind = RequestKind::FindTeacher;
   f.request(req);
   r.followed = f.run_until([&] { return f.stack().status().stage == "3 face-follow"; }, 90.0);
   if (!r.followed) return r;
   f.run(5.0);  // settle
-  // The teacher walks at 0.5 m/s back and forth along y between -1 and 1 m, turning round with a
-  // human 0.5 m/s^2 deceleration and acceleration.
-  double dir = 1.0, speed = 0.0;
-  constexpr double kSpeed = 0.5, kAccel = 0.5, kTurnY = 1.0;
+  f.start_teacher_walk();
   const double end = f.now() + walk_s;
   while (f.now() < end) {
-    double& y = f.face().translation().y();
-    const double stopping = speed * speed / (2 * kAccel);
-    if (dir * y + stopping >= kTurnY) speed -= kAccel * LockstepFlight::kControlDt;
-    else speed = std::min(kSpeed, speed + kAccel * LockstepFlight::kControlDt);
-    if (speed <= 0) {
-      speed = 0;
-      dir = -dir;
-    }
-    y += dir * speed * LockstepFlight::kControlDt;
     f.tick();
-    const Eigen::Vector3d p = f.true_T_cam(f.face()).translation();
+    const std::optional<Eigen::Isometry3d> face = f.true_face();
+    if (!face) continue;
+    const Eigen::Vector3d p = f.true_T_cam(*face).translation();
     r.distance_error.push_back(p.z() - setup.control.mission.face_distance_m);
     r.centre_error.push_back(p.z() > 0.1 ? centre_offset_fraction(p, setup.cameras.front) : 1.0);
   }
@@ -187,6 +183,8 @@ const CommandSpec& sim_inspect_command_spec() {
   static const CommandSpec spec = [] {
     CommandSpec s{"sim inspect", "", "lockstep inspect missions (paper 6.2): success rate over seeds", experiment_option_specs()};
     s.options.push_back({"--hold", "S", "inspection hold time (default 5 s)"});
+    s.options.push_back({"--instrument", "ID", "the instrument to inspect (default: the lab's first)"});
+    for (auto& option : real_vision_option_specs()) s.options.push_back(option);
     return s;
   }();
   return spec;
@@ -195,14 +193,18 @@ const CommandSpec& sim_inspect_command_spec() {
 int run_sim_inspect_command(const ParsedArgs& args) {
   const ExperimentOptions o = read_experiment_options(args);
   const double hold = args.number_or("--hold", 5.0, 0.0, 600.0);
-  const FlightStackSetup setup = experiment_setup(o);
+  const Experiment experiment = make_experiment(o, false);
+  const FlightStackSetup& setup = experiment.setup;
+  const std::string id = args.value_or("--instrument", setup.lab.instruments.front().id);
+  const PlanarTarget* instrument = setup.lab.find_instrument(id);
+  if (!instrument) throw UsageError("--instrument " + id + ": no such instrument in the lab");
   nlohmann::json runs = nlohmann::json::array();
   int ok = 0;
   std::vector<double> standoff, centre, landing;
   for (int i = 0; i < o.runs; ++i) {
     const unsigned seed = o.seed + static_cast<unsigned>(i);
-    LockstepFlight f(setup, {}, seed);
-    const InspectRun r = run_inspect(setup, seed, hold, f);
+    const auto f = make_flight(o, experiment, seed);
+    const InspectRun r = run_inspect(setup, *instrument, hold, *f);
     ok += r.success();
     if (std::isfinite(r.standoff_error_m)) standoff.push_back(r.standoff_error_m);
     if (std::isfinite(r.centre_offset)) centre.push_back(r.centre_offset);
@@ -212,19 +214,27 @@ int run_sim_inspect_command(const ParsedArgs& args) {
                     {"centre_offset_fraction", std::isfinite(r.centre_offset) ? r.centre_offset : -1},
                     {"landing_error_m", std::isfinite(r.landing_error_m) ? r.landing_error_m : -1},
                     {"crashed", r.crashed}, {"duration_s", r.duration_s}, {"result", r.result}});
-    write_run_outputs(o, "inspect", i, f);
+    write_run_outputs(o, "inspect", i, *f);
   }
   const double rate = double(ok) / o.runs;
-  nlohmann::json summary = {{"experiment", "sim inspect"}, {"note", kVehicleNote}, {"seed", o.seed}, {"runs", o.runs},
+  nlohmann::json summary = {{"experiment", "sim inspect"}, {"note", note_of(o)}, {"instrument", id}, {"seed", o.seed}, {"runs", o.runs},
                             {"success_rate", rate}, {"target_success_rate", 0.98},
                             {"standoff_error_m_p95", percentile(standoff, 95)}, {"centre_offset_fraction_p95", percentile(centre, 95)},
                             {"landing_error_m_p95", percentile(landing, 95)}, {"per_run", runs}};
-  report(o, "inspect", summary,
-         {kVehicleNote,
-          fmt("inspect: %.0f/%.0f runs succeeded (%.1f %%, target >= 98 %%)", ok, o.runs, 100 * rate),
-          fmt("standoff error p95 %.3f m (target <= 0.05); centre offset p95 %.3f of the width (target <= 0.05)",
-              percentile(standoff, 95), percentile(centre, 95)),
-          fmt("landing error p95 %.3f m (target <= 0.10)", percentile(landing, 95))});
+  std::vector<std::string> lines{
+      note_of(o), fmt("inspect: %.0f/%.0f runs succeeded (%.1f %%, target >= 98 %%)", ok, o.runs, 100 * rate),
+      fmt("standoff error p95 %.3f m (target <= 0.05); centre offset p95 %.3f of the width (target <= 0.05)",
+          percentile(standoff, 95), percentile(centre, 95)),
+      fmt("landing error p95 %.3f m (target <= 0.10)", percentile(landing, 95))};
+  // Why runs failed (the first ten).
+  int listed = 0;
+  for (const auto& run : runs) {
+    if (run["success"].get<bool>() || listed++ >= 10) continue;
+    lines.push_back("  seed " + std::to_string(run["seed"].get<unsigned>()) + " failed: " + run["result"].get<std::string>() +
+                    fmt(" (standoff error %.3f m, centre %.3f, landing error %.3f m)", run["standoff_error_m"].get<double>(),
+                        run["centre_offset_fraction"].get<double>(), run["landing_error_m"].get<double>()));
+  }
+  report(o, "inspect", summary, lines);
   return 0;
 }
 
@@ -245,7 +255,7 @@ int run_sim_perturb_command(const ParsedArgs& args) {
   if (!axis_name) throw UsageError("--axis x|y|z|yaw is required");
   const int axis = axis_index(*axis_name);
   const int impulses = args.integer_or("--impulses", 4, 1, 100);
-  const FlightStackSetup setup = experiment_setup(o);
+  const FlightStackSetup setup = make_experiment(o, false).setup;
   std::vector<double> recovery;
   int recovered = 0, total = 0, not_reached = 0;
   nlohmann::json runs = nlohmann::json::array();
@@ -284,6 +294,7 @@ const CommandSpec& sim_face_follow_command_spec() {
     CommandSpec s{"sim face-follow", "", "find the teacher and follow the face while they walk at 0.5 m/s (paper 6.4)",
                   experiment_option_specs()};
     s.options.push_back({"--walk", "S", "seconds of walking measured (default 30)"});
+    for (auto& option : real_vision_option_specs()) s.options.push_back(option);
     return s;
   }();
   return spec;
@@ -292,27 +303,28 @@ const CommandSpec& sim_face_follow_command_spec() {
 int run_sim_face_follow_command(const ParsedArgs& args) {
   const ExperimentOptions o = read_experiment_options(args);
   const double walk = args.number_or("--walk", 30.0, 1.0, 600.0);
-  const FlightStackSetup setup = experiment_setup(o);
+  const Experiment experiment = make_experiment(o, true);
+  const FlightStackSetup& setup = experiment.setup;
   std::vector<double> dist, centre;
   int found = 0;
   nlohmann::json runs = nlohmann::json::array();
   for (int i = 0; i < o.runs; ++i) {
     const unsigned seed = o.seed + static_cast<unsigned>(i);
-    LockstepFlight f(setup, {}, seed);
-    const FaceRun r = run_face_follow(setup, walk, f);
+    const auto f = make_flight(o, experiment, seed);
+    const FaceRun r = run_face_follow(setup, walk, *f);
     found += r.followed;
     dist.insert(dist.end(), r.distance_error.begin(), r.distance_error.end());
     centre.insert(centre.end(), r.centre_error.begin(), r.centre_error.end());
     runs.push_back({{"seed", seed}, {"followed", r.followed}, {"distance_error_rms_m", rms(r.distance_error)},
                     {"centre_error_rms", rms(r.centre_error)}});
-    write_run_outputs(o, "face_follow", i, f);
+    write_run_outputs(o, "face_follow", i, *f);
   }
-  nlohmann::json summary = {{"experiment", "sim face-follow"}, {"note", kVehicleNote}, {"seed", o.seed}, {"runs", o.runs},
+  nlohmann::json summary = {{"experiment", "sim face-follow"}, {"note", note_of(o)}, {"seed", o.seed}, {"runs", o.runs},
                             {"runs_face_found", found}, {"distance_error_rms_m", rms(dist)}, {"target_distance_error_rms_m", 0.10},
                             {"centre_error_rms", rms(centre)}, {"centre_error_p95", percentile(centre, 95)},
                             {"target_centre_error", 0.10}, {"per_run", runs}};
   report(o, "face_follow", summary,
-         {kVehicleNote, fmt("face found and followed in %.0f/%.0f runs", found, o.runs),
+         {note_of(o), fmt("face found and followed in %.0f/%.0f runs", found, o.runs),
           fmt("distance error RMS %.3f m (target <= 0.10); face-centre error RMS %.3f, p95 %.3f of the width (target <= 0.10)",
               rms(dist), rms(centre), percentile(centre, 95))});
   return 0;

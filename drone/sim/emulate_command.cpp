@@ -5,8 +5,6 @@
 #include <iomanip>
 #include <iostream>
 
-#include "core/camera_config.hpp"
-#include "core/config_reader.hpp"
 #include "core/log.hpp"
 #include "core/source_tree.hpp"
 #include "drone/ardrone2/ardrone_emulator.hpp"
@@ -42,7 +40,7 @@ const CommandSpec& emulate_command_spec() {
       "emulate",
       "",
       "Run the simulated lab as an AR.Drone 2.0 (UDP 5556/5554, TCP 5555) until Ctrl-C.",
-      {{"--config", "FILE", "configuration file: cameras, emulator ports, lab (default: config/default.json)"},
+      {{"--config", "FILE", "configuration file: cameras, emulator ports, lab, sim (default: config/default.json)"},
        {"--bind", "ADDR", "address to listen on (default: the config's emulator.bind_host, 127.0.0.1)"},
        {"--lab", "FILE", "lab description (default: the config's lab)"},
        {"--seconds", "S", "stop after S seconds (default: run until Ctrl-C)"}},
@@ -55,23 +53,15 @@ int run_emulate_command(const ParsedArgs& args, const TeacherHeadLoader& load_he
   const std::filesystem::path config_file =
       args.value_or("--config", (source_root() / "config" / "default.json").string());
   const double seconds = args.number_or("--seconds", 0.0, 0.0, 1e9);
-  // Only the sections the emulator needs; `labodrone serve` validates the whole file.
-  const ConfigDocument doc = ConfigDocument::load(config_file);
-  const ConfigReader root = doc.root();
-  const CamerasConfig cameras = root.has("cameras") ? read_cameras_config(root.object("cameras"))
-                                                     : CamerasConfig{PinholeCamera::ardrone2_front().intrinsics(),
-                                                                     PinholeCamera::ardrone2_bottom().intrinsics()};
-  ArdroneEmulatorSettings settings =
-      root.has("emulator") ? read_ardrone_emulator_settings(root.object("emulator")) : ArdroneEmulatorSettings{};
+  const std::optional<std::string> lab_file = args.value("--lab");
+  SimInputs in = load_sim_inputs(config_file, lab_file ? std::optional<std::filesystem::path>(*lab_file) : std::nullopt);
+  ArdroneEmulatorSettings& settings = in.emulator;
   settings.bind_host = args.value_or("--bind", settings.bind_host);
-  const std::filesystem::path lab_file =
-      args.value("--lab") ? std::filesystem::path(*args.value("--lab"))
-                          : (config_file.parent_path() / root.string_or("lab", "lab.json")).lexically_normal();
-  const LabDescription lab = load_lab_description(lab_file);
+  const LabDescription& lab = in.lab;
 
   const sigset_t stop_signals = block_stop_signals();
   Logger log("labodrone", LogLevel::Info);
-  auto vehicle = make_simulated_lab(lab, cameras, SimulatedLabSettings{}, load_head(lab));
+  auto vehicle = make_simulated_lab(lab, in.cameras, in.sim.lab, load_head(lab));
   ArdroneEmulator emulator(*vehicle, settings, log.child("emulator"));
   emulator.start();  // throws naming the port when one is taken
   std::cout << "AR.Drone 2.0 emulator on " << settings.bind_host << ": AT UDP " << emulator.at_port()

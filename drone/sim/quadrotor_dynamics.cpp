@@ -96,10 +96,12 @@ void QuadrotorDynamics::move(const MoveCommand& c, bool hover) {
   last_command_t_ = s_.t;
 }
 
-void QuadrotorDynamics::push(const Eigen::Vector3d& dv_world_mps, double dyaw_rate_radps) {
+void QuadrotorDynamics::push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) {
   if (!s_.airborne()) return;
   s_.velocity_mps += dv_world_mps;
-  s_.yaw_rate_radps += dyaw_rate_radps;
+  // The yaw-rate kick that the discrete lag (factor a per step, applied before integrating) turns
+  // into exactly dyaw: sum over k >= 1 of kick·(1 − a)^k·dt = kick·dt·(1 − a)/a.
+  s_.yaw_rate_radps += dyaw_rad * yaw_alpha_ / ((1.0 - yaw_alpha_) * p_.step_s);
 }
 
 // ---- one step ----------------------------------------------------------------------------------

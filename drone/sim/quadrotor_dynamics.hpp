@@ -92,8 +92,9 @@ class QuadrotorDynamics {
   // `hover` = PCMD flag bit 0 clear.
   void move(const MoveCommand& command, bool hover);
 
-  // Disturbances: a velocity change (world, m/s) and a yaw-rate kick (rad/s) at once; a steady wind.
-  void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rate_radps);
+  // Disturbances: a velocity change (world, m/s) and a yaw kick that turns the drone by about
+  // `dyaw_rad` before the yaw-rate loop absorbs it, at once; a steady wind.
+  void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad);
   void set_wind(const Eigen::Vector3d& wind_world_mps) { wind_ = wind_world_mps; }
   // Whether the firmware sees the floor's texture this step (its hover brakes on that velocity).
   void set_velocity_observable(bool observable) { velocity_observable_ = observable; }

@@ -1,5 +1,6 @@
 #include "drone/sim/sim_setup.hpp"
 
+#include "core/config_reader.hpp"
 #include "drone/sim/lab_renderer.hpp"
 
 namespace labo {
@@ -13,6 +14,20 @@ std::unique_ptr<SimulatedLab> make_simulated_lab(const LabDescription& lab, cons
                                                  const SimulatedLabSettings& settings, std::optional<TexturedHeadModel> head) {
   return std::make_unique<SimulatedLab>(lab, settings,
                                         make_scene_renderer(lab, cameras, std::move(head), static_cast<unsigned>(settings.seed)));
+}
+
+SimInputs load_sim_inputs(const std::filesystem::path& config_file, const std::optional<std::filesystem::path>& lab_file) {
+  const ConfigDocument doc = ConfigDocument::load(config_file);
+  const ConfigReader root = doc.root();
+  SimInputs in;
+  in.cameras = root.has("cameras") ? read_cameras_config(root.object("cameras"))
+                                   : CamerasConfig{PinholeCamera::ardrone2_front().intrinsics(),
+                                                   PinholeCamera::ardrone2_bottom().intrinsics()};
+  in.emulator = root.has("emulator") ? read_ardrone_emulator_settings(root.object("emulator")) : ArdroneEmulatorSettings{};
+  in.sim = root.has("sim") ? read_sim_config(root.object("sim")) : SimConfig{};
+  in.lab = load_lab_description(lab_file ? *lab_file
+                                         : (config_file.parent_path() / root.string_or("lab", "lab.json")).lexically_normal());
+  return in;
 }
 
 }  // namespace labo

@@ -1,11 +1,14 @@
 #pragma once
 // The one place that decides how the simulated lab is assembled: which SceneRenderer draws its
 // cameras, and a SimulatedLab built from a lab description. Switching renderers happens here only.
+#include <filesystem>
 #include <memory>
 #include <optional>
 
 #include "core/camera_config.hpp"
+#include "drone/ardrone2/ardrone_emulator.hpp"
 #include "drone/lab/lab_description.hpp"
+#include "drone/sim/sim_config.hpp"
 #include "drone/sim/head_model.hpp"
 #include "drone/sim/scene_renderer.hpp"
 #include "drone/sim/simulated_lab.hpp"
@@ -23,5 +26,17 @@ std::unique_ptr<SceneRenderer> make_scene_renderer(const LabDescription& lab, co
 std::unique_ptr<SimulatedLab> make_simulated_lab(const LabDescription& lab, const CamerasConfig& cameras,
                                                  const SimulatedLabSettings& settings,
                                                  std::optional<TexturedHeadModel> head = std::nullopt);
+
+// What the simulated lab's own commands (emulate, bench sim) read from a configuration file: only
+// their sections (cameras, emulator, sim, lab); `labodrone serve` validates the whole file.
+struct SimInputs {
+  LabDescription lab;
+  CamerasConfig cameras;
+  SimConfig sim;
+  ArdroneEmulatorSettings emulator;
+};
+// `lab_file` overrides the config's "lab". Throws ConfigError naming the file, key and reason.
+SimInputs load_sim_inputs(const std::filesystem::path& config_file,
+                          const std::optional<std::filesystem::path>& lab_file = std::nullopt);
 
 }  // namespace labo

@@ -1,12 +1,17 @@
 #include "drone/sim/simulated_lab.hpp"
 
+#include <cmath>
 #include <stdexcept>
+
+#include "drone/sim/cpu_time.hpp"
 
 namespace labo {
 
 namespace {
 // A time within this of a step boundary counts as reaching it (the emulator's clock is a double).
 constexpr Seconds kTimeEpsilon = 1e-9;
+// The teacher's body as an obstacle: up to just above the head.
+constexpr double kAboveEyes_m = 0.15;
 }  // namespace
 
 SimulatedLab::SimulatedLab(LabDescription lab, SimulatedLabSettings settings, std::unique_ptr<SceneRenderer> renderer)
@@ -16,6 +21,9 @@ SimulatedLab::SimulatedLab(LabDescription lab, SimulatedLabSettings settings, st
       dynamics_(settings_.dynamics, CollisionModel(lab_, settings_.dynamics.hull), lab_.T_world_base),
       sensors_(settings_.sensors, lab_, settings_.seed) {
   if (!renderer_) throw std::invalid_argument("SimulatedLab needs a SceneRenderer");
+  if (settings_.teacher && !lab_.teacher.waypoints.empty()) teacher_.emplace(lab_.teacher);
+  for (const auto& d : settings_.disturbances) disturbances_.add(d);
+  apply_disturbances(-1.0, 0.0);
   sensors_.update(dynamics_.state(), 0.0);
 }
 
@@ -26,9 +34,35 @@ void SimulatedLab::advance_to(Seconds t) {
 }
 
 void SimulatedLab::step() {
+  const double start = profiling_ ? process_cpu_seconds() : 0.0;
+  const Seconds t = dynamics_.state().t, step = settings_.dynamics.step_s;
+  apply_disturbances(t, t + step);
   dynamics_.set_velocity_observable(sensors_.velocity_valid());
   dynamics_.step();
-  sensors_.update(dynamics_.state(), settings_.dynamics.step_s);
+  if (!profiling_) {
+    sensors_.update(dynamics_.state(), step);
+    return;
+  }
+  const double physics_end = process_cpu_seconds();
+  sensors_.update(dynamics_.state(), step);
+  profile_.physics_s += physics_end - start;
+  profile_.sensors_s += process_cpu_seconds() - physics_end;
+  ++profile_.steps;
+}
+
+// Everything the world does to the drone over the step (from, to]: scheduled pushes, the wind, and
+// the teacher's body where it stands at the step's end.
+void SimulatedLab::apply_disturbances(Seconds from, Seconds to) {
+  const double yaw = dynamics_.state().yaw_rad, c = std::cos(yaw), s = std::sin(yaw);
+  disturbances_.for_each_impulse(from, to, [&](const Disturbance& d) {
+    const Eigen::Vector3d& h = d.dv_heading_mps;
+    dynamics_.push({c * h.x() - s * h.y(), s * h.x() + c * h.y(), h.z()}, d.dyaw_rad);
+  });
+  dynamics_.set_wind(disturbances_.wind_at(to));
+  if (teacher_) {
+    const TeacherPose p = teacher_->pose(to);
+    dynamics_.collision().set_teacher(p.floor_xy, lab_.teacher.body_radius_m, lab_.teacher.eye_height_m + kAboveEyes_m);
+  }
 }
 
 void SimulatedLab::takeoff(Seconds t) {
@@ -81,10 +115,26 @@ SceneState SimulatedLab::scene() const {
   scene.T_world_body = s.T_world_body();
   scene.velocity_world_mps = s.velocity_mps;
   scene.angular_velocity_body_radps = s.angular_velocity_body_radps;
-  scene.teacher_present = false;  // the walking teacher comes with TeacherMotion
+  scene.teacher_present = teacher_.has_value();
+  if (teacher_) {
+    const TeacherPose p = teacher_->pose(s.t);
+    scene.T_world_head = p.T_world_head;
+    scene.teacher_floor_xy = p.floor_xy;
+  }
   return scene;
 }
 
-void SimulatedLab::render(CameraId camera, cv::Mat& bgr) { renderer_->render(camera, scene(), bgr); }
+void SimulatedLab::render(CameraId camera, cv::Mat& bgr) {
+  if (video_dropout()) {
+    bgr.release();
+    return;
+  }
+  const double start = profiling_ ? process_cpu_seconds() : 0.0;
+  renderer_->render(camera, scene(), bgr);
+  if (profiling_) {
+    profile_.render_s += process_cpu_seconds() - start;
+    ++profile_.renders;
+  }
+}
 
 }  // namespace labo

@@ -11,12 +11,16 @@
 // core/frames.hpp (front 0.2 m ahead, bottom 5 cm below the origin).
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include "drone/emulated_vehicle.hpp"
 #include "drone/lab/lab_description.hpp"
+#include "drone/sim/disturbances.hpp"
 #include "drone/sim/quadrotor_dynamics.hpp"
 #include "drone/sim/scene_renderer.hpp"
 #include "drone/sim/sensor_model.hpp"
+#include "drone/sim/teacher_motion.hpp"
 
 namespace labo {
 
@@ -24,6 +28,14 @@ struct SimulatedLabSettings {
   QuadrotorParams dynamics;
   SensorNoise sensors;
   std::uint64_t seed = 1;
+  bool teacher = true;  // the teacher walks the lab's path: in the cameras' view and an obstacle
+  std::vector<Disturbance> disturbances;
+};
+
+// Where the simulation's time goes (process CPU seconds), when profiling is on.
+struct SimProfile {
+  double physics_s = 0, sensors_s = 0, render_s = 0;
+  long steps = 0, renders = 0;
 };
 
 class SimulatedLab final : public EmulatedVehicle {
@@ -44,26 +56,41 @@ class SimulatedLab final : public EmulatedVehicle {
   Seconds now() const override { return now_; }
   VehicleTelemetry telemetry() const override;
   CameraId selected_camera() const override { return camera_; }
+  // During a scheduled video dropout `bgr` is left empty: the emulator then sends no frame.
   void render(CameraId camera, cv::Mat& bgr) override;
 
   // Ground truth and the scene the cameras see now.
   const QuadrotorState& truth() const { return dynamics_.state(); }
   SceneState scene() const;
   const LabDescription& lab() const { return lab_; }
-  // Disturbances (push, wind) and the collision model, for experiments and tests.
+  // Disturbances from now on (in addition to the settings' ones).
+  void schedule(const Disturbance& disturbance) { disturbances_.add(disturbance); }
+  bool video_dropout() const { return disturbances_.video_dropout_at(dynamics_.state().t); }
+  // A scheduled link outage at time t (SimDroneLink drops everything then).
+  bool link_outage(Seconds t) const { return disturbances_.link_outage_at(t); }
+  // Direct access for experiments and tests (e.g. QuadrotorDynamics::push between steps).
   QuadrotorDynamics& dynamics() { return dynamics_; }
   const SimulatedLabSettings& settings() const { return settings_; }
 
+  // CPU cost of physics, sensors and rendering (off by default: it reads the clock per step).
+  void set_profiling(bool on) { profiling_ = on; }
+  const SimProfile& profile() const { return profile_; }
+
  private:
   void step();
+  void apply_disturbances(Seconds from, Seconds to);
 
   LabDescription lab_;
   SimulatedLabSettings settings_;
   std::unique_ptr<SceneRenderer> renderer_;
   QuadrotorDynamics dynamics_;
   SensorModel sensors_;
+  std::optional<TeacherMotion> teacher_;
+  DisturbanceSchedule disturbances_;
   Seconds now_ = 0;
   CameraId camera_ = CameraId::Front;
+  bool profiling_ = false;
+  SimProfile profile_;
 };
 
 }  // namespace labo

@@ -132,8 +132,7 @@ class SimBackend final : public DroneBackend {
   // The lab's cameras show the teacher's face textured from their photograph, built here because
   // drone/ cannot call localization/.
   static std::unique_ptr<SimulatedLab> make_lab(const AppConfig& config) {
-    const LabDescription lab = load_lab_description(config.lab_file);
-    return make_simulated_lab(lab, config.cameras, SimulatedLabSettings{}, face::load_lab_teacher_head(lab, config.face));
+    return make_simulated_lab(config.lab, config.cameras, config.sim.lab, face::load_lab_teacher_head(config.lab, config.face));
   }
   static ArdroneEmulatorSettings emulator_settings(const AppConfig& config) {
     ArdroneEmulatorSettings s = config.emulator;

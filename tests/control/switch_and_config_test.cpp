@@ -36,9 +36,45 @@ TEST_CASE("control: localization switch uses homography near, SLAM far, with hys
   in.t = 3.6;
   CHECK(sw.update(in) == FeedbackSource::DeadReckoning);
   in.target_state = TrackState::Tracking;
-  in.target_distance_m = 2.1;  // beyond near_to_far: never homography
+  in.target_distance_m = 3.5;  // far, but better than dead reckoning once held 0.5 s
   in.t = 5.0;
   CHECK(sw.update(in) == FeedbackSource::DeadReckoning);
+  in.t = 5.6;
+  CHECK(sw.update(in) == FeedbackSource::Homography);
+  in.slam = SlamState::Good;  // SLAM back: far, so SLAM once it has been good for 0.5 s
+  in.t = 6.0;
+  CHECK(sw.update(in) == FeedbackSource::Homography);
+  in.t = 6.6;
+  CHECK(sw.update(in) == FeedbackSource::Slam);
+}
+
+TEST_CASE("control: on the way home dead reckoning is tolerated for the grace, then escalates") {
+  SafetyLimits lim;  // hover after 1 s, land after 8 s
+  SafetyMonitor m(lim);
+  SafetyInputs in;
+  in.airborne = true;
+  in.localization_required = true;
+  in.localization_ok = false;
+  in.localization_grace_s = 20.0;
+  in.t = 0;
+  CHECK(m.evaluate(in).action == SafetyAction::None);
+  in.t = 20.5;
+  const SafetyVerdict tolerated = m.evaluate(in);
+  CHECK(tolerated.action == SafetyAction::None);
+  REQUIRE(tolerated.alerts.size() == 1);
+  CHECK_THAT(tolerated.alerts[0], Catch::Contains("dead reckoning for 20.5 s"));
+  in.t = 21.5;
+  CHECK(m.evaluate(in).action == SafetyAction::Hover);
+  in.t = 28.5;
+  CHECK(m.evaluate(in).action == SafetyAction::Land);
+  in.localization_grace_s = 0;  // elsewhere: the usual 1 s / 8 s
+  in.localization_ok = true;
+  m.evaluate(in);
+  in.localization_ok = false;
+  in.t = 30.0;
+  m.evaluate(in);
+  in.t = 31.1;
+  CHECK(m.evaluate(in).action == SafetyAction::Hover);
 }
 
 TEST_CASE("control: geofence keeps the margin and names the violated bound") {

@@ -7,18 +7,14 @@
 
 #include "core/frames.hpp"
 #include "drone/sim/quadrotor_dynamics.hpp"
+#include "tests/drone/sim/sim_fixtures.hpp"
 
 using namespace labo;
 
 namespace {
 
-const LabDescription& lab() {
-  static const LabDescription l = load_lab_description(default_lab_path());
-  return l;
-}
-
-QuadrotorDynamics make(const QuadrotorParams& p = {}, const Eigen::Isometry3d& start = lab().T_world_base) {
-  return QuadrotorDynamics(p, CollisionModel(lab(), p.hull), start);
+QuadrotorDynamics make(const QuadrotorParams& p = {}, const Eigen::Isometry3d& start = test::shipped_lab().T_world_base) {
+  return QuadrotorDynamics(p, CollisionModel(test::shipped_lab(), p.hull), start);
 }
 
 void run(QuadrotorDynamics& d, Seconds duration) {

@@ -9,15 +9,11 @@
 #include <vector>
 
 #include "drone/sim/sensor_model.hpp"
+#include "tests/drone/sim/sim_fixtures.hpp"
 
 using namespace labo;
 
 namespace {
-
-const LabDescription& lab() {
-  static const LabDescription l = load_lab_description(default_lab_path());
-  return l;
-}
 
 QuadrotorState flying_at(const Eigen::Vector3d& p, const Eigen::Vector3d& v = Eigen::Vector3d::Zero(), double yaw = 0) {
   QuadrotorState s;
@@ -50,7 +46,7 @@ double mean_altitude(const std::vector<VehicleTelemetry>& v) {
 TEST_CASE("sim sensors: the ultrasound steps by the platform's thickness at its edge", "[sim][sensors]") {
   SensorNoise noise;
   noise.ultrasound_outlier_probability = 0;
-  SensorModel m(noise, lab(), 3);
+  SensorModel m(noise, test::shipped_lab(), 3);
   // The platform is 0.6 m wide around the origin, 0.10 m high: flying level at z = 1.0 m across its edge.
   const double over = mean_altitude(sample(m, flying_at({0.25, 0.0, 1.0}), 1.0));
   const double beside = mean_altitude(sample(m, flying_at({0.35, 0.0, 1.0}), 1.0));
@@ -64,7 +60,7 @@ TEST_CASE("sim sensors: the ultrasound steps by the platform's thickness at its 
 TEST_CASE("sim sensors: the ultrasound holds each echo for 40 ms, is noisy and has spurious short echoes", "[sim][sensors]") {
   SensorNoise noise;
   noise.ultrasound_outlier_probability = 0.05;
-  SensorModel m(noise, lab(), 4);
+  SensorModel m(noise, test::shipped_lab(), 4);
   const auto v = sample(m, flying_at({1.0, 1.0, 1.5}), 40.0);
   int changes = 0, outliers = 0, samples = 0;
   double sq = 0;
@@ -86,7 +82,7 @@ TEST_CASE("sim sensors: the ultrasound holds each echo for 40 ms, is noisy and h
 }
 
 TEST_CASE("sim sensors: the bottom camera's velocity fails over bare floor and below 0.3 m", "[sim][sensors]") {
-  SensorModel m(SensorNoise{}, lab(), 5);
+  SensorModel m(SensorNoise{}, test::shipped_lab(), 5);
   const Eigen::Vector3d v(0.5, 0.0, 0.0);
   // Textured floor, 1 m up, heading +y: 0.5 m/s along world x is to the right (vy < 0) in the heading frame.
   auto ok = sample(m, flying_at({1.0, -1.5, 1.0}, v, std::numbers::pi / 2), 1.0);
@@ -96,7 +92,7 @@ TEST_CASE("sim sensors: the bottom camera's velocity fails over bare floor and b
   CHECK(vx == Approx(0.0).margin(0.01));
   CHECK(vy == Approx(-0.5).margin(0.01));
   // The bare floor area (x 2.4..3.6, y -2.6..-0.9): the estimate decays towards zero.
-  REQUIRE(lab().floor_is_bare(3.0, -1.5));
+  REQUIRE(test::shipped_lab().floor_is_bare(3.0, -1.5));
   auto bare = sample(m, flying_at({3.0, -1.5, 1.0}, v, std::numbers::pi / 2), 1.0);
   CHECK_FALSE(m.velocity_valid());
   CHECK(std::abs(bare.back().nav.vy_mps) < 0.15);
@@ -110,7 +106,7 @@ TEST_CASE("sim sensors: the bottom camera's velocity fails over bare floor and b
 TEST_CASE("sim sensors: the yaw drifts slowly; flat trim removes the roll/pitch offset on the ground", "[sim][sensors]") {
   SensorNoise noise;
   noise.attitude_offset_rad = 0.02;
-  SensorModel m(noise, lab(), 6);
+  SensorModel m(noise, test::shipped_lab(), 6);
   auto first = sample(m, flying_at({1.0, 1.0, 1.0}), 1.0);
   auto later = sample(m, flying_at({1.0, 1.0, 1.0}), 60.0);
   auto mean_yaw = [](const std::vector<VehicleTelemetry>& v, std::size_t from) {
@@ -137,7 +133,7 @@ TEST_CASE("sim sensors: the yaw drifts slowly; flat trim removes the roll/pitch 
 
 TEST_CASE("sim sensors: the same seed gives the same readings bit for bit, another seed others", "[sim][sensors][determinism]") {
   auto run = [](std::uint64_t seed) {
-    SensorModel m(SensorNoise{}, lab(), seed);
+    SensorModel m(SensorNoise{}, test::shipped_lab(), seed);
     return sample(m, flying_at({1.0, 0.5, 1.2}, {0.3, -0.2, 0.1}, 0.4), 2.0);
   };
   const auto a = run(11), b = run(11), c = run(12);

@@ -1,6 +1,6 @@
 // SimulatedLab as an EmulatedVehicle: seed determinism bit for bit whatever the caller's step
-// pattern, the firmware's behaviour through the vehicle interface, and the fallback renderer's
-// geometry (a known point on a panel projects where the camera model says).
+// pattern, the firmware's behaviour through the vehicle interface, both cameras rendered (the
+// renderer's own tests are tests/drone/sim/render_*_test.cpp).
 #include <catch2/catch.hpp>
 
 #include <cstring>
@@ -11,30 +11,16 @@
 #include "core/camera_config.hpp"
 #include "core/frames.hpp"
 #include "drone/sim/sim_setup.hpp"
+#include "tests/drone/sim/sim_fixtures.hpp"
 
 using namespace labo;
 
 namespace {
 
-const LabDescription& lab() {
-  static const LabDescription l = load_lab_description(default_lab_path());
-  return l;
-}
-
-CamerasConfig cameras() { return {PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()}; }
-
-class GreyRenderer final : public SceneRenderer {
- public:
-  void render(CameraId, const SceneState&, cv::Mat& bgr) override {
-    bgr.create(360, 640, CV_8UC3);
-    bgr.setTo(cv::Scalar(128, 128, 128));
-  }
-};
-
 SimulatedLab make_lab(std::uint64_t seed) {
   SimulatedLabSettings s;
   s.seed = seed;
-  return SimulatedLab(lab(), s, std::make_unique<GreyRenderer>());
+  return SimulatedLab(test::shipped_lab(), s, std::make_unique<test::GreyRenderer>());
 }
 
 // A scripted flight; the vehicle is advanced every `granularity_s` between commands, as an emulator
@@ -131,7 +117,7 @@ TEST_CASE("sim lab: telemetry reports the firmware's states, battery and the cra
 }
 
 TEST_CASE("sim lab: both cameras render the lab at their configured size", "[sim][render]") {
-  auto v = make_simulated_lab(lab(), cameras(), SimulatedLabSettings{});
+  auto v = make_simulated_lab(test::shipped_lab(), test::stock_cameras(), SimulatedLabSettings{});
   cv::Mat front, bottom;
   v->render(CameraId::Front, front);
   v->render(CameraId::Bottom, bottom);

@@ -1,0 +1,44 @@
+#include "control/experiments/experiment_flight.hpp"
+
+#include "core/frames.hpp"
+
+namespace labo {
+
+Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T) {
+  const Eigen::Vector3d p = T.translation();
+  return {p.x(), p.y(), p.z(), ypr_from_rotation(T.linear())[0]};
+}
+
+FlightSample sample_of(const FlightStatus& s, const Eigen::Isometry3d& truth, Seconds t) {
+  FlightSample sample;
+  sample.t = t;
+  sample.estimated = xyz_yaw(s.pose.T_world_body);
+  sample.truth = xyz_yaw(truth);
+  sample.desired = s.desired;
+  sample.source = s.source;
+  sample.slam = s.slam.state;
+  sample.target = s.stage_index == 5 ? s.platform.state : s.mission == "find_teacher" ? s.face.state : s.instrument.state;
+  sample.stage_index = s.stage_index;
+  sample.stage = s.stage;
+  return sample;
+}
+
+Eigen::Isometry3d ExperimentFlight::true_T_cam(const Eigen::Isometry3d& T_world_target) const {
+  return (true_pose() * T_body_cam_front()).inverse() * T_world_target;
+}
+
+void ExperimentFlight::run(double seconds) {
+  const Seconds end = now() + seconds - 1e-9;
+  while (now() < end) tick();
+}
+
+bool ExperimentFlight::run_until(const std::function<bool()>& done, double timeout_s) {
+  const Seconds end = now() + timeout_s;
+  while (now() < end) {
+    tick();
+    if (done()) return true;
+  }
+  return false;
+}
+
+}  // namespace labo

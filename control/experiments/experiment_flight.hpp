@@ -1,0 +1,60 @@
+#pragma once
+// A flight the lockstep experiments can run: FlightStack over some simulated drone, ticked at the
+// control rate, recording estimated, true and desired pose with the localization source and stage.
+// Two kinds: LockstepFlight (the quadrotor and perception models, lockstep_flight.hpp) and
+// SimLabFlight (the simulated lab with rendered cameras and the real vision front-ends,
+// sim_lab_flight.hpp). The experiments' measurements use the truth through this interface only.
+#include <Eigen/Geometry>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "control/flight_stack.hpp"
+
+namespace labo {
+
+struct FlightSample {
+  Seconds t = 0;
+  Eigen::Vector4d estimated = Eigen::Vector4d::Zero();  // x, y, z, yaw
+  Eigen::Vector4d truth = Eigen::Vector4d::Zero();
+  std::optional<Eigen::Vector4d> desired;
+  FeedbackSource source = FeedbackSource::DeadReckoning;
+  SlamState slam = SlamState::Off;
+  TrackState target = TrackState::Off;  // the platform in stage 5, else the instrument (or the face)
+  int stage_index = 0;
+  std::string stage;
+};
+
+class ExperimentFlight {
+ public:
+  static constexpr double kControlDt = 1.0 / 30.0;
+
+  virtual ~ExperimentFlight() = default;
+  virtual void tick() = 0;  // one control period
+  virtual FlightStack& stack() = 0;
+  virtual Seconds now() const = 0;
+  virtual Eigen::Isometry3d true_pose() const = 0;  // T_world_body
+  // The teacher's face (face frame, z out of the face) when there is one to follow.
+  virtual std::optional<Eigen::Isometry3d> true_face() const = 0;
+  // The teacher starts walking (the model's scripted walk; the simulated lab's teacher keeps to the
+  // lab file's path on their own).
+  virtual void start_teacher_walk() = 0;
+  virtual bool crashed() const = 0;
+  virtual const LabGeometry& lab() const = 0;
+  virtual const std::vector<FlightSample>& samples() const = 0;
+  // What flew and what saw, for plot titles and summaries.
+  virtual std::string description() const = 0;
+
+  bool run_until(const std::function<bool()>& done, double timeout_s);
+  void run(double seconds);
+  CommandResult request(const MissionRequest& r) { return stack().request(r, now()); }
+  // The true pose of the front camera relative to a target (z into it).
+  Eigen::Isometry3d true_T_cam(const Eigen::Isometry3d& T_world_target) const;
+};
+
+Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T);
+// The sample of this tick, from the stack's status and the truth.
+FlightSample sample_of(const FlightStatus& status, const Eigen::Isometry3d& truth, Seconds t);
+
+}  // namespace labo

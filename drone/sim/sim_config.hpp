@@ -1,0 +1,22 @@
+#pragma once
+// The "sim" configuration section: everything the simulated lab and its lockstep link need that is
+// not the lab's geometry (lab.json) or the real-time emulator's ports ("emulator"). Every key is
+// optional (defaults in docs/sim.md), range-checked, and unknown keys are refused.
+#include <vector>
+
+#include "drone/sim/sim_drone_link.hpp"
+#include "drone/sim/simulated_lab.hpp"
+
+namespace labo {
+
+class ConfigReader;
+
+struct SimConfig {
+  SimulatedLabSettings lab;  // seed, physics step, dynamics, sensors, teacher, disturbances
+  SimLinkSettings link;      // lockstep link: delays, jitter, loss, H.264
+};
+
+// Throws ConfigError "<file>: sim.<key>: <value> ... expected <range>".
+SimConfig read_sim_config(const ConfigReader& section);
+
+}  // namespace labo

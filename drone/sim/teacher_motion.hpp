@@ -1,0 +1,44 @@
+#pragma once
+// TeacherMotion: the simulated teacher's scripted walk (lab.json "teacher"). The teacher stands at
+// the first waypoint, then walks the waypoints in order at `speed_mps` and loops back to the first,
+// pausing `pause_s` at each one while turning from the incoming to the outgoing direction. The head
+// turns relative to the walking direction as three sinusoids (yaw, pitch, roll). A pure function of
+// time: the same t gives the same pose, whatever was asked before.
+//
+// Head pose in the CANDIDE-3 face frame of core/candide3.hpp: origin between the eyes at eye height,
+// +x the subject's left, +y up, +z out of the face. Head yaw > 0 turns to the subject's left, pitch
+// > 0 looks down, roll > 0 tilts the top of the head towards the subject's right.
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "core/time.hpp"
+#include "drone/lab/lab_description.hpp"
+
+namespace labo {
+
+struct TeacherPose {
+  Eigen::Vector2d floor_xy = Eigen::Vector2d::Zero();
+  double heading_rad = 0;  // the body's facing direction in the world, counter-clockwise from +x
+  Eigen::Isometry3d T_world_head = Eigen::Isometry3d::Identity();
+  bool walking = false;
+};
+
+class TeacherMotion {
+ public:
+  // Throws std::invalid_argument when the path has no waypoint or the speed is not positive.
+  explicit TeacherMotion(const TeacherSpec& spec);
+  TeacherPose pose(Seconds t) const;
+  Seconds cycle_s() const { return cycle_s_; }
+
+ private:
+  struct Leg {
+    Eigen::Vector2d from, to;
+    Seconds pause_start = 0, walk_start = 0, walk_end = 0;  // within one cycle
+    double heading_in = 0, heading_out = 0;     // arriving at `from`, leaving it
+  };
+  TeacherSpec spec_;
+  std::vector<Leg> legs_;
+  Seconds cycle_s_ = 0;
+};
+
+}  // namespace labo

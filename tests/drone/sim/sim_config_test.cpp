@@ -1,0 +1,131 @@
+// The "sim" configuration section: the shipped values load, every bad value is refused naming the key
+// and the expected range, unknown keys are refused.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "core/config_reader.hpp"
+#include "core/source_tree.hpp"
+#include "drone/sim/sim_config.hpp"
+
+using namespace labo;
+using nlohmann::json;
+
+namespace {
+
+json shipped_sim() {
+  std::ifstream in(source_root() / "config" / "default.json");
+  return json::parse(in)["sim"];
+}
+
+SimConfig read(const json& sim) {
+  const json root = {{"sim", sim}};
+  const ConfigDocument doc = ConfigDocument::parse(root.dump(), "test.json");
+  return read_sim_config(doc.root().object("sim"));
+}
+
+std::string error_of(const json& sim) {
+  try {
+    read(sim);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("sim config: the shipped section loads into the documented defaults", "[sim][config]") {
+  const SimConfig c = read(shipped_sim());
+  const SimConfig d;
+  CHECK(c.lab.seed == 1);
+  CHECK(c.lab.dynamics.step_s == d.lab.dynamics.step_s);
+  CHECK(c.lab.dynamics.tilt_max_rad == Approx(12 * std::numbers::pi / 180));
+  CHECK(c.lab.dynamics.yaw_rate_max_radps == Approx(d.lab.dynamics.yaw_rate_max_radps).epsilon(1e-4));
+  CHECK(c.lab.dynamics.vertical_response_per_s == d.lab.dynamics.vertical_response_per_s);
+  CHECK(c.lab.dynamics.battery_flying_drain_percent_per_s == Approx(d.lab.dynamics.battery_flying_drain_percent_per_s).epsilon(0.01));
+  CHECK(c.lab.sensors.yaw_drift_radps == Approx(d.lab.sensors.yaw_drift_radps).epsilon(0.05));
+  CHECK(c.lab.sensors.ultrasound_outlier_probability == d.lab.sensors.ultrasound_outlier_probability);
+  CHECK(c.link.video_delay_s == d.link.video_delay_s);
+  CHECK(c.link.seed == c.lab.seed);
+  CHECK(c.lab.teacher);
+  CHECK(c.lab.disturbances.empty());
+  CHECK(read(json::object()).lab.dynamics.drag_per_s == d.lab.dynamics.drag_per_s);  // every key optional
+}
+
+TEST_CASE("sim config: disturbances are read with their kinds", "[sim][config]") {
+  json sim = shipped_sim();
+  sim["disturbances"] = json::array({{{"kind", "impulse"}, {"t_s", 20}, {"dv_mps", {0.5, 0, 0}}},
+                                     {{"kind", "impulse"}, {"t_s", 25}, {"yaw_deg", 30}},
+                                     {{"kind", "gust"}, {"t_s", 30}, {"duration_s", 3}, {"wind_mps", {0, 1.5, 0}}},
+                                     {{"kind", "video_dropout"}, {"t_s", 40}, {"duration_s", 0.5}}});
+  const SimConfig c = read(sim);
+  REQUIRE(c.lab.disturbances.size() == 4);
+  CHECK(c.lab.disturbances[0].dv_heading_mps.x() == 0.5);
+  CHECK(c.lab.disturbances[1].dyaw_rad == Approx(30 * std::numbers::pi / 180));
+  CHECK(c.lab.disturbances[2].kind == Disturbance::Kind::Gust);
+  CHECK(c.lab.disturbances[2].wind_world_mps.y() == 1.5);
+  CHECK(c.lab.disturbances[3].kind == Disturbance::Kind::VideoDropout);
+}
+
+TEST_CASE("sim config: out-of-range values are refused naming the key and the expected range", "[sim][config]") {
+  struct Case {
+    const char* pointer;
+    json value;
+    const char* key;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"/physics_step_s", 0.1, "sim.physics_step_s", "0.02"},
+      {"/seed", -3, "sim.seed", "0"},
+      {"/dynamics/tilt_max_deg", 45, "sim.dynamics.tilt_max_deg", "30"},
+      {"/dynamics/vz_max_mps", 0, "sim.dynamics.vz_max_mps", "0.1"},
+      {"/dynamics/drag_per_s", "fast", "sim.dynamics.drag_per_s", "0.05"},
+      {"/dynamics/battery_start_percent", 120, "sim.dynamics.battery_start_percent", "100"},
+      {"/sensors/ultrasound_outlier_probability", 1.5, "sim.sensors.ultrasound_outlier_probability", "1"},
+      {"/sensors/velocity_noise_mps", -0.1, "sim.sensors.velocity_noise_mps", "0"},
+      {"/link/video_delay_s", 3, "sim.link.video_delay_s", "2"},
+      {"/link/navdata_loss", 2, "sim.link.navdata_loss", "1"},
+      {"/link/video_bitrate_kbps", 50, "sim.link.video_bitrate_kbps", "100"},
+      {"/teacher", "yes", "sim.teacher", "true or false"},
+  };
+  for (const Case& c : cases) {
+    json sim = shipped_sim();
+    sim[json::json_pointer(c.pointer)] = c.value;
+    const std::string e = error_of(sim);
+    INFO(c.pointer << ": " << e);
+    CHECK(e.find("test.json") != std::string::npos);
+    CHECK(e.find(c.key) != std::string::npos);
+    CHECK(e.find(c.expected) != std::string::npos);
+  }
+}
+
+TEST_CASE("sim config: inconsistent values, bad disturbances and unknown keys are refused", "[sim][config]") {
+  json sim = shipped_sim();
+  sim["dynamics"]["altitude_min_m"] = 0.9;
+  sim["dynamics"]["altitude_max_m"] = 0.8;
+  CHECK(error_of(sim).find("sim.dynamics.altitude_min_m: must be below altitude_max_m") != std::string::npos);
+  sim = shipped_sim();
+  sim["dynamics"]["takeoff_height_m"] = 2.0;
+  sim["dynamics"]["altitude_max_m"] = 1.5;
+  CHECK(error_of(sim).find("sim.dynamics.takeoff_height_m") != std::string::npos);
+
+  sim = shipped_sim();
+  sim["disturbances"] = json::array({{{"kind", "earthquake"}, {"t_s", 1}}});
+  CHECK(error_of(sim).find("sim.disturbances[0].kind") != std::string::npos);
+  sim["disturbances"] = json::array({{{"kind", "impulse"}, {"t_s", 1}}});
+  CHECK(error_of(sim).find("an impulse needs dv_mps or yaw_deg") != std::string::npos);
+  sim["disturbances"] = json::array({{{"kind", "gust"}, {"t_s", 1}, {"duration_s", 0}, {"wind_mps", {1, 0, 0}}}});
+  CHECK(error_of(sim).find("duration_s") != std::string::npos);
+  sim["disturbances"] = json::array({{{"kind", "impulse"}, {"t_s", 1}, {"dv_mps", {1, 0}}}});
+  CHECK(error_of(sim).find("dv_mps") != std::string::npos);
+
+  sim = shipped_sim();
+  sim["link"]["delay_s"] = 0.1;
+  CHECK(error_of(sim).find("delay_s") != std::string::npos);
+  sim = shipped_sim();
+  sim["gravity"] = 9.81;
+  CHECK(error_of(sim).find("gravity") != std::string::npos);
+}
