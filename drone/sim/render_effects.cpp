@@ -60,19 +60,21 @@ float MotionBlur::plan(const SceneState& scene, const Eigen::Isometry3d& T_body_
 namespace {
 
 // Averages `taps` texels at the given offsets from each pixel of a row (SWAR: blue and red share a
-// word, 16 bits each, green its own: 32 taps of 255 fit). Branch-free, so it vectorizes.
+// word, 16 bits each, green its own: 32 taps of 255 fit). Branch-free, so it vectorizes; a full
+// tile row (kCount = 16) is unrolled into registers.
+template <int kCount>
 inline void average_taps(const std::uint32_t* const* rows, int taps, int count, std::uint32_t scale, std::uint32_t* out) {
   constexpr int kRow = CameraRays::kTile;
-  alignas(32) std::uint32_t rb[kRow], g[kRow];
-  for (int i = 0; i < count; ++i) rb[i] = g[i] = 0;
+  const int n = kCount > 0 ? kCount : count;
+  std::uint32_t rb[kRow] = {}, g[kRow] = {};
   for (int k = 0; k < taps; ++k) {
     const std::uint32_t* s = rows[k];
-    for (int i = 0; i < count; ++i) {
+    for (int i = 0; i < n; ++i) {
       rb[i] += s[i] & 0x00FF00FFu;
       g[i] += (s[i] >> 8) & 0xFFu;
     }
   }
-  for (int i = 0; i < count; ++i) {
+  for (int i = 0; i < n; ++i) {
     out[i] = (((rb[i] & 0xFFFFu) * scale) >> 16) | ((((g[i] * scale) >> 16)) << 8) | ((((rb[i] >> 16) * scale) >> 16) << 16);
   }
 }
@@ -117,7 +119,11 @@ LABO_VECTOR_CLONES void MotionBlur::apply(const std::uint32_t* src, std::uint32_
           rows[k] = clamped[k];
         }
       }
-      average_taps(rows, taps, count, scale, dst + y * w + t.x0);
+      if (count == CameraRays::kTile) {
+        average_taps<CameraRays::kTile>(rows, taps, count, scale, dst + y * w + t.x0);
+      } else {
+        average_taps<0>(rows, taps, count, scale, dst + y * w + t.x0);
+      }
     }
   }
 }

@@ -182,19 +182,19 @@ SceneTracer::LevelMap SceneTracer::level_for(const View& v, int ti) const {
 
 namespace {
 
-// Bilinear samples at n <= 8 points (u0 + i du, w0 + i dw) of a level (16.16 fixed point, inside its
-// border): addresses and weights, then the loads, then the blend, each a loop the compiler vectorizes.
-inline void sample_span(const TextureMap::Level& level, std::int32_t u0, std::int32_t w0, std::int32_t du, std::int32_t dw,
-                        int n, std::uint32_t* out) {
-  constexpr int kMax = 8;
+// Bilinear samples at n <= kMax points (u[i], w[i]) of a level (16.16 fixed point, inside its border):
+// addresses and weights, then the loads, then the blend, each a loop the compiler vectorizes (fully
+// unrolled for a whole tile row).
+template <int kMax>
+inline void sample_points(const TextureMap::Level& level, const std::int32_t* u, const std::int32_t* w, int n,
+                          std::uint32_t* out) {
   alignas(32) std::int32_t index[kMax];
   alignas(32) std::uint32_t fx[kMax], fy[kMax], p00[kMax], p01[kMax], p10[kMax], p11[kMax];
   const int stride = level.stride;
-  std::int32_t u = u0, w = w0;
-  for (int i = 0; i < n; ++i, u += du, w += dw) {
-    index[i] = (w >> 16) * stride + (u >> 16);
-    fx[i] = static_cast<std::uint32_t>(u >> 8) & 0xFFu;
-    fy[i] = static_cast<std::uint32_t>(w >> 8) & 0xFFu;
+  for (int i = 0; i < n; ++i) {
+    index[i] = (w[i] >> 16) * stride + (u[i] >> 16);
+    fx[i] = static_cast<std::uint32_t>(u[i] >> 8) & 0xFFu;
+    fy[i] = static_cast<std::uint32_t>(w[i] >> 8) & 0xFFu;
   }
   const std::uint32_t* base = level.origin();
   for (int i = 0; i < n; ++i) {
@@ -234,11 +234,26 @@ LABO_VECTOR_CLONES void SceneTracer::fill_uniform(int ti, const View& v, const L
       u[j] = TextureMap::to_fixed((v.a0 + t * (v.ux * x + v.uy * y + v.uz)) * m.ku - 0.5f, level.width);
       w[j] = TextureMap::to_fixed((v.b0 + t * (v.vx * x + v.vy * y + v.vz)) * m.kv - 0.5f, level.height);
     }
+    // The row's texel coordinates: linear between consecutive span points.
+    constexpr int kRow = CameraRays::kTile;
+    alignas(32) std::int32_t us[kRow], ws[kRow];
+    const int count = tile.x1 - tile.x0;
     for (int j = 0; j + 1 < kPoints; ++j) {
       const int n = px[j + 1] - px[j];
-      if (n > 0) sample_span(level, u[j], w[j], (u[j + 1] - u[j]) / n, (w[j + 1] - w[j]) / n, n, colour + row + px[j]);
+      if (n <= 0) continue;
+      const std::int32_t du = (u[j + 1] - u[j]) / n, dw = (w[j + 1] - w[j]) / n;
+      for (int i = 0; i < n; ++i) {
+        us[px[j] - tile.x0 + i] = u[j] + i * du;
+        ws[px[j] - tile.x0 + i] = w[j] + i * dw;
+      }
     }
-    colour[row + px[kPoints - 1]] = TextureMap::sample_fixed(level, u[kPoints - 1], w[kPoints - 1]);
+    us[count - 1] = u[kPoints - 1];
+    ws[count - 1] = w[kPoints - 1];
+    if (count == kRow) {
+      sample_points<kRow>(level, us, ws, kRow, colour + row + tile.x0);
+    } else {
+      sample_points<kRow>(level, us, ws, count, colour + row + tile.x0);
+    }
     if (want_depth) {
       const float* rx = rays_.ray_x() + row;
       const float* ry = rays_.ray_y() + row;
