@@ -14,6 +14,11 @@ SlamSettings read_slam_settings(const ConfigReader& node) {
   s.keyframe_min_interval_s = node.number_or("keyframe_min_interval_s", s.keyframe_min_interval_s, Range::closed(0.0, 10.0));
   s.max_keyframes = node.integer_or("max_keyframes", s.max_keyframes, 2, 2000);
   s.global_ba_when_idle = node.boolean_or("global_ba_when_idle", s.global_ba_when_idle);
+  s.global_ba_max_keyframes = node.integer_or("global_ba_max_keyframes", s.global_ba_max_keyframes, 3, 2000);
+  s.global_ba_fixed_keyframes = node.integer_or("global_ba_fixed_keyframes", s.global_ba_fixed_keyframes, 1, 10);
+  s.cull_points = node.boolean_or("cull_points", s.cull_points);
+  s.loop_closure = node.boolean_or("loop_closure", s.loop_closure);
+  s.loop_min_gap_s = node.number_or("loop_min_gap_s", s.loop_min_gap_s, Range::closed(1.0, 600.0));
   node.finish();
   return s;
 }

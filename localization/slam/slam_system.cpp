@@ -55,6 +55,9 @@ void validate_settings(const SlamSettings& s) {
   if (s.lost_after_bad_frames < 1) fail("lost_after_bad_frames must be >= 1");
   if (s.local_ba_keyframes < 2) fail("local_ba_keyframes must be >= 2");
   if (s.init_min_points < 20) fail("init_min_points must be >= 20");
+  if (s.global_ba_max_keyframes < 3) fail("global_ba_max_keyframes must be >= 3");
+  if (s.global_ba_fixed_keyframes < 1 || s.global_ba_fixed_keyframes > 10) fail("global_ba_fixed_keyframes must be in [1, 10]");
+  if (!(s.loop_min_gap_s > 0)) fail("loop_min_gap_s must be > 0");
 }
 
 const PinholeCamera& validated(const PinholeCamera& camera) {
@@ -83,6 +86,13 @@ struct SlamSystem::Impl {
     m.level_scale = s.pyramid_scale;
     m.local_ba_keyframes = s.local_ba_keyframes;
     m.global_ba = s.global_ba_when_idle;
+    m.global_ba_max_keyframes = s.global_ba_max_keyframes;
+    m.global_ba_fixed_keyframes = s.global_ba_fixed_keyframes;
+    m.cull_points = s.cull_points;
+    m.loop.enabled = s.loop_closure;
+    m.loop.min_gap_s = s.loop_min_gap_s;
+    m.loop.levels = s.pyramid_levels;
+    m.loop.level_scale = s.pyramid_scale;
     return m;
   }
 
@@ -95,6 +105,7 @@ struct SlamSystem::Impl {
   void add_keyframe(const TrackOutcome& o, const cv::Mat& gray, Seconds t);
   void start_map(const InitialMap& init, const cv::Mat& gray, Seconds t);
   void clear_tracking();
+  std::optional<Similarity3> follow_map_corrections();
 
   SlamSettings settings;
   IdealCamera camera;
@@ -114,6 +125,7 @@ struct SlamSystem::Impl {
   int bad_frames = 0;
   bool relocalizing = false;
   int reference_keyframe = -1;
+  int map_generation = 0;  // the last map correction this tracker's poses follow
   Seconds last_keyframe_t = -1e9;
   cv::Mat reference_small_image;  // of the initializer's reference frame
   SlamResult last;
@@ -234,6 +246,36 @@ void SlamSystem::Impl::clear_tracking() {
   bad_frames = 0;
   relocalizing = false;
   reference_keyframe = -1;
+  std::shared_lock lock(map.mutex());
+  map_generation = map.generation();
+}
+
+std::optional<Similarity3> SlamSystem::Impl::follow_map_corrections() {
+  // A loop correction moved the map under the tracker: carry the motion model's poses over with the
+  // reference keyframe's correction (the part of the map the camera is looking at). Returns what
+  // was applied (pose' = rigid part of pose * returned), if anything.
+  std::shared_lock lock(map.mutex());
+  if (map.generation() == map_generation) return std::nullopt;
+  const std::vector<const MapCorrection*> corrections = map.corrections_since(map_generation);
+  const bool complete = !corrections.empty() && corrections.back()->generation == map.generation() &&
+                        corrections.front()->generation == map_generation + 1;
+  map_generation = map.generation();
+  if (!complete || reference_keyframe < 0) {
+    // Too far behind to carry the poses over: find the map again.
+    last_T.reset();
+    previous_T.reset();
+    relocalizing = true;
+    return std::nullopt;
+  }
+  Similarity3 G_inv;
+  for (const MapCorrection* c : corrections) {
+    if (static_cast<std::size_t>(reference_keyframe) < c->keyframe_correction.size()) {
+      G_inv = G_inv * c->keyframe_correction[static_cast<std::size_t>(reference_keyframe)].inverse();
+    }
+  }
+  if (last_T) last_T = (Similarity3::from_rigid(*last_T) * G_inv).rigid_pose();
+  if (previous_T) previous_T = (Similarity3::from_rigid(*previous_T) * G_inv).rigid_pose();
+  return G_inv;
 }
 
 void SlamSystem::Impl::accept_pose(const Eigen::Isometry3d& T, Seconds t) {
@@ -244,6 +286,7 @@ void SlamSystem::Impl::accept_pose(const Eigen::Isometry3d& T, Seconds t) {
 }
 
 SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior) {
+  follow_map_corrections();
   SlamResult result;
   bool coarse = true;
   Eigen::Isometry3d guess = last_T.value_or(Eigen::Isometry3d::Identity());
@@ -273,7 +316,13 @@ SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std
     // PTAM switches the coarse stage off when the camera barely moves: less jitter.
     coarse = rotation_angle(step) * camera.fx() + step.translation().norm() * camera.fx() > 4.0;
   }
-  const TrackOutcome o = tracker.track(map, frame, grid, guess, reference_keyframe, coarse);
+  TrackOutcome o = tracker.track(map, frame, grid, guess, reference_keyframe, coarse);
+  if (o.map_generation != map_generation && !relocalizing) {
+    // The mapper corrected the map between our prior and the tracking pass: carry the prior over and
+    // track again (rare: once per loop closure at most).
+    if (const auto G_inv = follow_map_corrections()) guess = (Similarity3::from_rigid(guess) * *G_inv).rigid_pose();
+    o = tracker.track(map, frame, grid, guess, reference_keyframe, coarse);
+  }
   result.points_found = o.found;
   result.points_attempted = o.attempted;
   result.quality = o.attempted > 0 ? static_cast<double>(o.found) / o.attempted : 0.0;
@@ -336,6 +385,8 @@ void SlamSystem::Impl::add_keyframe(const TrackOutcome& o, const cv::Mat& gray, 
   kf.point_of_feature.assign(frame.size(), kNoPoint);
   for (const auto& [feature, id] : o.matches) kf.point_of_feature[static_cast<std::size_t>(feature)] = id;
   kf.small_image = small_blurry_image(gray);
+  kf.map_generation = map_generation;
+  kf.tracking_reference = reference_keyframe;
   last_keyframe_t = t;
   const Stopwatch mapping_watch;
   mapper->enqueue(std::move(kf));  // returns at once in threaded mode
@@ -364,6 +415,7 @@ SlamStatus SlamSystem::status() const {
   s.mapping_queue = impl_->mapper->queued();
   s.local_ba_runs = stats.local_ba_runs;
   s.global_ba_runs = stats.global_ba_runs;
+  s.loops_corrected = static_cast<int>(stats.loop_ms.size());
   std::shared_lock lock(impl_->map.mutex());
   s.map_points = static_cast<int>(impl_->map.points().size());
   s.keyframes = static_cast<int>(impl_->map.keyframes().size());
@@ -373,7 +425,10 @@ SlamStatus SlamSystem::status() const {
   for (const auto& [id, p] : impl_->map.points()) {
     if (i++ % stride == 0) s.points_map.push_back(p.p_map);
   }
-  for (const Keyframe& kf : impl_->map.keyframes()) s.keyframes_T_map_cam.push_back(kf.T_cam_map.inverse());
+  for (const Keyframe& kf : impl_->map.keyframes()) {
+    s.keyframes_T_map_cam.push_back(kf.T_cam_map.inverse());
+    s.keyframe_times.push_back(kf.t);
+  }
   return s;
 }
 
@@ -384,6 +439,12 @@ MappingStatistics SlamSystem::mapping_statistics() const {
   out.points_created = stats.points_created;
   out.observations_removed = stats.observations_removed;
   out.global_ba_runs = stats.global_ba_runs;
+  out.loops_detected = static_cast<int>(stats.loops.size());
+  out.loops_corrected = static_cast<int>(stats.loop_ms.size());
+  for (const LoopReport& l : stats.loops) out.points_fused += l.points_fused;
+  out.loop_ms = stats.loop_ms;
+  out.loop_search_ms = stats.loop_search_ms;
+  out.loops = stats.loops;
   return out;
 }
 
@@ -423,6 +484,7 @@ void SlamSystem::load_map(const std::filesystem::path& file) {
     }
     for (auto& [id, p] : loaded.points_mutable()) impl_->map.points_mutable().emplace(id, std::move(p));
     impl_->map.set_next_point_id(loaded.next_point_id());
+    for (const LoopEdge& e : loaded.loop_edges()) impl_->map.add_loop_edge(e);
   }
   impl_->clear_tracking();
   impl_->relocalizing = true;

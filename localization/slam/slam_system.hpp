@@ -17,6 +17,7 @@
 
 #include "core/camera_model.hpp"
 #include "core/time.hpp"
+#include "localization/slam/module/loop_report.hpp"
 
 namespace labo::slam {
 
@@ -46,6 +47,11 @@ struct SlamSettings {
   int local_ba_keyframes = 5;             // newest + 4 nearest
   int max_keyframes = 400;
   bool global_ba_when_idle = true;
+  int global_ba_max_keyframes = 200;      // larger maps get local adjustments only
+  int global_ba_fixed_keyframes = 2;      // first keyframes held fixed by global adjustments (2: also the scale)
+  bool cull_points = true;                // drop points that keep being missed where they should be seen
+  bool loop_closure = true;
+  double loop_min_gap_s = 20.0;           // a loop keyframe is at least this much older
   double init_min_parallax_px = 20.0;     // median displacement before trying two-view init
   double init_timeout_s = 3.0;            // retry with a new reference after this
   int init_min_points = 60;
@@ -74,9 +80,11 @@ struct SlamStatus {
   int mapping_queue = 0;
   int local_ba_runs = 0;
   int global_ba_runs = 0;
+  int loops_corrected = 0;
   std::string reason;
   std::vector<Eigen::Vector3d> points_map;       // subsampled for the top-down view
   std::vector<Eigen::Isometry3d> keyframes_T_map_cam;
+  std::vector<Seconds> keyframe_times;  // one per keyframe pose
 };
 
 // Mapping figures for benchmarks (wall times are measurements only).
@@ -85,6 +93,12 @@ struct MappingStatistics {
   int points_created = 0;
   int observations_removed = 0;
   int global_ba_runs = 0;
+  int loops_detected = 0;
+  int loops_corrected = 0;
+  int points_fused = 0;
+  std::vector<double> loop_ms;  // each correction's wall time
+  std::vector<double> loop_search_ms;  // each keyframe's loop search (no correction) wall time
+  std::vector<LoopReport> loops;
 };
 
 class SlamSystem {

@@ -100,7 +100,8 @@ FlightSnapshot FlightStackCore::status() {
   const FlightStatus s = stack_->status();
   FlightSnapshot snap;
   FlightTelemetry& t = snap.telemetry;
-  t.mission = s.mission;
+  // After an emergency stop the mission has ended, but what everyone must see is the cut-out.
+  t.mission = s.phase == FlightPhase::Emergency ? "emergency" : s.mission;
   t.stage = s.stage;
   t.pose = xyz_yaw(s.pose.T_world_body);
   if (s.desired) t.desired = PoseXyzYaw{(*s.desired)(0), (*s.desired)(1), (*s.desired)(2), (*s.desired)(3)};

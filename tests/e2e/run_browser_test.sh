@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
-# Runs the browser test: installs Debian's chromium and the npm package when missing, starts
-# labo_e2e_server on a free port, drives it with student_flow.mjs, stops the server.
+# Runs the browser test: installs Debian's chromium and the npm package when missing, starts the
+# server on a free port, drives it with student_flow.mjs, stops the server.
 # Usage: run_browser_test.sh SERVER_BINARY OUT_DIR
+#   SERVER_BINARY labo_e2e_server: the web layer over test doubles (a test card, a scripted mission);
+#   SERVER_BINARY labodrone: `labodrone serve`, i.e. the simulated lab on loopback with the real
+#   driver, flight stack and vision, as `make run` starts it.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 server="$1"; out="$2"
@@ -14,10 +17,14 @@ if [ ! -d "$here/node_modules/playwright-core" ]; then
   (cd "$here" && npm install --no-audit --no-fund --silent)
 fi
 port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
-"$server" "$port" 1.5 30 > "$out/server.log" 2>&1 &
+if [ "$(basename "$server")" = labodrone ]; then
+  "$server" serve --port "$port" > "$out/server.log" 2>&1 &
+else
+  "$server" "$port" 1.5 30 > "$out/server.log" 2>&1 &
+fi
 pid=$!
 trap 'kill -TERM $pid 2>/dev/null; wait $pid 2>/dev/null || true' EXIT
-for _ in $(seq 100); do
+for _ in $(seq 300); do  # the simulated lab loads the teacher's face first
   curl -sf "http://127.0.0.1:$port/api/health" >/dev/null && break
   sleep 0.1
 done

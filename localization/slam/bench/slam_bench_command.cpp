@@ -1,9 +1,12 @@
 #include "localization/slam/bench/slam_bench_command.hpp"
 
+#include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "core/config_reader.hpp"
 #include "localization/slam/bench/slam_benchmark.hpp"
+#include "localization/slam/slam_config.hpp"
 
 namespace labo {
 namespace {
@@ -26,6 +29,13 @@ nlohmann::json to_json(const slam::FlightReport& r) {
   } else {
     j["ate_rmse_cm"] = nullptr;
   }
+  if (r.keyframe_errors) {
+    j["keyframe_ate_rmse_cm"] = r.keyframe_errors->ate_rmse_m * 100;
+    j["keyframe_scale_drift_percent"] = r.keyframe_errors->scale_drift_percent;
+  }
+  std::vector<double> windows_cm;
+  for (double e : r.ate_by_10s_m) windows_cm.push_back(std::round(e * 1000) / 10);
+  j["ate_by_10s_cm"] = windows_cm;
   j["tracking_ms_median"] = r.tracking_ms_median;
   j["tracking_ms_p95"] = r.tracking_ms_p95;
   j["tracking_cpu_ms_median"] = r.tracking_cpu_ms_median;
@@ -35,6 +45,12 @@ nlohmann::json to_json(const slam::FlightReport& r) {
   j["keyframes"] = r.keyframes;
   j["map_points"] = r.map_points;
   j["global_ba_runs"] = r.global_ba_runs;
+  j["loops_detected"] = r.loops_detected;
+  j["loops_corrected"] = r.loops_corrected;
+  j["points_fused"] = r.points_fused;
+  j["loop_correction_ms_max"] = r.loop_ms_max;
+  j["loop_search_ms_median"] = r.loop_search_ms_median;
+  j["loop_search_ms_p95"] = r.loop_search_ms_p95;
   if (r.relocalization_s) j["relocalization_s"] = *r.relocalization_s;
   if (r.name == "approach") {
     j["lost_at_distance_m"] = r.lost_at_distance_m ? nlohmann::json(*r.lost_at_distance_m) : nlohmann::json(nullptr);
@@ -54,7 +70,9 @@ const CommandSpec& bench_slam_command_spec() {
        {"--flight", "NAME", "tour, yaw, approach or all (default all)"},
        {"--tour-seconds", "S", "duration of the tour flight (default 120)"},
        {"--threaded", "", "mapping in its own thread (default: synchronous, deterministic)"},
-       {"--trace", "", "print every frame that is not tracked well, and keyframes, to stderr"}},
+       {"--config", "FILE", "read the \"slam\" section of this config (its mapping key is ignored: see --threaded)"},
+       {"--trace", "", "print every frame that is not tracked well, and keyframes, to stderr"},
+       {"--tum-dir", "DIR", "write each flight's estimate and ground truth as TUM trajectories (for evo)"}},
       0,
       0};
   return spec;
@@ -67,6 +85,12 @@ int run_bench_slam_command(const ParsedArgs& args) {
   }
   const double tour_s = args.number_or("--tour-seconds", 120.0, 10.0, 600.0);
   const slam::MappingMode mode = args.flag("--threaded") ? slam::MappingMode::Threaded : slam::MappingMode::Synchronous;
+  slam::SlamSettings settings;
+  if (const auto file = args.value("--config")) {
+    const ConfigDocument doc = ConfigDocument::load(*file);
+    if (doc.root().has("slam")) settings = slam::read_slam_settings(doc.root().object("slam"));
+  }
+  settings.mapping_mode = mode;
   const PinholeCamera camera = PinholeCamera::ardrone2_front();
   const slam::SyntheticRoom room(camera);
   std::vector<slam::Flight> flights;
@@ -78,7 +102,13 @@ int run_bench_slam_command(const ParsedArgs& args) {
   out["mapping_mode"] = mode == slam::MappingMode::Threaded ? "threaded" : "synchronous";
   out["targets"] = {{"tracking_ms_median", 10.0}, {"ate_rmse_cm", 3.0}, {"relocalization_s", 1.0}};
   for (const auto& flight : flights) {
-    const slam::FlightReport r = slam::run_flight(room, flight, camera, mode, args.flag("--trace") ? &std::cerr : nullptr);
+    const slam::FlightReport r = slam::run_flight(room, flight, camera, settings, args.flag("--trace") ? &std::cerr : nullptr);
+    if (const auto dir = args.value("--tum-dir")) {
+      slam::write_tum_trajectory(*dir + "/" + r.name + "_estimate.tum", r.trajectory, false);
+      slam::write_tum_trajectory(*dir + "/" + r.name + "_truth.tum", r.trajectory, true);
+      slam::write_tum_trajectory(*dir + "/" + r.name + "_keyframes.tum", r.keyframe_trajectory, false);
+      slam::write_tum_trajectory(*dir + "/" + r.name + "_keyframes_truth.tum", r.keyframe_trajectory, true);
+    }
     const nlohmann::json j = to_json(r);
     out["flights"].push_back(j);
     if (!args.flag("--json")) std::cerr << j.dump() << "\n";

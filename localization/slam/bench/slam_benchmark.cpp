@@ -14,10 +14,8 @@ double percentile(std::vector<double> v, double q) {
 
 }  // namespace
 
-FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const PinholeCamera& camera, MappingMode mode,
-                        std::ostream* trace) {
-  SlamSettings settings;
-  settings.mapping_mode = mode;
+FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const PinholeCamera& camera,
+                        const SlamSettings& settings, std::ostream* trace) {
   SlamSystem slam(camera, settings);
   FlightReport report;
   report.name = flight.name;
@@ -60,6 +58,8 @@ FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const P
   }
   slam.wait_for_mapping();
   report.errors = trajectory_errors(pairs);
+  report.ate_by_10s_m = windowed_ate_m(pairs, 10.0);
+  report.trajectory = std::move(pairs);
   report.tracking_ms_median = percentile(tracking_ms, 0.5);
   report.tracking_ms_p95 = percentile(tracking_ms, 0.95);
   report.tracking_cpu_ms_median = percentile(tracking_cpu_ms, 0.5);
@@ -68,9 +68,31 @@ FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const P
   report.mapping_ms_per_keyframe_median = percentile(mapping.keyframe_ms, 0.5);
   report.mapping_ms_per_keyframe_max = percentile(mapping.keyframe_ms, 1.0);
   report.global_ba_runs = mapping.global_ba_runs;
+  report.loops_detected = mapping.loops_detected;
+  report.loops_corrected = mapping.loops_corrected;
+  report.points_fused = mapping.points_fused;
+  report.loop_ms_max = percentile(mapping.loop_ms, 1.0);
+  report.loop_search_ms_median = percentile(mapping.loop_search_ms, 0.5);
+  report.loop_search_ms_p95 = percentile(mapping.loop_search_ms, 0.95);
+  if (trace) {
+    for (const LoopReport& l : mapping.loops) {
+      *trace << flight.name << " loop: keyframe " << l.current << " -> " << l.loop << (l.corrected ? " corrected" : " consistent")
+             << ", inliers " << l.inliers << ", confirmed " << l.confirmed << ", moved " << l.correction_translation << " map units, "
+             << l.correction_rotation_deg << " deg, scale " << l.correction_scale << ", fused " << l.points_fused << "\n";
+    }
+  }
   const SlamStatus status = slam.status();
   report.keyframes = status.keyframes;
   report.map_points = status.map_points;
+  std::vector<PosePair> keyframe_pairs;
+  for (std::size_t k = 0; k < status.keyframe_times.size(); ++k) {
+    const Seconds t = status.keyframe_times[k];
+    const auto truth = std::lower_bound(flight.frames.begin(), flight.frames.end(), t,
+                                        [](const FlightFrame& f, Seconds value) { return f.t < value; });
+    if (truth != flight.frames.end() && truth->t == t) keyframe_pairs.push_back({t, status.keyframes_T_map_cam[k], truth->T_world_cam});
+  }
+  report.keyframe_errors = trajectory_errors(keyframe_pairs);
+  report.keyframe_trajectory = std::move(keyframe_pairs);
   return report;
 }
 

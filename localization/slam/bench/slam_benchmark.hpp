@@ -21,11 +21,18 @@ struct FlightReport {
   int lost_frames = 0;     // after initialization
   double initialized_at_s = -1;
   int initialization_attempts = 0;
-  std::optional<TrajectoryErrors> errors;
+  std::optional<TrajectoryErrors> errors;           // every tracked frame, as tracked (online)
+  std::optional<TrajectoryErrors> keyframe_errors;  // the final map's keyframe poses (ORB-SLAM's convention)
+  std::vector<double> ate_by_10s_m;                 // online error along the flight (whole-flight alignment)
+  std::vector<PosePair> trajectory;                 // tracked poses with ground truth
+  std::vector<PosePair> keyframe_trajectory;        // the final map's keyframes with ground truth
   double tracking_ms_median = 0, tracking_ms_p95 = 0;          // wall time
   double tracking_cpu_ms_median = 0, tracking_cpu_ms_p95 = 0;  // thread CPU time
   double mapping_ms_per_keyframe_median = 0, mapping_ms_per_keyframe_max = 0;
   int keyframes = 0, map_points = 0, global_ba_runs = 0;
+  int loops_detected = 0, loops_corrected = 0, points_fused = 0;
+  double loop_ms_max = 0;
+  double loop_search_ms_median = 0, loop_search_ms_p95 = 0;
   std::optional<double> relocalization_s;  // view back -> tracking good again
   std::optional<double> lost_at_distance_m;  // approach: first lost frame's distance to the panel
   double closest_tracked_distance_m = 0;     // approach: closest good/dodgy frame
@@ -38,7 +45,7 @@ struct BenchOptions {
 };
 
 // trace (optional): one line per frame that is not Good or adds a keyframe.
-FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const PinholeCamera& camera, MappingMode mode,
-                        std::ostream* trace = nullptr);
+FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const PinholeCamera& camera,
+                        const SlamSettings& settings, std::ostream* trace = nullptr);
 
 }  // namespace labo::slam

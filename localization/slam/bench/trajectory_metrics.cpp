@@ -2,6 +2,9 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <stdexcept>
 
 namespace labo::slam {
 
@@ -63,6 +66,36 @@ std::optional<TrajectoryErrors> trajectory_errors(const std::vector<PosePair>& p
     if (first && last) e.scale_drift_percent = 100.0 * std::abs(last->scale / first->scale - 1.0);
   }
   return e;
+}
+
+std::vector<double> windowed_ate_m(const std::vector<PosePair>& pairs, Seconds window_s) {
+  const auto sim = align_sim3(pairs);
+  if (!sim || pairs.empty() || !(window_s > 0)) return {};
+  const Seconds t0 = pairs.front().t;
+  const auto windows = static_cast<std::size_t>((pairs.back().t - t0) / window_s) + 1;
+  std::vector<double> sum2(windows, 0.0);
+  std::vector<int> n(windows, 0);
+  for (const PosePair& p : pairs) {
+    const auto w = static_cast<std::size_t>((p.t - t0) / window_s);
+    sum2[w] += (sim->apply(p.estimate_T_map_cam.translation()) - p.truth_T_world_cam.translation()).squaredNorm();
+    ++n[w];
+  }
+  std::vector<double> out(windows, 0.0);
+  for (std::size_t w = 0; w < windows; ++w) out[w] = n[w] > 0 ? std::sqrt(sum2[w] / n[w]) : 0.0;
+  return out;
+}
+
+void write_tum_trajectory(const std::string& file, const std::vector<PosePair>& pairs, bool ground_truth) {
+  std::ofstream out(file);
+  if (!out) throw std::runtime_error("cannot write trajectory file " + file);
+  out << std::setprecision(9);
+  for (const PosePair& p : pairs) {
+    const Eigen::Isometry3d& T = ground_truth ? p.truth_T_world_cam : p.estimate_T_map_cam;
+    const Eigen::Quaterniond q(T.linear());
+    out << p.t << ' ' << T.translation().x() << ' ' << T.translation().y() << ' ' << T.translation().z() << ' ' << q.x() << ' '
+        << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
+  }
+  if (!out) throw std::runtime_error("write failed: " + file);
 }
 
 }  // namespace labo::slam

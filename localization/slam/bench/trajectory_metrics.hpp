@@ -6,6 +6,7 @@
 // scales fitted on the first and the last third of the trajectory.
 #include <Eigen/Geometry>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/time.hpp"
@@ -38,5 +39,13 @@ struct TrajectoryErrors {
 };
 
 std::optional<TrajectoryErrors> trajectory_errors(const std::vector<PosePair>& pairs, Seconds rpe_interval_s = 1.0);
+
+// Where along the flight the error is: the RMSE of the positions aligned by the whole trajectory's
+// Sim(3), over consecutive windows of `window_s` (empty windows give 0).
+std::vector<double> windowed_ate_m(const std::vector<PosePair>& pairs, Seconds window_s);
+
+// Writes a trajectory in the TUM format ("t tx ty tz qx qy qz qw" per line), the estimate or the
+// ground truth, so that evo and other tools can evaluate it. Throws std::runtime_error on I/O errors.
+void write_tum_trajectory(const std::string& file, const std::vector<PosePair>& pairs, bool ground_truth);
 
 }  // namespace labo::slam

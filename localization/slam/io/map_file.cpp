@@ -13,7 +13,8 @@ namespace {
 
 constexpr char kMagic[8] = {'L', 'A', 'B', 'O', 'S', 'L', 'A', 'M'};
 constexpr char kEnd[8] = {'E', 'N', 'D', 'S', 'L', 'A', 'M', '!'};
-constexpr std::uint32_t kVersion = 1;
+// Version 2 added the loop edges (after the points).
+constexpr std::uint32_t kVersion = 2;
 
 std::uint64_t fnv1a(const std::uint8_t* data, std::size_t size) {
   std::uint64_t h = 1469598103934665603ull;
@@ -141,6 +142,16 @@ void write_map_file(const std::filesystem::path& file, const CameraIntrinsics& c
       w.put(static_cast<std::int32_t>(o.feature));
     }
   }
+  w.put(static_cast<std::uint32_t>(map.loop_edges().size()));
+  for (const LoopEdge& e : map.loop_edges()) {
+    w.put(static_cast<std::int32_t>(e.current));
+    w.put(static_cast<std::int32_t>(e.loop));
+    w.put(e.measured.scale);
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) w.put(e.measured.R(r, c));
+    }
+    for (int i = 0; i < 3; ++i) w.put(e.measured.t[i]);
+  }
   w.put(fnv1a(w.bytes.data(), w.bytes.size()));
   w.put_bytes(kEnd, 8);
   // Write to a temporary file and rename: a crash while saving never leaves half a map in place.
@@ -238,7 +249,24 @@ void read_map_file(const std::filesystem::path& file, const CameraIntrinsics& ca
     }
     out.points_mutable().emplace(p.id, std::move(p));
   }
-  if (r.position() != body) r.fail("unexpected bytes after the points");
+  const std::uint32_t n_loops = r.count("loop edge", 100000);
+  for (std::uint32_t i = 0; i < n_loops; ++i) {
+    LoopEdge e;
+    e.current = r.get<std::int32_t>("loop edge");
+    e.loop = r.get<std::int32_t>("loop edge");
+    if (e.current < 0 || e.loop < 0 || static_cast<std::uint32_t>(e.current) >= n_kf || static_cast<std::uint32_t>(e.loop) >= n_kf) {
+      r.fail("loop edge between keyframes that do not exist");
+    }
+    e.measured.scale = r.finite("loop edge scale");
+    if (!(e.measured.scale > 0)) r.fail("loop edge scale must be positive");
+    for (int row = 0; row < 3; ++row) {
+      for (int c = 0; c < 3; ++c) e.measured.R(row, c) = r.finite("loop edge rotation");
+    }
+    if ((e.measured.R * e.measured.R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6) r.fail("loop edge rotation is not a rotation");
+    for (int c = 0; c < 3; ++c) e.measured.t[c] = r.finite("loop edge translation");
+    out.add_loop_edge(e);
+  }
+  if (r.position() != body) r.fail("unexpected bytes after the loop edges");
   // Keyframe links must point at points that exist.
   for (Keyframe& kf : out.keyframes_mutable()) {
     for (PointId& id : kf.point_of_feature) {

@@ -1,6 +1,7 @@
 #pragma once
 // Map files: a lab mapped once can be reused. Binary, little-endian, versioned:
-//   "LABOSLAM" u32 version | camera (width, height, fx fy cx cy k1 k2 p1 p2 k3) | keyframes | points |
+//   "LABOSLAM" u32 version (2) | camera (width, height, fx fy cx cy k1 k2 p1 p2 k3) | keyframes | points |
+//   loop edges (u32 count; i32 current, i32 loop, f64 scale, 3x3 f64 rotation, 3 f64 translation) |
 //   u64 FNV-1a of everything before it | "ENDSLAM!".
 // Reading refuses, with the reason: a file too short or cut (truncated), a bad checksum (corrupted),
 // another version, a map built with different camera intrinsics, and indices or numbers that do not

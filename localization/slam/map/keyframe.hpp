@@ -22,6 +22,10 @@ struct Keyframe {
   FrameFeatures frame;
   std::vector<PointId> point_of_feature;  // one per feature, kNoPoint when none
   cv::Mat small_image;                    // CV_32F, zero mean, blurred (relocalization ranking)
+  // Set by the tracker, not saved: the map generation its pose was computed in and the tracker's
+  // reference keyframe, so that a loop correction made while it was queued can be applied to it.
+  int map_generation = 0;
+  int tracking_reference = -1;
 
   Eigen::Vector3d center() const { return T_cam_map.inverse().translation(); }
   Eigen::Vector3d optical_axis() const { return T_cam_map.linear().row(2).transpose(); }

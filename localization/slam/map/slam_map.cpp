@@ -54,13 +54,53 @@ void SlamMap::remove_point(PointId id) {
   points_.erase(it);
 }
 
+void SlamMap::merge_point(PointId keep, PointId drop) {
+  if (keep == drop) return;
+  auto k = points_.find(keep);
+  auto d = points_.find(drop);
+  if (k == points_.end() || d == points_.end()) return;
+  for (const Observation& o : d->second.observations) {
+    auto& slot = keyframes_[static_cast<std::size_t>(o.keyframe)].point_of_feature[static_cast<std::size_t>(o.feature)];
+    if (slot == drop) slot = kNoPoint;
+    if (k->second.observed_by(o.keyframe) >= 0) continue;
+    slot = keep;
+    k->second.observations.push_back(o);
+  }
+  d->second.observations.clear();
+  points_.erase(d);
+}
+
+void SlamMap::record_correction(std::vector<Similarity3> keyframe_correction) {
+  ++generation_;
+  corrections_.push_back({generation_, std::move(keyframe_correction)});
+  constexpr std::size_t kKept = 8;
+  if (corrections_.size() > kKept) corrections_.erase(corrections_.begin());
+}
+
+std::vector<const MapCorrection*> SlamMap::corrections_since(int generation) const {
+  std::vector<const MapCorrection*> out;
+  for (const MapCorrection& c : corrections_) {
+    if (c.generation > generation) out.push_back(&c);
+  }
+  return out;
+}
+
 void SlamMap::clear() {
   keyframes_.clear();
   points_.clear();
   next_point_id_ = 0;
+  loop_edges_.clear();
+  corrections_.clear();
+  ++generation_;  // whoever tracked the old map must not carry a pose over
 }
 
 std::vector<int> SlamMap::covisible(int keyframe, int count) const {
+  std::vector<int> out;
+  for (const auto& [kf, n] : covisible_counts(keyframe, count)) out.push_back(kf);
+  return out;
+}
+
+std::vector<std::pair<int, int>> SlamMap::covisible_counts(int keyframe, int count) const {
   std::map<int, int> shared;
   for (PointId id : keyframes_[static_cast<std::size_t>(keyframe)].point_of_feature) {
     const MapPoint* p = point(id);
@@ -71,12 +111,8 @@ std::vector<int> SlamMap::covisible(int keyframe, int count) const {
   }
   std::vector<std::pair<int, int>> ranked(shared.begin(), shared.end());
   std::sort(ranked.begin(), ranked.end(), [](auto a, auto b) { return a.second != b.second ? a.second > b.second : a.first < b.first; });
-  std::vector<int> out;
-  for (const auto& [kf, n] : ranked) {
-    if (static_cast<int>(out.size()) >= count) break;
-    out.push_back(kf);
-  }
-  return out;
+  if (static_cast<int>(ranked.size()) > count) ranked.resize(static_cast<std::size_t>(std::max(0, count)));
+  return ranked;
 }
 
 std::vector<int> SlamMap::nearest(const Eigen::Isometry3d& T_cam_map, int count) const {

@@ -8,8 +8,25 @@
 #include <vector>
 
 #include "localization/slam/map/keyframe.hpp"
+#include "localization/slam/optimize/sim3.hpp"
 
 namespace labo::slam {
+
+// A closed loop: the measured similarity S_current * S_loop^-1 between two keyframes, kept so that
+// later pose-graph optimisations keep the loop closed (saved with the map).
+struct LoopEdge {
+  int current = -1;
+  int loop = -1;
+  Similarity3 measured;
+};
+
+// A loop correction as the tracker needs it: every keyframe's correction G_k (corrected map
+// coordinates = G_k * old coordinates, for what is attached to keyframe k). The tracker carries its
+// pose over with its reference keyframe's correction. `generation` counts corrections.
+struct MapCorrection {
+  int generation = 0;
+  std::vector<Similarity3> keyframe_correction;
+};
 
 class SlamMap {
  public:
@@ -21,6 +38,12 @@ class SlamMap {
   void add_observation(PointId id, int keyframe, int feature);
   void remove_observation(PointId id, int keyframe);
   void remove_point(PointId id);
+  // `drop` is the same physical point as `keep` (found again after a loop): its observations move to
+  // `keep` (unless that keyframe already observes `keep`) and `drop` is removed.
+  void merge_point(PointId keep, PointId drop);
+  void add_loop_edge(const LoopEdge& edge) { loop_edges_.push_back(edge); }
+  // Records a correction (the keyframe poses and points were already written) and bumps the generation.
+  void record_correction(std::vector<Similarity3> keyframe_correction);
   void clear();
 
   // Readers.
@@ -34,8 +57,14 @@ class SlamMap {
   }
   // Keyframes sharing the most points with `keyframe`, best first (at most `count`).
   std::vector<int> covisible(int keyframe, int count) const;
+  // The same with the number of shared points: (keyframe, shared), best first.
+  std::vector<std::pair<int, int>> covisible_counts(int keyframe, int count) const;
   // Keyframes nearest to a camera pose (centre distance, looking roughly the same way).
   std::vector<int> nearest(const Eigen::Isometry3d& T_cam_map, int count) const;
+  const std::vector<LoopEdge>& loop_edges() const { return loop_edges_; }
+  int generation() const { return generation_; }
+  // Corrections newer than `generation`, oldest first (the last few are kept).
+  std::vector<const MapCorrection*> corrections_since(int generation) const;
   PointId next_point_id() const { return next_point_id_; }
   void set_next_point_id(PointId id) { next_point_id_ = id; }
 
@@ -44,6 +73,9 @@ class SlamMap {
   std::vector<Keyframe> keyframes_;
   std::unordered_map<PointId, MapPoint> points_;
   PointId next_point_id_ = 0;
+  std::vector<LoopEdge> loop_edges_;
+  std::vector<MapCorrection> corrections_;  // the most recent few
+  int generation_ = 0;
 };
 
 }  // namespace labo::slam

@@ -40,6 +40,7 @@ TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame,
   TrackOutcome out;
   Eigen::Isometry3d T = prior;
   std::shared_lock lock(map.mutex());
+  out.map_generation = map.generation();
   collect_candidates(map, T, last_reference_keyframe);
   lock.unlock();  // candidates are copies: the mapper may proceed
 

@@ -34,6 +34,7 @@ struct TrackOutcome {
   int reference_shared = 0;        // how many
   int reference_points = 0;        // points of that keyframe
   std::vector<std::pair<int, PointId>> matches;  // (feature, point), inliers only
+  int map_generation = 0;          // of the map the local map was read from
 };
 
 class FrameTracker {

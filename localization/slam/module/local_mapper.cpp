@@ -14,7 +14,11 @@ constexpr double kChi2 = 5.991;
 }
 
 LocalMapper::LocalMapper(const IdealCamera& camera, SlamMap& map, const MapperSettings& settings)
-    : camera_(camera), map_(map), settings_(settings), matcher_(camera, settings.levels, settings.level_scale) {
+    : camera_(camera),
+      map_(map),
+      settings_(settings),
+      matcher_(camera, settings.levels, settings.level_scale),
+      loop_closer_(camera, map, settings.loop) {
   if (settings_.threaded) thread_ = std::thread([this] { worker(); });
 }
 
@@ -91,6 +95,7 @@ void LocalMapper::worker() {
 
 void LocalMapper::process(Keyframe keyframe) {
   const auto start = std::chrono::steady_clock::now();
+  carry_over_corrections(keyframe);
   std::vector<PointId> associations = std::move(keyframe.point_of_feature);
   keyframe.point_of_feature.clear();
   int kf = 0;
@@ -113,6 +118,7 @@ void LocalMapper::process(Keyframe keyframe) {
   std::vector<int> free_kfs{kf};
   for (int n : map_.covisible(kf, settings_.local_ba_keyframes - 1)) free_kfs.push_back(n);
   adjust(free_kfs, false, 10);
+  close_loops(kf);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   std::lock_guard lock(mutex_);
   ++stats_.keyframes_processed;
@@ -159,7 +165,7 @@ void LocalMapper::remeasure(int kf, const std::vector<int>& neighbours) {
     if (it == map_.points_mutable().end()) continue;
     MapPoint& p = it->second;
     (found[i] ? p.remeasure_hits : p.remeasure_misses) += 1;
-    if (p.remeasure_misses >= 3 && p.remeasure_misses > 2 * p.remeasure_hits) {
+    if (settings_.cull_points && p.remeasure_misses >= 3 && p.remeasure_misses > 2 * p.remeasure_hits) {
       map_.remove_point(p.id);
       ++culled;
     }
@@ -272,7 +278,7 @@ void LocalMapper::adjust(const std::vector<int>& free_keyframes, bool global, in
         problem.observations.push_back({o.keyframe, id, f.px, sigma(f.level)});
         if (!problem.poses.count(o.keyframe)) {
           problem.poses[o.keyframe] = okf.T_cam_map;
-          problem.pose_fixed[o.keyframe] = !free_set.count(o.keyframe) || o.keyframe == 0;
+          problem.pose_fixed[o.keyframe] = !free_set.count(o.keyframe) || o.keyframe < settings_.global_ba_fixed_keyframes;
         }
       }
     }
@@ -311,6 +317,32 @@ void LocalMapper::adjust(const std::vector<int>& free_keyframes, bool global, in
 }
 
 void LocalMapper::adjust_initial_map() { adjust({}, true, 20); }
+
+void LocalMapper::carry_over_corrections(Keyframe& keyframe) const {
+  // Threaded mode: the tracker computed this pose before a loop correction it had not seen yet.
+  for (const MapCorrection* c : map_.corrections_since(keyframe.map_generation)) {
+    const auto ref = static_cast<std::size_t>(keyframe.tracking_reference);
+    if (keyframe.tracking_reference < 0 || ref >= c->keyframe_correction.size()) continue;
+    keyframe.T_cam_map = (Similarity3::from_rigid(keyframe.T_cam_map) * c->keyframe_correction[ref].inverse()).rigid_pose();
+  }
+  keyframe.map_generation = map_.generation();
+}
+
+void LocalMapper::close_loops(int kf) {
+  const auto start = std::chrono::steady_clock::now();
+  const LoopReport report = loop_closer_.process(kf);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  {
+    std::lock_guard lock(mutex_);
+    if (!report.corrected) stats_.loop_search_ms.push_back(ms);
+    if (!report.detected) return;
+    stats_.loops.push_back(report);
+    if (report.corrected) stats_.loop_ms.push_back(ms);
+  }
+  // The corrected map's points still disagree where the pose graph bent it: a global adjustment
+  // settles them (at once in synchronous mode; in threaded mode it is pending after every keyframe).
+  if (report.corrected && !settings_.threaded && settings_.global_ba) global_adjustment();
+}
 
 void LocalMapper::global_adjustment() {
   if (map_.keyframes().size() < 3 || static_cast<int>(map_.keyframes().size()) > settings_.global_ba_max_keyframes) return;

@@ -16,6 +16,7 @@
 #include "localization/slam/camera/ideal_camera.hpp"
 #include "localization/slam/map/slam_map.hpp"
 #include "localization/slam/match/projection_matcher.hpp"
+#include "localization/slam/module/loop_closer.hpp"
 
 namespace labo::slam {
 
@@ -28,8 +29,11 @@ struct MapperSettings {
   bool global_ba = true;
   int global_ba_every = 10;       // synchronous mode
   int global_ba_max_keyframes = 200;
+  int global_ba_fixed_keyframes = 1;  // the first n keyframes hold the gauge (2 also fixes the scale)
+  bool cull_points = true;            // remove points that keep being missed when re-measured
   double min_parallax_deg = 0.5;
   int max_hamming = 50;
+  LoopSettings loop;
 };
 
 struct MapperStats {
@@ -41,6 +45,9 @@ struct MapperStats {
   int points_culled = 0;
   double last_keyframe_ms = 0;  // wall time of the last keyframe's processing (measurement only)
   std::vector<double> keyframe_ms;
+  std::vector<LoopReport> loops;  // every detected loop, corrected or not
+  std::vector<double> loop_ms;    // wall time of each correction (pose graph, points, fusion)
+  std::vector<double> loop_search_ms;  // wall time of the loop search of each keyframe
 };
 
 class LocalMapper {
@@ -65,12 +72,15 @@ class LocalMapper {
   void triangulate_new_points(int kf, const std::vector<int>& neighbours);
   void adjust(const std::vector<int>& free_keyframes, bool global, int max_iterations);
   void global_adjustment();
+  void close_loops(int kf);
+  void carry_over_corrections(Keyframe& keyframe) const;
   double sigma(int level) const;
 
   const IdealCamera& camera_;
   SlamMap& map_;
   MapperSettings settings_;
   ProjectionMatcher matcher_;
+  LoopCloser loop_closer_;
   mutable std::mutex mutex_;
   std::condition_variable wake_, idle_;
   std::deque<Keyframe> queue_;

@@ -1,7 +1,9 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <cstring>
 #include <fstream>
 
+#include "localization/slam/io/map_file.hpp"
 #include "slam_test_helpers.hpp"
 
 using namespace labo;
@@ -20,7 +22,80 @@ void truncate_file(const std::filesystem::path& from, const std::filesystem::pat
   std::ofstream(to, std::ios::binary).write(data.data(), static_cast<std::streamsize>(bytes));
 }
 
+std::uint64_t fnv1a(const std::vector<char>& bytes, std::size_t size) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (std::size_t i = 0; i < size; ++i) {
+    h ^= static_cast<std::uint8_t>(bytes[i]);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+// A tiny map: two keyframes with one feature each, one point seen by both, one loop edge.
+void tiny_map(SlamMap& map) {
+  for (int k = 0; k < 2; ++k) {
+    Keyframe kf;
+    kf.t = k;
+    kf.T_cam_map.translation() = Eigen::Vector3d(0.1 * k, 0, 0);
+    Feature f;
+    f.px = Eigen::Vector2d(300 + k, 200);
+    f.image_px = f.px.cast<float>();
+    kf.frame.features.push_back(f);
+    kf.frame.descriptors.push_back(Descriptor{});
+    map.add_keyframe(std::move(kf));
+  }
+  MapPoint p;
+  p.p_map = Eigen::Vector3d(0, 0, 2);
+  p.observations = {{0, 0}, {1, 0}};
+  p.reference_keyframe = 0;
+  map.add_point(std::move(p));
+  LoopEdge e{1, 0, {}};
+  e.measured.scale = 0.97;
+  e.measured.R = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  e.measured.t = Eigen::Vector3d(0.1, 0.2, 0.3);
+  map.add_loop_edge(e);
+}
+
 }  // namespace
+
+TEST_CASE("slam: map file keeps the loop edges; a file of another version is refused with the reason") {
+  const CameraIntrinsics camera = PinholeCamera::ardrone2_front().intrinsics();
+  SlamMap map;
+  tiny_map(map);
+  const auto file = temp_file("loops.bin");
+  write_map_file(file, camera, map);
+  SlamMap loaded;
+  read_map_file(file, camera, loaded);
+  REQUIRE(loaded.loop_edges().size() == 1);
+  const LoopEdge& e = loaded.loop_edges()[0];
+  CHECK(e.current == 1);
+  CHECK(e.loop == 0);
+  CHECK(e.measured.scale == 0.97);
+  CHECK(e.measured.R.isApprox(map.loop_edges()[0].measured.R));
+  CHECK(e.measured.t.isApprox(Eigen::Vector3d(0.1, 0.2, 0.3)));
+
+  // The same bytes stamped version 1 (before loop edges), with a valid checksum: refused by version.
+  std::vector<char> bytes(std::filesystem::file_size(file));
+  std::ifstream(file, std::ios::binary).read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  const std::uint32_t old_version = 1;
+  std::memcpy(bytes.data() + 8, &old_version, 4);
+  const std::size_t body = bytes.size() - 16;
+  const std::uint64_t sum = fnv1a(bytes, body);
+  std::memcpy(bytes.data() + body, &sum, 8);
+  const auto old_file = temp_file("v1.bin");
+  std::ofstream(old_file, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  SlamMap untouched;
+  CHECK_THROWS_WITH(read_map_file(old_file, camera, untouched), Catch::Contains("version 1, expected 2"));
+
+  // A loop edge naming a keyframe that does not exist is refused.
+  SlamMap bad;
+  tiny_map(bad);
+  bad.add_loop_edge({5, 0, {}});
+  write_map_file(file, camera, bad);
+  CHECK_THROWS_WITH(read_map_file(file, camera, untouched), Catch::Contains("loop edge between keyframes that do not exist"));
+  std::filesystem::remove(file);
+  std::filesystem::remove(old_file);
+}
 
 TEST_CASE("slam: map save/load round trip, and refusals of bad map files") {
   const PinholeCamera camera = PinholeCamera::ardrone2_front();

@@ -18,4 +18,11 @@ TEST_CASE("slam: config section is read, range-checked and refuses unknown keys"
   CHECK_THROWS_WITH(read(R"({"max_features": 10})"), Catch::Contains("max_features"));
   CHECK_THROWS_WITH(read(R"({"quality_good": 0.1, "quality_lost": 0.2})"), Catch::Contains("quality_lost"));
   CHECK_THROWS_WITH(read(R"({"typo": 1})"), Catch::Contains("typo"));
+  const slam::SlamSettings loops = read(R"({"loop_closure": false, "loop_min_gap_s": 30, "global_ba_fixed_keyframes": 1})");
+  CHECK_FALSE(loops.loop_closure);
+  CHECK(loops.loop_min_gap_s == Approx(30));
+  CHECK(loops.global_ba_fixed_keyframes == 1);
+  CHECK(read("{}").loop_closure);
+  CHECK_THROWS_WITH(read(R"({"loop_min_gap_s": 0})"), Catch::Contains("loop_min_gap_s"));
+  CHECK_THROWS_WITH(read(R"({"global_ba_fixed_keyframes": 0})"), Catch::Contains("global_ba_fixed_keyframes"));
 }
