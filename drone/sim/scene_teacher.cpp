@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace labo {
 
@@ -17,12 +18,14 @@ std::uint32_t shaded(std::uint32_t colour, const Eigen::Vector3f& normal) {
   return pack_bgr(static_cast<int>(texel_b(colour) * k), static_cast<int>(texel_g(colour) * k), static_cast<int>(texel_r(colour) * k));
 }
 
-// A closed cylinder about z from z0 to z1 (outward winding), coloured by height.
+// A cylinder about z with rings at `heights` (ascending) and a top cap (outward winding), coloured by
+// height and angle; two close rings make a sharp colour edge (the waist).
 template <typename ColourAt>
-RenderMesh cylinder(double radius, double z0, double z1, int segments, int rings, ColourAt colour_at) {
+RenderMesh cylinder(double radius, const std::vector<double>& heights, int segments, ColourAt colour_at) {
   RenderMesh m;
-  for (int r = 0; r <= rings; ++r) {
-    const double z = z0 + (z1 - z0) * r / rings;
+  const int rings = static_cast<int>(heights.size()) - 1;
+  const double z1 = heights.back();
+  for (double z : heights) {
     for (int s = 0; s < segments; ++s) {
       const double a = 2 * std::numbers::pi * s / segments;
       const Eigen::Vector3f n(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)), 0.f);
@@ -92,7 +95,12 @@ std::uint32_t skin_tone(const RenderMesh& face) {
 TeacherFigure::TeacherFigure(const TeacherSpec& spec, std::optional<TexturedHeadModel> head) {
   const std::uint32_t shirt = pack_bgr(150, 95, 55), trousers = pack_bgr(55, 50, 48);
   const double shoulder = spec.eye_height_m - kShoulderBelowEyes_m;
-  body_ = cylinder(spec.body_radius_m, 0.0, shoulder, 20, 6, [&](double z, double a) {
+  std::vector<double> rings{0.0};
+  for (double z : {0.5, kWaist_m - 0.01, kWaist_m + 0.01, 1.2}) {
+    if (z < shoulder - 0.02) rings.push_back(z);
+  }
+  rings.push_back(shoulder);
+  body_ = cylinder(spec.body_radius_m, rings, 20, [&](double z, double a) {
     if (z < kWaist_m) return trousers;
     // A darker stripe down the front shows which way the body faces.
     return std::abs(std::remainder(a, 2 * std::numbers::pi)) < 0.25 ? pack_bgr(90, 60, 40) : shirt;
@@ -113,7 +121,7 @@ TeacherFigure::TeacherFigure(const TeacherSpec& spec, std::optional<TexturedHead
   head_back_ = head_ellipsoid({0.f, 0.01f, -0.085f}, {0.078f, 0.115f, 0.1f}, skin, pack_bgr(35, 45, 60));
   head_back_.depth_bias_m = 0.08f;  // the face is drawn over it wherever both are seen
   // The neck hangs below the head, in the face frame: a cylinder along face -y.
-  neck_ = cylinder(0.06, 0.05, 0.24, 10, 1, [&](double, double) { return skin; });
+  neck_ = cylinder(0.06, {0.05, 0.24}, 10, [&](double, double) { return skin; });
   Eigen::Matrix3f to_face;  // cylinder z -> face -y; cylinder x -> face x
   to_face << 1, 0, 0, 0, 0, -1, 0, 1, 0;
   for (auto& v : neck_.vertices) v = to_face * v + Eigen::Vector3f(0.f, 0.f, -0.07f);
