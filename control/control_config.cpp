@@ -76,6 +76,8 @@ SafetyLimits read_safety(const ConfigReader& node, SafetyLimits s) {
       node.number_or("localization_lost_hover_s", s.localization_lost_hover_s, Range::closed(0.0, 60.0));
   s.localization_lost_land_s =
       node.number_or("localization_lost_land_s", s.localization_lost_land_s, Range::closed(0.0, 300.0));
+  s.return_dead_reckoning_s =
+      node.number_or("return_dead_reckoning_s", s.return_dead_reckoning_s, Range::closed(0.0, 120.0));
   s.geofence_margin_m = node.number_or("geofence_margin_m", s.geofence_margin_m, Range::closed(0.0, 2.0));
   node.finish();
   if (s.critical_battery_percent > s.low_battery_percent)

@@ -68,6 +68,10 @@ struct SafetyLimits {
   double critical_battery_percent = 10.0;  // land where it is below this
   double localization_lost_hover_s = 1.0;  // hover when localization has been lost this long
   double localization_lost_land_s = 8.0;   // land after this long
+  // On the way home (stages 4-5) the drone flies on navdata odometry while SLAM relocalizes (or is
+  // off: the bottom camera streams) until the platform appears: tolerated this long before the
+  // hover/land escalation above starts.
+  double return_dead_reckoning_s = 20.0;
   double geofence_margin_m = 0.30;     // distance kept from walls, floor and ceiling
 };
 

@@ -62,6 +62,7 @@ class ReturnHomeMission final : public Mission {
   int stage_count() const override { return 3; }
   std::string stage() const override { return stage_text_; }
   bool needs_visual_localization() const override { return home_.paper_stage() != 6; }
+  bool tolerates_dead_reckoning() const override { return home_.paper_stage() != 6; }
 
  private:
   HomeLanding home_;

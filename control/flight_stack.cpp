@@ -97,6 +97,7 @@ struct FlightStack::Impl {
     in.battery_percent = have_nav ? nav.battery_percent : 100.0;
     in.localization_required = mission && mission->needs_visual_localization();
     in.localization_ok = pose.valid && pose.source != FeedbackSource::DeadReckoning;
+    if (mission && mission->tolerates_dead_reckoning()) in.localization_grace_s = setup.control.safety.return_dead_reckoning_s;
     in.returning_home = mission && mission->name() == "return_home";
     const SafetyVerdict v = safety.evaluate(in);
     alerts = v.alerts;

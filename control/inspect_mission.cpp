@@ -41,6 +41,10 @@ bool InspectMission::needs_visual_localization() const {
          step_ != Step::ScaleDown && !(step_ == Step::Home && home_.paper_stage() == 6);
 }
 
+bool InspectMission::tolerates_dead_reckoning() const {
+  return step_ == Step::Home && home_.paper_stage() != 6;
+}
+
 bool InspectMission::instrument_seen(const MissionContext& ctx) const {
   const TargetObservation obs = ctx.perception.instrument();
   return obs.state == TrackState::Tracking && ctx.t - obs.t < kFreshObservationS;

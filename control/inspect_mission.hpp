@@ -18,6 +18,7 @@ class InspectMission final : public Mission {
   int stage_count() const override { return 6; }
   std::string stage() const override { return stage_text_; }
   bool needs_visual_localization() const override;
+  bool tolerates_dead_reckoning() const override;
 
   double held_s() const { return held_s_; }
 

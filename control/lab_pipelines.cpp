@@ -13,6 +13,8 @@ constexpr int kPlatformIndex = 0;  // object indices: platform 0, instruments 1.
 // Beyond this 1-sigma position uncertainty a predicted distance could pick the wrong detector or
 // narrow the template search away from the target: the planar front-end then searches at every scale.
 constexpr double kMaxSigmaForDistanceM = 0.5;
+// Beyond this the prediction is a worse prior for SLAM than its own motion model.
+constexpr double kMaxSigmaForSlamPriorM = 0.3;
 
 FeedbackSource feedback_of(LocalizationSource s) {
   switch (s) {
@@ -66,6 +68,19 @@ std::optional<double> LabPipelines::expected_distance(const Eigen::Isometry3d& T
   return ((f.T_world_body * T_body_cam).inverse() * T_world_target).translation().norm();
 }
 
+std::optional<Eigen::Isometry3d> LabPipelines::slam_prior(Seconds t) const {
+  const MapToWorld& map = estimator_.map_to_world();
+  if (!map.initialized() || !estimator_.scale_status().estimated || slam_map_id_ != slam_fe_->map_id()) return std::nullopt;
+  const FusedState f = estimator_.predict(t);
+  if (!f.initialized || f.position_sigma_m > kMaxSigmaForSlamPriorM) return std::nullopt;
+  // p_world = R * scale * p_map + t, inverted for the camera.
+  const Eigen::Isometry3d T_world_cam = f.T_world_body * T_body_cam_front();
+  Eigen::Isometry3d T_map_cam = Eigen::Isometry3d::Identity();
+  T_map_cam.linear() = map.R_world_map().transpose() * T_world_cam.linear();
+  T_map_cam.translation() = map.R_world_map().transpose() * (T_world_cam.translation() - map.t_world_map()) / map.scale();
+  return T_map_cam.inverse();
+}
+
 const cv::Mat* LabPipelines::grey_of(const cv::Mat& image) {
   // BGR as decoded; grey passes through; anything else is no camera frame (the front-ends refuse
   // wrong sizes themselves).
@@ -82,7 +97,7 @@ void LabPipelines::run_front_camera(const VideoFrame& frame) {
   const cv::Mat* gray = grey_of(frame.bgr);
   if (!gray) return;
   if (slam_fe_ && focus_.slam) {
-    const SlamFrame& s = slam_fe_->process(*gray, frame.t);
+    const SlamFrame& s = slam_fe_->process(*gray, frame.t, slam_prior(frame.t));
     add_slam_result(s.T_map_cam, s.summary, s.map_id, frame.t);
   }
   if (instrument) {
@@ -164,6 +179,7 @@ void LabPipelines::add_slam_result(const Eigen::Isometry3d& T_map_cam, const Sla
   slam_ = summary;
   const bool good = summary.state == SlamState::Good;
   if (!good || !focus_.slam) return;
+  slam_map_id_ = map_id;  // the estimator's map from now on
   SlamObservation s;
   s.t = t;
   s.T_map_cam = T_map_cam;

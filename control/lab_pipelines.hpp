@@ -58,6 +58,9 @@ class LabPipelines final : public LocalizationPipelines {
   // Camera to target, as the estimator predicts it for a frame at t; empty when the estimate is too
   // uncertain to choose a detector with.
   std::optional<double> expected_distance(const Eigen::Isometry3d& T_world_target, CameraId camera, Seconds t) const;
+  // The estimator's camera pose at t in SLAM's current map, once the map is placed and its scale
+  // estimated (the prior tum_ardrone gives PTAM); empty otherwise.
+  std::optional<Eigen::Isometry3d> slam_prior(Seconds t) const;
   const cv::Mat* grey_of(const cv::Mat& image);
   void run_front_camera(const VideoFrame& frame);
   void run_bottom_camera(const VideoFrame& frame);
@@ -67,6 +70,7 @@ class LabPipelines final : public LocalizationPipelines {
   PerceptionFocus focus_;
   TargetObservation instrument_, platform_, face_;
   SlamSummary slam_;
+  int slam_map_id_ = -1;  // the map of the last SLAM result given to the estimator
   std::vector<std::unique_ptr<TargetFrontEnd>> instrument_fes_;  // parallel to lab_.instruments
   std::unique_ptr<TargetFrontEnd> platform_fe_, face_fe_;
   std::unique_ptr<SlamFrontEnd> slam_fe_;

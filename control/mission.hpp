@@ -38,6 +38,10 @@ class Mission {
   // False while dead reckoning is the expected source (take-off, landing): safety does not count it
   // as localization loss.
   virtual bool needs_visual_localization() const = 0;
+  // True while the stage may fly on navdata odometry for a while (the return home: SLAM relocalizing,
+  // or off while the bottom camera looks for the platform); safety then grants
+  // return_dead_reckoning_s before it escalates.
+  virtual bool tolerates_dead_reckoning() const { return false; }
   virtual bool accepts_stop_face_follow() const { return false; }
   virtual void stop_face_follow() {}
   // Why it failed, or what it achieved.

@@ -1,5 +1,6 @@
 #include "control/safety_monitor.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace labo {
@@ -54,11 +55,14 @@ SafetyVerdict SafetyMonitor::evaluate(const SafetyInputs& in) {
   else if (localization_lost_since_ < 0) localization_lost_since_ = in.t;
   if (lost) {
     const double d = in.t - localization_lost_since_;
-    if (d >= limits_.localization_lost_land_s)
+    const double grace = std::max(0.0, in.localization_grace_s);
+    if (d >= grace + limits_.localization_lost_land_s)
       raise(SafetyAction::Land, printf_string("localization lost for %.1f s: landing", d));
-    else if (d >= limits_.localization_lost_hover_s)
+    else if (d >= grace + limits_.localization_lost_hover_s)
       raise(SafetyAction::Hover, printf_string("localization lost for %.1f s: hovering (land at %.1f s)", d,
-                                               limits_.localization_lost_land_s));
+                                               grace + limits_.localization_lost_land_s));
+    else if (grace > 0)
+      v.alerts.push_back(printf_string("dead reckoning for %.1f s (tolerated for %.1f s)", d, grace));
   }
   return v;
 }

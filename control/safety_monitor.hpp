@@ -4,7 +4,8 @@
 //  - link lost: the AR.Drone hovers on its own; after link_loss_land_s LaboDrone sends land;
 //  - battery below low_battery_percent: return home and land; below critical: land where it is;
 //  - localization lost (no visual source while the mission needs one) for localization_lost_hover_s:
-//    hover; for localization_lost_land_s: land.
+//    hover; for localization_lost_land_s: land; both after a grace the mission's stage may grant (the
+//    return home flies on navdata odometry for up to return_dead_reckoning_s).
 #include <string>
 #include <vector>
 
@@ -24,6 +25,7 @@ struct SafetyInputs {
   double battery_percent = 100;
   bool localization_required = false;
   bool localization_ok = true;
+  double localization_grace_s = 0;  // dead reckoning tolerated this long before the escalation
   bool returning_home = false;
 };
 

@@ -32,8 +32,9 @@ const SlamFrame& SlamSystemFrontEnd::pause() {
   return frame_;
 }
 
-const SlamFrame& SlamSystemFrontEnd::process(const cv::Mat& gray, Seconds t) {
-  result_ = slam_->track(gray, t);
+const SlamFrame& SlamSystemFrontEnd::process(const cv::Mat& gray, Seconds t,
+                                             const std::optional<Eigen::Isometry3d>& prior_T_cam_map) {
+  result_ = slam_->track(gray, t, prior_T_cam_map);
   SlamSummary& s = frame_.summary;
   s.state = slam_state_of(result_.state);
   s.points_found = result_.points_found;

@@ -15,8 +15,9 @@ class SlamSystemFrontEnd final : public SlamFrontEnd {
  public:
   explicit SlamSystemFrontEnd(std::unique_ptr<slam::SlamSystem> slam);
 
-  const SlamFrame& process(const cv::Mat& gray, Seconds t) override;
+  const SlamFrame& process(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior_T_cam_map) override;
   const SlamFrame& pause() override;
+  int map_id() const override { return frame_.map_id; }
 
   // Drops the map; the next map gets a new id (the estimator restarts its map-to-world placement).
   void restart_map();

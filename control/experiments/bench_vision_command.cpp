@@ -86,7 +86,7 @@ Timing slam_timing(const FrontEndSettings& s, const PinholeCamera& camera, int n
   for (std::size_t i = 0; i < flight.frames.size() && static_cast<int>(t.ms.size()) < n; ++i) {
     const cv::Mat img = room.render(flight.frames[i].T_world_cam, static_cast<unsigned>(i));
     const SlamFrame* f = nullptr;
-    const double ms = ms_of([&] { f = &fe.process(img, flight.frames[i].t); });
+    const double ms = ms_of([&] { f = &fe.process(img, flight.frames[i].t, std::nullopt); });
     if (f->summary.state == SlamState::Initializing) continue;
     t.ms.push_back(ms);
     t.ok += f->has_pose ? 1 : 0;

@@ -16,6 +16,8 @@ FlightSample sample_of(const FlightStatus& s, const Eigen::Isometry3d& truth, Se
   sample.truth = xyz_yaw(truth);
   sample.desired = s.desired;
   sample.source = s.source;
+  sample.slam = s.slam.state;
+  sample.target = s.stage_index == 5 ? s.platform.state : s.mission == "find_teacher" ? s.face.state : s.instrument.state;
   sample.stage_index = s.stage_index;
   sample.stage = s.stage;
   return sample;

@@ -20,6 +20,8 @@ struct FlightSample {
   Eigen::Vector4d truth = Eigen::Vector4d::Zero();
   std::optional<Eigen::Vector4d> desired;
   FeedbackSource source = FeedbackSource::DeadReckoning;
+  SlamState slam = SlamState::Off;
+  TrackState target = TrackState::Off;  // the platform in stage 5, else the instrument (or the face)
   int stage_index = 0;
   std::string stage;
 };

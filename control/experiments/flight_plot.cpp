@@ -28,7 +28,7 @@ double value(const Eigen::Vector4d& v, int axis) {
 void write_flight_csv(const std::filesystem::path& file, const std::vector<FlightSample>& samples) {
   std::ofstream out = open_for_writing(file);
   out << "t_s,est_x_m,est_y_m,est_z_m,est_yaw_rad,true_x_m,true_y_m,true_z_m,true_yaw_rad,"
-         "des_x_m,des_y_m,des_z_m,des_yaw_rad,source,stage_index,stage\n";
+         "des_x_m,des_y_m,des_z_m,des_yaw_rad,source,slam,target,stage_index,stage\n";
   for (const auto& s : samples) {
     out << s.t;
     for (int i = 0; i < 4; ++i) out << ',' << s.estimated[i];
@@ -39,7 +39,8 @@ void write_flight_csv(const std::filesystem::path& file, const std::vector<Fligh
     }
     std::string stage = s.stage;
     std::replace(stage.begin(), stage.end(), ',', ';');
-    out << ',' << to_string(s.source) << ',' << s.stage_index << ",\"" << stage << "\"\n";
+    out << ',' << to_string(s.source) << ',' << to_string(s.slam) << ',' << to_string(s.target) << ',' << s.stage_index
+        << ",\"" << stage << "\"\n";
   }
 }
 

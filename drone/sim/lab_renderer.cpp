@@ -17,11 +17,14 @@ LabRenderer::CameraPipeline::CameraPipeline(const PinholeCamera& camera, const L
 LabRenderer::LabRenderer(const LabDescription& lab, const CamerasConfig& cameras, std::optional<TexturedHeadModel> head,
                          unsigned seed, LabRenderOptions options)
     : options_(options),
-      lab_(lab),
+      room_(lab.room),
       scene_(build_lab_scene(lab)),
       teacher_(lab.teacher, std::move(head)),
       seed_(seed),
       sensor_(seed, options.noise_sigma) {
+  for (const auto& b : lab.benches) solids_.push_back(b.box);
+  for (const auto& i : lab.instruments) solids_.push_back(i.bounds());
+  solids_.push_back(lab.platform.box());
   validate(cameras.front, "cameras.front");
   validate(cameras.bottom, "cameras.bottom");
   front_ = std::make_unique<CameraPipeline>(PinholeCamera(cameras.front), scene_, T_body_cam(CameraId::Front));
@@ -46,7 +49,11 @@ Eigen::Isometry3d LabRenderer::camera_pose(const CameraPipeline& p, const Eigen:
   constexpr double kClearance_m = 0.01;
   Eigen::Isometry3d T = T_world_body * p.T_body_cam;
   const Eigen::Vector3d c = T.translation();
-  T.translation().z() = std::max(c.z(), lab_.surface_height(c.x(), c.y()) + kClearance_m);
+  double surface = room_.min.z();
+  for (const Box3& b : solids_) {
+    if (c.x() >= b.min.x() && c.x() <= b.max.x() && c.y() >= b.min.y() && c.y() <= b.max.y()) surface = std::max(surface, b.max.z());
+  }
+  T.translation().z() = std::max(c.z(), surface + kClearance_m);
   return T;
 }
 

@@ -77,7 +77,8 @@ class LabRenderer final : public SceneRenderer {
   Eigen::Isometry3d camera_pose(const CameraPipeline& p, const Eigen::Isometry3d& T_world_body) const;
 
   LabRenderOptions options_;
-  LabDescription lab_;
+  Box3 room_;
+  std::vector<Box3> solids_;  // what a camera stays above (LabDescription::surface_height allocates per call)
   LabScene scene_;
   TeacherFigure teacher_;
   unsigned seed_;

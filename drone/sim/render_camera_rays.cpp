@@ -56,6 +56,10 @@ CameraRays::CameraRays(const PinholeCamera& camera) : camera_(camera) {
       x_[i] = static_cast<float>(u.x());
       y_[i] = static_cast<float>(u.y());
       max_radius_ = std::max(max_radius_, static_cast<float>(u.norm()));
+      min_x_ = std::min(min_x_, x_[i]);
+      max_x_ = std::max(max_x_, x_[i]);
+      min_y_ = std::min(min_y_, y_[i]);
+      max_y_ = std::max(max_y_, y_[i]);
     }
   }
   pixel_angle_ = static_cast<float>(2.0 / (k.fx + k.fy));
@@ -79,12 +83,21 @@ CameraRays::CameraRays(const PinholeCamera& camera) : camera_(camera) {
           t.max_y = std::max(t.max_y, y_[i]);
         }
       }
-      t.corner[0] = t.y0 * w + t.x0;
-      t.corner[1] = t.y0 * w + t.x1 - 1;
-      t.corner[2] = (t.y1 - 1) * w + t.x0;
-      t.corner[3] = (t.y1 - 1) * w + t.x1 - 1;
       t.centre = ((t.y0 + t.y1) / 2) * w + (t.x0 + t.x1) / 2;
       tiles_.push_back(t);
+    }
+  }
+  static_assert(kTile == 2 * kSpan && kSpanPoints == 3, "span points assume 16-pixel tiles");
+  span_rays_.assign(tiles_.size() * kTile * kSpanPoints * 2, 0.f);
+  for (std::size_t i = 0; i < tiles_.size(); ++i) {
+    const RenderTile& t = tiles_[i];
+    float* out = span_rays_.data() + i * kTile * kSpanPoints * 2;
+    for (int r = 0; r < t.y1 - t.y0; ++r) {
+      for (int j = 0; j < kSpanPoints; ++j) {
+        const std::size_t p = static_cast<std::size_t>(t.y0 + r) * static_cast<std::size_t>(w) + static_cast<std::size_t>(span_x(t, j));
+        out[(r * kSpanPoints + j) * 2] = x_[p];
+        out[(r * kSpanPoints + j) * 2 + 1] = y_[p];
+      }
     }
   }
 }

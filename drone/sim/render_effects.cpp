@@ -4,6 +4,9 @@
 #include <bit>
 #include <cmath>
 #include <numbers>
+#include <opencv2/imgproc.hpp>
+
+#include "drone/sim/render_vector_clones.hpp"
 
 namespace labo {
 
@@ -54,10 +57,34 @@ float MotionBlur::plan(const SceneState& scene, const Eigen::Isometry3d& T_body_
   return largest;
 }
 
-void MotionBlur::apply(const std::uint32_t* src, std::uint32_t* dst) const {
+namespace {
+
+// Averages `taps` texels at the given offsets from each pixel of a row (SWAR: blue and red share a
+// word, 16 bits each, green its own: 32 taps of 255 fit). Branch-free, so it vectorizes.
+inline void average_taps(const std::uint32_t* const* rows, int taps, int count, std::uint32_t scale, std::uint32_t* out) {
+  constexpr int kRow = CameraRays::kTile;
+  alignas(32) std::uint32_t rb[kRow], g[kRow];
+  for (int i = 0; i < count; ++i) rb[i] = g[i] = 0;
+  for (int k = 0; k < taps; ++k) {
+    const std::uint32_t* s = rows[k];
+    for (int i = 0; i < count; ++i) {
+      rb[i] += s[i] & 0x00FF00FFu;
+      g[i] += (s[i] >> 8) & 0xFFu;
+    }
+  }
+  for (int i = 0; i < count; ++i) {
+    out[i] = (((rb[i] & 0xFFFFu) * scale) >> 16) | ((((g[i] * scale) >> 16)) << 8) | ((((rb[i] >> 16) * scale) >> 16) << 16);
+  }
+}
+
+}  // namespace
+
+LABO_VECTOR_CLONES void MotionBlur::apply(const std::uint32_t* src, std::uint32_t* dst) const {
   const int w = rays_.width(), h = rays_.height();
   const auto& tiles = rays_.tiles();
   int dx[kMaxTaps], dy[kMaxTaps];
+  const std::uint32_t* rows[kMaxTaps];
+  std::uint32_t clamped[kMaxTaps][CameraRays::kTile];
   for (std::size_t i = 0; i < tiles.size(); ++i) {
     const RenderTile& t = tiles[i];
     const Eigen::Vector2f m = motion_[i];
@@ -67,64 +94,70 @@ void MotionBlur::apply(const std::uint32_t* src, std::uint32_t* dst) const {
       continue;
     }
     const int taps = std::min(kMaxTaps, static_cast<int>(std::ceil(len)) + 1);
+    int min_dx = 0, max_dx = 0, min_dy = 0, max_dy = 0;
     for (int k = 0; k < taps; ++k) {
       const float f = static_cast<float>(k) / static_cast<float>(taps - 1) - 0.5f;
       dx[k] = static_cast<int>(std::lround(f * m.x()));
       dy[k] = static_cast<int>(std::lround(f * m.y()));
+      min_dx = std::min(min_dx, dx[k]);
+      max_dx = std::max(max_dx, dx[k]);
+      min_dy = std::min(min_dy, dy[k]);
+      max_dy = std::max(max_dy, dy[k]);
     }
     const std::uint32_t scale = 65536u / static_cast<std::uint32_t>(taps);
+    const int count = t.x1 - t.x0;
+    const bool inside = t.x0 + min_dx >= 0 && t.x1 - 1 + max_dx < w && t.y0 + min_dy >= 0 && t.y1 - 1 + max_dy < h;
     for (int y = t.y0; y < t.y1; ++y) {
-      for (int x = t.x0; x < t.x1; ++x) {
-        std::uint32_t rb = 0, g = 0;
-        for (int k = 0; k < taps; ++k) {
-          const int sx = std::clamp(x + dx[k], 0, w - 1), sy = std::clamp(y + dy[k], 0, h - 1);
-          const std::uint32_t c = src[sy * w + sx];
-          rb += c & 0x00FF00FFu;  // 16-bit lanes: 32 taps of 255 fit
-          g += (c >> 8) & 0xFFu;
+      for (int k = 0; k < taps; ++k) {
+        if (inside) {
+          rows[k] = src + (y + dy[k]) * w + t.x0 + dx[k];
+        } else {  // near the border: the taps that fall outside repeat the edge
+          const std::uint32_t* row = src + std::clamp(y + dy[k], 0, h - 1) * w;
+          for (int j = 0; j < count; ++j) clamped[k][j] = row[std::clamp(t.x0 + j + dx[k], 0, w - 1)];
+          rows[k] = clamped[k];
         }
-        const std::uint32_t b = ((rb & 0xFFFFu) * scale) >> 16, r = ((rb >> 16) * scale) >> 16, gg = (g * scale) >> 16;
-        dst[y * w + x] = b | (gg << 8) | (r << 16);
       }
+      average_taps(rows, taps, count, scale, dst + y * w + t.x0);
     }
   }
 }
 
-SensorResponse::SensorResponse(unsigned seed, double noise_sigma) : seed_hash_(mix(seed)), noise_(kNoiseTable) {
+SensorResponse::SensorResponse(unsigned seed, double noise_sigma)
+    : seed_hash_(mix(seed)), raise_(kNoiseTable), lower_(kNoiseTable) {
   // Box-Muller on a seeded 64-bit generator: the same table on every platform.
   std::uint64_t state = seed_hash_;
-  for (std::size_t i = 0; i < noise_.size(); i += 2) {
+  const auto store = [this](std::size_t i, double value) {
+    const long v = std::clamp(std::lround(value), -255L, 255L);
+    raise_[i] = static_cast<std::uint8_t>(std::max(0L, v));
+    lower_[i] = static_cast<std::uint8_t>(std::max(0L, -v));
+  };
+  for (std::size_t i = 0; i + 1 < raise_.size(); i += 2) {
     state = mix(state);
     const double u1 = (static_cast<double>(state >> 11) + 1.0) * 0x1.0p-53;
     state = mix(state);
     const double u2 = static_cast<double>(state >> 11) * 0x1.0p-53;
     const double r = noise_sigma * std::sqrt(-2.0 * std::log(u1));
-    noise_[i] = static_cast<std::int8_t>(std::clamp(std::lround(r * std::cos(2 * std::numbers::pi * u2)), -127L, 127L));
-    if (i + 1 < noise_.size()) noise_[i + 1] = static_cast<std::int8_t>(std::clamp(std::lround(r * std::sin(2 * std::numbers::pi * u2)), -127L, 127L));
+    store(i, r * std::cos(2 * std::numbers::pi * u2));
+    store(i + 1, r * std::sin(2 * std::numbers::pi * u2));
   }
 }
 
 void SensorResponse::apply(const std::uint32_t* colour, int width, int height, double gain, bool noise, std::uint64_t key,
                            cv::Mat& bgr) const {
   bgr.create(height, width, CV_8UC3);
-  std::uint8_t lut[256];
-  for (int i = 0; i < 256; ++i) lut[i] = static_cast<std::uint8_t>(std::clamp(std::lround(i * gain), 0L, 255L));
-  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  const bool with_noise = noise && n * 3 <= noise_.size();
-  const std::int8_t* nz = noise_.data() + (with_noise ? mix(seed_hash_ ^ key) % (noise_.size() - n * 3 + 1) : 0);
-  for (int y = 0; y < height; ++y) {
-    std::uint8_t* out = bgr.ptr<std::uint8_t>(y);
-    const std::uint32_t* in = colour + static_cast<std::ptrdiff_t>(y) * width;
-    for (int x = 0; x < width; ++x) {
-      const std::uint32_t c = in[x];
-      out[3 * x + 0] = lut[c & 0xFFu];
-      out[3 * x + 1] = lut[(c >> 8) & 0xFFu];
-      out[3 * x + 2] = lut[(c >> 16) & 0xFFu];
-    }
-    if (with_noise) {
-      const std::int8_t* row_noise = nz + static_cast<std::ptrdiff_t>(y) * width * 3;
-      for (int i = 0; i < width * 3; ++i) out[i] = static_cast<std::uint8_t>(std::clamp(out[i] + row_noise[i], 0, 255));
-    }
-  }
+  // Packed texels are BGRA with A = 0 in memory (little-endian): OpenCV's vectorized conversions apply.
+  const cv::Mat packed(height, width, CV_8UC4, const_cast<std::uint32_t*>(colour));
+  cv::cvtColor(packed, bgr, cv::COLOR_BGRA2BGR);
+  if (std::abs(gain - 1.0) > 1e-6) bgr.convertTo(bgr, CV_8U, gain);
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3;
+  if (!noise || n > raise_.size()) return;
+  // Saturating adds of the positive part, then subtractions of the negative part: the same as
+  // clamp(v + noise) since each entry has only one of them.
+  const std::size_t offset = mix(seed_hash_ ^ key) % (raise_.size() - n + 1);
+  const cv::Mat up(height, width, CV_8UC3, const_cast<std::uint8_t*>(raise_.data() + offset));
+  const cv::Mat down(height, width, CV_8UC3, const_cast<std::uint8_t*>(lower_.data() + offset));
+  cv::add(bgr, up, bgr);
+  cv::subtract(bgr, down, bgr);
 }
 
 std::uint64_t frame_key(Seconds t, CameraId camera) {

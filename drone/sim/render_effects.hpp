@@ -7,7 +7,7 @@
 // the tile is then averaged along that displacement (a box filter of one tap per pixel of motion).
 // Tiles moving less than a pixel are copied as they are.
 //
-// Sensor: out = clamp(gain * in + noise), the noise read from a precomputed Gaussian table at an
+// Sensor: out = clamp(gain * in + noise), the noise read from precomputed Gaussian tables at an
 // offset drawn from the seed, the frame's time and the camera, so a frame is a pure function of them.
 #include <Eigen/Geometry>
 #include <cstdint>
@@ -48,7 +48,7 @@ class SensorResponse {
 
  private:
   std::uint64_t seed_hash_;
-  std::vector<std::int8_t> noise_;
+  std::vector<std::uint8_t> raise_, lower_;  // the positive and negative parts of Gaussian noise
 };
 
 // A frame's key for the noise: the time's bits and the camera.

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "drone/sim/render_vector_clones.hpp"
+
 namespace labo {
 
 namespace {
@@ -12,22 +14,37 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr double kNear = 1e-3;  // m: closer than this a rectangle is clipped
 constexpr std::uint32_t kBackground = 0;
 
-// Bounds of a quad's projection onto z = 1 after clipping it to z >= kNear; false when nothing is left.
-bool projected_bounds(const Eigen::Vector3d (&corners)[4], float& min_x, float& max_x, float& min_y, float& max_y) {
-  Eigen::Vector3d clipped[8];
-  int n = 0;
-  for (int i = 0; i < 4; ++i) {
-    const Eigen::Vector3d& a = corners[i];
-    const Eigen::Vector3d& b = corners[(i + 1) % 4];
-    const bool a_in = a.z() >= kNear, b_in = b.z() >= kNear;
-    if (a_in) clipped[n++] = a;
-    if (a_in != b_in) clipped[n++] = a + (b - a) * ((kNear - a.z()) / (b.z() - a.z()));
+// Clips a convex polygon to the half-space d(p) >= 0 (Sutherland-Hodgman); returns the new count.
+template <typename Distance>
+int clip(const Eigen::Vector3d* in, int n, Eigen::Vector3d* out, Distance d) {
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d& a = in[i];
+    const Eigen::Vector3d& b = in[(i + 1) % n];
+    const double da = d(a), db = d(b);
+    if (da >= 0) out[m++] = a;
+    if ((da >= 0) != (db >= 0)) out[m++] = a + (b - a) * (da / (da - db));
   }
+  return m;
+}
+
+// Bounds of a quad's projection onto z = 1 after clipping it to the camera's field (its rays' extent
+// and z >= kNear); false when nothing is left. Clipping to the field, not only to the near plane,
+// keeps a face that passes beside the camera from claiming the whole image.
+bool projected_bounds(const Eigen::Vector3d (&corners)[4], const CameraRays& rays, float& min_x, float& max_x, float& min_y,
+                      float& max_y) {
+  Eigen::Vector3d a[12], b[12];
+  const double x0 = rays.min_x(), x1 = rays.max_x(), y0 = rays.min_y(), y1 = rays.max_y();
+  int n = clip(corners, 4, a, [](const Eigen::Vector3d& p) { return p.z() - kNear; });
+  n = clip(a, n, b, [x0](const Eigen::Vector3d& p) { return p.x() - x0 * p.z(); });
+  n = clip(b, n, a, [x1](const Eigen::Vector3d& p) { return x1 * p.z() - p.x(); });
+  n = clip(a, n, b, [y0](const Eigen::Vector3d& p) { return p.y() - y0 * p.z(); });
+  n = clip(b, n, a, [y1](const Eigen::Vector3d& p) { return y1 * p.z() - p.y(); });
   if (n == 0) return false;
   min_x = min_y = kInf;
   max_x = max_y = -kInf;
   for (int i = 0; i < n; ++i) {
-    const float x = static_cast<float>(clipped[i].x() / clipped[i].z()), y = static_cast<float>(clipped[i].y() / clipped[i].z());
+    const float x = static_cast<float>(a[i].x() / a[i].z()), y = static_cast<float>(a[i].y() / a[i].z());
     min_x = std::min(min_x, x);
     max_x = std::max(max_x, x);
     min_y = std::min(min_y, y);
@@ -46,14 +63,13 @@ SceneTracer::SceneTracer(const CameraRays& rays, const LabScene& scene) : rays_(
   object_count_.resize(tiles);
   first_object_.resize(tiles);
   tile_depth_.resize(tiles);
-  levels_.resize(scene.rects.size());
+  maps_.resize(scene.rects.size());
 }
 
 void SceneTracer::prepare_views(const Eigen::Isometry3d& T_world_cam) {
   views_.clear();
   const Eigen::Matrix3d R_cw = T_world_cam.linear().transpose();
   const Eigen::Vector3d c = T_world_cam.translation();
-  const float r_max = rays_.max_radius();
   for (std::size_t i = 0; i < scene_.rects.size(); ++i) {
     const SceneRect& r = scene_.rects[i];
     const Eigen::Vector3d oc = c - r.origin;
@@ -63,8 +79,7 @@ void SceneTracer::prepare_views(const Eigen::Isometry3d& T_world_cam) {
     Eigen::Vector3d corners_c[4];
     for (int k = 0; k < 4; ++k) corners_c[k] = R_cw * (corners_w[k] - c);
     View v{};
-    if (!projected_bounds(corners_c, v.min_x, v.max_x, v.min_y, v.max_y)) continue;
-    if (v.max_x < -r_max || v.min_x > r_max || v.max_y < -r_max || v.min_y > r_max) continue;
+    if (!projected_bounds(corners_c, rays_, v.min_x, v.max_x, v.min_y, v.max_y)) continue;
     const Eigen::Vector3d n = R_cw * r.normal, u = R_cw * r.axis_u, w = R_cw * r.axis_v;
     v.nx = static_cast<float>(n.x());
     v.ny = static_cast<float>(n.y());
@@ -133,39 +148,174 @@ int SceneTracer::closest(const std::uint16_t* cand, int n, float x, float y, flo
 }
 
 // Mip level from how many texels the tile's corners span per pixel on the rectangle's plane.
-int SceneTracer::level_for(const View& v, const RenderTile& tile) const {
+SceneTracer::LevelMap SceneTracer::level_for(const View& v, int ti) const {
+  constexpr int kPoints = CameraRays::kSpanPoints;
+  const RenderTile& tile = rays_.tiles()[static_cast<std::size_t>(ti)];
+  const float* spans = rays_.span_rays(ti);
+  const int last_row = (tile.y1 - tile.y0 - 1) * kPoints;
+  const int corner[4] = {0, kPoints - 1, last_row, last_row + kPoints - 1};
   const TextureMap& tex = scene_.textures[static_cast<std::size_t>(v.texture)];
+  int level = tex.level_count() - 1;  // when the plane's horizon crosses the tile
   float ta[4], tb[4];
+  bool below_horizon = true;
   for (int i = 0; i < 4; ++i) {
-    const float x = rays_.ray_x()[tile.corner[i]], y = rays_.ray_y()[tile.corner[i]];
+    const float x = spans[2 * corner[i]], y = spans[2 * corner[i] + 1];
     const float nd = v.nx * x + v.ny * y + v.nz;
-    if (!(nd < 0.f)) return tex.level_count() - 1;  // the plane's horizon crosses the tile
+    if (!(nd < 0.f)) {
+      below_horizon = false;
+      break;
+    }
     const float t = v.num / nd;
     ta[i] = (v.a0 + t * (v.ux * x + v.uy * y + v.uz)) * v.tpu;
     tb[i] = (v.b0 + t * (v.vx * x + v.vy * y + v.vz)) * v.tpv;
   }
-  const float w = static_cast<float>(std::max(1, tile.x1 - tile.x0 - 1));
-  const float h = static_cast<float>(std::max(1, tile.y1 - tile.y0 - 1));
-  const float across = std::max(std::hypot(ta[1] - ta[0], tb[1] - tb[0]), std::hypot(ta[3] - ta[2], tb[3] - tb[2])) / w;
-  const float down = std::max(std::hypot(ta[2] - ta[0], tb[2] - tb[0]), std::hypot(ta[3] - ta[1], tb[3] - tb[1])) / h;
-  return tex.level_for_footprint(std::max(across, down));
+  if (below_horizon) {
+    const float w = static_cast<float>(std::max(1, tile.x1 - tile.x0 - 1));
+    const float h = static_cast<float>(std::max(1, tile.y1 - tile.y0 - 1));
+    const float across = std::max(std::hypot(ta[1] - ta[0], tb[1] - tb[0]), std::hypot(ta[3] - ta[2], tb[3] - tb[2])) / w;
+    const float down = std::max(std::hypot(ta[2] - ta[0], tb[2] - tb[0]), std::hypot(ta[3] - ta[1], tb[3] - tb[1])) / h;
+    level = tex.level_for_footprint(std::max(across, down));
+  }
+  const TextureMap::Level& l = tex.level(level);
+  return {&l, v.tpu * l.scale_x, v.tpv * l.scale_y};
+}
+
+namespace {
+
+// Bilinear samples at n <= 8 points (u0 + i du, w0 + i dw) of a level (16.16 fixed point, inside its
+// border): addresses and weights, then the loads, then the blend, each a loop the compiler vectorizes.
+inline void sample_span(const TextureMap::Level& level, std::int32_t u0, std::int32_t w0, std::int32_t du, std::int32_t dw,
+                        int n, std::uint32_t* out) {
+  constexpr int kMax = 8;
+  alignas(32) std::int32_t index[kMax];
+  alignas(32) std::uint32_t fx[kMax], fy[kMax], p00[kMax], p01[kMax], p10[kMax], p11[kMax];
+  const int stride = level.stride;
+  std::int32_t u = u0, w = w0;
+  for (int i = 0; i < n; ++i, u += du, w += dw) {
+    index[i] = (w >> 16) * stride + (u >> 16);
+    fx[i] = static_cast<std::uint32_t>(u >> 8) & 0xFFu;
+    fy[i] = static_cast<std::uint32_t>(w >> 8) & 0xFFu;
+  }
+  const std::uint32_t* base = level.origin();
+  for (int i = 0; i < n; ++i) {
+    const std::uint32_t* p = base + index[i];
+    p00[i] = p[0];
+    p01[i] = p[1];
+    p10[i] = p[stride];
+    p11[i] = p[stride + 1];
+  }
+  for (int i = 0; i < n; ++i) {
+    const std::uint32_t w11 = (fx[i] * fy[i]) >> 8, w01 = fx[i] - w11, w10 = fy[i] - w11, w00 = 256 - w01 - w10 - w11;
+    out[i] = blend4(p00[i], p01[i], p10[i], p11[i], w00, w01, w10, w11);
+  }
+}
+
+}  // namespace
+
+// A tile covered by one rectangle. Texel coordinates are exact at the span points of each row
+// (CameraRays::kSpanPoints) and interpolated linearly in between (16.16 fixed point): over 8 pixels
+// the perspective and the lens bend them by far less than a texel.
+LABO_VECTOR_CLONES void SceneTracer::fill_uniform(int ti, const View& v, const LevelMap& m, bool want_depth,
+                                                  std::uint32_t* colour, float* depth) const {
+  constexpr int kPoints = CameraRays::kSpanPoints;
+  const RenderTile& tile = rays_.tiles()[static_cast<std::size_t>(ti)];
+  const int width = rays_.width();
+  const TextureMap::Level& level = *m.level;
+  const float* spans = rays_.span_rays(ti);
+  int px[kPoints];
+  for (int j = 0; j < kPoints; ++j) px[j] = CameraRays::span_x(tile, j);
+  for (int py = tile.y0; py < tile.y1; ++py) {
+    const int row = py * width;
+    const float* r = spans + (py - tile.y0) * kPoints * 2;
+    std::int32_t u[kPoints], w[kPoints];
+    for (int j = 0; j < kPoints; ++j) {
+      const float x = r[2 * j], y = r[2 * j + 1];
+      const float t = v.num / (v.nx * x + v.ny * y + v.nz);
+      u[j] = TextureMap::to_fixed((v.a0 + t * (v.ux * x + v.uy * y + v.uz)) * m.ku - 0.5f, level.width);
+      w[j] = TextureMap::to_fixed((v.b0 + t * (v.vx * x + v.vy * y + v.vz)) * m.kv - 0.5f, level.height);
+    }
+    for (int j = 0; j + 1 < kPoints; ++j) {
+      const int n = px[j + 1] - px[j];
+      if (n > 0) sample_span(level, u[j], w[j], (u[j + 1] - u[j]) / n, (w[j + 1] - w[j]) / n, n, colour + row + px[j]);
+    }
+    colour[row + px[kPoints - 1]] = TextureMap::sample_fixed(level, u[kPoints - 1], w[kPoints - 1]);
+    if (want_depth) {
+      const float* rx = rays_.ray_x() + row;
+      const float* ry = rays_.ray_y() + row;
+      for (int x = tile.x0; x < tile.x1; ++x) depth[row + x] = v.num / (v.nx * rx[x] + v.ny * ry[x] + v.nz);
+    }
+  }
+}
+
+// A tile with several candidates: each row is tested against one candidate at a time over all its
+// pixels (branch-free, so the compiler vectorizes it), keeping the nearest hit; then shaded.
+LABO_VECTOR_CLONES void SceneTracer::fill_mixed(int ti, const std::uint16_t* cand, int n, bool want_depth,
+                             std::uint32_t* colour, float* depth) {
+  constexpr int kRow = CameraRays::kTile;
+  const RenderTile& tile = rays_.tiles()[static_cast<std::size_t>(ti)];
+  const int width = rays_.width();
+  const int count = tile.x1 - tile.x0;
+  for (int k = 0; k < n; ++k) maps_[static_cast<std::size_t>(k)] = level_for(views_[cand[k]], ti);
+  alignas(32) float best_t[kRow], best_a[kRow], best_b[kRow];
+  alignas(32) int best_k[kRow];
+  for (int py = tile.y0; py < tile.y1; ++py) {
+    const int row = py * width + tile.x0;
+    const float* rx = rays_.ray_x() + row;
+    const float* ry = rays_.ray_y() + row;
+    for (int i = 0; i < count; ++i) {
+      best_t[i] = kInf;
+      best_a[i] = best_b[i] = 0.f;
+      best_k[i] = -1;
+    }
+    for (int k = 0; k < n; ++k) {
+      const View& v = views_[cand[k]];
+      const float nx = v.nx, ny = v.ny, nz = v.nz, ux = v.ux, uy = v.uy, uz = v.uz, vx = v.vx, vy = v.vy, vz = v.vz;
+      const float num = v.num, a0 = v.a0, b0 = v.b0, su = v.size_u, sv = v.size_v;
+      for (int i = 0; i < count; ++i) {
+        const float x = rx[i], y = ry[i];
+        const float nd = nx * x + ny * y + nz;
+        const float t = num / nd;
+        const float a = a0 + t * (ux * x + uy * y + uz);
+        const float b = b0 + t * (vx * x + vy * y + vz);
+        const bool hit = (nd < 0.f) & (t < best_t[i]) & (a >= 0.f) & (a <= su) & (b >= 0.f) & (b <= sv);
+        best_t[i] = hit ? t : best_t[i];
+        best_a[i] = hit ? a : best_a[i];
+        best_b[i] = hit ? b : best_b[i];
+        best_k[i] = hit ? k : best_k[i];
+      }
+    }
+    for (int i = 0; i < count; ++i) {
+      const int k = best_k[i];
+      if (k < 0) {
+        colour[row + i] = kBackground;
+        continue;
+      }
+      const LevelMap& m = maps_[static_cast<std::size_t>(k)];
+      colour[row + i] = TextureMap::sample_fixed(*m.level, TextureMap::to_fixed(best_a[i] * m.ku - 0.5f, m.level->width),
+                                                 TextureMap::to_fixed(best_b[i] * m.kv - 0.5f, m.level->height));
+    }
+    if (want_depth) std::copy(best_t, best_t + count, depth + row);
+  }
 }
 
 void SceneTracer::trace_tile(int ti, bool want_depth, std::uint32_t* colour, float* depth) {
   const RenderTile& tile = rays_.tiles()[static_cast<std::size_t>(ti)];
   const int width = rays_.width();
-  const float* rx = rays_.ray_x();
-  const float* ry = rays_.ray_y();
   const int n = candidate_count_[static_cast<std::size_t>(ti)];
   const std::uint16_t* cand = candidates_.data() + static_cast<std::size_t>(ti) * scene_.rects.size();
 
-  // Corner rays.
+  // Corner rays (from the tile's span rays, contiguous in memory).
+  constexpr int kPoints = CameraRays::kSpanPoints;
+  const float* spans = rays_.span_rays(ti);
+  const int last_row = (tile.y1 - tile.y0 - 1) * kPoints;
+  const float* corners[4] = {spans, spans + 2 * (kPoints - 1), spans + 2 * last_row, spans + 2 * (last_row + kPoints - 1)};
+  static_assert(kPoints == 3);
   int corner_hit[4];
   float depth_sum = 0;
   int depth_n = 0;
   for (int i = 0; i < 4; ++i) {
     float t, a, b;
-    corner_hit[i] = closest(cand, n, rx[tile.corner[i]], ry[tile.corner[i]], t, a, b);
+    corner_hit[i] = closest(cand, n, corners[i][0], corners[i][1], t, a, b);
     if (corner_hit[i] >= 0) {
       depth_sum += t;
       ++depth_n;
@@ -173,72 +323,26 @@ void SceneTracer::trace_tile(int ti, bool want_depth, std::uint32_t* colour, flo
   }
   tile_depth_[static_cast<std::size_t>(ti)] = depth_n > 0 ? depth_sum / static_cast<float>(depth_n) : 0.f;
 
+  if (n == 0) {
+    ++stats_.empty_tiles;
+    for (int py = tile.y0; py < tile.y1; ++py) {
+      std::fill(colour + py * width + tile.x0, colour + py * width + tile.x1, kBackground);
+      if (want_depth) std::fill(depth + py * width + tile.x0, depth + py * width + tile.x1, kInf);
+    }
+    return;
+  }
   const int s = corner_hit[0];
   const int objects = object_count_[static_cast<std::size_t>(ti)];
   const bool same = s >= 0 && corner_hit[1] == s && corner_hit[2] == s && corner_hit[3] == s;
   const bool uniform = same && (views_[static_cast<std::size_t>(s)].shell ? objects == 0
                                                                          : objects == 1 && first_object_[static_cast<std::size_t>(ti)] == s);
-  if (n == 0) {
-    ++stats_.empty_tiles;
-    for (int py = tile.y0; py < tile.y1; ++py) {
-      for (int px = tile.x0; px < tile.x1; ++px) {
-        colour[py * width + px] = kBackground;
-        if (want_depth) depth[py * width + px] = kInf;
-      }
-    }
-    return;
-  }
   if (uniform) {
     ++stats_.uniform_tiles;
     const View& v = views_[static_cast<std::size_t>(s)];
-    const TextureMap& tex = scene_.textures[static_cast<std::size_t>(v.texture)];
-    const int level = level_for(v, tile);
-    for (int py = tile.y0; py < tile.y1; ++py) {
-      const int row = py * width;
-      for (int px = tile.x0; px < tile.x1; ++px) {
-        const float x = rx[row + px], y = ry[row + px];
-        const float t = v.num / (v.nx * x + v.ny * y + v.nz);
-        const float a = v.a0 + t * (v.ux * x + v.uy * y + v.uz);
-        const float b = v.b0 + t * (v.vx * x + v.vy * y + v.vz);
-        colour[row + px] = tex.sample(level, a * v.tpu - 0.5f, b * v.tpv - 0.5f);
-        if (want_depth) depth[row + px] = t;
-      }
-    }
-    return;
-  }
-  ++stats_.mixed_tiles;
-  for (int k = 0; k < n; ++k) levels_[static_cast<std::size_t>(k)] = level_for(views_[cand[k]], tile);
-  for (int py = tile.y0; py < tile.y1; ++py) {
-    const int row = py * width;
-    for (int px = tile.x0; px < tile.x1; ++px) {
-      const float x = rx[row + px], y = ry[row + px];
-      int best = -1, best_k = -1;
-      float best_t = kInf, best_a = 0, best_b = 0;
-      for (int k = 0; k < n; ++k) {
-        const View& v = views_[cand[k]];
-        const float nd = v.nx * x + v.ny * y + v.nz;
-        if (!(nd < 0.f)) continue;
-        const float t = v.num / nd;
-        if (!(t < best_t)) continue;
-        const float a = v.a0 + t * (v.ux * x + v.uy * y + v.uz);
-        if (a < 0.f || a > v.size_u) continue;
-        const float b = v.b0 + t * (v.vx * x + v.vy * y + v.vz);
-        if (b < 0.f || b > v.size_v) continue;
-        best = cand[k];
-        best_k = k;
-        best_t = t;
-        best_a = a;
-        best_b = b;
-      }
-      if (best < 0) {
-        colour[row + px] = kBackground;
-      } else {
-        const View& v = views_[static_cast<std::size_t>(best)];
-        colour[row + px] = scene_.textures[static_cast<std::size_t>(v.texture)].sample(
-            levels_[static_cast<std::size_t>(best_k)], best_a * v.tpu - 0.5f, best_b * v.tpv - 0.5f);
-      }
-      if (want_depth) depth[row + px] = best_t;
-    }
+    fill_uniform(ti, v, level_for(v, ti), want_depth, colour, depth);
+  } else {
+    ++stats_.mixed_tiles;
+    fill_mixed(ti, cand, n, want_depth, colour, depth);
   }
 }
 

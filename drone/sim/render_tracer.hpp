@@ -47,11 +47,20 @@ class SceneTracer {
     bool shell;
   };
 
+  // A view's texture at the mip level chosen for a tile: rectangle metres to level texels.
+  struct LevelMap {
+    const TextureMap::Level* level;
+    float ku, kv;  // level texels per metre along a, b
+  };
+
   void prepare_views(const Eigen::Isometry3d& T_world_cam);
   void bin_views();
   void trace_tile(int tile, bool want_depth, std::uint32_t* colour, float* depth);
+  void fill_uniform(int tile, const View& v, const LevelMap& map, bool want_depth, std::uint32_t* colour,
+                    float* depth) const;
+  void fill_mixed(int tile, const std::uint16_t* cand, int n, bool want_depth, std::uint32_t* colour, float* depth);
   int closest(const std::uint16_t* cand, int n, float x, float y, float& t, float& a, float& b) const;
-  int level_for(const View& v, const RenderTile& tile) const;
+  LevelMap level_for(const View& v, int tile) const;
 
   const CameraRays& rays_;
   const LabScene& scene_;
@@ -61,7 +70,7 @@ class SceneTracer {
   std::vector<int> object_count_;           // candidates that are not the room's shell
   std::vector<int> first_object_;
   std::vector<float> tile_depth_;
-  std::vector<int> levels_;                 // per candidate of the tile being traced
+  std::vector<LevelMap> maps_;              // per candidate of the tile being traced
   Stats stats_;
 };
 

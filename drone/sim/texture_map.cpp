@@ -13,14 +13,16 @@ TextureMap::Level pack_level(const cv::Mat& bgr, int base_width, int base_height
   TextureMap::Level l;
   l.width = bgr.cols;
   l.height = bgr.rows;
+  l.stride = bgr.cols + 2;
   l.scale_x = static_cast<float>(bgr.cols) / static_cast<float>(base_width);
   l.scale_y = static_cast<float>(bgr.rows) / static_cast<float>(base_height);
-  l.texels.resize(static_cast<std::size_t>(bgr.cols) * static_cast<std::size_t>(bgr.rows));
-  for (int y = 0; y < bgr.rows; ++y) {
-    const auto* row = bgr.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < bgr.cols; ++x) {
-      l.texels[static_cast<std::size_t>(y) * static_cast<std::size_t>(bgr.cols) + static_cast<std::size_t>(x)] =
-          pack_bgr(row[x][0], row[x][1], row[x][2]);
+  l.texels.resize(static_cast<std::size_t>(l.stride) * static_cast<std::size_t>(bgr.rows + 2));
+  for (int y = -1; y <= bgr.rows; ++y) {
+    const auto* row = bgr.ptr<cv::Vec3b>(std::clamp(y, 0, bgr.rows - 1));
+    std::uint32_t* out = l.texels.data() + static_cast<std::ptrdiff_t>(y + 1) * l.stride;
+    for (int x = -1; x <= bgr.cols; ++x) {
+      const cv::Vec3b& c = row[std::clamp(x, 0, bgr.cols - 1)];
+      out[x + 1] = pack_bgr(c[0], c[1], c[2]);
     }
   }
   return l;
@@ -57,14 +59,17 @@ int TextureMap::level_for_footprint(float texels_per_pixel) const {
 }
 
 std::uint32_t TextureMap::mean_colour() const {
-  const auto& t = levels_.back().texels;
+  const Level& l = levels_.back();
   long b = 0, g = 0, r = 0;
-  for (std::uint32_t c : t) {
-    b += texel_b(c);
-    g += texel_g(c);
-    r += texel_r(c);
+  for (int y = 0; y < l.height; ++y) {
+    for (int x = 0; x < l.width; ++x) {
+      const std::uint32_t c = l.origin()[y * l.stride + x];
+      b += texel_b(c);
+      g += texel_g(c);
+      r += texel_r(c);
+    }
   }
-  const long n = static_cast<long>(t.size());
+  const long n = static_cast<long>(l.width) * l.height;
   return pack_bgr(static_cast<int>(b / n), static_cast<int>(g / n), static_cast<int>(r / n));
 }
 

@@ -28,10 +28,14 @@ inline std::uint32_t blend4(std::uint32_t a, std::uint32_t b, std::uint32_t c, s
 
 class TextureMap {
  public:
+  // Each level has a one-texel border (copies of the edge), so a bilinear sample at level texel
+  // coordinates in [-1, width) x [-1, height) never reads outside it.
   struct Level {
-    int width = 0, height = 0;
-    float scale_x = 1, scale_y = 1;  // level texels per level-0 texel
-    std::vector<std::uint32_t> texels;
+    int width = 0, height = 0, stride = 0;  // stride = width + 2
+    float scale_x = 1, scale_y = 1;         // level texels per level-0 texel
+    std::vector<std::uint32_t> texels;      // (height + 2) rows of `stride`, border included
+
+    const std::uint32_t* origin() const { return texels.data() + stride + 1; }  // texel (0, 0)
   };
 
   TextureMap() = default;
@@ -46,18 +50,24 @@ class TextureMap {
   // The level whose texels are about one pixel wide when one pixel covers `texels_per_pixel` level-0 texels.
   int level_for_footprint(float texels_per_pixel) const;
 
+  // Bilinear sample at level texel coordinates in 16.16 fixed point (texel centres at integers),
+  // which must lie in [-1, width) x [-1, height) of that level: no clamping.
+  static std::uint32_t sample_fixed(const Level& l, std::int32_t u, std::int32_t v) {
+    const std::uint32_t* p = l.origin() + (v >> 16) * l.stride + (u >> 16);
+    const auto fx = static_cast<std::uint32_t>(u >> 8) & 0xFFu, fy = static_cast<std::uint32_t>(v >> 8) & 0xFFu;
+    const std::uint32_t w11 = (fx * fy) >> 8, w01 = fx - w11, w10 = fy - w11, w00 = 256 - w01 - w10 - w11;
+    return blend4(p[0], p[1], p[l.stride], p[l.stride + 1], w00, w01, w10, w11);
+  }
+  // Level texel coordinate (float) to 16.16 fixed point, clamped to the texel centres' range [-0.5, size - 0.5].
+  static std::int32_t to_fixed(float coordinate, int size) {
+    const float c = coordinate < -0.5f ? -0.5f : (coordinate > static_cast<float>(size) - 0.5f ? static_cast<float>(size) - 0.5f : coordinate);
+    return static_cast<std::int32_t>(c * 65536.f);
+  }
+
   // Bilinear sample at level-0 texel coordinates (texel centres at integers), clamped to the edge.
   std::uint32_t sample(int level_index, float u, float v) const {
     const Level& l = levels_[static_cast<std::size_t>(level_index)];
-    float x = (u + 0.5f) * l.scale_x - 0.5f, y = (v + 0.5f) * l.scale_y - 0.5f;
-    x = x < 0.f ? 0.f : (x > l.width - 1.001f ? l.width - 1.001f : x);
-    y = y < 0.f ? 0.f : (y > l.height - 1.001f ? l.height - 1.001f : y);
-    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-    const auto fx = static_cast<std::uint32_t>((x - static_cast<float>(x0)) * 256.f);
-    const auto fy = static_cast<std::uint32_t>((y - static_cast<float>(y0)) * 256.f);
-    const std::uint32_t* p = l.texels.data() + static_cast<std::ptrdiff_t>(y0) * l.width + x0;
-    const std::uint32_t w11 = (fx * fy) >> 8, w01 = fx - w11, w10 = fy - w11, w00 = 256 - w01 - w10 - w11;
-    return blend4(p[0], p[1], p[l.width], p[l.width + 1], w00, w01, w10, w11);
+    return sample_fixed(l, to_fixed((u + 0.5f) * l.scale_x - 0.5f, l.width), to_fixed((v + 0.5f) * l.scale_y - 0.5f, l.height));
   }
 
   // The mean colour of level 0 (for untextured stand-ins).

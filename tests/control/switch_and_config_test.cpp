@@ -48,6 +48,35 @@ TEST_CASE("control: localization switch uses homography near, SLAM far, with hys
   CHECK(sw.update(in) == FeedbackSource::Slam);
 }
 
+TEST_CASE("control: on the way home dead reckoning is tolerated for the grace, then escalates") {
+  SafetyLimits lim;  // hover after 1 s, land after 8 s
+  SafetyMonitor m(lim);
+  SafetyInputs in;
+  in.airborne = true;
+  in.localization_required = true;
+  in.localization_ok = false;
+  in.localization_grace_s = 20.0;
+  in.t = 0;
+  CHECK(m.evaluate(in).action == SafetyAction::None);
+  in.t = 20.5;
+  const SafetyVerdict tolerated = m.evaluate(in);
+  CHECK(tolerated.action == SafetyAction::None);
+  REQUIRE(tolerated.alerts.size() == 1);
+  CHECK_THAT(tolerated.alerts[0], Catch::Contains("dead reckoning for 20.5 s"));
+  in.t = 21.5;
+  CHECK(m.evaluate(in).action == SafetyAction::Hover);
+  in.t = 28.5;
+  CHECK(m.evaluate(in).action == SafetyAction::Land);
+  in.localization_grace_s = 0;  // elsewhere: the usual 1 s / 8 s
+  in.localization_ok = true;
+  m.evaluate(in);
+  in.localization_ok = false;
+  in.t = 30.0;
+  m.evaluate(in);
+  in.t = 31.1;
+  CHECK(m.evaluate(in).action == SafetyAction::Hover);
+}
+
 TEST_CASE("control: geofence keeps the margin and names the violated bound") {
   const Geofence fence({-2, -2, 0}, {2, 2, 2.5}, 0.3);
   CHECK(fence.contains({1.7, 0, 1}));

@@ -190,7 +190,7 @@ TEST_CASE("vision front-ends: SLAM on front frames gives the camera's trajectory
   bool initializing_seen = false;
   for (std::size_t i = 0; i < flight.frames.size() && flight.frames[i].t < 6.0; ++i) {
     const auto& f = flight.frames[i];
-    const SlamFrame& s = fe.process(room.render(f.T_world_cam, static_cast<unsigned>(i)), f.t);
+    const SlamFrame& s = fe.process(room.render(f.T_world_cam, static_cast<unsigned>(i)), f.t, std::nullopt);
     initializing_seen = initializing_seen || s.summary.state == SlamState::Initializing;
     CHECK(s.has_pose == (s.summary.state == SlamState::Good || s.summary.state == SlamState::Dodgy));
     if (s.has_pose) tracked.push_back({f.t, s.T_map_cam, f.T_world_cam});
@@ -201,14 +201,14 @@ TEST_CASE("vision front-ends: SLAM on front frames gives the camera's trajectory
   REQUIRE(errors);
   INFO("ATE " << errors->ate_rmse_m * 100 << " cm over " << errors->poses << " poses");
   CHECK(errors->ate_rmse_m < 0.05);
-  CHECK(fe.process(room.render(flight.frames[200].T_world_cam, 999), 6.5).summary.keyframes >= 2);
+  CHECK(fe.process(room.render(flight.frames[200].T_world_cam, 999), 6.5, std::nullopt).summary.keyframes >= 2);
 
   const SlamFrame& paused = fe.pause();
   CHECK(paused.summary.state == SlamState::Off);
   CHECK_FALSE(paused.has_pose);
   CHECK(paused.map_id == 1);
   fe.restart_map();
-  const SlamFrame& again = fe.process(room.render(flight.frames[0].T_world_cam, 1000), 7.0);
+  const SlamFrame& again = fe.process(room.render(flight.frames[0].T_world_cam, 1000), 7.0, std::nullopt);
   CHECK(again.map_id == 2);
   CHECK(again.summary.state == SlamState::Initializing);
 }

@@ -48,16 +48,21 @@ TEST_CASE("web: the flight runtime annotates and encodes frames, and passes stag
   REQUIRE(header);
   CHECK(header->frame_number == last.frame_number);
   CHECK(std::abs(header->capture_unix_ms / 1000.0 - std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count()) < 5.0);
-  const std::vector<std::uint8_t> jpeg(last.wire->begin() + FrameHeader::kSize, last.wire->end());
-  const cv::Mat decoded = cv::imdecode(jpeg, cv::IMREAD_COLOR);
-  REQUIRE(decoded.cols == 640);
-  // The homography source's border is blue (BGR ~ (255, 96, 16)), the panel outline cyan.
-  const cv::Vec3b border = decoded.at<cv::Vec3b>(200, 1);
-  CHECK(border[0] > 180);
-  CHECK(border[2] < 90);
-  const cv::Vec3b outline = decoded.at<cv::Vec3b>(100, 300);
-  CHECK(outline[0] > 180);
-  CHECK(outline[1] > 180);
+  // Which stage the scripted mission is in when a frame is drawn depends on thread timing (a loaded
+  // machine lags), so look for a frame drawn while the panel was tracked: the homography source's
+  // border is blue (BGR ~ (255, 96, 16)) and the panel outline cyan.
+  int annotated = 0;
+  for (const EncodedFrame& f : sink.frames) {
+    const std::vector<std::uint8_t> jpeg(f.wire->begin() + FrameHeader::kSize, f.wire->end());
+    const cv::Mat decoded = cv::imdecode(jpeg, cv::IMREAD_COLOR);
+    REQUIRE(decoded.cols == 640);
+    const cv::Vec3b border = decoded.at<cv::Vec3b>(200, 1);
+    const cv::Vec3b outline = decoded.at<cv::Vec3b>(100, 300);
+    const bool blue_border = border[0] > 180 && border[2] < 90;
+    const bool cyan_outline = outline[0] > 180 && outline[1] > 180;
+    annotated += blue_border && cyan_outline;
+  }
+  CHECK(annotated >= 1);
   int stages = 0;
   for (const auto& e : sink.events) stages += e.kind == "stage";
   CHECK(stages >= 3);
