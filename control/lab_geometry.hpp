@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "localization/estimation/surface_map.hpp"
+
 namespace labo {
 
 struct LabDescription;
@@ -36,12 +38,16 @@ struct LabGeometry {
   double base_yaw_rad = 0;
   std::vector<PlanarTarget> instruments;
   PlanarTarget platform;
+  // The tops the ultrasound sees (benches, the platform, instrument housings) over the floor, for the
+  // altitude tracker to tell a floor step from a climb; empty: floor only, steps told by gamma alone.
+  SurfaceMap surfaces;
 
   const PlanarTarget* find_instrument(const std::string& id) const;
 };
 
 // The room, the base (the drone's pose on the platform's top), every instrument's front panel and
-// the platform's top as planar targets with their templates and per-object thresholds.
+// the platform's top as planar targets with their templates and per-object thresholds, and the
+// surfaces under the drone (bench, platform and housing tops).
 LabGeometry lab_geometry_from(const LabDescription& lab);
 
 }  // namespace labo

@@ -34,7 +34,9 @@ Eigen::Isometry3d flip_about_y() {
 }
 
 LabPipelines::LabPipelines(LabGeometry lab, const EstimatorConfig& config, const VisionThresholds& thresholds)
-    : lab_(std::move(lab)), estimator_(config, thresholds), instrument_fes_(lab_.instruments.size()) {}
+    : lab_(std::move(lab)), estimator_(config, thresholds), instrument_fes_(lab_.instruments.size()) {
+  if (!lab_.surfaces.empty()) estimator_.set_surface_map(lab_.surfaces);
+}
 
 void LabPipelines::set_instrument_front_end(const std::string& id, std::unique_ptr<TargetFrontEnd> front_end) {
   const int index = instrument_index(id);

@@ -12,6 +12,7 @@
 #include "control/front_end_settings.hpp"
 #include "core/camera_config.hpp"
 #include "core/config_reader.hpp"
+#include "localization/face/teacher_head.hpp"
 #include "core/source_tree.hpp"
 
 namespace labo {
@@ -36,8 +37,10 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args) {
   const std::string vision = args.value_or("--vision", "model");
   if (vision != "model" && vision != "real") throw UsageError("--vision must be model or real (got '" + vision + "')");
   o.real_vision = vision == "real";
-  o.video_fps = args.number_or("--fps", 30.0, 1.0, 60.0);
-  if (args.value("--fps") && !o.real_vision) throw UsageError("--fps needs --vision real");
+  if (args.value("--fps")) {
+    if (!o.real_vision) throw UsageError("--fps needs --vision real");
+    o.video_fps = args.number_or("--fps", 30.0, 1.0, 60.0);
+  }
   o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
   o.runs = args.integer_or("--runs", 1, 1, 10000);
   o.json = args.flag("--json");
@@ -60,15 +63,16 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   if (root.has("control")) setup.control = read_control_config(root.object("control"));
   if (root.has("estimation")) setup.estimation = read_estimation_config(root.object("estimation"));
   if (root.has("vision")) setup.vision = read_vision_thresholds(root.object("vision"));
-  // The models, and the simulated lab run directly (no link), deliver navdata and frames without
-  // latency and act on commands at once: the estimator's delay compensation must not shift them.
-  setup.estimation.video_delay_s = 0;
-  setup.estimation.navdata_delay_s = 0;
-  setup.estimation.control_delay_s = 0;
   if (!options.real_vision) {
+    // The models deliver navdata and vision results without latency and act on commands at once:
+    // the estimator's delay compensation must not shift them.
+    setup.estimation.video_delay_s = 0;
+    setup.estimation.navdata_delay_s = 0;
+    setup.estimation.control_delay_s = 0;
     setup.lab = model_lab();
     return e;
   }
+  // SimDroneLink has the link's delays: the estimator keeps the configured ones.
   const std::filesystem::path base_dir = options.config.parent_path();
   const std::filesystem::path lab_file = base_dir / root.string_or("lab", "lab.json");
   e.lab = load_lab_description(lab_file.lexically_normal());
@@ -78,15 +82,18 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   front_ends.slam.mapping_mode = slam::MappingMode::Synchronous;  // lockstep: the same flight every time
   front_ends.with_face = with_face;
   setup.front_ends = front_ends;
+  if (root.has("sim")) e.sim = read_sim_config(root.object("sim"));
+  if (options.video_fps) e.sim.link.video_fps = *options.video_fps;
+  if (with_face) e.head = face::load_lab_teacher_head(*e.lab, front_ends.face);
   return e;
 }
 
-std::unique_ptr<ExperimentFlight> make_flight(const ExperimentOptions& options, const Experiment& experiment, unsigned seed) {
+std::unique_ptr<ExperimentFlight> make_flight(const Experiment& experiment, unsigned seed) {
   if (!experiment.lab) return std::make_unique<LockstepFlight>(experiment.setup, PerceptionModelConfig{}, seed);
-  SimLabFlightOptions o;
-  o.seed = seed;
-  o.video_fps = options.video_fps;
-  return std::make_unique<SimLabFlight>(experiment.setup, *experiment.lab, o);
+  SimConfig sim = experiment.sim;
+  sim.lab.seed = seed;
+  sim.link.seed = seed;
+  return std::make_unique<SimLabFlight>(experiment.setup, *experiment.lab, sim, experiment.head);
 }
 
 void write_run_outputs(const ExperimentOptions& options, const std::string& name, int index, const ExperimentFlight& flight) {

@@ -11,6 +11,8 @@
 #include "control/experiments/experiment_flight.hpp"
 #include "core/cli_args.hpp"
 #include "drone/lab/lab_description.hpp"
+#include "drone/sim/head_model.hpp"
+#include "drone/sim/sim_config.hpp"
 
 namespace labo {
 
@@ -21,7 +23,7 @@ struct ExperimentOptions {
   std::optional<std::filesystem::path> out;
   std::filesystem::path config;  // --config, default config/default.json
   bool real_vision = false;      // --vision real: the simulated lab, rendered cameras, real front-ends
-  double video_fps = 30;         // --fps, with --vision real
+  std::optional<double> video_fps;  // --fps, with --vision real (default: the sim section's 30)
 };
 
 std::vector<OptionSpec> experiment_option_specs();
@@ -34,12 +36,15 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args);
 // real, the lab description the simulated lab is built from.
 struct Experiment {
   FlightStackSetup setup;
-  std::optional<LabDescription> lab;
+  std::optional<LabDescription> lab;       // --vision real: the lab the simulated lab is built from
+  SimConfig sim;                           // its "sim" section (lab and link settings)
+  std::optional<TexturedHeadModel> head;   // the teacher's face, when the experiment looks for it
 };
 // `with_face`: load the face front-end (find teacher) with --vision real.
 Experiment make_experiment(const ExperimentOptions& options, bool with_face);
-// One run's flight: LockstepFlight (models) or, with --vision real, SimLabFlight.
-std::unique_ptr<ExperimentFlight> make_flight(const ExperimentOptions& options, const Experiment& experiment, unsigned seed);
+// One run's flight: LockstepFlight (models) or, with --vision real, SimLabFlight (the lab's and the
+// link's seeds set to `seed`).
+std::unique_ptr<ExperimentFlight> make_flight(const Experiment& experiment, unsigned seed);
 // Writes run `index`'s CSV (and its SVG for the first run) under --out.
 void write_run_outputs(const ExperimentOptions& options, const std::string& name, int index, const ExperimentFlight& flight);
 // Writes summary.json under --out, prints JSON (--json) or the text lines.

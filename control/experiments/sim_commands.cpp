@@ -16,9 +16,8 @@ constexpr const char* kVehicleNote =
     "vehicle: quadrotor model (control/experiments/quadrotor_model.hpp); perception: model (no rendering); "
     "estimator: StateEstimator";
 constexpr const char* kRealVisionNote =
-    "vehicle: simulated lab (drone/sim: firmware dynamics, sensor model); cameras: rendered by the lab's "
-    "SceneRenderer; perception: the real vision front-ends (planar, SLAM, face); estimator: StateEstimator; "
-    "no link delays";
+    "vehicle: simulated lab (drone/sim: firmware dynamics, sensor model, LabRenderer cameras) through SimDroneLink "
+    "(link timing and delays); perception: the real vision front-ends (planar, SLAM, face); estimator: StateEstimator";
 
 const char* note_of(const ExperimentOptions& o) { return o.real_vision ? kRealVisionNote : kVehicleNote; }
 
@@ -203,7 +202,7 @@ int run_sim_inspect_command(const ParsedArgs& args) {
   std::vector<double> standoff, centre, landing;
   for (int i = 0; i < o.runs; ++i) {
     const unsigned seed = o.seed + static_cast<unsigned>(i);
-    const auto f = make_flight(o, experiment, seed);
+    const auto f = make_flight(experiment, seed);
     const InspectRun r = run_inspect(setup, *instrument, hold, *f);
     ok += r.success();
     if (std::isfinite(r.standoff_error_m)) standoff.push_back(r.standoff_error_m);
@@ -310,7 +309,7 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
   nlohmann::json runs = nlohmann::json::array();
   for (int i = 0; i < o.runs; ++i) {
     const unsigned seed = o.seed + static_cast<unsigned>(i);
-    const auto f = make_flight(o, experiment, seed);
+    const auto f = make_flight(experiment, seed);
     const FaceRun r = run_face_follow(setup, walk, *f);
     found += r.followed;
     dist.insert(dist.end(), r.distance_error.begin(), r.distance_error.end());

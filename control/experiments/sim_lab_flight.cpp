@@ -1,21 +1,35 @@
 #include "control/experiments/sim_lab_flight.hpp"
 
+#include <cstdio>
 #include <stdexcept>
 
 #include "drone/sim/sim_setup.hpp"
 
 namespace labo {
 
-SimLabFlight::SimLabFlight(const FlightStackSetup& setup, const LabDescription& lab, const SimLabFlightOptions& options)
-    : geometry_(setup.lab), options_(options) {
+// The link's events go straight to the flight stack (a frame's pixels are valid during on_video only;
+// the stack processes them there).
+struct SimLabFlight::Listener final : DroneLinkListener {
+  explicit Listener(FlightStack& s) : stack(s) {}
+  void on_navdata(const NavdataSample& sample) override { stack.on_navdata(sample); }
+  void on_video(const VideoFrame& frame) override { stack.on_video(frame); }
+  void on_link_state(LinkState state, Seconds t) override { stack.on_link_state(state, t); }
+  FlightStack& stack;
+};
+
+SimLabFlight::SimLabFlight(const FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
+                           std::optional<TexturedHeadModel> head)
+    : geometry_(setup.lab), link_settings_(sim.link) {
   if (!setup.front_ends) throw std::invalid_argument("SimLabFlight: the setup has no vision front-ends");
-  if (!(options.video_fps > 0 && options.video_fps <= 60)) throw std::invalid_argument("SimLabFlight: video_fps must be in (0, 60]");
-  SimulatedLabSettings settings;
-  settings.seed = options.seed;
-  lab_ = make_simulated_lab(lab, setup.cameras, settings);
+  lab_ = make_simulated_lab(lab, setup.cameras, sim.lab, std::move(head));
   stack_ = std::make_unique<FlightStack>(setup);
+  listener_ = std::make_unique<Listener>(*stack_);
+  link_ = std::make_unique<SimDroneLink>(*lab_, sim.link);
+  link_->set_listener(listener_.get());
   samples_.reserve(20000);
 }
+
+SimLabFlight::~SimLabFlight() = default;
 
 std::optional<Eigen::Isometry3d> SimLabFlight::true_face() const {
   const SceneState scene = lab_->scene();
@@ -24,35 +38,26 @@ std::optional<Eigen::Isometry3d> SimLabFlight::true_face() const {
 }
 
 std::string SimLabFlight::description() const {
-  return "simulated lab (drone/sim), rendered cameras at " + std::to_string(static_cast<int>(options_.video_fps)) +
-         " fps, real vision front-ends";
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "simulated lab through SimDroneLink (%.0f fps, %s navdata), real vision",
+                link_settings_.video_fps, link_settings_.full_navdata ? "200 Hz" : "15 Hz demo");
+  return buf;
 }
 
 void SimLabFlight::apply(const FlightOutput& out) {
-  if (out.select_camera) lab_->select_camera(*out.select_camera, t_);
+  if (out.select_camera) link_->select_camera(*out.select_camera);
   switch (out.action) {
-    case FlightOutput::Action::Move: lab_->move(out.move, false, t_); break;
-    case FlightOutput::Action::Hover: lab_->move(MoveCommand{}, true, t_); break;
-    case FlightOutput::Action::Takeoff: lab_->takeoff(t_); break;
-    case FlightOutput::Action::Land: lab_->land(t_); break;
-    case FlightOutput::Action::Emergency: lab_->emergency(t_); break;
+    case FlightOutput::Action::Move: link_->move(out.move); break;
+    case FlightOutput::Action::Hover: link_->hover(); break;
+    case FlightOutput::Action::Takeoff: link_->takeoff(); break;
+    case FlightOutput::Action::Land: link_->land(); break;
+    case FlightOutput::Action::Emergency: link_->emergency(); break;
     case FlightOutput::Action::None: break;
   }
 }
 
 void SimLabFlight::tick() {
-  lab_->advance_to(t_);
-  NavdataSample nav = lab_->telemetry().nav;
-  nav.t = t_;
-  stack_->on_navdata(nav);
-  if (t_ >= next_frame_t_ - 1e-9) {
-    frame_.t = t_;
-    frame_.camera = lab_->selected_camera();
-    frame_.frame_number = static_cast<std::uint32_t>(frames_++);
-    lab_->render(frame_.camera, frame_.bgr);
-    stack_->on_video(frame_);
-    next_frame_t_ += 1.0 / options_.video_fps;
-  }
+  link_->advance_to(t_);
   const Eigen::Isometry3d truth = true_pose();
   stack_->set_ground_truth(truth, t_);
   apply(stack_->tick(t_));

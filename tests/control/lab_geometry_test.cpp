@@ -39,6 +39,11 @@ TEST_CASE("control: lab_geometry_from maps config/lab.json's room, base, instrum
   CHECK(g.platform.T_world_object.translation().isApprox(Eigen::Vector3d(0.0, 0.0, 0.10)));
   CHECK(g.platform.T_world_object.linear().col(2).isApprox(-Eigen::Vector3d::UnitZ(), 1e-9));  // z down, into it
   CHECK(std::filesystem::exists(g.platform.template_path));
+  // The ultrasound's surfaces: the platform's top at its centre, a bench top, the floor elsewhere.
+  CHECK(g.surfaces.height_at({0.0, 0.0}) == Approx(0.10));
+  CHECK(g.surfaces.height_at({6.2, -2.0}) == Approx(0.9));  // bench_east, beside the instruments
+  CHECK(g.surfaces.height_at({1.0, -1.0}) == Approx(0.0));
+  CHECK(g.surfaces.near_edge({0.3, 0.0}, 0.05));           // the platform's edge
 }
 
 TEST_CASE("control: a FlightStack on the lab's geometry accepts its instruments and refuses others by name") {

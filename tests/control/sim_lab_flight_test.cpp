@@ -13,10 +13,10 @@ TEST_CASE("control: real vision in the simulated lab reaches the 0.80 m hold in 
   ExperimentOptions o;
   o.config = labo::source_root() / "config" / "default.json";
   o.real_vision = true;
-  o.video_fps = 15;  // half the drone's rate keeps this test short; the benchmark runs 30
+  o.video_fps = 15;  // half the drone's 30 fps keeps this test short; `sim inspect --vision real` runs 30
   const Experiment e = make_experiment(o, false);
   REQUIRE(e.lab);
-  const auto f = make_flight(o, e, 1);
+  const auto f = make_flight(e, 1);
   const PlanarTarget& osc = *e.setup.lab.find_instrument("oscilloscope");
   MissionRequest r;
   r.kind = RequestKind::Inspect;
