@@ -64,15 +64,15 @@ void scatter_marks(Canvas& c, int count, double min_m, double max_m, const cv::S
         break;
       case 1: {
         const cv::Point tri[3] = {p, p + cv::Point(s, c.rng.uniform(-s, s + 1)), p + cv::Point(c.rng.uniform(-s, s + 1), s)};
-        cv::fillConvexPoly(c.img, tri, 3, col, cv::LINE_8);
+        cv::fillConvexPoly(c.img, tri, 3, col, cv::LINE_AA);
         break;
       }
       case 2:
         cv::line(c.img, p, p + cv::Point(c.rng.uniform(-2 * s, 2 * s + 1), c.rng.uniform(-s, s + 1)), col,
-                 std::max(1, s / 5), cv::LINE_8);
+                 std::max(1, s / 5), cv::LINE_AA);
         break;
       default:
-        cv::circle(c.img, p, std::max(1, s / 2), col, cv::FILLED, cv::LINE_8);
+        cv::circle(c.img, p, std::max(1, s / 2), col, cv::FILLED, cv::LINE_AA);
         break;
     }
   }

@@ -15,6 +15,8 @@ SlamSettings read_slam_settings(const ConfigReader& node) {
   s.max_keyframes = node.integer_or("max_keyframes", s.max_keyframes, 2, 2000);
   s.global_ba_when_idle = node.boolean_or("global_ba_when_idle", s.global_ba_when_idle);
   s.global_ba_max_keyframes = node.integer_or("global_ba_max_keyframes", s.global_ba_max_keyframes, 3, 2000);
+  s.global_ba_every = node.integer_or("global_ba_every", s.global_ba_every, 1, 1000);
+  s.local_ba_keyframes = node.integer_or("local_ba_keyframes", s.local_ba_keyframes, 2, 50);
   s.global_ba_fixed_keyframes = node.integer_or("global_ba_fixed_keyframes", s.global_ba_fixed_keyframes, 1, 10);
   s.cull_points = node.boolean_or("cull_points", s.cull_points);
   s.loop_closure = node.boolean_or("loop_closure", s.loop_closure);

@@ -56,6 +56,7 @@ void validate_settings(const SlamSettings& s) {
   if (s.local_ba_keyframes < 2) fail("local_ba_keyframes must be >= 2");
   if (s.init_min_points < 20) fail("init_min_points must be >= 20");
   if (s.global_ba_max_keyframes < 3) fail("global_ba_max_keyframes must be >= 3");
+  if (s.global_ba_every < 1) fail("global_ba_every must be >= 1");
   if (s.global_ba_fixed_keyframes < 1 || s.global_ba_fixed_keyframes > 10) fail("global_ba_fixed_keyframes must be in [1, 10]");
   if (!(s.loop_min_gap_s > 0)) fail("loop_min_gap_s must be > 0");
 }
@@ -87,6 +88,7 @@ struct SlamSystem::Impl {
     m.local_ba_keyframes = s.local_ba_keyframes;
     m.global_ba = s.global_ba_when_idle;
     m.global_ba_max_keyframes = s.global_ba_max_keyframes;
+    m.global_ba_every = s.global_ba_every;
     m.global_ba_fixed_keyframes = s.global_ba_fixed_keyframes;
     m.cull_points = s.cull_points;
     m.loop.enabled = s.loop_closure;

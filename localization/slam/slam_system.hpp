@@ -48,6 +48,7 @@ struct SlamSettings {
   int max_keyframes = 400;
   bool global_ba_when_idle = true;
   int global_ba_max_keyframes = 200;      // larger maps get local adjustments only
+  int global_ba_every = 5;                // synchronous mode: keyframes between global adjustments
   int global_ba_fixed_keyframes = 2;      // first keyframes held fixed by global adjustments (2: also the scale)
   bool cull_points = true;                // drop points that keep being missed where they should be seen
   bool loop_closure = true;

@@ -27,7 +27,7 @@ struct MapperSettings {
   int local_ba_keyframes = 5;
   int triangulation_neighbours = 5;
   bool global_ba = true;
-  int global_ba_every = 10;       // synchronous mode
+  int global_ba_every = 5;        // synchronous mode
   int global_ba_max_keyframes = 200;
   int global_ba_fixed_keyframes = 1;  // the first n keyframes hold the gauge (2 also fixes the scale)
   bool cull_points = true;            // remove points that keep being missed when re-measured

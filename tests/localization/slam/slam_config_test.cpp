@@ -25,4 +25,9 @@ TEST_CASE("slam: config section is read, range-checked and refuses unknown keys"
   CHECK(read("{}").loop_closure);
   CHECK_THROWS_WITH(read(R"({"loop_min_gap_s": 0})"), Catch::Contains("loop_min_gap_s"));
   CHECK_THROWS_WITH(read(R"({"global_ba_fixed_keyframes": 0})"), Catch::Contains("global_ba_fixed_keyframes"));
+  const slam::SlamSettings ba = read(R"({"global_ba_every": 5, "local_ba_keyframes": 8})");
+  CHECK(ba.global_ba_every == 5);
+  CHECK(ba.local_ba_keyframes == 8);
+  CHECK_THROWS_WITH(read(R"({"global_ba_every": 0})"), Catch::Contains("global_ba_every"));
+  CHECK_THROWS_WITH(read(R"({"local_ba_keyframes": 1})"), Catch::Contains("local_ba_keyframes"));
 }
