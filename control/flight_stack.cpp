@@ -80,8 +80,10 @@ struct FlightStack::Impl {
     const TargetObservation near = focus.platform ? pipelines->platform() : pipelines->instrument();
     in.target_state = near.state;
     in.target_distance_m = near_target_distance(near);
-    in.slam = pipelines->slam().state;
-    const bool slam_ok = in.slam == SlamState::Good || in.slam == SlamState::Dodgy;
+    const SlamSummary slam = pipelines->slam();
+    in.slam = slam.state;
+    in.slam_scaled = slam.scale_estimated;
+    const bool slam_ok = (in.slam == SlamState::Good || in.slam == SlamState::Dodgy) && slam.scale_estimated;
     in.face_mode = focus.face && (setup.control.mission.face_as_feedback || !slam_ok);
     in.face_state = pipelines->face().state;
     focus.feedback = source_switch.update(in);

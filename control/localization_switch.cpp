@@ -18,7 +18,7 @@ void LocalizationSwitch::reset(FeedbackSource source) {
 }
 
 FeedbackSource LocalizationSwitch::update(const SwitchInputs& in) {
-  const bool slam_ok = in.slam == SlamState::Good || in.slam == SlamState::Dodgy;
+  const bool slam_ok = (in.slam == SlamState::Good || in.slam == SlamState::Dodgy) && in.slam_scaled;
   const bool slam_good = held(slam_ok, slam_good_since_, in.t);
   const bool slam_gone = held(!slam_ok, slam_bad_since_, in.t);
   const bool tracking = in.target_state == TrackState::Tracking;

@@ -18,6 +18,9 @@ struct SwitchInputs {
   TrackState target_state = TrackState::Off;  // instrument (front) or platform (bottom)
   std::optional<double> target_distance_m;    // camera to target, when known
   SlamState slam = SlamState::Off;
+  // SLAM poses are metric only once the estimator has fixed the map's scale; before that the
+  // estimator does not fuse them, so SLAM is no source to choose (nor to fall back on).
+  bool slam_scaled = true;
   bool face_mode = false;
   TrackState face_state = TrackState::Off;
 };

@@ -39,8 +39,8 @@ std::optional<Eigen::Isometry3d> SimLabFlight::true_face() const {
 
 std::string SimLabFlight::description() const {
   char buf[160];
-  std::snprintf(buf, sizeof buf, "simulated lab through SimDroneLink (%.0f fps, %s navdata), real vision",
-                link_settings_.video_fps, link_settings_.full_navdata ? "200 Hz" : "15 Hz demo");
+  std::snprintf(buf, sizeof buf, "sim lab, %.0f fps, %.0f Hz navdata, real vision", link_settings_.video_fps,
+                link_settings_.full_navdata ? link_settings_.full_rate_hz : link_settings_.demo_rate_hz);
   return buf;
 }
 

@@ -48,6 +48,27 @@ TEST_CASE("control: localization switch uses homography near, SLAM far, with hys
   CHECK(sw.update(in) == FeedbackSource::Slam);
 }
 
+TEST_CASE("control: SLAM without a metric scale is no source: a far target is taken instead") {
+  MissionParameters p;
+  LocalizationSwitch sw(p);
+  SwitchInputs in;
+  in.slam = SlamState::Good;
+  in.slam_scaled = false;  // the estimator does not fuse it yet
+  for (in.t = 0; in.t < 1.0; in.t += 0.1) sw.update(in);
+  CHECK(sw.current() == FeedbackSource::DeadReckoning);
+  in.target_state = TrackState::Tracking;
+  in.target_distance_m = 5.0;
+  in.t = 1.0;
+  sw.update(in);
+  in.t = 1.6;
+  CHECK(sw.update(in) == FeedbackSource::Homography);
+  in.slam_scaled = true;  // scale fixed: far, so SLAM after 0.5 s
+  in.t = 2.0;
+  sw.update(in);
+  in.t = 2.6;
+  CHECK(sw.update(in) == FeedbackSource::Slam);
+}
+
 TEST_CASE("control: on the way home dead reckoning is tolerated for the grace, then escalates") {
   SafetyLimits lim;  // hover after 1 s, land after 8 s
   SafetyMonitor m(lim);
