@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace labo::slam {
 
@@ -17,7 +19,15 @@ IdealCamera::IdealCamera(const PinholeCamera& real)
   for (int v = 0; v < real.height(); ++v) {
     auto* row = lut_.ptr<cv::Vec2f>(v);
     for (int u = 0; u < real.width(); ++u) {
-      const Eigen::Vector2d n = real.undistort({(u - cx_) / fx_, (v - cy_) / fy_});
+      const Eigen::Vector2d d((u - cx_) / fx_, (v - cy_) / fy_);
+      const Eigen::Vector2d n = real.undistort(d);
+      // A lens whose distortion folds over inside the image has no inverse there: refuse it rather
+      // than build a table of garbage (the SLAM would then run on wrong geometry).
+      const Eigen::Vector2d back = real.distort(n);
+      if (!n.allFinite() || std::hypot((back.x() - d.x()) * fx_, (back.y() - d.y()) * fy_) > 0.01) {
+        throw std::invalid_argument("slam camera: the lens distortion cannot be inverted at pixel (" + std::to_string(u) + ", " +
+                                    std::to_string(v) + "); check the distortion coefficients");
+      }
       const Eigen::Vector2d p(fx_ * n.x() + cx_, fy_ * n.y() + cy_);
       row[u] = cv::Vec2f(static_cast<float>(p.x()), static_cast<float>(p.y()));
       ideal_min_ = ideal_min_.cwiseMin(p);

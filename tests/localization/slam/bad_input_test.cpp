@@ -16,6 +16,19 @@ TEST_CASE("slam: invalid intrinsics and settings are refused at construction") {
   CHECK_THROWS_WITH(SlamSystem(good, s), Catch::Contains("quality"));
   k.fx = -1;
   CHECK_THROWS_AS(PinholeCamera(k), std::invalid_argument);
+  k = good.intrinsics();
+  k.cy = std::nan("");
+  CHECK_THROWS_WITH(PinholeCamera(k), Catch::Contains("finite"));
+  k = good.intrinsics();
+  k.cx = 700;
+  CHECK_THROWS_WITH(PinholeCamera(k), Catch::Contains("principal point"));
+  // Valid numbers, but a lens that folds over inside the image (no inverse): the SLAM refuses it.
+  k = good.intrinsics();
+  k.k1 = -3.0;
+  k.k2 = 0.0;
+  CHECK_THROWS_WITH(SlamSystem(PinholeCamera(k), testing::synchronous()), Catch::Contains("cannot be inverted"));
+  // The AR.Drone's strong lens (k1 = -0.53) is fine.
+  CHECK_NOTHROW(SlamSystem(good, testing::synchronous()));
 }
 
 TEST_CASE("slam: bad frames and timestamps never corrupt the map") {
