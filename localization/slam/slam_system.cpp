@@ -49,6 +49,7 @@ void validate_settings(const SlamSettings& s) {
   if (!(s.pyramid_scale >= 1.1 && s.pyramid_scale <= 2.5)) fail("pyramid_scale must be in [1.1, 2.5]");
   if (s.max_features < 100 || s.max_features > 5000) fail("max_features must be in [100, 5000]");
   if (s.fast_threshold < 5 || s.fast_threshold > 100) fail("fast_threshold must be in [5, 100]");
+  if (!(s.smoothing_sigma_px >= 0 && s.smoothing_sigma_px <= 3)) fail("smoothing_sigma_px must be in [0, 3]");
   if (!(s.quality_lost > 0 && s.quality_lost < s.quality_good && s.quality_good < 1)) {
     fail("need 0 < quality_lost < quality_good < 1");
   }
@@ -72,7 +73,7 @@ struct SlamSystem::Impl {
   Impl(const PinholeCamera& cam, const SlamSettings& s)
       : settings(s),
         camera(validated(cam)),
-        extractor(camera, {s.pyramid_levels, s.pyramid_scale, s.max_features, s.fast_threshold, 7, 40}),
+        extractor(camera, {s.pyramid_levels, s.pyramid_scale, s.max_features, s.fast_threshold, 7, 40, s.smoothing_sigma_px}),
         grid(camera.ideal_min(), camera.ideal_max(), 24.0),
         initializer(camera, {s.init_min_parallax_px, s.init_timeout_s, 30.0, 60, {s.init_min_points, 1.0, 1.5, 0.45}}),
         tracker(camera, {s.pyramid_levels, s.pyramid_scale, s.max_points_searched, s.coarse_points, s.coarse_radius_px,

@@ -32,6 +32,7 @@ struct SlamSettings {
   double pyramid_scale = 1.5;        // between levels
   int max_features = 1000;           // per frame, over all levels
   int fast_threshold = 20;           // FAST intensity threshold (falls back to 7 in flat cells)
+  double smoothing_sigma_px = 1.2;   // Gaussian smoothing before FAST (0: none), see docs/slam.md
   int max_points_searched = 800;     // fine stage
   int coarse_points = 60;            // coarse stage, from levels >= 2
   double coarse_radius_px = 30.0;    // level-0 pixels

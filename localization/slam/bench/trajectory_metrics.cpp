@@ -77,7 +77,7 @@ std::optional<TrajectoryErrors> trajectory_errors(const std::vector<PosePair>& p
   }
   const auto [estimated_turn, true_turn] = turned_angles(pairs);
   e.truth_turned_deg = true_turn * 180.0 / M_PI;
-  if (true_turn > 0.2) e.rotation_scale_error_percent = 100.0 * (estimated_turn / true_turn - 1.0);
+  if (true_turn > M_PI / 2) e.rotation_scale_error_percent = 100.0 * (estimated_turn / true_turn - 1.0);
   const std::size_t third = pairs.size() / 3;
   if (third >= 10) {
     const auto first = align_sim3({pairs.begin(), pairs.begin() + static_cast<long>(third)});

@@ -39,7 +39,7 @@ struct TrajectoryErrors {
   // Angle the estimate turned, as a fraction of the angle the truth turned, minus 1 (percent): each
   // motion between consecutive poses (camera frame) projected on the true motion's axis, summed, over
   // the true angles summed. A systematic error (focal length, lens model, pixel convention) shows up
-  // here as a constant ratio; random errors cancel. 0 when the truth barely turned.
+  // here as a constant ratio; random errors cancel. 0 when the truth turned less than 90 deg.
   double rotation_scale_error_percent = 0;
   double truth_turned_deg = 0;
 };

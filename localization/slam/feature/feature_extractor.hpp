@@ -1,6 +1,6 @@
 #pragma once
-// FeatureExtractor: the per-frame front end. Smooths the frame (Gaussian, sigma 1.2 px), builds the
-// pyramid (levels of 1, 1/s, 1/s^2, 1/s^3),
+// FeatureExtractor: the per-frame front end. Smooths the frame (Gaussian, by default sigma 1.2 px),
+// builds the pyramid (levels of 1, 1/s, 1/s^2, 1/s^3),
 // runs FAST on every level, keeps the strongest corners per grid cell so that features cover the
 // image (a flat cell retries with a lower threshold), and computes binary descriptors at each
 // corner's level. Buffers are reused from frame to frame.
@@ -20,6 +20,7 @@ struct ExtractorSettings {
   int fast_threshold = 20;
   int fast_threshold_low = 7;
   int cell_px = 40;  // grid cell at each level
+  double smoothing_sigma_px = 1.2;  // Gaussian smoothing of the frame before FAST; 0: none
 };
 
 class FeatureExtractor {
