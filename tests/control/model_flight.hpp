@@ -110,7 +110,8 @@ class ModelPipelines final : public LocalizationPipelines {
 
 class ModelFlight {
  public:
-  explicit ModelFlight(ControlConfig config = {}) : world(std::make_shared<ModelWorld>()), lab(model_lab()) {
+  explicit ModelFlight(ControlConfig config = {}, LabGeometry lab_geometry = model_lab())
+      : world(std::make_shared<ModelWorld>()), lab(std::move(lab_geometry)) {
     FlightStackSetup setup;
     setup.control = config;
     setup.lab = lab;
