@@ -1,11 +1,13 @@
 // Telemetry plots (x, y, z, yaw over the last minute, estimated coloured by localization source,
-// desired in cyan, like the paper's Figs 5-9) and the top-down map of the room.
+// desired in cyan, the simulated lab's truth dashed grey, like the paper's Figs 5-9) and the
+// top-down map of the room.
 const WINDOW_S = 60;
 const DESIRED = '#00c8c8';
+const TRUTH = '#888';
 
 export class TelemetryView {
   constructor(doc) {
-    this.samples = [];  // {t, pose, desired, colour}
+    this.samples = [];  // {t, pose, desired, truth, colour}
     this.plots = ['x', 'y', 'z', 'yaw'].map((k) => ({key: k, canvas: doc.getElementById('plot-' + k)}));
     this.map = doc.getElementById('map');
     this.instruments = [];
@@ -13,7 +15,7 @@ export class TelemetryView {
   }
 
   add(msg) {
-    this.samples.push({t: msg.t, pose: msg.pose, desired: msg.desired, colour: msg.source_colour});
+    this.samples.push({t: msg.t, pose: msg.pose, desired: msg.desired, truth: msg.ground_truth, colour: msg.source_colour});
     const cutoff = msg.t - WINDOW_S;
     while (this.samples.length && this.samples[0].t < cutoff) this.samples.shift();
     this.last = msg;
@@ -32,7 +34,7 @@ export class TelemetryView {
     const t1 = this.samples[this.samples.length - 1].t, t0 = t1 - WINDOW_S;
     let lo = Infinity, hi = -Infinity;
     for (const s of this.samples) {
-      for (const v of [s.pose[key], s.desired ? s.desired[key] : undefined]) {
+      for (const v of [s.pose[key], s.desired ? s.desired[key] : undefined, s.truth ? s.truth[key] : undefined]) {
         if (v === undefined || !isFinite(v)) continue;
         lo = Math.min(lo, v); hi = Math.max(hi, v);
       }
@@ -43,6 +45,14 @@ export class TelemetryView {
     g.fillStyle = '#444'; g.font = '10px sans-serif';
     g.fillText(key + (key === 'yaw' ? ' rad' : ' m'), 2, 10);
     g.fillText(hi.toFixed(2), 2, 22); g.fillText(lo.toFixed(2), 2, h - 4);
+    g.lineWidth = 1.5; g.strokeStyle = TRUTH; g.setLineDash([4, 3]); g.beginPath();
+    let pen = false;
+    for (const s of this.samples) {
+      if (!s.truth) { pen = false; continue; }
+      if (pen) g.lineTo(X(s.t), Y(s.truth[key])); else g.moveTo(X(s.t), Y(s.truth[key]));
+      pen = true;
+    }
+    g.stroke(); g.setLineDash([]);
     g.lineWidth = 2;
     for (let i = 1; i < this.samples.length; ++i) {
       const a = this.samples[i - 1], b = this.samples[i];
@@ -74,14 +84,31 @@ export class TelemetryView {
     }
     g.fillStyle = '#999';
     for (const [x, y] of m.slam_points || []) { const [u, v] = P(x, y); g.fillRect(u - 1, v - 1, 2, 2); }
+    // Labels go right of their marker, else left, below or above, wherever they overlap no label
+    // placed before (instruments side by side on a bench would otherwise print over each other).
+    const placed = [];
+    g.font = '11px sans-serif';
     const label = (x, y, text, colour) => {
       const [u, v] = P(x, y); g.fillStyle = colour; g.fillRect(u - 4, v - 4, 8, 8);
-      g.fillStyle = '#222'; g.font = '11px sans-serif'; g.fillText(text, u + 6, v + 4);
+      const tw = g.measureText(text).width, th = 11;
+      const spots = [[u + 6, v + 4], [u - 6 - tw, v + 4], [u - tw / 2, v + 16], [u - tw / 2, v - 8], [u + 6, v + 16], [u + 6, v - 8]];
+      const free = ([x0, y0]) => placed.every((r) => x0 + tw < r[0] || x0 > r[0] + r[2] || y0 < r[1] - th || y0 - th > r[1]);
+      const [lx, ly] = spots.find(free) || spots[0];
+      placed.push([lx, ly, tw]);
+      g.fillStyle = '#222'; g.fillText(text, lx, ly);
     };
     label(0, 0, 'base', '#884');
     for (const i of this.instruments) label(i.x, i.y, i.name || i.id, '#1060ff');
     if (m.teacher) label(m.teacher[0], m.teacher[1], 'teacher', '#ff9000');
     if (m.desired) { const [u, v] = P(m.desired.x, m.desired.y); g.strokeStyle = DESIRED; g.lineWidth = 2; g.strokeRect(u - 6, v - 6, 12, 12); }
+    if (m.ground_truth) {  // the simulated lab's truth: a grey outline under the estimate
+      const [tu, tv] = P(m.ground_truth.x, m.ground_truth.y), ty = m.ground_truth.yaw;
+      g.strokeStyle = TRUTH; g.lineWidth = 1.5; g.beginPath();
+      g.moveTo(tu - Math.sin(ty) * 12, tv - Math.cos(ty) * 12);
+      g.lineTo(tu - Math.sin(ty + 2.5) * 8, tv - Math.cos(ty + 2.5) * 8);
+      g.lineTo(tu - Math.sin(ty - 2.5) * 8, tv - Math.cos(ty - 2.5) * 8);
+      g.closePath(); g.stroke();
+    }
     const [u, v] = P(m.pose.x, m.pose.y);
     const yaw = m.pose.yaw;
     g.fillStyle = m.source_colour; g.beginPath();

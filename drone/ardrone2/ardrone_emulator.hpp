@@ -54,6 +54,14 @@ class ArdroneEmulator {
   int video_port() const { return video_port_; }
   LinkStatistics statistics() const { return counters_.snapshot(); }
   Seconds now() const { return clock_.now(); }
+  // Runs f(vehicle) under the lock the emulator's threads hold while they drive the vehicle, so
+  // another thread (the server showing the simulated lab's ground truth) can read it safely. f must
+  // be short: navdata and video wait for it.
+  template <typename F>
+  void with_vehicle(F&& f) {
+    std::lock_guard lock(vehicle_mutex_);
+    f(static_cast<const EmulatedVehicle&>(vehicle_));
+  }
 
  private:
   void at_loop();

@@ -280,10 +280,10 @@ bool Box3::overlaps(const Box3& o, double tol) const {
   return true;
 }
 
-std::vector<Eigen::Vector3d> InstrumentSpec::corners_world() const {
+std::array<Eigen::Vector3d, 4> InstrumentSpec::corners_world() const {
   const double w = 0.5 * width_m, h = 0.5 * height_m;
-  return {T_world_object * Eigen::Vector3d(-w, -h, 0), T_world_object * Eigen::Vector3d(w, -h, 0),
-          T_world_object * Eigen::Vector3d(w, h, 0), T_world_object * Eigen::Vector3d(-w, h, 0)};
+  return {{T_world_object * Eigen::Vector3d(-w, -h, 0), T_world_object * Eigen::Vector3d(w, -h, 0),
+          T_world_object * Eigen::Vector3d(w, h, 0), T_world_object * Eigen::Vector3d(-w, h, 0)}};
 }
 
 Box3 InstrumentSpec::bounds() const {

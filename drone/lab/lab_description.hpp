@@ -9,6 +9,7 @@
 // the template image), z into the panel (away from a viewer in front of it). Template pixel (u, v)
 // maps to (((u + 0.5) / w_px - 0.5) * width_m, ((v + 0.5) / h_px - 0.5) * height_m, 0).
 #include <Eigen/Geometry>
+#include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -44,7 +45,8 @@ struct InstrumentSpec {
   double depth_m = 0.3;                 // the housing behind the panel, along object z
 
   // Corners of the panel in world coordinates: top-left, top-right, bottom-right, bottom-left.
-  std::vector<Eigen::Vector3d> corners_world() const;
+  // Fixed size, so the sensor model can ask for surface heights every step without allocating.
+  std::array<Eigen::Vector3d, 4> corners_world() const;
   // Axis-aligned bounds of panel + housing.
   Box3 bounds() const;
 };

@@ -12,6 +12,7 @@ std::string to_string(Disturbance::Kind kind) {
     case Disturbance::Kind::Gust: return "gust";
     case Disturbance::Kind::VideoDropout: return "video_dropout";
     case Disturbance::Kind::LinkOutage: return "link_outage";
+    case Disturbance::Kind::Lighting: return "lighting";
   }
   return "?";
 }
@@ -22,14 +23,31 @@ void DisturbanceSchedule::add(const Disturbance& d) {
   items_.insert(at, d);
 }
 
+namespace {
+
+// 0 outside [t_s, t_s + duration_s], rising to 1 in the middle and back as a raised cosine.
+double raised_cosine(const Disturbance& d, Seconds t) {
+  if (t < d.t_s || t > d.t_s + d.duration_s || d.duration_s <= 0) return 0.0;
+  const double phase = (t - d.t_s) / d.duration_s;
+  return 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * phase));
+}
+
+}  // namespace
+
 Eigen::Vector3d DisturbanceSchedule::wind_at(Seconds t) const {
   Eigen::Vector3d wind = Eigen::Vector3d::Zero();
   for (const auto& d : items_) {
-    if (d.kind != Disturbance::Kind::Gust || t < d.t_s || t > d.t_s + d.duration_s || d.duration_s <= 0) continue;
-    const double phase = (t - d.t_s) / d.duration_s;  // 0..1: up and down again
-    wind += d.wind_world_mps * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * phase));
+    if (d.kind == Disturbance::Kind::Gust) wind += d.wind_world_mps * raised_cosine(d, t);
   }
   return wind;
+}
+
+double DisturbanceSchedule::exposure_gain_at(Seconds t) const {
+  double gain = 1.0;
+  for (const auto& d : items_) {
+    if (d.kind == Disturbance::Kind::Lighting) gain *= 1.0 + (d.exposure_gain - 1.0) * raised_cosine(d, t);
+  }
+  return gain;
 }
 
 bool DisturbanceSchedule::active(Disturbance::Kind kind, Seconds t) const {

@@ -7,7 +7,11 @@
 //    drag acts on its velocity relative to the air;
 //  - video_dropout: no camera frame over an interval (the Wi-Fi video stream stalls);
 //  - link_outage: nothing gets through the Wi-Fi over an interval, either way (SimDroneLink): the
-//    firmware hovers after its 2 s command timeout, the driver sees the link degrade and get lost.
+//    firmware hovers after its 2 s command timeout, the driver sees the link degrade and get lost;
+//  - lighting: the light changes over an interval (a lamp switched on, sun through a window, the
+//    camera's auto-exposure catching up): the frames' exposure is multiplied by a factor that rises
+//    to `exposure_gain` and falls back as a raised cosine. Vision must survive it (issue #6's
+//    lighting case, in flight instead of only in the planar benchmark).
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -17,13 +21,14 @@
 namespace labo {
 
 struct Disturbance {
-  enum class Kind { Impulse, Gust, VideoDropout, LinkOutage };
+  enum class Kind { Impulse, Gust, VideoDropout, LinkOutage, Lighting };
   Kind kind = Kind::Impulse;
   Seconds t_s = 0;
   Seconds duration_s = 0;                                   // gust, video dropout, link outage
   Eigen::Vector3d dv_heading_mps = Eigen::Vector3d::Zero();  // impulse
   double dyaw_rad = 0;                                      // impulse: the turn it causes
   Eigen::Vector3d wind_world_mps = Eigen::Vector3d::Zero();  // gust: the peak wind
+  double exposure_gain = 1.0;                               // lighting: the peak exposure factor
 };
 
 std::string to_string(Disturbance::Kind kind);
@@ -40,6 +45,8 @@ class DisturbanceSchedule {
   }
   // The sum of the gusts' winds at t.
   Eigen::Vector3d wind_at(Seconds t) const;
+  // The product of the lighting changes' exposure factors at t (1 when none is active).
+  double exposure_gain_at(Seconds t) const;
   bool video_dropout_at(Seconds t) const { return active(Disturbance::Kind::VideoDropout, t); }
   bool link_outage_at(Seconds t) const { return active(Disturbance::Kind::LinkOutage, t); }
   const std::vector<Disturbance>& items() const { return items_; }

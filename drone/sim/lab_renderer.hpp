@@ -78,7 +78,7 @@ class LabRenderer final : public SceneRenderer {
 
   LabRenderOptions options_;
   Box3 room_;
-  std::vector<Box3> solids_;  // what a camera stays above (LabDescription::surface_height allocates per call)
+  std::vector<Box3> solids_;  // what a camera stays above, boxed once (surface_height() recomputes the boxes per call)
   LabScene scene_;
   TeacherFigure teacher_;
   unsigned seed_;

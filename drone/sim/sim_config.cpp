@@ -68,7 +68,7 @@ void read_link(const ConfigReader& r, SimLinkSettings& l) {
 
 Disturbance read_disturbance(const ConfigReader& r) {
   Disturbance d;
-  const std::string kind = r.choice("kind", {"impulse", "gust", "video_dropout", "link_outage"});
+  const std::string kind = r.choice("kind", {"impulse", "gust", "video_dropout", "link_outage", "lighting"});
   d.t_s = r.number("t_s", Range::non_negative());
   if (kind == "impulse") {
     d.kind = Disturbance::Kind::Impulse;
@@ -78,9 +78,12 @@ Disturbance read_disturbance(const ConfigReader& r) {
   } else {
     d.kind = kind == "gust"            ? Disturbance::Kind::Gust
              : kind == "video_dropout" ? Disturbance::Kind::VideoDropout
+             : kind == "lighting"      ? Disturbance::Kind::Lighting
                                        : Disturbance::Kind::LinkOutage;
     d.duration_s = r.number("duration_s", Range{0.0, 600.0, true});
     if (d.kind == Disturbance::Kind::Gust) d.wind_world_mps = read_vector(r, "wind_mps", 10.0);
+    // 0.2-5: from a room going dim to a bright lamp; beyond that the 8-bit frames are mostly clipped.
+    if (d.kind == Disturbance::Kind::Lighting) d.exposure_gain = r.number("gain", Range::closed(0.2, 5.0));
   }
   r.finish();
   return d;

@@ -116,6 +116,7 @@ SceneState SimulatedLab::scene() const {
   scene.velocity_world_mps = s.velocity_mps;
   scene.angular_velocity_body_radps = s.angular_velocity_body_radps;
   scene.teacher_present = teacher_.has_value();
+  scene.exposure_gain = disturbances_.exposure_gain_at(s.t);
   if (teacher_) {
     const TeacherPose p = teacher_->pose(s.t);
     scene.T_world_head = p.T_world_head;

@@ -320,10 +320,24 @@ SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std
   }
   TrackOutcome o = tracker.track(map, frame, grid, guess, reference_keyframe, coarse);
   if (o.map_generation != map_generation && !relocalizing) {
-    // The mapper corrected the map between our prior and the tracking pass: carry the prior over and
-    // track again (rare: once per loop closure at most).
-    if (const auto G_inv = follow_map_corrections()) guess = (Similarity3::from_rigid(guess) * *G_inv).rigid_pose();
-    o = tracker.track(map, frame, grid, guess, reference_keyframe, coarse);
+    // The mapper corrected the map between our prior and the tracking pass. An adjustment moves the
+    // map by a fraction of a pixel: the pose found in the old map is carried over. A loop correction
+    // bends it: carry the prior over and track again (once per loop closure at most).
+    if (const auto G_inv = follow_map_corrections()) {
+      // How far the correction moves the camera, in pixels at the scene's depth.
+      const Eigen::Isometry3d G = G_inv->rigid_pose();
+      const Eigen::Vector3d centre = o.T_cam_map.inverse().translation();
+      const double moved = (G * centre - centre).norm() / std::max(o.mean_depth, 1e-3) + rotation_angle(G);
+      const bool small = moved * camera.fx() < 1.0;
+      if (small && o.pose_valid) {
+        o.T_cam_map = (Similarity3::from_rigid(o.T_cam_map) * *G_inv).rigid_pose();
+      } else {
+        guess = (Similarity3::from_rigid(guess) * *G_inv).rigid_pose();
+        o = tracker.track(map, frame, grid, guess, reference_keyframe, coarse);
+      }
+    } else {
+      o = tracker.track(map, frame, grid, guess, reference_keyframe, coarse);
+    }
   }
   result.points_found = o.found;
   result.points_attempted = o.attempted;

@@ -118,6 +118,12 @@ class SimBackend final : public DroneBackend {
         link_(link_settings(config, emulator_), log.child("link")),
         core_(std::make_unique<FlightStack>(flight_setup(config)), config.cameras),
         runtime_(link_, core_, clock_, runtime_options(config), log) {
+    // The page shows the lab's truth beside the estimate (dashed grey), as the experiments' plots do.
+    core_.set_truth_source([this]() -> std::optional<Eigen::Isometry3d> {
+      Eigen::Isometry3d T_world_body;
+      emulator_.with_vehicle([&](const EmulatedVehicle&) { T_world_body = lab_->truth().T_world_body(); });
+      return T_world_body;
+    });
     runtime_.start();
     link_.start();
   }

@@ -64,6 +64,9 @@ void FlightStackCore::on_video(const VideoFrame& frame) {
 }
 
 FlightAction FlightStackCore::tick(Seconds t) {
+  if (truth_) {
+    if (const auto T_world_body = truth_()) stack_->set_ground_truth(*T_world_body, t);
+  }
   const FlightOutput out = stack_->tick(t);
   FlightAction a;
   a.move = out.move;

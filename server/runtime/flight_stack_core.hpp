@@ -2,7 +2,9 @@
 // FlightCore over control's FlightStack: converts FlightStack's requests, outputs and status to the
 // web layer's types, projects the tracked panel's and the face's axes into the image for the overlay,
 // and turns stage changes and FlightStack's event log into FlightEvents.
+#include <functional>
 #include <memory>
+#include <optional>
 
 #include "control/flight_stack.hpp"
 #include "core/camera_model.hpp"
@@ -23,11 +25,16 @@ class FlightStackCore final : public FlightCore {
   std::vector<InstrumentSummary> instruments() const override;
 
   FlightStack& stack() { return *stack_; }
+  // Where the drone truly is, asked at every tick and shown beside the estimate (the simulated lab
+  // only: a real flight has no truth). Set before the runtime starts.
+  using TruthSource = std::function<std::optional<Eigen::Isometry3d>()>;
+  void set_truth_source(TruthSource source) { truth_ = std::move(source); }
 
  private:
   std::unique_ptr<FlightStack> stack_;
   PinholeCamera front_, bottom_;
   CameraId camera_ = CameraId::Front;
+  TruthSource truth_;
   std::string last_mission_, last_stage_, last_event_;
 };
 

@@ -25,6 +25,8 @@ nlohmann::json to_json(const slam::FlightReport& r) {
     j["rpe_1s_translation_rmse_cm"] = r.errors->rpe_translation_rmse_m * 100;
     j["rpe_1s_rotation_rmse_deg"] = r.errors->rpe_rotation_rmse_deg;
     j["scale_drift_percent"] = r.errors->scale_drift_percent;
+    j["rotation_scale_error_percent"] = r.errors->rotation_scale_error_percent;
+    j["truth_turned_deg"] = r.errors->truth_turned_deg;
     j["aligned_poses"] = r.errors->poses;
   } else {
     j["ate_rmse_cm"] = nullptr;
@@ -32,6 +34,7 @@ nlohmann::json to_json(const slam::FlightReport& r) {
   if (r.keyframe_errors) {
     j["keyframe_ate_rmse_cm"] = r.keyframe_errors->ate_rmse_m * 100;
     j["keyframe_scale_drift_percent"] = r.keyframe_errors->scale_drift_percent;
+    j["keyframe_rotation_scale_error_percent"] = r.keyframe_errors->rotation_scale_error_percent;
   }
   std::vector<double> windows_cm;
   for (double e : r.ate_by_10s_m) windows_cm.push_back(std::round(e * 1000) / 10);
@@ -71,6 +74,8 @@ const CommandSpec& bench_slam_command_spec() {
        {"--tour-seconds", "S", "duration of the tour flight (default 120)"},
        {"--threaded", "", "mapping in its own thread (default: synchronous, deterministic)"},
        {"--config", "FILE", "read the \"slam\" section of this config (its mapping key is ignored: see --threaded)"},
+       {"--no-noise", "", "render without sensor noise (isolates systematic errors)"},
+       {"--no-distortion", "", "a lens without distortion, for the renderer and the SLAM alike"},
        {"--trace", "", "print every frame that is not tracked well, and keyframes, to stderr"},
        {"--tum-dir", "DIR", "write each flight's estimate and ground truth as TUM trajectories (for evo)"}},
       0,
@@ -91,14 +96,19 @@ int run_bench_slam_command(const ParsedArgs& args) {
     if (doc.root().has("slam")) settings = slam::read_slam_settings(doc.root().object("slam"));
   }
   settings.mapping_mode = mode;
-  const PinholeCamera camera = PinholeCamera::ardrone2_front();
-  const slam::SyntheticRoom room(camera);
+  const PinholeCamera camera = args.flag("--no-distortion") ? PinholeCamera::ardrone2_front().without_distortion()
+                                                             : PinholeCamera::ardrone2_front();
+  slam::SyntheticRoomSpec room_spec;
+  if (args.flag("--no-noise")) room_spec.noise_sigma = 0;
+  const slam::SyntheticRoom room(camera, room_spec);
   std::vector<slam::Flight> flights;
   if (which == "all" || which == "tour") flights.push_back(slam::tour_flight(tour_s));
   if (which == "all" || which == "yaw") flights.push_back(slam::yaw_flight());
   if (which == "all" || which == "approach") flights.push_back(slam::approach_flight(room.panel_center()));
   nlohmann::json out;
   out["scene"] = "synthetic room 8x6x3 m, procedural textures, AR.Drone 2.0 front camera with distortion, 30 fps";
+  out["noise_sigma"] = room_spec.noise_sigma;
+  out["lens_distortion"] = camera.has_distortion();
   out["mapping_mode"] = mode == slam::MappingMode::Threaded ? "threaded" : "synchronous";
   out["targets"] = {{"tracking_ms_median", 10.0}, {"ate_rmse_cm", 3.0}, {"relocalization_s", 1.0}};
   for (const auto& flight : flights) {

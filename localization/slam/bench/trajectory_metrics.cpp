@@ -25,6 +25,22 @@ std::optional<Sim3> align_sim3(const std::vector<PosePair>& pairs) {
   return s;
 }
 
+namespace {
+
+// Signed sum of the estimated rotations about the true rotation axes, and the true angle turned.
+std::pair<double, double> turned_angles(const std::vector<PosePair>& pairs) {
+  double estimated = 0, truth = 0;
+  for (std::size_t i = 1; i < pairs.size(); ++i) {
+    const Eigen::AngleAxisd true_step(pairs[i].truth_T_world_cam.linear().transpose() * pairs[i - 1].truth_T_world_cam.linear());
+    const Eigen::AngleAxisd est_step(pairs[i].estimate_T_map_cam.linear().transpose() * pairs[i - 1].estimate_T_map_cam.linear());
+    truth += true_step.angle();
+    estimated += est_step.angle() * est_step.axis().dot(true_step.axis());
+  }
+  return {estimated, truth};
+}
+
+}  // namespace
+
 std::optional<TrajectoryErrors> trajectory_errors(const std::vector<PosePair>& pairs, Seconds rpe_interval_s) {
   const auto sim = align_sim3(pairs);
   if (!sim) return std::nullopt;
@@ -59,6 +75,9 @@ std::optional<TrajectoryErrors> trajectory_errors(const std::vector<PosePair>& p
     e.rpe_translation_rmse_m = std::sqrt(t2 / n);
     e.rpe_rotation_rmse_deg = std::sqrt(r2 / n);
   }
+  const auto [estimated_turn, true_turn] = turned_angles(pairs);
+  e.truth_turned_deg = true_turn * 180.0 / M_PI;
+  if (true_turn > 0.2) e.rotation_scale_error_percent = 100.0 * (estimated_turn / true_turn - 1.0);
   const std::size_t third = pairs.size() / 3;
   if (third >= 10) {
     const auto first = align_sim3({pairs.begin(), pairs.begin() + static_cast<long>(third)});

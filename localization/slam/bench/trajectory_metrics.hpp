@@ -36,6 +36,12 @@ struct TrajectoryErrors {
   double rpe_rotation_rmse_deg = 0;
   double scale_drift_percent = 0;
   double alignment_scale = 1;
+  // Angle the estimate turned, as a fraction of the angle the truth turned, minus 1 (percent): each
+  // motion between consecutive poses (camera frame) projected on the true motion's axis, summed, over
+  // the true angles summed. A systematic error (focal length, lens model, pixel convention) shows up
+  // here as a constant ratio; random errors cancel. 0 when the truth barely turned.
+  double rotation_scale_error_percent = 0;
+  double truth_turned_deg = 0;
 };
 
 std::optional<TrajectoryErrors> trajectory_errors(const std::vector<PosePair>& pairs, Seconds rpe_interval_s = 1.0);

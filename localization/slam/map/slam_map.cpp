@@ -73,7 +73,7 @@ void SlamMap::merge_point(PointId keep, PointId drop) {
 void SlamMap::record_correction(std::vector<Similarity3> keyframe_correction) {
   ++generation_;
   corrections_.push_back({generation_, std::move(keyframe_correction)});
-  constexpr std::size_t kKept = 8;
+  constexpr std::size_t kKept = 32;  // adjustments record corrections too
   if (corrections_.size() > kKept) corrections_.erase(corrections_.begin());
 }
 

@@ -20,9 +20,10 @@ struct LoopEdge {
   Similarity3 measured;
 };
 
-// A loop correction as the tracker needs it: every keyframe's correction G_k (corrected map
-// coordinates = G_k * old coordinates, for what is attached to keyframe k). The tracker carries its
-// pose over with its reference keyframe's correction. `generation` counts corrections.
+// A map correction (loop closure or bundle adjustment) as the tracker needs it: every keyframe's
+// correction G_k (corrected map coordinates = G_k * old coordinates, for what is attached to
+// keyframe k; identity for keyframes that did not move). The tracker carries its pose over with its
+// reference keyframe's correction. `generation` counts corrections.
 struct MapCorrection {
   int generation = 0;
   std::vector<Similarity3> keyframe_correction;

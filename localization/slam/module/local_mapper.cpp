@@ -292,9 +292,17 @@ void LocalMapper::adjust(const std::vector<int>& free_keyframes, bool global, in
   if (report.aborted || report.iterations == 0) return;
 
   std::unique_lock lock(map_.mutex());
+  // Each moved keyframe's correction (new map coordinates = G * old, for what is attached to it), so
+  // that the tracker carries its pose over with its reference keyframe instead of searching the
+  // moved points from a pose in the old map (which lost frames after adjustments).
+  std::vector<Similarity3> correction(map_.keyframes().size());
   for (const auto& [id, T] : problem.poses) {
-    if (!problem.pose_fixed[id]) map_.keyframes_mutable()[static_cast<std::size_t>(id)].T_cam_map = T;
+    if (problem.pose_fixed[id]) continue;
+    Eigen::Isometry3d& pose = map_.keyframes_mutable()[static_cast<std::size_t>(id)].T_cam_map;
+    correction[static_cast<std::size_t>(id)] = Similarity3::from_rigid(T.inverse() * pose);
+    pose = T;
   }
+  map_.record_correction(std::move(correction));
   auto& points = map_.points_mutable();
   for (const auto& [id, p] : problem.points) {
     auto it = points.find(id);

@@ -1,5 +1,5 @@
 // Disturbances applied by SimulatedLab at their scheduled time: impulses along x, y, z and yaw (the
-// paper's Figs 5-8), a wind gust, a video dropout; the teacher in the scene and as an obstacle; the
+// paper's Figs 5-8), a wind gust, a video dropout, a lighting change; the teacher in the scene and as an obstacle; the
 // ground-truth CSV.
 #include <catch2/catch.hpp>
 
@@ -99,6 +99,29 @@ TEST_CASE("sim disturbances: a video dropout leaves the camera image empty for i
   v->advance_to(9.6);
   v->render(CameraId::Front, image);
   CHECK_FALSE(image.empty());
+}
+
+TEST_CASE("sim disturbances: a lighting change raises the frames' exposure and lets it fall back", "[sim][disturbances]") {
+  Disturbance d;
+  d.kind = Disturbance::Kind::Lighting;
+  d.t_s = 9.0;
+  d.duration_s = 2.0;
+  d.exposure_gain = 1.8;
+  auto v = hovering_lab({d});
+  CHECK(v->scene().exposure_gain == 1.0);
+  v->advance_to(10.0);  // the middle of the change: its peak
+  CHECK(v->scene().exposure_gain == Approx(1.8).margin(0.01));
+  v->advance_to(11.5);
+  CHECK(v->scene().exposure_gain == 1.0);
+
+  // Two overlapping changes multiply: a lamp on while the sun comes out.
+  DisturbanceSchedule schedule;
+  Disturbance dim = d;
+  dim.exposure_gain = 0.5;
+  schedule.add(d);
+  schedule.add(dim);
+  CHECK(schedule.exposure_gain_at(10.0) == Approx(0.9));
+  CHECK(schedule.exposure_gain_at(8.0) == 1.0);
 }
 
 TEST_CASE("sim teacher in the lab: walks in the scene and is an obstacle", "[sim][teacher]") {

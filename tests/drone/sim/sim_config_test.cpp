@@ -60,14 +60,17 @@ TEST_CASE("sim config: disturbances are read with their kinds", "[sim][config]")
   sim["disturbances"] = json::array({{{"kind", "impulse"}, {"t_s", 20}, {"dv_mps", {0.5, 0, 0}}},
                                      {{"kind", "impulse"}, {"t_s", 25}, {"yaw_deg", 30}},
                                      {{"kind", "gust"}, {"t_s", 30}, {"duration_s", 3}, {"wind_mps", {0, 1.5, 0}}},
-                                     {{"kind", "video_dropout"}, {"t_s", 40}, {"duration_s", 0.5}}});
+                                     {{"kind", "video_dropout"}, {"t_s", 40}, {"duration_s", 0.5}},
+                                     {{"kind", "lighting"}, {"t_s", 50}, {"duration_s", 4}, {"gain", 0.6}}});
   const SimConfig c = read(sim);
-  REQUIRE(c.lab.disturbances.size() == 4);
+  REQUIRE(c.lab.disturbances.size() == 5);
   CHECK(c.lab.disturbances[0].dv_heading_mps.x() == 0.5);
   CHECK(c.lab.disturbances[1].dyaw_rad == Approx(30 * std::numbers::pi / 180));
   CHECK(c.lab.disturbances[2].kind == Disturbance::Kind::Gust);
   CHECK(c.lab.disturbances[2].wind_world_mps.y() == 1.5);
   CHECK(c.lab.disturbances[3].kind == Disturbance::Kind::VideoDropout);
+  CHECK(c.lab.disturbances[4].kind == Disturbance::Kind::Lighting);
+  CHECK(c.lab.disturbances[4].exposure_gain == 0.6);
 }
 
 TEST_CASE("sim config: out-of-range values are refused naming the key and the expected range", "[sim][config]") {
@@ -121,6 +124,10 @@ TEST_CASE("sim config: inconsistent values, bad disturbances and unknown keys ar
   CHECK(error_of(sim).find("duration_s") != std::string::npos);
   sim["disturbances"] = json::array({{{"kind", "impulse"}, {"t_s", 1}, {"dv_mps", {1, 0}}}});
   CHECK(error_of(sim).find("dv_mps") != std::string::npos);
+  sim["disturbances"] = json::array({{{"kind", "lighting"}, {"t_s", 1}, {"duration_s", 2}}});
+  CHECK(error_of(sim).find("sim.disturbances[0].gain") != std::string::npos);
+  sim["disturbances"] = json::array({{{"kind", "lighting"}, {"t_s", 1}, {"duration_s", 2}, {"gain", 9}}});
+  CHECK(error_of(sim).find("gain") != std::string::npos);
 
   sim = shipped_sim();
   sim["link"]["delay_s"] = 0.1;
