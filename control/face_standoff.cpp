@@ -35,8 +35,12 @@ PoseTarget follow_standoff(PoseTarget standoff, const Eigen::Vector3d& face, con
     }
   }
   const double lead = wrap_angle(bearing(face, standoff.position) - bearing(face, drone));
-  if (std::abs(lead) > max_orbit_step_rad) standoff = turned_about(standoff, face, std::copysign(max_orbit_step_rad, lead) - lead);
-  return standoff;
+  if (std::abs(lead) <= max_orbit_step_rad) return standoff;
+  // Go round the side that stays inside the fence (the short way first).
+  const PoseTarget short_way = turned_about(standoff, face, std::copysign(max_orbit_step_rad, lead) - lead);
+  if (fence.contains(short_way.position)) return short_way;
+  const double long_lead = lead - std::copysign(2 * std::numbers::pi, lead);
+  return turned_about(standoff, face, std::copysign(max_orbit_step_rad, long_lead) - long_lead);
 }
 
 }  // namespace labo

@@ -4,7 +4,8 @@
 // wall) is turned about the face - about the vertical through it - by the smallest angle that brings
 // it inside, so the distance is kept and the face is watched from the side. A standoff far round the
 // teacher from the drone (the teacher turned) is turned back so its bearing from the face leads the
-// drone's by at most max_orbit_step_rad: the drone goes round the teacher, never through them.
+// drone's by at most max_orbit_step_rad: the drone goes round the teacher, never through them, on the
+// side that stays inside the fence.
 #include <Eigen/Core>
 
 #include "control/geofence.hpp"

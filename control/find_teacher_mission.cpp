@@ -22,6 +22,7 @@ constexpr double kWatchBeyondFollowM = 0.5;
 constexpr double kRouteClearanceM = 0.8;
 constexpr double kTransitAboveEyesM = 0.6;  // crossing the route: this far above the teacher's eyes
 constexpr double kWatchMarginS = 5.0;       // a watch lasts one round of the route plus this
+constexpr double kCornerRadiusM = 0.6;      // a face lost this near a waypoint: the teacher is turning there
 constexpr double kMaxOrbitStepRad = std::numbers::pi / 3;  // the standoff's bearing leads the drone's by at most this
 
 double bearing(const Eigen::Vector3d& from, const Eigen::Vector3d& to) { return std::atan2(to.y() - from.y(), to.x() - from.x()); }
@@ -49,9 +50,12 @@ std::string FindTeacherMission::describe(Seconds t) const {
   switch (step_) {
     case Step::Init: return "1 " + init_.describe();
     case Step::Sweep: return "2 search: yaw sweep at viewpoint " + std::to_string(viewpoint_ + 1);
-    case Step::Reposition: return "2 search: moving to viewpoint " + std::to_string(viewpoint_ + 1);
-    case Step::Watch: return "2 search: watching the teacher's route at viewpoint " + std::to_string(viewpoint_ + 1) + " (" +
-                             format_seconds(t - since_) + " s)";
+    case Step::Reposition:
+      return meeting_ ? "2 search: moving ahead of the teacher on the route" : "2 search: moving to viewpoint " + std::to_string(viewpoint_ + 1);
+    case Step::Watch:
+      return (meeting_ ? "2 search: waiting ahead of the teacher on the route (" : "2 search: watching the teacher's route at viewpoint " +
+                                                                                  std::to_string(viewpoint_ + 1) + " (") +
+             format_seconds(t - since_) + " s)";
     case Step::Follow: return "3 face-follow";
     case Step::Lost: return "3 face-follow: face lost, holding (" + format_seconds(t - since_) + " s)";
     case Step::Done: return "done: " + result_;
@@ -89,8 +93,23 @@ void FindTeacherMission::plan_transit(const MissionContext& ctx, const WatchPoin
   transit_.push_back({to.position, to.yaw});
 }
 
+bool FindTeacherMission::meet_teacher_ahead(MissionContext& ctx) {
+  if (watch_points_.empty()) return false;
+  const std::optional<WatchPoint> meet =
+      next_leg_meeting_point(ctx.lab.teacher, face_position_.head<2>(), ctx.autopilot.fence(),
+                             ctx.config.mission.face_distance_m + kWatchBeyondFollowM, kCornerRadiusM);
+  if (!meet) return false;
+  search_started_ = ctx.t;
+  meeting_ = true;
+  watch_ = *meet;
+  plan_transit(ctx, watch_);
+  enter(Step::Reposition, ctx.t);
+  return true;
+}
+
 void FindTeacherMission::start_search(MissionContext& ctx) {
   search_started_ = ctx.t;
+  meeting_ = false;
   watch_points_ = teacher_watch_points(ctx.lab.teacher, ctx.autopilot.fence(),
                                        ctx.config.mission.face_distance_m + kWatchBeyondFollowM, kRouteClearanceM);
   if (watch_points_.empty()) {
@@ -102,7 +121,8 @@ void FindTeacherMission::start_search(MissionContext& ctx) {
   viewpoint_ = 0;
   for (std::size_t i = 1; i < watch_points_.size(); ++i)
     if ((watch_points_[i].position - here).norm() < (watch_points_[viewpoint_].position - here).norm()) viewpoint_ = i;
-  plan_transit(ctx, watch_points_[viewpoint_]);
+  watch_ = watch_points_[viewpoint_];
+  plan_transit(ctx, watch_);
   enter(Step::Reposition, ctx.t);
 }
 
@@ -185,13 +205,15 @@ MissionOutcome FindTeacherMission::step(MissionContext& ctx) {
       break;
     case Step::Watch:
       // Hold at the watch point, facing the oncoming teacher, for one round of the route.
-      if (fresh_) ctx.autopilot.go_to({watch_points_[viewpoint_].position, watch_points_[viewpoint_].yaw}, ctx.t, false);
+      if (fresh_) ctx.autopilot.go_to({watch_.position, watch_.yaw}, ctx.t, false);
       fresh_ = false;
       if (face_seen(ctx)) {
         enter(Step::Follow, ctx.t);
       } else if (ctx.t - since_ > ctx.lab.teacher.cycle_s() + kWatchMarginS) {
         viewpoint_ = (viewpoint_ + 1) % watch_points_.size();
-        plan_transit(ctx, watch_points_[viewpoint_]);
+        meeting_ = false;
+        watch_ = watch_points_[viewpoint_];
+        plan_transit(ctx, watch_);
         enter(Step::Reposition, ctx.t);
       }
       break;
@@ -215,6 +237,7 @@ MissionOutcome FindTeacherMission::step(MissionContext& ctx) {
       }
       fresh_ = false;
       if (face_seen(ctx)) enter(Step::Follow, ctx.t);
+      else if (ctx.t - since_ > kCoastS && meet_teacher_ahead(ctx)) break;
       else if (ctx.t - since_ > kLostHoldS) start_search(ctx);
       break;
     case Step::Done:

@@ -8,7 +8,9 @@
 //    quarters); until a face is tracked;
 //  3 follow: hold face_distance_m in front of the face, the face centred, the line of sight aligned with
 //    the face's, following the teacher's motion; the standoff is kept inside the geofence and reached
-//    around the teacher, never through them; a lost face -> hold, then search.
+//    around the teacher, never through them; a lost face -> hold, then search; with a known route, a
+//    face lost at a corner of it (the teacher turning away) -> meet the teacher ahead on the next long
+//    leg, facing them (next_leg_meeting_point()).
 // Ends on stop_face_follow (the drone hovers where it is) or when the search times out.
 #include <vector>
 
@@ -41,6 +43,7 @@ class FindTeacherMission final : public Mission {
   std::vector<Eigen::Vector3d> viewpoints(const MissionContext& ctx) const;
   void start_search(MissionContext& ctx);
   void plan_transit(const MissionContext& ctx, const WatchPoint& to);
+  bool meet_teacher_ahead(MissionContext& ctx);
   bool face_seen(const MissionContext& ctx) const;
   void follow(MissionContext& ctx);
   std::string describe(Seconds t) const;
@@ -54,7 +57,9 @@ class FindTeacherMission final : public Mission {
   std::size_t viewpoint_ = 0;
   TakeOffAndScale init_;
   std::vector<WatchPoint> watch_points_;    // empty: the lab has no teacher route; sweep instead
-  std::vector<PoseTarget> transit_;         // legs to the next watch point
+  WatchPoint watch_;                        // the watch point flown to / watched from
+  bool meeting_ = false;                    // watch_ is ahead of the teacher on the next leg
+  std::vector<PoseTarget> transit_;         // legs to it
   std::size_t transit_leg_ = 0;
   Seconds last_tick_ = 0;
   Seconds last_face_t_ = -1;

@@ -42,4 +42,24 @@ std::vector<WatchPoint> teacher_watch_points(const TeacherRoute& route, const Ge
   return out;
 }
 
+std::optional<WatchPoint> next_leg_meeting_point(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy,
+                                                 const Geofence& fence, double ahead_m, double corner_radius_m,
+                                                 double min_leg_m) {
+  const std::size_t n = route.waypoints.size();
+  if (n < 2) return std::nullopt;
+  std::size_t corner = n;
+  for (std::size_t k = 0; k < n; ++k)
+    if ((route.waypoints[k] - teacher_xy).norm() < corner_radius_m) corner = k;
+  if (corner == n) return std::nullopt;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t leg = (corner + i) % n;
+    const Eigen::Vector2d from = route.waypoints[leg], to = route.waypoints[(leg + 1) % n];
+    if ((to - from).norm() < min_leg_m) continue;
+    const Eigen::Vector2d along = (to - from).normalized();
+    const Eigen::Vector2d p = from + std::min(ahead_m, (to - from).norm()) * along;
+    return WatchPoint{fence.clamp({p.x(), p.y(), route.eye_height_m}), std::atan2(-along.y(), -along.x())};
+  }
+  return std::nullopt;
+}
+
 }  // namespace labo

@@ -88,3 +88,24 @@ TEST_CASE("control: find teacher with a known route waits at a watch point inste
   const Eigen::Vector3d p = ((f.world->drone.pose() * T_body_cam_front()).inverse() * f.world->T_world_face).translation();
   CHECK(std::abs(p.z() - 1.0) < 0.1);
 }
+
+TEST_CASE("control: a face lost at a corner of the route is met ahead on the next long leg") {
+  const Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);
+  // At the end of the leg back (1.2, -1.9): the short leg to (1.2, -2.4) comes next, then the long one along +x.
+  const std::optional<WatchPoint> meet = next_leg_meeting_point(lab_route(), {1.25, -1.95}, fence, 1.5, 0.6);
+  REQUIRE(meet);
+  CHECK((meet->position - Eigen::Vector3d(2.7, -2.4, 1.65)).norm() < 1e-9);
+  CHECK(std::abs(std::abs(meet->yaw) - std::numbers::pi) < 1e-9);  // facing the teacher coming along +x
+  CHECK_FALSE(next_leg_meeting_point(lab_route(), {2.5, -2.4}, fence, 1.5, 0.6));  // mid-leg: not turning
+}
+
+TEST_CASE("control: going round the teacher keeps to the side inside the fence") {
+  const Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);  // y >= -2.7
+  const Eigen::Vector3d face(1.2, -2.4, 1.65);
+  for (const double side : {-1e-6, 1e-6}) {  // the teacher turned round: either way is as short
+    const PoseTarget ahead{{2.2, -2.4 + side, 1.65}, std::numbers::pi};
+    const PoseTarget step = follow_standoff(ahead, face, {0.2, -2.4, 1.65}, fence, std::numbers::pi / 3);
+    CHECK(fence.contains(step.position));
+    CHECK(step.position.y() > -2.4);  // round the north side, not clamped against the wall behind
+  }
+}
