@@ -35,11 +35,7 @@ LabGeometry lab_geometry_from(const LabDescription& lab) {
   g.instruments.reserve(lab.instruments.size());
   for (const auto& spec : lab.instruments) g.instruments.push_back(planar_target_of(spec));
   g.platform = planar_target_of(lab.platform);
-  g.surfaces = SurfaceMap(lab.room.min.z());
-  const auto add_top = [&](const Box3& box) { g.surfaces.add({box.min.head<2>(), box.max.head<2>(), box.max.z()}); };
-  for (const auto& bench : lab.benches) add_top(bench.box);
-  for (const auto& instrument : lab.instruments) add_top(instrument.bounds());
-  add_top(lab.platform.box());
+  g.surfaces = surface_map_of(lab);
   return g;
 }
 

@@ -15,6 +15,7 @@
 #include "localization/planar/planar_commands.hpp"
 #include "localization/slam/bench/slam_bench_command.hpp"
 #include "localization/face/face_commands.hpp"
+#include "server/estimation_vision.hpp"
 #include "server/hash_password_command.hpp"
 #include "localization/estimation/eval/sim_estimate_command.hpp"
 #include "server/serve_command.hpp"
@@ -60,7 +61,8 @@ std::vector<Subcommand> subcommands() {
       {labo::emulate_command_spec(), [](const labo::ParsedArgs& a) { return labo::run_emulate_command(a, teacher_head); }},
       {labo::bench_sim_command_spec(), [](const labo::ParsedArgs& a) { return labo::run_bench_sim_command(a, teacher_head); }},
       {labo::sim_compare_slam_command_spec(), labo::run_sim_compare_slam_command},
-      {labo::sim_estimate_command_spec(), labo::run_sim_estimate_command},
+      {labo::sim_estimate_command_spec(),
+       [](const labo::ParsedArgs& a) { return labo::run_sim_estimate_command(a, labo::real_vision_pipelines); }},
   };
 }
 

@@ -70,6 +70,15 @@ AltitudeDecision AltitudeTracker::process(double range_m, Seconds t, double z_pr
       const double speed_reach = std::max(std::abs(vz_mps), std::abs(last_vz_)) * (t - last_t_);
       const bool same_direction = range_change * (std::abs(vz_mps) > std::abs(last_vz_) ? vz_mps : last_vz_) > 0;
       const bool motion_explains = same_direction && speed_reach > kMotionEvidenceShare * std::abs(range_change);
+      // A shorter range nothing explains where the floor cannot have risen: the sonar's short echo.
+      const bool short_echo = no_step_possible && !motion_explains && range_change < 0 &&
+                              (!echo_since_ || t - *echo_since_ < kEchoPersist);
+      if (short_echo) {
+        if (!echo_since_) echo_since_ = t;
+        d.kind = AltitudeDecision::Kind::ShortEcho;
+        d.z_observed = floor_z_ + range_m;
+        return d;  // the increment is measured from the last good range when the echo ends
+      }
       if (no_step_possible || motion_explains) {
         d.kind = AltitudeDecision::Kind::FusedAsMotion;
         d.range_increment = range_change;
@@ -84,6 +93,7 @@ AltitudeDecision AltitudeTracker::process(double range_m, Seconds t, double z_pr
       d.range_increment = range_change;
     }
   }
+  echo_since_.reset();
   d.z_observed = floor_z_ + range_m;
   last_range_ = range_m;
   last_z_ = z_predicted;

@@ -11,6 +11,10 @@
 // interval could have produced it (a push too short for the filter to integrate at 15 Hz), or when
 // the lab's surface map says no edge lies near the drone: then the range is fused as true motion. Over a known surface the floor
 // estimate is pulled to its surveyed height, so an earlier misclassification does not persist.
+// A sudden shorter range that no motion explains over a surface where no step is possible is a
+// spurious short echo (the sonar hears something nearer than the floor for a ping): it is dropped, and
+// only accepted as motion if it persists for kEchoPersist (found on the simulated lab, whose sonar
+// has such echoes: fused as motion they put 0.1-0.5 m spikes into z and the scale's metric odometry).
 #include <Eigen/Core>
 #include <optional>
 
@@ -21,7 +25,8 @@ namespace labo {
 
 struct AltitudeDecision {
   // FusedAsMotion: an increment above gamma explained by vertical speed or a flat surface map.
-  enum class Kind { Anchored, Fused, FusedAsMotion, FloorStep };
+  // ShortEcho: a spurious shorter range, not fused.
+  enum class Kind { Anchored, Fused, FusedAsMotion, FloorStep, ShortEcho };
   Kind kind = Kind::Anchored;
   double z_observed = 0;  // world z to fuse (Fused, FusedAsMotion)
   double range_increment = 0;  // the range change accepted as motion (0 for a floor step)
@@ -35,14 +40,18 @@ class AltitudeTracker {
   enum class Mode { Discriminating, PaperGammaOnly };
   explicit AltitudeTracker(double gamma_m = 0.10, Mode mode = Mode::Discriminating) : gamma_(gamma_m), mode_(mode) {}
 
-  void reset() { initialized_ = false; steps_ = 0; }
+  static constexpr Seconds kEchoPersist = 0.25;  // a shorter range lasting this long is real
+
+  void reset() { initialized_ = false; steps_ = 0; echo_since_.reset(); }
   // range_m: ultrasound corrected for tilt; z_predicted: the filter's z at the range's time;
   // xy_sigma: the position uncertainty (sets how near an edge counts as ambiguous).
   // vz_mps: the navdata's vertical speed in this packet (the evidence of a true vertical motion).
   AltitudeDecision process(double range_m, Seconds t, double z_predicted, double vz_mps, const Eigen::Vector2d& xy,
                            double xy_sigma, const SurfaceMap* map);
-  // The filter's z after fusing (the reference for the next increment).
-  void set_reference_z(double z) { last_z_ = z; }
+  // The filter's z after fusing (the reference for the next increment; kept across a short echo).
+  void set_reference_z(double z) {
+    if (!echo_since_) last_z_ = z;
+  }
 
   double floor_z() const { return floor_z_; }
   int floor_steps() const { return steps_; }
@@ -60,6 +69,7 @@ class AltitudeTracker {
   Seconds last_t_ = 0;
   double floor_z_ = 0;
   int steps_ = 0;
+  std::optional<Seconds> echo_since_;  // a short echo is being dropped since then
 };
 
 }  // namespace labo

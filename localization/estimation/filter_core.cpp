@@ -134,6 +134,7 @@ void FilterCore::observe_altitude(const NavdataSample& n, const SurfaceMap* map)
     ++odometry_.floor_steps;
   }
   if (d.kind == AltitudeDecision::Kind::FusedAsMotion) ++counters_.fused_as_motion;
+  if (d.kind == AltitudeDecision::Kind::ShortEcho) ++counters_.short_echoes;
   if (d.fuse()) {
     Eigen::Matrix<double, 1, N> H = Eigen::Matrix<double, 1, N>::Zero();
     H(0, Z) = 1.0;

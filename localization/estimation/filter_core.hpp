@@ -25,6 +25,7 @@ struct MetricOdometry {
 struct NavdataCounters {
   int floor_steps = 0;
   int fused_as_motion = 0;
+  int short_echoes = 0;
 };
 
 class FilterCore {

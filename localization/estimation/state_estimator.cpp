@@ -82,6 +82,7 @@ struct StateEstimator::Impl {
   std::array<int, 3> gated_in_row{};
   Seconds latest_input_t = -std::numeric_limits<double>::infinity();
   Seconds last_navdata_t = -std::numeric_limits<double>::infinity();
+  std::uint32_t last_navdata_sequence = 0;
   std::optional<Eigen::Isometry3d> start_pose;  // start_at_first_navdata(): placed at the next sample
   Seconds last_command_t = -std::numeric_limits<double>::infinity();
   std::array<std::uint64_t, kCounterCount> counters{};
@@ -302,7 +303,9 @@ bool StateEstimator::add_navdata(const NavdataSample& n) {
   }
   if (m.start_pose && std::isfinite(n.t)) reset(*m.start_pose, n.t - m.config.navdata_delay_s);
   if (!m.accept_time(n.t)) return false;
-  if (n.t <= m.last_navdata_t) {
+  // Packets received in one burst share a receive time (the link keeps their order): only an older
+  // time, or the same packet again, is out of order.
+  if (n.t < m.last_navdata_t || (n.t == m.last_navdata_t && n.sequence == m.last_navdata_sequence)) {
     m.count(kRejectedOutOfOrder);
     return false;
   }
@@ -316,6 +319,7 @@ bool StateEstimator::add_navdata(const NavdataSample& n) {
     return false;
   }
   m.last_navdata_t = n.t;
+  m.last_navdata_sequence = n.sequence;
   m.latest_input_t = std::max(m.latest_input_t, n.t);
   if (m.navdata.full()) {
     m.count(kNavdataOverflow);
@@ -511,6 +515,7 @@ EstimatorStatistics StateEstimator::statistics() const {
   st.counters["covariance_repairs"] = static_cast<std::uint64_t>(impl_->core.ekf().repairs());
   st.counters["floor_steps"] = static_cast<std::uint64_t>(impl_->core.counters().floor_steps);
   st.counters["ultrasound_fused_as_motion"] = static_cast<std::uint64_t>(impl_->core.counters().fused_as_motion);
+  st.counters["ultrasound_short_echoes"] = static_cast<std::uint64_t>(impl_->core.counters().short_echoes);
   return st;
 }
 

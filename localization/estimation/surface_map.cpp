@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "drone/lab/lab_description.hpp"
+
 namespace labo {
 
 double SurfaceMap::height_at(const Eigen::Vector2d& xy) const {
@@ -46,6 +48,15 @@ int SurfaceMap::heights_near(const Eigen::Vector2d& xy, double margin, double* o
     }
   }
   return n;
+}
+
+SurfaceMap surface_map_of(const LabDescription& lab) {
+  SurfaceMap map(lab.room.min.z());
+  const auto add_top = [&](const Box3& box) { map.add({box.min.head<2>(), box.max.head<2>(), box.max.z()}); };
+  for (const auto& bench : lab.benches) add_top(bench.box);
+  for (const auto& instrument : lab.instruments) add_top(instrument.bounds());
+  add_top(lab.platform.box());
+  return map;
 }
 
 }  // namespace labo

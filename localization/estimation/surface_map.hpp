@@ -8,6 +8,8 @@
 
 namespace labo {
 
+struct LabDescription;
+
 struct SurfaceRect {
   Eigen::Vector2d min_xy = Eigen::Vector2d::Zero();
   Eigen::Vector2d max_xy = Eigen::Vector2d::Zero();
@@ -38,5 +40,9 @@ class SurfaceMap {
   double floor_z_ = 0.0;
   std::vector<SurfaceRect> rects_;
 };
+
+// The tops the ultrasound can see in a lab description: benches, instrument housings, the platform,
+// over the room's floor.
+SurfaceMap surface_map_of(const LabDescription& lab);
 
 }  // namespace labo

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -15,6 +16,9 @@
 #include "localization/face/face_pose_estimator.hpp"
 #include "localization/face/head_pose_sequences.hpp"
 #include "localization/face/person_registration.hpp"
+#include "drone/lab/lab_description.hpp"
+#include "drone/sim/lab_renderer.hpp"
+#include "localization/face/teacher_head.hpp"
 #include "localization/face/textured_head_renderer.hpp"
 
 namespace labo::face {
@@ -94,10 +98,67 @@ class FrameDegrader {
   ardrone2::EncodedFrame packet_;
 };
 
+// The head in the simulated lab: LabRenderer draws the room, the teacher's body, neck and hair and
+// the same textured face mesh. The front camera stands still, level, 2.2 m from the lab teacher's
+// first waypoint towards the room's centre, looking at it; the head is placed at the sequence's
+// T_cam_face, the body under it. The renderer's own noise and blur are off: every sequence gets the
+// same degradations afterwards.
+class LabHeadScene {
+ public:
+  LabHeadScene(const LabDescription& lab, const CamerasConfig& cameras, TexturedHeadModel head, unsigned seed)
+      : renderer_(lab, cameras, std::move(head), seed, LabRenderOptions{0.0, 0.0, false, false}) {
+    if (lab.teacher.waypoints.empty()) throw std::runtime_error(lab.source.string() + ": the teacher has no waypoint");
+    const Eigen::Vector2d teacher = lab.teacher.waypoints.front();
+    const Eigen::Vector2d centre = 0.5 * (lab.room.min.head<2>() + lab.room.max.head<2>());
+    const Eigen::Vector2d away = (centre - teacher).normalized();
+    const Eigen::Vector3d forward(-away.x(), -away.y(), 0), down(0, 0, -1);
+    Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
+    T_world_cam.linear().col(0) = down.cross(forward);
+    T_world_cam.linear().col(1) = down;
+    T_world_cam.linear().col(2) = forward;
+    T_world_cam.translation() << teacher + 2.2 * away, lab.teacher.eye_height_m;
+    T_world_cam_ = T_world_cam;
+    scene_.T_world_body = T_world_cam * LabRenderer::T_body_cam(CameraId::Front).inverse();
+  }
+  void render(const Eigen::Isometry3d& T_cam_face, Seconds t, cv::Mat& gray) {
+    scene_.t = t;
+    scene_.T_world_head = T_world_cam_ * T_cam_face;
+    scene_.teacher_floor_xy = scene_.T_world_head.translation().head<2>();
+    renderer_.render(CameraId::Front, scene_, bgr_);
+    cv::cvtColor(bgr_, gray, cv::COLOR_BGR2GRAY);
+  }
+
+ private:
+  LabRenderer renderer_;
+  Eigen::Isometry3d T_world_cam_;
+  SceneState scene_;
+  cv::Mat bgr_;
+};
+
 struct MethodAccumulator {
   std::vector<double> tx, ty, tz, roll, yaw, pitch, time, abs_tx, abs_ty, abs_tz;
   int failures = 0;
+
+  // dt: relative-motion translation error, dt_abs: absolute (mm); angle errors in degrees.
+  void add(const Eigen::Vector3d& dt, const Eigen::Vector3d& dt_abs, double roll_err, double yaw_err, double pitch_err,
+           double ms) {
+    tx.push_back(std::abs(dt.x()));
+    ty.push_back(std::abs(dt.y()));
+    tz.push_back(std::abs(dt.z()));
+    abs_tx.push_back(std::abs(dt_abs.x()));
+    abs_ty.push_back(std::abs(dt_abs.y()));
+    abs_tz.push_back(std::abs(dt_abs.z()));
+    roll.push_back(roll_err);
+    yaw.push_back(yaw_err);
+    pitch.push_back(pitch_err);
+    time.push_back(ms);
+  }
 };
+
+MethodErrors summarise(PnpMethod m, const MethodAccumulator& a) {
+  return {m, static_cast<int>(a.tx.size()), mean(a.tx), mean(a.ty), mean(a.tz), mean(a.roll), mean(a.yaw), mean(a.pitch),
+          mean(a.time), a.failures, mean(a.abs_tx), mean(a.abs_ty), mean(a.abs_tz)};
+}
 
 double angle_error_deg(double a, double b) { return std::abs(std::remainder(a - b, 2 * std::numbers::pi)) * kDeg; }
 
@@ -154,9 +215,38 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
   }
 
   std::map<PnpMethod, MethodAccumulator> acc;
+  std::map<std::string, MethodAccumulator> by_renderer;  // LM tracking
   std::vector<double> frame_ms, tracking_frame_ms, detect_ms, landmarks_ms, pose_ms;
   std::map<std::string, int> reasons;
-  const auto sequences = make_head_pose_sequences(options.sequences, options.frames, options.seed);
+  auto sequences = make_head_pose_sequences(options.sequences, options.frames, options.seed);
+  std::optional<LabHeadScene> lab_scene;
+  if (options.lab_sequences > 0 && !options.lab.empty()) {
+    const cv::Mat photo_bgr = cv::imread(options.texture.string(), cv::IMREAD_COLOR);
+    lab_scene.emplace(load_lab_description(options.lab), options.cameras,
+                      to_head_model(candide, renderer.head(), photo_bgr), options.seed);
+    for (auto& q : make_head_pose_sequences(options.lab_sequences, options.frames, options.seed + 101)) {
+      q.name = "lab_" + q.name;
+      sequences.push_back(std::move(q));
+    }
+  }
+  std::ofstream csv, landmark_csv;
+  if (!options.frames_csv.empty()) {
+    csv.open(options.frames_csv);
+    if (!csv) throw std::runtime_error(options.frames_csv.string() + ": cannot write the per-frame CSV");
+    csv << "sequence,frame,guided,distance_m,true_yaw_deg,true_pitch_deg,true_roll_deg,true_z_m,interocular_px,"
+           "rms_px,err_tx_mm,err_ty_mm,err_tz_mm,err_abs_tz_mm,err_roll_deg,err_yaw_deg,err_pitch_deg,"
+           "model_only_abs_tz_mm,model_only_yaw_deg,model_only_pitch_deg,landmarks_only_abs_tz_mm,"
+           "landmarks_only_yaw_deg,landmarks_only_pitch_deg,lost_reason\n";
+    landmark_csv.open(options.frames_csv.string() + ".landmarks.csv");
+    landmark_csv << "sequence,frame,true_yaw_deg,true_pitch_deg,true_roll_deg,interocular_px,landmark,dx_px,dy_px\n";
+  }
+  // The rendered head's true landmarks, rigid subset (face frame, metres), for the analysis columns.
+  const FaceLandmarkModel& lm_model = estimator.model();
+  Eigen::Matrix3Xd true_landmarks(3, lm_model.size());
+  for (int i = 0; i < lm_model.size(); ++i) {
+    true_landmarks.col(i) = renderer.head().landmarks_face_m.col(lm_model.landmark_ids()[static_cast<std::size_t>(i)]);
+  }
+  const bool truth_known = true_landmarks.allFinite();
   for (std::size_t s = 0; s < sequences.size(); ++s) {
     const HeadPoseSequence& seq = sequences[s];
     const cv::Mat background = make_background(camera, options.seed + static_cast<unsigned>(s));
@@ -168,7 +258,8 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
       o.method = m;
       solvers.emplace_back(o);
     }
-    SequenceSummary summary{seq.name, seq.distance_m, 0, 0, 0};
+    const bool in_lab = s >= static_cast<std::size_t>(options.sequences);
+    SequenceSummary summary{seq.name, in_lab ? "lab" : "head", seq.distance_m, 0, 0, 0};
     std::vector<double> seq_yaw, seq_tz;
     std::vector<std::optional<Eigen::Isometry3d>> first_estimate(kMethods.size());
     std::optional<Eigen::Isometry3d> first_truth;
@@ -176,10 +267,14 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
     cv::Mat frame;
     for (std::size_t f = 0; f < seq.T_cam_face.size(); ++f) {
       const Eigen::Isometry3d& truth = seq.T_cam_face[f];
-      background.copyTo(frame);
-      renderer.render(truth, frame);
+      if (in_lab) {
+        lab_scene->render(truth, static_cast<double>(f) / 30.0, frame);
+      } else {
+        background.copyTo(frame);
+        renderer.render(truth, frame);
+      }
       degrader.apply(seq.blur_sigma_px, seq.noise_sigma, frame);
-      if (!options.sample_dir.empty() && s < 2 && f % 75 == 0) {
+      if (!options.sample_dir.empty() && (s < 2 || in_lab) && f % 75 == 0) {
         cv::imwrite((options.sample_dir / (seq.name + "_" + std::to_string(f) + ".png")).string(), frame);
       }
       const FaceResult r = estimator.process(frame, static_cast<double>(f) / 30.0);
@@ -191,6 +286,12 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
       if (r.faces_found < 0 && r.tracking()) tracking_frame_ms.push_back(r.timings.total_ms());
       if (!r.tracking()) {
         ++reasons[std::string(to_string(r.reason))];
+        if (csv.is_open()) {
+          const HeadAngles ta = head_angles(truth.linear());
+          csv << seq.name << ',' << f << ',' << seq.guided << ',' << seq.distance_m << ',' << ta.yaw * kDeg << ','
+              << ta.pitch * kDeg << ',' << ta.roll * kDeg << ',' << truth.translation().z() << std::string(16, ',')
+              << '"' << to_string(r.reason) << "\"\n";
+        }
         for (auto& solver : solvers) solver.reset();
         continue;
       }
@@ -218,20 +319,48 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
         const Eigen::Vector3d moved_truth = truth.translation() - first_truth->translation();
         const Eigen::Vector3d dt = (moved_est - moved_truth) * 1000.0;
         const Eigen::Vector3d dt_abs = (T.translation() - truth.translation()) * 1000.0;
-        a.abs_tx.push_back(std::abs(dt_abs.x()));
-        a.abs_ty.push_back(std::abs(dt_abs.y()));
-        a.abs_tz.push_back(std::abs(dt_abs.z()));
         const HeadAngles ea = head_angles(est->solution.T_cam_face.linear());
-        a.tx.push_back(std::abs(dt.x()));
-        a.ty.push_back(std::abs(dt.y()));
-        a.tz.push_back(std::abs(dt.z()));
-        a.roll.push_back(angle_error_deg(ea.roll, ta.roll));
-        a.yaw.push_back(angle_error_deg(ea.yaw, ta.yaw));
-        a.pitch.push_back(angle_error_deg(ea.pitch, ta.pitch));
-        a.time.push_back(ms);
+        a.add(dt, dt_abs, angle_error_deg(ea.roll, ta.roll), angle_error_deg(ea.yaw, ta.yaw),
+              angle_error_deg(ea.pitch, ta.pitch), ms);
         if (kMethods[m] == PnpMethod::LmTracking) {
+          by_renderer[summary.renderer].add(dt, dt_abs, a.roll.back(), a.yaw.back(), a.pitch.back(), ms);
           seq_yaw.push_back(a.yaw.back());
           seq_tz.push_back(a.tz.back());
+          if (csv.is_open()) {
+            // Apart: the model's error (true landmark pixels, the estimator's model) and the
+            // landmarks' error (detected pixels, the true 3-D landmarks).
+            PnpProblem true_pixels = problem, true_model = problem;
+            for (int i = 0; i < lm_model.size(); ++i) {
+              true_pixels.pixels.col(i) = problem.camera.project(truth * true_landmarks.col(i).eval());
+              if (truth_known) {
+                const Eigen::Vector2d d = problem.pixels.col(i) - true_pixels.pixels.col(i);
+                landmark_csv << seq.name << ',' << f << ',' << ta.yaw * kDeg << ',' << ta.pitch * kDeg << ','
+                             << ta.roll * kDeg << ',' << iod << ',' << lm_model.landmark_ids()[static_cast<std::size_t>(i)]
+                             << ',' << d.x() << ',' << d.y() << '\n';
+              }
+            }
+            true_model.points_face = true_landmarks;
+            const auto write_errors = [&](const PnpProblem& p) {
+              const auto r = truth_known ? refine_lm(p, truth, config.solver.lm) : std::nullopt;
+              if (!r) {
+                csv << ",nan,nan,nan";
+                return;
+              }
+              const HeadAngles ra = head_angles(r->T_cam_face.linear());
+              csv << ',' << (r->T_cam_face.translation().z() - truth.translation().z()) * 1000 << ','
+                  << std::remainder(ra.yaw - ta.yaw, 2 * std::numbers::pi) * kDeg << ','
+                  << std::remainder(ra.pitch - ta.pitch, 2 * std::numbers::pi) * kDeg;
+            };
+            csv << seq.name << ',' << f << ',' << seq.guided << ',' << seq.distance_m << ',' << ta.yaw * kDeg << ','
+                << ta.pitch * kDeg << ',' << ta.roll * kDeg << ',' << truth.translation().z() << ',' << iod << ','
+                << est->solution.rms_px << ',' << dt.x() << ',' << dt.y() << ',' << dt.z() << ',' << dt_abs.z() << ','
+                << std::remainder(ea.roll - ta.roll, 2 * std::numbers::pi) * kDeg << ','
+                << std::remainder(ea.yaw - ta.yaw, 2 * std::numbers::pi) * kDeg << ','
+                << std::remainder(ea.pitch - ta.pitch, 2 * std::numbers::pi) * kDeg;
+            write_errors(true_pixels);
+            write_errors(true_model);
+            csv << ",\n";
+          }
         }
       }
     }
@@ -242,12 +371,8 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
     report.sequences.push_back(summary);
     say(seq.name + ": tracked " + std::to_string(tracked) + "/" + std::to_string(seq.T_cam_face.size()));
   }
-  for (PnpMethod m : kMethods) {
-    const MethodAccumulator& a = acc[m];
-    report.methods.push_back({m, static_cast<int>(a.tx.size()), mean(a.tx), mean(a.ty), mean(a.tz), mean(a.roll),
-                              mean(a.yaw), mean(a.pitch), mean(a.time), a.failures,
-                              mean(a.abs_tx), mean(a.abs_ty), mean(a.abs_tz)});
-  }
+  for (PnpMethod m : kMethods) report.methods.push_back(summarise(m, acc[m]));
+  for (const auto& [name, a] : by_renderer) report.lm_by_renderer.emplace_back(name, summarise(PnpMethod::LmTracking, a));
   report.frame_ms_median = median(frame_ms);
   report.frame_ms_mean = mean(frame_ms);
   report.frame_ms_p95 = percentile(frame_ms, 0.95);

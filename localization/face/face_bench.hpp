@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/camera_config.hpp"
 #include "core/camera_model.hpp"
 #include "localization/face/face_config.hpp"
 #include "localization/face/face_pose_solver.hpp"
@@ -23,6 +24,13 @@ struct FaceBenchOptions {
   int video_bitrate_kbps = 1000;  // the AR.Drone 2.0's default video:max_bitrate
   bool true_shape = false;          // use the rendered head's shape instead of the registered one
   std::filesystem::path sample_dir;  // when set, a few rendered frames are written there
+  // Sequences drawn by the simulated lab's LabRenderer (drone/sim/lab_renderer.hpp: the room, the
+  // teacher's body, neck and hair around the same textured CANDIDE-3 face), after the `sequences`
+  // drawn by TexturedHeadRenderer over a random background. 0, or no lab file: none.
+  int lab_sequences = 4;
+  std::filesystem::path lab;  // lab description (config/lab.json)
+  CamerasConfig cameras;      // the lab renderer's cameras (front: the benchmark's camera)
+  std::filesystem::path frames_csv;  // when set, per-frame truth and LM-tracking errors (analysis)
 };
 
 struct MethodErrors {
@@ -39,6 +47,7 @@ struct MethodErrors {
 
 struct SequenceSummary {
   std::string name;
+  std::string renderer;  // "head" (TexturedHeadRenderer) or "lab" (LabRenderer)
   double distance_m = 0;
   double detection_rate = 0;  // frames tracked / frames
   double yaw_err_deg = 0, tz_err_mm = 0;  // LM tracking, mean absolute
@@ -48,6 +57,7 @@ struct FaceBenchReport {
   int frames_total = 0;
   int frames_tracked = 0;
   std::vector<MethodErrors> methods;  // Table 1's order
+  std::vector<std::pair<std::string, MethodErrors>> lm_by_renderer;  // LM tracking per renderer
   std::vector<SequenceSummary> sequences;
   // Whole pipeline (detection + landmarks + LM-tracking pose), per frame: median, mean, 95th pct.
   double frame_ms_median = 0, frame_ms_mean = 0, frame_ms_p95 = 0;

@@ -19,6 +19,7 @@ namespace {
 struct FaceSetup {
   face::FaceConfig face;
   PinholeCamera camera;
+  CamerasConfig cameras;
 };
 
 FaceSetup load_face_setup(const ParsedArgs& args) {
@@ -26,11 +27,12 @@ FaceSetup load_face_setup(const ParsedArgs& args) {
       args.value_or("--config", (labo::source_root() / "config" / "default.json").string());
   const ConfigDocument doc = ConfigDocument::load(file);
   const ConfigReader root = doc.root();
-  const CameraIntrinsics front = root.has("cameras") ? read_cameras_config(root.object("cameras")).front
-                                                      : PinholeCamera::ardrone2_front().intrinsics();
+  const CamerasConfig cameras =
+      root.has("cameras") ? read_cameras_config(root.object("cameras"))
+                          : CamerasConfig{PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()};
   face::FaceConfig face = root.has("face") ? face::read_face_config(root.object("face"), file.parent_path())
                                            : face::default_face_config();
-  return {face, PinholeCamera(front)};
+  return {face, PinholeCamera(cameras.front), cameras};
 }
 
 struct PaperRow {
@@ -47,6 +49,7 @@ constexpr PaperRow kPaper[] = {{"EPNP", 11.84, 7.11, 12.67, 0.55, 3.74, 2.39, 0.
 nlohmann::json to_json(const face::FaceBenchReport& r, const face::FaceBenchOptions& o) {
   nlohmann::json j;
   j["sequences"] = o.sequences;
+  j["lab_sequences"] = o.lab_sequences;
   j["frames_per_sequence"] = o.frames;
   j["seed"] = o.seed;
   j["video"] = o.lossy_video ? "h264 " + std::to_string(o.video_bitrate_kbps) + " kbit/s" : "none";
@@ -68,8 +71,13 @@ nlohmann::json to_json(const face::FaceBenchReport& r, const face::FaceBenchOpti
                    {"pose_median", r.pose_ms_median}};
   j["registration"] = {{"fit_rms_px", r.shape_fit_rms_px}, {"shape_param_error_rms", r.shape_param_error_rms}};
   for (const auto& s : r.sequences) {
-    j["per_sequence"].push_back({{"name", s.name}, {"distance_m", s.distance_m}, {"detection_rate", s.detection_rate},
+    j["per_sequence"].push_back({{"name", s.name}, {"renderer", s.renderer}, {"distance_m", s.distance_m}, {"detection_rate", s.detection_rate},
                                  {"lm_yaw_err_deg", s.yaw_err_deg}, {"lm_tz_err_mm", s.tz_err_mm}});
+  }
+  for (const auto& [renderer, m] : r.lm_by_renderer) {
+    j["lm_tracking_by_renderer"][renderer] = {{"frames", m.frames}, {"tx_mm", m.tx_mm}, {"ty_mm", m.ty_mm},
+                                              {"tz_mm", m.tz_mm}, {"roll_deg", m.roll_deg}, {"yaw_deg", m.yaw_deg},
+                                              {"pitch_deg", m.pitch_deg}};
   }
   for (const auto& [reason, count] : r.lost_reasons) j["lost_reasons"][reason] = count;
   return j;
@@ -96,6 +104,10 @@ void print_table(const face::FaceBenchReport& r) {
               r.frames_total ? 100.0 * r.frames_tracked / r.frames_total : 0.0, r.frames_total, r.frame_ms_median,
               r.tracking_frame_ms_median, r.frame_ms_mean, r.frame_ms_p95, r.detect_ms_median, r.landmarks_ms_median,
               r.pose_ms_median);
+  for (const auto& [renderer, m] : r.lm_by_renderer) {
+    std::printf("LM tracking, %s-rendered sequences (%d frames): tx %.2f ty %.2f tz %.2f mm, roll %.2f yaw %.2f pitch %.2f deg\n",
+                renderer.c_str(), m.frames, m.tx_mm, m.ty_mm, m.tz_mm, m.roll_deg, m.yaw_deg, m.pitch_deg);
+  }
   std::printf("registration: fit RMS %.2f px, shape parameter error (RMS over fitted units) %.3f\n", r.shape_fit_rms_px,
               r.shape_param_error_rms);
   for (const auto& [reason, count] : r.lost_reasons) std::printf("lost: %-60s %d frames\n", reason.c_str(), count);
@@ -116,6 +128,9 @@ const CommandSpec& face_bench_command_spec() {
        {"--no-lossy-video", "", "skip the H.264 round trip"},
        {"--bitrate-kbps", "N", "H.264 bit rate (default 1000, the AR.Drone 2.0's)"},
        {"--samples", "DIR", "write a few rendered frames there"},
+       {"--lab-sequences", "N", "more sequences drawn by the simulated lab's LabRenderer (default 4; 0 none)"},
+       {"--lab", "FILE", "lab description for those (default: config/lab.json)"},
+       {"--frames-csv", "FILE", "write per-frame truth and LM-tracking errors there (for analysis)"},
        {"--true-shape", "", "use the rendered head's shape instead of the one registered from a frontal frame"},
        {"--json", "", "print the report as JSON"}},
       0,
@@ -134,6 +149,10 @@ int run_face_bench_command(const ParsedArgs& args) {
   o.video_bitrate_kbps = args.integer_or("--bitrate-kbps", 1000, 100, 20000);
   o.sample_dir = args.value_or("--samples", "");
   o.true_shape = args.flag("--true-shape");
+  o.frames_csv = args.value_or("--frames-csv", "");
+  o.lab_sequences = args.integer_or("--lab-sequences", 4, 0, 1000);
+  o.lab = args.value_or("--lab", (labo::source_root() / "config" / "lab.json").string());
+  o.cameras = setup.cameras;
   o.interpupillary_distance_m = setup.face.interpupillary_distance_m;
   const bool json = args.flag("--json");
   const auto report = face::run_face_bench(setup.face, setup.camera, o, [&](const std::string& line) {

@@ -40,6 +40,9 @@ struct FaceConfig {
   // every `redetect_every_n_frames`) or "detector" (the detector around the last face every frame).
   bool box_from_landmarks = true;
   int redetect_every_n_frames = 10;
+  // Turn the landmarks' crop upright by the last eye line's angle (the predictor was trained on
+  // upright faces; rolled heads bias its landmarks).
+  bool upright_crop = true;
   std::vector<double> lost_search_scales{0.5, 1.0, 2.0};  // cycled over frames while lost
   ShapeFitOptions shape_fit;
   double frontal_max_angle_rad = 0.26;    // a registration picture must be within 15° of frontal

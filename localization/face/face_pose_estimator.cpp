@@ -27,6 +27,14 @@ std::pair<Eigen::Vector2d, double> centroid_and_spread(const Eigen::Matrix2Xd& l
   return {c, std::max(spread, 1e-6)};
 }
 
+// The eye line's angle in the image (0 upright, positive clockwise as the image's y points down).
+double eye_line_angle(const Eigen::Matrix2Xd& lm) {
+  const Eigen::Vector2d d = lm.middleCols(42, 6).rowwise().mean() - lm.middleCols(36, 6).rowwise().mean();
+  return std::atan2(d.y(), d.x());
+}
+
+Eigen::Matrix2d rotation(double angle) { return Eigen::Rotation2Dd(angle).toRotationMatrix(); }
+
 cv::Point2d centre(const cv::Rect2d& r) { return {r.x + r.width / 2, r.y + r.height / 2}; }
 
 }  // namespace
@@ -121,14 +129,15 @@ void FacePoseEstimator::remember_box_relation(const cv::Rect2d& box, const Eigen
   const auto [c, spread] = centroid_and_spread(lm);
   const cv::Point2d bc = centre(box);
   const double side = std::sqrt(box.width * box.height);
-  box_offset_ = Eigen::Vector2d(bc.x - c.x(), bc.y - c.y()) / side;
+  // In the face's upright frame, so that it turns with the head's roll.
+  box_offset_ = rotation(-eye_line_angle(lm)) * Eigen::Vector2d(bc.x - c.x(), bc.y - c.y()) / side;
   box_side_m_ = side * distance_m / camera_.intrinsics().fx;
 }
 
 cv::Rect2d FacePoseEstimator::box_from_landmarks(const Eigen::Matrix2Xd& lm) const {
   const auto [c, spread] = centroid_and_spread(lm);
   const double side = last_pose_ ? box_side_m_ * camera_.intrinsics().fx / last_pose_->translation().z() : 2.6 * spread;
-  const Eigen::Vector2d bc = c + box_offset_ * side;
+  const Eigen::Vector2d bc = c + rotation(eye_line_angle(lm)) * box_offset_ * side;
   return {bc.x() - side / 2, bc.y() - side / 2, side, side};
 }
 
@@ -250,7 +259,8 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
 
   start = std::chrono::steady_clock::now();
   Eigen::Matrix2Xd lm;
-  landmark_detector_.detect(gray, candidate->box, lm);
+  const double upright = config_.upright_crop && last_landmarks_ ? eye_line_angle(*last_landmarks_) : 0.0;
+  landmark_detector_.detect(gray, candidate->box, lm, upright);
   result.timings.landmarks_ms = ms_since(start);
   result.landmarks = lm;
   result.box = candidate->box;

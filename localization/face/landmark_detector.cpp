@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <Eigen/Geometry>
 #include <opencv2/imgproc.hpp>
 #include <dlib/image_processing/shape_predictor.h>
 #include <dlib/opencv/cv_image.h>
@@ -32,33 +33,37 @@ LandmarkDetector::~LandmarkDetector() = default;
 LandmarkDetector::LandmarkDetector(LandmarkDetector&&) noexcept = default;
 LandmarkDetector& LandmarkDetector::operator=(LandmarkDetector&&) noexcept = default;
 
-void LandmarkDetector::detect(const cv::Mat& gray, const cv::Rect2d& box, Eigen::Matrix2Xd& landmarks) {
+void LandmarkDetector::detect(const cv::Mat& gray, const cv::Rect2d& box, Eigen::Matrix2Xd& landmarks,
+                              double upright_rad) {
   if (gray.empty() || gray.type() != CV_8UC1) throw std::invalid_argument("landmark detector: expected an 8-bit grey image");
+  if (!(box.width > 0 && box.height > 0) || (box & cv::Rect2d(0, 0, gray.cols, gray.rows)).area() <= 0) {
+    throw std::invalid_argument("landmark detector: face box lies outside the image");
+  }
   // dlib returns integer pixels: a small face is resampled so that its box is about
   // `kWorkingWidthPx` wide, which keeps the rounding well under a pixel of the original image.
   constexpr double kWorkingWidthPx = 160;
-  const double scale = std::max(1.0, kWorkingWidthPx / std::max(box.width, 1.0));
+  const double scale = std::max(1.0, kWorkingWidthPx / box.width);
   const double margin = 0.3 * std::max(box.width, box.height);
-  const cv::Rect roi = cv::Rect(cv::Point(static_cast<int>(std::floor(box.x - margin)), static_cast<int>(std::floor(box.y - margin))),
-                                cv::Point(static_cast<int>(std::ceil(box.x + box.width + margin)),
-                                          static_cast<int>(std::ceil(box.y + box.height + margin)))) &
-                       cv::Rect(0, 0, gray.cols, gray.rows);
-  if (roi.area() <= 0) throw std::invalid_argument("landmark detector: face box lies outside the image");
-  if (scale > 1.0) {
-    cv::resize(gray(roi), impl_->work, cv::Size(), scale, scale, cv::INTER_LINEAR);
-  } else {
-    gray(roi).copyTo(impl_->work);
-  }
+  const cv::Size work_size(static_cast<int>(std::ceil((box.width + 2 * margin) * scale)),
+                           static_cast<int>(std::ceil((box.height + 2 * margin) * scale)));
+  // Full-frame pixel p -> working pixel q = scale * Rot(-upright) * (p - c) + q_c (pixel centres).
+  const Eigen::Vector2d c(box.x + box.width / 2 - 0.5, box.y + box.height / 2 - 0.5);
+  const Eigen::Vector2d q_c(work_size.width / 2.0 - 0.5, work_size.height / 2.0 - 0.5);
+  const Eigen::Matrix2d to_work = scale * Eigen::Rotation2Dd(-upright_rad).toRotationMatrix();
+  const Eigen::Vector2d offset = q_c - to_work * c;
+  const cv::Matx23d M(to_work(0, 0), to_work(0, 1), offset.x(), to_work(1, 0), to_work(1, 1), offset.y());
+  // Pixels beyond the image repeat its border; a face cut by the border is refused from its landmarks.
+  cv::warpAffine(gray, impl_->work, M, work_size, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
   const dlib::cv_image<unsigned char> image(impl_->work);
-  const auto to_work = [&](double v, int origin) { return std::lround((v - origin + 0.5) * scale - 0.5); };
-  const dlib::rectangle rect(to_work(box.x, roi.x), to_work(box.y, roi.y), to_work(box.x + box.width, roi.x) - 1,
-                             to_work(box.y + box.height, roi.y) - 1);
+  const double half_w = box.width * scale / 2, half_h = box.height * scale / 2;
+  const dlib::rectangle rect(std::lround(q_c.x() - half_w + 0.5), std::lround(q_c.y() - half_h + 0.5),
+                             std::lround(q_c.x() + half_w - 0.5), std::lround(q_c.y() + half_h - 0.5));
   const dlib::full_object_detection shape = impl_->predictor(image, rect);
+  const Eigen::Matrix2d to_frame = to_work.inverse();
   landmarks.resize(2, 68);
   for (unsigned long i = 0; i < 68; ++i) {
-    const auto c = static_cast<Eigen::Index>(i);
-    landmarks(0, c) = roi.x + (static_cast<double>(shape.part(i).x()) + 0.5) / scale - 0.5;
-    landmarks(1, c) = roi.y + (static_cast<double>(shape.part(i).y()) + 0.5) / scale - 0.5;
+    const Eigen::Vector2d q(static_cast<double>(shape.part(i).x()), static_cast<double>(shape.part(i).y()));
+    landmarks.col(static_cast<Eigen::Index>(i)) = to_frame * (q - offset);
   }
 }
 

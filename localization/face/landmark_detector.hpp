@@ -18,7 +18,11 @@ class LandmarkDetector {
   LandmarkDetector& operator=(LandmarkDetector&&) noexcept;
 
   // The 68 landmarks (2 x 68, full-frame pixels, distorted as in the image) for a face box.
-  void detect(const cv::Mat& gray, const cv::Rect2d& box, Eigen::Matrix2Xd& landmarks);
+  // `upright_rad`: the face's in-plane angle in the image (its eye line, clockwise in image
+  // coordinates); the crop is turned by it so that the predictor sees an upright face, as in its
+  // training set, and the landmarks are turned back. `box` is then the box of the upright face
+  // around the same centre.
+  void detect(const cv::Mat& gray, const cv::Rect2d& box, Eigen::Matrix2Xd& landmarks, double upright_rad = 0);
 
   static std::filesystem::path default_path() { return "/usr/share/dlib/shape_predictor_68_face_landmarks.dat"; }
 

@@ -10,6 +10,16 @@
 
 namespace labo::face {
 
+TexturedHeadModel to_head_model(const Candide3Model& candide, const TexturedHead& head, const cv::Mat& photo_bgr) {
+  TexturedHeadModel model;
+  model.vertices_face_m = head_vertices_m(candide, head);
+  model.triangles = candide.triangles();
+  for (Eigen::Index v = 0; v < head.uv.cols(); ++v) model.texture_px.push_back(head.uv.col(v).cast<float>());
+  model.texture_bgr = photo_bgr;
+  validate(model);
+  return model;
+}
+
 TexturedHeadModel load_teacher_head(const std::filesystem::path& photo_path, double ipd_m, const FaceConfig& base) {
   if (!(ipd_m >= 0.04 && ipd_m <= 0.09)) {
     throw std::invalid_argument("teacher head: interpupillary distance " + std::to_string(ipd_m) +
@@ -37,13 +47,7 @@ TexturedHeadModel load_teacher_head(const std::filesystem::path& photo_path, dou
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(photo_path.string() + ": " + e.what());
   }
-  TexturedHeadModel model;
-  model.vertices_face_m = head_vertices_m(candide, head);
-  model.triangles = candide.triangles();
-  for (Eigen::Index v = 0; v < head.uv.cols(); ++v) model.texture_px.push_back(head.uv.col(v).cast<float>());
-  model.texture_bgr = photo;
-  validate(model);
-  return model;
+  return to_head_model(candide, head, photo);
 }
 
 TexturedHeadModel load_lab_teacher_head(const LabDescription& lab, const FaceConfig& config) {

@@ -1,11 +1,44 @@
 #include "localization/face/textured_head_renderer.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
 namespace labo::face {
+
+namespace {
+
+// The point of the mesh (vertices in the photograph's camera `cam_vertices`, projected to `uv`) under
+// photograph pixel `p`: the nearest front triangle containing it, by barycentric interpolation.
+// Returns the barycentric combination of `face_vertices`, NaN when no triangle contains `p`.
+Eigen::Vector3d mesh_point_under(const Eigen::Vector2d& p, const Eigen::Matrix2Xd& uv,
+                                 const std::vector<Eigen::Vector3d>& cam_vertices,
+                                 const std::vector<Eigen::Vector3d>& face_vertices,
+                                 const std::vector<std::array<int, 3>>& triangles) {
+  double best_depth = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d best = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  for (const auto& tri : triangles) {
+    const Eigen::Vector2d a = uv.col(tri[0]), b = uv.col(tri[1]), c = uv.col(tri[2]);
+    const double det = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    if (std::abs(det) < 1e-9) continue;
+    const double l1 = ((p - a).x() * (c - a).y() - (p - a).y() * (c - a).x()) / det;
+    const double l2 = ((b - a).x() * (p - a).y() - (b - a).y() * (p - a).x()) / det;
+    const double l0 = 1 - l1 - l2;
+    if (l0 < -1e-6 || l1 < -1e-6 || l2 < -1e-6) continue;
+    const auto v = [&](int i) { return static_cast<std::size_t>(tri[static_cast<std::size_t>(i)]); };
+    const double depth = l0 * cam_vertices[v(0)].z() + l1 * cam_vertices[v(1)].z() + l2 * cam_vertices[v(2)].z();
+    if (depth < best_depth) {
+      best_depth = depth;
+      best = l0 * face_vertices[v(0)] + l1 * face_vertices[v(1)] + l2 * face_vertices[v(2)];
+    }
+  }
+  return best;
+}
+
+}  // namespace
 
 TexturedHead texture_head_from_photo(FacePoseEstimator& estimator, const Candide3Model& candide,
                                      const cv::Mat& photo_gray, double ipd_m) {
@@ -31,6 +64,15 @@ TexturedHead texture_head_from_photo(FacePoseEstimator& estimator, const Candide
   head.uv.resize(2, static_cast<Eigen::Index>(vertices.size()));
   for (std::size_t v = 0; v < vertices.size(); ++v) {
     head.uv.col(static_cast<Eigen::Index>(v)) = cam.project(fit.T_cam_face * (vertices[v] * mpu));
+  }
+  std::vector<Eigen::Vector3d> face_m(vertices.size()), cam_m(vertices.size());
+  for (std::size_t v = 0; v < vertices.size(); ++v) {
+    face_m[v] = vertices[v] * mpu;
+    cam_m[v] = fit.T_cam_face * face_m[v];
+  }
+  head.landmarks_face_m.resize(3, lm68.cols());
+  for (Eigen::Index i = 0; i < lm68.cols(); ++i) {
+    head.landmarks_face_m.col(i) = mesh_point_under(lm68.col(i), head.uv, cam_m, face_m, candide.triangles());
   }
   return head;
 }

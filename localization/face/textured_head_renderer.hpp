@@ -20,6 +20,10 @@ struct TexturedHead {
   Eigen::Matrix2Xd uv;             // texture pixel of each CANDIDE-3 vertex
   Eigen::VectorXd shape_params;    // fitted to the photograph
   double interpupillary_distance_m = 0.063;
+  // Where the photograph's 68 landmarks lie on the textured mesh (face frame, metres; NaN where a
+  // landmark falls on no triangle): the rendered head's true landmark positions, for the benchmark's
+  // analysis of landmark errors apart from the model's.
+  Eigen::Matrix3Xd landmarks_face_m;
 };
 
 // Uses the most confident face; throws std::runtime_error when the photograph has none.

@@ -1,6 +1,8 @@
 #include "localization/estimation/eval/estimation_experiment.hpp"
 
+#include <Eigen/Geometry>
 #include <cmath>
+#include <random>
 
 #include "core/frames.hpp"
 #include "localization/estimation/eval/flight_run.hpp"
@@ -11,6 +13,7 @@ namespace {
 constexpr double kRadToDeg = 180.0 / M_PI;
 constexpr Seconds kDemoNavdata = 1.0 / 15.0;   // the AR.Drone's default navdata_demo rate
 constexpr Seconds kFullNavdata = 1.0 / 200.0;
+constexpr double kImpulseM = 0.5;              // the z impulse
 
 struct Rms {
   double sum2 = 0;
@@ -34,16 +37,16 @@ void accumulate(FlightRun& run, Seconds duration, Rms& position, Rms& yaw, Rms& 
   }
 }
 
-// Stage 1 of the mission: SLAM starts, the drone climbs and descends slowly (open-loop gaz) while
-// holding x, y; returns the scale error in percent.
 TrackingErrors measure(FlightRun& run, Seconds duration) {
   Rms p, y, c;
   accumulate(run, duration, p, y, c);
   return {p.value(), y.value() * kRadToDeg, c.value()};
 }
 
+// Stage 1 of the mission: SLAM starts, the drone climbs and descends slowly (open-loop gaz) while
+// holding x, y.
 void scale_manoeuvre(FlightRun& run) {
-  run.slam_visible = true;
+  run.set_vision({.slam = true, .instrument = false});
   run.run_for(1.0);
   for (int k = 0; k < 4; ++k) {
     run.open_loop_gaz = (k % 2 == 0) ? 0.5 : -0.5;
@@ -53,10 +56,36 @@ void scale_manoeuvre(FlightRun& run) {
   run.run_for(1.0);
 }
 
+// Metres per map unit of SLAM's current map since `from`: the similarity from the true camera
+// positions (at each frame's capture time) to the SLAM ones. Fitted world -> map so that SLAM's noise
+// sits on the target side and does not bias the scale. 0 when fewer than 10 frames.
+double true_map_scale(const FlightRun& run, Seconds from) {
+  const std::vector<SlamTrackPoint>& track = run.pipeline().slam_track();
+  if (track.empty()) return 0.0;
+  const int map_id = track.back().map_id;
+  std::vector<Eigen::Vector3d> world, map;
+  for (const SlamTrackPoint& p : track) {
+    if (p.t < from || p.map_id != map_id) continue;
+    const Seconds capture = p.t - run.plant().video_delay();
+    world.push_back((run.truth_at(capture) * T_body_cam_front()).translation());
+    map.push_back(p.T_map_cam.translation());
+  }
+  if (world.size() < 10) return 0.0;
+  Eigen::Matrix3Xd src(3, static_cast<Eigen::Index>(world.size())), dst(3, static_cast<Eigen::Index>(map.size()));
+  for (std::size_t i = 0; i < world.size(); ++i) {
+    src.col(static_cast<Eigen::Index>(i)) = world[i];
+    dst.col(static_cast<Eigen::Index>(i)) = map[i];
+  }
+  const Eigen::Matrix4d T = Eigen::umeyama(src, dst, true);
+  const double units_per_metre = T.block<3, 3>(0, 0).col(0).norm();
+  return units_per_metre > 0 ? 1.0 / units_per_metre : 0.0;
+}
+
 ImpulseResult z_impulse(FlightRun& run, Seconds observe_for) {
   ImpulseResult r;
   const Seconds t_push = run.plant().now();
-  run.plant().push(Eigen::Vector3d(0, 0, 2.6));  // lifts the drone by ~0.5 m before the loop reacts
+  r.push_mps = run.plant().vertical_push_for(kImpulseM);
+  run.plant().push(Eigen::Vector3d(0, 0, r.push_mps));
   Seconds inside_since = -1;
   while (run.plant().now() < t_push + observe_for - 1e-9) {
     run.tick();
@@ -75,37 +104,52 @@ ImpulseResult z_impulse(FlightRun& run, Seconds observe_for) {
       std::abs(run.estimate_now().position_world.z() - run.plant().truth().T_world_body.translation().z());
   return r;
 }
+
+// Flies to `target` (up to `limit` seconds), then holds it for `settle` seconds.
+void fly_to(FlightRun& run, const Eigen::Vector3d& target, Seconds limit, Seconds settle) {
+  run.setpoint = target;
+  const Seconds end = run.plant().now() + limit;
+  while (run.plant().now() < end && (run.plant().truth().T_world_body.translation() - target).norm() > 0.15) run.tick();
+  run.run_for(settle);
+}
 }  // namespace
 
-
-EstimationResults run_estimation_experiments(const PlantFactory& make_plant, unsigned seed,
-                                             const EstimatorConfig& config, const VisionThresholds& thresholds) {
+EstimationResults run_estimation_experiments(const PlantFactory& make_plant, const PipelineKind& vision, unsigned seed,
+                                             const EstimatorConfig& config) {
   EstimationResults out;
-  out.vision_input =
-      "ground-truth-derived visual poses with noise and 75 ms video delay (SLAM: random map frame and scale, "
-      "1.5 cm / 0.5 deg; instrument: 3 mm + 4 mm*d^2 / 0.7 deg while in view); not the SLAM/planar pipelines";
   std::uint64_t rejected = 0;
-  const auto count_rejections = [&](FlightRun& run) {
+  const auto count_rejections = [&](const FlightRun& run) {
     for (const auto& [key, value] : run.estimator().statistics().counters) {
-      if (key.rfind("rejected_", 0) == 0) rejected += value;
+      if (key.rfind("rejected_", 0) != 0) continue;
+      rejected += value;
+      out.rejections[key] += value;
     }
   };
-
+  const PipelineFactory& make_pipeline = vision.make;
+  const bool frames = vision.needs_frames;
+  const auto request = [](unsigned s, Seconds navdata_period, bool video) { return PlantRequest{s, navdata_period, video}; };
   {  // Stage 1 and hover with SLAM.
-    auto plant = make_plant(seed, kFullNavdata);
+    auto plant = make_plant(request(seed, kFullNavdata, frames));
     out.plant = plant->name();
-    FlightRun run(*plant, config, thresholds, seed, true);
-    run.setpoint = Eigen::Vector3d(0, 0, 1.0);
+    FlightRun run(*plant, config, make_pipeline, seed, true);
+    out.vision_input = run.pipeline().vision_input();
+    run.setpoint = plant->truth().T_world_body.translation();
+    const Seconds manoeuvre_start = plant->now();
     scale_manoeuvre(run);
     const ScaleStatus s = run.estimator().scale_status();
-    out.scale_error_percent = 100.0 * std::abs(s.scale / run.map_metres_per_unit() - 1.0);
+    out.scale_estimated = s.estimated;
+    out.scale_estimated_m_per_unit = s.scale;
+    out.scale_true_m_per_unit = true_map_scale(run, manoeuvre_start);
+    out.scale_error_percent = out.scale_true_m_per_unit > 0 && s.estimated
+                                  ? 100.0 * std::abs(s.scale / out.scale_true_m_per_unit - 1.0)
+                                  : 100.0;
     out.scale_accuracy = s.accuracy;
     out.scale_pairs = s.pairs;
     run.setpoint = Eigen::Vector3d(0.5, 0.0, 1.2);
     run.run_for(4.0);
     out.hover_slam = measure(run, 20.0);
     // Vision lost: dead reckoning along an open path (a closed one would cancel odometry scale errors).
-    run.slam_visible = false;
+    run.set_vision({});
     const Eigen::Vector3d start_error = run.estimate_now().position_world - plant->truth().T_world_body.translation();
     const double start_yaw_error = wrap_angle(run.estimate_now().yaw - yaw_of(plant->truth().T_world_body));
     const Eigen::Vector3d corners[] = {{1.5, 0, 1.2}, {2.0, 1.0, 1.2}, {1.0, 1.5, 1.2}, {1.0, 1.5, 1.2}};
@@ -120,31 +164,32 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, uns
     count_rejections(run);
   }
   {  // Servoing 0.8 m in front of the instrument (SLAM lost close to the panel), then a z push.
-    auto plant = make_plant(seed + 1000, kDemoNavdata);
-    FlightRun run(*plant, config, thresholds, seed, true, Eigen::Vector3d(0.05, -0.05, 0.03));
+    auto plant = make_plant(request(seed + 1000, kDemoNavdata, frames));
+    FlightRun run(*plant, config, make_pipeline, seed, true, Eigen::Vector3d(0.05, -0.05, 0.03));
+    const Eigen::Isometry3d T_world_object = plant->instrument().T_world_object;
+    const Eigen::Vector3d into_panel = T_world_object.linear().col(2);
     run.setpoint = plant->truth().T_world_body.translation();
-    run.object_visible_when_in_view = true;
+    run.setpoint_yaw = std::atan2(into_panel.y(), into_panel.x());
+    run.set_vision({.slam = false, .instrument = true});
     run.run_for(2.0);
-    run.setpoint = FlightRun::instrument_pose().translation() - Eigen::Vector3d(0.8, 0, 0);
-    run.run_for(5.0);
+    fly_to(run, T_world_object.translation() - 0.8 * into_panel, 20.0, 5.0);
     out.servo = measure(run, 15.0);
     out.impulse_servo = z_impulse(run, 8.0);
     count_rejections(run);
   }
   for (const bool paper_rule : {false, true}) {  // z push with navdata only
-    auto plant = make_plant(seed + 2000, kDemoNavdata);
+    auto plant = make_plant(request(seed + 2000, kDemoNavdata, false));
     EstimatorConfig c = config;
     c.altitude_step_discrimination = !paper_rule;
     c.use_navdata_vz = !paper_rule;  // tum_ardrone, and so the paper, did not use the navdata vz
-    FlightRun run(*plant, c, thresholds, seed, true);
-    run.setpoint = Eigen::Vector3d(0.0, 1.2, 1.0);
-    run.run_for(3.0);
+    FlightRun run(*plant, c, make_pipeline, seed, true);
+    fly_to(run, Eigen::Vector3d(0.0, 1.2, 1.0), 8.0, 3.0);
     (paper_rule ? out.impulse_paper_rule : out.impulse_dead_reckoning) = z_impulse(run, 10.0);
     count_rejections(run);
   }
   for (const bool compensate : {true, false}) {  // holding a point against gusts and pushes, SLAM on
-    auto plant = make_plant(seed + 3000, kFullNavdata);
-    FlightRun run(*plant, config, thresholds, seed, compensate);
+    auto plant = make_plant(request(seed + 3000, kFullNavdata, frames));
+    FlightRun run(*plant, config, make_pipeline, seed, compensate);
     run.set_gains(FlightRun::Gains::aggressive());  // where delays matter: a stiff position loop
     run.setpoint = plant->truth().T_world_body.translation();
     scale_manoeuvre(run);

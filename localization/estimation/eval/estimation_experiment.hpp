@@ -1,23 +1,21 @@
 #pragma once
-// The lockstep experiments behind `labodrone sim estimate`: a plant (EstimationPlant), the
-// StateEstimator fed with its navdata, the commands and visual poses, and a plain PD position loop
-// (for the experiments only; the real autopilot is control/'s) closing the loop on the estimate.
-//
-// Visual poses: until the SLAM and planar pipelines run on the simulated lab's rendered frames, they
-// are derived from the plant's ground truth with realistic noise and the video delay (SLAM: an
-// arbitrary map frame and scale, ~1.5 cm / 0.5 deg; the instrument: noise growing with distance^2,
-// only while it is in the front camera's field of view). Each result says so in `vision_input`.
+// The lockstep experiments behind `labodrone sim estimate`: a plant (EstimationPlant), an
+// EstimationPipeline (the StateEstimator and its visual source: truth-derived poses or the real
+// front-ends on rendered frames) fed with the plant's navdata, frames and the commands sent, and a
+// plain PD position loop (for the experiments only; the real autopilot is control/'s) closing the
+// loop on the estimate. Each result says which plant and which vision produced it.
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 
 #include "localization/estimation/estimation_config.hpp"
-#include "localization/estimation/eval/estimation_plant.hpp"
-#include "localization/vision_thresholds.hpp"
+#include "localization/estimation/eval/estimation_pipeline.hpp"
 
 namespace labo {
 
 struct ImpulseResult {
+  double push_mps = 0;              // the upward velocity change applied
   double peak_displacement_m = 0;   // largest |z - set point| of the drone after the push
   bool returned = false;            // drone and estimate within 0.1 m of the set point, held 1 s
   double return_time_s = -1;        // from the push until then
@@ -34,8 +32,12 @@ struct TrackingErrors {
 struct EstimationResults {
   std::string plant;
   std::string vision_input;
-  // Stage 1: the up/down manoeuvre.
+  // Stage 1: the up/down manoeuvre. The map's true scale is fitted (similarity, Umeyama) between the
+  // SLAM camera positions and the true ones over the manoeuvre; the error is the estimator's against it.
   double scale_error_percent = 0;
+  double scale_true_m_per_unit = 0;
+  double scale_estimated_m_per_unit = 0;
+  bool scale_estimated = false;
   double scale_accuracy = 0;
   int scale_pairs = 0;
   // Hovering with SLAM.
@@ -56,12 +58,13 @@ struct EstimationResults {
   double controller_input_error_compensated_m = 0;
   double controller_input_error_uncompensated_m = 0;
   std::uint64_t rejected_inputs = 0;
+  std::map<std::string, std::uint64_t> rejections;  // by the estimator's counter name, over all runs
 };
 
-// A fresh plant for a seed, sending navdata every `navdata_period` seconds.
-using PlantFactory = std::function<std::unique_ptr<EstimationPlant>(unsigned seed, Seconds navdata_period)>;
+// A fresh plant for one run.
+using PlantFactory = std::function<std::unique_ptr<EstimationPlant>(const PlantRequest& request)>;
 
-EstimationResults run_estimation_experiments(const PlantFactory& make_plant, unsigned seed,
-                                             const EstimatorConfig& config, const VisionThresholds& thresholds);
+EstimationResults run_estimation_experiments(const PlantFactory& make_plant, const PipelineKind& vision, unsigned seed,
+                                             const EstimatorConfig& config);
 
 }  // namespace labo

@@ -1,8 +1,9 @@
 #pragma once
 // EstimationPlant: what the estimation experiments (`labodrone sim estimate`) fly: a drone that takes
-// commands, advances in lockstep, delivers navdata as it arrives on the link, and exposes its ground
-// truth. Implemented by SurrogatePlant (this folder, a stand-in with its own physics until the
-// simulated lab's SimDroneLink is merged) and meant to be implemented over SimDroneLink.
+// commands, advances in lockstep, delivers navdata (and, when asked for, camera frames) as they arrive
+// on the link, and exposes its ground truth. Implemented by LabPlant (the simulated lab behind
+// SimDroneLink, lab_plant.hpp) and SurrogatePlant (a stand-in with its own physics, kept for
+// comparison).
 #include <Eigen/Geometry>
 #include <string>
 #include <vector>
@@ -20,6 +21,20 @@ struct GroundTruth {
   double yaw_rate = 0;
 };
 
+// The instrument the servo experiments face: its id (for the real planar front-end) and its panel's
+// pose (object frame: x to the panel's right, y down, z into the panel).
+struct PlantInstrument {
+  std::string id;
+  Eigen::Isometry3d T_world_object = Eigen::Isometry3d::Identity();
+};
+
+// How a plant for one run is made.
+struct PlantRequest {
+  unsigned seed = 1;
+  Seconds navdata_period = 1.0 / 200.0;
+  bool video = false;  // render and deliver camera frames (real vision); otherwise none are made
+};
+
 class EstimationPlant {
  public:
   virtual ~EstimationPlant() = default;
@@ -29,11 +44,22 @@ class EstimationPlant {
   virtual void move(const MoveCommand& command) = 0;
   // Advances by dt; navdata packets arriving meanwhile are appended to `arrived` (receive stamps).
   virtual void step(Seconds dt, std::vector<NavdataSample>& arrived) = 0;
+  // The camera frames that arrived during the last step(), in order (empty without video).
+  virtual const std::vector<VideoFrame>& frames_of_last_step() const = 0;
   virtual GroundTruth truth() const = 0;
   // An external push: an instantaneous change of the world velocity.
   virtual void push(const Eigen::Vector3d& delta_v_world) = 0;
+  // The upward push that lifts this plant's drone by about `metres` under the experiments' z loop
+  // (its vertical response differs per plant; the results report the peak displacement reached).
+  virtual double vertical_push_for(double metres) const = 0;
   // The surfaces below the flight area (floor, benches, platform), for the altitude tracker.
   virtual SurfaceMap surfaces() const = 0;
+  virtual PlantInstrument instrument() const = 0;
+  // The true link timing: from move() until the motors act (mean), from capture to a frame's arrival.
+  virtual Seconds command_latency() const = 0;
+  virtual Seconds video_delay() const = 0;
+  // From measurement to a navdata packet's arrival.
+  virtual Seconds navdata_delay() const = 0;
 };
 
 }  // namespace labo

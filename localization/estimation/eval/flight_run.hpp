@@ -1,25 +1,24 @@
 #pragma once
-// FlightRun: one lockstep flight for the estimation experiments: the plant, the StateEstimator fed
-// with navdata, commands and (ground-truth-derived, noisy, delayed) visual poses, and a PD position
-// loop on the estimate, one command per 1/30 s like the paper's loop.
+// FlightRun: one lockstep flight for the estimation experiments: the plant, an EstimationPipeline
+// (the StateEstimator and its visual source) fed with the plant's navdata, frames and the commands
+// sent, and a PD position loop on the estimate, one command per 1/30 s like the paper's loop.
 #include <cmath>
 #include <deque>
+#include <memory>
 #include <optional>
-#include <random>
 
-#include "localization/estimation/eval/estimation_plant.hpp"
-#include "localization/estimation/state_estimator.hpp"
+#include "localization/estimation/eval/estimation_pipeline.hpp"
 
 namespace labo {
 
 class FlightRun {
  public:
   static constexpr Seconds kTick = 1.0 / 30.0;
-  static constexpr Seconds kTrueVideoDelay = 0.075;
 
   // `compensate`: the controller acts on predict_for_control(now); otherwise on predict(now) of an
-  // estimator that believes every input is current (all delays 0).
-  FlightRun(EstimationPlant& plant, EstimatorConfig config, const VisionThresholds& thresholds, unsigned seed,
+  // estimator that believes every input is current (all delays 0). The pipeline is made by `make`
+  // with the run's configuration.
+  FlightRun(EstimationPlant& plant, EstimatorConfig config, const PipelineFactory& make, unsigned seed,
             bool compensate, const Eigen::Vector3d& initial_error = Eigen::Vector3d::Zero());
 
   struct Gains {
@@ -33,37 +32,33 @@ class FlightRun {
   void run_until(Seconds t);
 
   // Knobs of the experiment.
-  bool slam_visible = false;
-  bool object_visible_when_in_view = false;
+  void set_vision(const VisionWanted& wanted) { pipeline_->set_vision(wanted); }
   std::optional<double> open_loop_gaz;   // overrides the z loop (the scale manoeuvre)
   Eigen::Vector3d setpoint = Eigen::Vector3d(0, 0, 1);
   double setpoint_yaw = 0;
 
   EstimationPlant& plant() { return plant_; }
-  StateEstimator& estimator() { return estimator_; }
-  FusedState estimate_now() const { return estimator_.predict(plant_.now()); }
-  double map_metres_per_unit() const { return metres_per_unit_; }
+  const EstimationPlant& plant() const { return plant_; }
+  const StateEstimator& estimator() const { return pipeline_->estimator(); }
+  const EstimationPipeline& pipeline() const { return *pipeline_; }
+  FusedState estimate_now() const { return estimator().predict(plant_.now()); }
+  // The true pose at a past time of this run (linear between ticks).
+  Eigen::Isometry3d truth_at(Seconds t) const;
 
-  static Eigen::Isometry3d instrument_pose();
   // RMS of |position the controller acted on - true position when that command acted|.
   double controller_input_error_rms() const { return input_error_n_ > 0 ? std::sqrt(input_error_sum2_ / input_error_n_) : 0.0; }
-  static constexpr Seconds kTrueControlDelay = 0.100;  // the surrogate's command delay  // the panel of the experiments, facing the base
 
  private:
   MoveCommand control(const FusedState& f) const;
-  void deliver_frames();
 
   EstimationPlant& plant_;
   Gains gains_;
   EstimatorConfig config_;
-  StateEstimator estimator_;
+  std::unique_ptr<EstimationPipeline> pipeline_;
   bool compensate_;
-  std::mt19937 rng_;
-  Eigen::Isometry3d T_map_world_;
-  double metres_per_unit_;
-  std::deque<std::pair<Seconds, Eigen::Isometry3d>> frames_;  // arrival time, body pose at capture
   std::vector<NavdataSample> arrived_;
   std::deque<std::pair<Seconds, Eigen::Vector3d>> controller_inputs_;  // effect time, position used
+  std::deque<GroundTruth> history_;  // the last seconds of truth, one per tick
   double input_error_sum2_ = 0;
   int input_error_n_ = 0;
 };

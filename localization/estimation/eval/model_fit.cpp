@@ -43,8 +43,9 @@ struct Law {
 };
 }  // namespace
 
-ModelFitReport fit_motion_model(EstimationPlant& plant, const MotionModelConstants& before, Seconds navdata_delay,
-                                Seconds control_delay, Seconds duration, unsigned seed) {
+ModelFitReport fit_motion_model(EstimationPlant& plant, const MotionModelConstants& before, Seconds duration,
+                                unsigned seed) {
+  const Seconds navdata_delay = plant.navdata_delay(), control_delay = plant.command_latency();
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-0.6, 0.6), hold(0.4, 1.5);
   std::vector<std::pair<Seconds, MoveCommand>> sent;

@@ -30,8 +30,8 @@ struct ModelFitReport {
   double flight_s = 0;
 };
 
-ModelFitReport fit_motion_model(EstimationPlant& plant, const MotionModelConstants& before,
-                                Seconds navdata_delay = 0.040, Seconds control_delay = 0.100,
-                                Seconds duration = 120.0, unsigned seed = 1);
+// The navdata and command delays are the plant's own (what a link measurement would give).
+ModelFitReport fit_motion_model(EstimationPlant& plant, const MotionModelConstants& before, Seconds duration = 120.0,
+                                unsigned seed = 1);
 
 }  // namespace labo

@@ -7,16 +7,21 @@
 #include <nlohmann/json.hpp>
 
 #include "core/config_reader.hpp"
+#include "core/source_tree.hpp"
+#include "drone/sim/sim_setup.hpp"
 #include "localization/estimation/eval/estimation_experiment.hpp"
+#include "localization/estimation/eval/lab_plant.hpp"
 #include "localization/estimation/eval/model_fit.hpp"
 #include "localization/estimation/eval/surrogate_plant.hpp"
-#include "core/source_tree.hpp"
+#include "localization/estimation/eval/truth_vision_pipeline.hpp"
+#include "localization/face/teacher_head.hpp"
 
 namespace labo {
 
 namespace {
 nlohmann::json impulse_json(const ImpulseResult& r) {
-  return {{"peak_displacement_m", r.peak_displacement_m},
+  return {{"push_mps", r.push_mps},
+          {"peak_displacement_m", r.peak_displacement_m},
           {"returned_within_0_1_m", r.returned},
           {"return_time_s", r.returned ? nlohmann::json(r.return_time_s) : nlohmann::json(nullptr)},
           {"final_estimate_error_m", r.final_estimate_error_m}};
@@ -28,7 +33,12 @@ nlohmann::json tracking_json(const TrackingErrors& e) {
 
 nlohmann::json run_json(const EstimationResults& r, unsigned seed) {
   return {{"seed", seed},
-          {"scale", {{"error_percent", r.scale_error_percent}, {"accuracy", r.scale_accuracy}, {"pairs", r.scale_pairs}}},
+          {"scale", {{"error_percent", r.scale_error_percent},
+                     {"estimated", r.scale_estimated},
+                     {"estimated_m_per_unit", r.scale_estimated_m_per_unit},
+                     {"true_m_per_unit", r.scale_true_m_per_unit},
+                     {"accuracy", r.scale_accuracy},
+                     {"pairs", r.scale_pairs}}},
           {"hover_slam", tracking_json(r.hover_slam)},
           {"servo_instrument", tracking_json(r.servo)},
           {"dead_reckoning", {{"drift_m_per_s", r.dead_reckoning_drift_m_per_s},
@@ -42,7 +52,8 @@ nlohmann::json run_json(const EstimationResults& r, unsigned seed) {
                                   {"control_rmse_without_m", r.control_rmse_uncompensated_m},
                                   {"gain_percent", 100.0 * (1.0 - r.control_rmse_compensated_m /
                                                                       std::max(1e-9, r.control_rmse_uncompensated_m))}}},
-          {"rejected_inputs", r.rejected_inputs}};
+          {"rejected_inputs", r.rejected_inputs},
+          {"rejections", r.rejections}};
 }
 
 nlohmann::json constants_json(const MotionModelConstants& m) {
@@ -90,35 +101,85 @@ const CommandSpec& sim_estimate_command_spec() {
       "State-estimation experiments in lockstep: hover/servo/dead-reckoning RMSE, scale, z impulse, delays.",
       {{"--seed", "S", "first seed (default 1)"},
        {"--runs", "N", "number of seeds S, S+1, ... (default 1)"},
+       {"--plant", "lab|surrogate",
+        "lab (default): the simulated lab behind SimDroneLink; surrogate: the stand-in quadrotor of eval/"},
+       {"--vision", "truth|real",
+        "truth (default): visual poses from the ground truth with noise; real (lab only): SLAM and the planar "
+        "tracker on the rendered frames"},
        {"--json", "", "print JSON (the default output; kept for scripts)"},
        {"--config", "FILE", "configuration file (default: config/default.json)"},
-       {"--fit-model", "", "also refit the motion-model constants on the plant and report the fit"}},
+       {"--fit-model", "", "refit the motion-model constants on the plant and report the fit (no experiments)"}},
       0,
       0};
   return spec;
 }
 
-int run_sim_estimate_command(const ParsedArgs& args) {
+namespace {
+PlantFactory plant_factory(const std::string& plant, const std::filesystem::path& config_path, bool teacher_face) {
+  if (plant == "surrogate") {
+    return [](const PlantRequest& request) -> std::unique_ptr<EstimationPlant> {
+      SurrogatePlantOptions options;
+      options.navdata_period = request.navdata_period;
+      return std::make_unique<SurrogatePlant>(request.seed, options);
+    };
+  }
+  SimInputs sim = load_sim_inputs(config_path);
+  auto inputs = std::make_shared<LabPlantInputs>();
+  inputs->lab = std::move(sim.lab);
+  inputs->cameras = sim.cameras;
+  inputs->sim = sim.sim;
+  if (teacher_face) inputs->head = face::load_lab_teacher_head(inputs->lab);
+  return [inputs](const PlantRequest& request) -> std::unique_ptr<EstimationPlant> {
+    return std::make_unique<LabPlant>(*inputs, request);
+  };
+}
+}  // namespace
+
+int run_sim_estimate_command(const ParsedArgs& args, const RealVisionMaker& real_vision) {
   const unsigned first_seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1'000'000));
   const int runs = args.integer_or("--runs", 1, 1, 1000);
+  const std::string plant = args.value_or("--plant", "lab");
+  if (plant != "lab" && plant != "surrogate") throw UsageError("--plant must be lab or surrogate (got '" + plant + "')");
+  const std::string vision = args.value_or("--vision", "truth");
+  if (vision != "truth" && vision != "real") throw UsageError("--vision must be truth or real (got '" + vision + "')");
+  if (vision == "real" && plant != "lab") throw UsageError("--vision real needs --plant lab (the surrogate renders no frames)");
+  if (vision == "real" && !real_vision) throw UsageError("--vision real is not available in this build");
   const std::filesystem::path config_path =
       args.value_or("--config", (labo::source_root() / "config" / "default.json").string());
+  if (!std::filesystem::exists(config_path)) throw UsageError("--config " + config_path.string() + ": no such file");
   const ConfigDocument doc = ConfigDocument::load(config_path);
   const ConfigReader root = doc.root();
   const EstimatorConfig config =
       root.has("estimation") ? read_estimation_config(root.object("estimation")) : EstimatorConfig{};
   const VisionThresholds thresholds = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
-  const PlantFactory surrogate = [](unsigned seed, Seconds navdata_period) -> std::unique_ptr<EstimationPlant> {
-    SurrogatePlantOptions options;
-    options.navdata_period = navdata_period;
-    return std::make_unique<SurrogatePlant>(seed, options);
-  };
+  const PlantFactory make_plant = plant_factory(plant, config_path, vision == "real");
+
+  nlohmann::json out;
+  out["command"] = "sim estimate";
+  out["plant"] = plant;
+  out["plant_note"] =
+      plant == "lab" ? "the simulated lab (drone/sim SimulatedLab: firmware dynamics, sensor model, teacher) behind "
+                       "SimDroneLink (the link's delays, jitter and rates; the driver's 30 ms AT loop)"
+                     : "SurrogatePlant: a stand-in quadrotor with its own physics and AR.Drone-like sensor flaws";
+  if (args.flag("--fit-model")) {
+    const auto fit_plant = make_plant(PlantRequest{first_seed + 5000, 1.0 / 200.0, false});
+    out["model_fit"] = model_fit_json(fit_motion_model(*fit_plant, config.model));
+    std::cout << out.dump(2) << "\n";
+    return 0;
+  }
+  const PipelineKind pipelines =
+      vision == "real" ? real_vision(config_path)
+                       : PipelineKind{"truth", false,
+                                      [thresholds](const EstimatorConfig& c, const EstimationPlant& p, unsigned seed)
+                                          -> std::unique_ptr<EstimationPipeline> {
+                                        return std::make_unique<TruthVisionPipeline>(c, thresholds, p, seed);
+                                      }};
 
   std::vector<EstimationResults> results;
   nlohmann::json per_run = nlohmann::json::array();
   for (int i = 0; i < runs; ++i) {
     const unsigned seed = first_seed + static_cast<unsigned>(i);
-    results.push_back(run_estimation_experiments(surrogate, seed, config, thresholds));
+    results.push_back(run_estimation_experiments(make_plant, pipelines, seed, config));
     per_run.push_back(run_json(results.back(), seed));
   }
   int scale_ok = 0, impulse_ok = 0, impulse_dr_ok = 0, paper_ok = 0;
@@ -129,12 +190,6 @@ int run_sim_estimate_command(const ParsedArgs& args) {
     paper_ok += (r.impulse_paper_rule.returned && r.impulse_paper_rule.return_time_s <= 5.0) ? 1 : 0;
   }
   const double n = static_cast<double>(results.size());
-  nlohmann::json out;
-  out["command"] = "sim estimate";
-  out["plant"] = results.front().plant;
-  out["plant_note"] =
-      "SurrogatePlant: a stand-in quadrotor with its own physics and AR.Drone-like sensor flaws, used because the "
-      "simulated lab's SimDroneLink was not available on this branch";
   out["vision_input"] = results.front().vision_input;
   out["runs"] = per_run;
   out["summary"] = {
@@ -142,6 +197,8 @@ int run_sim_estimate_command(const ParsedArgs& args) {
       {"scale_within_3_percent_fraction", scale_ok / n},
       {"scale_error_percent_mean", mean_of(results, member(&EstimationResults::scale_error_percent))},
       {"scale_error_percent_max", max_of(results, member(&EstimationResults::scale_error_percent))},
+      {"hover_slam_position_rmse_within_5_cm_fraction",
+       mean_of(results, [](const EstimationResults& r) { return r.hover_slam.position_rmse_m <= 0.05 ? 1.0 : 0.0; })},
       {"hover_slam_position_rmse_m_mean", mean_of(results, [](const EstimationResults& r) { return r.hover_slam.position_rmse_m; })},
       {"hover_slam_position_rmse_m_max", max_of(results, [](const EstimationResults& r) { return r.hover_slam.position_rmse_m; })},
       {"hover_slam_yaw_rmse_deg_mean", mean_of(results, [](const EstimationResults& r) { return r.hover_slam.yaw_rmse_deg; })},
@@ -149,8 +206,15 @@ int run_sim_estimate_command(const ParsedArgs& args) {
       {"servo_position_rmse_m_max", max_of(results, [](const EstimationResults& r) { return r.servo.position_rmse_m; })},
       {"servo_yaw_rmse_deg_mean", mean_of(results, [](const EstimationResults& r) { return r.servo.yaw_rmse_deg; })},
       {"dead_reckoning_drift_m_per_s_mean", mean_of(results, member(&EstimationResults::dead_reckoning_drift_m_per_s))},
+      {"dead_reckoning_drift_m_per_s_max", max_of(results, member(&EstimationResults::dead_reckoning_drift_m_per_s))},
       {"dead_reckoning_yaw_drift_deg_per_s_mean", mean_of(results, member(&EstimationResults::dead_reckoning_yaw_drift_deg_per_s))},
       {"z_impulse_servo_returned_within_5_s_fraction", impulse_ok / n},
+      {"z_impulse_peak_displacement_m_mean",
+       mean_of(results, [](const EstimationResults& r) { return r.impulse_servo.peak_displacement_m; })},
+      {"z_impulse_servo_return_time_s_max",
+       max_of(results, [](const EstimationResults& r) { return r.impulse_servo.return_time_s; })},
+      {"z_impulse_dead_reckoning_return_time_s_max",
+       max_of(results, [](const EstimationResults& r) { return r.impulse_dead_reckoning.return_time_s; })},
       {"z_impulse_dead_reckoning_returned_within_5_s_fraction", impulse_dr_ok / n},
       {"z_impulse_paper_gamma_rule_returned_within_5_s_fraction", paper_ok / n},
       {"controller_input_error_with_delay_compensation_m_mean",
@@ -162,10 +226,6 @@ int run_sim_estimate_command(const ParsedArgs& args) {
   out["targets"] = {{"scale_within_3_percent_fraction", ">= 0.95"},
                     {"hover_slam_position_rmse_m", "<= 0.05"},
                     {"z_impulse_returned_within_5_s_fraction", "1.0 (within 0.1 m of the set point)"}};
-  if (args.flag("--fit-model")) {
-    const ModelFitReport fit = fit_motion_model(*surrogate(first_seed + 5000, 1.0 / 200.0), config.model);
-    out["model_fit"] = model_fit_json(fit);
-  }
   std::cout << out.dump(2) << "\n";
   return 0;
 }

@@ -105,6 +105,16 @@ void SurrogatePlant::step(Seconds dt, std::vector<NavdataSample>& arrived) {
   }
 }
 
+PlantInstrument SurrogatePlant::instrument() const {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  // Object frame: x to the panel's right (-y world), y down (-z world), z into the panel (+x world).
+  T.linear().col(0) = -Eigen::Vector3d::UnitY();
+  T.linear().col(1) = -Eigen::Vector3d::UnitZ();
+  T.linear().col(2) = Eigen::Vector3d::UnitX();
+  T.translation() = Eigen::Vector3d(3.0, 0.0, 1.2);
+  return {"surrogate_panel", T};
+}
+
 GroundTruth SurrogatePlant::truth() const {
   GroundTruth g;
   g.t = t_;

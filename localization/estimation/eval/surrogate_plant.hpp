@@ -1,10 +1,11 @@
 #pragma once
-// SurrogatePlant: a stand-in AR.Drone for the estimation experiments while the simulated lab is not
-// available. Its physics deliberately differ from the estimator's model (second-order attitude loops,
+// SurrogatePlant: a stand-in AR.Drone for the estimation experiments, written before the simulated lab
+// existed and kept for comparison (`sim estimate --plant surrogate`). Its physics deliberately differ from the estimator's model (second-order attitude loops,
 // quadratic drag, wind gusts, a vertical-speed loop with lag) and its sensors have the AR.Drone's
 // flaws (noise, a bottom-camera velocity scale error, yaw drift, an ultrasound that sees benches), so
 // the filter and the model fit are not tested against their own equations. Link delays: navdata 40 ms,
-// commands 100 ms (configurable). Seeded and deterministic.
+// commands 100 ms, video 75 ms (configurable). It renders no frames (truth-derived vision only).
+// Seeded and deterministic.
 #include <deque>
 #include <random>
 
@@ -16,6 +17,7 @@ struct SurrogatePlantOptions {
   Seconds navdata_period = 1.0 / 200.0;
   Seconds navdata_delay = 0.040;
   Seconds command_delay = 0.100;
+  Seconds video_delay = 0.075;
   double velocity_scale_error = 0.03;  // bottom camera reads 3 % high
   double gust_accel_mps2 = 0.05;       // draughts and the drone's own turbulence (Ornstein-Uhlenbeck)
   Eigen::Vector3d start = Eigen::Vector3d(0, 0, 1.0);
@@ -30,8 +32,16 @@ class SurrogatePlant final : public EstimationPlant {
   void move(const MoveCommand& command) override;
   void step(Seconds dt, std::vector<NavdataSample>& arrived) override;
   GroundTruth truth() const override;
+  const std::vector<VideoFrame>& frames_of_last_step() const override { return no_frames_; }
   void push(const Eigen::Vector3d& delta_v_world) override { v_ += delta_v_world; }
+  // Its vertical loop (4 /s behind a 12 /s lag) under the experiments' z loop: 2.6 m/s lifts 0.5 m.
+  double vertical_push_for(double metres) const override { return 5.2 * metres; }
   SurfaceMap surfaces() const override { return surfaces_; }
+  // A panel at (3, 0, 1.2) facing the base, over a bench.
+  PlantInstrument instrument() const override;
+  Seconds command_latency() const override { return options_.command_delay; }
+  Seconds video_delay() const override { return options_.video_delay; }
+  Seconds navdata_delay() const override { return options_.navdata_delay; }
 
  private:
   void integrate(double dt);
@@ -50,6 +60,7 @@ class SurrogatePlant final : public EstimationPlant {
   std::deque<std::pair<Seconds, MoveCommand>> commands_in_flight_;
   std::deque<NavdataSample> navdata_in_flight_;
   SurfaceMap surfaces_;
+  std::vector<VideoFrame> no_frames_;
 };
 
 }  // namespace labo

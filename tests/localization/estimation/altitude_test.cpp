@@ -116,3 +116,30 @@ TEST_CASE("estimation: altitude tracker pulls the floor to the surveyed surface"
   CHECK(tracker.floor_z() == Approx(0.0).margin(0.01));
   CHECK(d.z_observed == Approx(1.0).margin(0.01));
 }
+
+TEST_CASE("estimation: a short sonar echo over a surveyed floor is dropped, a lasting lower range is motion") {
+  SurfaceMap map(0.0);
+  map.add({Eigen::Vector2d(3, 3), Eigen::Vector2d(4, 4), 0.8});  // a bench far away: the map is not empty
+  AltitudeTracker tracker;
+  const Eigen::Vector2d xy(0, 0);
+  Seconds t = 0;
+  const auto ping = [&](double range) {
+    t += 0.04;
+    const AltitudeDecision d = tracker.process(range, t, 1.0, 0.0, xy, 0.05, &map);
+    tracker.set_reference_z(1.0);
+    return d;
+  };
+  for (int i = 0; i < 5; ++i) CHECK(ping(1.0).kind == AltitudeDecision::Kind::Fused);
+  // One ping hears something 0.6 m nearer, the next the floor again.
+  CHECK(ping(0.4).kind == AltitudeDecision::Kind::ShortEcho);
+  const AltitudeDecision back = ping(1.0);
+  CHECK(back.kind == AltitudeDecision::Kind::Fused);
+  CHECK(back.range_increment == Approx(0.0).margin(1e-9));  // measured from the last good range
+  CHECK(tracker.floor_steps() == 0);
+  // A lower range that lasts (a descent the vertical speed did not show) is accepted after 0.25 s.
+  AltitudeDecision d;
+  for (int i = 0; i < 10 && d.kind != AltitudeDecision::Kind::FusedAsMotion; ++i) d = ping(0.7);
+  CHECK(d.kind == AltitudeDecision::Kind::FusedAsMotion);
+  CHECK(d.z_observed == Approx(0.7).margin(1e-9));
+  CHECK(tracker.floor_steps() == 0);
+}

@@ -213,3 +213,19 @@ TEST_CASE("estimation: delay compensation predicts the pose at the time a comman
   CHECK(with < 0.5 * without);
   CHECK(with < 0.05);
 }
+
+TEST_CASE("estimation: navdata packets received in one burst are all taken, a repeated packet is not") {
+  StateEstimator est(no_delays());
+  est.reset(make_pose({0, 0, 1}, 0), 0.0);
+  SyntheticFlight truth(2);
+  NavdataSample a = truth.navdata();
+  a.t = 0.01;
+  a.sequence = 7;
+  NavdataSample b = a;
+  b.sequence = 8;  // the next packet, arrived with the same receive time (the link clamps jitter so)
+  CHECK(est.add_navdata(a));
+  CHECK(est.add_navdata(b));
+  CHECK_FALSE(est.add_navdata(b));  // the same packet again
+  CHECK(est.statistics().count("rejected_out_of_order") == 1);
+  CHECK(est.statistics().count("navdata") == 2);
+}

@@ -2,9 +2,11 @@
 #include <filesystem>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/candide3.hpp"
 #include "localization/face/face_pose_estimator.hpp"
+#include "localization/face/landmark_detector.hpp"
 #include "localization/face/person_registration.hpp"
 #include "localization/face/textured_head_renderer.hpp"
 #include "core/source_tree.hpp"
@@ -146,4 +148,31 @@ TEST_CASE("face: registration fits a frontal picture and refuses none or several
                     Catch::Contains("2 faces"));
   CHECK_THROWS_WITH(register_person(f.estimator, f.render({pose(35, 0, 0, {0, -0.02, 0.8})}), "teacher", 0.063),
                     Catch::Contains("turned"));
+}
+
+TEST_CASE("face: the landmarks of a rolled face are found in an upright crop and turned back") {
+  RenderedHeadFixture f;
+  const cv::Mat upright = f.render({pose(0, 0, 0, {0, -0.02, 0.7})});
+  const auto faces = f.estimator.find_faces(upright);
+  REQUIRE(faces.size() == 1);
+  const cv::Rect2d box = faces.front().box;
+  LandmarkDetector landmarks(f.config.shape_predictor);
+  Eigen::Matrix2Xd reference;
+  landmarks.detect(upright, box, reference);
+  // The whole picture turned 25° clockwise about the box centre (the eye line's angle becomes +25°).
+  const double angle = 25 * kDeg;
+  const cv::Point2f c(static_cast<float>(box.x + box.width / 2 - 0.5), static_cast<float>(box.y + box.height / 2 - 0.5));
+  const cv::Mat M = cv::getRotationMatrix2D(c, -25.0, 1.0);
+  cv::Mat rolled;
+  cv::warpAffine(upright, rolled, M, upright.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  Eigen::Matrix2Xd turned;
+  landmarks.detect(rolled, box, turned, angle);
+  double sum = 0;
+  for (Eigen::Index i = 0; i < 68; ++i) {
+    const cv::Vec3d p(reference(0, i), reference(1, i), 1.0);
+    const cv::Matx23d m(M);
+    const cv::Vec2d expected = m * p;
+    sum += std::hypot(turned(0, i) - expected[0], turned(1, i) - expected[1]);
+  }
+  CHECK(sum / 68 < 1.5);  // pixels; a wrong turn direction or centre moves them by tens of pixels
 }
