@@ -36,6 +36,7 @@ class ModelPipelines final : public LocalizationPipelines {
   void on_video(const VideoFrame&) override {}
   void set_focus(const PerceptionFocus& f) override { focus_ = f; }
   void reset(const Eigen::Isometry3d&, Seconds) override {}
+  void start_at_first_navdata(const Eigen::Isometry3d&) override {}
 
   PoseEstimate predict(Seconds t) const override {
     PoseEstimate e;
