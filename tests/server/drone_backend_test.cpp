@@ -50,7 +50,7 @@ TEST_CASE("server: on the simulated lab the estimate follows the lab's truth thr
     }
     return false;
   };
-  REQUIRE(wait_for([](const FlightTelemetry& t) { return t.ground_truth && t.link_state == "connected"; }, 20));
+  REQUIRE(wait_for([](const FlightTelemetry& t) { return t.ground_truth && t.link_state == "connected" && t.battery_percent > 0; }, 20));
   const FlightTelemetry landed = flight.telemetry();
   // Landed on the charging platform at the base (the lab's origin, its top 0.10 m above the floor).
   CHECK(std::hypot(landed.ground_truth->x_m, landed.ground_truth->y_m) < 0.05);
@@ -58,7 +58,9 @@ TEST_CASE("server: on the simulated lab the estimate follows the lab's truth thr
 
   MissionCommand takeoff;
   takeoff.kind = MissionCommandKind::Takeoff;
-  REQUIRE(flight.request(takeoff).accepted);
+  const CommandVerdict verdict = flight.request(takeoff);
+  INFO(verdict.reason);
+  REQUIRE(verdict.accepted);
   // The firmware climbs to about 1 m above the platform; wait until the truth is there and settled.
   REQUIRE(wait_for([](const FlightTelemetry& t) { return t.ground_truth && t.ground_truth->z_m > 1.0; }, 20));
   std::this_thread::sleep_for(std::chrono::seconds(2));
