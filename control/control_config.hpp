@@ -56,7 +56,7 @@ struct MissionParameters {
   // The teacher moves: fed to the filter as a landmark, the face's motion is taken for the drone's.
   // Off: SLAM drives the pose and the face is the target; the face drives it only when SLAM is lost.
   bool face_as_feedback = false;
-  double face_search_timeout_s = 60.0;
+  double face_search_timeout_s = 120.0;  // a watch at the teacher's route lasts one round of it (~35 s)
   double far_to_near_m = 1.6;          // localization switch: homography below this distance ...
   double near_to_far_m = 2.0;          // ... SLAM again above this one (hysteresis)
   double source_hold_s = 0.5;          // a source must stay good this long before it is used

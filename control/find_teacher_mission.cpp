@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "control/face_standoff.hpp"
 #include "core/frames.hpp"
 
 namespace labo {
@@ -14,24 +15,47 @@ constexpr double kLostHoldS = 3.0;         // face lost: hold this long, then se
 constexpr double kFollowSmoothing = 0.5;    // low-pass on the face's place (per face result)
 constexpr double kVelocitySmoothing = 0.2;  // low-pass on the teacher's velocity
 constexpr double kCoastS = 0.5;             // face lost: keep following its predicted motion this long
+// Watch points: the teacher stops this far beyond face_distance_m from the camera at a leg's end, so
+// the frontal face is inside the detector's ~2.5 m range for the last metre of the leg.
+constexpr double kWatchBeyondFollowM = 0.5;
+// Hull (0.26 m) + the teacher's body (0.25 m) + margin: nothing is planned closer to the route.
+constexpr double kRouteClearanceM = 0.8;
+constexpr double kTransitAboveEyesM = 0.6;  // crossing the route: this far above the teacher's eyes
+constexpr double kWatchMarginS = 5.0;       // a watch lasts one round of the route plus this
+constexpr double kCornerRadiusM = 0.6;      // a face lost this near a waypoint: the teacher is turning there
+constexpr double kMaxOrbitStepRad = std::numbers::pi / 3;  // the standoff's bearing leads the drone's by at most this
+
+double bearing(const Eigen::Vector3d& from, const Eigen::Vector3d& to) { return std::atan2(to.y() - from.y(), to.x() - from.x()); }
+
+// Does the straight flight from a to b pass within `clearance` of the teacher's route (floor plane)?
+bool crosses_route(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const TeacherRoute& route, double clearance) {
+  const int samples = 1 + static_cast<int>((b - a).head<2>().norm() / 0.05);
+  for (int k = 0; k <= samples; ++k)
+    if (distance_to_route((a + (b - a) * (static_cast<double>(k) / samples)).head<2>(), route) < clearance) return true;
+  return false;
+}
 }  // namespace
 
 int FindTeacherMission::stage_index() const {
   switch (step_) {
-    case Step::TakeOff:
-    case Step::Climb: return 1;
+    case Step::Init: return 1;
     case Step::Sweep:
-    case Step::Reposition: return 2;
+    case Step::Reposition:
+    case Step::Watch: return 2;
     default: return 3;
   }
 }
 
 std::string FindTeacherMission::describe(Seconds t) const {
   switch (step_) {
-    case Step::TakeOff: return "1 take-off";
-    case Step::Climb: return "1 climbing to face height";
+    case Step::Init: return "1 " + init_.describe();
     case Step::Sweep: return "2 search: yaw sweep at viewpoint " + std::to_string(viewpoint_ + 1);
-    case Step::Reposition: return "2 search: moving to viewpoint " + std::to_string(viewpoint_ + 1);
+    case Step::Reposition:
+      return meeting_ ? "2 search: moving ahead of the teacher on the route" : "2 search: moving to viewpoint " + std::to_string(viewpoint_ + 1);
+    case Step::Watch:
+      return (meeting_ ? "2 search: waiting ahead of the teacher on the route (" : "2 search: watching the teacher's route at viewpoint " +
+                                                                                  std::to_string(viewpoint_ + 1) + " (") +
+             format_seconds(t - since_) + " s)";
     case Step::Follow: return "3 face-follow";
     case Step::Lost: return "3 face-follow: face lost, holding (" + format_seconds(t - since_) + " s)";
     case Step::Done: return "done: " + result_;
@@ -55,6 +79,53 @@ std::vector<Eigen::Vector3d> FindTeacherMission::viewpoints(const MissionContext
           {c.x() + q.x(), c.y() - q.y(), kFaceHeightM}};
 }
 
+void FindTeacherMission::plan_transit(const MissionContext& ctx, const WatchPoint& to) {
+  const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
+  const double yaw = ypr_from_rotation(ctx.pose.T_world_body.linear())[0];
+  transit_.clear();
+  transit_leg_ = 0;
+  if (crosses_route(here, to.position, ctx.lab.teacher, kRouteClearanceM)) {
+    // Over the teacher's head, not through them.
+    const double high = std::min(ctx.lab.teacher.eye_height_m + kTransitAboveEyesM, ctx.autopilot.fence().max().z());
+    transit_.push_back({{here.x(), here.y(), high}, yaw});
+    transit_.push_back({{to.position.x(), to.position.y(), high}, to.yaw});
+  }
+  transit_.push_back({to.position, to.yaw});
+}
+
+bool FindTeacherMission::meet_teacher_ahead(MissionContext& ctx) {
+  if (watch_points_.empty()) return false;
+  const std::optional<WatchPoint> meet =
+      next_leg_meeting_point(ctx.lab.teacher, face_position_.head<2>(), ctx.autopilot.fence(),
+                             ctx.config.mission.face_distance_m + kWatchBeyondFollowM, kCornerRadiusM);
+  if (!meet) return false;
+  search_started_ = ctx.t;
+  meeting_ = true;
+  watch_ = *meet;
+  plan_transit(ctx, watch_);
+  enter(Step::Reposition, ctx.t);
+  return true;
+}
+
+void FindTeacherMission::start_search(MissionContext& ctx) {
+  search_started_ = ctx.t;
+  meeting_ = false;
+  watch_points_ = teacher_watch_points(ctx.lab.teacher, ctx.autopilot.fence(),
+                                       ctx.config.mission.face_distance_m + kWatchBeyondFollowM, kRouteClearanceM);
+  if (watch_points_.empty()) {
+    enter(Step::Sweep, ctx.t);
+    return;
+  }
+  // The nearest watch point first.
+  const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
+  viewpoint_ = 0;
+  for (std::size_t i = 1; i < watch_points_.size(); ++i)
+    if ((watch_points_[i].position - here).norm() < (watch_points_[viewpoint_].position - here).norm()) viewpoint_ = i;
+  watch_ = watch_points_[viewpoint_];
+  plan_transit(ctx, watch_);
+  enter(Step::Reposition, ctx.t);
+}
+
 void FindTeacherMission::follow(MissionContext& ctx) {
   const TargetObservation f = ctx.perception.face();
   if (f.t == last_face_t_ && !fresh_) return;  // no new face result: keep the moving set point
@@ -73,12 +144,13 @@ void FindTeacherMission::follow(MissionContext& ctx) {
   }
   last_face_t_ = f.t;
   T_world_face.translation() = face_position_;
-  PoseTarget next = standoff_target(T_world_face, ctx.config.mission.face_distance_m, ctx.centre_ray_front);
+  const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
+  PoseTarget next = follow_standoff(standoff_target(T_world_face, ctx.config.mission.face_distance_m, ctx.centre_ray_front),
+                                    face_position_, here, ctx.autopilot.fence(), kMaxOrbitStepRad);
   next.velocity = face_velocity_;
   // Point the camera at the face from where the drone is: the same as the line of sight once in
   // place, and it keeps a walking teacher in view while the drone catches up.
-  const Eigen::Vector3d to_face = face_position_ - ctx.pose.T_world_body.translation();
-  next.yaw = std::atan2(to_face.y(), to_face.x());
+  next.yaw = bearing(here, face_position_);
   ctx.autopilot.go_to(next, ctx.t, fresh_);
   fresh_ = false;
 }
@@ -97,17 +169,9 @@ MissionOutcome FindTeacherMission::step(MissionContext& ctx) {
     enter(Step::Done, ctx.t);
   }
   switch (step_) {
-    case Step::TakeOff:
-      if (ctx.autopilot.phase() == FlightPhase::Landed) ctx.phase_action = ctx.autopilot.takeoff(ctx.t);
-      if (ctx.autopilot.flying()) enter(Step::Climb, ctx.t);
-      break;
-    case Step::Climb:
-      if (fresh_) ctx.autopilot.go_to({{here.x(), here.y(), kFaceHeightM}, yaw}, ctx.t);
-      fresh_ = false;
-      if (ctx.autopilot.reached() || ctx.t - since_ > 8.0) {
-        search_started_ = ctx.t;
-        enter(Step::Sweep, ctx.t);
-      }
+    case Step::Init:
+      // Climb to about a standing teacher's face height; SLAM gets its scale before the search.
+      if (init_.step(ctx, ctx.lab.teacher.waypoints.empty() ? kFaceHeightM : ctx.lab.teacher.eye_height_m)) start_search(ctx);
       break;
     case Step::Sweep: {
       if (fresh_) sweep_start_yaw_ = ctx.autopilot.target() ? ctx.autopilot.target()->yaw : yaw;
@@ -123,10 +187,35 @@ MissionOutcome FindTeacherMission::step(MissionContext& ctx) {
       break;
     }
     case Step::Reposition:
-      if (fresh_) ctx.autopilot.go_to({viewpoints(ctx)[viewpoint_], yaw}, ctx.t);
+      if (watch_points_.empty()) {
+        if (fresh_) ctx.autopilot.go_to({viewpoints(ctx)[viewpoint_], yaw}, ctx.t);
+        fresh_ = false;
+        if (face_seen(ctx)) enter(Step::Follow, ctx.t);
+        else if (ctx.autopilot.reached() || ctx.t - since_ > 15.0) enter(Step::Sweep, ctx.t);
+        break;
+      }
+      if (fresh_) ctx.autopilot.go_to(transit_[transit_leg_], ctx.t);
       fresh_ = false;
-      if (face_seen(ctx)) enter(Step::Follow, ctx.t);
-      else if (ctx.autopilot.reached() || ctx.t - since_ > 15.0) enter(Step::Sweep, ctx.t);
+      if (face_seen(ctx)) {
+        enter(Step::Follow, ctx.t);
+      } else if (ctx.autopilot.reached() || ctx.t - since_ > 15.0) {
+        if (++transit_leg_ < transit_.size()) enter(Step::Reposition, ctx.t);
+        else enter(Step::Watch, ctx.t);
+      }
+      break;
+    case Step::Watch:
+      // Hold at the watch point, facing the oncoming teacher, for one round of the route.
+      if (fresh_) ctx.autopilot.go_to({watch_.position, watch_.yaw}, ctx.t, false);
+      fresh_ = false;
+      if (face_seen(ctx)) {
+        enter(Step::Follow, ctx.t);
+      } else if (ctx.t - since_ > ctx.lab.teacher.cycle_s() + kWatchMarginS) {
+        viewpoint_ = (viewpoint_ + 1) % watch_points_.size();
+        meeting_ = false;
+        watch_ = watch_points_[viewpoint_];
+        plan_transit(ctx, watch_);
+        enter(Step::Reposition, ctx.t);
+      }
       break;
     case Step::Follow:
       if (face_seen(ctx)) follow(ctx);
@@ -148,16 +237,15 @@ MissionOutcome FindTeacherMission::step(MissionContext& ctx) {
       }
       fresh_ = false;
       if (face_seen(ctx)) enter(Step::Follow, ctx.t);
-      else if (ctx.t - since_ > kLostHoldS) {
-        search_started_ = ctx.t;
-        enter(Step::Sweep, ctx.t);
-      }
+      else if (ctx.t - since_ > kCoastS && meet_teacher_ahead(ctx)) break;
+      else if (ctx.t - since_ > kLostHoldS) start_search(ctx);
       break;
     case Step::Done:
       ctx.focus.face = false;
       break;
   }
-  if ((step_ == Step::Sweep || step_ == Step::Reposition) && ctx.t - search_started_ > m.face_search_timeout_s) {
+  const bool searching = step_ == Step::Sweep || step_ == Step::Reposition || step_ == Step::Watch;
+  if (searching && ctx.t - search_started_ > m.face_search_timeout_s) {
     result_ = "no face found in " + format_seconds(m.face_search_timeout_s) + " s";
     ctx.autopilot.hold_here(ctx.pose, ctx.t);
     stage_text_ = "failed: " + result_;

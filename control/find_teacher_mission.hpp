@@ -1,15 +1,23 @@
 #pragma once
 // Find the teacher and follow the face (the paper's §6.4):
-//  1 take off and climb to face height;
-//  2 search: a full yaw sweep, then the next viewpoint (room centre, then the room's quarters), until a
-//    face is tracked;
+//  1 take off, climb to face height, the scale manoeuvre (SLAM's map gets its metric scale, as in
+//    inspect's stage 1, so SLAM can drive the pose while the face is only the target);
+//  2 search: when the lab knows the teacher's route, wait at the watch points along it
+//    (teacher_watch_points.hpp: beyond each leg's end, facing the oncoming teacher) for one round of
+//    the route each; otherwise a full yaw sweep, then the next viewpoint (room centre, then the room's
+//    quarters); until a face is tracked;
 //  3 follow: hold face_distance_m in front of the face, the face centred, the line of sight aligned with
-//    the face's, following the teacher's motion with face feedback; a lost face -> hold, then search.
+//    the face's, following the teacher's motion; the standoff is kept inside the geofence and reached
+//    around the teacher, never through them; a lost face -> hold, then search; with a known route, a
+//    face lost at a corner of it (the teacher turning away) -> meet the teacher ahead on the next long
+//    leg, facing them (next_leg_meeting_point()).
 // Ends on stop_face_follow (the drone hovers where it is) or when the search times out.
 #include <vector>
 
 #include "control/home_landing.hpp"
 #include "control/mission.hpp"
+#include "control/take_off_and_scale.hpp"
+#include "control/teacher_watch_points.hpp"
 
 namespace labo {
 
@@ -26,29 +34,38 @@ class FindTeacherMission final : public Mission {
   void stop_face_follow() override { stop_requested_ = true; }
 
  private:
-  enum class Step { TakeOff, Climb, Sweep, Reposition, Follow, Lost, Done };
+  enum class Step { Init, Sweep, Reposition, Watch, Follow, Lost, Done };
   void enter(Step step, Seconds t) {
     step_ = step;
     since_ = t;
     fresh_ = true;
   }
   std::vector<Eigen::Vector3d> viewpoints(const MissionContext& ctx) const;
+  void start_search(MissionContext& ctx);
+  void plan_transit(const MissionContext& ctx, const WatchPoint& to);
+  bool meet_teacher_ahead(MissionContext& ctx);
   bool face_seen(const MissionContext& ctx) const;
   void follow(MissionContext& ctx);
   std::string describe(Seconds t) const;
 
-  Step step_ = Step::TakeOff;
+  Step step_ = Step::Init;
   Seconds since_ = 0;
   Seconds search_started_ = -1;
   bool fresh_ = true;
   bool stop_requested_ = false;
   double sweep_start_yaw_ = 0;
   std::size_t viewpoint_ = 0;
+  TakeOffAndScale init_;
+  std::vector<WatchPoint> watch_points_;    // empty: the lab has no teacher route; sweep instead
+  WatchPoint watch_;                        // the watch point flown to / watched from
+  bool meeting_ = false;                    // watch_ is ahead of the teacher on the next leg
+  std::vector<PoseTarget> transit_;         // legs to it
+  std::size_t transit_leg_ = 0;
   Seconds last_tick_ = 0;
   Seconds last_face_t_ = -1;
   Eigen::Vector3d face_position_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d face_velocity_ = Eigen::Vector3d::Zero();
-  std::string stage_text_ = "1 take-off";
+  std::string stage_text_ = "1 taking off";
 };
 
 // Return home and land from wherever the drone is: stages of HomeLanding (4 return, 5 platform,

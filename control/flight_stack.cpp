@@ -22,7 +22,9 @@ struct FlightStack::Impl {
         source_switch(setup.control.mission),
         safety(setup.control.safety) {
     if (!pipelines) throw std::invalid_argument("FlightStack: no localization pipelines");
-    pipelines->reset(make_pose(setup.lab.base, setup.lab.base_yaw_rad), 0.0);
+    // On the platform at the base; the time is the first navdata's (a server's clock has run for
+    // seconds before the link connects, a lockstep flight's starts at 0).
+    pipelines->start_at_first_navdata(make_pose(setup.lab.base, setup.lab.base_yaw_rad));
   }
 
   FlightStackSetup setup;

@@ -6,6 +6,7 @@
 //    the requested time; if the instrument is lost, hold position and re-detect (never push blindly);
 //  4-6 return, platform, land (HomeLanding).
 #include "control/home_landing.hpp"
+#include "control/take_off_and_scale.hpp"
 
 namespace labo {
 
@@ -23,13 +24,12 @@ class InspectMission final : public Mission {
   double held_s() const { return held_s_; }
 
  private:
-  enum class Step { TakeOff, Climb, SlamInit, ScaleUp, ScaleDown, Detect, Approach, Hold, Redetect, Leave, Home };
+  enum class Step { Init, Detect, Approach, Hold, Redetect, Leave, Home };
   void enter(Step step, Seconds t) {
     step_ = step;
     since_ = t;
     fresh_ = true;
   }
-  void step_init(MissionContext& ctx);
   void step_detect(MissionContext& ctx);
   void step_inspect(MissionContext& ctx);
   bool instrument_seen(const MissionContext& ctx) const;
@@ -38,10 +38,10 @@ class InspectMission final : public Mission {
   PlanarTarget instrument_;
   double hold_s_;
   double standoff_m_;
-  Step step_ = Step::TakeOff;
+  Step step_ = Step::Init;
   Seconds since_ = 0;
   bool fresh_ = true;
-  double scale_start_z_ = 0;
+  TakeOffAndScale init_;
   int placements_ = 0;
   Eigen::Isometry3d T_world_instrument_ = Eigen::Isometry3d::Identity();
   double held_s_ = 0;

@@ -31,6 +31,16 @@ struct PlanarTarget {
   std::optional<int> sift_min_inliers;
 };
 
+// The teacher's usual walk (the lab file's "teacher" path): where find-teacher looks for the face.
+struct TeacherRoute {
+  std::vector<Eigen::Vector2d> waypoints;  // floor positions walked in order, then looped; empty: unknown
+  double speed_mps = 0.4;
+  double pause_s = 0;                      // standing still at each waypoint
+  double eye_height_m = 1.6;
+  // One round of the path (walks and pauses): how long a watch must last to see every leg walked.
+  double cycle_s() const;
+};
+
 struct LabGeometry {
   Eigen::Vector3d room_min = Eigen::Vector3d(-3, -3, 0);
   Eigen::Vector3d room_max = Eigen::Vector3d(3, 3, 2.5);
@@ -41,6 +51,7 @@ struct LabGeometry {
   // The tops the ultrasound sees (benches, the platform, instrument housings) over the floor, for the
   // altitude tracker to tell a floor step from a climb; empty: floor only, steps told by gamma alone.
   SurfaceMap surfaces;
+  TeacherRoute teacher;
 
   const PlanarTarget* find_instrument(const std::string& id) const;
 };

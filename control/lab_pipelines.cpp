@@ -52,6 +52,10 @@ int LabPipelines::instrument_index(const std::string& id) const {
 
 void LabPipelines::reset(const Eigen::Isometry3d& T_world_body, Seconds t) { estimator_.reset(T_world_body, t); }
 
+void LabPipelines::start_at_first_navdata(const Eigen::Isometry3d& T_world_body) {
+  estimator_.start_at_first_navdata(T_world_body);
+}
+
 void LabPipelines::on_navdata(const NavdataSample& sample) { estimator_.add_navdata(sample); }
 
 void LabPipelines::on_command(const MoveCommand& command, Seconds t) { estimator_.add_command(command, t); }

@@ -43,6 +43,7 @@ class LabPipelines final : public LocalizationPipelines {
   void on_video(const VideoFrame& frame) override;
   void set_focus(const PerceptionFocus& focus) override { focus_ = focus; }
   void reset(const Eigen::Isometry3d& T_world_body, Seconds t) override;
+  void start_at_first_navdata(const Eigen::Isometry3d& T_world_body) override;
 
   PoseEstimate predict(Seconds t) const override;
   TargetObservation instrument() const override { return instrument_; }

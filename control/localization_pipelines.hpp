@@ -80,6 +80,9 @@ class LocalizationPipelines {
   virtual void set_focus(const PerceptionFocus& focus) = 0;
   // Re-anchors the filter (on the platform before take-off): world pose known.
   virtual void reset(const Eigen::Isometry3d& T_world_body, Seconds t) = 0;
+  // The same at the first navdata sample's time: what a flight that has not heard from the drone
+  // yet knows (StateEstimator::start_at_first_navdata).
+  virtual void start_at_first_navdata(const Eigen::Isometry3d& T_world_body) = 0;
 
   virtual PoseEstimate predict(Seconds t) const = 0;
   virtual TargetObservation instrument() const = 0;

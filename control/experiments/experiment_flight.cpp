@@ -17,7 +17,9 @@ FlightSample sample_of(const FlightStatus& s, const Eigen::Isometry3d& truth, Se
   sample.desired = s.desired;
   sample.source = s.source;
   sample.slam = s.slam.state;
-  sample.target = s.stage_index == 5 ? s.platform.state : s.mission == "find_teacher" ? s.face.state : s.instrument.state;
+  const TargetObservation& target = s.stage_index == 5 ? s.platform : s.mission == "find_teacher" ? s.face : s.instrument;
+  sample.target = target.state;
+  if (target.state == TrackState::Lost) sample.target_reason = target.reason;
   sample.stage_index = s.stage_index;
   sample.stage = s.stage;
   return sample;

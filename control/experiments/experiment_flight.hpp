@@ -22,6 +22,7 @@ struct FlightSample {
   FeedbackSource source = FeedbackSource::DeadReckoning;
   SlamState slam = SlamState::Off;
   TrackState target = TrackState::Off;  // the platform in stage 5, else the instrument (or the face)
+  std::string target_reason;            // why the target is lost, as its front-end says
   int stage_index = 0;
   std::string stage;
 };
@@ -40,6 +41,9 @@ class ExperimentFlight {
   // The teacher starts walking (the model's scripted walk; the simulated lab's teacher keeps to the
   // lab file's path on their own).
   virtual void start_teacher_walk() = 0;
+  // An external push (the paper's impulses, `sim perturb`): a velocity change (world, m/s) and a yaw
+  // kick that turns the drone by about dyaw_rad, at once.
+  virtual void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) = 0;
   virtual bool crashed() const = 0;
   virtual const LabGeometry& lab() const = 0;
   virtual const std::vector<FlightSample>& samples() const = 0;

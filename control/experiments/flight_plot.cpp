@@ -28,7 +28,7 @@ double value(const Eigen::Vector4d& v, int axis) {
 void write_flight_csv(const std::filesystem::path& file, const std::vector<FlightSample>& samples) {
   std::ofstream out = open_for_writing(file);
   out << "t_s,est_x_m,est_y_m,est_z_m,est_yaw_rad,true_x_m,true_y_m,true_z_m,true_yaw_rad,"
-         "des_x_m,des_y_m,des_z_m,des_yaw_rad,source,slam,target,stage_index,stage\n";
+         "des_x_m,des_y_m,des_z_m,des_yaw_rad,source,slam,target,target_lost_reason,stage_index,stage\n";
   for (const auto& s : samples) {
     out << s.t;
     for (int i = 0; i < 4; ++i) out << ',' << s.estimated[i];
@@ -37,10 +37,11 @@ void write_flight_csv(const std::filesystem::path& file, const std::vector<Fligh
       out << ',';
       if (s.desired) out << (*s.desired)[i];
     }
-    std::string stage = s.stage;
+    std::string stage = s.stage, reason = s.target_reason;
     std::replace(stage.begin(), stage.end(), ',', ';');
-    out << ',' << to_string(s.source) << ',' << to_string(s.slam) << ',' << to_string(s.target) << ',' << s.stage_index
-        << ",\"" << stage << "\"\n";
+    std::replace(reason.begin(), reason.end(), ',', ';');
+    out << ',' << to_string(s.source) << ',' << to_string(s.slam) << ',' << to_string(s.target) << ",\"" << reason << "\","
+        << s.stage_index << ",\"" << stage << "\"\n";
   }
 }
 

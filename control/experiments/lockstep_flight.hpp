@@ -32,6 +32,7 @@ class LockstepFlight final : public ExperimentFlight {
   std::optional<Eigen::Isometry3d> true_face() const override { return T_world_face_; }
   // Back and forth along y between -1 and 1 m at 0.5 m/s, turning with a human 0.5 m/s^2.
   void start_teacher_walk() override { walking_ = true; }
+  void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) override { drone_.push(dv_world_mps, dyaw_rad); }
   bool crashed() const override { return drone_.crashed; }
   const LabGeometry& lab() const override { return lab_; }
   const std::vector<FlightSample>& samples() const override { return samples_; }

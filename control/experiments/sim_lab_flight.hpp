@@ -32,6 +32,7 @@ class SimLabFlight final : public ExperimentFlight {
   Eigen::Isometry3d true_pose() const override { return lab_->truth().T_world_body(); }
   std::optional<Eigen::Isometry3d> true_face() const override;
   void start_teacher_walk() override {}  // the lab's teacher walks the lab file's path all along
+  void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) override { lab_->dynamics().push(dv_world_mps, dyaw_rad); }
   bool crashed() const override { return lab_->truth().crashes > 0; }
   const LabGeometry& lab() const override { return geometry_; }
   const std::vector<FlightSample>& samples() const override { return samples_; }

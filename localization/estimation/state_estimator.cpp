@@ -83,6 +83,7 @@ struct StateEstimator::Impl {
   Seconds latest_input_t = -std::numeric_limits<double>::infinity();
   Seconds last_navdata_t = -std::numeric_limits<double>::infinity();
   std::uint32_t last_navdata_sequence = 0;
+  std::optional<Eigen::Isometry3d> start_pose;  // start_at_first_navdata(): placed at the next sample
   Seconds last_command_t = -std::numeric_limits<double>::infinity();
   std::array<std::uint64_t, kCounterCount> counters{};
 
@@ -268,6 +269,12 @@ void StateEstimator::reset(const Eigen::Isometry3d& T_world_body, Seconds t) {
   m.last_obs_t = {-1e18, -1e18, -1e18};
   m.latest_input_t = t;
   m.last_navdata_t = m.last_command_t = -std::numeric_limits<double>::infinity();
+  m.start_pose.reset();
+}
+
+void StateEstimator::start_at_first_navdata(const Eigen::Isometry3d& T_world_body) {
+  reset(T_world_body, 0.0);  // clears everything; the time is set again by the first sample
+  impl_->start_pose = T_world_body;
 }
 
 void StateEstimator::set_surface_map(const SurfaceMap& map) {
@@ -288,13 +295,14 @@ void StateEstimator::set_delays(Seconds video_delay, Seconds navdata_delay, Seco
 
 bool StateEstimator::add_navdata(const NavdataSample& n) {
   Impl& m = *impl_;
-  if (!m.accept_time(n.t)) return false;
   for (double v : {n.roll_rad, n.pitch_rad, n.yaw_rad, n.altitude_m, n.vx_mps, n.vy_mps, n.vz_mps}) {
     if (!std::isfinite(v)) {
       m.count(kRejectedNonfinite);
       return false;
     }
   }
+  if (m.start_pose && std::isfinite(n.t)) reset(*m.start_pose, n.t - m.config.navdata_delay_s);
+  if (!m.accept_time(n.t)) return false;
   // Packets received in one burst share a receive time (the link keeps their order): only an older
   // time, or the same packet again, is out of order.
   if (n.t < m.last_navdata_t || (n.t == m.last_navdata_t && n.sequence == m.last_navdata_sequence)) {

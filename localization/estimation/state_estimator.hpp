@@ -83,6 +83,11 @@ class StateEstimator {
 
   // Starts over at a known pose (take-off from the base), velocity zero.
   void reset(const Eigen::Isometry3d& T_world_body, Seconds t);
+  // Starts over at a known pose whose time is not known yet: the filter is placed there at the
+  // measurement time of the next navdata sample, whatever its clock says. A server's clock has run
+  // for seconds before the link delivers its first navdata; reset(T, 0) would make every sample look
+  // like an input from the future and the filter would never move.
+  void start_at_first_navdata(const Eigen::Isometry3d& T_world_body);
   void set_surface_map(const SurfaceMap& map);
   // Updates the link delays (measured on the link); negative or non-finite values are refused.
   void set_delays(Seconds video_delay, Seconds navdata_delay, Seconds control_delay);

@@ -1,7 +1,6 @@
 #include "localization/face/face_bench.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <fstream>
 #include <cmath>
 #include <map>
@@ -17,6 +16,7 @@
 #include "localization/face/head_pose_sequences.hpp"
 #include "localization/face/person_registration.hpp"
 #include "drone/lab/lab_description.hpp"
+#include "drone/sim/cpu_time.hpp"
 #include "drone/sim/lab_renderer.hpp"
 #include "localization/face/teacher_head.hpp"
 #include "localization/face/textured_head_renderer.hpp"
@@ -304,9 +304,9 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
       const HeadAngles ta = head_angles(truth.linear());
       if (!first_truth) first_truth = truth;
       for (std::size_t m = 0; m < kMethods.size(); ++m) {
-        const auto start = std::chrono::steady_clock::now();
+        const double start = process_cpu_seconds();
         const auto est = solvers[m].solve(problem, std::max(iod / 60.0, 0.5));
-        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        const double ms = (process_cpu_seconds() - start) * 1000.0;
         MethodAccumulator& a = acc[kMethods[m]];
         if (!est) {
           ++a.failures;

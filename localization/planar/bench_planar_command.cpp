@@ -64,8 +64,12 @@ nlohmann::json sequences_json(const SequenceBenchResult& r) {
                               {"error_mm", {{"median", s.median_error_mm}, {"p95", s.p95_error_mm}}},
                               {"error_percent_of_range", {{"median", s.median_error_percent}, {"p95", s.p95_error_percent}}},
                               {"error_deg", {{"median", s.median_error_deg}, {"p95", s.p95_error_deg}}},
+                              {"refined_poses", s.refined_poses},
+                              {"rotation_sigma_deg_median", s.median_rotation_sigma_deg},
+                              {"rotation_error_within_2sigma_percent", s.rotation_within_2sigma_percent},
                               {"frame_ms", {{"median_all", s.median_frame_ms},
                                             {"median_tracking", s.median_tracking_ms},
+                                            {"median_tracking_cpu", s.median_tracking_cpu_ms},
                                             {"p95_tracking", s.p95_tracking_ms},
                                             {"mean_detection", s.mean_detection_ms}}}});
   }
@@ -74,21 +78,24 @@ nlohmann::json sequences_json(const SequenceBenchResult& r) {
                                {"range_m", {b.min_m, b.max_m}},
                                {"poses", b.poses},
                                {"error_percent_of_range", {{"median", b.median_error_percent}, {"p95", b.p95_error_percent}}},
-                               {"error_deg", {{"median", b.median_error_deg}, {"p95", b.p95_error_deg}}}});
+                               {"error_deg", {{"median", b.median_error_deg}, {"p95", b.p95_error_deg}}},
+                               {"rotation_sigma_deg_median", b.median_rotation_sigma_deg},
+                               {"rotation_error_within_2sigma_percent", b.rotation_within_2sigma_percent}});
   }
   return j;
 }
 
 void print_sequences(const SequenceBenchResult& r) {
   std::printf("\nsequences (%s)\n", r.renderer.c_str());
-  std::printf("%-36s %-4s %5s %5s %5s %4s %4s %4s %5s | %7s %6s %6s %6s | %6s %6s %6s\n", "sequence", "trk", "frm",
-              "view", "pose", "det", "loss", "rec", "gross", "med mm", "med %", "p95 %", "med deg", "trk ms", "p95 ms",
-              "det ms");
+  std::printf("%-36s %-4s %5s %5s %5s %4s %4s %4s %5s | %7s %6s %6s %6s %6s %5s | %6s %6s %6s\n", "sequence", "trk",
+              "frm", "view", "pose", "det", "loss", "rec", "gross", "med mm", "med %", "p95 %", "med deg", "p95 deg",
+              "in2s%", "trk ms", "cpu ms", "det ms");
   for (const auto& s : r.sequences) {
-    std::printf("%-36s %-4s %5d %5d %5d %4d %4d %4d %5d | %7.1f %6.2f %6.2f %6.2f | %6.2f %6.2f %6.1f\n",
+    std::printf("%-36s %-4s %5d %5d %5d %4d %4d %4d %5d | %7.1f %6.2f %6.2f %6.2f %6.2f %5.0f | %6.2f %6.2f %6.1f\n",
                 s.sequence.c_str(), s.tracker.c_str(), s.frames, s.frames_in_view, s.frames_with_pose, s.detections,
                 s.losses, s.max_recovery_frames, s.gross_errors, s.median_error_mm, s.median_error_percent,
-                s.p95_error_percent, s.median_error_deg, s.median_tracking_ms, s.p95_tracking_ms, s.mean_detection_ms);
+                s.p95_error_percent, s.median_error_deg, s.p95_error_deg, s.rotation_within_2sigma_percent,
+                s.median_tracking_ms, s.median_tracking_cpu_ms, s.mean_detection_ms);
     if (!s.loss_reasons.empty()) {
       std::printf("    losses:");
       for (const auto& [reason, n] : s.loss_reasons) std::printf(" %s %d", reason.c_str(), n);
@@ -96,9 +103,10 @@ void print_sequences(const SequenceBenchResult& r) {
     }
   }
   for (const auto& b : r.range_bins) {
-    std::printf("range %.1f-%.1f m %-4s poses %5d  error %% median %.2f p95 %.2f  deg median %.2f p95 %.2f\n", b.min_m,
-                b.max_m, b.tracker.c_str(), b.poses, b.median_error_percent, b.p95_error_percent, b.median_error_deg,
-                b.p95_error_deg);
+    std::printf("range %.1f-%.1f m %-4s poses %5d  error %% median %.2f p95 %.2f  deg median %.2f p95 %.2f  sigma deg %.2f "
+                "within 2 sigma %.0f %%\n",
+                b.min_m, b.max_m, b.tracker.c_str(), b.poses, b.median_error_percent, b.p95_error_percent,
+                b.median_error_deg, b.p95_error_deg, b.median_rotation_sigma_deg, b.rotation_within_2sigma_percent);
   }
 }
 
@@ -113,6 +121,7 @@ const CommandSpec& bench_planar_command_spec() {
        {"--trials", "N", "trials per sigma in the sweep (default 100)"},
        {"--part", "P", "sweep, sequences or all (default all)"},
        {"--sequence", "NAME", "run only the sequences whose name contains NAME"},
+       {"--tracker", "T", "sequences with ic, ecc or both (default both)"},
        {"--config", "FILE", "read the \"vision\" and \"planar\" sections of this config (default: built-in values)"},
        {"--noise", "G", "grey-level noise added to the sweep's scenes (default 2)"}},
       0,
@@ -126,6 +135,13 @@ int run_bench_planar_command(const ParsedArgs& args) {
   if (part != "all" && part != "sweep" && part != "sequences") {
     throw UsageError("--part must be sweep, sequences or all, not '" + part + "'");
   }
+  const std::string tracker = args.value_or("--tracker", "both");
+  if (tracker != "both" && tracker != "ic" && tracker != "ecc") {
+    throw UsageError("--tracker must be ic, ecc or both, not '" + tracker + "'");
+  }
+  std::vector<TrackerKind> trackers;
+  if (tracker != "ecc") trackers.push_back(TrackerKind::InverseCompositional);
+  if (tracker != "ic") trackers.push_back(TrackerKind::Ecc);
   PerturbationSettings settings;
   settings.trials = args.integer_or("--trials", settings.trials, 1, 10000);
   settings.pixel_noise = args.number_or("--noise", settings.pixel_noise, 0.0, 50.0);
@@ -141,7 +157,8 @@ int run_bench_planar_command(const ParsedArgs& args) {
     }
   }
   if (part != "sweep") {
-    const SequenceBenchResult r = run_sequence_bench(config, settings_from_file.vision, args.value_or("--sequence", ""));
+    const SequenceBenchResult r =
+        run_sequence_bench(config, settings_from_file.vision, args.value_or("--sequence", ""), trackers);
     if (json) {
       out["sequences"] = sequences_json(r);
     } else {

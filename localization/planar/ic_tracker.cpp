@@ -8,6 +8,7 @@
 #include <Eigen/LU>
 #include <opencv2/imgproc.hpp>
 
+#include "localization/planar/bilinear_sample.hpp"
 #include "localization/planar/planar_template.hpp"
 
 namespace labo {
@@ -54,13 +55,7 @@ inline bool sample_at(const cv::Mat& image, const cv::Matx33d& P, double xn, dou
   const double x = (P(0, 0) * xn + P(0, 1) * yn + P(0, 2)) / w;
   const double y = (P(1, 0) * xn + P(1, 1) * yn + P(1, 2)) / w;
   if (!(x >= 0 && y >= 0 && x < image.cols - 1 && y < image.rows - 1)) return false;
-  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-  const double fx = x - x0, fy = y - y0;
-  const uchar* r0 = image.ptr<uchar>(y0) + x0;
-  const uchar* r1 = r0 + image.step;
-  const double top = r0[0] + fx * (r0[1] - r0[0]);
-  const double bottom = r1[0] + fx * (r1[1] - r1[0]);
-  value = top + fy * (bottom - top);
+  value = bilinear_grey(image, x, y);
   return true;
 }
 

@@ -4,10 +4,18 @@ namespace labo {
 
 const char* to_string(TrackerKind kind) { return kind == TrackerKind::Ecc ? "ecc" : "ic"; }
 
+const char* to_string(PoseRefinement refinement) { return refinement == PoseRefinement::Se3 ? "se3" : "none"; }
+
 PlanarConfig read_planar_config(const ConfigReader& node) {
   PlanarConfig c;
   c.tracker = node.choice_or("tracker", "ic", {"ic", "ecc"}) == "ecc" ? TrackerKind::Ecc
                                                                      : TrackerKind::InverseCompositional;
+  c.pose_refinement = node.choice_or("pose_refinement", "se3", {"se3", "none"}) == "se3" ? PoseRefinement::Se3
+                                                                                      : PoseRefinement::None;
+  c.se3_iterations = node.integer_or("se3_iterations", c.se3_iterations, 1, 100);
+  c.se3_max_samples = node.integer_or("se3_max_samples", c.se3_max_samples, 100, 100000);
+  c.se3_covariance_inflation =
+      node.number_or("se3_covariance_inflation", c.se3_covariance_inflation, Range{0.0, 100.0, true});
   c.pyramid_levels = node.integer_or("pyramid_levels", c.pyramid_levels, 1, 5);
   c.max_iterations = node.integer_or("max_iterations", c.max_iterations, 1, 200);
   c.max_samples = node.integer_or("max_samples", c.max_samples, 100, 100000);

@@ -6,8 +6,11 @@
 namespace labo {
 
 enum class TrackerKind { Ecc, InverseCompositional };
+// What follows IPPE: nothing, or the photometric 6-DoF refinement of se3_pose_refiner.hpp.
+enum class PoseRefinement { None, Se3 };
 
 const char* to_string(TrackerKind kind);
+const char* to_string(PoseRefinement refinement);
 
 struct PlanarConfig {
   // Which frame-to-frame homography tracker runs: OpenCV's findTransformECC or LaboDrone's own
@@ -21,6 +24,13 @@ struct PlanarConfig {
   double convergence_px = 0.01;    // stop a level when no corner moves more than this (level-0 px)
   double ic_smoothing_sigma = 0.0; // Gaussian blur of the template levels (px), 0 = none
   int esm_iterations = 4;          // ESM iterations ending the finest level (0: pure IC)
+
+  // Pose: IPPE on the tracker's corners, then (se3) the photometric refinement in SE(3), which fixes
+  // the tilt of a panel seen face-on at range (docs/planar.md).
+  PoseRefinement pose_refinement = PoseRefinement::Se3;
+  int se3_iterations = 8;
+  int se3_max_samples = 800;              // per template level
+  double se3_covariance_inflation = 3.0;  // on the Gauss-Newton standard deviations
 
   // ECC (OpenCV).
   int ecc_max_iterations = 50;
@@ -51,7 +61,8 @@ struct PlanarConfig {
   double min_gradient_isotropy = 0.05;  // smaller / larger eigenvalue of the gradient structure tensor
 };
 
-// Reads {"tracker": "ic"|"ecc", "pyramid_levels", "max_iterations", "max_samples", "convergence_px", "ic_smoothing_sigma", "esm_iterations",
+// Reads {"tracker": "ic"|"ecc", "pose_refinement": "se3"|"none", "se3_iterations", "se3_max_samples",
+// "se3_covariance_inflation", "pyramid_levels", "max_iterations", "max_samples", "convergence_px", "ic_smoothing_sigma", "esm_iterations",
 // "ecc_max_iterations", "ecc_epsilon", "ecc_gauss_size", "detection_min_width_fraction",
 // "detection_max_width_fraction", "detection_scale_step", "detection_match_width_px", "sift_ratio",
 // "ransac_threshold_px", "sift_max_frame_features", "min_visible_fraction", "max_template_side_px",

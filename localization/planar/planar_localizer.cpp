@@ -14,6 +14,8 @@ namespace {
 
 // How long the last pose's distance still chooses the detector, and still serves for continuity.
 constexpr Seconds kRecentPoseS = 2.0;
+// Two poses closer than this are one (the IPPE pair, refined poses).
+constexpr double kDistinctPosesRad = 2.0 * 3.14159265358979 / 180.0;
 // Template-matching scale window around a predicted width.
 constexpr double kPredictedWidthFactor = 1.6;
 
@@ -88,7 +90,10 @@ PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, con
       tracker_(make_homography_tracker(config.tracker, template_.working(), config)),
       template_detector_(template_.working(), config, thresholds.min_correlation),
       sift_detector_(template_.working(), config, thresholds.sift_min_inliers),
-      pose_solver_(camera.K(), template_.object_corners()) {
+      pose_solver_(camera.K(), template_.object_corners()),
+      pose_refiner_(template_.working(), template_.width_m(), template_.height_m(), camera.K(),
+                    Se3RefinerSettings{config.se3_iterations, config.se3_max_samples, 0.002, 1.5,
+                                       config.se3_covariance_inflation}) {
   if (camera_.has_distortion()) {
     const cv::Size size(camera_.width(), camera_.height());
     cv::initUndistortRectifyMap(camera_.K(), camera_.distortion_coefficients(), cv::Mat(), camera_.K(), size,
@@ -135,7 +140,7 @@ PlanarResult PlanarObjectLocalizer::track(const cv::Mat& image, PlanarResult r) 
     r.detail = o.failure;
     if (std::string_view(o.failure) == "object out of view") loss = PlanarLoss::OutOfView;
   } else {
-    loss = accept(o.H, o.correlation, true, r);
+    loss = accept(image, o.H, o.correlation, true, r);
   }
   if (loss == PlanarLoss::None) {
     r.state = PlanarState::Tracking;
@@ -182,7 +187,7 @@ PlanarResult PlanarObjectLocalizer::detect(const cv::Mat& image, PlanarResult r,
       r.detail = o.failure;
       continue;
     }
-    r.reason = accept(o.H, o.correlation, false, r);
+    r.reason = accept(image, o.H, o.correlation, false, r);
     if (r.reason == PlanarLoss::None) {
       r.state = PlanarState::Detected;
       tracking_ = true;
@@ -195,8 +200,8 @@ PlanarResult PlanarObjectLocalizer::detect(const cv::Mat& image, PlanarResult r,
   return r;
 }
 
-PlanarLoss PlanarObjectLocalizer::accept(const cv::Matx33d& H_working, double correlation, bool check_jump,
-                                         PlanarResult& r) {
+PlanarLoss PlanarObjectLocalizer::accept(const cv::Mat& image, const cv::Matx33d& H_working, double correlation,
+                                         bool check_jump, PlanarResult& r) {
   if (correlation < thresholds_.min_correlation) return PlanarLoss::LowCorrelation;
   const auto corners = map_corners(H_working, template_.working_corners());
   r.visible_fraction = visible_fraction(corners, cv::Size(camera_.width(), camera_.height()));
@@ -206,8 +211,12 @@ PlanarLoss PlanarObjectLocalizer::accept(const cv::Matx33d& H_working, double co
   }
   const std::optional<Eigen::Isometry3d> previous =
       last_pose_ && r.t - last_pose_t_ < kRecentPoseS ? last_pose_ : std::nullopt;
-  const std::optional<PlanarPose> pose = pose_solver_.solve(corners, previous);
+  std::optional<PlanarPose> pose = pose_solver_.solve(corners, previous);
   if (!pose) return PlanarLoss::NoPose;
+  const double size_px = std::sqrt(std::abs(cv::contourArea(std::vector<cv::Point2f>(
+      {cv::Point2f(corners[0]), cv::Point2f(corners[1]), cv::Point2f(corners[2]), cv::Point2f(corners[3])}))));
+  const double margin = std::clamp((correlation - thresholds_.min_correlation) / (1.0 - thresholds_.min_correlation), 0.0, 1.0);
+  refine_pose(image, *pose, size_px, margin, r);
   if (check_jump && last_pose_) {
     // Motion between consecutive frames, measured as the object's displacement in the camera frame.
     // (The camera's position in the object frame, -R^T t, would carry the plane's tilt uncertainty
@@ -235,15 +244,49 @@ PlanarLoss PlanarObjectLocalizer::accept(const cv::Matx33d& H_working, double co
   r.distance_m = pose->T_cam_object.translation().norm();
   r.reprojection_error_px = pose->reprojection_error_px;
   r.pose_ambiguous = pose->ambiguous;
-  const double margin = std::clamp((correlation - thresholds_.min_correlation) / (1.0 - thresholds_.min_correlation), 0.0, 1.0);
   r.quality = margin * r.visible_fraction * (pose->ambiguous ? 0.5 : 1.0) / (1.0 + pose->reprojection_error_px);
-  // Depth from apparent size: sigma_Z = Z * sigma_px / size_px, with corner noise growing as the
-  // correlation margin shrinks (0.3 px when aligned perfectly).
-  const double size_px = std::sqrt(std::abs(cv::contourArea(std::vector<cv::Point2f>(
-      {cv::Point2f(corners[0]), cv::Point2f(corners[1]), cv::Point2f(corners[2]), cv::Point2f(corners[3])}))));
-  const double sigma_px = 0.3 / std::max(0.1, margin);
-  r.position_sigma_m = r.distance_m * sigma_px / std::max(1.0, size_px);
   return PlanarLoss::None;
+}
+
+void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, double size_px, double margin,
+                                        PlanarResult& r) const {
+  r.pose_refined = false;
+  if (config_.pose_refinement == PoseRefinement::Se3) {
+    Se3Refinement refined = pose_refiner_.refine(image, pose.T_cam_object);
+    if (pose.alternative_plausible) {
+      // Two distinct IPPE poses fit the corners: the photometric fit sees the perspective that tells
+      // them apart. Both are refined; when they end apart with residuals within 2 %, IPPE's choice
+      // (continuity, else the lower corner error) and its ambiguity flag stand, otherwise the lower
+      // residual wins and the ambiguity is resolved.
+      const Se3Refinement other = pose_refiner_.refine(image, pose.T_alternative);
+      if (refined.refined && other.refined) {
+        const bool apart = rotation_angle(refined.T_cam_object.linear(), other.T_cam_object.linear()) > kDistinctPosesRad;
+        const double low = std::min(refined.residual_grey, other.residual_grey);
+        const double high = std::max(refined.residual_grey, other.residual_grey);
+        if (!apart || high >= 1.02 * low) {
+          pose.ambiguous = false;
+          if (other.residual_grey < refined.residual_grey) refined = other;
+        }
+      } else if (other.refined) {
+        refined = other;
+      }
+    }
+    if (refined.refined) {
+      pose.T_cam_object = refined.T_cam_object;
+      r.pose_refined = true;
+      r.position_sigma_m = refined.position_sigma_m;
+      r.rotation_sigma_rad = refined.rotation_sigma_rad;
+      return;
+    }
+  }
+  // From the corners alone, with a corner noise growing as the correlation margin shrinks (0.3 px when
+  // aligned perfectly): depth from the apparent size, sigma_Z = Z sigma_px / size_px; the tilt of a
+  // panel seen face-on changes its aspect ratio only to second order, so an aspect error sigma_px /
+  // size_px reads as a tilt of sqrt(2 sigma_px / size_px) (IPPE; an upper bound when seen obliquely).
+  const double sigma_px = 0.3 / std::max(0.1, margin);
+  const double distance = pose.T_cam_object.translation().norm();
+  r.position_sigma_m = distance * sigma_px / std::max(1.0, size_px);
+  r.rotation_sigma_rad = std::sqrt(2.0 * sigma_px / std::max(1.0, size_px));
 }
 
 }  // namespace labo

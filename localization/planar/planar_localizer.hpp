@@ -5,7 +5,8 @@
 //   a pyramid otherwise (both, template first, when the distance is unknown); the detection's
 //   homography is refined by the tracker and accepted when the correlation exceeds alpha;
 //   tracking -> the previous homography is the prior of the tracker (ECC or LaboDrone's IC) in the
-//   next frame; loss on no convergence, correlation below alpha, too little of the panel in view,
+//   next frame; the pose comes from IPPE on the tracker's corners, refined photometrically in SE(3)
+//   (se3_pose_refiner.hpp) when configured; loss on no convergence, correlation below alpha, too little of the panel in view,
 //   or a camera motion of more than D or a turn of more than beta since the previous frame (after
 //   resolving the IPPE ambiguity, planar_pose.hpp). The frame after a loss runs detection again.
 // Frames are undistorted first (precomputed maps, same K), so homographies are exact perspective
@@ -21,6 +22,7 @@
 #include "localization/planar/planar_pose.hpp"
 #include "localization/planar/planar_result.hpp"
 #include "localization/planar/planar_template.hpp"
+#include "localization/planar/se3_pose_refiner.hpp"
 #include "localization/vision_thresholds.hpp"
 
 namespace labo {
@@ -57,7 +59,10 @@ class PlanarObjectLocalizer {
   PlanarResult track(const cv::Mat& image, PlanarResult r);
   PlanarResult detect(const cv::Mat& image, PlanarResult r, std::optional<double> distance_m);
   // Checks an aligned homography and fills the pose; returns the loss reason (None when accepted).
-  PlanarLoss accept(const cv::Matx33d& H_working, double correlation, bool check_jump, PlanarResult& r);
+  PlanarLoss accept(const cv::Mat& image, const cv::Matx33d& H_working, double correlation, bool check_jump,
+                    PlanarResult& r);
+  // The SE(3) refinement of the IPPE pose when configured; fills the result's uncertainties.
+  void refine_pose(const cv::Mat& image, PlanarPose& pose, double size_px, double margin, PlanarResult& r) const;
   const cv::Mat& undistort(const cv::Mat& gray);
 
   PlanarTemplate template_;
@@ -68,6 +73,7 @@ class PlanarObjectLocalizer {
   TemplateMatchDetector template_detector_;
   SiftDetector sift_detector_;
   PlanarPoseSolver pose_solver_;
+  Se3PoseRefiner pose_refiner_;
   cv::Mat map1_, map2_, undistorted_;  // precomputed undistortion maps and reused output
 
   bool tracking_ = false;

@@ -61,6 +61,7 @@ std::optional<PlanarPose> PlanarPoseSolver::solve(const std::array<cv::Point2d, 
   const bool clearly_worse = second.error > std::max(2.0 * candidates[0].error, candidates[0].error + 1.0);
   const bool same_pose = pose.alternative_angle_rad < 2.0 * 3.14159265358979 / 180.0;
   if (clearly_worse || same_pose) return pose;
+  pose.alternative_plausible = true;
   if (previous) {
     const double a0 = rotation_angle(previous->linear(), candidates[0].T.linear());
     const double a1 = rotation_angle(previous->linear(), second.T.linear());

@@ -23,6 +23,8 @@ struct PlanarPose {
   bool ambiguous = false;            // the two IPPE solutions could not be separated by the data
   double alternative_error_px = 0;   // the rejected solution's reprojection error
   double alternative_angle_rad = 0;  // rotation between the two solutions
+  // The rejected solution fits the corners about as well and is a distinct pose (rule 3 decided).
+  bool alternative_plausible = false;
   Eigen::Isometry3d T_alternative = Eigen::Isometry3d::Identity();  // the rejected solution (if any)
 };
 

@@ -43,7 +43,12 @@ struct PlanarResult {
   Eigen::Isometry3d T_cam_object = Eigen::Isometry3d::Identity();
   double distance_m = 0;
   double quality = 0;                // [0, 1]: correlation margin x visible fraction x ambiguity
-  double position_sigma_m = 0;       // 1-sigma position uncertainty along the line of sight (approx.)
+  // 1-sigma uncertainties of T_cam_object along its worst-determined direction: from the SE(3)
+  // refinement's covariance when it ran (pose_refined), else from the corners' noise (approximate).
+  // Both grow with the distance; the rotation's mostly as the tilt of the panel seen face-on.
+  double position_sigma_m = 0;
+  double rotation_sigma_rad = 0;
+  bool pose_refined = false;         // the photometric SE(3) refinement gave the pose (se3_pose_refiner.hpp)
   double reprojection_error_px = 0;  // IPPE, RMS over the corners
   double correlation = 0;            // after alignment
   double visible_fraction = 0;       // of the panel's area inside the image

@@ -1,8 +1,9 @@
 #pragma once
 // Sequences with ground truth for the planar pipeline: approach (3 m -> 0.5 m), hover at 0.8 m,
 // lateral pass (the panel crosses the field of view), motion blur, H.264 round trip, lighting change,
-// corrupted frames (loss and recovery), and the landing platform seen by the bottom camera during a
-// descent. Each runs through PlanarObjectLocalizer with each tracker; errors are measured against
+// corrupted frames (loss and recovery), the landing platform seen by the bottom camera during a
+// descent (all rendered by synthetic_scene's PlanarViewRenderer), and an approach of the lab's
+// oscilloscope rendered by the simulated lab's LabRenderer (drone/sim). Each runs through PlanarObjectLocalizer with each tracker; errors are measured against
 // the rendered pose.
 #include <map>
 #include <string>
@@ -22,8 +23,13 @@ struct SequenceStats {
   double median_error_mm = 0, p95_error_mm = 0;
   double median_error_percent = 0, p95_error_percent = 0;
   double median_error_deg = 0, p95_error_deg = 0;
+  // The reported rotation uncertainty against the error: its median, and how often the error is
+  // within 2 sigma (95 % for an honest Gaussian sigma).
+  double median_rotation_sigma_deg = 0, rotation_within_2sigma_percent = 0;
+  int refined_poses = 0;  // poses from the SE(3) refinement
   std::map<std::string, int> loss_reasons;
   double median_frame_ms = 0, median_tracking_ms = 0, p95_tracking_ms = 0, mean_detection_ms = 0;
+  double median_tracking_cpu_ms = 0;  // this thread's CPU time (wall time includes the neighbours' load)
 };
 
 struct RangeBinStats {
@@ -31,6 +37,7 @@ struct RangeBinStats {
   double min_m = 0, max_m = 0;
   int poses = 0;
   double median_error_percent = 0, p95_error_percent = 0, median_error_deg = 0, p95_error_deg = 0;
+  double median_rotation_sigma_deg = 0, rotation_within_2sigma_percent = 0;
 };
 
 struct SequenceBenchResult {
@@ -39,8 +46,10 @@ struct SequenceBenchResult {
   std::vector<RangeBinStats> range_bins;  // all sequences pooled, per tracker
 };
 
-// `only` (when not empty) keeps the sequences whose name contains it.
+// `only` (when not empty) keeps the sequences whose name contains it; `trackers` run in turn.
 SequenceBenchResult run_sequence_bench(const PlanarConfig& config, const VisionThresholds& vision,
-                                       const std::string& only = "");
+                                       const std::string& only = "",
+                                       const std::vector<TrackerKind>& trackers = {TrackerKind::InverseCompositional,
+                                                                                   TrackerKind::Ecc});
 
 }  // namespace labo

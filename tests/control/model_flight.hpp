@@ -36,6 +36,7 @@ class ModelPipelines final : public LocalizationPipelines {
   void on_video(const VideoFrame&) override {}
   void set_focus(const PerceptionFocus& f) override { focus_ = f; }
   void reset(const Eigen::Isometry3d&, Seconds) override {}
+  void start_at_first_navdata(const Eigen::Isometry3d&) override {}
 
   PoseEstimate predict(Seconds t) const override {
     PoseEstimate e;
@@ -110,7 +111,8 @@ class ModelPipelines final : public LocalizationPipelines {
 
 class ModelFlight {
  public:
-  explicit ModelFlight(ControlConfig config = {}) : world(std::make_shared<ModelWorld>()), lab(model_lab()) {
+  explicit ModelFlight(ControlConfig config = {}, LabGeometry lab_geometry = model_lab())
+      : world(std::make_shared<ModelWorld>()), lab(std::move(lab_geometry)) {
     FlightStackSetup setup;
     setup.control = config;
     setup.lab = lab;

@@ -47,6 +47,8 @@ class EstimationPlant {
   // The camera frames that arrived during the last step(), in order (empty without video).
   virtual const std::vector<VideoFrame>& frames_of_last_step() const = 0;
   virtual GroundTruth truth() const = 0;
+  // What the drone crashed into (a wall, a bench...), empty while it has not crashed.
+  virtual std::string crash() const = 0;
   // An external push: an instantaneous change of the world velocity.
   virtual void push(const Eigen::Vector3d& delta_v_world) = 0;
   // The upward push that lifts this plant's drone by about `metres` under the experiments' z loop

@@ -67,6 +67,12 @@ GroundTruth LabPlant::truth() const {
   return g;
 }
 
+std::string LabPlant::crash() const {
+  const QuadrotorState& s = lab_->truth();
+  if (s.crashes == 0) return {};
+  return s.crash_reason.empty() ? std::string("a crash") : s.crash_reason;
+}
+
 double LabPlant::vertical_push_for(double metres) const {
   // The firmware's vertical-speed lag (0.8 /s) under the experiments' z loop, measured on this plant:
   // 0.75 m/s lifts it about 0.5 m (the results report the peak reached).

@@ -40,6 +40,7 @@ class LabPlant final : public EstimationPlant, private DroneLinkListener {
   void step(Seconds dt, std::vector<NavdataSample>& arrived) override;
   const std::vector<VideoFrame>& frames_of_last_step() const override { return frames_; }
   GroundTruth truth() const override;
+  std::string crash() const override;
   void push(const Eigen::Vector3d& delta_v_world) override { lab_->dynamics().push(delta_v_world, 0.0); }
   double vertical_push_for(double metres) const override;
   SurfaceMap surfaces() const override { return surfaces_; }

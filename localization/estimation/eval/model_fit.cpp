@@ -3,6 +3,8 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 #include "core/frames.hpp"
 
@@ -51,24 +53,38 @@ ModelFitReport fit_motion_model(EstimationPlant& plant, const MotionModelConstan
   std::vector<std::pair<Seconds, MoveCommand>> sent;
   std::vector<NavdataSample> navdata;
   const Seconds t0 = plant.now();
-  Seconds next_change = t0;
-  MoveCommand c;
+  const Eigen::Vector3d start = plant.truth().T_world_body.translation();
+  constexpr Seconds kFeedbackPeriod = 0.1;
+  Seconds next_change = t0, next_feedback = t0;
+  MoveCommand random;
   while (plant.now() < t0 + duration) {
-    if (plant.now() >= next_change) {
-      c = MoveCommand{u(rng), u(rng), 0.0, u(rng)};
-      // Vertical excitation without leaving the room: gaz pulls back toward 1.2 m plus a random part.
-      c.gaz = std::clamp(0.8 * (1.2 - plant.truth().T_world_body.translation().z()) + u(rng), -1.0, 1.0);
-      // Keep the horizontal excursion bounded: bias roll/pitch back toward the start.
-      const Eigen::Vector3d p = plant.truth().T_world_body.translation();
-      const double yaw = ypr_from_rotation(plant.truth().T_world_body.linear())(0);
-      const Eigen::Vector2d back = -0.15 * p.head<2>();
-      c.pitch = std::clamp(c.pitch + back.dot(Eigen::Vector2d(std::cos(yaw), std::sin(yaw))), -1.0, 1.0);
-      c.roll = std::clamp(c.roll - back.dot(Eigen::Vector2d(-std::sin(yaw), std::cos(yaw))), -1.0, 1.0);
+    if (plant.now() >= next_change) {  // the excitation: random steps on every axis
+      random = MoveCommand{u(rng), u(rng), u(rng), u(rng)};
       next_change = plant.now() + hold(rng);
+      next_feedback = plant.now();
+    }
+    if (plant.now() >= next_feedback) {
+      // Keep the flight inside a small volume around the start (a lab has walls and benches): a PD on
+      // the true position, added to the random part (the fit itself sees only commands and navdata).
+      const GroundTruth g = plant.truth();
+      const Eigen::Vector3d p = g.T_world_body.translation() - start;
+      const double yaw = ypr_from_rotation(g.T_world_body.linear())(0);
+      const Eigen::Vector2d back = -0.2 * p.head<2>() - 0.3 * g.velocity_world.head<2>();
+      MoveCommand c = random;
+      c.gaz = std::clamp(random.gaz - 0.8 * p.z(), -1.0, 1.0);
+      c.pitch = std::clamp(random.pitch + back.dot(Eigen::Vector2d(std::cos(yaw), std::sin(yaw))), -1.0, 1.0);
+      c.roll = std::clamp(random.roll - back.dot(Eigen::Vector2d(-std::sin(yaw), std::cos(yaw))), -1.0, 1.0);
       plant.move(c);
       sent.emplace_back(plant.now(), c);
+      next_feedback = plant.now() + kFeedbackPeriod;
     }
     plant.step(0.01, navdata);
+    if (const std::string crash = plant.crash(); !crash.empty()) {
+      const Eigen::Vector3d p = plant.truth().T_world_body.translation();
+      throw std::runtime_error("fit_motion_model: the excitation flight crashed (" + crash + ") at t = " +
+                               std::to_string(plant.now()) + " s, at (" + std::to_string(p.x()) + ", " +
+                               std::to_string(p.y()) + ", " + std::to_string(p.z()) + ")");
+    }
   }
   // Align: navdata at its measurement time, with the command acting then.
   std::vector<Sample> samples;

@@ -1,7 +1,8 @@
 #pragma once
 // Refits the estimator's motion-model constants (MotionModelConstants) on a plant, from what a real
 // flight also provides: the commands sent and the navdata received, aligned with the link delays.
-// Random command steps excite each axis; each first-order law is a linear least-squares problem:
+// Random command steps excite each axis (a PD on the true position keeps the flight near its start);
+// each first-order law is a linear least-squares problem:
 //   roll' = a (b u - roll)          -> regress roll' on [u, roll]          (pitch pooled with roll)
 //   yawrate' = a (b u - yawrate)     -> yaw rate from navdata yaw differences
 //   vz' = a (b u - vz)

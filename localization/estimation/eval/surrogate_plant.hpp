@@ -32,6 +32,7 @@ class SurrogatePlant final : public EstimationPlant {
   void move(const MoveCommand& command) override;
   void step(Seconds dt, std::vector<NavdataSample>& arrived) override;
   GroundTruth truth() const override;
+  std::string crash() const override { return {}; }  // no obstacles
   const std::vector<VideoFrame>& frames_of_last_step() const override { return no_frames_; }
   void push(const Eigen::Vector3d& delta_v_world) override { v_ += delta_v_world; }
   // Its vertical loop (4 /s behind a 12 /s lag) under the experiments' z loop: 2.6 m/s lifts 0.5 m.

@@ -152,6 +152,28 @@ TEST_CASE("estimation: dead reckoning on navdata follows a flight with little dr
   CHECK(f.colour == SourceColour::Red);
 }
 
+TEST_CASE("estimation: a start pose without a time is taken at the first navdata, however late it comes") {
+  // A server's clock has run for seconds (loading models, connecting) before the first navdata; the
+  // filter must start there, not judge every sample "from the future" against time 0.
+  EstimatorConfig config;  // the default delays
+  StateEstimator est(config);
+  const Eigen::Isometry3d base = make_pose({0.5, -0.2, 0.10}, 0.3);
+  est.start_at_first_navdata(base);
+  NavdataSample n;
+  n.altitude_m = 0.0;
+  n.control_state = 2;  // landed
+  for (int k = 0; k <= 75; ++k) {  // 5 s at 15 Hz, starting 7.3 s into the server's life
+    n.t = 7.3 + k / 15.0;
+    REQUIRE(est.add_navdata(n));
+  }
+  const FusedState f = est.predict(n.t);
+  REQUIRE(f.initialized);
+  CHECK((f.position_world - base.translation()).norm() < 0.05);
+  CHECK(std::abs(wrap_angle(f.yaw - 0.3)) < 0.01);
+  CHECK(est.statistics().counters.at("navdata") == 76);
+  CHECK(est.statistics().counters.at("rejected_future") == 0);
+}
+
 TEST_CASE("estimation: delay compensation predicts the pose at the time a command acts") {
   // The controller's question: where will the drone be when the command computed now acts (now + 100 ms)?
   const auto rms_error = [](bool compensate) {

@@ -160,3 +160,29 @@ TEST_CASE("planar: bad frames are refused without disturbing the track") {
   CHECK(loc.process(cv::Mat(360, 640, CV_8UC3, cv::Scalar(0, 0, 0)), 0.03).reason == PlanarLoss::BadFrame);
   CHECK(loc.process(rig.view(T), 0.04).state == PlanarState::Tracking);
 }
+
+TEST_CASE("planar: the pose carries a rotation uncertainty that grows with the distance") {
+  Rig rig;
+  double previous = 0;
+  for (const double distance : {0.9, 1.8, 2.7}) {
+    PlanarObjectLocalizer loc = rig.localizer();
+    const Eigen::Isometry3d T = at(0.05, 0.02, distance);
+    REQUIRE(loc.process(rig.view(T), 0.0).has_pose);
+    const PlanarResult r = loc.process(rig.view(T), 1 / 30.0);
+    REQUIRE(r.state == PlanarState::Tracking);
+    CHECK(r.pose_refined);
+    CHECK(deg_error(r, T) < 1.0);
+    CHECK(r.rotation_sigma_rad > previous);
+    CHECK(r.position_sigma_m > 0.0);
+    previous = r.rotation_sigma_rad;
+  }
+  // Without the refinement the pose is IPPE's and the uncertainty the corners' (larger).
+  rig.config.pose_refinement = PoseRefinement::None;
+  PlanarObjectLocalizer ippe = rig.localizer();
+  const Eigen::Isometry3d T = at(0.05, 0.02, 2.7);
+  REQUIRE(ippe.process(rig.view(T), 0.0).has_pose);
+  const PlanarResult r = ippe.process(rig.view(T), 1 / 30.0);
+  REQUIRE(r.has_pose);
+  CHECK_FALSE(r.pose_refined);
+  CHECK(r.rotation_sigma_rad > previous);
+}

@@ -83,6 +83,9 @@ TEST_CASE("planar: the planar config section is validated") {
   CHECK(error_of(R"({"detection_min_width_fraction": 0.5, "detection_max_width_fraction": 0.4})").find("exceed") !=
         std::string::npos);
   CHECK(error_of(R"({"trackr": "ic"})").find("trackr") != std::string::npos);
+  CHECK(error_of(R"({"pose_refinement": "ippe"})").find("pose_refinement") != std::string::npos);
+  CHECK(error_of(R"({"se3_covariance_inflation": 0})").find("se3_covariance_inflation") != std::string::npos);
+  CHECK(error_of(R"({"pose_refinement": "none", "se3_iterations": 4})").empty());
   const ConfigDocument doc = ConfigDocument::parse(R"({"tracker": "ecc"})", "p.json");
   CHECK(read_planar_config(doc.root()).tracker == TrackerKind::Ecc);
 }

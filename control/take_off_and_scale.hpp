@@ -1,0 +1,41 @@
+#pragma once
+// Stage 1 of every mission that flies on a metric SLAM map (inspect, the paper's §6.2; find teacher):
+// take off, climb to the mission's altitude, wait for SLAM to initialize (or time out and go on
+// without it), then the scale manoeuvre - the set point moving slowly up by scale_manoeuvre_m and back
+// down, the vertical motion the estimator's ScaleEstimator compares with the ultrasound to fix the
+// map's scale. When the map still has no scale after a round (too few good displacement pairs; seen in
+// the simulated lab, where such a flight then ran the whole mission on dead reckoning and the
+// homography and missed the platform), the round is repeated, up to kMaxRounds in all.
+#include <string>
+
+#include "control/mission.hpp"
+
+namespace labo {
+
+class TakeOffAndScale {
+ public:
+  static constexpr int kMaxRounds = 3;
+
+  // One control tick, climbing to altitude_m; true once stage 1 is over (scale fixed, or the
+  // manoeuvre skipped or timed out).
+  bool step(MissionContext& ctx, double altitude_m);
+  bool done() const { return step_ == Step::Done; }
+  // "taking off", "climbing", "initializing SLAM", "scale manoeuvre (up)", ... for the stage line.
+  std::string describe() const;
+
+ private:
+  enum class Step { TakeOff, Climb, SlamInit, Up, Down, Done };
+  void enter(Step step, Seconds t) {
+    step_ = step;
+    since_ = t;
+    fresh_ = true;
+  }
+
+  Step step_ = Step::TakeOff;
+  Seconds since_ = 0;
+  bool fresh_ = true;
+  double start_z_ = 0;
+  int round_ = 0;
+};
+
+}  // namespace labo

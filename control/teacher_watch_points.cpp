@@ -1,0 +1,65 @@
+#include "control/teacher_watch_points.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace labo {
+
+namespace {
+double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double s = len2 > 1e-12 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + s * ab - p).norm();
+}
+}  // namespace
+
+double distance_to_route(const Eigen::Vector2d& p, const TeacherRoute& route) {
+  const std::size_t n = route.waypoints.size();
+  double nearest = n == 1 ? (p - route.waypoints[0]).norm() : std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; n > 1 && i < n; ++i)
+    nearest = std::min(nearest, distance_to_segment(p, route.waypoints[i], route.waypoints[(i + 1) % n]));
+  return nearest;
+}
+
+std::vector<WatchPoint> teacher_watch_points(const TeacherRoute& route, const Geofence& fence, double beyond_m,
+                                             double clearance_m, double min_leg_m) {
+  std::vector<WatchPoint> out;
+  const std::size_t n = route.waypoints.size();
+  if (n < 2) return out;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d from = route.waypoints[i], to = route.waypoints[(i + 1) % n];
+    const Eigen::Vector2d leg = to - from;
+    if (leg.norm() < min_leg_m) continue;
+    const Eigen::Vector2d along = leg.normalized();
+    const Eigen::Vector2d p = to + beyond_m * along;
+    const Eigen::Vector3d clamped = fence.clamp({p.x(), p.y(), route.eye_height_m});
+    if (distance_to_route(clamped.head<2>(), route) < clearance_m) continue;
+    // Face back along the leg, towards where the teacher comes from.
+    out.push_back({clamped, std::atan2(-along.y(), -along.x())});
+  }
+  return out;
+}
+
+std::optional<WatchPoint> next_leg_meeting_point(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy,
+                                                 const Geofence& fence, double ahead_m, double corner_radius_m,
+                                                 double min_leg_m) {
+  const std::size_t n = route.waypoints.size();
+  if (n < 2) return std::nullopt;
+  std::size_t corner = n;
+  for (std::size_t k = 0; k < n; ++k)
+    if ((route.waypoints[k] - teacher_xy).norm() < corner_radius_m) corner = k;
+  if (corner == n) return std::nullopt;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t leg = (corner + i) % n;
+    const Eigen::Vector2d from = route.waypoints[leg], to = route.waypoints[(leg + 1) % n];
+    if ((to - from).norm() < min_leg_m) continue;
+    const Eigen::Vector2d along = (to - from).normalized();
+    const Eigen::Vector2d p = from + std::min(ahead_m, (to - from).norm()) * along;
+    return WatchPoint{fence.clamp({p.x(), p.y(), route.eye_height_m}), std::atan2(-along.y(), -along.x())};
+  }
+  return std::nullopt;
+}
+
+}  // namespace labo

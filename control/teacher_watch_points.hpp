@@ -1,0 +1,39 @@
+#pragma once
+// Where find-teacher waits for the teacher when the lab knows the teacher's route. The face detector
+// only finds a frontal face within about 2.5 m (docs/control.md), so sweeping the room from its centre
+// seldom finds a walking teacher. Instead the drone waits beyond the end of each leg of the route, on
+// the leg's line, at eye height, facing back along it: the teacher then walks towards the camera,
+// face frontal, and comes into the detector's range before stopping short of the drone.
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "control/geofence.hpp"
+#include "control/lab_geometry.hpp"
+
+namespace labo {
+
+struct WatchPoint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // body, world frame
+  double yaw = 0;                                      // facing the oncoming teacher
+};
+
+// One watch point per leg of at least min_leg_m: `beyond_m` past the leg's end, clamped into the
+// fence; a point that ends up closer than `clearance_m` to any leg of the route (the teacher's body
+// and the hull) is dropped. Empty when the route has no such leg.
+std::vector<WatchPoint> teacher_watch_points(const TeacherRoute& route, const Geofence& fence, double beyond_m,
+                                             double clearance_m, double min_leg_m = 1.0);
+
+// Where to meet a teacher who stands at a corner of the route (within corner_radius_m of waypoint k,
+// turning): `ahead_m` along the first leg of at least min_leg_m that starts at or after k, facing back
+// along it - the teacher walks that leg next, towards the camera. Clamped into the fence. Empty when
+// the teacher is not at a corner or the route has no such leg. The point lies on the route: only for a
+// teacher whose place on it is known.
+std::optional<WatchPoint> next_leg_meeting_point(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy,
+                                                 const Geofence& fence, double ahead_m, double corner_radius_m,
+                                                 double min_leg_m = 1.0);
+
+// Distance from p to the nearest leg of the route, loop included (floor plane); infinite without legs.
+double distance_to_route(const Eigen::Vector2d& p, const TeacherRoute& route);
+
+}  // namespace labo

@@ -1,0 +1,252 @@
+#include "localization/planar/se3_pose_refiner.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <opencv2/imgproc.hpp>
+
+#include "localization/planar/bilinear_sample.hpp"
+#include "localization/planar/homography_tracker.hpp"
+
+namespace labo {
+
+namespace {
+
+constexpr int kMinLevelSidePx = 16;
+constexpr int kBorderPx = 2;   // template pixels this close to the edge see the outside in the frame
+constexpr int kCells = 6;      // per side: the samples are spread over the panel (perspective leverage)
+constexpr int kMinSamples = 50;
+// Pose (6), then the appearance: gain, its gradients across the panel (x, y), bias.
+constexpr int kParams = 10;
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+}  // namespace
+
+struct Se3PoseRefiner::Normal {
+  Eigen::Matrix<double, kParams, kParams> JtJ = Eigen::Matrix<double, kParams, kParams>::Zero();
+  Eigen::Matrix<double, kParams, 1> Jtr = Eigen::Matrix<double, kParams, 1>::Zero();
+  double ssr = 0;
+  int valid = 0;
+};
+
+Se3PoseRefiner::Se3PoseRefiner(const cv::Mat& working_template, double width_m, double height_m, const cv::Matx33d& K,
+                               const Se3RefinerSettings& settings)
+    : template_size_(working_template.size()),
+      width_m_(width_m),
+      height_m_(height_m),
+      fx_(K(0, 0)),
+      fy_(K(1, 1)),
+      cx_(K(0, 2)),
+      cy_(K(1, 2)),
+      settings_(settings) {
+  if (working_template.empty() || working_template.type() != CV_8UC1) {
+    throw std::invalid_argument("Se3PoseRefiner: the template must be a non-empty CV_8UC1 image");
+  }
+  if (!(width_m > 0) || !(height_m > 0) || !(fx_ > 0) || !(fy_ > 0)) {
+    throw std::invalid_argument("Se3PoseRefiner: the panel size and the focal lengths must be positive");
+  }
+  cv::Mat level = working_template;
+  for (int k = 0; std::min(level.cols, level.rows) >= kMinLevelSidePx; ++k) {
+    add_level(level, k);
+    cv::Mat next;
+    cv::pyrDown(level, next);
+    level = next;
+  }
+}
+
+void Se3PoseRefiner::add_level(const cv::Mat& gray, int k) {
+  cv::Mat gx, gy, magnitude;
+  cv::Sobel(gray, gx, CV_32F, 1, 0, 3);
+  cv::Sobel(gray, gy, CV_32F, 0, 1, 3);
+  cv::magnitude(gx, gy, magnitude);
+  // Level-k pixel i is centred on working pixel i * 2^k (cv::pyrDown keeps every other pixel).
+  const double step = std::ldexp(1.0, k);
+  const double mx = width_m_ / template_size_.width, my = height_m_ / template_size_.height;
+  const int quota = std::max(1, settings_.max_samples / (kCells * kCells));
+  std::vector<Sample> samples;
+  std::vector<float> strengths;
+  for (int cy = 0; cy < kCells; ++cy) {
+    for (int cx = 0; cx < kCells; ++cx) {
+      const int y0 = std::max(kBorderPx, cy * gray.rows / kCells);
+      const int y1 = std::min(gray.rows - kBorderPx, (cy + 1) * gray.rows / kCells);
+      const int x0 = std::max(kBorderPx, cx * gray.cols / kCells);
+      const int x1 = std::min(gray.cols - kBorderPx, (cx + 1) * gray.cols / kCells);
+      strengths.clear();
+      for (int y = y0; y < y1; ++y) {
+        for (int x = x0; x < x1; ++x) strengths.push_back(magnitude.at<float>(y, x));
+      }
+      if (strengths.empty()) continue;
+      // The cell's quota-th strongest gradient is its threshold (flat cells contribute nothing).
+      const auto nth = strengths.begin() + std::min<std::ptrdiff_t>(quota, static_cast<std::ptrdiff_t>(strengths.size())) - 1;
+      std::nth_element(strengths.begin(), nth, strengths.end(), std::greater<float>());
+      const float threshold = std::max(*nth, 8.0f);  // Sobel units: ~1 grey level per pixel
+      int taken = 0;
+      for (int y = y0; y < y1 && taken < quota; ++y) {
+        for (int x = x0; x < x1 && taken < quota; ++x) {
+          if (magnitude.at<float>(y, x) < threshold) continue;
+          samples.push_back({static_cast<float>((x * step + 0.5) * mx - 0.5 * width_m_),
+                             static_cast<float>((y * step + 0.5) * my - 0.5 * height_m_),
+                             static_cast<float>(gray.at<uchar>(y, x))});
+          ++taken;
+        }
+      }
+    }
+  }
+  if (static_cast<int>(samples.size()) < kMinSamples) return;  // coarser levels have even less
+  if (static_cast<int>(levels_.size()) == k) levels_.push_back(std::move(samples));
+}
+
+int Se3PoseRefiner::level_for(const Eigen::Isometry3d& T) const {
+  // The homography working template px -> image px of this pose, for the tracker's level rule.
+  const Eigen::Matrix3d& R = T.linear();
+  const Eigen::Vector3d& t = T.translation();
+  Eigen::Matrix3d K;
+  K << fx_, 0, cx_, 0, fy_, cy_, 0, 0, 1;
+  Eigen::Matrix3d S;
+  const double mx = width_m_ / template_size_.width, my = height_m_ / template_size_.height;
+  S << mx, 0, 0.5 * mx - 0.5 * width_m_, 0, my, 0.5 * my - 0.5 * height_m_, 0, 0, 1;
+  Eigen::Matrix3d P;
+  P << R.col(0), R.col(1), t;
+  const Eigen::Matrix3d H = K * P * S;
+  cv::Matx33d Hc;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) Hc(i, j) = H(i, j);
+  }
+  return matching_template_level(Hc, template_size_, static_cast<int>(levels_.size()) - 1);
+}
+
+Se3PoseRefiner::Normal Se3PoseRefiner::accumulate(const std::vector<Sample>& samples, const cv::Mat& image,
+                                                  const Eigen::Isometry3d& T, const Appearance& a) const {
+  Normal n;
+  const Eigen::Vector3d r1 = T.linear().col(0), r2 = T.linear().col(1), t = T.translation();
+  const double x_max = image.cols - 2, y_max = image.rows - 2;
+  Eigen::Matrix<double, kParams, 1> J;
+  const double sx = 2.0 / width_m_, sy = 2.0 / height_m_;  // panel coordinates in [-1, 1]
+  for (const Sample& s : samples) {
+    const Eigen::Vector3d P = s.X * r1 + s.Y * r2 + t;
+    if (!(P.z() > 1e-3)) continue;
+    const double iz = 1.0 / P.z();
+    const double u = fx_ * P.x() * iz + cx_, v = fy_ * P.y() * iz + cy_;
+    if (!(u >= 1 && v >= 1 && u < x_max && v < y_max)) continue;
+    const double value = bilinear_grey(image, u, v);
+    const double gu = 0.5 * (bilinear_grey(image, u + 1, v) - bilinear_grey(image, u - 1, v));
+    const double gv = 0.5 * (bilinear_grey(image, u, v + 1) - bilinear_grey(image, u, v - 1));
+    // d(grey)/dP through the projection, then dP/d(omega, v) = [-[P]x, I].
+    const Eigen::Vector3d dP(gu * fx_ * iz, gv * fy_ * iz, -(gu * fx_ * P.x() + gv * fy_ * P.y()) * iz * iz);
+    J.head<3>() = P.cross(dP);
+    J.segment<3>(3) = dP;
+    const double x = s.X * sx, y = s.Y * sy;
+    J[6] = -s.t;
+    J[7] = -s.t * x;
+    J[8] = -s.t * y;
+    J[9] = -1.0;
+    const double residual = value - (a.gain + a.gain_x * x + a.gain_y * y) * s.t - a.bias;
+    n.JtJ.selfadjointView<Eigen::Lower>().rankUpdate(J);
+    n.Jtr += J * residual;
+    n.ssr += residual * residual;
+    ++n.valid;
+  }
+  n.JtJ.triangularView<Eigen::StrictlyUpper>() = n.JtJ.transpose();
+  return n;
+}
+
+Se3Refinement Se3PoseRefiner::refine(const cv::Mat& undistorted, const Eigen::Isometry3d& T_start) const {
+  Se3Refinement out;
+  out.T_cam_object = T_start;
+  if (levels_.empty()) {
+    out.failure = "template too small";
+    return out;
+  }
+  if (undistorted.empty() || undistorted.type() != CV_8UC1) {
+    out.failure = "frame is not a non-empty CV_8UC1 image";
+    return out;
+  }
+  const std::vector<Sample>& samples = levels_[static_cast<std::size_t>(level_for(T_start))];
+  const int needed = std::max(kMinSamples, static_cast<int>(samples.size()) / 2);
+  const std::array<Eigen::Vector3d, 4> corners{Eigen::Vector3d(-0.5 * width_m_, -0.5 * height_m_, 0),
+                                               Eigen::Vector3d(0.5 * width_m_, -0.5 * height_m_, 0),
+                                               Eigen::Vector3d(0.5 * width_m_, 0.5 * height_m_, 0),
+                                               Eigen::Vector3d(-0.5 * width_m_, 0.5 * height_m_, 0)};
+  const auto max_corner_shift = [&](const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+    double shift = 0;
+    for (const auto& c : corners) {
+      const Eigen::Vector3d pa = a * c, pb = b * c;
+      shift = std::max(shift, std::hypot(fx_ * (pa.x() / pa.z() - pb.x() / pb.z()), fy_ * (pa.y() / pa.z() - pb.y() / pb.z())));
+    }
+    return shift;
+  };
+
+  Eigen::Isometry3d T = T_start, T_previous = T_start;
+  Appearance appearance;
+  Normal n, n_previous;
+  for (int it = 0; it < settings_.max_iterations; ++it) {
+    n = accumulate(samples, undistorted, T, appearance);
+    ++out.iterations;
+    if (n.valid < needed) {
+      out.failure = "too little of the panel in view";
+      return out;
+    }
+    if (it > 0 && n.ssr > n_previous.ssr) {  // the last step made it worse: undo it and stop
+      T = T_previous;
+      n = n_previous;
+      break;
+    }
+    const Eigen::Matrix<double, kParams, 1> delta = -n.JtJ.ldlt().solve(n.Jtr);
+    if (!delta.allFinite()) {
+      out.failure = "singular normal equations";
+      return out;
+    }
+    T_previous = T;
+    n_previous = n;
+    const Eigen::Vector3d omega = delta.head<3>();
+    const double angle = omega.norm();
+    Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+    if (angle > 0) step.linear() = Eigen::AngleAxisd(angle, omega / angle).toRotationMatrix();
+    step.translation() = delta.segment<3>(3);
+    T = step * T;
+    appearance.gain += delta[6];
+    appearance.gain_x += delta[7];
+    appearance.gain_y += delta[8];
+    appearance.bias += delta[9];
+    if (max_corner_shift(T, T_previous) < settings_.convergence_px) break;
+  }
+  if (!(appearance.gain > 1e-3) || !T.matrix().allFinite()) {
+    out.failure = "no correlation with the template";
+    return out;
+  }
+  if (max_corner_shift(T, T_start) > settings_.max_corner_shift_px) {
+    out.failure = "the pose moved too far from the homography's";
+    return out;
+  }
+  // Gauss-Newton covariance at the last evaluated point (within convergence_px of the result).
+  const double dof = std::max(1, n.valid - kParams);
+  const double inflation = settings_.covariance_inflation * settings_.covariance_inflation;
+  const Eigen::Matrix<double, kParams, kParams> cov =
+      (n.ssr / dof) * inflation * n.JtJ.ldlt().solve(Eigen::Matrix<double, kParams, kParams>::Identity());
+  out.covariance = cov.topLeftCorner<6, 6>();
+  // Model errors the Gauss-Newton covariance does not see (blur and resampling differences between
+  // template and frame): a floor on the rotation's standard deviation on every axis.
+  out.covariance.topLeftCorner<3, 3>() += Eigen::Matrix3d::Identity() * settings_.rotation_sigma_floor_rad *
+                                          settings_.rotation_sigma_floor_rad;
+  Eigen::Matrix<double, 3, 6> J_t;  // translation of exp(xi) T: t + omega x t + v
+  J_t << -skew(T.translation()), Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d cov_t = J_t * out.covariance * J_t.transpose();
+  const Eigen::Matrix3d cov_r = out.covariance.topLeftCorner<3, 3>();
+  out.rotation_sigma_rad = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov_r).eigenvalues().maxCoeff()));
+  out.position_sigma_m = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov_t).eigenvalues().maxCoeff()));
+  out.residual_grey = std::sqrt(n.ssr / std::max(1, n.valid));
+  out.T_cam_object = T;
+  out.refined = true;
+  return out;
+}
+
+}  // namespace labo

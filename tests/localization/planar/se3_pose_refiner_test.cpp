@@ -1,0 +1,98 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "localization/planar/planar_pose.hpp"
+#include "localization/planar/se3_pose_refiner.hpp"
+#include "localization/planar/synthetic_scene.hpp"
+
+using namespace labo;
+
+namespace {
+
+constexpr double kW = 0.40, kH = 0.30, kDeg = 3.14159265358979 / 180.0;
+
+struct Scene {
+  PinholeCamera camera = PinholeCamera::ardrone2_front().without_distortion();
+  cv::Mat panel = make_procedural_panel(cv::Size(320, 240), 11);
+  PlanarViewRenderer renderer{camera, make_clutter_background(cv::Size(1600, 1600), 21), 0.0025};
+  Se3PoseRefiner refiner{panel, kW, kH, camera.K()};
+
+  cv::Mat view(const Eigen::Isometry3d& T, double noise = 2.0, std::uint64_t seed = 1) const {
+    cv::Mat frame = renderer.render(panel, kW, kH, T), noisy;
+    cv::Mat n(frame.size(), CV_16SC1);
+    cv::RNG(seed).fill(n, cv::RNG::NORMAL, 0, noise);
+    frame.convertTo(noisy, CV_16S);
+    noisy += n;
+    noisy.convertTo(frame, CV_8U);
+    return frame;
+  }
+};
+
+// The panel turned about its own vertical axis (through its centre): its corners barely move when
+// it is seen face-on, which is what leaves IPPE's tilt ill-conditioned.
+Eigen::Isometry3d tilted(const Eigen::Isometry3d& T, double angle_rad) {
+  Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
+  turn.linear() = Eigen::AngleAxisd(angle_rad, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  return T * turn;
+}
+
+}  // namespace
+
+TEST_CASE("planar: the SE(3) refinement fixes the tilt of a panel seen face-on at range") {
+  const Scene scene;
+  const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.0, 0.05, -2.5), Eigen::Vector3d::Zero(), 0.02);
+  for (const double start_deg : {-3.0, 3.0}) {
+    const Eigen::Isometry3d start = tilted(truth, start_deg * kDeg);
+    REQUIRE(rotation_angle(start.linear(), truth.linear()) > 2.9 * kDeg);
+    const Se3Refinement r = scene.refiner.refine(scene.view(truth), start);
+    REQUIRE(r.refined);
+    CHECK(rotation_angle(r.T_cam_object.linear(), truth.linear()) < 0.6 * kDeg);
+    CHECK((r.T_cam_object.translation() - truth.translation()).norm() < 0.01);
+    CHECK(r.rotation_sigma_rad > 0.0);
+    CHECK(r.rotation_sigma_rad < 2.0 * kDeg);
+    CHECK(r.iterations >= 2);
+  }
+}
+
+TEST_CASE("planar: the SE(3) refinement ignores brightness, contrast and a light gradient") {
+  const Scene scene;
+  const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.2, 0.05, -2.0), Eigen::Vector3d(0.1, 0, 0), 0.05);
+  cv::Mat frame = scene.view(truth), lit;
+  cv::Mat gain(frame.size(), CV_32F);
+  for (int x = 0; x < frame.cols; ++x) gain.col(x).setTo(0.5 + 0.6 * x / frame.cols);
+  frame.convertTo(lit, CV_32F);
+  lit = lit.mul(gain) + 15.0;
+  lit.convertTo(frame, CV_8U);
+  const Se3Refinement r = scene.refiner.refine(frame, tilted(truth, 2.0 * kDeg));
+  REQUIRE(r.refined);
+  CHECK(rotation_angle(r.T_cam_object.linear(), truth.linear()) < 0.6 * kDeg);
+}
+
+TEST_CASE("planar: the SE(3) refinement's rotation uncertainty grows with the distance") {
+  const Scene scene;
+  double previous = 0;
+  for (const double d : {0.8, 1.6, 3.0}) {
+    const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.05, 0.05, -d), Eigen::Vector3d::Zero());
+    const Se3Refinement r = scene.refiner.refine(scene.view(truth), truth);
+    REQUIRE(r.refined);
+    CHECK(r.rotation_sigma_rad > 1.3 * previous);
+    CHECK(r.position_sigma_m > 0.0);
+    previous = r.rotation_sigma_rad;
+  }
+}
+
+TEST_CASE("planar: the SE(3) refinement says why it keeps the starting pose") {
+  const Scene scene;
+  const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.0, 0.0, -1.5), Eigen::Vector3d::Zero());
+  const Se3Refinement empty = scene.refiner.refine(cv::Mat(), truth);
+  CHECK_FALSE(empty.refined);
+  CHECK(std::string(empty.failure).find("CV_8UC1") != std::string::npos);
+  CHECK(empty.T_cam_object.isApprox(truth));
+  // The panel far out of the image.
+  const Eigen::Isometry3d away = look_at_object(Eigen::Vector3d(3.0, 0.0, -1.5), Eigen::Vector3d(3.0, 0, 0));
+  const Se3Refinement outside = scene.refiner.refine(scene.view(truth), away);
+  CHECK_FALSE(outside.refined);
+  CHECK(std::string(outside.failure) == "too little of the panel in view");
+  CHECK_THROWS_AS(Se3PoseRefiner(scene.panel, 0.0, kH, scene.camera.K()), std::invalid_argument);
+}
