@@ -102,6 +102,10 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx) {
       next_leg_meeting_point(ctx.lab.teacher, track_.position().head<2>(), ctx.autopilot.fence(), 0.0, kCornerRadiusM);
   if (!start) return false;
   track_.place(start->position.head<2>(), start->yaw + std::numbers::pi);
+  // Wait farther out than the follow distance: the teacher starts the leg within the detector's
+  // range and walking towards the drone, and the drone, going round at this radius about the leg's
+  // start, passes the teacher (within 0.6 m of it) with room to spare.
+  standoff_m_ = ctx.config.mission.face_distance_m + kWatchBeyondFollowM;
   return true;
 }
 
@@ -127,6 +131,7 @@ void FindTeacherMission::follow(MissionContext& ctx) {
   const TargetObservation f = ctx.perception.face();
   if (f.t == last_face_t_ && !fresh_) return;  // no new face result: keep the moving set point
   const Eigen::Isometry3d T_world_face = world_pose_of(f, ctx.pose, CameraId::Front);
+  if (fresh_) standoff_m_ = ctx.config.mission.face_distance_m;
   if (fresh_ || last_face_t_ < 0) track_.reset(T_world_face, f.t);
   else track_.update(T_world_face, f.t);
   last_face_t_ = f.t;
@@ -135,7 +140,7 @@ void FindTeacherMission::follow(MissionContext& ctx) {
 }
 
 void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint) {
-  const double d = ctx.config.mission.face_distance_m;
+  const double d = standoff_m_;
   const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
   const double a = track_.heading();
   PoseTarget next = follow_standoff(standoff_target(track_.T_world_upright_face(a), d, ctx.centre_ray_front),

@@ -11,7 +11,7 @@
 //    the face looks), following the teacher's motion and turns; the standoff is kept inside the
 //    geofence and reached around the teacher, never through them; a lost face -> coast along the
 //    teacher's motion, hold, then search; with a known route, a face lost at a corner of it (the
-//    teacher turning away) -> go round to the standoff in front of the next long leg's start, facing
+//    teacher turning away) -> go round, 1.5 m from the next long leg's start, to its front, facing
 //    back along it (next_leg_meeting_point()), and wait there for the teacher to turn into view.
 // Ends on stop_face_follow (the drone hovers where it is) or when the search times out.
 #include <vector>
@@ -32,7 +32,10 @@ class FindTeacherMission final : public Mission {
   int stage_index() const override;
   int stage_count() const override { return 3; }
   std::string stage() const override { return stage_text_; }
-  bool needs_visual_localization() const override { return step_ == Step::Follow; }
+  // Following servoes on the face's pose relative to the camera: the pose estimate (SLAM, or navdata
+  // odometry when SLAM is lost, drifting a few cm over a follow) only has to be locally consistent.
+  // Searching looks for the face and holds on whatever source there is.
+  bool needs_visual_localization() const override { return false; }
   bool accepts_stop_face_follow() const override { return true; }
   void stop_face_follow() override { stop_requested_ = true; }
 
@@ -69,6 +72,7 @@ class FindTeacherMission final : public Mission {
   Seconds last_tick_ = 0;
   Seconds last_face_t_ = -1;
   TeacherTrack track_;
+  double standoff_m_ = 1.0;                 // face_distance_m, farther while waiting on the next leg
   std::string stage_text_ = "1 taking off";
 };
 
