@@ -63,6 +63,8 @@ class PlanarObjectLocalizer {
                     PlanarResult& r);
   // The SE(3) refinement of the IPPE pose when configured; fills the result's uncertainties.
   void refine_pose(const cv::Mat& image, PlanarPose& pose, double size_px, double margin, PlanarResult& r);
+  // The SE(3) refinement of T_start, with the motion blur (if the panel moved fast) that fits best.
+  Se3Refinement refine_with_blur_search(const Eigen::Isometry3d& T_start, Seconds t, Eigen::Vector2d& blur_px) const;
   const cv::Mat& undistort(const cv::Mat& gray);
 
   PlanarTemplate template_;

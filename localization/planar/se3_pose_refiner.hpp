@@ -72,12 +72,17 @@ class Se3PoseRefiner {
   struct SmoothedFrame {
     cv::Mat image;    // CV_8UC1, frame size; only `valid` is meaningful
     cv::Rect valid;   // the region smoothed (the whole frame when smoothing is off)
+    mutable std::vector<float> blurred_template;  // scratch: the template samples blurred like the frame
   };
   // Smooths the region the panel covers at any of `poses` (plus the refinement's reach) into `out`;
   // reuses out's buffer (no allocation once it has the frame's size). `undistorted` is CV_8UC1.
   void smooth(const cv::Mat& undistorted, std::initializer_list<Eigen::Isometry3d> poses, SmoothedFrame& out) const;
   // `T_start` is the IPPE pose (camera from object); `frame` comes from smooth() with T_start among its poses.
-  Se3Refinement refine(const SmoothedFrame& frame, const Eigen::Isometry3d& T_start) const;
+  // `blur_px`: the panel's apparent motion during the exposure (undistorted-frame pixels, at its
+  // centre). When it is longer than half a pixel the template is blurred the same way before the fit:
+  // a sharp template against a smeared frame pulls the pose by degrees (docs/planar.md).
+  Se3Refinement refine(const SmoothedFrame& frame, const Eigen::Isometry3d& T_start,
+                       const Eigen::Vector2d& blur_px = Eigen::Vector2d::Zero()) const;
   // Convenience for one-off calls (tests, tools): smooths around T_start, then refines. Allocates.
   Se3Refinement refine(const cv::Mat& undistorted, const Eigen::Isometry3d& T_start) const;
 
@@ -85,8 +90,9 @@ class Se3PoseRefiner {
 
  private:
   struct Sample {
-    float X, Y;  // object frame, metres (Z = 0)
-    float t;     // template grey level
+    float X, Y;    // object frame, metres (Z = 0)
+    float t;       // template grey level
+    float lx, ly;  // position in its level's image, px
   };
   struct Normal;
   // Grey level = (gain + gain_x x + gain_y y) template + bias, x and y across the panel in [-1, 1]:
@@ -97,10 +103,14 @@ class Se3PoseRefiner {
 
   void add_level(const cv::Mat& gray, int level);
   int level_for(const Eigen::Isometry3d& T) const;
-  Normal accumulate(const std::vector<Sample>& samples, const SmoothedFrame& frame, const Eigen::Isometry3d& T,
-                    const Appearance& appearance) const;
+  // `values`: the samples' template grey levels to fit (blurred), or null for their own.
+  Normal accumulate(const std::vector<Sample>& samples, const float* values, const SmoothedFrame& frame,
+                    const Eigen::Isometry3d& T, const Appearance& appearance) const;
+  // The level's samples averaged along the blur (image px mapped into the level at the panel's centre).
+  void blur_samples(int level, const Eigen::Isometry3d& T, const Eigen::Vector2d& blur_px, std::vector<float>& out) const;
 
   std::vector<std::vector<Sample>> levels_;
+  std::vector<cv::Mat> level_images_;  // the levels as sampled (smoothed), for blurring the samples
   cv::Size template_size_;
   double width_m_, height_m_;
   double fx_, fy_, cx_, cy_;
