@@ -55,6 +55,12 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args) {
   return o;
 }
 
+namespace {
+LabDescription load_lab_file(const std::filesystem::path& config, const ConfigReader& root) {
+  return load_lab_description((config.parent_path() / root.string_or("lab", "lab.json")).lexically_normal());
+}
+}  // namespace
+
 Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   Experiment e;
   FlightStackSetup& setup = e.setup;
@@ -70,12 +76,16 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
     setup.estimation.navdata_delay_s = 0;
     setup.estimation.control_delay_s = 0;
     setup.lab = model_lab();
+    if (options.model_route) {
+      const LabDescription lab = load_lab_file(options.config, root);
+      setup.lab = lab_geometry_from(lab);
+      e.model_route = lab.teacher;
+    }
     return e;
   }
   // SimDroneLink has the link's delays: the estimator keeps the configured ones.
   const std::filesystem::path base_dir = options.config.parent_path();
-  const std::filesystem::path lab_file = base_dir / root.string_or("lab", "lab.json");
-  e.lab = load_lab_description(lab_file.lexically_normal());
+  e.lab = load_lab_file(options.config, root);
   setup.lab = lab_geometry_from(*e.lab);
   if (root.has("cameras")) setup.cameras = read_cameras_config(root.object("cameras"));
   FrontEndSettings front_ends = read_front_end_settings(root, base_dir);
@@ -89,7 +99,11 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
 }
 
 std::unique_ptr<ExperimentFlight> make_flight(const Experiment& experiment, unsigned seed) {
-  if (!experiment.lab) return std::make_unique<LockstepFlight>(experiment.setup, PerceptionModelConfig{}, seed);
+  if (!experiment.lab) {
+    auto flight = std::make_unique<LockstepFlight>(experiment.setup, PerceptionModelConfig{}, seed);
+    if (experiment.model_route) flight->walk_route(*experiment.model_route);
+    return flight;
+  }
   SimConfig sim = experiment.sim;
   sim.lab.seed = seed;
   sim.link.seed = seed;

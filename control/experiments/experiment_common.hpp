@@ -24,6 +24,9 @@ struct ExperimentOptions {
   std::filesystem::path config;  // --config, default config/default.json
   bool real_vision = false;      // --vision real: the simulated lab, rendered cameras, real front-ends
   std::optional<double> video_fps;  // --fps, with --vision real (default: the sim section's 30)
+  // --route (sim face-follow, model vision): fly in the config's lab file with its teacher walking
+  // the lab's route, as with --vision real, instead of the model lab's 2 m back-and-forth.
+  bool model_route = false;
 };
 
 std::vector<OptionSpec> experiment_option_specs();
@@ -39,6 +42,7 @@ struct Experiment {
   std::optional<LabDescription> lab;       // --vision real: the lab the simulated lab is built from
   SimConfig sim;                           // its "sim" section (lab and link settings)
   std::optional<TexturedHeadModel> head;   // the teacher's face, when the experiment looks for it
+  std::optional<TeacherSpec> model_route;  // --route: the model flight's teacher walks this
 };
 // `with_face`: load the face front-end (find teacher) with --vision real.
 Experiment make_experiment(const ExperimentOptions& options, bool with_face);

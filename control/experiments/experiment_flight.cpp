@@ -1,5 +1,7 @@
 #include "control/experiments/experiment_flight.hpp"
 
+#include <cmath>
+
 #include "core/frames.hpp"
 
 namespace labo {
@@ -9,7 +11,8 @@ Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T) {
   return {p.x(), p.y(), p.z(), ypr_from_rotation(T.linear())[0]};
 }
 
-FlightSample sample_of(const FlightStatus& s, const Eigen::Isometry3d& truth, Seconds t) {
+FlightSample sample_of(const FlightStatus& s, const Eigen::Isometry3d& truth, Seconds t,
+                       const std::optional<Eigen::Isometry3d>& true_face) {
   FlightSample sample;
   sample.t = t;
   sample.estimated = xyz_yaw(s.pose.T_world_body);
@@ -22,6 +25,12 @@ FlightSample sample_of(const FlightStatus& s, const Eigen::Isometry3d& truth, Se
   if (target.state == TrackState::Lost) sample.target_reason = target.reason;
   sample.stage_index = s.stage_index;
   sample.stage = s.stage;
+  if (true_face) {
+    const Eigen::Vector3d p = true_face->translation(), z = true_face->linear().col(2);
+    sample.face_true_world = Eigen::Vector4d(p.x(), p.y(), p.z(), std::atan2(z.y(), z.x()));
+    sample.face_true_cam = ((truth * T_body_cam_front()).inverse() * *true_face).translation();
+  }
+  if (s.face.state == TrackState::Tracking) sample.face_measured_cam = s.face.T_cam_target.translation();
   return sample;
 }
 

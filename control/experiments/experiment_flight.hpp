@@ -25,6 +25,11 @@ struct FlightSample {
   std::string target_reason;            // why the target is lost, as its front-end says
   int stage_index = 0;
   std::string stage;
+  // The teacher's face, when there is one (face-follow diagnostics): true place in the world (x, y, z,
+  // heading of the face's +z), true and measured position in the front camera (z = depth).
+  std::optional<Eigen::Vector4d> face_true_world;
+  std::optional<Eigen::Vector3d> face_true_cam;
+  std::optional<Eigen::Vector3d> face_measured_cam;
 };
 
 class ExperimentFlight {
@@ -58,7 +63,8 @@ class ExperimentFlight {
 };
 
 Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T);
-// The sample of this tick, from the stack's status and the truth.
-FlightSample sample_of(const FlightStatus& status, const Eigen::Isometry3d& truth, Seconds t);
+// The sample of this tick, from the stack's status and the truth (the teacher's face: T_world_face).
+FlightSample sample_of(const FlightStatus& status, const Eigen::Isometry3d& truth, Seconds t,
+                       const std::optional<Eigen::Isometry3d>& true_face);
 
 }  // namespace labo

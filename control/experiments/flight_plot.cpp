@@ -17,6 +17,15 @@ std::ofstream open_for_writing(const std::filesystem::path& file) {
   return out;
 }
 
+// Its N columns, empty when there is no value.
+template <int N>
+void write_optional(std::ostream& out, const std::optional<Eigen::Matrix<double, N, 1>>& v) {
+  for (int i = 0; i < N; ++i) {
+    out << ',';
+    if (v) out << (*v)[i];
+  }
+}
+
 constexpr const char* kAxisNames[] = {"x (m)", "y (m)", "z (m)", "yaw (deg)"};
 
 double value(const Eigen::Vector4d& v, int axis) {
@@ -28,7 +37,9 @@ double value(const Eigen::Vector4d& v, int axis) {
 void write_flight_csv(const std::filesystem::path& file, const std::vector<FlightSample>& samples) {
   std::ofstream out = open_for_writing(file);
   out << "t_s,est_x_m,est_y_m,est_z_m,est_yaw_rad,true_x_m,true_y_m,true_z_m,true_yaw_rad,"
-         "des_x_m,des_y_m,des_z_m,des_yaw_rad,source,slam,target,target_lost_reason,stage_index,stage\n";
+         "des_x_m,des_y_m,des_z_m,des_yaw_rad,source,slam,target,target_lost_reason,stage_index,stage,"
+         "face_x_m,face_y_m,face_z_m,face_heading_rad,face_cam_x_m,face_cam_y_m,face_cam_z_m,"
+         "face_meas_cam_x_m,face_meas_cam_y_m,face_meas_cam_z_m\n";
   for (const auto& s : samples) {
     out << s.t;
     for (int i = 0; i < 4; ++i) out << ',' << s.estimated[i];
@@ -41,7 +52,11 @@ void write_flight_csv(const std::filesystem::path& file, const std::vector<Fligh
     std::replace(stage.begin(), stage.end(), ',', ';');
     std::replace(reason.begin(), reason.end(), ',', ';');
     out << ',' << to_string(s.source) << ',' << to_string(s.slam) << ',' << to_string(s.target) << ",\"" << reason << "\","
-        << s.stage_index << ",\"" << stage << "\"\n";
+        << s.stage_index << ",\"" << stage << '"';
+    write_optional(out, s.face_true_world);
+    write_optional(out, s.face_true_cam);
+    write_optional(out, s.face_measured_cam);
+    out << '\n';
   }
 }
 

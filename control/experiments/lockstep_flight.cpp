@@ -36,8 +36,11 @@ void LockstepFlight::walk_teacher() {
   y += walk_direction_ * walk_speed_ * kControlDt;
 }
 
+std::optional<Eigen::Isometry3d> LockstepFlight::true_face() const { return T_world_face_ * flip_about_y(); }
+
 void LockstepFlight::tick() {
-  if (walking_) walk_teacher();
+  if (route_) T_world_face_ = route_->pose(t_).T_world_head * flip_about_y();
+  else if (walking_) walk_teacher();
   TickRecord record;
   record.navdata = perception_.navdata(drone_, t_);
   record.focus = pipelines_->focus();
@@ -60,7 +63,7 @@ void LockstepFlight::tick() {
     case FlightOutput::Action::Emergency: drone_.emergency(); break;
     case FlightOutput::Action::None: break;
   }
-  samples_.push_back(sample_of(stack_->status(), drone_.pose(), t_));
+  samples_.push_back(sample_of(stack_->status(), drone_.pose(), t_, true_face()));
   for (int i = 0; i < kPhysicsSubsteps; ++i) drone_.step(kControlDt / kPhysicsSubsteps);
   t_ += kControlDt;
 }

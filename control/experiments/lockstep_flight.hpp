@@ -9,6 +9,7 @@
 
 #include "control/experiments/experiment_flight.hpp"
 #include "control/experiments/perception_model.hpp"
+#include "drone/sim/teacher_motion.hpp"
 
 namespace labo {
 
@@ -29,9 +30,14 @@ class LockstepFlight final : public ExperimentFlight {
   FlightStack& stack() override { return *stack_; }
   Seconds now() const override { return t_; }
   Eigen::Isometry3d true_pose() const override { return drone_.pose(); }
-  std::optional<Eigen::Isometry3d> true_face() const override { return T_world_face_; }
-  // Back and forth along y between -1 and 1 m at 0.5 m/s, turning with a human 0.5 m/s^2.
+  // The face frame with z out of the face (T_world_face_ is control's convention, z into it).
+  std::optional<Eigen::Isometry3d> true_face() const override;
+  // Back and forth along y between -1 and 1 m at 0.5 m/s, turning with a human 0.5 m/s^2; with
+  // walk_route(), the route walks all along and this does nothing.
   void start_teacher_walk() override { walking_ = true; }
+  // The teacher walks a lab file's route from t = 0 (drone/sim's TeacherMotion: pauses turning at the
+  // waypoints, the head's sway), as the simulated lab's teacher does.
+  void walk_route(const TeacherSpec& route) { route_.emplace(route); }
   void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) override { drone_.push(dv_world_mps, dyaw_rad); }
   bool crashed() const override { return drone_.crashed; }
   const LabGeometry& lab() const override { return lab_; }
@@ -53,6 +59,7 @@ class LockstepFlight final : public ExperimentFlight {
 
   Eigen::Isometry3d T_world_face_ = Eigen::Isometry3d::Identity();
   bool walking_ = false;
+  std::optional<TeacherMotion> route_;
   double walk_direction_ = 1.0, walk_speed_ = 0.0;
   std::vector<FlightSample> samples_;
   Seconds t_ = 0;

@@ -61,7 +61,7 @@ void SimLabFlight::tick() {
   const Eigen::Isometry3d truth = true_pose();
   stack_->set_ground_truth(truth, t_);
   apply(stack_->tick(t_));
-  samples_.push_back(sample_of(stack_->status(), truth, t_));
+  samples_.push_back(sample_of(stack_->status(), truth, t_, true_face()));
   t_ += kControlDt;
 }
 

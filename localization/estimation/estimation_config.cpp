@@ -59,9 +59,12 @@ EstimatorConfig read_estimation_config(const ConfigReader& node) {
   c.vision_gate_chi2 = node.number_or("vision_gate_chi2", c.vision_gate_chi2, Range::positive());
   c.inactive_source_noise_factor =
       node.number_or("inactive_source_noise_factor", c.inactive_source_noise_factor, Range{1.0, 100.0});
-  c.scale_sigma_map = node.number_or("scale_sigma_map", c.scale_sigma_map, Range::positive());
-  c.scale_sigma_metric = node.number_or("scale_sigma_metric", c.scale_sigma_metric, Range::positive());
-  c.scale_pair_sigma_metric = node.number_or("scale_pair_sigma_metric", c.scale_pair_sigma_metric, Range::positive());
+  c.scale_sigma_map_m = node.number_or("scale_sigma_map_m", c.scale_sigma_map_m, Range::positive());
+  c.scale_sigma_metric_m = node.number_or("scale_sigma_metric_m", c.scale_sigma_metric_m, Range::positive());
+  c.scale_min_displacement_m =
+      node.number_or("scale_min_displacement_m", c.scale_min_displacement_m, Range::positive());
+  c.scale_memory_pairs = node.number_or("scale_memory_pairs", c.scale_memory_pairs, Range{2.0, 1000.0});
+  c.scale_outlier_chi2 = node.number_or("scale_outlier_chi2", c.scale_outlier_chi2, Range::positive());
   c.scale_interval_min_s = node.number_or("scale_interval_min_s", c.scale_interval_min_s, Range{0.1, 30.0});
   c.scale_interval_max_s = node.number_or("scale_interval_max_s", c.scale_interval_max_s, Range{0.1, 60.0});
   if (c.scale_interval_max_s <= c.scale_interval_min_s) {

@@ -72,13 +72,19 @@ struct EstimatorConfig {
   // false reproduces the paper's ultrasound rule (increments above gamma dropped as floor steps), for
   // comparison in the experiments; true tells pushes from floor steps (altitude_tracker.hpp).
   bool altitude_step_discrimination = true;
-  // Scale estimation (tum_ardrone's ML estimator, notes §3).
-  double scale_sigma_map = 0.2;
-  double scale_sigma_metric = 0.01;
-  double scale_pair_sigma_metric = 0.1;
+  // Scale estimation (tum_ardrone's ML estimator, notes §3; ScaleSettings in scale_estimator.hpp for
+  // what differs). Noises are per pair and in metres after the axis weights.
+  double scale_sigma_map_m = 0.04;
+  double scale_sigma_metric_m = 0.04;
+  double scale_min_displacement_m = 0.3;   // weighted: 10 cm of climb, or 30 cm sideways
+  double scale_memory_pairs = 10.0;        // the map's scale drifts: older pairs are forgotten
+  double scale_outlier_chi2 = 11.34;
   Seconds scale_interval_min_s = 1.0;
   Seconds scale_interval_max_s = 3.0;
-  double scale_weight_xy = 0.05;
+  // Axis weights (world axes) of the pairs. tum_ardrone weighs xy 0.05 (its pairs come from the
+  // up/down manoeuvre); here any motion counts, the bottom-camera odometry is trusted a third of the
+  // ultrasound.
+  double scale_weight_xy = 1.0;
   double scale_weight_z = 3.0;
   double initial_scale = 1.0;
   // An object's world pose is refined over its first sightings while SLAM localizes the drone.

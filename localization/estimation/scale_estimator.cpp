@@ -5,17 +5,25 @@
 
 namespace labo {
 
-ScaleEstimator::ScaleEstimator(double sigma_map, double sigma_metric, double pair_sigma_metric, double initial_scale)
-    : sigma_map_(sigma_map), sigma_metric_(sigma_metric), pair_sigma_metric_(pair_sigma_metric),
-      initial_scale_(initial_scale) {
-  reset(initial_scale);
+namespace {
+// Pairs older than this many memories weigh less than 2 % and are dropped.
+constexpr double kKeptMemories = 4.0;
+
+std::size_t kept_pairs(double memory_pairs) { return static_cast<std::size_t>(std::ceil(kKeptMemories * memory_pairs)); }
+}  // namespace
+
+ScaleEstimator::ScaleEstimator(const ScaleSettings& settings) : settings_(settings) {
+  const std::size_t n = kept_pairs(settings_.memory_pairs) + 1;
+  pairs_.reserve(n);
+  weights_.reserve(n);
+  sorted_.reserve(n);
+  reset(settings.initial_scale);
 }
 
 void ScaleEstimator::reset(double initial_scale) {
-  initial_scale_ = initial_scale;
-  map_.clear();
-  metric_.clear();
-  pair_scales_.clear();
+  settings_.initial_scale = initial_scale;
+  pairs_.clear();
+  outliers_at_arrival_ = 0;
   status_ = ScaleStatus{};
   status_.scale = initial_scale;
 }
@@ -33,47 +41,69 @@ double ScaleEstimator::ml_scale(double s_pp, double s_ii, double s_pi, double si
 
 bool ScaleEstimator::add_pair(const Eigen::Vector3d& map_displacement, const Eigen::Vector3d& metric_displacement) {
   if (!map_displacement.allFinite() || !metric_displacement.allFinite()) return false;
-  if (map_displacement.norm() < 0.05 || metric_displacement.norm() < 0.05) return false;
-  const double alpha = ml_scale(map_displacement.squaredNorm(), metric_displacement.squaredNorm(),
-                                map_displacement.dot(metric_displacement), sigma_map_, pair_sigma_metric_);
-  if (!(alpha > 0) || !std::isfinite(alpha)) return false;
-  map_.push_back(map_displacement);
-  metric_.push_back(metric_displacement);
-  pair_scales_.push_back(alpha);
+  if (metric_displacement.norm() < settings_.min_displacement_m || map_displacement.norm() < 1e-9) return false;
+  if (!(map_displacement.dot(metric_displacement) > 0)) return false;  // a negative scale is no scale
+  const Pair pair{map_displacement, metric_displacement, metric_displacement.norm() / map_displacement.norm()};
+  if (status_.estimated && !inlier(pair, status_.scale)) ++outliers_at_arrival_;
+  if (pairs_.size() >= kept_pairs(settings_.memory_pairs)) pairs_.erase(pairs_.begin());
+  pairs_.push_back(pair);
   recompute();
   return true;
 }
 
-void ScaleEstimator::recompute() {
-  // Reference for outlier rejection: the median of single-pair scales once there are 5 of them.
-  double reference = initial_scale_;
-  if (pair_scales_.size() >= 5) {
-    std::vector<double> sorted = pair_scales_;
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    reference = sorted[sorted.size() / 2];
+double ScaleEstimator::weighted_median_scale() {
+  sorted_.clear();
+  double total = 0;
+  for (std::size_t i = 0; i < pairs_.size(); ++i) {
+    sorted_.emplace_back(pairs_[i].alpha, weights_[i]);
+    total += weights_[i];
   }
-  double s_pp = 0, s_ii = 0, s_pi = 0;
+  std::sort(sorted_.begin(), sorted_.end());
+  double below = 0;
+  for (const auto& [alpha, w] : sorted_) {
+    below += w;
+    if (below >= 0.5 * total) return alpha;
+  }
+  return sorted_.back().first;
+}
+
+bool ScaleEstimator::inlier(const Pair& p, double reference) const {
+  const double var = settings_.sigma_metric_m * settings_.sigma_metric_m + settings_.sigma_map_m * settings_.sigma_map_m;
+  return (p.metric - reference * p.map).squaredNorm() / var <= settings_.outlier_chi2;
+}
+
+void ScaleEstimator::recompute() {
+  const double forget = 1.0 - 1.0 / settings_.memory_pairs;
+  weights_.clear();
+  for (std::size_t i = 0; i < pairs_.size(); ++i) weights_.push_back(std::pow(forget, double(pairs_.size() - 1 - i)));
+  status_.pairs = static_cast<int>(pairs_.size());
+  // Too few pairs for a median to mean anything: all are taken.
+  const bool gate = pairs_.size() >= static_cast<std::size_t>(kMinInliers);
+  const double ref = weighted_median_scale();
+  double s_pp = 0, s_ii = 0, s_pi = 0, w_sum = 0, sum = 0, sum2 = 0;
   int inliers = 0;
-  double sum = 0, sum2 = 0;
-  for (std::size_t i = 0; i < pair_scales_.size(); ++i) {
-    if (!(pair_scales_[i] > 0.2 * reference && pair_scales_[i] < 5.0 * reference)) continue;
-    s_pp += map_[i].squaredNorm();
-    s_ii += metric_[i].squaredNorm();
-    s_pi += map_[i].dot(metric_[i]);
-    sum += pair_scales_[i];
-    sum2 += pair_scales_[i] * pair_scales_[i];
+  for (std::size_t i = 0; i < pairs_.size(); ++i) {
+    const Pair& p = pairs_[i];
+    if (gate && !inlier(p, ref)) continue;
+    const double w = weights_[i];
+    s_pp += w * p.map.squaredNorm();
+    s_ii += w * p.metric.squaredNorm();
+    s_pi += w * p.map.dot(p.metric);
+    w_sum += w;
+    sum += w * p.alpha;
+    sum2 += w * p.alpha * p.alpha;
     ++inliers;
   }
-  status_.pairs = static_cast<int>(pair_scales_.size());
   status_.inliers = inliers;
   if (inliers == 0) return;
-  const double lambda = ml_scale(s_pp, s_ii, s_pi, sigma_map_, sigma_metric_);
-  if (!(lambda > 0.1 * reference) || !std::isfinite(lambda)) return;
+  // The map's noise in map units at the reference scale: both sides weigh as metres.
+  const double lambda = ml_scale(s_pp, s_ii, s_pi, settings_.sigma_map_m / ref, settings_.sigma_metric_m);
+  if (!(lambda > 0.1 * ref) || !std::isfinite(lambda)) return;
   status_.scale = lambda;
   status_.estimated = inliers >= kMinInliers;
   status_.accuracy = 0.5 + 0.5 * std::clamp(s_pi * lambda / 4.0, 0.0, 1.0);
-  const double mean = sum / inliers;
-  const double var = std::max(0.0, sum2 / inliers - mean * mean);
+  const double mean = sum / w_sum;
+  const double var = std::max(0.0, sum2 / w_sum - mean * mean);
   status_.relative_std = inliers > 1 ? std::sqrt(var / (inliers - 1)) / mean : 1.0;
 }
 

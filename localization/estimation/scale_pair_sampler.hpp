@@ -3,7 +3,10 @@
 // ScaleEstimator needs (notes/tum_ardrone.md §3). Each end of a pair is the mean of a short window of
 // consecutive fused SLAM frames (and of the odometry at the same instants), which divides the
 // per-frame SLAM noise by about sqrt(window) without biasing the ratio: both sides are averaged over the
-// same frames. Intervals shorter than `min_interval` wait, longer than `max_interval` restart.
+// same frames. A pair closes once its interval is at least `min_interval` and its weighted metric
+// displacement reaches `min_displacement` (any motion, not only the up/down manoeuvre: a pair that
+// closed after a fixed interval was mostly too short to count, and was thrown away); an interval
+// longer than `max_interval` without enough motion restarts (odometry drift grows with time).
 #include <Eigen/Core>
 #include <array>
 #include <optional>
@@ -32,7 +35,10 @@ class ScalePairSampler {
  public:
   static constexpr int kWindow = 5;
 
-  ScalePairSampler(Seconds min_interval, Seconds max_interval) : min_(min_interval), max_(max_interval) {}
+  // `weights`: per world axis (x, y, z), as the ScaleEstimator will see the pair (z counts 0 once a
+  // floor step corrupted it).
+  ScalePairSampler(Seconds min_interval, Seconds max_interval, const Eigen::Vector3d& weights, double min_displacement)
+      : min_(min_interval), max_(max_interval), weights_(weights), min_displacement_(min_displacement) {}
   void reset() { count_ = 0; start_.reset(); }
   // Adds a fused SLAM frame; returns a pair when one completes.
   std::optional<ScalePair> add(const ScaleSample& sample);
@@ -48,8 +54,12 @@ class ScalePairSampler {
   };
   WindowMean mean() const;
 
+  void restart(const WindowMean& now);
+
   Seconds min_;
   Seconds max_;
+  Eigen::Vector3d weights_;
+  double min_displacement_;
   std::array<ScaleSample, kWindow> window_{};
   int count_ = 0;  // samples in the window (consecutive)
   std::optional<WindowMean> start_;

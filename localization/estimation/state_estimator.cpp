@@ -42,23 +42,38 @@ enum Counter {
   kNavdata, kCommands, kSlam, kObject, kFace, kRejectedNonfinite, kRejectedOutOfOrder, kRejectedFuture,
   kRejectedLate, kRejectedJumpDistance, kRejectedJumpAngle, kRejectedInnovation, kRejectedNotTracking,
   kRejectedBadInput, kCommandsNonfinite, kNavdataOverflow, kSlamMaps, kObjectsPlaced, kScalePairs,
-  kVisionSettling, kCounterCount
+  kVisionSettling, kScalePairsNoCoverage, kCounterCount
 };
 constexpr const char* kCounterNames[kCounterCount] = {
     "navdata", "commands", "slam_fused", "object_fused", "face_fused", "rejected_nonfinite",
     "rejected_out_of_order", "rejected_future", "rejected_late", "rejected_jump_distance", "rejected_jump_angle",
     "rejected_innovation", "rejected_not_tracking", "rejected_bad_input", "commands_nonfinite_hover",
-    "navdata_queue_overflow", "slam_maps", "objects_placed", "scale_pairs", "vision_settling"};
+    "navdata_queue_overflow", "slam_maps", "objects_placed", "scale_pairs", "vision_settling", "scale_pairs_navdata_gap"};
 
 int source_index(LocalizationSource s) { return static_cast<int>(s); }
+
+ScaleSettings scale_settings(const EstimatorConfig& c) {
+  ScaleSettings s;
+  s.sigma_map_m = c.scale_sigma_map_m;
+  s.sigma_metric_m = c.scale_sigma_metric_m;
+  s.min_displacement_m = c.scale_min_displacement_m;
+  s.memory_pairs = c.scale_memory_pairs;
+  s.outlier_chi2 = c.scale_outlier_chi2;
+  s.initial_scale = c.initial_scale;
+  return s;
+}
+
+Eigen::Vector3d scale_weights(const EstimatorConfig& c) {
+  return {c.scale_weight_xy, c.scale_weight_xy, c.scale_weight_z};
+}
 }  // namespace
 
 struct StateEstimator::Impl {
   Impl(const EstimatorConfig& c, const VisionThresholds& th)
       : config(c), thresholds(th), core(c, th.ultrasound_step_gamma_m), navdata(kNavdataCapacity),
         commands(kCommandCapacity), selector(c.source_enter_count, c.source_timeout_s),
-        scale(c.scale_sigma_map, c.scale_sigma_metric, c.scale_pair_sigma_metric, c.initial_scale),
-        pair_sampler(c.scale_interval_min_s, c.scale_interval_max_s) {}
+        scale(scale_settings(c)), pair_sampler(c.scale_interval_min_s, c.scale_interval_max_s, scale_weights(c),
+                                               c.scale_min_displacement_m) {}
 
   EstimatorConfig config;
   VisionThresholds thresholds;
@@ -207,10 +222,14 @@ struct StateEstimator::Impl {
     sample.navdata_gap = odo.max_gap;
     core.odometry().reset_gap();
     const std::optional<ScalePair> pair = pair_sampler.add(sample);
-    if (!pair || !pair->coverage_ok) return;
+    if (!pair) return;
+    if (!pair->coverage_ok) {
+      count(kScalePairsNoCoverage);
+      return;
+    }
     const Eigen::Vector3d map_d = map.rotate_to_world(pair->map_displacement);
-    const Eigen::Vector3d w(config.scale_weight_xy, config.scale_weight_xy,
-                            pair->z_corrupted ? 0.0 : config.scale_weight_z);
+    Eigen::Vector3d w = scale_weights(config);
+    if (pair->z_corrupted) w.z() = 0.0;
     if (scale.add_pair(w.cwiseProduct(map_d), w.cwiseProduct(pair->metric_displacement))) {
       count(kScalePairs);
       map.set_scale(scale.scale());
@@ -512,6 +531,7 @@ const EstimatorConfig& StateEstimator::config() const { return impl_->config; }
 EstimatorStatistics StateEstimator::statistics() const {
   EstimatorStatistics st;
   for (int i = 0; i < kCounterCount; ++i) st.counters[kCounterNames[i]] = impl_->counters[i];
+  st.counters["scale_pairs_outliers_at_arrival"] = static_cast<std::uint64_t>(impl_->scale.outliers_at_arrival());
   st.counters["covariance_repairs"] = static_cast<std::uint64_t>(impl_->core.ekf().repairs());
   st.counters["floor_steps"] = static_cast<std::uint64_t>(impl_->core.counters().floor_steps);
   st.counters["ultrasound_fused_as_motion"] = static_cast<std::uint64_t>(impl_->core.counters().fused_as_motion);

@@ -19,6 +19,15 @@ constexpr double kDistinctPosesRad = 2.0 * 3.14159265358979 / 180.0;
 // Template-matching scale window around a predicted width.
 constexpr double kPredictedWidthFactor = 1.6;
 
+Se3RefinerSettings se3_settings(const PlanarConfig& config) {
+  Se3RefinerSettings s;
+  s.max_iterations = config.se3_iterations;
+  s.max_samples = config.se3_max_samples;
+  s.covariance_inflation = config.se3_covariance_inflation;
+  s.smoothing_sigma_px = config.se3_smoothing_sigma_px;
+  return s;
+}
+
 double visible_fraction(const std::array<cv::Point2d, 4>& corners, cv::Size size) {
   std::vector<cv::Point2f> quad, frame{{-0.5f, -0.5f},
                                        {size.width - 0.5f, -0.5f},
@@ -92,8 +101,7 @@ PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, con
       sift_detector_(template_.working(), config, thresholds.sift_min_inliers),
       pose_solver_(camera.K(), template_.object_corners()),
       pose_refiner_(template_.working(), template_.width_m(), template_.height_m(), camera.K(),
-                    Se3RefinerSettings{config.se3_iterations, config.se3_max_samples, 0.002, 1.5,
-                                       config.se3_covariance_inflation}) {
+                    se3_settings(config)) {
   if (camera_.has_distortion()) {
     const cv::Size size(camera_.width(), camera_.height());
     cv::initUndistortRectifyMap(camera_.K(), camera_.distortion_coefficients(), cv::Mat(), camera_.K(), size,
@@ -249,16 +257,21 @@ PlanarLoss PlanarObjectLocalizer::accept(const cv::Mat& image, const cv::Matx33d
 }
 
 void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, double size_px, double margin,
-                                        PlanarResult& r) const {
+                                        PlanarResult& r) {
   r.pose_refined = false;
   if (config_.pose_refinement == PoseRefinement::Se3) {
-    Se3Refinement refined = pose_refiner_.refine(image, pose.T_cam_object);
+    if (pose.alternative_plausible) {
+      pose_refiner_.smooth(image, {pose.T_cam_object, pose.T_alternative}, smoothed_);
+    } else {
+      pose_refiner_.smooth(image, {pose.T_cam_object}, smoothed_);
+    }
+    Se3Refinement refined = pose_refiner_.refine(smoothed_, pose.T_cam_object);
     if (pose.alternative_plausible) {
       // Two distinct IPPE poses fit the corners: the photometric fit sees the perspective that tells
       // them apart. Both are refined; when they end apart with residuals within 2 %, IPPE's choice
       // (continuity, else the lower corner error) and its ambiguity flag stand, otherwise the lower
       // residual wins and the ambiguity is resolved.
-      const Se3Refinement other = pose_refiner_.refine(image, pose.T_alternative);
+      const Se3Refinement other = pose_refiner_.refine(smoothed_, pose.T_alternative);
       if (refined.refined && other.refined) {
         const bool apart = rotation_angle(refined.T_cam_object.linear(), other.T_cam_object.linear()) > kDistinctPosesRad;
         const double low = std::min(refined.residual_grey, other.residual_grey);

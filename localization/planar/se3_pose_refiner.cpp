@@ -63,7 +63,9 @@ Se3PoseRefiner::Se3PoseRefiner(const cv::Mat& working_template, double width_m, 
   }
 }
 
-void Se3PoseRefiner::add_level(const cv::Mat& gray, int k) {
+void Se3PoseRefiner::add_level(const cv::Mat& level, int k) {
+  cv::Mat gray = level;
+  if (settings_.smoothing_sigma_px > 0) cv::GaussianBlur(level, gray, cv::Size(0, 0), settings_.smoothing_sigma_px);
   cv::Mat gx, gy, magnitude;
   cv::Sobel(gray, gx, CV_32F, 1, 0, 3);
   cv::Sobel(gray, gy, CV_32F, 0, 1, 3);
@@ -124,11 +126,51 @@ int Se3PoseRefiner::level_for(const Eigen::Isometry3d& T) const {
   return matching_template_level(Hc, template_size_, static_cast<int>(levels_.size()) - 1);
 }
 
-Se3PoseRefiner::Normal Se3PoseRefiner::accumulate(const std::vector<Sample>& samples, const cv::Mat& image,
+void Se3PoseRefiner::smooth(const cv::Mat& undistorted, std::initializer_list<Eigen::Isometry3d> poses,
+                            SmoothedFrame& out) const {
+  const cv::Rect whole(0, 0, undistorted.cols, undistorted.rows);
+  if (!(settings_.smoothing_sigma_px > 0) || undistorted.empty()) {
+    out.image = undistorted;  // a header: no copy
+    out.valid = whole;
+    return;
+  }
+  // Reach: the refinement may move a corner by max_corner_shift_px, the gradient reads 1 px either
+  // side, and the Gaussian needs 3 sigma of real neighbours.
+  const double reach = settings_.max_corner_shift_px + 2.0 + 3.0 * settings_.smoothing_sigma_px;
+  double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
+  for (const Eigen::Isometry3d& T : poses) {
+    for (double sx : {-0.5, 0.5}) {
+      for (double sy : {-0.5, 0.5}) {
+        const Eigen::Vector3d P = T * Eigen::Vector3d(sx * width_m_, sy * height_m_, 0);
+        if (!(P.z() > 1e-3)) {  // a corner behind the camera: smooth everything
+          x0 = y0 = -1e9;
+          x1 = y1 = 1e9;
+          continue;
+        }
+        const double u = fx_ * P.x() / P.z() + cx_, v = fy_ * P.y() / P.z() + cy_;
+        x0 = std::min(x0, u), x1 = std::max(x1, u), y0 = std::min(y0, v), y1 = std::max(y1, v);
+      }
+    }
+  }
+  const auto clamp_to = [](double value, int hi) { return static_cast<int>(std::clamp(value, 0.0, static_cast<double>(hi))); };
+  const int left = clamp_to(std::floor(x0 - reach), undistorted.cols), right = clamp_to(std::ceil(x1 + reach) + 1, undistorted.cols);
+  const int top = clamp_to(std::floor(y0 - reach), undistorted.rows), bottom = clamp_to(std::ceil(y1 + reach) + 1, undistorted.rows);
+  out.valid = cv::Rect(left, top, std::max(0, right - left), std::max(0, bottom - top)) & whole;
+  out.image.create(undistorted.size(), CV_8UC1);
+  if (out.valid.area() == 0) return;
+  // A region of interest: the blur reads the real neighbours outside it (reflects only at the frame's border).
+  cv::Mat dst = out.image(out.valid);
+  cv::GaussianBlur(undistorted(out.valid), dst, cv::Size(0, 0), settings_.smoothing_sigma_px);
+}
+
+Se3PoseRefiner::Normal Se3PoseRefiner::accumulate(const std::vector<Sample>& samples, const SmoothedFrame& frame,
                                                   const Eigen::Isometry3d& T, const Appearance& a) const {
   Normal n;
+  const cv::Mat& image = frame.image;
   const Eigen::Vector3d r1 = T.linear().col(0), r2 = T.linear().col(1), t = T.translation();
-  const double x_max = image.cols - 2, y_max = image.rows - 2;
+  // Bilinear reads at u +- 1 stay inside the smoothed region.
+  const double x_min = frame.valid.x + 1, y_min = frame.valid.y + 1;
+  const double x_max = frame.valid.x + frame.valid.width - 2, y_max = frame.valid.y + frame.valid.height - 2;
   Eigen::Matrix<double, kParams, 1> J;
   const double sx = 2.0 / width_m_, sy = 2.0 / height_m_;  // panel coordinates in [-1, 1]
   for (const Sample& s : samples) {
@@ -136,7 +178,7 @@ Se3PoseRefiner::Normal Se3PoseRefiner::accumulate(const std::vector<Sample>& sam
     if (!(P.z() > 1e-3)) continue;
     const double iz = 1.0 / P.z();
     const double u = fx_ * P.x() * iz + cx_, v = fy_ * P.y() * iz + cy_;
-    if (!(u >= 1 && v >= 1 && u < x_max && v < y_max)) continue;
+    if (!(u >= x_min && v >= y_min && u < x_max && v < y_max)) continue;
     const double value = bilinear_grey(image, u, v);
     const double gu = 0.5 * (bilinear_grey(image, u + 1, v) - bilinear_grey(image, u - 1, v));
     const double gv = 0.5 * (bilinear_grey(image, u, v + 1) - bilinear_grey(image, u, v - 1));
@@ -160,6 +202,19 @@ Se3PoseRefiner::Normal Se3PoseRefiner::accumulate(const std::vector<Sample>& sam
 }
 
 Se3Refinement Se3PoseRefiner::refine(const cv::Mat& undistorted, const Eigen::Isometry3d& T_start) const {
+  if (undistorted.empty() || undistorted.type() != CV_8UC1) {
+    Se3Refinement out;
+    out.T_cam_object = T_start;
+    out.failure = "frame is not a non-empty CV_8UC1 image";
+    return out;
+  }
+  SmoothedFrame frame;
+  smooth(undistorted, {T_start}, frame);
+  return refine(frame, T_start);
+}
+
+Se3Refinement Se3PoseRefiner::refine(const SmoothedFrame& frame, const Eigen::Isometry3d& T_start) const {
+  const cv::Mat& undistorted = frame.image;
   Se3Refinement out;
   out.T_cam_object = T_start;
   if (levels_.empty()) {
@@ -189,7 +244,7 @@ Se3Refinement Se3PoseRefiner::refine(const cv::Mat& undistorted, const Eigen::Is
   Appearance appearance;
   Normal n, n_previous;
   for (int it = 0; it < settings_.max_iterations; ++it) {
-    n = accumulate(samples, undistorted, T, appearance);
+    n = accumulate(samples, frame, T, appearance);
     ++out.iterations;
     if (n.valid < needed) {
       out.failure = "too little of the panel in view";

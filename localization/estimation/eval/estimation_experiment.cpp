@@ -115,7 +115,7 @@ void fly_to(FlightRun& run, const Eigen::Vector3d& target, Seconds limit, Second
 }  // namespace
 
 EstimationResults run_estimation_experiments(const PlantFactory& make_plant, const PipelineKind& vision, unsigned seed,
-                                             const EstimatorConfig& config) {
+                                             const EstimatorConfig& config, ExperimentPhases phases) {
   EstimationResults out;
   std::uint64_t rejected = 0;
   const auto count_rejections = [&](const FlightRun& run) {
@@ -148,6 +148,11 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
     run.setpoint = Eigen::Vector3d(0.5, 0.0, 1.2);
     run.run_for(4.0);
     out.hover_slam = measure(run, 20.0);
+    if (phases == ExperimentPhases::SlamOnly) {
+      count_rejections(run);
+      out.rejected_inputs = rejected;
+      return out;
+    }
     // Vision lost: dead reckoning along an open path (a closed one would cancel odometry scale errors).
     run.set_vision({});
     const Eigen::Vector3d start_error = run.estimate_now().position_world - plant->truth().T_world_body.translation();

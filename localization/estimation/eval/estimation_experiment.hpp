@@ -64,7 +64,12 @@ struct EstimationResults {
 // A fresh plant for one run.
 using PlantFactory = std::function<std::unique_ptr<EstimationPlant>(const PlantRequest& request)>;
 
+// Which phases to run: all, or only stage 1 and the SLAM hover (the scale and hover figures; the
+// real-vision campaigns, where every frame is rendered and tracked, are several times cheaper so).
+enum class ExperimentPhases { All, SlamOnly };
+
 EstimationResults run_estimation_experiments(const PlantFactory& make_plant, const PipelineKind& vision, unsigned seed,
-                                             const EstimatorConfig& config);
+                                             const EstimatorConfig& config,
+                                             ExperimentPhases phases = ExperimentPhases::All);
 
 }  // namespace labo

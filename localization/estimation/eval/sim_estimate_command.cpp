@@ -106,6 +106,7 @@ const CommandSpec& sim_estimate_command_spec() {
        {"--vision", "truth|real",
         "truth (default): visual poses from the ground truth with noise; real (lab only): SLAM and the planar "
         "tracker on the rendered frames"},
+       {"--slam-only", "", "run only stage 1 (scale) and the SLAM hover; the other figures stay 0"},
        {"--json", "", "print JSON (the default output; kept for scripts)"},
        {"--config", "FILE", "configuration file (default: config/default.json)"},
        {"--fit-model", "", "refit the motion-model constants on the plant and report the fit (no experiments)"}},
@@ -175,11 +176,13 @@ int run_sim_estimate_command(const ParsedArgs& args, const RealVisionMaker& real
                                         return std::make_unique<TruthVisionPipeline>(c, thresholds, p, seed);
                                       }};
 
+  const ExperimentPhases phases = args.flag("--slam-only") ? ExperimentPhases::SlamOnly : ExperimentPhases::All;
+  out["phases"] = phases == ExperimentPhases::SlamOnly ? "stage 1 and the SLAM hover only" : "all";
   std::vector<EstimationResults> results;
   nlohmann::json per_run = nlohmann::json::array();
   for (int i = 0; i < runs; ++i) {
     const unsigned seed = first_seed + static_cast<unsigned>(i);
-    results.push_back(run_estimation_experiments(make_plant, pipelines, seed, config));
+    results.push_back(run_estimation_experiments(make_plant, pipelines, seed, config, phases));
     per_run.push_back(run_json(results.back(), seed));
   }
   int scale_ok = 0, impulse_ok = 0, impulse_dr_ok = 0, paper_ok = 0;
