@@ -113,9 +113,7 @@ void print_sequences(const SequenceBenchResult& r) {
 
 // One row per frame and tracker: enough to see whether an error is a bias (one axis, one sign,
 // growing with range) or noise.
-void write_frames_csv(const std::string& path, const std::vector<FrameRecord>& frames) {
-  std::ofstream out(path);
-  if (!out) throw UsageError("--frames-csv: cannot write '" + path + "'");
+void write_frames_csv(std::ofstream& out, const std::string& path, const std::vector<FrameRecord>& frames) {
   out << "sequence,tracker,frame,range_m,in_view,state,has_pose,refined,ex_m,ey_m,ez_m,"
          "rx_deg,ry_deg,rz_deg,rotation_sigma_deg,cpu_ms\n";
   for (const auto& f : frames) {
@@ -124,6 +122,7 @@ void write_frames_csv(const std::string& path, const std::vector<FrameRecord>& f
         << f.position_error_m.z() << ',' << f.rotation_error_deg.x() << ',' << f.rotation_error_deg.y() << ','
         << f.rotation_error_deg.z() << ',' << f.rotation_sigma_deg << ',' << f.cpu_ms << '\n';
   }
+  out.flush();
   if (!out) throw std::runtime_error("--frames-csv: writing '" + path + "' failed");
 }
 
@@ -163,6 +162,15 @@ int run_bench_planar_command(const ParsedArgs& args) {
   PerturbationSettings settings;
   settings.trials = args.integer_or("--trials", settings.trials, 1, 10000);
   settings.pixel_noise = args.number_or("--noise", settings.pixel_noise, 0.0, 50.0);
+  const std::string frames_csv = args.value_or("--frames-csv", "");
+  if (!frames_csv.empty() && part == "sweep") {
+    throw UsageError("--frames-csv needs the sequences (--part sequences or all): the sweep has no frames");
+  }
+  std::ofstream frames_out;  // opened before the minutes of benchmarking, so a bad path fails at once
+  if (!frames_csv.empty()) {
+    frames_out.open(frames_csv);
+    if (!frames_out) throw UsageError("--frames-csv: cannot write '" + frames_csv + "'");
+  }
   const PlanarCommandSettings settings_from_file = read_planar_command_settings(args);
   const PlanarConfig& config = settings_from_file.planar;
   nlohmann::json out;
@@ -177,7 +185,7 @@ int run_bench_planar_command(const ParsedArgs& args) {
   if (part != "sweep") {
     const SequenceBenchResult r =
         run_sequence_bench(config, settings_from_file.vision, args.value_or("--sequence", ""), trackers);
-    if (const std::string csv = args.value_or("--frames-csv", ""); !csv.empty()) write_frames_csv(csv, r.frames);
+    if (frames_out.is_open()) write_frames_csv(frames_out, frames_csv, r.frames);
     if (json) {
       out["sequences"] = sequences_json(r);
     } else {

@@ -20,7 +20,8 @@
 // The covariance of the 6 pose parameters is the Gauss-Newton one, sigma^2 (J^T J)^-1, with sigma^2
 // the residual variance, inflated by `covariance_inflation` (neighbouring pixels' errors are
 // correlated: blur, interpolation, compression), plus a floor on the rotation for the model errors
-// it cannot see. Nothing is allocated per call on the SmoothedFrame path.
+// it cannot see. On the SmoothedFrame path LaboDrone allocates nothing per call once the buffers
+// have the frame's size (OpenCV's Gaussian filter keeps its own small row buffers).
 //
 // Smoothing: the frame and the template are resampled differently (the camera or renderer integrates
 // over pixels and mip levels, the template pyramid is cv::pyrDown's 5-tap Gaussian), and at 2-3 m, where
@@ -75,7 +76,7 @@ class Se3PoseRefiner {
     mutable std::vector<float> blurred_template;  // scratch: the template samples blurred like the frame
   };
   // Smooths the region the panel covers at any of `poses` (plus the refinement's reach) into `out`;
-  // reuses out's buffer (no allocation once it has the frame's size). `undistorted` is CV_8UC1.
+  // reuses out's frame-sized buffer. `undistorted` is CV_8UC1.
   void smooth(const cv::Mat& undistorted, std::initializer_list<Eigen::Isometry3d> poses, SmoothedFrame& out) const;
   // `T_start` is the IPPE pose (camera from object); `frame` comes from smooth() with T_start among its poses.
   // `blur_px`: the panel's apparent motion during the exposure (undistorted-frame pixels, at its
