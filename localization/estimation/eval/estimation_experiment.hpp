@@ -32,14 +32,17 @@ struct TrackingErrors {
 struct EstimationResults {
   std::string plant;
   std::string vision_input;
-  // Stage 1: the up/down manoeuvre. The map's true scale is fitted (similarity, Umeyama) between the
-  // SLAM camera positions and the true ones over the manoeuvre; the error is the estimator's against it.
+  // Stage 1: the up/down manoeuvre and a forward/back leg. The map's true scale is fitted (similarity,
+  // Umeyama) between the SLAM camera positions and the true ones over the return leg (the map's scale
+  // at the end of the manoeuvre); the error is the estimator's against it.
   double scale_error_percent = 0;
   double scale_true_m_per_unit = 0;
   double scale_estimated_m_per_unit = 0;
   bool scale_estimated = false;
   double scale_accuracy = 0;
   int scale_pairs = 0;
+  int scale_outliers = 0;  // pairs the gate refused when they came, up to the end of stage 1
+  int scale_changes = 0;   // times the map's scale was found to have changed (estimate restarted)
   // Hovering with SLAM.
   TrackingErrors hover_slam;
   // Servoing 0.8 m in front of an instrument on its homography.
