@@ -12,9 +12,11 @@ namespace {
 constexpr double kFaceHeightM = 1.6;       // climb to about a standing teacher's face height
 constexpr double kFreshObservationS = 0.3;
 constexpr double kLostHoldS = 3.0;         // face lost: hold this long, then search again
-constexpr double kFollowSmoothing = 0.5;    // low-pass on the face's place (per face result)
-constexpr double kVelocitySmoothing = 0.2;  // low-pass on the teacher's velocity
-constexpr double kCoastS = 0.5;             // face lost: keep following its predicted motion this long
+constexpr double kCoastS = 0.5;            // face lost: keep following its predicted motion this long
+// Face lost at a corner of the route: wait this long in front of the next long leg (in the lab of
+// config/lab.json the teacher turns twice, 3 s each, around a 0.5 m leg: 7.25 s), then search.
+constexpr double kMeetWaitS = 12.0;
+constexpr double kMaxApproachStepM = 0.6;
 // Watch points: the teacher stops this far beyond face_distance_m from the camera at a leg's end, so
 // the frontal face is inside the detector's ~2.5 m range for the last metre of the leg.
 constexpr double kWatchBeyondFollowM = 0.5;
@@ -50,14 +52,14 @@ std::string FindTeacherMission::describe(Seconds t) const {
   switch (step_) {
     case Step::Init: return "1 " + init_.describe();
     case Step::Sweep: return "2 search: yaw sweep at viewpoint " + std::to_string(viewpoint_ + 1);
-    case Step::Reposition:
-      return meeting_ ? "2 search: moving ahead of the teacher on the route" : "2 search: moving to viewpoint " + std::to_string(viewpoint_ + 1);
+    case Step::Reposition: return "2 search: moving to viewpoint " + std::to_string(viewpoint_ + 1);
     case Step::Watch:
-      return (meeting_ ? "2 search: waiting ahead of the teacher on the route (" : "2 search: watching the teacher's route at viewpoint " +
-                                                                                  std::to_string(viewpoint_ + 1) + " (") +
+      return "2 search: watching the teacher's route at viewpoint " + std::to_string(viewpoint_ + 1) + " (" +
              format_seconds(t - since_) + " s)";
     case Step::Follow: return "3 face-follow";
-    case Step::Lost: return "3 face-follow: face lost, holding (" + format_seconds(t - since_) + " s)";
+    case Step::Lost:
+      return (meeting_ ? "3 face-follow: face lost at a corner, waiting in front of the next leg (" : "3 face-follow: face lost, holding (") +
+             format_seconds(t - since_) + " s)";
     case Step::Done: return "done: " + result_;
   }
   return "";
@@ -93,23 +95,22 @@ void FindTeacherMission::plan_transit(const MissionContext& ctx, const WatchPoin
   transit_.push_back({to.position, to.yaw});
 }
 
-bool FindTeacherMission::meet_teacher_ahead(MissionContext& ctx) {
+bool FindTeacherMission::predict_from_route(const MissionContext& ctx) {
   if (watch_points_.empty()) return false;
-  const std::optional<WatchPoint> meet =
-      next_leg_meeting_point(ctx.lab.teacher, face_position_.head<2>(), ctx.autopilot.fence(),
-                             ctx.config.mission.face_distance_m + kWatchBeyondFollowM, kCornerRadiusM);
-  if (!meet) return false;
-  search_started_ = ctx.t;
-  meeting_ = true;
-  watch_ = *meet;
-  plan_transit(ctx, watch_);
-  enter(Step::Reposition, ctx.t);
+  // The next long leg's start, the teacher facing along it (the meeting point at 0 m faces back).
+  const std::optional<WatchPoint> start =
+      next_leg_meeting_point(ctx.lab.teacher, track_.position().head<2>(), ctx.autopilot.fence(), 0.0, kCornerRadiusM);
+  if (!start) return false;
+  track_.place(start->position.head<2>(), start->yaw + std::numbers::pi);
+  // Wait farther out than the follow distance: the teacher starts the leg within the detector's
+  // range and walking towards the drone, and the drone, going round at this radius about the leg's
+  // start, passes the teacher (within 0.6 m of it) with room to spare.
+  standoff_m_ = ctx.config.mission.face_distance_m + kWatchBeyondFollowM;
   return true;
 }
 
 void FindTeacherMission::start_search(MissionContext& ctx) {
   search_started_ = ctx.t;
-  meeting_ = false;
   watch_points_ = teacher_watch_points(ctx.lab.teacher, ctx.autopilot.fence(),
                                        ctx.config.mission.face_distance_m + kWatchBeyondFollowM, kRouteClearanceM);
   if (watch_points_.empty()) {
@@ -129,30 +130,54 @@ void FindTeacherMission::start_search(MissionContext& ctx) {
 void FindTeacherMission::follow(MissionContext& ctx) {
   const TargetObservation f = ctx.perception.face();
   if (f.t == last_face_t_ && !fresh_) return;  // no new face result: keep the moving set point
-  Eigen::Isometry3d T_world_face = world_pose_of(f, ctx.pose, CameraId::Front);
-  // Low-pass the face's place and estimate the teacher's velocity from it (feed-forward).
-  if (fresh_ || last_face_t_ < 0) {
-    face_position_ = T_world_face.translation();
-    face_velocity_.setZero();
-  } else {
-    const double dt = std::max(f.t - last_face_t_, 1e-3);
-    const Eigen::Vector3d previous = face_position_;
-    face_position_ += kFollowSmoothing * (T_world_face.translation() - face_position_);
-    Eigen::Vector3d v = (face_position_ - previous) / dt;
-    v.z() = 0;
-    face_velocity_ += kVelocitySmoothing * (v - face_velocity_);
-  }
+  const Eigen::Isometry3d T_world_face = world_pose_of(f, ctx.pose, CameraId::Front);
+  if (fresh_) standoff_m_ = ctx.config.mission.face_distance_m;
+  if (fresh_ || last_face_t_ < 0) track_.reset(T_world_face, f.t);
+  else track_.update(T_world_face, f.t);
   last_face_t_ = f.t;
-  T_world_face.translation() = face_position_;
-  const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
-  PoseTarget next = follow_standoff(standoff_target(T_world_face, ctx.config.mission.face_distance_m, ctx.centre_ray_front),
-                                    face_position_, here, ctx.autopilot.fence(), kMaxOrbitStepRad);
-  next.velocity = face_velocity_;
-  // Point the camera at the face from where the drone is: the same as the line of sight once in
-  // place, and it keeps a walking teacher in view while the drone catches up.
-  next.yaw = bearing(here, face_position_);
-  ctx.autopilot.go_to(next, ctx.t, fresh_);
+  fly_standoff(ctx, fresh_);
   fresh_ = false;
+}
+
+void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint) {
+  const double d = standoff_m_;
+  const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
+  const double a = track_.heading();
+  PoseTarget next = follow_standoff(standoff_target(track_.T_world_upright_face(a), d, ctx.centre_ray_front),
+                                    track_.position(), here, ctx.autopilot.fence(), kMaxOrbitStepRad);
+  // Feed-forward: the standoff moves with the teacher and swings round them as they turn.
+  next.velocity = track_.velocity() + d * track_.heading_rate() * Eigen::Vector3d(-std::sin(a), std::cos(a), 0.0);
+  // Point the camera at the face from where the drone is (the same as the line of sight once in
+  // place; it keeps a walking teacher in view while the drone catches up), with the face on the ray
+  // through the image centre rather than the principal point.
+  next.yaw = wrap_angle(bearing(here, track_.position()) + std::atan(ctx.centre_ray_front.x()));
+  // A far standoff (the face found from 2-4 m, the teacher walking at the drone) is approached
+  // through a set point at most kMaxApproachStepM ahead: a full jump saturates the tilt and the drone
+  // overshoots into the teacher's face.
+  const Eigen::Vector3d to_standoff = next.position - here;
+  if (to_standoff.norm() > kMaxApproachStepM) next.position = here + kMaxApproachStepM * to_standoff.normalized();
+  ctx.autopilot.go_to(next, ctx.t, new_waypoint);
+}
+
+void FindTeacherMission::lost(MissionContext& ctx) {
+  const Seconds lost_for = ctx.t - since_;
+  if (fresh_) meeting_ = false;
+  if (lost_for < kCoastS) {
+    // Coast along the teacher's last motion and turn (they most likely walked or turned out of view).
+    track_.coast(ctx.t - last_tick_);
+  } else if (!meeting_ && predict_from_route(ctx)) {
+    meeting_ = true;
+  }
+  if (lost_for < kCoastS || meeting_) {
+    fly_standoff(ctx, false);
+  } else if (auto target = ctx.autopilot.target()) {
+    // Hold the place, keep looking where the face went.
+    const Eigen::Vector3d to_face = track_.position() - ctx.pose.T_world_body.translation();
+    ctx.autopilot.go_to({target->position, std::atan2(to_face.y(), to_face.x())}, ctx.t, false);
+  }
+  fresh_ = false;
+  if (face_seen(ctx)) enter(Step::Follow, ctx.t);
+  else if (lost_for > (meeting_ ? kMeetWaitS : kLostHoldS)) start_search(ctx);
 }
 
 MissionOutcome FindTeacherMission::step(MissionContext& ctx) {
@@ -222,23 +247,7 @@ MissionOutcome FindTeacherMission::step(MissionContext& ctx) {
       else enter(Step::Lost, ctx.t);
       break;
     case Step::Lost:
-      // Coast along the teacher's last motion (they most likely walked out of view), then hold.
-      if (auto target = ctx.autopilot.target(); target && ctx.t - since_ < kCoastS) {
-        PoseTarget next = *target;
-        next.position += next.velocity * (ctx.t - last_tick_);
-        face_position_ += face_velocity_ * (ctx.t - last_tick_);
-        ctx.autopilot.go_to(next, ctx.t, false);
-      } else if (target) {
-        // Hold the place, keep looking where the face went.
-        const Eigen::Vector3d to_face = face_position_ - ctx.pose.T_world_body.translation();
-        PoseTarget look{target->velocity.norm() > 0 ? ctx.pose.T_world_body.translation() : target->position,
-                        std::atan2(to_face.y(), to_face.x())};
-        ctx.autopilot.go_to(look, ctx.t, target->velocity.norm() > 0);
-      }
-      fresh_ = false;
-      if (face_seen(ctx)) enter(Step::Follow, ctx.t);
-      else if (ctx.t - since_ > kCoastS && meet_teacher_ahead(ctx)) break;
-      else if (ctx.t - since_ > kLostHoldS) start_search(ctx);
+      lost(ctx);
       break;
     case Step::Done:
       ctx.focus.face = false;

@@ -7,16 +7,19 @@
 //    the route each; otherwise a full yaw sweep, then the next viewpoint (room centre, then the room's
 //    quarters); until a face is tracked;
 //  3 follow: hold face_distance_m in front of the face, the face centred, the line of sight aligned with
-//    the face's, following the teacher's motion; the standoff is kept inside the geofence and reached
-//    around the teacher, never through them; a lost face -> hold, then search; with a known route, a
-//    face lost at a corner of it (the teacher turning away) -> meet the teacher ahead on the next long
-//    leg, facing them (next_leg_meeting_point()).
+//    the teacher's heading (TeacherTrack: the walking direction while walking forwards, else where
+//    the face looks), following the teacher's motion and turns; the standoff is kept inside the
+//    geofence and reached around the teacher, never through them; a lost face -> coast along the
+//    teacher's motion, hold, then search; with a known route, a face lost at a corner of it (the
+//    teacher turning away) -> go round, 1.5 m from the next long leg's start, to its front, facing
+//    back along it (next_leg_meeting_point()), and wait there for the teacher to turn into view.
 // Ends on stop_face_follow (the drone hovers where it is) or when the search times out.
 #include <vector>
 
 #include "control/home_landing.hpp"
 #include "control/mission.hpp"
 #include "control/take_off_and_scale.hpp"
+#include "control/teacher_track.hpp"
 #include "control/teacher_watch_points.hpp"
 
 namespace labo {
@@ -29,7 +32,10 @@ class FindTeacherMission final : public Mission {
   int stage_index() const override;
   int stage_count() const override { return 3; }
   std::string stage() const override { return stage_text_; }
-  bool needs_visual_localization() const override { return step_ == Step::Follow; }
+  // Following servoes on the face's pose relative to the camera: the pose estimate (SLAM, or navdata
+  // odometry when SLAM is lost, drifting a few cm over a follow) only has to be locally consistent.
+  // Searching looks for the face and holds on whatever source there is.
+  bool needs_visual_localization() const override { return false; }
   bool accepts_stop_face_follow() const override { return true; }
   void stop_face_follow() override { stop_requested_ = true; }
 
@@ -43,9 +49,11 @@ class FindTeacherMission final : public Mission {
   std::vector<Eigen::Vector3d> viewpoints(const MissionContext& ctx) const;
   void start_search(MissionContext& ctx);
   void plan_transit(const MissionContext& ctx, const WatchPoint& to);
-  bool meet_teacher_ahead(MissionContext& ctx);
+  bool predict_from_route(const MissionContext& ctx);
   bool face_seen(const MissionContext& ctx) const;
   void follow(MissionContext& ctx);
+  void fly_standoff(MissionContext& ctx, bool new_waypoint);
+  void lost(MissionContext& ctx);
   std::string describe(Seconds t) const;
 
   Step step_ = Step::Init;
@@ -58,13 +66,13 @@ class FindTeacherMission final : public Mission {
   TakeOffAndScale init_;
   std::vector<WatchPoint> watch_points_;    // empty: the lab has no teacher route; sweep instead
   WatchPoint watch_;                        // the watch point flown to / watched from
-  bool meeting_ = false;                    // watch_ is ahead of the teacher on the next leg
+  bool meeting_ = false;                    // face lost at a corner: the track is placed on the next leg
   std::vector<PoseTarget> transit_;         // legs to it
   std::size_t transit_leg_ = 0;
   Seconds last_tick_ = 0;
   Seconds last_face_t_ = -1;
-  Eigen::Vector3d face_position_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d face_velocity_ = Eigen::Vector3d::Zero();
+  TeacherTrack track_;
+  double standoff_m_ = 1.0;                 // face_distance_m, farther while waiting on the next leg
   std::string stage_text_ = "1 taking off";
 };
 

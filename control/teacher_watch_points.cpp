@@ -47,9 +47,14 @@ std::optional<WatchPoint> next_leg_meeting_point(const TeacherRoute& route, cons
                                                  double min_leg_m) {
   const std::size_t n = route.waypoints.size();
   if (n < 2) return std::nullopt;
-  std::size_t corner = n;
-  for (std::size_t k = 0; k < n; ++k)
-    if ((route.waypoints[k] - teacher_xy).norm() < corner_radius_m) corner = k;
+  std::size_t corner = n;  // the nearest waypoint within corner_radius_m (two can be, round a short leg)
+  double nearest = corner_radius_m;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (const double d = (route.waypoints[k] - teacher_xy).norm(); d < nearest) {
+      nearest = d;
+      corner = k;
+    }
+  }
   if (corner == n) return std::nullopt;
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t leg = (corner + i) % n;

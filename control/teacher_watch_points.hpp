@@ -24,7 +24,7 @@ struct WatchPoint {
 std::vector<WatchPoint> teacher_watch_points(const TeacherRoute& route, const Geofence& fence, double beyond_m,
                                              double clearance_m, double min_leg_m = 1.0);
 
-// Where to meet a teacher who stands at a corner of the route (within corner_radius_m of waypoint k,
+// Where to meet a teacher who stands at a corner of the route (within corner_radius_m of waypoint k, the nearest,
 // turning): `ahead_m` along the first leg of at least min_leg_m that starts at or after k, facing back
 // along it - the teacher walks that leg next, towards the camera. Clamped into the fence. Empty when
 // the teacher is not at a corner or the route has no such leg. The point lies on the route: only for a

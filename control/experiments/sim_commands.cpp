@@ -1,5 +1,7 @@
 #include "control/experiments/sim_commands.hpp"
 
+#include "control/geofence.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -152,9 +154,11 @@ std::vector<Impulse> run_perturb(int axis, int impulses, ExperimentFlight& f, co
 struct FaceRun {
   bool followed = false;
   double found_at_s = -1;
-  int walking_ticks = 0, tracked_ticks = 0;  // ticks with the teacher walking; of those, with the face tracked
-  std::vector<double> distance_error, centre_error;                  // every walking tick (the metric)
-  std::vector<double> tracked_distance_error, tracked_centre_error;  // the walking ticks with the face tracked
+  int walking_ticks = 0, tracked_ticks = 0;  // followable walking ticks; of those, with the face tracked
+  int unfollowable_ticks = 0;                 // walking ticks with no standoff in front of the teacher
+  std::vector<double> distance_error, centre_error;                  // followable walking ticks (the metric)
+  std::vector<double> all_distance_error, all_centre_error;          // every walking tick
+  std::vector<double> tracked_distance_error, tracked_centre_error;  // followable walking ticks with the face tracked
 };
 
 FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, ExperimentFlight& f) {
@@ -170,20 +174,30 @@ FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, Experiment
   f.start_teacher_walk();
   const double end = f.now() + walk_s;
   std::optional<Eigen::Vector3d> last_face;
+  const Geofence fence(setup.lab.room_min, setup.lab.room_max, setup.control.safety.geofence_margin_m);
   while (f.now() < end) {
     f.tick();
     const std::optional<Eigen::Isometry3d> face = f.true_face();
     if (!face) continue;
     // Measured while the teacher walks (the head moves), not while they stand and turn at a waypoint.
-    const bool walking = last_face && (face->translation() - *last_face).head<2>().norm() > 0.1 * ExperimentFlight::kControlDt;
+    const Eigen::Vector3d step = face->translation() - last_face.value_or(face->translation());
     last_face = face->translation();
-    if (!walking) continue;
-    ++r.walking_ticks;
-    const bool tracked = f.stack().status().face.state == TrackState::Tracking;
-    r.tracked_ticks += tracked;
+    if (step.head<2>().norm() <= 0.1 * ExperimentFlight::kControlDt) continue;
     const Eigen::Vector3d p = f.true_T_cam(*face).translation();
     const double distance_error = p.z() - setup.control.mission.face_distance_m;
     const double centre_error = p.z() > 0.1 ? centre_offset_fraction(p, setup.cameras.front) : 1.0;
+    r.all_distance_error.push_back(distance_error);
+    r.all_centre_error.push_back(centre_error);
+    // Followable: the place face_distance_m in front of the walking teacher is inside the geofence (a
+    // teacher walking at a wall cannot be watched from the front).
+    const Eigen::Vector3d ahead(step.x(), step.y(), 0.0);
+    if (!fence.contains(face->translation() + setup.control.mission.face_distance_m * ahead.normalized())) {
+      ++r.unfollowable_ticks;
+      continue;
+    }
+    ++r.walking_ticks;
+    const bool tracked = f.stack().status().face.state == TrackState::Tracking;
+    r.tracked_ticks += tracked;
     r.distance_error.push_back(distance_error);
     r.centre_error.push_back(centre_error);
     if (tracked) {
@@ -328,8 +342,8 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
   if (o.model_route && o.real_vision) throw UsageError("--route is for the model vision (--vision real always walks the route)");
   const Experiment experiment = make_experiment(o, true);
   const FlightStackSetup& setup = experiment.setup;
-  std::vector<double> dist, centre, tracked_dist, tracked_centre;
-  int found = 0, walking = 0, tracked = 0;
+  std::vector<double> dist, centre, all_dist, all_centre, tracked_dist, tracked_centre;
+  int found = 0, walking = 0, tracked = 0, unfollowable = 0;
   nlohmann::json runs = nlohmann::json::array();
   for (int i = 0; i < o.runs; ++i) {
     const unsigned seed = o.seed + static_cast<unsigned>(i);
@@ -338,6 +352,9 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
     found += r.followed;
     walking += r.walking_ticks;
     tracked += r.tracked_ticks;
+    unfollowable += r.unfollowable_ticks;
+    all_dist.insert(all_dist.end(), r.all_distance_error.begin(), r.all_distance_error.end());
+    all_centre.insert(all_centre.end(), r.all_centre_error.begin(), r.all_centre_error.end());
     dist.insert(dist.end(), r.distance_error.begin(), r.distance_error.end());
     centre.insert(centre.end(), r.centre_error.begin(), r.centre_error.end());
     tracked_dist.insert(tracked_dist.end(), r.tracked_distance_error.begin(), r.tracked_distance_error.end());
@@ -345,6 +362,7 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
     runs.push_back({{"seed", seed}, {"followed", r.followed}, {"face_found_at_s", r.found_at_s},
                     {"tracked_fraction_walking", r.walking_ticks > 0 ? double(r.tracked_ticks) / r.walking_ticks : 0.0},
                     {"distance_error_rms_m", rms(r.distance_error)}, {"centre_error_rms", rms(r.centre_error)},
+                    {"unfollowable_walking_s", r.unfollowable_ticks * ExperimentFlight::kControlDt},
                     {"tracked_distance_error_rms_m", rms(r.tracked_distance_error)},
                     {"tracked_centre_error_rms", rms(r.tracked_centre_error)}});
     write_run_outputs(o, "face_follow", i, *f);
@@ -355,15 +373,21 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
                             {"distance_error_rms_m", rms(dist)}, {"target_distance_error_rms_m", 0.10},
                             {"centre_error_rms", rms(centre)}, {"centre_error_p95", percentile(centre, 95)},
                             {"target_centre_error", 0.10},
+                            {"unfollowable_walking_s", unfollowable * ExperimentFlight::kControlDt},
+                            {"all_walking_distance_error_rms_m", rms(all_dist)}, {"all_walking_centre_error_rms", rms(all_centre)},
                             {"tracked_distance_error_rms_m", rms(tracked_dist)}, {"tracked_centre_error_rms", rms(tracked_centre)},
                             {"tracked_centre_error_p95", percentile(tracked_centre, 95)}, {"per_run", runs}};
   report(o, "face_follow", summary,
          {note_of(o), fmt("face found and followed in %.0f/%.0f runs", found, o.runs),
-          fmt("teacher walking %.1f s in all; face tracked %.1f %% of it (errors below are over all of it)",
-              walking * ExperimentFlight::kControlDt, walking > 0 ? 100.0 * tracked / walking : 0.0),
+          fmt("teacher walking %.1f s with the place in front of them inside the geofence (followable), %.1f s not; "
+              "face tracked %.1f %% of the followable time (errors below are over all of it)",
+              walking * ExperimentFlight::kControlDt, unfollowable * ExperimentFlight::kControlDt,
+              walking > 0 ? 100.0 * tracked / walking : 0.0),
           fmt("distance error RMS %.3f m (target <= 0.10); face-centre error RMS %.3f, p95 %.3f of the width (target <= 0.10)",
               rms(dist), rms(centre), percentile(centre, 95)),
-          fmt("over the walking ticks with the face tracked only: distance error RMS %.3f m, face-centre error RMS %.3f, p95 %.3f",
+          fmt("over all walking ticks (followable or not): distance error RMS %.3f m, face-centre error RMS %.3f",
+              rms(all_dist), rms(all_centre)),
+          fmt("over the followable walking ticks with the face tracked only: distance error RMS %.3f m, face-centre error RMS %.3f, p95 %.3f",
               rms(tracked_dist), rms(tracked_centre), percentile(tracked_centre, 95))});
   return 0;
 }

@@ -299,7 +299,7 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
       // Every method solves the same landmarks.
       const PnpProblem problem{estimator.model().points_m(estimator.person().shape_params,
                                                           estimator.person().interpupillary_distance_m),
-                               estimator.ideal_pixels(r.landmarks), estimator.ideal_camera()};
+                               estimator.ideal_pixels(r.landmarks), estimator.ideal_camera(), r.landmark_weights};
       const double iod = (r.landmarks.middleCols(42, 6).rowwise().mean() - r.landmarks.middleCols(36, 6).rowwise().mean()).norm();
       const HeadAngles ta = head_angles(truth.linear());
       if (!first_truth) first_truth = truth;

@@ -43,6 +43,16 @@ struct FaceConfig {
   // Turn the landmarks' crop upright by the last eye line's angle (the predictor was trained on
   // upright faces; rolled heads bias its landmarks).
   bool upright_crop = true;
+  // Widen the crop by (1 / cos(last yaw))^yaw_widen_exponent, at most 1.6 (0: never).
+  double yaw_widen_exponent = 0.0;
+  // Landmarks on the side turned away get the weight 1 / (1 + (lateral / 5 cm) (yaw / this)^2) in
+  // the pose refinement, from the last pose's yaw (0: equal weights).
+  double far_side_yaw_rad = 0.0;
+  // Weigh each landmark by its group's reliability in the pose refinement (landmark_weights.hpp).
+  bool landmark_noise_weights = false;
+  // While tracking, run the predictor on a frontal view of the face made through the person's
+  // CANDIDE-3 mesh at the last pose (frontal_view.hpp) instead of the upright crop.
+  bool frontal_view = false;
   std::vector<double> lost_search_scales{0.5, 1.0, 2.0};  // cycled over frames while lost
   ShapeFitOptions shape_fit;
   double frontal_max_angle_rad = 0.26;    // a registration picture must be within 15° of frontal

@@ -1,9 +1,11 @@
 #include "localization/face/face_pose_estimator.hpp"
 
 #include "drone/sim/cpu_time.hpp"
+#include "localization/face/landmark_weights.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 namespace labo::face {
 
@@ -72,6 +74,11 @@ FacePoseEstimator::FacePoseEstimator(const FaceConfig& config, const PinholeCame
       detector_(config.detector),
       landmark_detector_(config.shape_predictor),
       solver_(config.solver) {
+  if (config_.landmark_noise_weights) noise_weights_ = landmark_noise_weights(model_.landmark_ids());
+  if (config_.frontal_view) {
+    candide_ = Candide3Model::load(config_.model);
+    frontal_.emplace(candide_->triangles());
+  }
   PersonShape generic;
   generic.name = "generic";
   generic.interpupillary_distance_m = config_.interpupillary_distance_m;
@@ -88,6 +95,13 @@ void FacePoseEstimator::set_person(const PersonShape& person, bool registered) {
   person_ = person;
   person_registered_ = registered;
   points_face_ = model_.points_m(person.shape_params, person.interpupillary_distance_m);
+  if (frontal_) {
+    const Eigen::VectorXd& tau = person.shape_params;
+    std::vector<Eigen::Vector3d> mesh = candide_->deformed(std::span<const double>(tau.data(), static_cast<std::size_t>(tau.size())));
+    const double metres_per_unit = model_.metres_per_unit(tau, person.interpupillary_distance_m);
+    for (auto& v : mesh) v *= metres_per_unit;
+    frontal_->set_vertices(std::move(mesh));
+  }
   solver_.reset();
 }
 
@@ -173,7 +187,7 @@ std::optional<FacePoseEstimator::Candidate> FacePoseEstimator::select_among(cons
     std::optional<cv::Rect2d> best_box;
     for (const auto& b : boxes) {
       const Eigen::Matrix2Xd lm = landmarks_in(gray, b.box);
-      const PnpProblem problem{points_face_, ideal_pixels(lm), ideal_camera()};
+      const PnpProblem problem{points_face_, ideal_pixels(lm), ideal_camera(), {}};
       auto init = solve_epnp(problem);
       auto refined = init ? refine_lm(problem, init->T_cam_face, config_.solver.lm) : std::nullopt;
       const double score = refined ? refined->rms_px / std::max(interocular_px(lm), 1.0) : best;
@@ -245,6 +259,61 @@ FaceResult FacePoseEstimator::lose(FaceResult result, FaceLostReason reason) {
   return result;
 }
 
+void FacePoseEstimator::set_landmark_weights(PnpProblem& problem) const {
+  const bool far_side = config_.far_side_yaw_rad > 0 && last_pose_.has_value();
+  if (!config_.landmark_noise_weights && !far_side) {
+    problem.weights.resize(0);
+    return;
+  }
+  if (config_.landmark_noise_weights) {
+    problem.weights = noise_weights_;
+  } else {
+    problem.weights.setOnes(problem.points_face.cols());
+  }
+  if (far_side) {
+    apply_far_side_weights(problem.points_face, head_angles(last_pose_->linear()).yaw, config_.far_side_yaw_rad,
+                           problem.weights);
+  }
+}
+
+void FacePoseEstimator::detect_landmarks(const cv::Mat& gray, const Candidate& candidate, Eigen::Matrix2Xd& lm) {
+  if (detect_in_frontal_view(gray, candidate, lm)) return;
+  const double upright = config_.upright_crop && last_landmarks_ ? eye_line_angle(*last_landmarks_) : 0.0;
+  double widen = 1;
+  if (config_.yaw_widen_exponent > 0 && last_pose_) {
+    const double yaw = head_angles(last_pose_->linear()).yaw;
+    widen = std::min(1.6, std::pow(1.0 / std::max(std::cos(yaw), 0.1), config_.yaw_widen_exponent));
+  }
+  landmark_detector_.detect(gray, candidate.box, lm, upright, widen);
+}
+
+bool FacePoseEstimator::detect_in_frontal_view(const cv::Mat& gray, const Candidate& candidate, Eigen::Matrix2Xd& lm) {
+  if (!frontal_ || !last_pose_) return false;
+  const double fx = camera_.intrinsics().fx;
+  const double distance = last_pose_->translation().norm();
+  const double side_px = box_side_m_ * fx / distance;
+  const Eigen::Vector2d shift = landmark_velocity_px_.value_or(Eigen::Vector2d::Zero());
+  // Only for the face being tracked: a detector box elsewhere (another face) takes the plain crop.
+  const auto origin = camera_.project(last_pose_->translation());
+  if (!origin) return false;
+  const Eigen::Vector2d o = *origin + shift;
+  const cv::Point2d bc = centre(candidate.box);
+  if (std::hypot(bc.x - o.x(), bc.y - o.y()) > 0.5 * side_px) return false;
+  // The same working resolution as the plain crop: the box about 160 px wide, a margin of 0.3 box.
+  const double scale = std::max(1.0, 160.0 / side_px);
+  const double side = side_px * scale;
+  const int size = static_cast<int>(std::ceil(1.6 * side));
+  if (!frontal_->render(gray, camera_, *last_pose_, shift, fx * scale, cv::Size(size, size))) return false;
+  Eigen::Vector2d c = Eigen::Vector2d::Zero();
+  for (Eigen::Index i = 0; i < points_face_.cols(); ++i) c += frontal_->view_of(points_face_.col(i));
+  c = c / static_cast<double>(points_face_.cols()) + box_offset_ * side;
+  landmark_detector_.detect_in(frontal_->image(), cv::Rect2d(c.x() - side / 2, c.y() - side / 2, side, side),
+                               view_landmarks_);
+  lm.resize(2, 68);
+  for (Eigen::Index i = 0; i < 68; ++i) lm.col(i) = frontal_->image_of(view_landmarks_.col(i));
+  return true;
+}
+
 FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
   FaceResult result;
   result.t = t;
@@ -258,8 +327,7 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
 
   start = process_cpu_seconds();
   Eigen::Matrix2Xd lm;
-  const double upright = config_.upright_crop && last_landmarks_ ? eye_line_angle(*last_landmarks_) : 0.0;
-  landmark_detector_.detect(gray, candidate->box, lm, upright);
+  detect_landmarks(gray, *candidate, lm);
   result.timings.landmarks_ms = ms_since(start);
   result.landmarks = lm;
   result.box = candidate->box;
@@ -274,6 +342,8 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
   start = process_cpu_seconds();
   problem_.points_face = points_face_;
   problem_.pixels = ideal_pixels(lm);
+  set_landmark_weights(problem_);
+  result.landmark_weights = problem_.weights;
   const auto estimate = solver_.solve(problem_, std::max(iod / 60.0, 0.5));
   result.timings.pose_ms = ms_since(start);
   if (!estimate) return lose(result, FaceLostReason::NoPose);

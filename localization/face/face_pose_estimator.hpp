@@ -15,6 +15,7 @@
 #include "localization/face/face_geometry.hpp"
 #include "localization/face/face_landmark_model.hpp"
 #include "localization/face/face_pose_solver.hpp"
+#include "localization/face/frontal_view.hpp"
 #include "localization/face/landmark_detector.hpp"
 #include "localization/face/person_shape.hpp"
 
@@ -56,6 +57,7 @@ struct FaceResult {
   double reprojection_rms_px = 0;     // rigid landmarks, undistorted pixels
   int faces_found = 0;                // by the detector this frame (-1 when it did not run)
   bool reinitialised = false;         // LM tracking fell back to EPnP
+  Eigen::VectorXd landmark_weights;   // per model landmark, as used by the pose refinement (empty: equal)
   FaceTimings timings;
 
   bool tracking() const { return state == FaceState::Tracking; }
@@ -99,6 +101,9 @@ class FacePoseEstimator {
   void remember_box_relation(const cv::Rect2d& box, const Eigen::Matrix2Xd& landmarks, double distance_m);
   cv::Rect2d box_from_landmarks(const Eigen::Matrix2Xd& landmarks) const;
   double interocular_px(const Eigen::Matrix2Xd& landmarks68) const;
+  void set_landmark_weights(PnpProblem& problem) const;
+  void detect_landmarks(const cv::Mat& gray, const Candidate& candidate, Eigen::Matrix2Xd& lm);
+  bool detect_in_frontal_view(const cv::Mat& gray, const Candidate& candidate, Eigen::Matrix2Xd& lm);
 
   FaceConfig config_;
   PinholeCamera camera_;
@@ -109,6 +114,10 @@ class FacePoseEstimator {
   PersonShape person_;
   bool person_registered_ = false;
   Eigen::Matrix3Xd points_face_;  // the person's rigid landmarks, metres
+  Eigen::VectorXd noise_weights_;  // per landmark, from the noise model (empty when it is off)
+  std::optional<Candide3Model> candide_;  // the mesh, when the frontal view is on
+  std::optional<FrontalView> frontal_;
+  Eigen::Matrix2Xd view_landmarks_;       // reused buffer
 
   // Track state.
   std::optional<Eigen::Matrix2Xd> last_landmarks_;

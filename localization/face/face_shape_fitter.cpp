@@ -70,7 +70,7 @@ ShapeFit fit_shape(const FaceLandmarkModel& model, const Eigen::Matrix2Xd& pixel
     if (fit.fitted_units[u]) units.push_back(static_cast<int>(u));
   }
   Eigen::VectorXd tau = Eigen::VectorXd::Zero(model.shape_unit_count());
-  PnpProblem problem{model.points_m(tau, interpupillary_distance_m), pixels, camera};
+  PnpProblem problem{model.points_m(tau, interpupillary_distance_m), pixels, camera, {}};
   PnpSolution pose = fit_pose(problem, nullptr);
   fit.rms_px_mean_shape = pose.rms_px;
   for (int a = 0; a < options.alternations; ++a) {

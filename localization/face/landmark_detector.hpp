@@ -22,7 +22,15 @@ class LandmarkDetector {
   // coordinates); the crop is turned by it so that the predictor sees an upright face, as in its
   // training set, and the landmarks are turned back. `box` is then the box of the upright face
   // around the same centre.
-  void detect(const cv::Mat& gray, const cv::Rect2d& box, Eigen::Matrix2Xd& landmarks, double upright_rad = 0);
+  // `widen` (>= 1) stretches the upright crop across the face: a head turned by yaw looks narrower
+  // by about cos(yaw), and the predictor, trained mostly on frontal faces, pulls a narrow face's
+  // landmarks back towards a frontal shape.
+  void detect(const cv::Mat& gray, const cv::Rect2d& box, Eigen::Matrix2Xd& landmarks, double upright_rad = 0,
+              double widen = 1);
+
+  // The predictor on an image already prepared for it (e.g. face/frontal_view.hpp's view), `rect`
+  // the face's box there; landmarks in that image's pixels (integers: dlib rounds).
+  void detect_in(const cv::Mat& prepared, const cv::Rect2d& rect, Eigen::Matrix2Xd& landmarks);
 
   static std::filesystem::path default_path() { return "/usr/share/dlib/shape_predictor_68_face_landmarks.dat"; }
 

@@ -164,8 +164,9 @@ std::optional<PnpSolution> refine_lm(const PnpProblem& problem, const Eigen::Iso
       const double iz = 1.0 / x.z();
       const Eigen::Vector2d r = Eigen::Vector2d(c.fx * x.x() * iz + c.cx, c.fy * x.y() * iz + c.cy) - problem.pixels.col(i);
       const double e = r.norm();
-      const double w = e <= options.huber_px ? 1.0 : options.huber_px / e;  // Huber (IRLS weight)
-      cost += e <= options.huber_px ? 0.5 * e * e : options.huber_px * (e - 0.5 * options.huber_px);
+      const double confidence = problem.weights.size() == n ? problem.weights(i) : 1.0;
+      const double w = confidence * (e <= options.huber_px ? 1.0 : options.huber_px / e);  // Huber (IRLS weight)
+      cost += confidence * (e <= options.huber_px ? 0.5 * e * e : options.huber_px * (e - 0.5 * options.huber_px));
       if (!H) continue;
       Eigen::Matrix<double, 2, 3> dpi;
       dpi << c.fx * iz, 0, -c.fx * x.x() * iz * iz, 0, c.fy * iz, -c.fy * x.y() * iz * iz;

@@ -23,6 +23,9 @@ struct PnpProblem {
   Eigen::Matrix3Xd points_face;  // 3 x n, metres, face frame
   Eigen::Matrix2Xd pixels;       // 2 x n, undistorted pixels
   IdealPinhole camera;
+  // Per-point confidence for the Levenberg-Marquardt refinement (empty: all 1); the closed-form and
+  // minimal solvers ignore it.
+  Eigen::VectorXd weights;
 };
 
 struct PnpSolution {

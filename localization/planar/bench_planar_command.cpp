@@ -1,3 +1,4 @@
+#include <fstream>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
@@ -110,6 +111,21 @@ void print_sequences(const SequenceBenchResult& r) {
   }
 }
 
+// One row per frame and tracker: enough to see whether an error is a bias (one axis, one sign,
+// growing with range) or noise.
+void write_frames_csv(std::ofstream& out, const std::string& path, const std::vector<FrameRecord>& frames) {
+  out << "sequence,tracker,frame,range_m,in_view,state,has_pose,refined,ex_m,ey_m,ez_m,"
+         "rx_deg,ry_deg,rz_deg,rotation_sigma_deg,cpu_ms\n";
+  for (const auto& f : frames) {
+    out << f.sequence << ',' << f.tracker << ',' << f.frame << ',' << f.range_m << ',' << f.in_view << ',' << f.state
+        << ',' << f.has_pose << ',' << f.refined << ',' << f.position_error_m.x() << ',' << f.position_error_m.y() << ','
+        << f.position_error_m.z() << ',' << f.rotation_error_deg.x() << ',' << f.rotation_error_deg.y() << ','
+        << f.rotation_error_deg.z() << ',' << f.rotation_sigma_deg << ',' << f.cpu_ms << '\n';
+  }
+  out.flush();
+  if (!out) throw std::runtime_error("--frames-csv: writing '" + path + "' failed");
+}
+
 }  // namespace
 
 const CommandSpec& bench_planar_command_spec() {
@@ -123,7 +139,8 @@ const CommandSpec& bench_planar_command_spec() {
        {"--sequence", "NAME", "run only the sequences whose name contains NAME"},
        {"--tracker", "T", "sequences with ic, ecc or both (default both)"},
        {"--config", "FILE", "read the \"vision\" and \"planar\" sections of this config (default: built-in values)"},
-       {"--noise", "G", "grey-level noise added to the sweep's scenes (default 2)"}},
+       {"--noise", "G", "grey-level noise added to the sweep's scenes (default 2)"},
+       {"--frames-csv", "FILE", "write every sequence frame's errors (camera frame, per axis) to FILE"}},
       0,
       0};
   return spec;
@@ -145,6 +162,15 @@ int run_bench_planar_command(const ParsedArgs& args) {
   PerturbationSettings settings;
   settings.trials = args.integer_or("--trials", settings.trials, 1, 10000);
   settings.pixel_noise = args.number_or("--noise", settings.pixel_noise, 0.0, 50.0);
+  const std::string frames_csv = args.value_or("--frames-csv", "");
+  if (!frames_csv.empty() && part == "sweep") {
+    throw UsageError("--frames-csv needs the sequences (--part sequences or all): the sweep has no frames");
+  }
+  std::ofstream frames_out;  // opened before the minutes of benchmarking, so a bad path fails at once
+  if (!frames_csv.empty()) {
+    frames_out.open(frames_csv);
+    if (!frames_out) throw UsageError("--frames-csv: cannot write '" + frames_csv + "'");
+  }
   const PlanarCommandSettings settings_from_file = read_planar_command_settings(args);
   const PlanarConfig& config = settings_from_file.planar;
   nlohmann::json out;
@@ -159,6 +185,7 @@ int run_bench_planar_command(const ParsedArgs& args) {
   if (part != "sweep") {
     const SequenceBenchResult r =
         run_sequence_bench(config, settings_from_file.vision, args.value_or("--sequence", ""), trackers);
+    if (frames_out.is_open()) write_frames_csv(frames_out, frames_csv, r.frames);
     if (json) {
       out["sequences"] = sequences_json(r);
     } else {

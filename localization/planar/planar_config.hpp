@@ -29,8 +29,9 @@ struct PlanarConfig {
   // the tilt of a panel seen face-on at range (docs/planar.md).
   PoseRefinement pose_refinement = PoseRefinement::Se3;
   int se3_iterations = 8;
-  int se3_max_samples = 800;              // per template level
+  int se3_max_samples = 1200;             // per template level
   double se3_covariance_inflation = 3.0;  // on the Gauss-Newton standard deviations
+  double se3_smoothing_sigma_px = 0.5;    // Gaussian on frame and template before the fit, 0 = none
 
   // ECC (OpenCV).
   int ecc_max_iterations = 50;
@@ -62,7 +63,7 @@ struct PlanarConfig {
 };
 
 // Reads {"tracker": "ic"|"ecc", "pose_refinement": "se3"|"none", "se3_iterations", "se3_max_samples",
-// "se3_covariance_inflation", "pyramid_levels", "max_iterations", "max_samples", "convergence_px", "ic_smoothing_sigma", "esm_iterations",
+// "se3_covariance_inflation", "se3_smoothing_sigma_px", "pyramid_levels", "max_iterations", "max_samples", "convergence_px", "ic_smoothing_sigma", "esm_iterations",
 // "ecc_max_iterations", "ecc_epsilon", "ecc_gauss_size", "detection_min_width_fraction",
 // "detection_max_width_fraction", "detection_scale_step", "detection_match_width_px", "sift_ratio",
 // "ransac_threshold_px", "sift_max_frame_features", "min_visible_fraction", "max_template_side_px",

@@ -1,6 +1,7 @@
 #include "localization/planar/planar_localizer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string_view>
 #include <vector>
@@ -18,6 +19,20 @@ constexpr Seconds kRecentPoseS = 2.0;
 constexpr double kDistinctPosesRad = 2.0 * 3.14159265358979 / 180.0;
 // Template-matching scale window around a predicted width.
 constexpr double kPredictedWidthFactor = 1.6;
+// Motion blur: modelled when the panel moved at least this far since a frame at most this old, with
+// the exposure tried at these fractions of the frame interval (0 is always tried first).
+constexpr double kMinBlurMotionPx = 2.0;
+constexpr Seconds kMaxBlurIntervalS = 0.1;
+constexpr std::array<double, 4> kExposureFractions{1.0 / 3.0, 2.0 / 3.0, 1.0, 4.0 / 3.0};
+
+Se3RefinerSettings se3_settings(const PlanarConfig& config) {
+  Se3RefinerSettings s;
+  s.max_iterations = config.se3_iterations;
+  s.max_samples = config.se3_max_samples;
+  s.covariance_inflation = config.se3_covariance_inflation;
+  s.smoothing_sigma_px = config.se3_smoothing_sigma_px;
+  return s;
+}
 
 double visible_fraction(const std::array<cv::Point2d, 4>& corners, cv::Size size) {
   std::vector<cv::Point2f> quad, frame{{-0.5f, -0.5f},
@@ -92,8 +107,7 @@ PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, con
       sift_detector_(template_.working(), config, thresholds.sift_min_inliers),
       pose_solver_(camera.K(), template_.object_corners()),
       pose_refiner_(template_.working(), template_.width_m(), template_.height_m(), camera.K(),
-                    Se3RefinerSettings{config.se3_iterations, config.se3_max_samples, 0.002, 1.5,
-                                       config.se3_covariance_inflation}) {
+                    se3_settings(config)) {
   if (camera_.has_distortion()) {
     const cv::Size size(camera_.width(), camera_.height());
     cv::initUndistortRectifyMap(camera_.K(), camera_.distortion_coefficients(), cv::Mat(), camera_.K(), size,
@@ -248,17 +262,47 @@ PlanarLoss PlanarObjectLocalizer::accept(const cv::Mat& image, const cv::Matx33d
   return PlanarLoss::None;
 }
 
+Se3Refinement PlanarObjectLocalizer::refine_with_blur_search(const Eigen::Isometry3d& T_start, Seconds t,
+                                                             Eigen::Vector2d& blur_px) const {
+  Se3Refinement best = pose_refiner_.refine(smoothed_, T_start);
+  blur_px.setZero();
+  // The panel's image motion since the previous frame; the exposure is an unknown part of the frame
+  // interval (auto exposure), so a few fractions of that motion are tried and the best fit kept.
+  if (!last_pose_ || !(t - last_pose_t_ > 0) || t - last_pose_t_ > kMaxBlurIntervalS) return best;
+  const auto centre_px = [&](const Eigen::Isometry3d& T) {
+    const Eigen::Vector3d c = T.translation();
+    return Eigen::Vector2d(camera_.intrinsics().fx * c.x() / c.z(), camera_.intrinsics().fy * c.y() / c.z());
+  };
+  const Eigen::Vector2d motion_px = centre_px(T_start) - centre_px(*last_pose_);
+  if (!(motion_px.norm() >= kMinBlurMotionPx)) return best;
+  for (const double fraction : kExposureFractions) {
+    const Se3Refinement candidate = pose_refiner_.refine(smoothed_, T_start, fraction * motion_px);
+    if (!candidate.refined) continue;
+    // The residual is unimodal in the exposure: once it rises, longer ones only fit worse.
+    if (best.refined && candidate.residual_grey >= best.residual_grey) break;
+    best = candidate;
+    blur_px = fraction * motion_px;
+  }
+  return best;
+}
+
 void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, double size_px, double margin,
-                                        PlanarResult& r) const {
+                                        PlanarResult& r) {
   r.pose_refined = false;
   if (config_.pose_refinement == PoseRefinement::Se3) {
-    Se3Refinement refined = pose_refiner_.refine(image, pose.T_cam_object);
+    if (pose.alternative_plausible) {
+      pose_refiner_.smooth(image, {pose.T_cam_object, pose.T_alternative}, smoothed_);
+    } else {
+      pose_refiner_.smooth(image, {pose.T_cam_object}, smoothed_);
+    }
+    Eigen::Vector2d blur_px = Eigen::Vector2d::Zero();
+    Se3Refinement refined = refine_with_blur_search(pose.T_cam_object, r.t, blur_px);
     if (pose.alternative_plausible) {
       // Two distinct IPPE poses fit the corners: the photometric fit sees the perspective that tells
       // them apart. Both are refined; when they end apart with residuals within 2 %, IPPE's choice
       // (continuity, else the lower corner error) and its ambiguity flag stand, otherwise the lower
       // residual wins and the ambiguity is resolved.
-      const Se3Refinement other = pose_refiner_.refine(image, pose.T_alternative);
+      const Se3Refinement other = pose_refiner_.refine(smoothed_, pose.T_alternative, blur_px);
       if (refined.refined && other.refined) {
         const bool apart = rotation_angle(refined.T_cam_object.linear(), other.T_cam_object.linear()) > kDistinctPosesRad;
         const double low = std::min(refined.residual_grey, other.residual_grey);

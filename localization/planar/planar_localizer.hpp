@@ -62,7 +62,9 @@ class PlanarObjectLocalizer {
   PlanarLoss accept(const cv::Mat& image, const cv::Matx33d& H_working, double correlation, bool check_jump,
                     PlanarResult& r);
   // The SE(3) refinement of the IPPE pose when configured; fills the result's uncertainties.
-  void refine_pose(const cv::Mat& image, PlanarPose& pose, double size_px, double margin, PlanarResult& r) const;
+  void refine_pose(const cv::Mat& image, PlanarPose& pose, double size_px, double margin, PlanarResult& r);
+  // The SE(3) refinement of T_start, with the motion blur (if the panel moved fast) that fits best.
+  Se3Refinement refine_with_blur_search(const Eigen::Isometry3d& T_start, Seconds t, Eigen::Vector2d& blur_px) const;
   const cv::Mat& undistort(const cv::Mat& gray);
 
   PlanarTemplate template_;
@@ -75,6 +77,7 @@ class PlanarObjectLocalizer {
   PlanarPoseSolver pose_solver_;
   Se3PoseRefiner pose_refiner_;
   cv::Mat map1_, map2_, undistorted_;  // precomputed undistortion maps and reused output
+  Se3PoseRefiner::SmoothedFrame smoothed_;  // reused by the pose refinement
 
   bool tracking_ = false;
   bool ever_found_ = false;

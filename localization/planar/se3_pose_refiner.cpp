@@ -20,6 +20,9 @@ constexpr int kMinLevelSidePx = 16;
 constexpr int kBorderPx = 2;   // template pixels this close to the edge see the outside in the frame
 constexpr int kCells = 6;      // per side: the samples are spread over the panel (perspective leverage)
 constexpr int kMinSamples = 50;
+// How much farther than max_corner_shift_px a corner may move when a blur is modelled (half the blur,
+// at most this): the smoothed region is grown by it.
+constexpr double kMaxBlurLeashPx = 6.0;
 // Pose (6), then the appearance: gain, its gradients across the panel (x, y), bias.
 constexpr int kParams = 10;
 
@@ -63,7 +66,9 @@ Se3PoseRefiner::Se3PoseRefiner(const cv::Mat& working_template, double width_m, 
   }
 }
 
-void Se3PoseRefiner::add_level(const cv::Mat& gray, int k) {
+void Se3PoseRefiner::add_level(const cv::Mat& level, int k) {
+  cv::Mat gray = level;
+  if (settings_.smoothing_sigma_px > 0) cv::GaussianBlur(level, gray, cv::Size(0, 0), settings_.smoothing_sigma_px);
   cv::Mat gx, gy, magnitude;
   cv::Sobel(gray, gx, CV_32F, 1, 0, 3);
   cv::Sobel(gray, gy, CV_32F, 0, 1, 3);
@@ -95,14 +100,47 @@ void Se3PoseRefiner::add_level(const cv::Mat& gray, int k) {
           if (magnitude.at<float>(y, x) < threshold) continue;
           samples.push_back({static_cast<float>((x * step + 0.5) * mx - 0.5 * width_m_),
                              static_cast<float>((y * step + 0.5) * my - 0.5 * height_m_),
-                             static_cast<float>(gray.at<uchar>(y, x))});
+                             static_cast<float>(gray.at<uchar>(y, x)), static_cast<float>(x), static_cast<float>(y)});
           ++taken;
         }
       }
     }
   }
   if (static_cast<int>(samples.size()) < kMinSamples) return;  // coarser levels have even less
-  if (static_cast<int>(levels_.size()) == k) levels_.push_back(std::move(samples));
+  if (static_cast<int>(levels_.size()) == k) {
+    levels_.push_back(std::move(samples));
+    level_images_.push_back(gray.clone());
+  }
+}
+
+void Se3PoseRefiner::blur_samples(int level, const Eigen::Isometry3d& T, const Eigen::Vector2d& blur_px,
+                                  std::vector<float>& out) const {
+  const std::vector<Sample>& samples = levels_[static_cast<std::size_t>(level)];
+  const cv::Mat& image = level_images_[static_cast<std::size_t>(level)];
+  // Image px per level px at the panel's centre: the projection's Jacobian times metres per level px.
+  const double step = std::ldexp(1.0, level);
+  const double mx = step * width_m_ / template_size_.width, my = step * height_m_ / template_size_.height;
+  const Eigen::Vector3d P = T.translation();
+  const Eigen::Vector3d r1 = T.linear().col(0) * mx, r2 = T.linear().col(1) * my;
+  Eigen::Matrix2d J;
+  for (int c = 0; c < 2; ++c) {
+    const Eigen::Vector3d d = c == 0 ? r1 : r2;
+    J(0, c) = fx_ * (d.x() * P.z() - P.x() * d.z()) / (P.z() * P.z());
+    J(1, c) = fy_ * (d.y() * P.z() - P.y() * d.z()) / (P.z() * P.z());
+  }
+  const Eigen::Vector2d delta = J.inverse() * blur_px;  // the blur in level px
+  const int taps = std::clamp(static_cast<int>(std::ceil(delta.norm())) + 1, 2, 16);
+  const double x_max = image.cols - 1.001, y_max = image.rows - 1.001;
+  out.resize(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    double sum = 0;
+    for (int k = 0; k < taps; ++k) {
+      const double f = -0.5 + static_cast<double>(k) / (taps - 1);
+      sum += bilinear_grey(image, std::clamp(samples[i].lx + f * delta.x(), 0.0, x_max),
+                           std::clamp(samples[i].ly + f * delta.y(), 0.0, y_max));
+    }
+    out[i] = static_cast<float>(sum / taps);
+  }
 }
 
 int Se3PoseRefiner::level_for(const Eigen::Isometry3d& T) const {
@@ -124,19 +162,62 @@ int Se3PoseRefiner::level_for(const Eigen::Isometry3d& T) const {
   return matching_template_level(Hc, template_size_, static_cast<int>(levels_.size()) - 1);
 }
 
-Se3PoseRefiner::Normal Se3PoseRefiner::accumulate(const std::vector<Sample>& samples, const cv::Mat& image,
-                                                  const Eigen::Isometry3d& T, const Appearance& a) const {
+void Se3PoseRefiner::smooth(const cv::Mat& undistorted, std::initializer_list<Eigen::Isometry3d> poses,
+                            SmoothedFrame& out) const {
+  const cv::Rect whole(0, 0, undistorted.cols, undistorted.rows);
+  if (!(settings_.smoothing_sigma_px > 0) || undistorted.empty()) {
+    out.image = undistorted;  // a header: no copy
+    out.valid = whole;
+    return;
+  }
+  // Reach: the refinement may move a corner by max_corner_shift_px, the gradient reads 1 px either
+  // side, and the Gaussian needs 3 sigma of real neighbours.
+  const double reach = settings_.max_corner_shift_px + kMaxBlurLeashPx + 2.0 + 3.0 * settings_.smoothing_sigma_px;
+  double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
+  for (const Eigen::Isometry3d& T : poses) {
+    for (double sx : {-0.5, 0.5}) {
+      for (double sy : {-0.5, 0.5}) {
+        const Eigen::Vector3d P = T * Eigen::Vector3d(sx * width_m_, sy * height_m_, 0);
+        if (!(P.z() > 1e-3)) {  // a corner behind the camera: smooth everything
+          x0 = y0 = -1e9;
+          x1 = y1 = 1e9;
+          continue;
+        }
+        const double u = fx_ * P.x() / P.z() + cx_, v = fy_ * P.y() / P.z() + cy_;
+        x0 = std::min(x0, u), x1 = std::max(x1, u), y0 = std::min(y0, v), y1 = std::max(y1, v);
+      }
+    }
+  }
+  const auto clamp_to = [](double value, int hi) { return static_cast<int>(std::clamp(value, 0.0, static_cast<double>(hi))); };
+  const int left = clamp_to(std::floor(x0 - reach), undistorted.cols), right = clamp_to(std::ceil(x1 + reach) + 1, undistorted.cols);
+  const int top = clamp_to(std::floor(y0 - reach), undistorted.rows), bottom = clamp_to(std::ceil(y1 + reach) + 1, undistorted.rows);
+  out.valid = cv::Rect(left, top, std::max(0, right - left), std::max(0, bottom - top)) & whole;
+  out.image.create(undistorted.size(), CV_8UC1);
+  if (out.valid.area() == 0) return;
+  // A region of interest: the blur reads the real neighbours outside it (reflects only at the frame's border).
+  cv::Mat dst = out.image(out.valid);
+  cv::GaussianBlur(undistorted(out.valid), dst, cv::Size(0, 0), settings_.smoothing_sigma_px);
+}
+
+Se3PoseRefiner::Normal Se3PoseRefiner::accumulate(const std::vector<Sample>& samples, const float* values,
+                                                  const SmoothedFrame& frame, const Eigen::Isometry3d& T,
+                                                  const Appearance& a) const {
   Normal n;
+  const cv::Mat& image = frame.image;
   const Eigen::Vector3d r1 = T.linear().col(0), r2 = T.linear().col(1), t = T.translation();
-  const double x_max = image.cols - 2, y_max = image.rows - 2;
+  // Bilinear reads at u +- 1 stay inside the smoothed region.
+  const double x_min = frame.valid.x + 1, y_min = frame.valid.y + 1;
+  const double x_max = frame.valid.x + frame.valid.width - 2, y_max = frame.valid.y + frame.valid.height - 2;
   Eigen::Matrix<double, kParams, 1> J;
   const double sx = 2.0 / width_m_, sy = 2.0 / height_m_;  // panel coordinates in [-1, 1]
-  for (const Sample& s : samples) {
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const Sample& s = samples[i];
+    const double template_grey = values != nullptr ? values[i] : s.t;
     const Eigen::Vector3d P = s.X * r1 + s.Y * r2 + t;
     if (!(P.z() > 1e-3)) continue;
     const double iz = 1.0 / P.z();
     const double u = fx_ * P.x() * iz + cx_, v = fy_ * P.y() * iz + cy_;
-    if (!(u >= 1 && v >= 1 && u < x_max && v < y_max)) continue;
+    if (!(u >= x_min && v >= y_min && u < x_max && v < y_max)) continue;
     const double value = bilinear_grey(image, u, v);
     const double gu = 0.5 * (bilinear_grey(image, u + 1, v) - bilinear_grey(image, u - 1, v));
     const double gv = 0.5 * (bilinear_grey(image, u, v + 1) - bilinear_grey(image, u, v - 1));
@@ -145,11 +226,11 @@ Se3PoseRefiner::Normal Se3PoseRefiner::accumulate(const std::vector<Sample>& sam
     J.head<3>() = P.cross(dP);
     J.segment<3>(3) = dP;
     const double x = s.X * sx, y = s.Y * sy;
-    J[6] = -s.t;
-    J[7] = -s.t * x;
-    J[8] = -s.t * y;
+    J[6] = -template_grey;
+    J[7] = -template_grey * x;
+    J[8] = -template_grey * y;
     J[9] = -1.0;
-    const double residual = value - (a.gain + a.gain_x * x + a.gain_y * y) * s.t - a.bias;
+    const double residual = value - (a.gain + a.gain_x * x + a.gain_y * y) * template_grey - a.bias;
     n.JtJ.selfadjointView<Eigen::Lower>().rankUpdate(J);
     n.Jtr += J * residual;
     n.ssr += residual * residual;
@@ -160,6 +241,20 @@ Se3PoseRefiner::Normal Se3PoseRefiner::accumulate(const std::vector<Sample>& sam
 }
 
 Se3Refinement Se3PoseRefiner::refine(const cv::Mat& undistorted, const Eigen::Isometry3d& T_start) const {
+  if (undistorted.empty() || undistorted.type() != CV_8UC1) {
+    Se3Refinement out;
+    out.T_cam_object = T_start;
+    out.failure = "frame is not a non-empty CV_8UC1 image";
+    return out;
+  }
+  SmoothedFrame frame;
+  smooth(undistorted, {T_start}, frame);
+  return refine(frame, T_start);
+}
+
+Se3Refinement Se3PoseRefiner::refine(const SmoothedFrame& frame, const Eigen::Isometry3d& T_start,
+                                     const Eigen::Vector2d& blur_px) const {
+  const cv::Mat& undistorted = frame.image;
   Se3Refinement out;
   out.T_cam_object = T_start;
   if (levels_.empty()) {
@@ -170,7 +265,13 @@ Se3Refinement Se3PoseRefiner::refine(const cv::Mat& undistorted, const Eigen::Is
     out.failure = "frame is not a non-empty CV_8UC1 image";
     return out;
   }
-  const std::vector<Sample>& samples = levels_[static_cast<std::size_t>(level_for(T_start))];
+  const int level = level_for(T_start);
+  const std::vector<Sample>& samples = levels_[static_cast<std::size_t>(level)];
+  const float* values = nullptr;
+  if (blur_px.allFinite() && blur_px.norm() >= 0.5) {
+    blur_samples(level, T_start, blur_px, frame.blurred_template);
+    values = frame.blurred_template.data();
+  }
   const int needed = std::max(kMinSamples, static_cast<int>(samples.size()) / 2);
   const std::array<Eigen::Vector3d, 4> corners{Eigen::Vector3d(-0.5 * width_m_, -0.5 * height_m_, 0),
                                                Eigen::Vector3d(0.5 * width_m_, -0.5 * height_m_, 0),
@@ -189,7 +290,7 @@ Se3Refinement Se3PoseRefiner::refine(const cv::Mat& undistorted, const Eigen::Is
   Appearance appearance;
   Normal n, n_previous;
   for (int it = 0; it < settings_.max_iterations; ++it) {
-    n = accumulate(samples, undistorted, T, appearance);
+    n = accumulate(samples, values, frame, T, appearance);
     ++out.iterations;
     if (n.valid < needed) {
       out.failure = "too little of the panel in view";
@@ -223,7 +324,9 @@ Se3Refinement Se3PoseRefiner::refine(const cv::Mat& undistorted, const Eigen::Is
     out.failure = "no correlation with the template";
     return out;
   }
-  if (max_corner_shift(T, T_start) > settings_.max_corner_shift_px) {
+  // A blurred frame pulls the tracker's corners along the blur: the modelled blur widens the leash.
+  const double blur_leash_px = values != nullptr ? std::min(kMaxBlurLeashPx, 0.5 * blur_px.norm()) : 0.0;
+  if (max_corner_shift(T, T_start) > settings_.max_corner_shift_px + blur_leash_px) {
     out.failure = "the pose moved too far from the homography's";
     return out;
   }

@@ -20,7 +20,17 @@
 // The covariance of the 6 pose parameters is the Gauss-Newton one, sigma^2 (J^T J)^-1, with sigma^2
 // the residual variance, inflated by `covariance_inflation` (neighbouring pixels' errors are
 // correlated: blur, interpolation, compression), plus a floor on the rotation for the model errors
-// it cannot see. Nothing is allocated per call.
+// it cannot see. On the SmoothedFrame path LaboDrone allocates nothing per call once the buffers
+// have the frame's size (OpenCV's Gaussian filter keeps its own small row buffers).
+//
+// Smoothing: the frame and the template are resampled differently (the camera or renderer integrates
+// over pixels and mip levels, the template pyramid is cv::pyrDown's 5-tap Gaussian), and at 2-3 m, where
+// 0.01 px on a corner is 0.25 deg of tilt, that mismatch dominated the error: on the simulated lab's
+// oscilloscope (0.40 x 0.20 m) the 2-3 m rotation error was 2.96 deg median with or without sensor
+// noise and motion blur. Smoothing both with the same small Gaussian (`smoothing_sigma_px`, in frame
+// pixels; the template level matches the panel's apparent size, so in level pixels too) makes the two
+// agree; measured in docs/planar.md.
+#include <initializer_list>
 #include <vector>
 
 #include <Eigen/Core>
@@ -36,6 +46,7 @@ struct Se3RefinerSettings {
   double max_corner_shift_px = 1.5;    // refused when a corner moves farther from the starting pose
   double covariance_inflation = 3.0;   // on the Gauss-Newton standard deviations
   double rotation_sigma_floor_rad = 0.0026;  // 0.15 deg, added in quadrature (model errors)
+  double smoothing_sigma_px = 0.5;     // Gaussian on frame and template before the fit; 0 = none
 };
 
 struct Se3Refinement {
@@ -58,15 +69,31 @@ class Se3PoseRefiner {
   Se3PoseRefiner(const cv::Mat& working_template, double width_m, double height_m, const cv::Matx33d& K,
                  const Se3RefinerSettings& settings = {});
 
-  // `undistorted` is CV_8UC1; `T_start` the IPPE pose (camera from object).
+  // The frame as the refinement reads it: smoothed like the template where the panel is.
+  struct SmoothedFrame {
+    cv::Mat image;    // CV_8UC1, frame size; only `valid` is meaningful
+    cv::Rect valid;   // the region smoothed (the whole frame when smoothing is off)
+    mutable std::vector<float> blurred_template;  // scratch: the template samples blurred like the frame
+  };
+  // Smooths the region the panel covers at any of `poses` (plus the refinement's reach) into `out`;
+  // reuses out's frame-sized buffer. `undistorted` is CV_8UC1.
+  void smooth(const cv::Mat& undistorted, std::initializer_list<Eigen::Isometry3d> poses, SmoothedFrame& out) const;
+  // `T_start` is the IPPE pose (camera from object); `frame` comes from smooth() with T_start among its poses.
+  // `blur_px`: the panel's apparent motion during the exposure (undistorted-frame pixels, at its
+  // centre). When it is longer than half a pixel the template is blurred the same way before the fit:
+  // a sharp template against a smeared frame pulls the pose by degrees (docs/planar.md).
+  Se3Refinement refine(const SmoothedFrame& frame, const Eigen::Isometry3d& T_start,
+                       const Eigen::Vector2d& blur_px = Eigen::Vector2d::Zero()) const;
+  // Convenience for one-off calls (tests, tools): smooths around T_start, then refines. Allocates.
   Se3Refinement refine(const cv::Mat& undistorted, const Eigen::Isometry3d& T_start) const;
 
   int levels() const { return static_cast<int>(levels_.size()); }
 
  private:
   struct Sample {
-    float X, Y;  // object frame, metres (Z = 0)
-    float t;     // template grey level
+    float X, Y;    // object frame, metres (Z = 0)
+    float t;       // template grey level
+    float lx, ly;  // position in its level's image, px
   };
   struct Normal;
   // Grey level = (gain + gain_x x + gain_y y) template + bias, x and y across the panel in [-1, 1]:
@@ -77,10 +104,14 @@ class Se3PoseRefiner {
 
   void add_level(const cv::Mat& gray, int level);
   int level_for(const Eigen::Isometry3d& T) const;
-  Normal accumulate(const std::vector<Sample>& samples, const cv::Mat& image, const Eigen::Isometry3d& T,
-                    const Appearance& appearance) const;
+  // `values`: the samples' template grey levels to fit (blurred), or null for their own.
+  Normal accumulate(const std::vector<Sample>& samples, const float* values, const SmoothedFrame& frame,
+                    const Eigen::Isometry3d& T, const Appearance& appearance) const;
+  // The level's samples averaged along the blur (image px mapped into the level at the panel's centre).
+  void blur_samples(int level, const Eigen::Isometry3d& T, const Eigen::Vector2d& blur_px, std::vector<float>& out) const;
 
   std::vector<std::vector<Sample>> levels_;
+  std::vector<cv::Mat> level_images_;  // the levels as sampled (smoothed), for blurring the samples
   cv::Size template_size_;
   double width_m_, height_m_;
   double fx_, fy_, cx_, cy_;

@@ -237,7 +237,8 @@ double percent_within_2sigma(const std::vector<double>& error_deg, const std::ve
 }
 
 SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind kind, const PlanarConfig& base_config,
-                      const VisionThresholds& vision, std::vector<ErrorSample>& pooled) {
+                      const VisionThresholds& vision, std::vector<ErrorSample>& pooled,
+                      std::vector<FrameRecord>& records) {
   PlanarConfig config = base_config;
   config.tracker = kind;
   const PinholeCamera camera = s.bottom_camera ? PinholeCamera::ardrone2_bottom() : PinholeCamera::ardrone2_front();
@@ -266,6 +267,22 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
     if (r.state == PlanarState::Tracking) tracking_cpu_ms.push_back(cpu_ms);
     if (r.state != PlanarState::Tracking) detection_ms.push_back(ms);
     if (r.state == PlanarState::Detected) ++st.detections;
+    FrameRecord& rec = records.emplace_back();
+    rec.sequence = s.name;
+    rec.tracker = st.tracker;
+    rec.frame = static_cast<int>(i);
+    rec.range_m = range;
+    rec.in_view = s.in_view[i];
+    rec.has_pose = r.has_pose;
+    rec.refined = r.pose_refined;
+    rec.state = to_string(r.state);
+    rec.cpu_ms = cpu_ms;
+    if (r.has_pose) {
+      rec.position_error_m = r.T_cam_object.translation() - s.truth[i].translation();
+      const Eigen::AngleAxisd error(r.T_cam_object.linear() * s.truth[i].linear().transpose());
+      rec.rotation_error_deg = error.axis() * error.angle() * 180.0 / kPi;
+      rec.rotation_sigma_deg = r.rotation_sigma_rad * 180.0 / kPi;
+    }
     if (r.state == PlanarState::Lost && had_pose) {
       ++st.losses;
       ++st.loss_reasons[to_string(r.reason)];
@@ -323,7 +340,7 @@ SequenceBenchResult run_sequence_bench(const PlanarConfig& config, const VisionT
   for (TrackerKind kind : trackers) {
     std::vector<ErrorSample> pooled;
     for (const auto& s : sequences) {
-      result.sequences.push_back(run_one(s, s.panel, kind, config, vision, pooled));
+      result.sequences.push_back(run_one(s, s.panel, kind, config, vision, pooled, result.frames));
     }
     for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{0.4, 1.0}, {1.0, 2.0}, {2.0, 3.1}}) {
       std::vector<double> pct, deg, sigma;

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "localization/planar/planar_config.hpp"
 #include "localization/vision_thresholds.hpp"
 
@@ -40,9 +42,24 @@ struct RangeBinStats {
   double median_rotation_sigma_deg = 0, rotation_within_2sigma_percent = 0;
 };
 
+// One frame of one sequence, for `bench planar --frames-csv`: where the error is, not only how big.
+// Errors are the estimate minus the truth in the camera frame (x right, y down, z forward); the
+// rotation error is the axis-angle vector of R_est * R_trueᵀ, in degrees, in the camera frame.
+struct FrameRecord {
+  std::string sequence, tracker;
+  int frame = 0;
+  double range_m = 0;
+  bool in_view = false, has_pose = false, refined = false;
+  std::string state;
+  Eigen::Vector3d position_error_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rotation_error_deg = Eigen::Vector3d::Zero();
+  double rotation_sigma_deg = 0, cpu_ms = 0;
+};
+
 struct SequenceBenchResult {
   std::string renderer;  // which renderer produced the frames
   std::vector<SequenceStats> sequences;
+  std::vector<FrameRecord> frames;  // every frame of every sequence and tracker
   std::vector<RangeBinStats> range_bins;  // all sequences pooled, per tracker
 };
 

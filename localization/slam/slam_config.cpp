@@ -8,11 +8,13 @@ SlamSettings read_slam_settings(const ConfigReader& node) {
                                                                                                     : MappingMode::Synchronous;
   s.max_features = node.integer_or("max_features", s.max_features, 100, 5000);
   s.fast_threshold = node.integer_or("fast_threshold", s.fast_threshold, 5, 100);
+  s.max_points_searched = node.integer_or("max_points_searched", s.max_points_searched, 50, 5000);
   s.smoothing_sigma_px = node.number_or("smoothing_sigma_px", s.smoothing_sigma_px, Range::closed(0.0, 3.0));
   s.quality_good = node.number_or("quality_good", s.quality_good, Range{0.0, 1.0, true});
   s.quality_lost = node.number_or("quality_lost", s.quality_lost, Range{0.0, 1.0, true});
   if (s.quality_lost >= s.quality_good) node.fail("quality_lost", "must be below quality_good");
   s.keyframe_min_interval_s = node.number_or("keyframe_min_interval_s", s.keyframe_min_interval_s, Range::closed(0.0, 10.0));
+  s.keyframe_min_points_dodgy = node.integer_or("keyframe_min_points_dodgy", s.keyframe_min_points_dodgy, 0, 5000);
   s.max_keyframes = node.integer_or("max_keyframes", s.max_keyframes, 2, 2000);
   s.global_ba_when_idle = node.boolean_or("global_ba_when_idle", s.global_ba_when_idle);
   s.global_ba_max_keyframes = node.integer_or("global_ba_max_keyframes", s.global_ba_max_keyframes, 3, 2000);

@@ -48,11 +48,13 @@ void validate_settings(const SlamSettings& s) {
   if (s.pyramid_levels != 4) fail("pyramid_levels must be 4");
   if (!(s.pyramid_scale >= 1.1 && s.pyramid_scale <= 2.5)) fail("pyramid_scale must be in [1.1, 2.5]");
   if (s.max_features < 100 || s.max_features > 5000) fail("max_features must be in [100, 5000]");
+  if (s.max_points_searched < 50 || s.max_points_searched > 5000) fail("max_points_searched must be in [50, 5000]");
   if (s.fast_threshold < 5 || s.fast_threshold > 100) fail("fast_threshold must be in [5, 100]");
   if (!(s.smoothing_sigma_px >= 0 && s.smoothing_sigma_px <= 3)) fail("smoothing_sigma_px must be in [0, 3]");
   if (!(s.quality_lost > 0 && s.quality_lost < s.quality_good && s.quality_good < 1)) {
     fail("need 0 < quality_lost < quality_good < 1");
   }
+  if (s.keyframe_min_points_dodgy < 0) fail("keyframe_min_points_dodgy must be >= 0 (0: keyframes from Good frames only)");
   if (s.lost_after_bad_frames < 1) fail("lost_after_bad_frames must be >= 1");
   if (s.local_ba_keyframes < 2) fail("local_ba_keyframes must be >= 2");
   if (s.init_min_points < 20) fail("init_min_points must be >= 20");
@@ -340,8 +342,15 @@ SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std
       o = tracker.track(map, frame, grid, guess, reference_keyframe, coarse);
     }
   }
+  if (!coarse && !relocalizing && (!o.pose_valid || o.found < settings.min_found_good)) {
+    // The motion model said "barely moving" but the view jumped (the drone tilts to start or stop a
+    // manoeuvre: 5 deg in one frame is ~50 px): search again coarse to fine from the same prior.
+    TrackOutcome wide = tracker.track(map, frame, grid, guess, reference_keyframe, true);
+    if (wide.pose_valid && wide.found > o.found && wide.map_generation == o.map_generation) o = std::move(wide);
+  }
   result.points_found = o.found;
   result.points_attempted = o.attempted;
+  result.misses = {o.search.no_feature, o.search.too_far, o.search.ambiguous, o.search.taken, o.pose_outliers};
   result.quality = o.attempted > 0 ? static_cast<double>(o.found) / o.attempted : 0.0;
   TrackingState frame_state = TrackingState::Lost;
   if (o.pose_valid && result.quality >= settings.quality_good && o.found >= settings.min_found_good) {
@@ -371,7 +380,13 @@ SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std
   if (frame_state == TrackingState::Dodgy) result.reason = "dodgy: few points found";
   accept_pose(o.T_cam_map, t);
   if (o.reference_keyframe >= 0) reference_keyframe = o.reference_keyframe;
-  if (frame_state == TrackingState::Good && want_keyframe(o, t)) {
+  // Keyframes come from Good frames, and from Dodgy ones that still hold many points: a fast approach
+  // or a weak initial map leaves most of the local map unfound (found / attempted < quality_good)
+  // while hundreds of points pin the pose; refusing keyframes there starves the map of the new
+  // points it needs and tracking spirals down to lost (the lab-inspect flight, docs/slam.md).
+  const bool keyframe_quality = frame_state == TrackingState::Good ||
+                                (o.found >= settings.keyframe_min_points_dodgy && settings.keyframe_min_points_dodgy > 0);
+  if (keyframe_quality && want_keyframe(o, t)) {
     add_keyframe(o, gray, t);
     result.keyframe_added = true;
   }

@@ -45,6 +45,7 @@ struct SlamSettings {
   double keyframe_min_interval_s = 0.25;
   double keyframe_distance_ratio = 0.08;  // of the mean scene depth
   double keyframe_overlap_ratio = 0.55;   // tracked / points of the reference keyframe
+  int keyframe_min_points_dodgy = 100;    // a Dodgy frame holding this many points may add a keyframe (0: never)
   int local_ba_keyframes = 5;             // newest + 4 nearest
   int max_keyframes = 400;
   bool global_ba_when_idle = true;
@@ -68,6 +69,11 @@ struct SlamResult {
   bool keyframe_added = false;
   bool relocalized = false;   // this frame recovered from Lost
   std::string reason;         // why not Good (empty when Good)
+  // Why attempted points were not found (diagnosis, benchmark trace): the fine search's misses and
+  // the matches the pose update rejected.
+  struct Misses {
+    int no_feature = 0, too_far = 0, ambiguous = 0, taken = 0, pose_outliers = 0;
+  } misses;
   // This call's cost, excluding mapping run inline (measurements only; never feed the algorithm):
   double tracking_ms = 0.0;      // wall time
   double tracking_cpu_ms = 0.0;  // CPU time of the calling thread (one core, load-independent)

@@ -109,3 +109,12 @@ TEST_CASE("control: going round the teacher keeps to the side inside the fence")
     CHECK(step.position.y() > -2.4);  // round the north side, not clamped against the wall behind
   }
 }
+
+TEST_CASE("control: the meeting point starts from the nearest corner when two are within the radius") {
+  const Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);
+  // Near (1.2, -2.4), 0.45 m from (1.2, -1.9): the teacher turns at (1.2, -2.4) onto the leg along +x.
+  const std::optional<WatchPoint> start = next_leg_meeting_point(lab_route(), {1.2, -2.35}, fence, 0.0, 0.6, 0.4);
+  REQUIRE(start);
+  CHECK((start->position - Eigen::Vector3d(1.2, -2.4, 1.65)).norm() < 1e-9);
+  CHECK(std::abs(std::abs(start->yaw) - std::numbers::pi) < 1e-9);  // facing back along +x
+}

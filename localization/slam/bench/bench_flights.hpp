@@ -3,6 +3,7 @@
 // list of front-camera poses at 30 fps. All start with a hover and a 0.3-0.4 m climb (the take-off
 // manoeuvre that initializes the map, as tum_ardrone's autoInit does).
 #include <Eigen/Geometry>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,7 @@ struct Flight {
   std::string name;
   std::vector<FlightFrame> frames;
   Seconds view_returns_at = -1;   // after a covered stretch, when the view comes back
-  Eigen::Vector3d target{0, 0, 0};  // the instrument panel (approach flight)
+  std::optional<Eigen::Vector3d> target;  // the instrument panel (approach flights): where tracking is lost
 };
 
 // Two loops around the room looking outwards at the walls (1.5-3 m), with a 1 s covered-camera

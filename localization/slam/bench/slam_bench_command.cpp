@@ -1,11 +1,16 @@
 #include "localization/slam/bench/slam_bench_command.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "core/camera_config.hpp"
 #include "core/config_reader.hpp"
+#include "core/source_tree.hpp"
+#include "localization/slam/bench/lab_flight.hpp"
 #include "localization/slam/bench/slam_benchmark.hpp"
+#include "localization/slam/bench/synthetic_room.hpp"
 #include "localization/slam/slam_config.hpp"
 
 namespace labo {
@@ -55,12 +60,34 @@ nlohmann::json to_json(const slam::FlightReport& r) {
   j["loop_search_ms_median"] = r.loop_search_ms_median;
   j["loop_search_ms_p95"] = r.loop_search_ms_p95;
   if (r.relocalization_s) j["relocalization_s"] = *r.relocalization_s;
-  if (r.name == "approach") {
+  if (r.attempted > 0) {
+    const auto percent = [&](long long n) { return std::round(1000.0 * static_cast<double>(n) / static_cast<double>(r.attempted)) / 10; };
+    j["points_attempted_percent"] = {{"found", percent(r.found)},
+                                     {"no_feature_near", percent(r.misses.no_feature)},
+                                     {"descriptor_too_far", percent(r.misses.too_far)},
+                                     {"ambiguous", percent(r.misses.ambiguous)},
+                                     {"feature_taken", percent(r.misses.taken)},
+                                     {"pose_outlier", percent(r.misses.pose_outliers)}};
+  }
+  if (r.lost_at_distance_m || r.closest_tracked_distance_m > 0) {
     j["lost_at_distance_m"] = r.lost_at_distance_m ? nlohmann::json(*r.lost_at_distance_m) : nlohmann::json(nullptr);
     j["closest_tracked_distance_m"] = r.closest_tracked_distance_m;
   }
   return j;
 }
+
+// The simulated lab of a config file (its "lab" and "cameras").
+struct LabFlightSetup {
+  LabFlightSetup(const ConfigDocument& doc, const std::filesystem::path& config_file, bool noise)
+      : lab(load_lab_description(config_file.parent_path() / doc.root().string_or("lab", "lab.json"))),
+        cameras(read_cameras_config(doc.root().object("cameras"))),
+        camera(cameras.front),
+        frames(lab, cameras, noise) {}
+  LabDescription lab;
+  CamerasConfig cameras;
+  PinholeCamera camera;
+  slam::SimulatedLabFrames frames;
+};
 
 }  // namespace
 
@@ -70,10 +97,12 @@ const CommandSpec& bench_slam_command_spec() {
       "",
       "Monocular SLAM on ground-truth flights: ATE (Sim(3)), RPE, scale drift, timings, relocalization",
       {{"--json", "", "print JSON instead of a table"},
-       {"--flight", "NAME", "tour, yaw, approach or all (default all)"},
+       {"--flight", "NAME", "tour, yaw, approach (synthetic room), lab-inspect (simulated lab) or all (default all)"},
+       {"--lab-fps", "N", "frames per second of the lab-inspect flight (default 30; the inspect test runs 15)"},
        {"--tour-seconds", "S", "duration of the tour flight (default 120)"},
        {"--threaded", "", "mapping in its own thread (default: synchronous, deterministic)"},
-       {"--config", "FILE", "read the \"slam\" section of this config (its mapping key is ignored: see --threaded)"},
+       {"--config", "FILE", "the configuration (default config/default.json, as flights): its \"slam\" section (mapping key ignored: see --threaded); "
+                            "lab-inspect also takes the lab and the cameras from it"},
        {"--no-noise", "", "render without sensor noise (isolates systematic errors)"},
        {"--no-distortion", "", "a lens without distortion, for the renderer and the SLAM alike"},
        {"--trace", "", "print every frame that is not tracked well, and keyframes, to stderr"},
@@ -85,34 +114,47 @@ const CommandSpec& bench_slam_command_spec() {
 
 int run_bench_slam_command(const ParsedArgs& args) {
   const std::string which = args.value_or("--flight", "all");
-  if (which != "all" && which != "tour" && which != "yaw" && which != "approach") {
-    throw UsageError("--flight must be tour, yaw, approach or all, not '" + which + "'");
+  if (which != "all" && which != "tour" && which != "yaw" && which != "approach" && which != "lab-inspect") {
+    throw UsageError("--flight must be tour, yaw, approach, lab-inspect or all, not '" + which + "'");
   }
   const double tour_s = args.number_or("--tour-seconds", 120.0, 10.0, 600.0);
+  const double lab_fps = args.number_or("--lab-fps", 30.0, 5.0, 60.0);
   const slam::MappingMode mode = args.flag("--threaded") ? slam::MappingMode::Threaded : slam::MappingMode::Synchronous;
+  const std::filesystem::path config_file = args.value_or("--config", (source_root() / "config" / "default.json").string());
+  const ConfigDocument doc = ConfigDocument::load(config_file);
   slam::SlamSettings settings;
-  if (const auto file = args.value("--config")) {
-    const ConfigDocument doc = ConfigDocument::load(*file);
-    if (doc.root().has("slam")) settings = slam::read_slam_settings(doc.root().object("slam"));
-  }
+  if (doc.root().has("slam")) settings = slam::read_slam_settings(doc.root().object("slam"));
   settings.mapping_mode = mode;
   const PinholeCamera camera = args.flag("--no-distortion") ? PinholeCamera::ardrone2_front().without_distortion()
                                                              : PinholeCamera::ardrone2_front();
   slam::SyntheticRoomSpec room_spec;
   if (args.flag("--no-noise")) room_spec.noise_sigma = 0;
   const slam::SyntheticRoom room(camera, room_spec);
-  std::vector<slam::Flight> flights;
-  if (which == "all" || which == "tour") flights.push_back(slam::tour_flight(tour_s));
-  if (which == "all" || which == "yaw") flights.push_back(slam::yaw_flight());
-  if (which == "all" || which == "approach") flights.push_back(slam::approach_flight(room.panel_center()));
+  const slam::FlightRenderer in_room = [&room](const slam::Flight& flight, std::size_t i) {
+    return room.render(flight.frames[i].T_world_cam, static_cast<unsigned>(i));
+  };
+  std::vector<std::pair<slam::Flight, slam::FlightRenderer>> flights;
+  if (which == "all" || which == "tour") flights.emplace_back(slam::tour_flight(tour_s), in_room);
+  if (which == "all" || which == "yaw") flights.emplace_back(slam::yaw_flight(), in_room);
+  if (which == "all" || which == "approach") flights.emplace_back(slam::approach_flight(room.panel_center()), in_room);
+  std::optional<LabFlightSetup> lab;
+  if (which == "all" || which == "lab-inspect") {
+    if (args.flag("--no-distortion")) throw UsageError("--no-distortion applies to the synthetic room's flights only");
+    lab.emplace(doc, config_file, !args.flag("--no-noise"));
+    if (lab->lab.instruments.empty()) throw UsageError(config_file.string() + ": the lab has no instrument to approach");
+    flights.emplace_back(slam::lab_inspect_flight(lab->lab, lab->lab.instruments.front(), lab_fps),
+                         [&lab](const slam::Flight& flight, std::size_t i) { return lab->frames.render(flight, i); });
+  }
   nlohmann::json out;
-  out["scene"] = "synthetic room 8x6x3 m, procedural textures, AR.Drone 2.0 front camera with distortion, 30 fps";
+  out["scene"] = "tour, yaw, approach: synthetic room 8x6x3 m, procedural textures, AR.Drone 2.0 front camera with "
+                 "distortion, 30 fps; lab-inspect: the simulated lab (drone/sim LabRenderer: blur, noise)";
   out["noise_sigma"] = room_spec.noise_sigma;
   out["lens_distortion"] = camera.has_distortion();
   out["mapping_mode"] = mode == slam::MappingMode::Threaded ? "threaded" : "synchronous";
   out["targets"] = {{"tracking_ms_median", 10.0}, {"ate_rmse_cm", 3.0}, {"relocalization_s", 1.0}};
-  for (const auto& flight : flights) {
-    const slam::FlightReport r = slam::run_flight(room, flight, camera, settings, args.flag("--trace") ? &std::cerr : nullptr);
+  for (const auto& [flight, render] : flights) {
+    const PinholeCamera& flight_camera = flight.name == "lab-inspect" ? lab->camera : camera;
+    const slam::FlightReport r = slam::run_flight(render, flight, flight_camera, settings, args.flag("--trace") ? &std::cerr : nullptr);
     if (const auto dir = args.value("--tum-dir")) {
       slam::write_tum_trajectory(*dir + "/" + r.name + "_estimate.tum", r.trajectory, false);
       slam::write_tum_trajectory(*dir + "/" + r.name + "_truth.tum", r.trajectory, true);

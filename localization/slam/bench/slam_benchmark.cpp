@@ -14,7 +14,7 @@ double percentile(std::vector<double> v, double q) {
 
 }  // namespace
 
-FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const PinholeCamera& camera,
+FlightReport run_flight(const FlightRenderer& render, const Flight& flight, const PinholeCamera& camera,
                         const SlamSettings& settings, std::ostream* trace) {
   SlamSystem slam(camera, settings);
   FlightReport report;
@@ -25,12 +25,19 @@ FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const P
   bool initialized = false;
   for (std::size_t i = 0; i < flight.frames.size(); ++i) {
     const FlightFrame& f = flight.frames[i];
-    const cv::Mat image = f.covered ? black : room.render(f.T_world_cam, static_cast<unsigned>(i));
+    const cv::Mat image = f.covered ? black : render(flight, i);
     const SlamResult r = slam.track(image, f.t);
     ++report.frames;
     if (trace && (r.state != TrackingState::Good || r.keyframe_added)) {
       *trace << flight.name << " t=" << f.t << " " << to_string(r.state) << " found " << r.points_found << "/" << r.points_attempted
-             << (r.keyframe_added ? " +KF" : "") << " " << r.tracking_ms << " ms (cpu " << r.tracking_cpu_ms << ") " << r.reason << "\n";
+             << (r.keyframe_added ? " +KF" : "") << " " << r.tracking_ms << " ms (cpu " << r.tracking_cpu_ms << ") " << r.reason;
+      const SlamResult::Misses& m = r.misses;
+      if (r.points_attempted > 0) {
+        *trace << " [misses: no feature " << m.no_feature << ", too far " << m.too_far << ", ambiguous " << m.ambiguous
+               << ", taken " << m.taken << ", pose outliers " << m.pose_outliers << "]";
+      }
+      if (flight.target) *trace << " [" << (*flight.target - f.T_world_cam.translation()).norm() << " m from the target]";
+      *trace << "\n";
     }
     if (!initialized && r.state != TrackingState::Initializing) {
       initialized = true;
@@ -40,12 +47,19 @@ FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const P
       tracking_ms.push_back(r.tracking_ms);
       tracking_cpu_ms.push_back(r.tracking_cpu_ms);
     }
-    const double distance = (flight.target - f.T_world_cam.translation()).norm();
+    const double distance = flight.target ? (*flight.target - f.T_world_cam.translation()).norm() : 0.0;
+    report.attempted += r.points_attempted;
+    report.found += r.points_found;
+    report.misses.no_feature += r.misses.no_feature;
+    report.misses.too_far += r.misses.too_far;
+    report.misses.ambiguous += r.misses.ambiguous;
+    report.misses.taken += r.misses.taken;
+    report.misses.pose_outliers += r.misses.pose_outliers;
     if (r.T_cam_map) {
       ++report.tracked_frames;
       report.good_frames += r.state == TrackingState::Good ? 1 : 0;
       pairs.push_back({f.t, r.T_cam_map->inverse(), f.T_world_cam});
-      if (flight.name == "approach") {
+      if (flight.target) {
         report.closest_tracked_distance_m = report.closest_tracked_distance_m == 0 ? distance : std::min(report.closest_tracked_distance_m, distance);
       }
       if (flight.view_returns_at >= 0 && f.t >= flight.view_returns_at && !report.relocalization_s && r.state == TrackingState::Good) {
@@ -53,7 +67,7 @@ FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const P
       }
     } else if (initialized) {
       ++report.lost_frames;
-      if (flight.name == "approach" && !report.lost_at_distance_m) report.lost_at_distance_m = distance;
+      if (flight.target && !report.lost_at_distance_m) report.lost_at_distance_m = distance;
     }
   }
   slam.wait_for_mapping();

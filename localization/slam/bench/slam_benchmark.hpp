@@ -1,13 +1,15 @@
 #pragma once
-// The SLAM benchmark: runs SlamSystem over ground-truth flights (synthetic room for now) and reports
-// trajectory errors, timing, relocalization time and where tracking was lost near the instrument.
+// The SLAM benchmark: runs SlamSystem over ground-truth flights (the synthetic room, the simulated lab)
+// and reports trajectory errors, timing, relocalization time and where tracking was lost near the
+// instrument.
+#include <functional>
 #include <iosfwd>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "localization/slam/bench/bench_flights.hpp"
-#include "localization/slam/bench/synthetic_room.hpp"
 #include "localization/slam/bench/trajectory_metrics.hpp"
 #include "localization/slam/slam_system.hpp"
 
@@ -36,6 +38,11 @@ struct FlightReport {
   std::optional<double> relocalization_s;  // view back -> tracking good again
   std::optional<double> lost_at_distance_m;  // approach: first lost frame's distance to the panel
   double closest_tracked_distance_m = 0;     // approach: closest good/dodgy frame
+  // Over all frames tracked against the map: points attempted, found, and why the others were not.
+  long long attempted = 0, found = 0;
+  struct {
+    long long no_feature = 0, too_far = 0, ambiguous = 0, taken = 0, pose_outliers = 0;
+  } misses;
 };
 
 struct BenchOptions {
@@ -44,8 +51,11 @@ struct BenchOptions {
   bool add_lens_distortion = true;
 };
 
+// Frame i of a flight, 8-bit grey (the synthetic room or the simulated lab).
+using FlightRenderer = std::function<cv::Mat(const Flight& flight, std::size_t i)>;
+
 // trace (optional): one line per frame that is not Good or adds a keyframe.
-FlightReport run_flight(const SyntheticRoom& room, const Flight& flight, const PinholeCamera& camera,
+FlightReport run_flight(const FlightRenderer& render, const Flight& flight, const PinholeCamera& camera,
                         const SlamSettings& settings, std::ostream* trace = nullptr);
 
 }  // namespace labo::slam

@@ -39,12 +39,14 @@ void ProjectionMatcher::search(const std::vector<SearchCandidate>& candidates, c
                                int min_level, int max_hamming, std::vector<SearchMatch>& matches) {
   matches.clear();
   feature_owner_.assign(frame.size(), -1);
+  breakdown_ = {};
   for (int ci : which) {
     const SearchCandidate& c = candidates[static_cast<std::size_t>(ci)];
     if (!c.in_view) continue;
     const int lo = std::max(min_level, c.predicted_level - 1);
     const int hi = std::min(levels_ - 1, c.predicted_level + 1);
     if (lo > hi) continue;
+    ++breakdown_.searched;
     grid.query(c.px, radius_px * scales_[static_cast<std::size_t>(c.predicted_level)], lo, hi, frame, nearby_);
     int best = 257, second = 257, best_feature = -1;
     for (int fi : nearby_) {
@@ -57,10 +59,22 @@ void ProjectionMatcher::search(const std::vector<SearchCandidate>& candidates, c
         second = d;
       }
     }
+    if (best_feature < 0) {
+      ++breakdown_.no_feature;
+      continue;
+    }
+    if (best > max_hamming) {
+      ++breakdown_.too_far;
+      continue;
+    }
     // Ratio test only when the runner-up is also a plausible match: repeated texture.
-    if (best_feature < 0 || best > max_hamming || (second <= max_hamming && best > 0.85 * second)) continue;
+    if (second <= max_hamming && best > 0.85 * second) {
+      ++breakdown_.ambiguous;
+      continue;
+    }
     int& owner = feature_owner_[static_cast<std::size_t>(best_feature)];
     if (owner >= 0) {
+      ++breakdown_.taken;  // this point or the feature's previous owner goes without
       if (matches[static_cast<std::size_t>(owner)].distance <= best) continue;
       matches[static_cast<std::size_t>(owner)] = {ci, best_feature, best};
       continue;

@@ -35,6 +35,15 @@ inline SearchCandidate candidate_of(const MapPoint& p) {
   return c;
 }
 
+// Why the searched points were not matched (diagnosis: what the tracker sees).
+struct SearchBreakdown {
+  int searched = 0;
+  int no_feature = 0;  // no feature of a plausible level near the projection
+  int too_far = 0;     // the closest descriptor beyond max_hamming
+  int ambiguous = 0;   // a runner-up almost as close (ratio test)
+  int taken = 0;       // the feature went to a closer point
+};
+
 struct SearchMatch {
   int candidate = -1;
   int feature = -1;
@@ -56,6 +65,9 @@ class ProjectionMatcher {
               const FrameFeatures& frame, const FeatureGrid& grid, double radius_px, int min_level,
               int max_hamming, std::vector<SearchMatch>& matches);
 
+  // Of the last search() call.
+  const SearchBreakdown& breakdown() const { return breakdown_; }
+
   double level_scale(int level) const { return scales_[static_cast<std::size_t>(std::clamp(level, 0, levels_ - 1))]; }
 
  private:
@@ -65,6 +77,7 @@ class ProjectionMatcher {
   std::vector<double> scales_;
   std::vector<int> nearby_;
   std::vector<int> feature_owner_;  // match index owning each feature
+  SearchBreakdown breakdown_;
 };
 
 }  // namespace labo::slam

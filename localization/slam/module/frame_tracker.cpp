@@ -76,8 +76,10 @@ TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame,
     // The prior was off by more than the fine radius: widen once.
     matcher_.search(candidates_, in_view_, frame, grid, 3.0 * settings_.fine_radius_px, 0, settings_.max_hamming, matches_);
   }
+  out.search = matcher_.breakdown();
   if (matches_.size() < 6) return out;
   const int inliers = solve(matches_, frame, T);
+  out.pose_outliers = static_cast<int>(matches_.size()) - inliers;
   if (inliers < 6) return out;
   out.pose_valid = true;
   out.T_cam_map = T;

@@ -35,6 +35,8 @@ struct TrackOutcome {
   int reference_points = 0;        // points of that keyframe
   std::vector<std::pair<int, PointId>> matches;  // (feature, point), inliers only
   int map_generation = 0;          // of the map the local map was read from
+  SearchBreakdown search;          // the fine stage's misses
+  int pose_outliers = 0;           // matched, then rejected by the pose update
 };
 
 class FrameTracker {

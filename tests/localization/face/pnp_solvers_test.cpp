@@ -1,4 +1,6 @@
 #include <catch2/catch.hpp>
+
+#include "face_test_pose.hpp"
 #include <numbers>
 #include <random>
 
@@ -23,19 +25,14 @@ const IdealPinhole kCamera{569.9, 568.0, 331.4, 135.9};
 PnpProblem project(const Eigen::Matrix3Xd& points, const Eigen::Isometry3d& T, double noise_px, unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, noise_px);
-  PnpProblem p{points, Eigen::Matrix2Xd(2, points.cols()), kCamera};
+  PnpProblem p{points, Eigen::Matrix2Xd(2, points.cols()), kCamera, {}};
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     p.pixels.col(i) = kCamera.project(T * points.col(i).eval()) + Eigen::Vector2d(noise(rng), noise(rng));
   }
   return p;
 }
 
-Eigen::Isometry3d pose(double yaw_deg, double pitch_deg, double roll_deg, const Eigen::Vector3d& t) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = head_rotation({yaw_deg * kDeg, pitch_deg * kDeg, roll_deg * kDeg});
-  T.translation() = t;
-  return T;
-}
+using testing::pose;
 
 FacePoseSolverOptions with(PnpMethod method) {
   FacePoseSolverOptions o;
@@ -143,7 +140,7 @@ TEST_CASE("face: LM tracking starts from the previous pose and falls back to EPn
 }
 
 TEST_CASE("face: PnP refuses too few points and poses behind the camera") {
-  PnpProblem tiny{Eigen::Matrix3Xd::Random(3, 3), Eigen::Matrix2Xd::Random(2, 3), kCamera};
+  PnpProblem tiny{Eigen::Matrix3Xd::Random(3, 3), Eigen::Matrix2Xd::Random(2, 3), kCamera, {}};
   CHECK_FALSE(solve_epnp(tiny));
   std::mt19937 rng(1);
   CHECK_FALSE(solve_ransac_p3p(tiny, {}, rng));
@@ -153,4 +150,23 @@ TEST_CASE("face: PnP refuses too few points and poses behind the camera") {
   CHECK_FALSE(refine_lm(problem, pose(0, 0, 0, {0, 0, -1}), {}));
   CHECK(parse_pnp_method("lm_tracking") == PnpMethod::LmTracking);
   CHECK_FALSE(parse_pnp_method("posit"));
+}
+
+TEST_CASE("face: LM weights take a point out of the refinement") {
+  const FaceLandmarkModel model = test_model();
+  const Eigen::Matrix3Xd points = model.points_m(Eigen::VectorXd::Zero(model.shape_unit_count()), 0.063);
+  const Eigen::Isometry3d truth = pose(20, -10, 5, {0.02, -0.01, 1.0});
+  PnpProblem problem = project(points, truth, 0.0, 1);
+  problem.pixels.col(0) += Eigen::Vector2d(25, -15);  // one landmark far off
+  LmOptions lm;
+  lm.huber_px = 1e6;  // plain least squares: the bad point pulls the pose unless its weight is 0
+  const auto pulled = refine_lm(problem, pose(15, -5, 0, {0, 0, 1.1}), lm);
+  REQUIRE(pulled);
+  CHECK(rotation_error_deg(pulled->T_cam_face, truth) > 0.2);
+  problem.weights = Eigen::VectorXd::Ones(points.cols());
+  problem.weights(0) = 0;
+  const auto clean = refine_lm(problem, pose(15, -5, 0, {0, 0, 1.1}), lm);
+  REQUIRE(clean);
+  CHECK(rotation_error_deg(clean->T_cam_face, truth) < 0.01);
+  CHECK((clean->T_cam_face.translation() - truth.translation()).norm() < 1e-4);
 }

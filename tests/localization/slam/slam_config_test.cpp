@@ -16,6 +16,10 @@ TEST_CASE("slam: config section is read, range-checked and refuses unknown keys"
   CHECK(read("{}").mapping_mode == slam::MappingMode::Threaded);
   CHECK_THROWS_WITH(read(R"({"mapping": "sometimes"})"), Catch::Contains("mapping"));
   CHECK_THROWS_WITH(read(R"({"max_features": 10})"), Catch::Contains("max_features"));
+  CHECK(read(R"({"max_points_searched": 1200})").max_points_searched == 1200);
+  CHECK(read(R"({"keyframe_min_points_dodgy": 0})").keyframe_min_points_dodgy == 0);
+  CHECK_THROWS_WITH(read(R"({"keyframe_min_points_dodgy": -1})"), Catch::Contains("keyframe_min_points_dodgy"));
+  CHECK_THROWS_WITH(read(R"({"max_points_searched": 10})"), Catch::Contains("max_points_searched"));
   CHECK_THROWS_WITH(read(R"({"quality_good": 0.1, "quality_lost": 0.2})"), Catch::Contains("quality_lost"));
   CHECK_THROWS_WITH(read(R"({"typo": 1})"), Catch::Contains("typo"));
   const slam::SlamSettings loops = read(R"({"loop_closure": false, "loop_min_gap_s": 30, "global_ba_fixed_keyframes": 1})");

@@ -1,0 +1,84 @@
+#include "control/teacher_track.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/frames.hpp"
+
+namespace labo {
+
+namespace {
+// Time constants of the low-passes (s). The face's place follows quickly (the standoff must not
+// lag a walking teacher); its velocity and heading average the pose's frame-to-frame noise (a 2 cm
+// depth jitter is 0.6 m/s between two frames at 30 fps).
+constexpr double kPositionTauS = 0.05;
+constexpr double kVelocityTauS = 0.4;
+constexpr double kHeadingTauS = 0.6;
+constexpr double kHeadingRateTauS = 0.5;
+constexpr double kCoastRateDecayS = 1.0;
+// Walking forwards: the walking direction within this of where the face looks.
+constexpr double kForwardWalkRad = std::numbers::pi / 3;
+
+double blend(double dt, double tau) { return 1.0 - std::exp(-dt / tau); }
+}  // namespace
+
+double facing_heading(const Eigen::Isometry3d& T_world_face) {
+  const Eigen::Vector3d out = -T_world_face.linear().col(2);  // z is into the face
+  return std::atan2(out.y(), out.x());
+}
+
+void TeacherTrack::reset(const Eigen::Isometry3d& T_world_face, Seconds t) {
+  position_ = T_world_face.translation();
+  velocity_.setZero();
+  heading_ = facing_heading(T_world_face);
+  heading_rate_ = 0;
+  t_ = t;
+}
+
+void TeacherTrack::update(const Eigen::Isometry3d& T_world_face, Seconds t) {
+  const double dt = std::max(t - t_, 1e-3);
+  t_ = t;
+  const Eigen::Vector3d previous = position_;
+  position_ += blend(dt, kPositionTauS) * (T_world_face.translation() - position_);
+  Eigen::Vector3d v = (position_ - previous) / dt;
+  v.z() = 0;
+  velocity_ += blend(dt, kVelocityTauS) * (v - velocity_);
+  const double looking = facing_heading(T_world_face);
+  double towards = looking;
+  if (walking()) {
+    const double walking_heading = std::atan2(velocity_.y(), velocity_.x());
+    if (std::abs(wrap_angle(walking_heading - looking)) < kForwardWalkRad) towards = walking_heading;
+  }
+  const double step = blend(dt, kHeadingTauS) * wrap_angle(towards - heading_);
+  heading_ = wrap_angle(heading_ + step);
+  heading_rate_ += blend(dt, kHeadingRateTauS) * (step / dt - heading_rate_);
+}
+
+void TeacherTrack::coast(Seconds dt) {
+  position_ += velocity_ * dt;
+  heading_ = wrap_angle(heading_ + heading_rate_ * dt);
+  heading_rate_ *= std::exp(-dt / kCoastRateDecayS);
+  t_ += dt;
+}
+
+void TeacherTrack::place(const Eigen::Vector2d& xy, double heading_rad) {
+  position_.head<2>() = xy;
+  velocity_.setZero();
+  heading_ = wrap_angle(heading_rad);
+  heading_rate_ = 0;
+}
+
+Eigen::Isometry3d TeacherTrack::T_world_upright_face(double heading_rad) const {
+  const Eigen::Vector3d into(-std::cos(heading_rad), -std::sin(heading_rad), 0.0);
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  // z into the face, y up, x = y cross z (standoff_target() reads z only).
+  T.linear().col(2) = into;
+  T.linear().col(1) = up;
+  T.linear().col(0) = up.cross(into);
+  T.translation() = position_;
+  return T;
+}
+
+}  // namespace labo

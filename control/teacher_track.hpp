@@ -1,0 +1,48 @@
+#pragma once
+// TeacherTrack: what face-follow keeps of the teacher between face results: where the face is, how
+// fast it moves, and which way the teacher's body faces, from the face's world poses.
+//
+// Why the body's heading and not the face's: the head sways (±35° about the walking direction in the
+// simulated lab, people look around), and a standoff on the head's instantaneous line of sight swings
+// the drone sideways by d·sin(sway) (0.57 m at 1 m). While the teacher walks forwards (the walking
+// direction within kForwardWalkRad of where the face looks), the walking direction is their heading;
+// standing (turning at a corner), the face's heading is all there is and is followed.
+#include <Eigen/Geometry>
+
+#include "core/time.hpp"
+
+namespace labo {
+
+class TeacherTrack {
+ public:
+  // Start from one face pose (control's convention: z into the face).
+  void reset(const Eigen::Isometry3d& T_world_face, Seconds t);
+  // Fold in the next face pose (t after the previous one).
+  void update(const Eigen::Isometry3d& T_world_face, Seconds t);
+  // Move the track along its motion (face lost: where it most likely went); the turn rate decays.
+  void coast(Seconds dt);
+  // Pretend the teacher stands at `xy` facing `heading_rad` (a prediction from the route).
+  void place(const Eigen::Vector2d& xy, double heading_rad);
+
+  const Eigen::Vector3d& position() const { return position_; }
+  const Eigen::Vector3d& velocity() const { return velocity_; }  // horizontal
+  double heading() const { return heading_; }                   // the body's facing direction (rad, world)
+  double heading_rate() const { return heading_rate_; }         // rad/s
+  bool walking() const { return velocity_.norm() > kWalkingMps; }
+  // An upright face at position() facing `heading_rad` (control's convention: z into the face).
+  Eigen::Isometry3d T_world_upright_face(double heading_rad) const;
+
+  static constexpr double kWalkingMps = 0.2;
+
+ private:
+  Eigen::Vector3d position_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity_ = Eigen::Vector3d::Zero();
+  double heading_ = 0;
+  double heading_rate_ = 0;
+  Seconds t_ = 0;
+};
+
+// Where a face (control's convention, z into the face) looks, as a world heading.
+double facing_heading(const Eigen::Isometry3d& T_world_face);
+
+}  // namespace labo

@@ -1,0 +1,71 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+
+#include "control/teacher_track.hpp"
+#include "core/frames.hpp"
+
+using namespace labo;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// A face at `p` looking towards world heading `looking` (control's convention: z into the face).
+Eigen::Isometry3d face_at(const Eigen::Vector3d& p, double looking) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const Eigen::Vector3d into(-std::cos(looking), -std::sin(looking), 0.0);
+  T.linear().col(2) = into;
+  T.linear().col(1) = Eigen::Vector3d::UnitZ();
+  T.linear().col(0) = Eigen::Vector3d::UnitZ().cross(into);
+  T.translation() = p;
+  return T;
+}
+}  // namespace
+
+TEST_CASE("control: a walking teacher's heading is the walking direction, not the swaying head's") {
+  TeacherTrack track;
+  const double walk = 0.3;  // rad: walking a little left of +x
+  const Eigen::Vector3d v(0.4 * std::cos(walk), 0.4 * std::sin(walk), 0.0);
+  double worst = 0;
+  for (int k = 0; k <= 300; ++k) {  // 10 s at 30 Hz, the head swaying +-35 deg over 7 s
+    const double t = k / 30.0;
+    const Eigen::Isometry3d face = face_at(Eigen::Vector3d(1, 2, 1.65) + v * t, walk + 35 * kDeg * std::sin(2 * std::numbers::pi * t / 7));
+    if (k == 0) track.reset(face, t);
+    else track.update(face, t);
+    if (t > 3) worst = std::max(worst, std::abs(wrap_angle(track.heading() - walk)));
+  }
+  CHECK(track.walking());
+  CHECK(worst < 3 * kDeg);
+  CHECK((track.velocity() - v).norm() < 0.05);
+  CHECK(std::abs(facing_heading(track.T_world_upright_face(track.heading())) - track.heading()) < 1e-9);
+}
+
+TEST_CASE("control: a teacher turning on the spot is followed by where the face looks") {
+  TeacherTrack track;
+  const Eigen::Vector3d p(4.2, -2.4, 1.65);
+  track.reset(face_at(p, 0.0), 0.0);
+  for (int k = 1; k <= 90; ++k) track.update(face_at(p, std::numbers::pi / 2 * k / 90.0), k / 30.0);  // 90 deg in 3 s
+  for (int k = 91; k <= 150; ++k) track.update(face_at(p, std::numbers::pi / 2), k / 30.0);         // then still
+  CHECK_FALSE(track.walking());
+  CHECK(std::abs(track.heading() - std::numbers::pi / 2) < 5 * kDeg);
+  CHECK((track.position() - p).norm() < 1e-6);
+}
+
+TEST_CASE("control: a lost teacher coasts along the last motion; a route prediction places them") {
+  TeacherTrack track;
+  const Eigen::Vector3d v(0.5, 0.0, 0.0);
+  for (int k = 0; k <= 90; ++k) {
+    const Eigen::Isometry3d face = face_at(Eigen::Vector3d(0, 0, 1.6) + v * (k / 30.0), 0.0);
+    if (k == 0) track.reset(face, 0.0);
+    else track.update(face, k / 30.0);
+  }
+  const Eigen::Vector3d before = track.position();
+  track.coast(0.5);
+  CHECK((track.position() - before - 0.5 * track.velocity()).norm() < 1e-9);
+  CHECK(track.position().x() > before.x() + 0.2);
+  track.place({2.0, -1.0}, std::numbers::pi);
+  CHECK(track.position().head<2>().isApprox(Eigen::Vector2d(2.0, -1.0)));
+  CHECK(track.position().z() == Approx(1.6).margin(0.01));  // the face's height is kept
+  CHECK_FALSE(track.walking());
+  CHECK(std::abs(std::abs(track.heading()) - std::numbers::pi) < 1e-9);
+}

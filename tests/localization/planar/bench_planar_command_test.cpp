@@ -1,0 +1,30 @@
+#include <catch2/catch.hpp>
+
+#include <string>
+#include <vector>
+
+#include "core/cli_args.hpp"
+#include "localization/planar/planar_commands.hpp"
+
+using namespace labo;
+
+namespace {
+
+std::string usage_error(const std::vector<std::string>& args) {
+  try {
+    run_bench_planar_command(parse_args(bench_planar_command_spec(), args));
+  } catch (const UsageError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+// Both refusals come before any benchmarking (they would otherwise cost minutes of CPU first).
+TEST_CASE("bench planar: --frames-csv is refused with the reason when it cannot be written or has no frames") {
+  const std::string unwritable = usage_error({"--part", "sequences", "--frames-csv", "/nonexistent-dir/frames.csv"});
+  CHECK(unwritable.find("--frames-csv: cannot write '/nonexistent-dir/frames.csv'") != std::string::npos);
+  const std::string sweep_only = usage_error({"--part", "sweep", "--frames-csv", "frames.csv"});
+  CHECK(sweep_only.find("--frames-csv needs the sequences") != std::string::npos);
+}
