@@ -81,7 +81,7 @@ TEST_CASE("estimation: the scale follows a map whose scale drifts") {
   add_manoeuvre_pairs(est, 6.0, 2, rng);
   INFO("scale " << est.scale() << ", outliers at arrival " << est.outliers_at_arrival());
   CHECK(est.scale_changes() == 1);
-  CHECK(est.scale() == Approx(6.0).epsilon(0.03));
+  CHECK(est.scale() == Approx(6.0).epsilon(0.06));  // from two pairs of ~3 % noise each
   CHECK(est.status().estimated);  // still known: SLAM stays fused
   add_manoeuvre_pairs(est, 6.0, 10, rng);
   CHECK(est.scale() == Approx(6.0).epsilon(0.05));  // ~10 pairs of 1.5 cm noise: sigma ~1.5 %
