@@ -11,6 +11,7 @@ namespace {
 constexpr double kClimbTimeoutS = 8.0;
 constexpr double kSlamInitTimeoutS = 8.0;  // go on (on dead reckoning) when SLAM does not initialize
 constexpr double kAtHeightM = 0.1;         // a leg ends when the drone is this close to its end
+constexpr double kLegTimeoutS = 8.0;       // the forward or back leg is given up after this long
 }  // namespace
 
 std::string TakeOffAndScale::describe() const {
@@ -18,6 +19,8 @@ std::string TakeOffAndScale::describe() const {
     case Step::TakeOff: return "taking off";
     case Step::Climb: return "climbing";
     case Step::SlamInit: return "initializing SLAM";
+    case Step::Forward: return "scale manoeuvre (forward)";
+    case Step::Back: return "scale manoeuvre (back)";
     case Step::Up:
     case Step::Down: {
       const std::string leg = step_ == Step::Up ? "scale manoeuvre (up" : "scale manoeuvre (down";
@@ -46,9 +49,21 @@ bool TakeOffAndScale::step(MissionContext& ctx, double altitude_m) {
     case Step::SlamInit: {
       const SlamState s = ctx.perception.slam().state;
       if (s == SlamState::Good || s == SlamState::Dodgy || ctx.t - since_ > kSlamInitTimeoutS) {
-        start_z_ = ctx.autopilot.target() ? ctx.autopilot.target()->position.z() : here.z();
-        enter(m.scale_manoeuvre_m > 0 ? Step::Up : Step::Done, ctx.t);
+        leg_start_ = ctx.autopilot.target().value_or(PoseTarget{here, yaw});
+        start_z_ = leg_start_.position.z();
+        enter(m.scale_manoeuvre_m > 0 ? Step::Forward : Step::Done, ctx.t);
       }
+      break;
+    }
+    case Step::Forward:
+    case Step::Back: {
+      const bool forward = step_ == Step::Forward;
+      const Eigen::Vector3d ahead(std::cos(leg_start_.yaw), std::sin(leg_start_.yaw), 0.0);
+      const PoseTarget target{leg_start_.position + (forward ? m.scale_manoeuvre_m : 0.0) * ahead, leg_start_.yaw};
+      if (fresh_) ctx.autopilot.go_to(target, ctx.t);
+      fresh_ = false;
+      const bool leg_done = (here - target.position).norm() < kAtHeightM || ctx.t - since_ > kLegTimeoutS;
+      if (leg_done) enter(forward ? Step::Back : Step::Up, ctx.t);
       break;
     }
     case Step::Up:

@@ -77,9 +77,9 @@ struct EstimatorConfig {
   bool altitude_step_discrimination = true;
   // Scale estimation (tum_ardrone's ML estimator, notes §3; ScaleSettings in scale_estimator.hpp for
   // what differs). Noises are per pair and in metres after the axis weights.
-  double scale_sigma_map_m = 0.04;
-  double scale_sigma_metric_m = 0.04;
-  double scale_min_displacement_m = 0.3;   // weighted: 10 cm of climb, or 30 cm sideways
+  double scale_sigma_map_m = 0.02;
+  double scale_sigma_metric_m = 0.02;
+  double scale_min_displacement_m = 0.2;   // weighted: 7 cm of climb, or 20 cm sideways
   double scale_memory_pairs = 10.0;        // the map's scale drifts: older pairs are forgotten
   double scale_outlier_chi2 = 11.34;
   Seconds scale_interval_min_s = 1.0;

@@ -24,6 +24,8 @@ void ScaleEstimator::reset(double initial_scale) {
   settings_.initial_scale = initial_scale;
   pairs_.clear();
   outliers_at_arrival_ = 0;
+  scale_changes_ = 0;
+  was_estimated_ = false;
   status_ = ScaleStatus{};
   status_.scale = initial_scale;
 }
@@ -44,11 +46,45 @@ bool ScaleEstimator::add_pair(const Eigen::Vector3d& map_displacement, const Eig
   if (metric_displacement.norm() < settings_.min_displacement_m || map_displacement.norm() < 1e-9) return false;
   if (!(map_displacement.dot(metric_displacement) > 0)) return false;  // a negative scale is no scale
   const Pair pair{map_displacement, metric_displacement, metric_displacement.norm() / map_displacement.norm()};
-  if (status_.estimated && !inlier(pair, status_.scale)) ++outliers_at_arrival_;
+  const bool refused = status_.estimated && !inlier(pair, status_.scale);
+  outliers_at_arrival_ += refused ? 1 : 0;
   if (pairs_.size() >= kept_pairs(settings_.memory_pairs)) pairs_.erase(pairs_.begin());
   pairs_.push_back(pair);
+  if (status_.estimated) {
+    if (const int k = changed_pairs(); k > 0) {
+      // The map's scale changed: what came before describes another map.
+      pairs_.erase(pairs_.begin(), pairs_.end() - k);
+      ++scale_changes_;
+    }
+  }
   recompute();
   return true;
+}
+
+int ScaleEstimator::changed_pairs() const {
+  // The newest k pairs' own scale against the current estimate, each with its least-squares variance
+  // (residual variance / sum of |q|^2): a change is declared when they differ by more than 3 sigma
+  // and every one of the k pairs agrees with their own scale. Small pairs (0.2 m, ~15 % noise each)
+  // cannot show a 20-40 % change alone; a few together can.
+  const double var_r = settings_.sigma_metric_m * settings_.sigma_metric_m + settings_.sigma_map_m * settings_.sigma_map_m;
+  const int n = static_cast<int>(pairs_.size());
+  double old_qq = 0;
+  for (int i = 0; i < n; ++i) old_qq += inlier(pairs_[i], status_.scale) ? pairs_[i].map.squaredNorm() : 0.0;
+  double new_qq = 0, new_qm = 0;
+  for (int k = 1; k <= std::min(kChangeMaxPairs, n - 1); ++k) {
+    const Pair& p = pairs_[n - k];
+    new_qq += p.map.squaredNorm();
+    new_qm += p.map.dot(p.metric);
+    if (inlier(p, status_.scale)) old_qq -= p.map.squaredNorm();
+    if (k < kChangeMinPairs || old_qq <= 0) continue;
+    const double lambda_new = new_qm / new_qq;
+    const double sigma = std::sqrt(var_r / new_qq + var_r / old_qq);
+    if (std::abs(lambda_new - status_.scale) <= 3.0 * sigma) continue;
+    bool agree = true;
+    for (int j = n - k; j < n; ++j) agree = agree && inlier(pairs_[j], lambda_new);
+    if (agree) return k;
+  }
+  return 0;
 }
 
 double ScaleEstimator::weighted_median_scale() {
@@ -100,7 +136,8 @@ void ScaleEstimator::recompute() {
   const double lambda = ml_scale(s_pp, s_ii, s_pi, settings_.sigma_map_m / ref, settings_.sigma_metric_m);
   if (!(lambda > 0.1 * ref) || !std::isfinite(lambda)) return;
   status_.scale = lambda;
-  status_.estimated = inliers >= kMinInliers;
+  was_estimated_ = was_estimated_ || inliers >= kMinInliers;
+  status_.estimated = was_estimated_;
   status_.accuracy = 0.5 + 0.5 * std::clamp(s_pi * lambda / 4.0, 0.0, 1.0);
   const double mean = sum / w_sum;
   const double var = std::max(0.0, sum2 / w_sum - mean * mean);

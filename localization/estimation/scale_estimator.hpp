@@ -12,7 +12,10 @@
 //    (1 - 1/memory_pairs)^age, so the estimate follows the map of now;
 //  - outliers: each pair's residual |m_i - lambda_ref q_i| against the weighted median of the
 //    single-pair scales is tested with a chi2 gate (3 dof) under the same noise model, instead of
-//    tum_ardrone's 0.2x-5x band around the median.
+//    tum_ardrone's 0.2x-5x band around the median;
+//  - a map whose scale jumps (its adjustment after the first motion along the optical axis: 10 -> 6
+//    m/unit in the lab): when the newest 2-6 pairs agree with each other on a scale more than 3 sigma
+//    away from the estimate, the estimate restarts from them (scale_changes()).
 //
 // MapToWorld: the similarity T_world_map (rotation R, translation t, scale lambda):
 // p_world = R * lambda * p_map + t. When the scale changes, the translation is updated so the
@@ -33,9 +36,9 @@ struct ScaleStatus {
 };
 
 struct ScaleSettings {
-  double sigma_map_m = 0.04;           // noise of one (weighted) map displacement, metres at the current scale
-  double sigma_metric_m = 0.04;        // noise of one (weighted) metric displacement
-  double min_displacement_m = 0.3;     // (weighted) metric displacement a pair must reach to carry information
+  double sigma_map_m = 0.02;           // noise of one (weighted) map displacement, metres at the current scale
+  double sigma_metric_m = 0.02;        // noise of one (weighted) metric displacement
+  double min_displacement_m = 0.2;     // (weighted) metric displacement a pair must reach to carry information
   double memory_pairs = 10.0;          // forgetting: a pair's weight is (1 - 1/memory_pairs)^age
   double outlier_chi2 = 11.34;         // residual gate (3 dof, 99 %)
   double initial_scale = 1.0;
@@ -44,6 +47,8 @@ struct ScaleSettings {
 class ScaleEstimator {
  public:
   static constexpr int kMinInliers = 3;
+  static constexpr int kChangeMinPairs = 2;
+  static constexpr int kChangeMaxPairs = 6;
 
   explicit ScaleEstimator(const ScaleSettings& settings);
 
@@ -57,6 +62,8 @@ class ScaleEstimator {
   const ScaleStatus& status() const { return status_; }
   // Pairs the chi2 gate refused when they arrived (counted once each).
   int outliers_at_arrival() const { return outliers_at_arrival_; }
+  // Times the map's scale was found to have changed (the estimate restarted from the newest pairs).
+  int scale_changes() const { return scale_changes_; }
 
   // The ML estimate for sums S_PP, S_II, S_PI (exposed for tests).
   static double ml_scale(double s_pp, double s_ii, double s_pi, double sigma_map, double sigma_metric);
@@ -69,6 +76,7 @@ class ScaleEstimator {
   };
   double weighted_median_scale();  // of the single-pair scales, with the forgetting weights
   bool inlier(const Pair& p, double reference) const;
+  int changed_pairs() const;  // how many newest pairs show a changed scale (0: none)
   void recompute();
 
   ScaleSettings settings_;
@@ -76,6 +84,8 @@ class ScaleEstimator {
   std::vector<double> weights_;                   // forgetting weight of each pair
   std::vector<std::pair<double, double>> sorted_; // (alpha, weight), scratch for the median
   int outliers_at_arrival_ = 0;
+  int scale_changes_ = 0;
+  bool was_estimated_ = false;  // a restart after a scale change keeps the map's scale known
   ScaleStatus status_;
 };
 

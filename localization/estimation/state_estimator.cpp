@@ -570,6 +570,7 @@ EstimatorStatistics StateEstimator::statistics() const {
   EstimatorStatistics st;
   for (int i = 0; i < kCounterCount; ++i) st.counters[kCounterNames[i]] = impl_->counters[i];
   st.counters["scale_pairs_outliers_at_arrival"] = static_cast<std::uint64_t>(impl_->scale.outliers_at_arrival());
+  st.counters["scale_changes"] = static_cast<std::uint64_t>(impl_->scale.scale_changes());
   st.counters["covariance_repairs"] = static_cast<std::uint64_t>(impl_->core.ekf().repairs());
   st.counters["floor_steps"] = static_cast<std::uint64_t>(impl_->core.counters().floor_steps);
   st.counters["ultrasound_fused_as_motion"] = static_cast<std::uint64_t>(impl_->core.counters().fused_as_motion);

@@ -24,6 +24,8 @@ SlamSettings read_slam_settings(const ConfigReader& node) {
   s.cull_points = node.boolean_or("cull_points", s.cull_points);
   s.loop_closure = node.boolean_or("loop_closure", s.loop_closure);
   s.loop_min_gap_s = node.number_or("loop_min_gap_s", s.loop_min_gap_s, Range::closed(1.0, 600.0));
+  s.init_min_parallax_px = node.number_or("init_min_parallax_px", s.init_min_parallax_px, Range::closed(2.0, 200.0));
+  s.init_min_parallax_deg = node.number_or("init_min_parallax_deg", s.init_min_parallax_deg, Range::closed(0.1, 20.0));
   node.finish();
   return s;
 }

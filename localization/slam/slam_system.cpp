@@ -58,6 +58,8 @@ void validate_settings(const SlamSettings& s) {
   if (s.lost_after_bad_frames < 1) fail("lost_after_bad_frames must be >= 1");
   if (s.local_ba_keyframes < 2) fail("local_ba_keyframes must be >= 2");
   if (s.init_min_points < 20) fail("init_min_points must be >= 20");
+  if (!(s.init_min_parallax_px > 0)) fail("init_min_parallax_px must be > 0");
+  if (!(s.init_min_parallax_deg > 0 && s.init_min_parallax_deg < 90)) fail("init_min_parallax_deg must be in (0, 90)");
   if (s.global_ba_max_keyframes < 3) fail("global_ba_max_keyframes must be >= 3");
   if (s.global_ba_every < 1) fail("global_ba_every must be >= 1");
   if (s.global_ba_fixed_keyframes < 1 || s.global_ba_fixed_keyframes > 10) fail("global_ba_fixed_keyframes must be in [1, 10]");
@@ -77,7 +79,7 @@ struct SlamSystem::Impl {
         camera(validated(cam)),
         extractor(camera, {s.pyramid_levels, s.pyramid_scale, s.max_features, s.fast_threshold, 7, 40, s.smoothing_sigma_px}),
         grid(camera.ideal_min(), camera.ideal_max(), 24.0),
-        initializer(camera, {s.init_min_parallax_px, s.init_timeout_s, 30.0, 60, {s.init_min_points, 1.0, 1.5, 0.45}}),
+        initializer(camera, {s.init_min_parallax_px, s.init_timeout_s, 30.0, 60, {s.init_min_points, s.init_min_parallax_deg, 1.5, 0.45}}),
         tracker(camera, {s.pyramid_levels, s.pyramid_scale, s.max_points_searched, s.coarse_points, s.coarse_radius_px,
                          s.fine_radius_px, 50, 10}),
         relocalizer(camera),

@@ -56,6 +56,7 @@ struct SlamSettings {
   bool loop_closure = true;
   double loop_min_gap_s = 20.0;           // a loop keyframe is at least this much older
   double init_min_parallax_px = 20.0;     // median displacement before trying two-view init
+  double init_min_parallax_deg = 1.0;     // median triangulation angle an initial map must reach
   double init_timeout_s = 3.0;            // retry with a new reference after this
   int init_min_points = 60;
 };

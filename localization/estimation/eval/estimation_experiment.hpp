@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "localization/estimation/estimation_config.hpp"
 #include "localization/estimation/eval/estimation_pipeline.hpp"
@@ -29,19 +30,34 @@ struct TrackingErrors {
   double control_rmse_m = 0;
 };
 
+// The map's true scale over a window of the SLAM run and the estimator's at its end (0: no map, or
+// no scale yet).
+struct ScaleWindow {
+  Seconds from_s = 0;  // since SLAM was started
+  double true_m_per_unit = 0;
+  double estimated_m_per_unit = 0;
+};
+
 struct EstimationResults {
   std::string plant;
   std::string vision_input;
-  // Stage 1: the up/down manoeuvre. The map's true scale is fitted (similarity, Umeyama) between the
-  // SLAM camera positions and the true ones over the manoeuvre; the error is the estimator's against it.
+  // Stage 1: the up/down manoeuvre and a forward/back leg. The map's true scale is fitted (similarity,
+  // Umeyama) between the SLAM camera positions and the true ones over the return leg (the map's scale
+  // at the end of the manoeuvre); the error is the estimator's against it.
   double scale_error_percent = 0;
   double scale_true_m_per_unit = 0;
   double scale_estimated_m_per_unit = 0;
   bool scale_estimated = false;
   double scale_accuracy = 0;
   int scale_pairs = 0;
-  // Hovering with SLAM.
+  int scale_outliers = 0;  // pairs the gate refused when they came, up to the end of stage 1
+  int scale_changes = 0;   // times the map's scale was found to have changed (estimate restarted)
+  // Hovering with SLAM, and the scale then: the estimate at the end against the map's scale over the
+  // flight to the hover point and the hover.
   TrackingErrors hover_slam;
+  double scale_true_hover_m_per_unit = 0;
+  double scale_error_hover_percent = 0;
+  std::vector<ScaleWindow> scale_windows;  // from the start of SLAM to the end of the hover
   // Servoing 0.8 m in front of an instrument on its homography.
   TrackingErrors servo;
   // Dead reckoning (vision lost) while flying a small square.

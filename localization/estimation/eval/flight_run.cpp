@@ -61,6 +61,9 @@ void FlightRun::tick() {
   const Seconds now = plant_.now();
   const GroundTruth truth = plant_.truth();
   pipeline_->on_truth(truth, now);
+  const ScaleStatus& scale = estimator().scale_status();
+  const double scale_now = scale.estimated ? scale.scale : 0.0;
+  if (scale_log_.empty() || scale_log_.back().second != scale_now) scale_log_.emplace_back(now, scale_now);
   history_.push_back(truth);
   while (history_.front().t < now - kHistory) history_.pop_front();
   while (!controller_inputs_.empty() && controller_inputs_.front().first <= now + 1e-6) {
@@ -73,6 +76,12 @@ void FlightRun::tick() {
   const MoveCommand c = control(f);
   plant_.move(c);
   pipeline_->on_command(c, now);
+}
+
+double FlightRun::estimated_scale_at(Seconds t) const {
+  const auto after = std::upper_bound(scale_log_.begin(), scale_log_.end(), t,
+                                      [](Seconds x, const std::pair<Seconds, double>& e) { return x < e.first; });
+  return after == scale_log_.begin() ? 0.0 : std::prev(after)->second;
 }
 
 void FlightRun::run_until(Seconds t) {

@@ -45,6 +45,9 @@ class FlightRun {
   // The true pose at a past time of this run (linear between ticks).
   Eigen::Isometry3d truth_at(Seconds t) const;
 
+  // The estimator's scale (metres per map unit; 0 while not estimated) at time t of this run.
+  double estimated_scale_at(Seconds t) const;
+
   // RMS of |position the controller acted on - true position when that command acted|.
   double controller_input_error_rms() const { return input_error_n_ > 0 ? std::sqrt(input_error_sum2_ / input_error_n_) : 0.0; }
 
@@ -59,6 +62,7 @@ class FlightRun {
   std::vector<NavdataSample> arrived_;
   std::deque<std::pair<Seconds, Eigen::Vector3d>> controller_inputs_;  // effect time, position used
   std::deque<GroundTruth> history_;  // the last seconds of truth, one per tick
+  std::vector<std::pair<Seconds, double>> scale_log_;  // (time, scale) at each change of the scale
   double input_error_sum2_ = 0;
   int input_error_n_ = 0;
 };

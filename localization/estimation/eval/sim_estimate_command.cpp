@@ -31,6 +31,12 @@ nlohmann::json tracking_json(const TrackingErrors& e) {
   return {{"position_rmse_m", e.position_rmse_m}, {"yaw_rmse_deg", e.yaw_rmse_deg}, {"control_rmse_m", e.control_rmse_m}};
 }
 
+nlohmann::json scale_windows_json(const std::vector<ScaleWindow>& windows) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const ScaleWindow& w : windows) out.push_back({w.from_s, w.true_m_per_unit, w.estimated_m_per_unit});
+  return out;
+}
+
 nlohmann::json run_json(const EstimationResults& r, unsigned seed) {
   return {{"seed", seed},
           {"scale", {{"error_percent", r.scale_error_percent},
@@ -38,7 +44,12 @@ nlohmann::json run_json(const EstimationResults& r, unsigned seed) {
                      {"estimated_m_per_unit", r.scale_estimated_m_per_unit},
                      {"true_m_per_unit", r.scale_true_m_per_unit},
                      {"accuracy", r.scale_accuracy},
-                     {"pairs", r.scale_pairs}}},
+                     {"pairs", r.scale_pairs},
+                     {"outliers_at_arrival", r.scale_outliers},
+                     {"scale_changes", r.scale_changes},
+                     {"hover_true_m_per_unit", r.scale_true_hover_m_per_unit},
+                     {"hover_error_percent", r.scale_error_hover_percent},
+                     {"by_window_from_true_estimated", scale_windows_json(r.scale_windows)}}},
           {"hover_slam", tracking_json(r.hover_slam)},
           {"servo_instrument", tracking_json(r.servo)},
           {"dead_reckoning", {{"drift_m_per_s", r.dead_reckoning_drift_m_per_s},

@@ -46,8 +46,8 @@ void add_manoeuvre_pairs(ScaleEstimator& est, double metres_per_unit, int n, std
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d metric(0.02 * noise(rng) / 0.01, 0.0, 3.0 * (i % 2 == 0 ? 0.25 : -0.2));
     Eigen::Vector3d map = metric / metres_per_unit;
-    map += Eigen::Vector3d(noise(rng), noise(rng), 3.0 * noise(rng)) / metres_per_unit;
-    est.add_pair(map, metric + Eigen::Vector3d(noise(rng), noise(rng), 3.0 * noise(rng)));
+    map += Eigen::Vector3d(noise(rng), noise(rng), 1.5 * noise(rng)) / metres_per_unit;
+    est.add_pair(map, metric + Eigen::Vector3d(noise(rng), noise(rng), 1.5 * noise(rng)));
   }
 }
 }  // namespace
@@ -76,10 +76,27 @@ TEST_CASE("estimation: the scale follows a map whose scale drifts") {
   ScaleEstimator est{ScaleSettings{}};
   add_manoeuvre_pairs(est, 10.0, 8, rng);
   CHECK(est.scale() == Approx(10.0).epsilon(0.03));
-  add_manoeuvre_pairs(est, 6.0, 12, rng);
+  CHECK(est.scale_changes() == 0);
+  // Two pairs of the changed map, refused by the gate but agreeing: the estimate starts again.
+  add_manoeuvre_pairs(est, 6.0, 2, rng);
   INFO("scale " << est.scale() << ", outliers at arrival " << est.outliers_at_arrival());
-  CHECK(est.scale() == Approx(6.0).epsilon(0.03));
-  CHECK(est.status().estimated);
+  CHECK(est.scale_changes() == 1);
+  CHECK(est.scale() == Approx(6.0).epsilon(0.06));  // from two pairs of ~3 % noise each
+  CHECK(est.status().estimated);  // still known: SLAM stays fused
+  add_manoeuvre_pairs(est, 6.0, 10, rng);
+  CHECK(est.scale() == Approx(6.0).epsilon(0.05));  // ~10 pairs of 1.5 cm noise: sigma ~1.5 %
+  CHECK(est.scale_changes() == 1);
+}
+
+TEST_CASE("estimation: one outlier does not restart the scale, nor two that disagree") {
+  std::mt19937 rng(4);
+  ScaleEstimator est{ScaleSettings{}};
+  add_manoeuvre_pairs(est, 8.0, 8, rng);
+  CHECK(est.add_pair(Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0, 0, 0.1 * 8.0 * 1.5)));
+  CHECK(est.add_pair(Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0, 0, 0.1 * 8.0 * 0.6)));
+  CHECK(est.outliers_at_arrival() == 2);
+  CHECK(est.scale_changes() == 0);
+  CHECK(est.scale() == Approx(8.0).epsilon(0.03));
 }
 
 TEST_CASE("estimation: a pair far off the scale is an outlier, a noisy one is not") {

@@ -34,4 +34,10 @@ TEST_CASE("slam: config section is read, range-checked and refuses unknown keys"
   CHECK(ba.local_ba_keyframes == 8);
   CHECK_THROWS_WITH(read(R"({"global_ba_every": 0})"), Catch::Contains("global_ba_every"));
   CHECK_THROWS_WITH(read(R"({"local_ba_keyframes": 1})"), Catch::Contains("local_ba_keyframes"));
+  const slam::SlamSettings init = read(R"({"init_min_parallax_deg": 3, "init_min_parallax_px": 40})");
+  CHECK(init.init_min_parallax_deg == Approx(3));
+  CHECK(init.init_min_parallax_px == Approx(40));
+  CHECK(read("{}").init_min_parallax_deg == Approx(1.0));
+  CHECK_THROWS_WITH(read(R"({"init_min_parallax_deg": 0})"), Catch::Contains("init_min_parallax_deg"));
+  CHECK_THROWS_WITH(read(R"({"init_min_parallax_px": 500})"), Catch::Contains("init_min_parallax_px"));
 }
