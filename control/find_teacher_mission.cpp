@@ -1,5 +1,6 @@
 #include "control/find_teacher_mission.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -13,10 +14,36 @@ constexpr double kFaceHeightM = 1.6;       // climb to about a standing teacher'
 constexpr double kFreshObservationS = 0.3;
 constexpr double kLostHoldS = 3.0;         // face lost: hold this long, then search again
 constexpr double kCoastS = 0.5;            // face lost: keep following its predicted motion this long
-// Face lost at a corner of the route: wait this long in front of the next long leg (in the lab of
+// Meeting the teacher in front of the next long leg: wait this long there (in the lab of
 // config/lab.json the teacher turns twice, 3 s each, around a 0.5 m leg: 7.25 s), then search.
 constexpr double kMeetWaitS = 12.0;
 constexpr double kMaxApproachStepM = 0.6;
+// Meet this far beyond face_distance_m in front of the next leg's start; the drone comes in to the
+// follow distance at kStandoffEaseMps once the teacher walks at it.
+constexpr double kMeetBeyondFollowM = 0.2;
+// The follow standoff and the meeting points keep this much farther from the walls than the geofence
+// (its own margin 0.3 m: the hull touches a wall 0.04 m beyond it) where they can, turned about the
+// face: following and meeting run on dead reckoning, and over a bare floor the navdata velocity
+// drops out, the estimate stops while the drone drifts on, and the brake comes too late (real
+// vision, seeds 1 and 2: met at 0.34 m from the wall over the bare floor, hit the wall).
+constexpr double kWallClearanceM = 0.5;
+constexpr double kStandoffEaseMps = 0.2;
+// Going round to the meeting point, the drone circles the middle between the corner where the
+// teacher stands and the next leg's start (the teacher walks between the two), at the meeting
+// point's distance from it (~1.2 m): ~0.85 m from the teacher at least (hull 0.26 m + body 0.25 m
+// collide at 0.51 m). Circling the leg's start, the chords cut inside and the drone was hit as the
+// teacher stood at the corner (real vision, seed 1).
+// A teacher walking within this of a corner after which their next long leg heads more than
+// kTurnBackRad away from their heading is about to turn round: the drone leaves for the meeting point.
+constexpr double kCornerAheadM = 0.25;
+constexpr double kTurnBackRad = 2 * std::numbers::pi / 3;
+// Meeting: a face is the teacher on the next leg when it looks within this of the leg's direction (the
+// face still turning at the corner would bring the drone back behind them).
+constexpr double kOnMeetingLegRad = std::numbers::pi / 3;
+// A face found again within this time and distance of the lost one continues the track (its heading
+// and velocity): a few lost frames must not reset the heading to where the swaying head looks.
+constexpr double kKeepTrackS = 1.0;
+constexpr double kKeepTrackM = 0.5;
 // Watch points: the teacher stops this far beyond face_distance_m from the camera at a leg's end, so
 // the frontal face is inside the detector's ~2.5 m range for the last metre of the leg.
 constexpr double kWatchBeyondFollowM = 0.5;
@@ -57,9 +84,8 @@ std::string FindTeacherMission::describe(Seconds t) const {
       return "2 search: watching the teacher's route at viewpoint " + std::to_string(viewpoint_ + 1) + " (" +
              format_seconds(t - since_) + " s)";
     case Step::Follow: return "3 face-follow";
-    case Step::Lost:
-      return (meeting_ ? "3 face-follow: face lost at a corner, waiting in front of the next leg (" : "3 face-follow: face lost, holding (") +
-             format_seconds(t - since_) + " s)";
+    case Step::Lost: return "3 face-follow: face lost, holding (" + format_seconds(t - since_) + " s)";
+    case Step::Meet: return "3 face-follow: meeting the teacher in front of their next leg (" + format_seconds(t - since_) + " s)";
     case Step::Done: return "done: " + result_;
   }
   return "";
@@ -95,18 +121,42 @@ void FindTeacherMission::plan_transit(const MissionContext& ctx, const WatchPoin
   transit_.push_back({to.position, to.yaw});
 }
 
-bool FindTeacherMission::predict_from_route(const MissionContext& ctx) {
+Geofence FindTeacherMission::roomy_fence(const MissionContext& ctx) const {
+  const Geofence& fence = ctx.autopilot.fence();
+  // A small room keeps what room it has (the margin never more than half its narrowest extent).
+  const double margin = std::min(kWallClearanceM, 0.45 * (fence.max() - fence.min()).minCoeff());
+  return Geofence(fence.min(), fence.max(), std::max(margin, 0.0));
+}
+
+bool FindTeacherMission::predict_from_route(const MissionContext& ctx, double corner_radius_m) {
   if (watch_points_.empty()) return false;
-  // The next long leg's start, the teacher facing along it (the meeting point at 0 m faces back).
+  // The next long leg's start, the teacher facing along it (the meeting point at 0 m faces back),
+  // drawn in from the walls.
   const std::optional<WatchPoint> start =
-      next_leg_meeting_point(ctx.lab.teacher, track_.position().head<2>(), ctx.autopilot.fence(), 0.0, kCornerRadiusM);
+      next_leg_meeting_point(ctx.lab.teacher, track_.position().head<2>(), roomy_fence(ctx), 0.0, corner_radius_m);
   if (!start) return false;
+  meet_centre_ = 0.5 * (track_.position() + Eigen::Vector3d(start->position.x(), start->position.y(), track_.position().z()));
   track_.place(start->position.head<2>(), start->yaw + std::numbers::pi);
-  // Wait farther out than the follow distance: the teacher starts the leg within the detector's
-  // range and walking towards the drone, and the drone, going round at this radius about the leg's
-  // start, passes the teacher (within 0.6 m of it) with room to spare.
-  standoff_m_ = ctx.config.mission.face_distance_m + kWatchBeyondFollowM;
+  standoff_m_ = ctx.config.mission.face_distance_m + kMeetBeyondFollowM;
   return true;
+}
+
+bool FindTeacherMission::turning_back_ahead(const MissionContext& ctx) const {
+  if (watch_points_.empty()) return false;
+  const std::optional<WatchPoint> start =
+      next_leg_meeting_point(ctx.lab.teacher, track_.position().head<2>(), ctx.autopilot.fence(), 0.0, kCornerAheadM);
+  if (!start) return false;
+  const double next_leg = start->yaw + std::numbers::pi;
+  return std::abs(wrap_angle(next_leg - track_.heading())) > kTurnBackRad;
+}
+
+bool FindTeacherMission::face_on_meeting_leg(const MissionContext& ctx) const {
+  if (!face_seen(ctx)) return false;
+  // Only once in front of the leg: a face seen from the side while going round is followed from there.
+  const Eigen::Vector2d out = (ctx.pose.T_world_body.translation() - meet_centre_).head<2>();
+  if (std::abs(wrap_angle(std::atan2(out.y(), out.x()) - track_.heading())) > kOnMeetingLegRad) return false;
+  const double looking = facing_heading(world_pose_of(ctx.perception.face(), ctx.pose, CameraId::Front));
+  return std::abs(wrap_angle(looking - track_.heading())) < kOnMeetingLegRad;
 }
 
 void FindTeacherMission::start_search(MissionContext& ctx) {
@@ -131,20 +181,30 @@ void FindTeacherMission::follow(MissionContext& ctx) {
   const TargetObservation f = ctx.perception.face();
   if (f.t == last_face_t_ && !fresh_) return;  // no new face result: keep the moving set point
   const Eigen::Isometry3d T_world_face = world_pose_of(f, ctx.pose, CameraId::Front);
-  if (fresh_) standoff_m_ = ctx.config.mission.face_distance_m;
-  if (fresh_ || last_face_t_ < 0) track_.reset(T_world_face, f.t);
+  const double d = ctx.config.mission.face_distance_m;
+  if (fresh_ && !resume_track_) standoff_m_ = d;
+  const bool continues = last_face_t_ >= 0 && f.t - last_face_t_ < kKeepTrackS &&
+                         (T_world_face.translation() - track_.position()).head<2>().norm() < kKeepTrackM;
+  if (resume_track_) track_.resume(T_world_face, f.t);
+  else if (fresh_ && !continues) track_.reset(T_world_face, f.t);
   else track_.update(T_world_face, f.t);
+  resume_track_ = false;
+  // Met in front of a leg, the drone waits farther out; it comes in to the follow distance only as
+  // the teacher walks at it: from the follow distance the drone's lag (the walk noticed, then the
+  // drone accelerated backwards) let the teacher come within 0.55 m.
+  if (standoff_m_ > d && track_.walking()) standoff_m_ = std::max(d, standoff_m_ - kStandoffEaseMps * (f.t - last_face_t_));
   last_face_t_ = f.t;
-  fly_standoff(ctx, fresh_);
+  fly_standoff(ctx, fresh_, track_.position());
   fresh_ = false;
 }
 
-void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint) {
+void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, const Eigen::Vector3d& orbit_centre) {
   const double d = standoff_m_;
   const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
   const double a = track_.heading();
   PoseTarget next = follow_standoff(standoff_target(track_.T_world_upright_face(a), d, ctx.centre_ray_front),
-                                    track_.position(), here, ctx.autopilot.fence(), kMaxOrbitStepRad);
+                                    orbit_centre, here, roomy_fence(ctx), kMaxOrbitStepRad);
+  if (!ctx.autopilot.fence().contains(next.position)) next.position = ctx.autopilot.fence().clamp(next.position);
   // Feed-forward: the standoff moves with the teacher and swings round them as they turn.
   next.velocity = track_.velocity() + d * track_.heading_rate() * Eigen::Vector3d(-std::sin(a), std::cos(a), 0.0);
   // Point the camera at the face from where the drone is (the same as the line of sight once in
@@ -161,23 +221,33 @@ void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint) {
 
 void FindTeacherMission::lost(MissionContext& ctx) {
   const Seconds lost_for = ctx.t - since_;
-  if (fresh_) meeting_ = false;
+  fresh_ = false;
   if (lost_for < kCoastS) {
     // Coast along the teacher's last motion and turn (they most likely walked or turned out of view).
     track_.coast(ctx.t - last_tick_);
-  } else if (!meeting_ && predict_from_route(ctx)) {
-    meeting_ = true;
-  }
-  if (lost_for < kCoastS || meeting_) {
-    fly_standoff(ctx, false);
+    fly_standoff(ctx, false, track_.position());
+  } else if (predict_from_route(ctx, kCornerRadiusM)) {
+    enter(Step::Meet, ctx.t);  // lost at a corner: they are turning onto the next leg
+    return;
   } else if (auto target = ctx.autopilot.target()) {
     // Hold the place, keep looking where the face went.
     const Eigen::Vector3d to_face = track_.position() - ctx.pose.T_world_body.translation();
     ctx.autopilot.go_to({target->position, std::atan2(to_face.y(), to_face.x())}, ctx.t, false);
   }
-  fresh_ = false;
   if (face_seen(ctx)) enter(Step::Follow, ctx.t);
-  else if (lost_for > (meeting_ ? kMeetWaitS : kLostHoldS)) start_search(ctx);
+  else if (lost_for > kLostHoldS) start_search(ctx);
+}
+
+void FindTeacherMission::meet(MissionContext& ctx) {
+  fresh_ = false;
+  // Round the middle between the corner and the leg's start, then in to the meeting point.
+  fly_standoff(ctx, false, meet_centre_);
+  if (face_on_meeting_leg(ctx)) {
+    resume_track_ = true;
+    enter(Step::Follow, ctx.t);
+  } else if (ctx.t - since_ > kMeetWaitS) {
+    start_search(ctx);
+  }
 }
 
 MissionOutcome FindTeacherMission::step(MissionContext& ctx) {
@@ -236,18 +306,24 @@ MissionOutcome FindTeacherMission::step(MissionContext& ctx) {
         enter(Step::Follow, ctx.t);
       } else if (ctx.t - since_ > ctx.lab.teacher.cycle_s() + kWatchMarginS) {
         viewpoint_ = (viewpoint_ + 1) % watch_points_.size();
-        meeting_ = false;
         watch_ = watch_points_[viewpoint_];
         plan_transit(ctx, watch_);
         enter(Step::Reposition, ctx.t);
       }
       break;
     case Step::Follow:
-      if (face_seen(ctx)) follow(ctx);
-      else enter(Step::Lost, ctx.t);
+      if (!face_seen(ctx)) {
+        enter(Step::Lost, ctx.t);
+        break;
+      }
+      follow(ctx);
+      if (turning_back_ahead(ctx) && predict_from_route(ctx, kCornerAheadM)) enter(Step::Meet, ctx.t);
       break;
     case Step::Lost:
       lost(ctx);
+      break;
+    case Step::Meet:
+      meet(ctx);
       break;
     case Step::Done:
       ctx.focus.face = false;

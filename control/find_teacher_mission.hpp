@@ -11,8 +11,10 @@
 //    the face looks), following the teacher's motion and turns; the standoff is kept inside the
 //    geofence and reached around the teacher, never through them; a lost face -> coast along the
 //    teacher's motion, hold, then search; with a known route, a face lost at a corner of it (the
-//    teacher turning away) -> go round, 1.5 m from the next long leg's start, to its front, facing
-//    back along it (next_leg_meeting_point()), and wait there for the teacher to turn into view.
+//    teacher turning away), or a teacher reaching a corner after which the route turns back towards
+//    the drone (the standoff would have to swing round them) -> meet: go round, face_distance_m +
+//    0.3 m from the next long leg's start, to its front, facing back along it (next_leg_meeting_point()),
+//    and wait there for the teacher to turn into view along that leg.
 // Ends on stop_face_follow (the drone hovers where it is) or when the search times out.
 #include <vector>
 
@@ -40,7 +42,7 @@ class FindTeacherMission final : public Mission {
   void stop_face_follow() override { stop_requested_ = true; }
 
  private:
-  enum class Step { Init, Sweep, Reposition, Watch, Follow, Lost, Done };
+  enum class Step { Init, Sweep, Reposition, Watch, Follow, Lost, Meet, Done };
   void enter(Step step, Seconds t) {
     step_ = step;
     since_ = t;
@@ -49,10 +51,14 @@ class FindTeacherMission final : public Mission {
   std::vector<Eigen::Vector3d> viewpoints(const MissionContext& ctx) const;
   void start_search(MissionContext& ctx);
   void plan_transit(const MissionContext& ctx, const WatchPoint& to);
-  bool predict_from_route(const MissionContext& ctx);
+  bool predict_from_route(const MissionContext& ctx, double corner_radius_m);
+  bool turning_back_ahead(const MissionContext& ctx) const;
+  Geofence roomy_fence(const MissionContext& ctx) const;
+  bool face_on_meeting_leg(const MissionContext& ctx) const;
+  void meet(MissionContext& ctx);
   bool face_seen(const MissionContext& ctx) const;
   void follow(MissionContext& ctx);
-  void fly_standoff(MissionContext& ctx, bool new_waypoint);
+  void fly_standoff(MissionContext& ctx, bool new_waypoint, const Eigen::Vector3d& orbit_centre);
   void lost(MissionContext& ctx);
   std::string describe(Seconds t) const;
 
@@ -66,13 +72,14 @@ class FindTeacherMission final : public Mission {
   TakeOffAndScale init_;
   std::vector<WatchPoint> watch_points_;    // empty: the lab has no teacher route; sweep instead
   WatchPoint watch_;                        // the watch point flown to / watched from
-  bool meeting_ = false;                    // face lost at a corner: the track is placed on the next leg
+  bool resume_track_ = false;               // the next face takes up the track's heading (after a meeting)
+  Eigen::Vector3d meet_centre_ = Eigen::Vector3d::Zero();  // gone round at a meeting: the corner and the leg's start
   std::vector<PoseTarget> transit_;         // legs to it
   std::size_t transit_leg_ = 0;
   Seconds last_tick_ = 0;
   Seconds last_face_t_ = -1;
   TeacherTrack track_;
-  double standoff_m_ = 1.0;                 // face_distance_m, farther while waiting on the next leg
+  double standoff_m_ = 1.0;                 // face_distance_m, farther while meeting on the next leg
   std::string stage_text_ = "1 taking off";
 };
 

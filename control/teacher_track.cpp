@@ -33,6 +33,15 @@ void TeacherTrack::reset(const Eigen::Isometry3d& T_world_face, Seconds t) {
   velocity_.setZero();
   heading_ = facing_heading(T_world_face);
   heading_rate_ = 0;
+  hold_heading_ = false;
+  t_ = t;
+}
+
+void TeacherTrack::resume(const Eigen::Isometry3d& T_world_face, Seconds t) {
+  position_ = T_world_face.translation();
+  velocity_.setZero();
+  heading_rate_ = 0;
+  hold_heading_ = true;
   t_ = t;
 }
 
@@ -44,6 +53,8 @@ void TeacherTrack::update(const Eigen::Isometry3d& T_world_face, Seconds t) {
   Eigen::Vector3d v = (position_ - previous) / dt;
   v.z() = 0;
   velocity_ += blend(dt, kVelocityTauS) * (v - velocity_);
+  if (hold_heading_ && !walking()) return;
+  hold_heading_ = false;
   const double looking = facing_heading(T_world_face);
   double towards = looking;
   if (walking()) {

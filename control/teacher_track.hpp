@@ -19,6 +19,9 @@ class TeacherTrack {
   void reset(const Eigen::Isometry3d& T_world_face, Seconds t);
   // Fold in the next face pose (t after the previous one).
   void update(const Eigen::Isometry3d& T_world_face, Seconds t);
+  // Take the face up again after a gap: its place now, standing, keeping the heading the track had
+  // (placed from the route: the leg they are about to walk) until they walk.
+  void resume(const Eigen::Isometry3d& T_world_face, Seconds t);
   // Move the track along its motion (face lost: where it most likely went); the turn rate decays.
   void coast(Seconds dt);
   // Pretend the teacher stands at `xy` facing `heading_rad` (a prediction from the route).
@@ -39,6 +42,7 @@ class TeacherTrack {
   Eigen::Vector3d velocity_ = Eigen::Vector3d::Zero();
   double heading_ = 0;
   double heading_rate_ = 0;
+  bool hold_heading_ = false;  // resumed: the heading stays until the teacher walks
   Seconds t_ = 0;
 };
 

@@ -84,6 +84,18 @@ void FrontalView::rasterise(cv::Size size) {
   triangle_id_.setTo(-1);
   depth_.create(size, CV_32FC1);
   depth_.setTo(std::numeric_limits<float>::infinity());
+  map_x_.create(size, CV_32FC1);
+  map_y_.create(size, CV_32FC1);
+  // Off the mesh: the fallback affine map; the triangles overwrite it where they cover the view.
+  const Eigen::Matrix<double, 2, 3>& F = fallback_map_;
+  for (int y = 0; y < size.height; ++y) {
+    auto* mx = map_x_.ptr<float>(y);
+    auto* my = map_y_.ptr<float>(y);
+    for (int x = 0; x < size.width; ++x) {
+      mx[x] = static_cast<float>(F(0, 0) * x + F(0, 1) * y + F(0, 2));
+      my[x] = static_cast<float>(F(1, 0) * x + F(1, 1) * y + F(1, 2));
+    }
+  }
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
     const auto& tri = triangles_[t];
     const Eigen::Vector2d a = view_vertices_.col(tri[0]), b = view_vertices_.col(tri[1]), c = view_vertices_.col(tri[2]);
@@ -92,37 +104,30 @@ void FrontalView::rasterise(cv::Size size) {
       continue;
     }
     const double depth = distance_m_ - (vertices_m_[tri[0]].z() + vertices_m_[tri[1]].z() + vertices_m_[tri[2]].z()) / 3;
+    // Barycentric coordinates as linear functions of the pixel, w_i = e_i · (x, y, 1), either winding.
+    const double area = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    const auto edge = [area](const Eigen::Vector2d& p, const Eigen::Vector2d& q) -> Eigen::Vector3d {
+      return Eigen::Vector3d(p.y() - q.y(), q.x() - p.x(), p.x() * q.y() - p.y() * q.x()) / area;
+    };
+    const Eigen::Vector3d e0 = edge(b, c), e1 = edge(c, a);
     const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))));
     const int x1 = std::min(size.width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}))));
     const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))));
     const int y1 = std::min(size.height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}))));
-    const double area = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    const Eigen::Matrix<double, 2, 3>& M = triangle_maps_[t];
     for (int y = y0; y <= y1; ++y) {
       auto* id = triangle_id_.ptr<int>(y);
       auto* d = depth_.ptr<float>(y);
-      for (int x = x0; x <= x1; ++x) {
-        const Eigen::Vector2d p(x, y);
-        // Barycentric coordinates (signed areas), either winding.
-        const double w0 = ((b - p).x() * (c - p).y() - (b - p).y() * (c - p).x()) / area;
-        const double w1 = ((c - p).x() * (a - p).y() - (c - p).y() * (a - p).x()) / area;
-        const double w2 = 1 - w0 - w1;
-        if (w0 < -1e-6 || w1 < -1e-6 || w2 < -1e-6 || depth >= d[x]) continue;
+      auto* mx = map_x_.ptr<float>(y);
+      auto* my = map_y_.ptr<float>(y);
+      double w0 = e0.x() * x0 + e0.y() * y + e0.z(), w1 = e1.x() * x0 + e1.y() * y + e1.z();
+      for (int x = x0; x <= x1; ++x, w0 += e0.x(), w1 += e1.x()) {
+        if (w0 < -1e-6 || w1 < -1e-6 || 1 - w0 - w1 < -1e-6 || depth >= d[x]) continue;
         d[x] = static_cast<float>(depth);
         id[x] = static_cast<int>(t);
+        mx[x] = static_cast<float>(M(0, 0) * x + M(0, 1) * y + M(0, 2));
+        my[x] = static_cast<float>(M(1, 0) * x + M(1, 1) * y + M(1, 2));
       }
-    }
-  }
-  map_x_.create(size, CV_32FC1);
-  map_y_.create(size, CV_32FC1);
-  for (int y = 0; y < size.height; ++y) {
-    const auto* id = triangle_id_.ptr<int>(y);
-    auto* mx = map_x_.ptr<float>(y);
-    auto* my = map_y_.ptr<float>(y);
-    for (int x = 0; x < size.width; ++x) {
-      const Eigen::Matrix<double, 2, 3>& M = id[x] >= 0 ? triangle_maps_[static_cast<std::size_t>(id[x])] : fallback_map_;
-      const Eigen::Vector2d q = M * Eigen::Vector3d(x, y, 1);
-      mx[x] = static_cast<float>(q.x());
-      my[x] = static_cast<float>(q.y());
     }
   }
 }

@@ -5,6 +5,8 @@
 
 #include "control/face_standoff.hpp"
 #include "control/teacher_watch_points.hpp"
+#include "control/lab_pipelines.hpp"
+#include "drone/sim/teacher_motion.hpp"
 #include "model_flight.hpp"
 
 using namespace labo;
@@ -117,4 +119,59 @@ TEST_CASE("control: the meeting point starts from the nearest corner when two ar
   REQUIRE(start);
   CHECK((start->position - Eigen::Vector3d(1.2, -2.4, 1.65)).norm() < 1e-9);
   CHECK(std::abs(std::abs(start->yaw) - std::numbers::pi) < 1e-9);  // facing back along +x
+}
+
+TEST_CASE("control: a teacher turning back at a corner is met in front of the next leg and followed along it") {
+  LabGeometry lab = model_lab();  // room x -1..5, y -3..3: fence y >= -2.7, x <= 4.7
+  lab.teacher.waypoints = {{1.0, -2.0}, {3.5, -2.0}, {3.5, -1.5}, {1.0, -1.5}};
+  lab.teacher.speed_mps = 0.4;
+  lab.teacher.pause_s = 3.0;
+  lab.teacher.eye_height_m = 1.6;
+  TeacherSpec spec;
+  spec.waypoints = lab.teacher.waypoints;
+  spec.speed_mps = lab.teacher.speed_mps;
+  spec.pause_s = lab.teacher.pause_s;
+  spec.eye_height_m = lab.teacher.eye_height_m;
+  spec.head = HeadMotionSpec{35, 7, 10, 5, 8, 9};  // the lab's head sway
+  const TeacherMotion motion(spec);
+  test::ModelFlight f({}, lab);
+  const auto walk = [&](double seconds) {
+    for (const double end = f.t + seconds; f.t < end;) {
+      f.world->T_world_face = motion.pose(f.t).T_world_head * flip_about_y();
+      f.run(1.0 / 30.0);
+    }
+  };
+  REQUIRE(f.request(find_teacher()).accepted);
+  bool following = false;
+  for (const double end = f.t + 120; f.t < end && !following;) {
+    walk(1.0 / 30.0);
+    following = f.stack->status().stage == "3 face-follow";
+  }
+  REQUIRE(following);
+  // Two rounds of the route (2 x 23.5 s): each long leg is walked after a turn back at a corner.
+  int meetings = 0;
+  bool was_meeting = false;
+  std::vector<double> error;
+  double nearest = 10;
+  walk(3.0);
+  for (const double end = f.t + 2 * motion.cycle_s(); f.t < end;) {
+    walk(1.0 / 30.0);
+    const bool meeting = f.stack->status().stage.find("meeting") != std::string::npos;
+    meetings += meeting && !was_meeting;
+    was_meeting = meeting;
+    const TeacherPose teacher = motion.pose(f.t);
+    const Eigen::Vector3d p =
+        ((f.world->drone.pose() * T_body_cam_front()).inverse() * teacher.T_world_head).translation();
+    nearest = std::min(nearest, (f.world->drone.pose().translation() - teacher.T_world_head.translation()).head<2>().norm());
+    // Walking a long leg (not the 0.5 m ones, where the standoff would be behind the fence or round them).
+    const Eigen::Vector2d along(std::cos(teacher.heading_rad), std::sin(teacher.heading_rad));
+    if (teacher.walking && std::abs(along.x()) > 0.9) error.push_back(p.z() - 1.0);
+  }
+  double sum = 0;
+  for (double e : error) sum += e * e;
+  const double rms = std::sqrt(sum / static_cast<double>(error.size()));
+  INFO("meetings " << meetings << ", distance error RMS " << rms << " m over " << error.size() << " ticks, nearest " << nearest << " m");
+  CHECK(meetings >= 3);   // each turn back (two per round) met ahead
+  CHECK(rms < 0.15);
+  CHECK(nearest > 0.6);   // never into the teacher (hull 0.26 m + body 0.25 m)
 }
