@@ -79,6 +79,9 @@ SafetyLimits read_safety(const ConfigReader& node, SafetyLimits s) {
   s.return_dead_reckoning_s =
       node.number_or("return_dead_reckoning_s", s.return_dead_reckoning_s, Range::closed(0.0, 120.0));
   s.geofence_margin_m = node.number_or("geofence_margin_m", s.geofence_margin_m, Range::closed(0.0, 2.0));
+  s.min_clearance_m = node.number_or("min_clearance_m", s.min_clearance_m, Range::closed(0.0, 1.5));
+  s.estimate_jump_m = node.number_or("estimate_jump_m", s.estimate_jump_m, Range::closed(0.0, 5.0));
+  s.estimate_jump_hold_s = node.number_or("estimate_jump_hold_s", s.estimate_jump_hold_s, Range::closed(0.0, 10.0));
   node.finish();
   if (s.critical_battery_percent > s.low_battery_percent)
     node.fail("critical_battery_percent", "must be <= low_battery_percent");

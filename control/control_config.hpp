@@ -73,6 +73,12 @@ struct SafetyLimits {
   // hover/land escalation above starts.
   double return_dead_reckoning_s = 20.0;
   double geofence_margin_m = 0.30;     // distance kept from walls, floor and ceiling
+  // Ultrasound range below which a flying drone (not taking off or landing) brakes and climbs; 0: off.
+  double min_clearance_m = 0.35;
+  // A fused position moving this much more than its velocity explains between two ticks is a jump:
+  // level hold for estimate_jump_hold_s; 0: off.
+  double estimate_jump_m = 0.30;
+  double estimate_jump_hold_s = 1.0;
 };
 
 struct ControlConfig {

@@ -5,6 +5,7 @@
 #include "control/autopilot.hpp"
 #include "control/lab_pipelines.hpp"
 #include "control/lab_pipelines_factory.hpp"
+#include "control/level_hold.hpp"
 #include "control/find_teacher_mission.hpp"
 #include "control/inspect_mission.hpp"
 #include "control/localization_switch.hpp"
@@ -43,6 +44,7 @@ struct FlightStack::Impl {
   std::string last_event;
   std::vector<std::string> alerts;
   std::optional<FlightOutput> pending;  // an action decided by a request, sent at the next tick
+  std::optional<PoseTarget> level_hold;  // altitude and yaw the safety's level hold keeps, while it lasts
   Seconds last_tick = 0;
 
   void finish_mission(const std::string& why) {
@@ -106,8 +108,13 @@ struct FlightStack::Impl {
     in.localization_ok = pose.valid && pose.source != FeedbackSource::DeadReckoning;
     if (mission && mission->tolerates_dead_reckoning()) in.localization_grace_s = setup.control.safety.return_dead_reckoning_s;
     in.returning_home = mission && mission->name() == "return_home";
+    in.flying = autopilot.phase() == FlightPhase::Flying;
+    if (have_nav) in.ultrasound_m = nav.altitude_m;
+    if (pose.valid) in.position_m = pose.T_world_body.translation();
+    in.velocity_mps = pose.velocity_world;
     const SafetyVerdict v = safety.evaluate(in);
     alerts = v.alerts;
+    if (v.action != SafetyAction::HoldLevel) level_hold.reset();
     FlightOutput out;
     switch (v.action) {
       case SafetyAction::None:
@@ -115,6 +122,15 @@ struct FlightStack::Impl {
       case SafetyAction::Hover:
         paused = true;
         out.action = FlightOutput::Action::Hover;
+        break;
+      case SafetyAction::HoldLevel:
+        paused = true;
+        out = hold_level(pose);
+        break;
+      case SafetyAction::Climb:
+        paused = true;
+        out.action = FlightOutput::Action::Move;
+        out.move = climb_command(pose, setup.control.gains);
         break;
       case SafetyAction::ReturnHome:
         finish_mission("safety: " + v.reason);
@@ -130,6 +146,24 @@ struct FlightStack::Impl {
         out = autopilot.land(t);
         break;
     }
+    return out;
+  }
+
+  // The safety's level hold: the altitude and yaw of the target being flown (the mission's set point:
+  // a push away from it is corrected even while the mission waits), else of the pose when it began.
+  // Outside normal flight (taking off, landing) the firmware's hover, as before.
+  FlightOutput hold_level(const PoseEstimate& pose) {
+    FlightOutput out;
+    if (autopilot.phase() != FlightPhase::Flying || !pose.valid) {
+      out.action = FlightOutput::Action::Hover;
+      return out;
+    }
+    if (!level_hold) {
+      level_hold = autopilot.target().value_or(
+          PoseTarget{pose.T_world_body.translation(), ypr_from_rotation(pose.T_world_body.linear())[0]});
+    }
+    out.action = FlightOutput::Action::Move;
+    out.move = level_hold_command(pose, level_hold->position.z(), level_hold->yaw, setup.control.gains);
     return out;
   }
 

@@ -5,7 +5,8 @@
 // far_to_near_m, back to SLAM above near_to_far_m) and in time (a source must be good for
 // source_hold_s before it is taken, and lost that long before it is dropped) keeps it from chattering.
 // When SLAM is not usable, a target tracked at any distance is taken over dead reckoning, and kept
-// beyond near_to_far_m until SLAM is good again.
+// beyond near_to_far_m until SLAM is good again. SLAM counts as usable only when Good and scaled
+// (what LabPipelines fuses); a Dodgy SLAM does not correct the filter, so it is no source.
 #include <optional>
 
 #include "control/control_config.hpp"

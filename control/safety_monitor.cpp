@@ -9,13 +9,18 @@ std::string to_string(SafetyAction action) {
   switch (action) {
     case SafetyAction::None: return "none";
     case SafetyAction::Hover: return "hover";
+    case SafetyAction::HoldLevel: return "hold_level";
     case SafetyAction::ReturnHome: return "return_home";
+    case SafetyAction::Climb: return "climb";
     case SafetyAction::Land: return "land";
   }
   return "unknown";
 }
 
 namespace {
+constexpr double kClearanceHysteresisM = 0.15;
+constexpr Seconds kMaxJumpCheckDt = 0.5;  // a longer gap between ticks: no comparison
+
 std::string printf_string(const char* fmt, double a, double b = 0) {
   char buf[160];
   std::snprintf(buf, sizeof buf, fmt, a, b);
@@ -59,12 +64,46 @@ SafetyVerdict SafetyMonitor::evaluate(const SafetyInputs& in) {
     if (d >= grace + limits_.localization_lost_land_s)
       raise(SafetyAction::Land, printf_string("localization lost for %.1f s: landing", d));
     else if (d >= grace + limits_.localization_lost_hover_s)
-      raise(SafetyAction::Hover, printf_string("localization lost for %.1f s: hovering (land at %.1f s)", d,
+      raise(SafetyAction::HoldLevel, printf_string("localization lost for %.1f s: hovering (land at %.1f s)", d,
                                                grace + limits_.localization_lost_land_s));
     else if (grace > 0)
       v.alerts.push_back(printf_string("dead reckoning for %.1f s (tolerated for %.1f s)", d, grace));
   }
+
+  watch_estimate(in);
+  if (in.flying && in.t < jump_hold_until_)
+    raise(SafetyAction::HoldLevel, printf_string("the estimate jumped %.2f m: holding level until %.1f s", last_jump_m_,
+                                                 jump_hold_until_));
+
+  if (!in.flying || !in.ultrasound_m || limits_.min_clearance_m <= 0) {
+    low_clearance_ = false;
+  } else if (*in.ultrasound_m < limits_.min_clearance_m) {
+    low_clearance_ = true;
+  } else if (*in.ultrasound_m > limits_.min_clearance_m + kClearanceHysteresisM) {
+    low_clearance_ = false;
+  }
+  if (low_clearance_)
+    raise(SafetyAction::Climb, printf_string("%.2f m above the surface below (minimum %.2f m): climbing", *in.ultrasound_m,
+                                             limits_.min_clearance_m));
   return v;
+}
+
+void SafetyMonitor::watch_estimate(const SafetyInputs& in) {
+  if (!in.position_m || !in.position_m->allFinite()) {
+    last_position_.reset();
+    return;
+  }
+  const double dt = in.t - last_t_;
+  if (last_position_ && dt > 0 && dt <= kMaxJumpCheckDt && limits_.estimate_jump_m > 0) {
+    const double unexplained = (*in.position_m - *last_position_ - in.velocity_mps * dt).norm();
+    if (unexplained > limits_.estimate_jump_m) {
+      ++jumps_;
+      last_jump_m_ = unexplained;
+      jump_hold_until_ = in.t + limits_.estimate_jump_hold_s;
+    }
+  }
+  last_position_ = in.position_m;
+  last_t_ = in.t;
 }
 
 }  // namespace labo

@@ -5,7 +5,18 @@
 //  - battery below low_battery_percent: return home and land; below critical: land where it is;
 //  - localization lost (no visual source while the mission needs one) for localization_lost_hover_s:
 //    hover; for localization_lost_land_s: land; both after a grace the mission's stage may grant (the
-//    return home flies on navdata odometry for up to return_dead_reckoning_s).
+//    return home flies on navdata odometry for up to return_dead_reckoning_s); the hover is a level
+//    hold (altitude and yaw controlled, level_hold.hpp), not the firmware's, which keeps any altitude
+//    a push left it at;
+//  - the estimate jumped (the fused position moved between two ticks by more than estimate_jump_m
+//    beyond what its velocity explains: a re-sync, a wrong visual fix): level hold for
+//    estimate_jump_hold_s, so the drone does not fly off on a pose that just changed under it;
+//  - too close to the surface below (ultrasound under min_clearance_m while flying, whatever the
+//    estimate says): brake and climb until min_clearance_m + 0.15 m. This is the net under a bad
+//    estimate: the drone cannot descend onto a bench or the floor, nor fly over a bench top at
+//    instrument height.
+#include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,7 +25,9 @@
 
 namespace labo {
 
-enum class SafetyAction { None, Hover, ReturnHome, Land };
+// Ordered by precedence: the highest raised in a tick wins. Hover: the firmware's (link lost: the
+// commands do not arrive anyway); HoldLevel: level_hold_command(); Climb: climb_command().
+enum class SafetyAction { None, Hover, HoldLevel, ReturnHome, Climb, Land };
 std::string to_string(SafetyAction action);
 
 struct SafetyInputs {
@@ -27,6 +40,10 @@ struct SafetyInputs {
   bool localization_ok = true;
   double localization_grace_s = 0;  // dead reckoning tolerated this long before the escalation
   bool returning_home = false;
+  bool flying = false;                  // airborne, neither taking off nor landing: clearance applies
+  std::optional<double> ultrasound_m;   // navdata range to the surface below
+  std::optional<Eigen::Vector3d> position_m;  // the fused estimate this tick
+  Eigen::Vector3d velocity_mps = Eigen::Vector3d::Zero();
 };
 
 struct SafetyVerdict {
@@ -39,11 +56,21 @@ class SafetyMonitor {
  public:
   explicit SafetyMonitor(const SafetyLimits& limits) : limits_(limits) {}
   SafetyVerdict evaluate(const SafetyInputs& in);
+  int estimate_jumps() const { return jumps_; }  // counted since start
 
  private:
+  // Sets jump_hold_until_ when the estimate moved more than its velocity explains since last tick.
+  void watch_estimate(const SafetyInputs& in);
+
   SafetyLimits limits_;
   Seconds link_lost_since_ = -1;
   Seconds localization_lost_since_ = -1;
+  bool low_clearance_ = false;
+  std::optional<Eigen::Vector3d> last_position_;
+  Seconds last_t_ = 0;
+  Seconds jump_hold_until_ = -1;
+  double last_jump_m_ = 0;
+  int jumps_ = 0;
 };
 
 }  // namespace labo

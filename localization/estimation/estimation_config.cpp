@@ -38,6 +38,14 @@ void read_noise(const ConfigReader& n, EstimatorNoise& e) {
   sigma("survey_position_m", e.survey_position_m);
   n.finish();
 }
+
+void read_reacquisition(const ConfigReader& n, ReacquisitionSettings& r) {
+  r.chi2 = n.number_or("chi2", r.chi2, Range::positive());
+  r.max_jump_m = n.number_or("max_jump_m", r.max_jump_m, Range::closed(0.05, 10.0));
+  r.confirm_frames = n.integer_or("confirm_frames", r.confirm_frames, 1, 1000);
+  r.confirm_spread_m = n.number_or("confirm_spread_m", r.confirm_spread_m, Range::closed(0.001, 1.0));
+  n.finish();
+}
 }  // namespace
 
 EstimatorConfig read_estimation_config(const ConfigReader& node) {
@@ -57,6 +65,7 @@ EstimatorConfig read_estimation_config(const ConfigReader& node) {
   c.source_enter_count = node.integer_or("source_enter_count", c.source_enter_count, 1, 100);
   c.source_timeout_s = node.number_or("source_timeout_s", c.source_timeout_s, Range{0.0, 10.0, true});
   c.vision_gate_chi2 = node.number_or("vision_gate_chi2", c.vision_gate_chi2, Range::positive());
+  if (node.has("reacquisition")) read_reacquisition(node.object("reacquisition"), c.reacquisition);
   c.inactive_source_noise_factor =
       node.number_or("inactive_source_noise_factor", c.inactive_source_noise_factor, Range{1.0, 100.0});
   c.scale_sigma_map_m = node.number_or("scale_sigma_map_m", c.scale_sigma_map_m, Range::positive());

@@ -5,6 +5,7 @@
 // thresholds D, beta and gamma come from the "vision" section (VisionThresholds).
 #include "core/config_reader.hpp"
 #include "core/time.hpp"
+#include "localization/estimation/reacquisition_gate.hpp"
 
 namespace labo {
 
@@ -65,6 +66,8 @@ struct EstimatorConfig {
   Seconds source_timeout_s = 0.4;
   // Vision residual gate (Mahalanobis distance^2, 4 dof) once a source is established.
   double vision_gate_chi2 = 40.0;
+  // A source's first poses after a loss, against the dead-reckoned estimate (reacquisition_gate.hpp).
+  ReacquisitionSettings reacquisition;
   // A vision source that does not drive the estimate is fused with its noise times this factor.
   double inactive_source_noise_factor = 3.0;
   // Fuse the navdata's vertical speed (the AR.Drone's observer; 0 in some firmwares' demo mode).

@@ -6,6 +6,7 @@
 #include "core/frames.hpp"
 #include "localization/estimation/filter_core.hpp"
 #include "localization/estimation/landmark.hpp"
+#include "localization/estimation/reacquisition_gate.hpp"
 #include "localization/estimation/scale_pair_sampler.hpp"
 #include "localization/estimation/source_selector.hpp"
 #include "localization/estimation/timed_queue.hpp"
@@ -42,13 +43,14 @@ enum Counter {
   kNavdata, kCommands, kSlam, kObject, kFace, kRejectedNonfinite, kRejectedOutOfOrder, kRejectedFuture,
   kRejectedLate, kRejectedJumpDistance, kRejectedJumpAngle, kRejectedInnovation, kRejectedNotTracking,
   kRejectedBadInput, kCommandsNonfinite, kNavdataOverflow, kSlamMaps, kObjectsPlaced, kScalePairs,
-  kVisionSettling, kScalePairsNoCoverage, kCounterCount
+  kVisionSettling, kScalePairsNoCoverage, kRejectedReacquisition, kReacquisitionConfirmed, kCounterCount
 };
 constexpr const char* kCounterNames[kCounterCount] = {
     "navdata", "commands", "slam_fused", "object_fused", "face_fused", "rejected_nonfinite",
     "rejected_out_of_order", "rejected_future", "rejected_late", "rejected_jump_distance", "rejected_jump_angle",
     "rejected_innovation", "rejected_not_tracking", "rejected_bad_input", "commands_nonfinite_hover",
-    "navdata_queue_overflow", "slam_maps", "objects_placed", "scale_pairs", "vision_settling", "scale_pairs_navdata_gap"};
+    "navdata_queue_overflow", "slam_maps", "objects_placed", "scale_pairs", "vision_settling", "scale_pairs_navdata_gap",
+    "rejected_reacquisition", "reacquisition_confirmed"};
 
 int source_index(LocalizationSource s) { return static_cast<int>(s); }
 
@@ -72,6 +74,8 @@ struct StateEstimator::Impl {
   Impl(const EstimatorConfig& c, const VisionThresholds& th)
       : config(c), thresholds(th), core(c, th.ultrasound_step_gamma_m), navdata(kNavdataCapacity),
         commands(kCommandCapacity), selector(c.source_enter_count, c.source_timeout_s),
+        reacquisition{ReacquisitionGate(c.reacquisition), ReacquisitionGate(c.reacquisition),
+                      ReacquisitionGate(c.reacquisition)},
         scale(scale_settings(c)), pair_sampler(c.scale_interval_min_s, c.scale_interval_max_s, scale_weights(c),
                                                c.scale_min_displacement_m) {}
 
@@ -81,6 +85,7 @@ struct StateEstimator::Impl {
   TimedQueue<NavdataSample> navdata;  // at measurement time (receive - navdata delay)
   TimedQueue<MoveCommand> commands;   // at effect time (sent + control delay)
   SourceSelector selector;
+  std::array<ReacquisitionGate, 3> reacquisition;  // per vision source, while it is not established
   ScaleEstimator scale;
   MapToWorld map;
   int map_id = 0;
@@ -164,20 +169,22 @@ struct StateEstimator::Impl {
       return VisionOutcome::Settling;
     }
     const bool was_established = selector.established(source, t_meas);
-    selector.on_consistent(source, t_meas, quality);
-    if (selector.consecutive(source) < config.source_enter_count) {
-      count(kVisionSettling);
-      return VisionOutcome::Settling;
-    }
-    const double factor = selector.active(t_meas) == source ? 1.0 : config.inactive_source_noise_factor;
-    const double q = std::clamp(quality, 0.2, 1.0);
-    const double sp = sigma_pos * factor / q, sy = sigma_yaw * factor / q;
     const StateVector& s = core.ekf().state();
     Eigen::Matrix<double, 4, 1> y;
     y.head<3>() = T_world_body.translation() - s.segment<3>(X);
     y(3) = wrap_angle(ypr_from_rotation(T_world_body.linear())(0) - s(YAW));
     Eigen::Matrix<double, 4, N> H = Eigen::Matrix<double, 4, N>::Zero();
     H(0, X) = H(1, Y) = H(2, Z) = H(3, YAW) = 1.0;
+    const double q = std::clamp(quality, 0.2, 1.0);
+    if (!was_established && !admit_reacquisition(source, t_meas, y, H, sigma_pos / q, sigma_yaw / q))
+      return VisionOutcome::Gated;
+    selector.on_consistent(source, t_meas, quality);
+    if (selector.consecutive(source) < config.source_enter_count) {
+      count(kVisionSettling);
+      return VisionOutcome::Settling;
+    }
+    const double factor = selector.active(t_meas) == source ? 1.0 : config.inactive_source_noise_factor;
+    const double sp = sigma_pos * factor / q, sy = sigma_yaw * factor / q;
     const Eigen::Matrix<double, 4, 4> R = Eigen::Vector4d(sp * sp, sp * sp, sp * sp, sy * sy).asDiagonal();
     if (was_established && gated_in_row[i] < kForcedAcceptAfter &&
         core.ekf().mahalanobis<4>(y, H, R) > config.vision_gate_chi2) {
@@ -189,6 +196,36 @@ struct StateEstimator::Impl {
     core.ekf().update<4>(y, H, R);
     selector.on_fused(source, t_meas);
     return VisionOutcome::Fused;
+  }
+
+  // A source that is not established (acquired anew, or re-acquired after a loss) must agree with
+  // the dead-reckoned estimate, or persist, before it may correct it (reacquisition_gate.hpp). A
+  // refused frame also restarts the source's run of consistent frames, so it cannot become the
+  // driving source without passing here.
+  bool admit_reacquisition(LocalizationSource source, Seconds t_meas, const Eigen::Matrix<double, 4, 1>& y,
+                           const Eigen::Matrix<double, 4, N>& H, double sigma_pos, double sigma_yaw) {
+    const Eigen::Matrix<double, 4, 4> R =
+        Eigen::Vector4d(sigma_pos * sigma_pos, sigma_pos * sigma_pos, sigma_pos * sigma_pos, sigma_yaw * sigma_yaw)
+            .asDiagonal();
+    const double d2 = core.ekf().mahalanobis<4>(y, H, R);
+    switch (reacquisition[source_index(source)].check(y, d2, t_meas, config.source_timeout_s)) {
+      case ReacquisitionGate::Verdict::Accepted: return true;
+      case ReacquisitionGate::Verdict::Confirmed: {
+        // The vision persisted: the estimate is what was wrong, by about y. Its variance grows by
+        // that much so the next fusions re-sync it, instead of the established source's innovation
+        // gate fighting them.
+        StateCovariance P = core.ekf().covariance();
+        for (int k = 0; k < 3; ++k) P(X + k, X + k) += y(k) * y(k);
+        P(YAW, YAW) += y(3) * y(3);
+        core.ekf().reset(core.ekf().state(), P);
+        count(kReacquisitionConfirmed);
+        return true;
+      }
+      case ReacquisitionGate::Verdict::Refused: break;
+    }
+    count(kRejectedReacquisition);
+    selector.on_inconsistent(source);
+    return false;
   }
 
   // The common front of every vision input: time checks, then the filter advanced to its time.
@@ -285,6 +322,7 @@ void StateEstimator::reset(const Eigen::Isometry3d& T_world_body, Seconds t) {
   m.object_last_t.clear();
   m.face.reset();
   m.gates = {};
+  for (ReacquisitionGate& g : m.reacquisition) g.reset();
   m.last_obs_t = {-1e18, -1e18, -1e18};
   m.latest_input_t = t;
   m.last_navdata_t = m.last_command_t = -std::numeric_limits<double>::infinity();

@@ -4,6 +4,7 @@
 #include <set>
 
 #include "control/flight_stack.hpp"
+#include "control/level_hold.hpp"
 #include "tests/control/model_flight.hpp"
 
 using namespace labo;
@@ -218,11 +219,62 @@ TEST_CASE("control: localization lost too long: hover, then land") {
   REQUIRE(f.run_until([&] { return f.stack->status().stage_index == 3; }, 60.0));
   f.world->slam_available = false;
   f.world->instrument_visible = false;
+  const double z_before = f.world->drone.p.z();
   f.run(1.0);
-  CHECK(f.last.action == FlightOutput::Action::Hover);
-  f.run(2.5);
+  // A level hold, not the firmware's hover: altitude and yaw stay controlled.
+  CHECK(f.last.action == FlightOutput::Action::Move);
+  bool hovering_alert = false;
+  for (const auto& a : f.stack->status().safety_alerts) hovering_alert |= a.find("hovering") != std::string::npos;
+  CHECK(hovering_alert);
+  f.world->drone.push({0, 0, 0.5}, 0);  // pushed up while holding: the hold brings it back
+  f.run(2.0);
+  CHECK(std::abs(f.world->drone.p.z() - z_before) < 0.15);
+  f.run(0.5);
   CHECK(f.stack->status().phase == FlightPhase::Landing);
   CHECK(f.stack->status().last_event.find("localization lost") != std::string::npos);
+}
+
+TEST_CASE("control: a bad altitude estimate cannot fly the drone into the floor: safety climbs on the ultrasound") {
+  ModelFlight f;
+  take_off(f);
+  REQUIRE(f.request(go(1.0, 0.0, 1.0)).accepted);
+  f.run(6.0);
+  REQUIRE(std::abs(f.world->drone.p.z() - 1.0) < 0.1);
+  // The estimate now says 0.9 m higher than the truth: the z controller descends towards the floor.
+  f.world->estimate_offset = Eigen::Vector3d(0, 0, 0.9);
+  f.run(0.1);
+  bool held = false, climbed = false;
+  double lowest = 10;
+  for (int i = 0; i < 300; ++i) {  // 10 s
+    f.run(1.0 / 30.0);
+    for (const auto& a : f.stack->status().safety_alerts) {
+      held |= a.find("jumped") != std::string::npos;
+      climbed |= a.find("climbing") != std::string::npos;
+    }
+    lowest = std::min(lowest, f.world->drone.p.z());
+  }
+  CHECK(held);     // the 0.9 m jump first held the drone level for a second
+  CHECK(climbed);  // then the ultrasound stopped the descent
+  CHECK(lowest > 0.25);
+  CHECK(f.stack->status().phase == FlightPhase::Flying);
+}
+
+TEST_CASE("control: a level hold keeps the altitude and yaw of the set point, braking on the velocity") {
+  const PoseControlGains g;
+  PoseEstimate pose;
+  pose.valid = true;
+  pose.T_world_body = make_pose({1.0, 0.0, 1.5}, 0.3);  // 0.5 m above the hold, 0.3 rad off its yaw
+  pose.velocity_world = Eigen::Vector3d(0.6, 0.0, 0.0);  // drifting along +x
+  const MoveCommand c = level_hold_command(pose, 1.0, 0.0, g);
+  CHECK(c.gaz < -0.2);       // descends
+  CHECK(c.yaw_rate < -0.3);  // turns back
+  // Braking against +x (world) with the body turned 0.3 rad: mostly pitch back, a little roll.
+  CHECK(c.pitch < -0.1);
+  CHECK(std::hypot(c.pitch, c.roll) <= g.max_tilt_command + 1e-9);
+  const MoveCommand up = climb_command(pose, g);
+  CHECK(up.gaz > 0.3);
+  CHECK(up.yaw_rate == 0.0);
+  CHECK(up.pitch < -0.1);
 }
 
 TEST_CASE("control: return home lands on the platform from anywhere") {

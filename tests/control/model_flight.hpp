@@ -17,6 +17,7 @@ struct ModelWorld {
   bool platform_visible = true;
   bool face_visible = true;
   bool slam_available = true;
+  Eigen::Vector3d estimate_offset = Eigen::Vector3d::Zero();  // a bad estimate: truth + this
   double airborne_since = -1;
   Eigen::Isometry3d T_world_face = facing_base({2.5, -0.5, 1.6});  // z into the head, looking at the base
 };
@@ -43,6 +44,7 @@ class ModelPipelines final : public LocalizationPipelines {
     e.valid = true;
     e.t = t;
     e.T_world_body = world_->drone.pose();
+    e.T_world_body.translation() += world_->estimate_offset;
     e.velocity_world = world_->drone.v;
     e.yaw_rate = world_->drone.yaw_rate;
     e.quality = 1;

@@ -69,6 +69,25 @@ TEST_CASE("control: SLAM without a metric scale is no source: a far target is ta
   CHECK(sw.update(in) == FeedbackSource::Slam);
 }
 
+TEST_CASE("control: a dodgy SLAM (not fused) is no source: a tracked target is taken instead") {
+  MissionParameters p;
+  LocalizationSwitch sw(p);
+  SwitchInputs in;
+  in.slam = SlamState::Good;
+  for (in.t = 0; in.t < 1.0; in.t += 0.1) sw.update(in);
+  REQUIRE(sw.current() == FeedbackSource::Slam);
+  in.slam = SlamState::Dodgy;
+  in.target_state = TrackState::Tracking;
+  in.target_distance_m = 1.9;  // inside the hysteresis band, not near
+  in.t = 1.0;
+  CHECK(sw.update(in) == FeedbackSource::Slam);  // a short dodgy spell is bridged
+  in.t = 1.6;
+  const FeedbackSource after = sw.update(in);
+  CHECK(after != FeedbackSource::Slam);
+  in.t = 2.2;
+  CHECK(sw.update(in) == FeedbackSource::Homography);
+}
+
 TEST_CASE("control: on the way home dead reckoning is tolerated for the grace, then escalates") {
   SafetyLimits lim;  // hover after 1 s, land after 8 s
   SafetyMonitor m(lim);
@@ -85,7 +104,7 @@ TEST_CASE("control: on the way home dead reckoning is tolerated for the grace, t
   REQUIRE(tolerated.alerts.size() == 1);
   CHECK_THAT(tolerated.alerts[0], Catch::Contains("dead reckoning for 20.5 s"));
   in.t = 21.5;
-  CHECK(m.evaluate(in).action == SafetyAction::Hover);
+  CHECK(m.evaluate(in).action == SafetyAction::HoldLevel);
   in.t = 28.5;
   CHECK(m.evaluate(in).action == SafetyAction::Land);
   in.localization_grace_s = 0;  // elsewhere: the usual 1 s / 8 s
@@ -95,7 +114,7 @@ TEST_CASE("control: on the way home dead reckoning is tolerated for the grace, t
   in.t = 30.0;
   m.evaluate(in);
   in.t = 31.1;
-  CHECK(m.evaluate(in).action == SafetyAction::Hover);
+  CHECK(m.evaluate(in).action == SafetyAction::HoldLevel);
 }
 
 TEST_CASE("control: geofence keeps the margin and names the violated bound") {
@@ -129,6 +148,74 @@ TEST_CASE("control: safety monitor escalates link loss and localization loss ove
   CHECK(m.evaluate(in).action == SafetyAction::Land);
 }
 
+TEST_CASE("control: safety holds level after a sudden estimate jump, not after smooth motion") {
+  SafetyLimits lim;  // jump 0.30 m, hold 1 s
+  SafetyMonitor m(lim);
+  SafetyInputs in;
+  in.airborne = in.flying = true;
+  in.velocity_mps = Eigen::Vector3d(1.0, 0, 0);  // flying at 1 m/s: 3.3 cm per tick is no jump
+  Eigen::Vector3d p(0, 0, 1);
+  for (int i = 0; i < 60; ++i) {
+    in.t = i / 30.0;
+    p.x() = in.t;
+    in.position_m = p;
+    REQUIRE(m.evaluate(in).action == SafetyAction::None);
+  }
+  in.t += 1 / 30.0;
+  p.x() = in.t + 0.8;  // a wrong fix moved the estimate 0.8 m in one tick
+  in.position_m = p;
+  const SafetyVerdict v = m.evaluate(in);
+  CHECK(v.action == SafetyAction::HoldLevel);
+  REQUIRE_FALSE(v.alerts.empty());
+  CHECK_THAT(v.alerts.back(), Catch::Contains("jumped 0.80 m"));
+  CHECK(m.estimate_jumps() == 1);
+  const double jumped_at = in.t;
+  while (in.t < jumped_at + 0.9) {  // held for estimate_jump_hold_s, the estimate moving smoothly again
+    in.t += 1 / 30.0;
+    p.x() += 1 / 30.0;
+    in.position_m = p;
+    REQUIRE(m.evaluate(in).action == SafetyAction::HoldLevel);
+  }
+  in.t = jumped_at + 1.05;
+  p.x() += 0.15 * 1.0;
+  in.position_m = p;
+  CHECK(m.evaluate(in).action == SafetyAction::None);
+  in.flying = false;  // landing or taking off: never held
+  in.t += 1 / 30.0;
+  p.x() += 2.0;
+  in.position_m = p;
+  CHECK(m.evaluate(in).action == SafetyAction::None);
+}
+
+TEST_CASE("control: safety climbs when the ultrasound says the surface below is too close") {
+  SafetyLimits lim;  // 0.35 m, climbing until 0.50 m
+  SafetyMonitor m(lim);
+  SafetyInputs in;
+  in.airborne = in.flying = true;
+  in.ultrasound_m = 1.0;
+  CHECK(m.evaluate(in).action == SafetyAction::None);
+  in.ultrasound_m = 0.17;  // over a bench top at instrument height, whatever the estimate says
+  const SafetyVerdict v = m.evaluate(in);
+  CHECK(v.action == SafetyAction::Climb);
+  CHECK_THAT(v.alerts.back(), Catch::Contains("0.17 m above the surface below"));
+  in.ultrasound_m = 0.45;  // inside the hysteresis: still climbing
+  CHECK(m.evaluate(in).action == SafetyAction::Climb);
+  in.ultrasound_m = 0.55;
+  CHECK(m.evaluate(in).action == SafetyAction::None);
+  in.ultrasound_m = 0.2;  // a climb outranks a return home; a critical battery's landing outranks it
+  in.battery_percent = 15;
+  CHECK(m.evaluate(in).action == SafetyAction::Climb);
+  in.battery_percent = 5;
+  CHECK(m.evaluate(in).action == SafetyAction::Land);
+  in.battery_percent = 90;
+  in.flying = false;  // taking off or landing: the ground is meant to be near
+  CHECK(m.evaluate(in).action == SafetyAction::None);
+  lim.min_clearance_m = 0;  // off
+  SafetyMonitor off(lim);
+  in.flying = true;
+  CHECK(off.evaluate(in).action == SafetyAction::None);
+}
+
 TEST_CASE("control: config section is validated with the key path") {
   auto read = [](const std::string& text) {
     const ConfigDocument doc = ConfigDocument::parse(text, "test.json");
@@ -143,6 +230,12 @@ TEST_CASE("control: config section is validated with the key path") {
   CHECK_THROWS_WITH(read(R"({"mission": {"standoff_m": 0.3}})"), Catch::Contains("min_standoff_m"));
   CHECK_THROWS_WITH(read(R"({"mission": {"far_to_near_m": 2.5}})"), Catch::Contains("hysteresis"));
   CHECK_THROWS_WITH(read(R"({"safety": {"link_loss_land_s": "soon"}})"), Catch::Contains("link_loss_land_s"));
+  const ControlConfig net = read(R"({"safety": {"min_clearance_m": 0.5, "estimate_jump_m": 0.4, "estimate_jump_hold_s": 2}})");
+  CHECK(net.safety.min_clearance_m == 0.5);
+  CHECK(net.safety.estimate_jump_m == 0.4);
+  CHECK(net.safety.estimate_jump_hold_s == 2.0);
+  CHECK_THROWS_WITH(read(R"({"safety": {"min_clearance_m": 3}})"), Catch::Contains("min_clearance_m"));
+  CHECK_THROWS_WITH(read(R"({"safety": {"estimate_jump_m": -1}})"), Catch::Contains("estimate_jump_m"));
 }
 
 #include "control/mission.hpp"
