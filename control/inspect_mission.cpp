@@ -9,8 +9,7 @@ namespace labo {
 namespace {
 constexpr int kPlacementsToAverage = 10;    // detections averaged to place the instrument
 constexpr double kLostBeforeRedetectS = 0.5;
-constexpr double kRedetectBackoffM = 0.4;   // back away to widen the view while re-detecting ...
-constexpr double kRealignBeforeBackoffS = 2.0;  // ... after this long realigned without finding the panel
+constexpr double kRedetectBackoffM = 0.4;   // back away to widen the view while re-detecting
 constexpr double kFreshObservationS = 0.3;
 }  // namespace
 
@@ -91,14 +90,6 @@ void InspectMission::step_detect(MissionContext& ctx) {
   }
 }
 
-double InspectMission::distance_along_line_of_sight(const MissionContext& ctx) const {
-  Eigen::Vector3d into = T_world_instrument_.linear().col(2);
-  into.z() = 0;
-  if (into.norm() < 1e-6) return standoff_m_;
-  const Eigen::Vector3d camera = (ctx.pose.T_world_body * T_body_cam_front()).translation();
-  return (T_world_instrument_.translation() - camera).dot(into.normalized());
-}
-
 void InspectMission::step_inspect(MissionContext& ctx) {
   ctx.focus.instrument_id = instrument_.id;
   ctx.camera = CameraId::Front;
@@ -135,20 +126,10 @@ void InspectMission::step_inspect(MissionContext& ctx) {
       break;
     case Step::Redetect: {
       if (fresh_) {
-        // First realign: the standoff's altitude, yaw and line of sight, at the distance the drone is
-        // now or farther (never nearer the panel: no blind push forward). A vertical or sideways push
-        // took the panel out of view; undoing it brings the panel back (backing off at once cost a
-        // 0.4 m round trip: 6.6-7.4 s to recover from a z push with real vision, seed 1).
-        const double now_m = distance_along_line_of_sight(ctx);
-        ctx.autopilot.go_to(standoff_target(T_world_instrument_, std::max(standoff_m_, now_m), ctx.centre_ray_front), ctx.t);
-        backed_off_ = false;
-        fresh_ = false;
-      }
-      if (!backed_off_ && ctx.t - since_ > kRealignBeforeBackoffS) {
-        // Still not found: back off along the line of sight for a wider view.
+        // Hold where we are, backed off along the line of sight: a wider view, no blind push forward.
         const PoseTarget back = standoff_target(T_world_instrument_, standoff_m_ + kRedetectBackoffM, ctx.centre_ray_front);
         ctx.autopilot.go_to(back, ctx.t);
-        backed_off_ = true;
+        fresh_ = false;
       }
       if (seen) enter(Step::Approach, ctx.t);
       else if (ctx.t - since_ > ctx.config.mission.detect_timeout_s) {

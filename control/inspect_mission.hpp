@@ -3,8 +3,7 @@
 //  1 init: take off, climb, wait for SLAM to initialize, slow up/down manoeuvre for the scale;
 //  2 detect: face the instrument, detect it (template matching far, SIFT near) and place it in the world;
 //  3 inspect: approach to the standoff with the panel centred (homography feedback near), hold for
-//    the requested time; if the instrument is lost, realign to the standoff's altitude, yaw and line
-//    of sight without coming nearer, then back off, re-detecting all along (never push blindly);
+//    the requested time; if the instrument is lost, hold position and re-detect (never push blindly);
 //  4-6 return, platform, land (HomeLanding).
 #include "control/home_landing.hpp"
 #include "control/take_off_and_scale.hpp"
@@ -34,8 +33,6 @@ class InspectMission final : public Mission {
   void step_detect(MissionContext& ctx);
   void step_inspect(MissionContext& ctx);
   bool instrument_seen(const MissionContext& ctx) const;
-  // The front camera's distance to the instrument along its horizontal line of sight (estimate).
-  double distance_along_line_of_sight(const MissionContext& ctx) const;
   std::string describe(Seconds t) const;
 
   PlanarTarget instrument_;
@@ -50,7 +47,6 @@ class InspectMission final : public Mission {
   double held_s_ = 0;
   Seconds last_t_ = -1;
   Seconds lost_since_ = -1;
-  bool backed_off_ = false;  // re-detection: realigned first, backed off after kRealignBeforeBackoffS
   HomeLanding home_;
   std::string stage_text_ = "1 init: taking off";
 };

@@ -2,10 +2,6 @@
 
 namespace labo {
 
-namespace {
-constexpr Seconds kTrackingDropoutS = 0.2;
-}  // namespace
-
 bool LocalizationSwitch::held(bool condition, Seconds& since, Seconds t) const {
   if (!condition) {
     since = -1;
@@ -19,7 +15,6 @@ void LocalizationSwitch::reset(FeedbackSource source) {
   current_ = source;
   target_good_since_ = target_seen_since_ = target_bad_since_ = slam_good_since_ = slam_bad_since_ = -1;
   face_good_since_ = face_bad_since_ = -1;
-  last_tracked_ = -1;
 }
 
 FeedbackSource LocalizationSwitch::update(const SwitchInputs& in) {
@@ -29,17 +24,12 @@ FeedbackSource LocalizationSwitch::update(const SwitchInputs& in) {
   const bool slam_ok = in.slam == SlamState::Good && in.slam_scaled;
   const bool slam_good = held(slam_ok, slam_good_since_, in.t);
   const bool slam_gone = held(!slam_ok, slam_bad_since_, in.t);
-  // A re-detected panel's track drops out for single frames (no pose, a pose jump) while it settles:
-  // dropouts up to kTrackingDropoutS do not restart the hold (in the simulated lab such a flicker kept
-  // the drone on dead reckoning for 3 s after a re-detection).
   const bool tracking = in.target_state == TrackState::Tracking;
-  if (tracking) last_tracked_ = in.t;
-  const bool tracking_bridged = last_tracked_ >= 0 && in.t - last_tracked_ <= kTrackingDropoutS;
   const bool near = in.target_distance_m && *in.target_distance_m < params_.far_to_near_m;
   const bool far = !in.target_distance_m || *in.target_distance_m > params_.near_to_far_m;
-  const bool target_good = held(tracking_bridged && near, target_good_since_, in.t);
+  const bool target_good = held(tracking && near, target_good_since_, in.t);
   // Tracked at any distance: better than dead reckoning when SLAM is not usable.
-  const bool target_seen = held(tracking_bridged, target_seen_since_, in.t);
+  const bool target_seen = held(tracking, target_seen_since_, in.t);
   const bool target_gone = held(!tracking, target_bad_since_, in.t);
   const bool face_good = held(in.face_state == TrackState::Tracking, face_good_since_, in.t);
   const bool face_gone = held(in.face_state != TrackState::Tracking, face_bad_since_, in.t);

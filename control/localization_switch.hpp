@@ -45,7 +45,6 @@ class LocalizationSwitch {
   Seconds slam_bad_since_ = -1;
   Seconds face_good_since_ = -1;
   Seconds face_bad_since_ = -1;
-  Seconds last_tracked_ = -1;  // the target's last Tracking frame
 };
 
 }  // namespace labo

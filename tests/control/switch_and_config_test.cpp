@@ -88,39 +88,6 @@ TEST_CASE("control: a dodgy SLAM (not fused) is no source: a tracked target is t
   CHECK(sw.update(in) == FeedbackSource::Homography);
 }
 
-TEST_CASE("control: a flickering re-detected target is taken over dead reckoning despite one-frame dropouts") {
-  MissionParameters p;
-  LocalizationSwitch sw(p);
-  SwitchInputs in;
-  in.slam = SlamState::Lost;
-  in.target_distance_m = 1.0;
-  int frame = 0;
-  for (in.t = 0; in.t < 0.45; in.t += 1.0 / 30.0, ++frame) {
-    in.target_state = frame % 2 == 0 ? TrackState::Tracking : TrackState::Lost;  // every other frame
-    REQUIRE(sw.update(in) == FeedbackSource::DeadReckoning);
-  }
-  for (; in.t < 0.7; in.t += 1.0 / 30.0, ++frame) {
-    in.target_state = frame % 2 == 0 ? TrackState::Tracking : TrackState::Lost;
-    sw.update(in);
-  }
-  CHECK(sw.current() == FeedbackSource::Homography);
-  // Gone for longer than the dropout: the hold starts over.
-  LocalizationSwitch sw2(p);
-  in.t = 0;
-  in.target_state = TrackState::Tracking;
-  sw2.update(in);
-  in.t = 0.3;
-  in.target_state = TrackState::Lost;
-  sw2.update(in);
-  in.t = 0.6;
-  in.target_state = TrackState::Tracking;
-  CHECK(sw2.update(in) == FeedbackSource::DeadReckoning);
-  in.t = 1.0;
-  CHECK(sw2.update(in) == FeedbackSource::DeadReckoning);
-  in.t = 1.15;
-  CHECK(sw2.update(in) == FeedbackSource::Homography);
-}
-
 TEST_CASE("control: on the way home dead reckoning is tolerated for the grace, then escalates") {
   SafetyLimits lim;  // hover after 1 s, land after 8 s
   SafetyMonitor m(lim);
