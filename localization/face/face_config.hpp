@@ -53,6 +53,8 @@ struct FaceConfig {
   // While tracking, run the predictor on a frontal view of the face made through the person's
   // CANDIDE-3 mesh at the last pose (frontal_view.hpp) instead of the upright crop.
   bool frontal_view = false;
+  // Registration keeps where the picture's landmarks lie on the fitted mesh (surface_landmarks.hpp).
+  bool surface_landmarks = false;
   std::vector<double> lost_search_scales{0.5, 1.0, 2.0};  // cycled over frames while lost
   ShapeFitOptions shape_fit;
   double frontal_max_angle_rad = 0.26;    // a registration picture must be within 15° of frontal

@@ -3,7 +3,15 @@
 #include <cmath>
 #include <numbers>
 
+#include "localization/face/surface_landmarks.hpp"
+
 namespace labo::face {
+
+namespace {
+// A landmark whose surface point is farther than this from its mapped point keeps the mapped point
+// (a ray past the mesh's rim, or a landmark detected off the face).
+constexpr double kMaxSurfaceOffsetM = 0.015;
+}  // namespace
 
 PersonShape register_person(FacePoseEstimator& estimator, const cv::Mat& gray, const std::string& name,
                             double interpupillary_distance_m) {
@@ -30,6 +38,12 @@ PersonShape register_person(FacePoseEstimator& estimator, const cv::Mat& gray, c
   person.interpupillary_distance_m = interpupillary_distance_m;
   person.shape_params = fit.shape_params;
   person.fit_rms_px = fit.rms_px;
+  if (estimator.config().surface_landmarks) {
+    person.landmark_offsets_m =
+        surface_landmark_offsets(Candide3Model::load(estimator.config().model), estimator.model(), fit.shape_params,
+                                 interpupillary_distance_m, fit.T_cam_face, estimator.ideal_pixels(landmarks), cam,
+                                 kMaxSurfaceOffsetM);
+  }
   return person;
 }
 

@@ -30,6 +30,14 @@ void save_person_shape(const PersonShape& person, const std::filesystem::path& f
   j["interpupillary_distance_mm"] = person.interpupillary_distance_m * 1000.0;
   j["shape_params"] = std::vector<double>(person.shape_params.data(), person.shape_params.data() + person.shape_params.size());
   j["fit_rms_px"] = person.fit_rms_px;
+  if (person.landmark_offsets_m.cols() > 0) {
+    nlohmann::json offsets = nlohmann::json::array();
+    for (Eigen::Index i = 0; i < person.landmark_offsets_m.cols(); ++i) {
+      const Eigen::Vector3d mm = person.landmark_offsets_m.col(i) * 1000.0;
+      offsets.push_back({mm.x(), mm.y(), mm.z()});
+    }
+    j["landmark_offsets_mm"] = offsets;
+  }
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
   std::ofstream out(file);
   if (!out) throw std::runtime_error(file.string() + ": cannot write the person's face shape");
@@ -62,6 +70,17 @@ PersonShape load_person_shape(const std::filesystem::path& file, int shape_unit_
       fail("shape_params: expected finite values in [-1, 1]");
     }
     p.fit_rms_px = j.value("fit_rms_px", 0.0);
+    if (j.contains("landmark_offsets_mm")) {
+      const auto offsets = j.at("landmark_offsets_mm").get<std::vector<std::vector<double>>>();
+      p.landmark_offsets_m.resize(3, static_cast<Eigen::Index>(offsets.size()));
+      for (std::size_t i = 0; i < offsets.size(); ++i) {
+        const auto& o = offsets[i];
+        if (o.size() != 3 || !std::all_of(o.begin(), o.end(), [](double v) { return std::isfinite(v) && std::abs(v) <= 30.0; })) {
+          fail("landmark_offsets_mm[" + std::to_string(i) + "]: expected [x, y, z], each finite and within 30 mm");
+        }
+        p.landmark_offsets_m.col(static_cast<Eigen::Index>(i)) = Eigen::Vector3d(o[0], o[1], o[2]) / 1000.0;
+      }
+    }
   } catch (const nlohmann::json::exception& e) {
     fail(std::string("expected keys name, interpupillary_distance_mm, shape_params: ") + e.what());
   }

@@ -233,7 +233,7 @@ TEST_CASE("vision front-ends: the teacher's face gives a pose with z into the fa
   const cv::Mat photo = cv::imread((labo::source_root() / "assets" / "astronaut.png").string(), cv::IMREAD_GRAYSCALE);
   REQUIRE_FALSE(photo.empty());  // run scripts/setup.sh
   face::TexturedHead head = face::texture_head_from_photo(*estimator, candide, photo, 0.063);
-  estimator->set_person({"astronaut", 0.063, head.shape_params, 0}, false);
+  estimator->set_person({"astronaut", 0.063, head.shape_params, 0, {}}, false);
   face::TexturedHeadRenderer renderer(candide, head, undistorted_front());
   FaceFrontEnd fe(std::move(estimator));
 

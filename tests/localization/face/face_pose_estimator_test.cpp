@@ -44,7 +44,7 @@ struct RenderedHeadFixture {
     const cv::Mat photo = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
     REQUIRE_FALSE(photo.empty());  // run scripts/setup.sh
     TexturedHead head = texture_head_from_photo(estimator, candide, photo, 0.063);
-    estimator.set_person({"astronaut", 0.063, head.shape_params, 0}, false);
+    estimator.set_person({"astronaut", 0.063, head.shape_params, 0, {}}, false);
     return head;
   }
   cv::Mat render(std::initializer_list<Eigen::Isometry3d> poses) {
@@ -80,7 +80,7 @@ TEST_CASE("face: config and person files are validated") {
   CHECK(c.interpupillary_distance_m == Approx(0.060));
 
   const auto dir = std::filesystem::temp_directory_path() / "labo_face_people_test";
-  PersonShape p{"ada", 0.061, Eigen::VectorXd::Constant(14, 0.2), 1.5};
+  PersonShape p{"ada", 0.061, Eigen::VectorXd::Constant(14, 0.2), 1.5, {}};
   save_person_shape(p, person_shape_path(dir, "ada"));
   const PersonShape back = load_person_shape(person_shape_path(dir, "ada"), 14);
   CHECK(back.interpupillary_distance_m == Approx(0.061));

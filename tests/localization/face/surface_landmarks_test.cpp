@@ -1,0 +1,73 @@
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+
+#include "core/candide3.hpp"
+#include "localization/face/face_geometry.hpp"
+#include "localization/face/person_shape.hpp"
+#include "localization/face/surface_landmarks.hpp"
+
+using namespace labo;
+using namespace labo::face;
+
+namespace {
+const IdealPinhole kCamera{569.9, 568.0, 331.4, 135.9};
+}  // namespace
+
+TEST_CASE("face: surface landmarks are where the picture's rays cut the fitted mesh") {
+  const Candide3Model candide = Candide3Model::load(Candide3Model::default_path());
+  const FaceLandmarkModel model = make_face_landmark_model(candide, load_ibug68_mapping(default_ibug68_mapping_path()));
+  const Eigen::VectorXd tau = Eigen::VectorXd::Zero(model.shape_unit_count());
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = head_rotation({0.0, 0.0, 0.0});
+  T.translation() << 0.02, 0.01, 0.8;
+  const Eigen::Matrix3Xd mapped = model.points_m(tau, 0.063);
+  Eigen::Matrix2Xd px(2, model.size());
+  for (Eigen::Index i = 0; i < model.size(); ++i) px.col(i) = kCamera.project(T * mapped.col(i).eval());
+
+  // Landmarks seen exactly where their mapped points project: the mapped points that lie on the
+  // mesh (vertices and points on its faces) keep them.
+  const Eigen::Matrix3Xd same = surface_landmark_offsets(candide, model, tau, 0.063, T, px, kCamera, 0.015);
+  REQUIRE(same.cols() == model.size());
+  int on_surface = 0;
+  for (Eigen::Index i = 0; i < model.size(); ++i) on_surface += same.col(i).norm() < 1e-4;
+  CHECK(on_surface > model.size() / 2);
+
+  // A landmark seen 4 px to the right lies on the surface 4 px to the right: x moves by ~4 px at
+  // 0.8 m, the point stays on the mesh (the new ray's hit), within 15 mm.
+  const int nose_tip = model.column_of(30);
+  REQUIRE(nose_tip >= 0);
+  Eigen::Matrix2Xd moved = px;
+  moved(0, nose_tip) += 4.0;
+  const Eigen::Matrix3Xd off = surface_landmark_offsets(candide, model, tau, 0.063, T, moved, kCamera, 0.015);
+  const Eigen::Vector3d p_cam = T * (mapped.col(nose_tip) + off.col(nose_tip)).eval();
+  CHECK(kCamera.project(p_cam).x() == Approx(px(0, nose_tip) + 4.0).margin(0.05));
+  CHECK(std::abs(off(0, nose_tip)) > 0.5 * 4.0 * 0.8 / kCamera.fx);
+  CHECK(off.col(nose_tip).norm() < 0.015);
+
+  // A ray past the face keeps the mapped point.
+  moved(0, nose_tip) += 400.0;
+  const Eigen::Matrix3Xd missed = surface_landmark_offsets(candide, model, tau, 0.063, T, moved, kCamera, 0.015);
+  CHECK(missed.col(nose_tip).norm() == 0.0);
+  CHECK_THROWS_AS(surface_landmark_offsets(candide, model, tau, 0.063, T, moved.leftCols(3), kCamera, 0.015),
+                  std::invalid_argument);
+}
+
+TEST_CASE("face: person files keep the landmark offsets and refuse implausible ones") {
+  const auto dir = std::filesystem::temp_directory_path() / "labo_face_offsets_test";
+  PersonShape p{"bea", 0.062, Eigen::VectorXd::Constant(14, 0.1), 1.2, {}};
+  p.landmark_offsets_m = Eigen::Matrix3Xd::Constant(3, 43, 0.002);
+  p.landmark_offsets_m(2, 5) = -0.004;
+  const auto file = person_shape_path(dir, "bea");
+  save_person_shape(p, file);
+  const PersonShape back = load_person_shape(file, 14);
+  REQUIRE(back.landmark_offsets_m.cols() == 43);
+  CHECK(back.landmark_offsets_m.isApprox(p.landmark_offsets_m, 1e-9));
+  {
+    std::ofstream out(file);
+    out << R"({"name": "bea", "interpupillary_distance_mm": 62, "shape_params": [0,0,0,0,0,0,0,0,0,0,0,0,0,0],
+               "landmark_offsets_mm": [[1, 2, 40]]})";
+  }
+  CHECK_THROWS_WITH(load_person_shape(file, 14), Catch::Contains("landmark_offsets_mm[0]"));
+  std::filesystem::remove_all(dir);
+}
