@@ -3,6 +3,9 @@
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <string>
+
+#include <unistd.h>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -30,7 +33,8 @@ int run(const std::vector<std::string>& args, std::string* output = nullptr) {
 }  // namespace
 
 TEST_CASE("planar: labodrone homography finds a panel, says when it does not, refuses bad input") {
-  const auto dir = std::filesystem::temp_directory_path() / "labo_homography_cli_test";
+  // Per process: two suites running at once (two worktrees) must not overwrite each other's images.
+  const auto dir = std::filesystem::temp_directory_path() / ("labo_homography_cli_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const cv::Mat panel = make_procedural_panel(cv::Size(300, 200), 3);
   cv::imwrite((dir / "panel.png").string(), panel);
