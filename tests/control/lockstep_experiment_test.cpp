@@ -70,8 +70,9 @@ TEST_CASE("control: lockstep impulse on z is recovered on the homography pose") 
 }
 
 TEST_CASE("control: lockstep push up out of the panel's view: re-detected, recovered in 5 s, no crash") {
-  // 1.0 m/s up lifts the model drone ~0.23 m: the panel leaves the view (SLAM is lost next to it), and
-  // the re-detection's realignment to the standoff's altitude brings it back.
+  // 1.0 m/s up lifts the model drone ~0.23 m: the panel leaves the view (SLAM is lost next to it); the
+  // level hold keeps flying the set point's altitude and the re-detection (back-off, then re-approach)
+  // brings it back.
   const FlightStackSetup setup = lockstep_setup();
   LockstepFlight f(setup, {}, 5);
   hold_in_front_of_the_oscilloscope(f);
