@@ -22,7 +22,8 @@ struct PoseControlGains {
   // Tuned in lockstep (docs/control.md): tum_ardrone's xy 0.5/0.35 -> 0.7/0.4 (perturbation recovery
   // 2.9 -> 2.4 s, face-centre error RMS 0.097 -> 0.056); yaw 2.0 per rad.
   PidGains xy{0.7, 0.0, 0.4, 0.0, -1.0, 1.0};           // -> roll / pitch
-  PidGains z{0.6, 0.001, 0.1, 200.0, -0.25, 0.8};        // -> gaz
+  // z: tum_ardrone's 0.6/0.001/0.1 clipped to [-0.25, 0.8] -> 1.5/0.001/0.5 in [-0.5, 0.8] (docs/control.md).
+  PidGains z{1.5, 0.001, 0.5, 200.0, -0.5, 0.8};         // -> gaz
   PidGains yaw{2.0, 0.0, 0.0, 0.0, -1.0, 1.0};           // -> yaw rate (rad error -> command)
   double max_tilt_command = 0.5;  // |roll|, |pitch| clip below the PCMD range, for a gentle flight
   // Tilt command per m/s of a moving set point: holds the speed against drag without a lagging error

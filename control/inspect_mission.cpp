@@ -10,6 +10,12 @@ namespace {
 constexpr int kPlacementsToAverage = 10;    // detections averaged to place the instrument
 constexpr double kLostBeforeRedetectS = 0.5;
 constexpr double kRedetectBackoffM = 0.4;   // back away to widen the view while re-detecting
+// A loss explained by a vertical displacement: the estimate is this far above or below the standoff
+// (at 0.8 m the image's lower half spans 0.25 m and the panel's half height is 0.1 m, so a 0.15 m
+// climb takes the panel's edge to the border of the view). Such a loss is undone at the standoff's
+// altitude first; the back-off comes only if the panel is still unseen after kRealignS.
+constexpr double kVerticalLossM = 0.15;
+constexpr double kRealignS = 3.0;
 constexpr double kFreshObservationS = 0.3;
 }  // namespace
 
@@ -90,6 +96,18 @@ void InspectMission::step_detect(MissionContext& ctx) {
   }
 }
 
+bool InspectMission::lost_vertically(const MissionContext& ctx, const PoseTarget& standoff) const {
+  return std::abs(ctx.pose.T_world_body.translation().z() - standoff.position.z()) > kVerticalLossM;
+}
+
+double InspectMission::distance_along_line_of_sight(const MissionContext& ctx) const {
+  Eigen::Vector3d into = T_world_instrument_.linear().col(2);
+  into.z() = 0;
+  if (into.norm() < 1e-6) return standoff_m_;
+  const Eigen::Vector3d camera = (ctx.pose.T_world_body * T_body_cam_front()).translation();
+  return (T_world_instrument_.translation() - camera).dot(into.normalized());
+}
+
 void InspectMission::step_inspect(MissionContext& ctx) {
   ctx.focus.instrument_id = instrument_.id;
   ctx.camera = CameraId::Front;
@@ -126,12 +144,27 @@ void InspectMission::step_inspect(MissionContext& ctx) {
       break;
     case Step::Redetect: {
       if (fresh_) {
-        // Hold where we are, backed off along the line of sight: a wider view, no blind push forward.
-        const PoseTarget back = standoff_target(T_world_instrument_, standoff_m_ + kRedetectBackoffM, ctx.centre_ray_front);
-        ctx.autopilot.go_to(back, ctx.t);
         fresh_ = false;
+        backed_off_ = !lost_vertically(ctx, standoff);
+        if (backed_off_) {
+          // Hold where we are, backed off along the line of sight: a wider view, no blind push forward.
+          ctx.autopilot.go_to(standoff_target(T_world_instrument_, standoff_m_ + kRedetectBackoffM, ctx.centre_ray_front), ctx.t);
+        } else {
+          // Pushed above or below the view: the standoff's altitude and line of sight, at the distance
+          // the drone is now or farther (never nearer the panel). Backing off at once cost a 0.4 m round
+          // trip, about 2 s of a z recovery (sim perturb --axis z --vision real).
+          const double away_m = std::max(standoff_m_, distance_along_line_of_sight(ctx));
+          ctx.autopilot.go_to(standoff_target(T_world_instrument_, away_m, ctx.centre_ray_front), ctx.t);
+        }
       }
-      if (seen) enter(Step::Approach, ctx.t);
+      if (!backed_off_ && !seen && ctx.t - since_ > kRealignS) {
+        ctx.autopilot.go_to(standoff_target(T_world_instrument_, standoff_m_ + kRedetectBackoffM, ctx.centre_ray_front), ctx.t);
+        backed_off_ = true;
+      }
+      // Resume once the panel drives the estimate again (the switch takes it after source_hold_s of
+      // tracking): resuming when it was merely seen left the estimate on dead reckoning, which the
+      // approach does not tolerate, and safety held the drone level until the switch caught up.
+      if (seen && ctx.pose.source != FeedbackSource::DeadReckoning) enter(Step::Approach, ctx.t);
       else if (ctx.t - since_ > ctx.config.mission.detect_timeout_s) {
         result_ = "instrument '" + instrument_.id + "' lost during inspection and not found again; returning home";
         home_.start(ctx.t);

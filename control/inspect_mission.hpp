@@ -3,7 +3,9 @@
 //  1 init: take off, climb, wait for SLAM to initialize, slow up/down manoeuvre for the scale;
 //  2 detect: face the instrument, detect it (template matching far, SIFT near) and place it in the world;
 //  3 inspect: approach to the standoff with the panel centred (homography feedback near), hold for
-//    the requested time; if the instrument is lost, hold position and re-detect (never push blindly);
+//    the requested time; if the instrument is lost, re-detect (never push blindly): back off along the
+//    line of sight, or, when a vertical push took the panel out of view, return to the standoff's
+//    altitude first;
 //  4-6 return, platform, land (HomeLanding).
 #include "control/home_landing.hpp"
 #include "control/take_off_and_scale.hpp"
@@ -33,6 +35,10 @@ class InspectMission final : public Mission {
   void step_detect(MissionContext& ctx);
   void step_inspect(MissionContext& ctx);
   bool instrument_seen(const MissionContext& ctx) const;
+  // The estimate is above or below the standoff by more than the panel's view allows.
+  bool lost_vertically(const MissionContext& ctx, const PoseTarget& standoff) const;
+  // Camera to the panel's plane, horizontally along the panel's normal (m).
+  double distance_along_line_of_sight(const MissionContext& ctx) const;
   std::string describe(Seconds t) const;
 
   PlanarTarget instrument_;
@@ -47,6 +53,7 @@ class InspectMission final : public Mission {
   double held_s_ = 0;
   Seconds last_t_ = -1;
   Seconds lost_since_ = -1;
+  bool backed_off_ = false;  // re-detection: backed off along the line of sight (else realigned first)
   HomeLanding home_;
   std::string stage_text_ = "1 init: taking off";
 };

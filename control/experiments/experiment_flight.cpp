@@ -11,8 +11,20 @@ Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T) {
   return {p.x(), p.y(), p.z(), ypr_from_rotation(T.linear())[0]};
 }
 
-FlightSample sample_of(const FlightStatus& s, const Eigen::Isometry3d& truth, Seconds t,
-                       const std::optional<Eigen::Isometry3d>& true_face) {
+EstimatorCounts estimator_counts(const StateEstimator& estimator) {
+  const EstimatorStatistics stats = estimator.statistics();
+  EstimatorCounts c;
+  c.object_fused = stats.count("object_fused");
+  c.slam_fused = stats.count("slam_fused");
+  c.rejected_reacquisition = stats.count("rejected_reacquisition");
+  c.reacquisition_confirmed = stats.count("reacquisition_confirmed");
+  c.rejected_innovation = stats.count("rejected_innovation");
+  c.rejected_jump = stats.count("rejected_jump_distance") + stats.count("rejected_jump_angle");
+  return c;
+}
+
+FlightSample sample_of(const FlightStatus& s, const FlightOutput& out, const StateEstimator& estimator,
+                       const Eigen::Isometry3d& truth, Seconds t, const std::optional<Eigen::Isometry3d>& true_face) {
   FlightSample sample;
   sample.t = t;
   sample.estimated = xyz_yaw(s.pose.T_world_body);
@@ -31,6 +43,10 @@ FlightSample sample_of(const FlightStatus& s, const Eigen::Isometry3d& truth, Se
     sample.face_true_cam = ((truth * T_body_cam_front()).inverse() * *true_face).translation();
   }
   if (s.face.state == TrackState::Tracking) sample.face_measured_cam = s.face.T_cam_target.translation();
+  if (out.action == FlightOutput::Action::Move) sample.command = {out.move.roll, out.move.pitch, out.move.gaz, out.move.yaw_rate};
+  sample.action = to_string(out.action);
+  for (const std::string& alert : s.safety_alerts) sample.alerts += (sample.alerts.empty() ? "" : "; ") + alert;
+  sample.estimator = estimator_counts(estimator);
   return sample;
 }
 

@@ -11,8 +11,20 @@
 #include <vector>
 
 #include "control/flight_stack.hpp"
+#include "localization/estimation/state_estimator.hpp"
 
 namespace labo {
+
+// The estimator's counters a recovery's timeline needs (StateEstimator::statistics(), running totals).
+struct EstimatorCounts {
+  std::uint64_t object_fused = 0;
+  std::uint64_t slam_fused = 0;
+  std::uint64_t rejected_reacquisition = 0;
+  std::uint64_t reacquisition_confirmed = 0;
+  std::uint64_t rejected_innovation = 0;
+  std::uint64_t rejected_jump = 0;  // beyond D or beta
+};
+EstimatorCounts estimator_counts(const StateEstimator& estimator);
 
 struct FlightSample {
   Seconds t = 0;
@@ -30,6 +42,13 @@ struct FlightSample {
   std::optional<Eigen::Vector4d> face_true_world;
   std::optional<Eigen::Vector3d> face_true_cam;
   std::optional<Eigen::Vector3d> face_measured_cam;
+  // What control did and why (diagnostics of recoveries): the move command sent (roll, pitch, gaz,
+  // yaw rate; zero when the action was not a move), the action, the active safety alerts joined by
+  // "; ", and the estimator's running counts of the vision inputs it fused or refused.
+  Eigen::Vector4d command = Eigen::Vector4d::Zero();
+  std::string action;
+  std::string alerts;
+  EstimatorCounts estimator;
 };
 
 class ExperimentFlight {
@@ -63,8 +82,9 @@ class ExperimentFlight {
 };
 
 Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T);
-// The sample of this tick, from the stack's status and the truth (the teacher's face: T_world_face).
-FlightSample sample_of(const FlightStatus& status, const Eigen::Isometry3d& truth, Seconds t,
-                       const std::optional<Eigen::Isometry3d>& true_face);
+// The sample of this tick, from the stack's status, the action it decided, the estimator and the
+// truth (the teacher's face: T_world_face).
+FlightSample sample_of(const FlightStatus& status, const FlightOutput& out, const StateEstimator& estimator,
+                       const Eigen::Isometry3d& truth, Seconds t, const std::optional<Eigen::Isometry3d>& true_face);
 
 }  // namespace labo

@@ -39,7 +39,8 @@ void write_flight_csv(const std::filesystem::path& file, const std::vector<Fligh
   out << "t_s,est_x_m,est_y_m,est_z_m,est_yaw_rad,true_x_m,true_y_m,true_z_m,true_yaw_rad,"
          "des_x_m,des_y_m,des_z_m,des_yaw_rad,source,slam,target,target_lost_reason,stage_index,stage,"
          "face_x_m,face_y_m,face_z_m,face_heading_rad,face_cam_x_m,face_cam_y_m,face_cam_z_m,"
-         "face_meas_cam_x_m,face_meas_cam_y_m,face_meas_cam_z_m\n";
+         "face_meas_cam_x_m,face_meas_cam_y_m,face_meas_cam_z_m,cmd_roll,cmd_pitch,cmd_gaz,cmd_yaw_rate,action,alerts,"
+         "object_fused,slam_fused,rejected_reacquisition,reacquisition_confirmed,rejected_innovation,rejected_jump\n";
   for (const auto& s : samples) {
     out << s.t;
     for (int i = 0; i < 4; ++i) out << ',' << s.estimated[i];
@@ -56,7 +57,13 @@ void write_flight_csv(const std::filesystem::path& file, const std::vector<Fligh
     write_optional(out, s.face_true_world);
     write_optional(out, s.face_true_cam);
     write_optional(out, s.face_measured_cam);
-    out << '\n';
+    for (int i = 0; i < 4; ++i) out << ',' << s.command[i];
+    std::string alerts = s.alerts;
+    std::replace(alerts.begin(), alerts.end(), ',', ';');
+    const EstimatorCounts& e = s.estimator;
+    out << ',' << s.action << ",\"" << alerts << "\"," << e.object_fused << ',' << e.slam_fused << ','
+        << e.rejected_reacquisition << ',' << e.reacquisition_confirmed << ',' << e.rejected_innovation << ','
+        << e.rejected_jump << '\n';
   }
 }
 

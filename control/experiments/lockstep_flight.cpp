@@ -63,7 +63,7 @@ void LockstepFlight::tick() {
     case FlightOutput::Action::Emergency: drone_.emergency(); break;
     case FlightOutput::Action::None: break;
   }
-  samples_.push_back(sample_of(stack_->status(), drone_.pose(), t_, true_face()));
+  samples_.push_back(sample_of(stack_->status(), out, pipelines_->estimator(), drone_.pose(), t_, true_face()));
   for (int i = 0; i < kPhysicsSubsteps; ++i) drone_.step(kControlDt / kPhysicsSubsteps);
   t_ += kControlDt;
 }

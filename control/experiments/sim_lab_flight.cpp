@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "control/lab_pipelines_factory.hpp"
 #include "drone/sim/sim_setup.hpp"
 
 namespace labo {
@@ -22,7 +23,9 @@ SimLabFlight::SimLabFlight(const FlightStackSetup& setup, const LabDescription& 
     : geometry_(setup.lab), link_settings_(sim.link) {
   if (!setup.front_ends) throw std::invalid_argument("SimLabFlight: the setup has no vision front-ends");
   lab_ = make_simulated_lab(lab, setup.cameras, sim.lab, std::move(head));
-  stack_ = std::make_unique<FlightStack>(setup);
+  auto pipelines = make_lab_pipelines(setup, *setup.front_ends);
+  pipelines_ = pipelines.get();
+  stack_ = std::make_unique<FlightStack>(setup, std::move(pipelines));
   listener_ = std::make_unique<Listener>(*stack_);
   link_ = std::make_unique<SimDroneLink>(*lab_, sim.link);
   link_->set_listener(listener_.get());
@@ -60,8 +63,9 @@ void SimLabFlight::tick() {
   link_->advance_to(t_);
   const Eigen::Isometry3d truth = true_pose();
   stack_->set_ground_truth(truth, t_);
-  apply(stack_->tick(t_));
-  samples_.push_back(sample_of(stack_->status(), truth, t_, true_face()));
+  const FlightOutput out = stack_->tick(t_);
+  apply(out);
+  samples_.push_back(sample_of(stack_->status(), out, pipelines_->estimator(), truth, t_, true_face()));
   t_ += kControlDt;
 }
 

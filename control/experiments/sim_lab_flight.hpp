@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "control/experiments/experiment_flight.hpp"
+#include "control/lab_pipelines.hpp"
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/head_model.hpp"
 #include "drone/sim/sim_config.hpp"
@@ -49,6 +50,7 @@ class SimLabFlight final : public ExperimentFlight {
   SimLinkSettings link_settings_;
   std::unique_ptr<SimulatedLab> lab_;
   std::unique_ptr<FlightStack> stack_;
+  const LabPipelines* pipelines_ = nullptr;  // owned by stack_
   std::unique_ptr<Listener> listener_;
   std::unique_ptr<SimDroneLink> link_;
   Seconds t_ = 0;
