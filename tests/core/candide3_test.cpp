@@ -3,8 +3,10 @@
 #include <fstream>
 
 #include "core/candide3.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using labo::test::ScratchDir;
 
 TEST_CASE("candide3: the shipped model has the published counts and axes") {
   const Candide3Model m = Candide3Model::load(Candide3Model::default_path());
@@ -42,8 +44,8 @@ TEST_CASE("candide3: the 68-landmark mapping covers the rigid points and the eye
 }
 
 TEST_CASE("candide3: damaged files are refused with the line and reason") {
-  const auto dir = std::filesystem::temp_directory_path() / "labo_candide3_test";
-  std::filesystem::create_directories(dir);
+  const ScratchDir scratch("candide3");
+  const std::filesystem::path& dir = scratch.path();
   const auto wfm = dir / "bad.wfm";
   std::ofstream(wfm) << "# VERTEX LIST:\n2\n0 0 0\n1 1\n";
   CHECK_THROWS_WITH(Candide3Model::load(wfm), Catch::Contains("bad.wfm:4: expected 3 numbers, found '1 1'"));
@@ -55,5 +57,4 @@ TEST_CASE("candide3: damaged files are refused with the line and reason") {
   CHECK_THROWS_WITH(load_ibug68_mapping(csv), Catch::Contains("bad.csv:2: vertex 500 out of range"));
   std::ofstream(csv) << "0,1,1.0,direct\n";
   CHECK_THROWS_WITH(load_ibug68_mapping(csv), Catch::Contains("landmark 1 is missing"));
-  std::filesystem::remove_all(dir);
 }

@@ -7,8 +7,10 @@
 #include "core/config_reader.hpp"
 #include "drone/lab/instrument_panels.hpp"
 #include "drone/lab/lab_description.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using labo::test::ScratchDir;
 using nlohmann::json;
 
 namespace {
@@ -24,8 +26,7 @@ json default_lab_json() {
 }
 
 std::filesystem::path write_variant(const json& j, const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "labo_sim_lab_test";
-  std::filesystem::create_directories(dir);
+  static const ScratchDir dir("sim_lab");  // one per test process, removed at exit
   const auto path = dir / (name + ".json");
   std::ofstream(path) << j.dump(2);
   return path;
@@ -69,8 +70,8 @@ TEST_CASE("sim: the default lab loads with its instruments, platform and teacher
 
 TEST_CASE("sim: the committed instrument templates are what the generator draws") {
   const auto dir = default_lab_path().parent_path() / "instruments";
-  const auto tmp = std::filesystem::temp_directory_path() / "labo_sim_textures_test";
-  const auto written = write_instrument_templates(tmp);
+  const ScratchDir tmp("sim_textures");
+  const auto written = write_instrument_templates(tmp.path());
   REQUIRE(written.size() == 4);
   for (const auto& p : written) {
     const auto committed = dir / p.filename();

@@ -4,8 +4,10 @@
 #include <fstream>
 
 #include "server/app_config.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using labo::test::ScratchDir;
 
 TEST_CASE("app config: the shipped default.json loads with the paper's thresholds") {
   const AppConfig c = load_app_config(default_config_path());
@@ -48,8 +50,8 @@ TEST_CASE("app config: the lab description it names is loaded and validated") {
   REQUIRE(c.lab.instruments.size() == 3);
   CHECK(c.lab.find_instrument("oscilloscope"));
 
-  const auto dir = std::filesystem::temp_directory_path() / "labo_app_config_lab_test";
-  std::filesystem::create_directories(dir);
+  const ScratchDir scratch("app_config_lab");
+  const std::filesystem::path& dir = scratch.path();
   auto error_of = [&](const std::string& text) -> std::string {
     try {
       const ConfigDocument doc = ConfigDocument::parse(text, "bad.json");
@@ -64,5 +66,4 @@ TEST_CASE("app config: the lab description it names is loaded and validated") {
   // A lab file with an error is refused with the lab file's name and key path.
   std::ofstream(dir / "broken_lab.json") << R"({"room": {"min": [0, 0, 0], "max": [1, 1, 1]}})";
   CHECK_THAT(error_of(R"({"lab": "broken_lab.json"})"), Catch::Contains("broken_lab.json") && Catch::Contains("room"));
-  std::filesystem::remove_all(dir);
 }

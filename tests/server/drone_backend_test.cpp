@@ -9,11 +9,14 @@
 
 #include "drone/replay/recording.hpp"
 #include "server/runtime/drone_backend.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using labo::test::ScratchDir;
 
 TEST_CASE("server: the flight software knows the instruments of the configured lab") {
-  const auto file = std::filesystem::temp_directory_path() / "labo_backend_lab_test.ldrec";
+  const ScratchDir scratch("backend_lab");
+  const auto file = scratch / "flight.ldrec";
   {
     RecordingWriter w(file);
     w.note(0.0, "empty flight");
@@ -32,7 +35,6 @@ TEST_CASE("server: the flight software knows the instruments of the configured l
   const CommandVerdict v = backend->flight().request(unknown);
   CHECK_FALSE(v.accepted);
   CHECK_THAT(v.reason, Catch::Contains("oscilloscope"));
-  std::filesystem::remove(file);
 }
 
 TEST_CASE("server: on the simulated lab the estimate follows the lab's truth through a take-off") {

@@ -11,8 +11,10 @@
 #include "drone/sim/ground_truth_log.hpp"
 #include "drone/sim/simulated_lab.hpp"
 #include "tests/drone/sim/sim_fixtures.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using labo::test::ScratchDir;
 
 namespace {
 
@@ -142,8 +144,8 @@ TEST_CASE("sim teacher in the lab: walks in the scene and is an obstacle", "[sim
 }
 
 TEST_CASE("sim ground truth: the CSV holds a row per record and the lab's objects", "[sim][ground_truth]") {
-  const auto dir = std::filesystem::temp_directory_path() / "labo_sim_ground_truth";
-  std::filesystem::remove_all(dir);
+  const ScratchDir scratch("sim_ground_truth");
+  const auto dir = scratch / "logs";  // not there yet: the log creates it
   auto v = hovering_lab({}, true);
   {
     GroundTruthLog log(dir / "run.csv", test::shipped_lab());

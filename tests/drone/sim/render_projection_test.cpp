@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "render_fixtures.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
 using namespace labo::test;
@@ -11,11 +12,11 @@ using namespace labo::test;
 namespace {
 
 // A 2x2 checkerboard panel: its centre is an X-corner that cornerSubPix finds to a tenth of a pixel.
-std::filesystem::path write_checker(int w, int h) {
+std::filesystem::path write_checker(const std::filesystem::path& dir, int w, int h) {
   cv::Mat img(h, w, CV_8UC3, cv::Scalar(235, 235, 235));
   img(cv::Rect(0, 0, w / 2, h / 2)).setTo(cv::Scalar(20, 20, 20));
   img(cv::Rect(w / 2, h / 2, w - w / 2, h - h / 2)).setTo(cv::Scalar(20, 20, 20));
-  const auto path = std::filesystem::temp_directory_path() / "labo_render_checker.png";
+  const auto path = dir / "checker.png";
   cv::imwrite(path.string(), img);
   return path;
 }
@@ -25,7 +26,8 @@ std::filesystem::path write_checker(int w, int h) {
 TEST_CASE("render: a known 3D point appears where the camera model projects it, distortion included") {
   LabDescription lab = load_lab_description(default_lab_path());
   InstrumentSpec& scope = lab.instruments.front();
-  scope.template_path = write_checker(400, 200);
+  const ScratchDir scratch("render_checker");
+  scope.template_path = write_checker(scratch.path(), 400, 200);
   LabRenderer renderer(lab, ardrone_cameras(), std::nullopt, 1, sharp_options());
   const PinholeCamera& camera = renderer.camera(CameraId::Front);
   const Eigen::Vector3d point = scope.T_world_object.translation();  // the X-corner

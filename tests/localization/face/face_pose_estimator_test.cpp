@@ -12,8 +12,10 @@
 #include "localization/face/person_registration.hpp"
 #include "localization/face/textured_head_renderer.hpp"
 #include "core/source_tree.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using labo::test::ScratchDir;
 using namespace labo::face;
 
 namespace {
@@ -79,7 +81,8 @@ TEST_CASE("face: config and person files are validated") {
   CHECK(c.solver.method == PnpMethod::EpnpLm);
   CHECK(c.interpupillary_distance_m == Approx(0.060));
 
-  const auto dir = std::filesystem::temp_directory_path() / "labo_face_people_test";
+  const ScratchDir scratch("face_people");
+  const std::filesystem::path& dir = scratch.path();
   PersonShape p{"ada", 0.061, Eigen::VectorXd::Constant(14, 0.2), 1.5, {}};
   save_person_shape(p, person_shape_path(dir, "ada"));
   const PersonShape back = load_person_shape(person_shape_path(dir, "ada"), 14);
@@ -88,7 +91,6 @@ TEST_CASE("face: config and person files are validated") {
   CHECK_THROWS(load_person_shape(person_shape_path(dir, "ada"), 13));       // wrong unit count
   CHECK_THROWS(load_person_shape(dir / "missing.json", 14));
   CHECK_THROWS_AS(person_shape_path(dir, "../etc/passwd"), std::invalid_argument);
-  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("face: a rendered head is tracked at the right pose") {

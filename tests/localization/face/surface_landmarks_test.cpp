@@ -6,8 +6,10 @@
 #include "localization/face/face_geometry.hpp"
 #include "localization/face/person_shape.hpp"
 #include "localization/face/surface_landmarks.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using labo::test::ScratchDir;
 using namespace labo::face;
 
 namespace {
@@ -54,7 +56,8 @@ TEST_CASE("face: surface landmarks are where the picture's rays cut the fitted m
 }
 
 TEST_CASE("face: person files keep the landmark offsets and refuse implausible ones") {
-  const auto dir = std::filesystem::temp_directory_path() / "labo_face_offsets_test";
+  const ScratchDir scratch("face_offsets");
+  const std::filesystem::path& dir = scratch.path();
   PersonShape p{"bea", 0.062, Eigen::VectorXd::Constant(14, 0.1), 1.2, {}};
   p.landmark_offsets_m = Eigen::Matrix3Xd::Constant(3, 43, 0.002);
   p.landmark_offsets_m(2, 5) = -0.004;
@@ -69,5 +72,4 @@ TEST_CASE("face: person files keep the landmark offsets and refuse implausible o
                "landmark_offsets_mm": [[1, 2, 40]]})";
   }
   CHECK_THROWS_WITH(load_person_shape(file, 14), Catch::Contains("landmark_offsets_mm[0]"));
-  std::filesystem::remove_all(dir);
 }

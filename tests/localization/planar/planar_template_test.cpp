@@ -8,8 +8,10 @@
 #include "core/config_reader.hpp"
 #include "localization/planar/planar_template.hpp"
 #include "localization/planar/synthetic_scene.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using labo::test::ScratchDir;
 
 namespace {
 
@@ -39,8 +41,8 @@ TEST_CASE("planar: templates are refused with the reason") {
 }
 
 TEST_CASE("planar: unreadable template files are refused") {
-  const auto dir = std::filesystem::temp_directory_path() / "labo_planar_template_test";
-  std::filesystem::create_directories(dir);
+  const ScratchDir scratch("planar_template");
+  const std::filesystem::path& dir = scratch.path();
   std::ofstream(dir / "junk.png") << "not a png";
   auto message = [](const std::filesystem::path& p) {
     try {
@@ -52,7 +54,6 @@ TEST_CASE("planar: unreadable template files are refused") {
   };
   CHECK(message(dir / "missing.png").find("no such file") != std::string::npos);
   CHECK(message(dir / "junk.png").find("not a readable image") != std::string::npos);
-  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("planar: large photos are downscaled with an exact pixel map") {
