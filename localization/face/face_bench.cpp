@@ -98,6 +98,32 @@ class FrameDegrader {
   ardrone2::EncodedFrame packet_;
 };
 
+// The registration's head turn: at 0.8 m, yaw 0 -> +25 -> -25 -> 0 degrees over the first half,
+// then pitch 0 -> +15 -> -15 -> 0 over the second, degraded like the frontal picture.
+std::vector<cv::Mat> render_turn_frames(TexturedHeadRenderer& renderer, const PinholeCamera& camera,
+                                        const FaceBenchOptions& options) {
+  constexpr double kYawDeg = 25, kPitchDeg = 15;
+  const double rad = std::numbers::pi / 180.0;
+  const cv::Mat background = make_background(camera, options.seed + 1000);
+  FrameDegrader degrader(options, camera, options.seed + 1);
+  std::vector<cv::Mat> frames;
+  const int n = options.turn_frames;
+  for (int i = 0; i < n; ++i) {
+    const double s = static_cast<double>(i) / n;  // 0..1
+    const double wave = std::sin(2 * std::numbers::pi * std::fmod(2 * s, 1.0));
+    HeadAngles a;
+    (s < 0.5 ? a.yaw : a.pitch) = wave * (s < 0.5 ? kYawDeg : kPitchDeg) * rad;
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = head_rotation(a);
+    T.translation() = Eigen::Vector3d(0, -0.02, 0.8);
+    cv::Mat frame = background.clone();
+    renderer.render(T, frame);
+    degrader.apply(0.5, 2.0, frame);
+    frames.push_back(std::move(frame));
+  }
+  return frames;
+}
+
 // The head in the simulated lab: LabRenderer draws the room, the teacher's body, neck and hair and
 // the same textured face mesh. The front camera stands still, level, 2.2 m from the lab teacher's
 // first waypoint towards the room's centre, looking at it; the head is placed at the sequence's
@@ -197,6 +223,13 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
     if (options.true_shape) used.shape_params = renderer.head().shape_params;
     estimator.set_person(used, true);
     report.shape_fit_rms_px = teacher.fit_rms_px;
+    if (options.turn_frames > 0) {
+      const TurnRefinement turns =
+          refine_person_from_turns(estimator, used, render_turn_frames(renderer, camera, options), TurnRequirements{});
+      report.turn_views = turns.views;
+      report.turn_rms_before_px = turns.rms_before_px;
+      report.turn_rms_after_px = turns.rms_after_px;
+    }
     const auto fitted = estimator.model().observable_units();
     double sum = 0;
     int n = 0;

@@ -23,6 +23,9 @@ struct FaceBenchOptions {
   bool lossy_video = true;        // H.264 round trip through the link's codec
   int video_bitrate_kbps = 1000;  // the AR.Drone 2.0's default video:max_bitrate
   bool true_shape = false;          // use the rendered head's shape instead of the registered one
+  // After the frontal picture, this many frames of the head turning left, right, up and down at
+  // 0.8 m refine the landmarks' depth (person_registration.hpp: refine_person_from_turns). 0: off.
+  int turn_frames = 0;
   std::filesystem::path sample_dir;  // when set, a few rendered frames are written there
   // Sequences drawn by the simulated lab's LabRenderer (drone/sim/lab_renderer.hpp: the room, the
   // teacher's body, neck and hair around the same textured CANDIDE-3 face), after the `sequences`
@@ -65,6 +68,8 @@ struct FaceBenchReport {
   double detect_ms_median = 0, landmarks_ms_median = 0, pose_ms_median = 0;
   double shape_fit_rms_px = 0;            // registration picture
   double shape_param_error_rms = 0;       // fitted vs the rendered head's τs, observable units
+  int turn_views = 0;                     // turn frames used (0: no turn refinement)
+  double turn_rms_before_px = 0, turn_rms_after_px = 0;
   std::vector<std::pair<std::string, int>> lost_reasons;
 };
 

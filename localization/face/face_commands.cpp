@@ -1,5 +1,10 @@
 #include "localization/face/face_commands.hpp"
 
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <optional>
+#include <vector>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -69,7 +74,11 @@ nlohmann::json to_json(const face::FaceBenchReport& r, const face::FaceBenchOpti
                    {"median_tracking_no_detector", r.tracking_frame_ms_median},
                    {"detect_median", r.detect_ms_median}, {"landmarks_median", r.landmarks_ms_median},
                    {"pose_median", r.pose_ms_median}};
-  j["registration"] = {{"fit_rms_px", r.shape_fit_rms_px}, {"shape_param_error_rms", r.shape_param_error_rms}};
+  j["registration"] = {{"fit_rms_px", r.shape_fit_rms_px},
+                       {"shape_param_error_rms", r.shape_param_error_rms},
+                       {"turn_views", r.turn_views},
+                       {"turn_rms_before_px", r.turn_rms_before_px},
+                       {"turn_rms_after_px", r.turn_rms_after_px}};
   for (const auto& s : r.sequences) {
     j["per_sequence"].push_back({{"name", s.name}, {"renderer", s.renderer}, {"distance_m", s.distance_m}, {"detection_rate", s.detection_rate},
                                  {"lm_yaw_err_deg", s.yaw_err_deg}, {"lm_tz_err_mm", s.tz_err_mm}});
@@ -110,6 +119,10 @@ void print_table(const face::FaceBenchReport& r) {
   }
   std::printf("registration: fit RMS %.2f px, shape parameter error (RMS over fitted units) %.3f\n", r.shape_fit_rms_px,
               r.shape_param_error_rms);
+  if (r.turn_views > 0) {
+    std::printf("head turn: %d views, landmark fit %.2f -> %.2f px\n", r.turn_views, r.turn_rms_before_px,
+                r.turn_rms_after_px);
+  }
   for (const auto& [reason, count] : r.lost_reasons) std::printf("lost: %-60s %d frames\n", reason.c_str(), count);
 }
 
@@ -132,6 +145,7 @@ const CommandSpec& face_bench_command_spec() {
        {"--lab", "FILE", "lab description for those (default: config/lab.json)"},
        {"--frames-csv", "FILE", "write per-frame truth and LM-tracking errors there (for analysis)"},
        {"--true-shape", "", "use the rendered head's shape instead of the one registered from a frontal frame"},
+       {"--turn-frames", "N", "refine the registered landmarks from N frames of the head turning (default 0: off)"},
        {"--json", "", "print the report as JSON"}},
       0,
       0};
@@ -149,6 +163,7 @@ int run_face_bench_command(const ParsedArgs& args) {
   o.video_bitrate_kbps = args.integer_or("--bitrate-kbps", 1000, 100, 20000);
   o.sample_dir = args.value_or("--samples", "");
   o.true_shape = args.flag("--true-shape");
+  o.turn_frames = args.integer_or("--turn-frames", 0, 0, 10000);
   o.frames_csv = args.value_or("--frames-csv", "");
   o.lab_sequences = args.integer_or("--lab-sequences", 4, 0, 1000);
   o.lab = args.value_or("--lab", (labo::source_root() / "config" / "lab.json").string());
@@ -174,11 +189,44 @@ const CommandSpec& face_register_command_spec() {
       {{"--config", "FILE", "configuration file (default: config/default.json)"},
        {"--name", "NAME", "person's name (A-Z a-z 0-9 _ -), required"},
        {"--ipd-mm", "MM", "interpupillary distance in mm (default: face.interpupillary_distance_mm)"},
+       {"--turns", "DIR", "pictures (PNG/JPEG, in name order) of the person slowly turning their head left, right, "
+                          "up and down: refine the landmarks' depth from them"},
        {"--out", "FILE", "where to write (default: <face.people_dir>/<NAME>.json)"}},
       1,
       1};
   return spec;
 }
+
+namespace {
+
+// The --turns folder's pictures in name order (a recording's frames keep their order that way), each
+// checked to be the front camera's size. None when the option is absent.
+std::vector<cv::Mat> read_turn_pictures(const std::optional<std::string>& dir, const PinholeCamera& camera) {
+  std::vector<cv::Mat> frames;
+  if (!dir) return frames;
+  if (!std::filesystem::is_directory(*dir)) throw UsageError("--turns " + *dir + ": not a folder");
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(*dir)) {
+    std::string ext = e.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (e.is_regular_file() && (ext == ".png" || ext == ".jpg" || ext == ".jpeg")) files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw UsageError("--turns " + *dir + ": no PNG or JPEG pictures in it");
+  for (const auto& f : files) {
+    cv::Mat gray = cv::imread(f.string(), cv::IMREAD_GRAYSCALE);
+    if (gray.empty()) throw UsageError(f.string() + ": cannot read the picture");
+    if (gray.cols != camera.width() || gray.rows != camera.height()) {
+      throw UsageError(f.string() + ": picture is " + std::to_string(gray.cols) + "x" + std::to_string(gray.rows) +
+                       ", expected the front camera's " + std::to_string(camera.width()) + "x" +
+                       std::to_string(camera.height()));
+    }
+    frames.push_back(std::move(gray));
+  }
+  return frames;
+}
+
+}  // namespace
 
 int run_face_register_command(const ParsedArgs& args) {
   const FaceSetup setup = load_face_setup(args);
@@ -192,9 +240,17 @@ int run_face_register_command(const ParsedArgs& args) {
                      ", expected the front camera's " + std::to_string(setup.camera.width()) + "x" +
                      std::to_string(setup.camera.height()));
   }
+  const std::vector<cv::Mat> turns = read_turn_pictures(args.value("--turns"), setup.camera);
   face::FacePoseEstimator estimator(setup.face, setup.camera);
   try {
-    const face::PersonShape person = face::register_person(estimator, image, *name, ipd_m);
+    face::PersonShape person = face::register_person(estimator, image, *name, ipd_m);
+    if (!turns.empty()) {
+      const face::TurnRefinement refined = face::refine_person_from_turns(estimator, person, turns);
+      person = refined.person;
+      std::cout << "head turn: " << refined.views << " of " << turns.size() << " pictures tracked (yaw span "
+                << refined.yaw_span_deg << "°, pitch span " << refined.pitch_span_deg << "°), landmark fit "
+                << refined.rms_before_px << " -> " << refined.rms_after_px << " px\n";
+    }
     const auto out = args.value_or("--out", face::person_shape_path(setup.face.people_dir, *name).string());
     face::save_person_shape(person, out);
     std::cout << "registered " << *name << ": fit RMS " << person.fit_rms_px << " px -> " << out << "\n";

@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <cmath>
 
 #include "face_test_pose.hpp"
 #include <filesystem>
@@ -148,6 +149,34 @@ TEST_CASE("face: registration fits a frontal picture and refuses none or several
                     Catch::Contains("2 faces"));
   CHECK_THROWS_WITH(register_person(f.estimator, f.render({pose(35, 0, 0, {0, -0.02, 0.8})}), "teacher", 0.063),
                     Catch::Contains("turned"));
+}
+
+TEST_CASE("face: a head turn refines the registered landmarks; too little turn is refused") {
+  RenderedHeadFixture f;
+  const PersonShape p = register_person(f.estimator, f.render({pose(0, 0, 0, {0, -0.02, 0.8})}), "teacher", 0.063);
+  // Left, right (first half), then up, down (second half), as a person asked to turn slowly would.
+  std::vector<cv::Mat> turn;
+  for (int i = 0; i < 40; ++i) {
+    const double s = i / 40.0, wave = std::sin(2 * std::numbers::pi * std::fmod(2 * s, 1.0));
+    turn.push_back(f.render({pose(s < 0.5 ? 25 * wave : 0, s < 0.5 ? 0 : 15 * wave, 0, {0, -0.02, 0.8})}));
+  }
+  const TurnRefinement r = refine_person_from_turns(f.estimator, p, turn);
+  CHECK(r.views >= 30);
+  CHECK(r.yaw_span_deg > 35);
+  CHECK(r.pitch_span_deg > 20);
+  CHECK(r.rms_after_px < r.rms_before_px);
+  REQUIRE(r.person.landmark_offsets_m.cols() == f.estimator.model().size());
+  CHECK(r.person.landmark_offsets_m.cwiseAbs().maxCoeff() <= 0.02);
+  CHECK(r.person.landmark_offsets_m.cwiseAbs().maxCoeff() > 1e-4);  // it did move something
+  CHECK(f.estimator.person().landmark_offsets_m.cols() == f.estimator.model().size());
+
+  const std::vector<cv::Mat> still(12, f.render({pose(0, 0, 0, {0, -0.02, 0.8})}));
+  CHECK_THROWS_WITH(refine_person_from_turns(f.estimator, p, still),
+                    Catch::Contains("the head turned") && Catch::Contains("expected at least"));
+  const std::vector<cv::Mat> empty_room(12, blank());
+  CHECK_THROWS_WITH(refine_person_from_turns(f.estimator, p, empty_room), Catch::Contains("tracked in 0 of 12 frames"));
+  CHECK_THROWS_WITH(refine_person_from_turns(f.estimator, p, {cv::Mat(10, 10, CV_8UC1, cv::Scalar(0))}),
+                    Catch::Contains("turn frame 0: not the camera's size"));
 }
 
 TEST_CASE("face: the landmarks of a rolled face are found in an upright crop and turned back") {

@@ -12,21 +12,16 @@
 #include "localization/planar/planar_commands.hpp"
 #include "localization/planar/planar_template.hpp"
 #include "localization/planar/synthetic_scene.hpp"
+#include "tests/support/cout_capture.hpp"
 
 using namespace labo;
 
 namespace {
 
-struct CoutCapture {
-  std::ostringstream out;
-  std::streambuf* old = std::cout.rdbuf(out.rdbuf());
-  ~CoutCapture() { std::cout.rdbuf(old); }
-};
-
 int run(const std::vector<std::string>& args, std::string* output = nullptr) {
-  CoutCapture capture;
+  test::CoutCapture capture;
   const int rc = run_homography_command(parse_args(homography_command_spec(), args));
-  if (output) *output = capture.out.str();
+  if (output) *output = capture.text();
   return rc;
 }
 

@@ -1,0 +1,96 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/candide3.hpp"
+#include "core/source_tree.hpp"
+#include "face_test_pose.hpp"
+#include "localization/face/face_commands.hpp"
+#include "localization/face/face_pose_estimator.hpp"
+#include "localization/face/teacher_head.hpp"
+#include "localization/face/textured_head_renderer.hpp"
+#include "tests/support/scratch_dir.hpp"
+#include "tests/support/cout_capture.hpp"
+
+using namespace labo;
+using namespace labo::face;
+using labo::test::ScratchDir;
+
+namespace {
+
+int run_register(const std::vector<std::string>& args, std::string* output = nullptr) {
+  test::CoutCapture capture;
+  const int rc = run_face_register_command(parse_args(face_register_command_spec(), args));
+  if (output) *output = capture.text();
+  return rc;
+}
+
+// Pictures of the astronaut head (assets/astronaut.png, from scripts/setup.sh) through the front camera.
+class HeadPictures {
+ public:
+  HeadPictures() {
+    const cv::Mat photo = cv::imread((labo::source_root() / "assets" / "astronaut.png").string(), cv::IMREAD_GRAYSCALE);
+    REQUIRE_FALSE(photo.empty());  // run scripts/setup.sh
+    renderer_.emplace(candide_, texture_head_from_photo(estimator_, candide_, photo, 0.063), camera_);
+  }
+  cv::Mat render(double yaw_deg, double pitch_deg) {
+    cv::Mat img(camera_.height(), camera_.width(), CV_8UC1, cv::Scalar(120));
+    renderer_->render(testing::pose(yaw_deg, pitch_deg, 0, {0, -0.02, 0.8}), img);
+    return img;
+  }
+
+ private:
+  PinholeCamera camera_ = PinholeCamera::ardrone2_front();
+  Candide3Model candide_ = Candide3Model::load(Candide3Model::default_path());
+  FacePoseEstimator estimator_{default_face_config(), camera_};
+  std::optional<TexturedHeadRenderer> renderer_;
+};
+
+}  // namespace
+
+TEST_CASE("face register: a head turn refines the person; bad --turns folders are refused") {
+  const ScratchDir dir("face_register");
+  HeadPictures pictures;
+  cv::imwrite((dir / "frontal.png").string(), pictures.render(0, 0));
+  std::filesystem::create_directories(dir / "turn");
+  for (int i = 0; i < 40; ++i) {
+    const double s = i / 40.0, wave = std::sin(2 * std::numbers::pi * std::fmod(2 * s, 1.0));
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%03d.png", i);
+    cv::imwrite((dir / "turn" / name).string(), pictures.render(s < 0.5 ? 25 * wave : 0, s < 0.5 ? 0 : 15 * wave));
+  }
+  const std::string frontal = (dir / "frontal.png").string(), out = (dir / "ada.json").string();
+  std::string printed;
+  REQUIRE(run_register({frontal, "--name", "ada", "--turns", (dir / "turn").string(), "--out", out}, &printed) == 0);
+  CHECK_THAT(printed, Catch::Contains("head turn: ") && Catch::Contains("of 40 pictures tracked"));
+  std::ifstream saved(out);
+  const std::string text((std::istreambuf_iterator<char>(saved)), {});
+  CHECK_THAT(text, Catch::Contains("landmark_offsets_mm"));
+
+  CHECK_THROWS_WITH(run_register({frontal, "--name", "ada", "--turns", (dir / "missing").string(), "--out", out}),
+                    Catch::Contains("not a folder"));
+  std::filesystem::create_directories(dir / "empty");
+  CHECK_THROWS_WITH(run_register({frontal, "--name", "ada", "--turns", (dir / "empty").string(), "--out", out}),
+                    Catch::Contains("no PNG or JPEG pictures"));
+  std::filesystem::create_directories(dir / "small");
+  cv::imwrite((dir / "small" / "a.png").string(), cv::Mat(100, 100, CV_8UC1, cv::Scalar(0)));
+  CHECK_THROWS_WITH(run_register({frontal, "--name", "ada", "--turns", (dir / "small").string(), "--out", out}),
+                    Catch::Contains("picture is 100x100, expected the front camera's"));
+  // A still head: the turn is refused (exit 2, the reason on stderr), nothing written.
+  std::filesystem::create_directories(dir / "still");
+  const cv::Mat still = pictures.render(0, 0);
+  for (int i = 0; i < 12; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "still_%02d.png", i);
+    cv::imwrite((dir / "still" / name).string(), still);
+  }
+  const std::string still_out = (dir / "still.json").string();
+  CHECK(run_register({frontal, "--name", "ada", "--turns", (dir / "still").string(), "--out", still_out}) == 2);
+  CHECK_FALSE(std::filesystem::exists(still_out));
+}
