@@ -24,6 +24,10 @@ Eigen::Vector2d thrust_direction(double roll, double pitch, double yaw) {
 
 double DroneEkf::wrap(double a) { return wrap_angle(a); }
 
+Eigen::Vector2d DroneEkf::thrust_accel(double roll, double pitch, double yaw) const {
+  return model_.thrust_accel_mps2 * thrust_direction(roll, pitch, yaw);
+}
+
 StateVector DroneEkf::derivative(const StateVector& s, const std::optional<MoveCommand>& command) const {
   StateVector d = StateVector::Zero();
   d(X) = s(VX);
@@ -90,8 +94,8 @@ void DroneEkf::step(double dt, const std::optional<MoveCommand>& command) {
     Q(vel, pos) += q * dt * dt / 2.0;
     Q(vel, vel) += q * dt;
   };
-  white_accel(X, VX, noise_.accel_xy_mps2);
-  white_accel(Y, VY, noise_.accel_xy_mps2);
+  white_accel(X, VX, xy_accel_noise_);
+  white_accel(Y, VY, xy_accel_noise_);
   white_accel(Z, VZ, noise_.accel_z_mps2);
   white_accel(YAW, YAW_RATE, noise_.yaw_accel_radps2);
   Q(ROLL, ROLL) += noise_.attitude_radps * noise_.attitude_radps * dt;

@@ -14,7 +14,8 @@ namespace labo {
 
 class DroneEkf {
  public:
-  DroneEkf(const MotionModelConstants& model, const EstimatorNoise& noise) : model_(model), noise_(noise) {}
+  DroneEkf(const MotionModelConstants& model, const EstimatorNoise& noise)
+      : model_(model), noise_(noise), xy_accel_noise_(noise.accel_xy_mps2) {}
 
   void reset(const StateVector& s, const StateCovariance& P) {
     s_ = s;
@@ -25,6 +26,18 @@ class DroneEkf {
   // Propagates by dt seconds (split in steps of at most 10 ms). Without a command the attitude, yaw
   // rate and vertical speed are held (random walk); the horizontal dynamics always follow the tilt.
   void predict(double dt, const std::optional<MoveCommand>& command);
+
+  // The horizontal acceleration the thrust gives at this attitude (world frame, no drag).
+  Eigen::Vector2d thrust_accel(double roll, double pitch, double yaw) const;
+  // The horizontal process noise (white acceleration, m/s^2/sqrt(Hz)); `reset_xy_accel_noise` restores
+  // the configured one. The filter runs on the model alone during a velocity dropout.
+  void set_xy_accel_noise(double sigma_mps2) { xy_accel_noise_ = sigma_mps2; }
+  void reset_xy_accel_noise() { xy_accel_noise_ = noise_.accel_xy_mps2; }
+  // Adds `variance` to the diagonal element i (an estimate that was just moved by a correction).
+  void add_variance(int i, double variance) {
+    P_(i, i) += variance;
+    keep_positive_definite();
+  }
 
   // The continuous-time derivative of the state under a command (exposed for the model fit).
   StateVector derivative(const StateVector& s, const std::optional<MoveCommand>& command) const;
@@ -65,6 +78,7 @@ class DroneEkf {
 
   MotionModelConstants model_;
   EstimatorNoise noise_;
+  double xy_accel_noise_;
   StateVector s_ = StateVector::Zero();
   StateCovariance P_ = StateCovariance::Identity();
   int repairs_ = 0;

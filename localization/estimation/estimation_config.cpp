@@ -46,6 +46,20 @@ void read_reacquisition(const ConfigReader& n, ReacquisitionSettings& r) {
   r.confirm_spread_m = n.number_or("confirm_spread_m", r.confirm_spread_m, Range::closed(0.001, 1.0));
   n.finish();
 }
+
+void read_velocity_dropout(const ConfigReader& n, VelocityDropoutSettings& d) {
+  d.enabled = n.boolean_or("enabled", d.enabled);
+  d.window_s = n.number_or("window_s", d.window_s, Range::closed(0.05, 5.0));
+  d.average_s = n.number_or("average_s", d.average_s, Range{0.0, 1.0, true});
+  if (d.average_s >= d.window_s) n.fail("average_s", "must be shorter than window_s");
+  d.onset_mps = n.number_or("onset_mps", d.onset_mps, Range::positive());
+  d.onset_ratio = n.number_or("onset_ratio", d.onset_ratio, Range::closed(0.0, 1.0));
+  d.alive_mps = n.number_or("alive_mps", d.alive_mps, Range::positive());
+  d.agree_mps = n.number_or("agree_mps", d.agree_mps, Range::positive());
+  d.confirm_packets = n.integer_or("confirm_packets", d.confirm_packets, 1, 100);
+  d.dropout_accel_noise_mps2 = n.number_or("dropout_accel_noise_mps2", d.dropout_accel_noise_mps2, Range::positive());
+  n.finish();
+}
 }  // namespace
 
 EstimatorConfig read_estimation_config(const ConfigReader& node) {
@@ -62,6 +76,7 @@ EstimatorConfig read_estimation_config(const ConfigReader& node) {
   if (node.has("noise")) read_noise(node.object("noise"), c.noise);
   c.use_navdata_vz = node.boolean_or("use_navdata_vz", c.use_navdata_vz);
   c.altitude_step_discrimination = node.boolean_or("altitude_step_discrimination", c.altitude_step_discrimination);
+  if (node.has("velocity_dropout")) read_velocity_dropout(node.object("velocity_dropout"), c.velocity_dropout);
   c.source_enter_count = node.integer_or("source_enter_count", c.source_enter_count, 1, 100);
   c.source_timeout_s = node.number_or("source_timeout_s", c.source_timeout_s, Range{0.0, 10.0, true});
   c.vision_gate_chi2 = node.number_or("vision_gate_chi2", c.vision_gate_chi2, Range::positive());

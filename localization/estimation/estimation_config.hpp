@@ -49,6 +49,22 @@ struct EstimatorNoise {
   double survey_position_m = 0.05;      // lab.json object poses
 };
 
+// Detection of a failed bottom-camera velocity (velocity_dropout_detector.hpp; thresholds chosen on
+// the simulated lab, docs/state-estimation.md "Velocity dropout").
+struct VelocityDropoutSettings {
+  bool enabled = true;          // false fuses every navdata velocity (the behaviour before, for comparison)
+  Seconds window_s = 0.4;       // the model-consistency window
+  Seconds average_s = 0.1;      // the measured velocity is averaged over this span at both ends
+  double onset_mps = 0.1;       // speed lost against the model over the window
+  double onset_ratio = 0.6;     // ... and the measured speed below this share of the model's
+  double alive_mps = 0.1;       // a failed flow reads about zero; above this it may follow the motion
+  double agree_mps = 0.06;      // measured vs the filter's model-propagated velocity, to resume at rest
+  int confirm_packets = 2;      // consecutive packets a verdict needs
+  // While in dropout the filter runs on the model; its horizontal acceleration noise (m/s^2/sqrt(Hz))
+  // is this instead of noise.accel_xy_mps2, which is tuned for fused velocities.
+  double dropout_accel_noise_mps2 = 0.3;
+};
+
 struct EstimatorConfig {
   Seconds video_delay_s = 0.075;
   Seconds navdata_delay_s = 0.040;
@@ -75,6 +91,7 @@ struct EstimatorConfig {
   // false reproduces the paper's ultrasound rule (increments above gamma dropped as floor steps), for
   // comparison in the experiments; true tells pushes from floor steps (altitude_tracker.hpp).
   bool altitude_step_discrimination = true;
+  VelocityDropoutSettings velocity_dropout;
   // Scale estimation (tum_ardrone's ML estimator, notes §3; ScaleSettings in scale_estimator.hpp for
   // what differs). Noises are per pair and in metres after the axis weights.
   double scale_sigma_map_m = 0.02;

@@ -24,7 +24,8 @@ Eigen::Matrix<double, M, M> diag_sq(const Eigen::Matrix<double, M, 1>& sigma) {
 FilterCore::FilterCore(const EstimatorConfig& config, double gamma_m)
     : config_(config), ekf_(config.model, config.noise),
       altitude_(gamma_m, config.altitude_step_discrimination ? AltitudeTracker::Mode::Discriminating
-                                                              : AltitudeTracker::Mode::PaperGammaOnly) {}
+                                                              : AltitudeTracker::Mode::PaperGammaOnly),
+      dropout_(config.velocity_dropout, config.model) {}
 
 void FilterCore::reset(const StateVector& s, const StateCovariance& P, Seconds t) {
   ekf_.reset(s, P);
@@ -34,6 +35,8 @@ void FilterCore::reset(const StateVector& s, const StateCovariance& P, Seconds t
   yaw_anchored_ = false;
   last_nav_valid_ = false;
   altitude_.reset();
+  dropout_.reset();
+  ekf_.reset_xy_accel_noise();
   odometry_ = {};
   counters_ = {};
 }
@@ -55,17 +58,24 @@ void FilterCore::apply_navdata(const NavdataSample& n, bool vision_holding, cons
   observe_attitude(n);
   observe_yaw(n, vision_holding);
   if (n.control_state == kLandedState) {
+    dropout_.reset();
+    ekf_.reset_xy_accel_noise();
     observe_landed();
   } else {
     observe_velocity(n, vision_holding);
     observe_altitude(n, map);
   }
-  // Odometry for the scale pairs: body velocities rotated by the filter's yaw, integrated.
+  // Odometry for the scale pairs: body velocities rotated by the filter's yaw, integrated. A velocity
+  // dropout leaves it without coverage, like a navdata gap (the pair is not used).
   const double yaw = ekf_.state()(YAW);
   const Eigen::Vector2d v_world(std::cos(yaw) * n.vx_mps - std::sin(yaw) * n.vy_mps,
                                 std::sin(yaw) * n.vx_mps + std::cos(yaw) * n.vy_mps);
-  odometry_.xy += v_world * gap;
-  odometry_.max_gap = std::max(odometry_.max_gap, gap);
+  if (dropout_.in_dropout()) {
+    odometry_.max_gap = std::max(odometry_.max_gap, t_ - dropout_.dropout_start() + gap);
+  } else {
+    odometry_.xy += v_world * gap;
+    odometry_.max_gap = std::max(odometry_.max_gap, gap);
+  }
   last_nav_valid_ = true;
   last_nav_t_ = t_;
 }
@@ -99,7 +109,43 @@ void FilterCore::observe_yaw(const NavdataSample& n, bool vision_holding) {
   last_navdata_yaw_ = n.yaw_rad;
 }
 
+bool FilterCore::velocity_usable(const NavdataSample& n) {
+  if (!config_.velocity_dropout.enabled) return true;
+  const StateVector& s = ekf_.state();
+  const double c = std::cos(s(YAW)), sn = std::sin(s(YAW));
+  const Eigen::Vector2d measured_world(c * n.vx_mps - sn * n.vy_mps, sn * n.vx_mps + c * n.vy_mps);
+  const VelocityVerdict v = dropout_.process(t_, measured_world, ekf_.thrust_accel(n.roll_rad, n.pitch_rad, s(YAW)),
+                                             s.segment<2>(VX));
+  if (v.onset) {
+    const DropoutCorrection& k = dropout_.correction();
+    ekf_.mutable_state().segment<2>(VX) += k.velocity;
+    ekf_.mutable_state().segment<2>(X) += k.position;
+    for (int i = 0; i < 2; ++i) {
+      ekf_.add_variance(VX + i, k.velocity(i) * k.velocity(i));
+      ekf_.add_variance(X + i, k.position(i) * k.position(i));
+    }
+    ekf_.set_xy_accel_noise(dropout_.settings().dropout_accel_noise_mps2);
+    ++counters_.velocity_dropouts;
+  }
+  if (v.resumed) ekf_.reset_xy_accel_noise();
+  if (!v.fuse) ++counters_.velocity_dropout_packets;
+  return v.fuse;
+}
+
 void FilterCore::observe_velocity(const NavdataSample& n, bool vision_holding) {
+  const bool usable = velocity_usable(n);
+  if (usable) fuse_horizontal_velocity(n, vision_holding);
+  dropout_.record_filter_velocity(ekf_.state().segment<2>(VX));
+  if (config_.use_navdata_vz) {
+    Eigen::Matrix<double, 1, N> Hz = Eigen::Matrix<double, 1, N>::Zero();
+    Hz(0, VZ) = 1.0;
+    Eigen::Matrix<double, 1, 1> y(n.vz_mps - ekf_.state()(VZ));
+    Eigen::Matrix<double, 1, 1> R(config_.noise.vertical_velocity_mps * config_.noise.vertical_velocity_mps);
+    ekf_.update<1>(y, Hz, R);
+  }
+}
+
+void FilterCore::fuse_horizontal_velocity(const NavdataSample& n, bool vision_holding) {
   // Body-frame velocities h(s) = Rz(yaw)^T (vx, vy), with their yaw Jacobian.
   const StateVector& s = ekf_.state();
   const double c = std::cos(s(YAW)), sn = std::sin(s(YAW));
@@ -113,13 +159,6 @@ void FilterCore::observe_velocity(const NavdataSample& n, bool vision_holding) {
   H(1, YAW) = -c * s(VX) - sn * s(VY);
   const double sigma = vision_holding ? config_.noise.velocity_with_vision_mps : config_.noise.velocity_mps;
   ekf_.update<2>(Eigen::Vector2d(n.vx_mps, n.vy_mps) - predicted, H, diag_sq<2>(Eigen::Vector2d(sigma, sigma)));
-  if (config_.use_navdata_vz) {
-    Eigen::Matrix<double, 1, N> Hz = Eigen::Matrix<double, 1, N>::Zero();
-    Hz(0, VZ) = 1.0;
-    Eigen::Matrix<double, 1, 1> y(n.vz_mps - ekf_.state()(VZ));
-    Eigen::Matrix<double, 1, 1> R(config_.noise.vertical_velocity_mps * config_.noise.vertical_velocity_mps);
-    ekf_.update<1>(y, Hz, R);
-  }
 }
 
 void FilterCore::observe_altitude(const NavdataSample& n, const SurfaceMap* map) {

@@ -10,6 +10,7 @@
 #include "localization/estimation/altitude_tracker.hpp"
 #include "localization/estimation/drone_ekf.hpp"
 #include "localization/estimation/estimation_config.hpp"
+#include "localization/estimation/velocity_dropout_detector.hpp"
 
 namespace labo {
 
@@ -26,6 +27,8 @@ struct NavdataCounters {
   int floor_steps = 0;
   int fused_as_motion = 0;
   int short_echoes = 0;
+  int velocity_dropouts = 0;         // onsets of a bottom-camera velocity dropout
+  int velocity_dropout_packets = 0;  // packets whose horizontal velocity was not fused
 };
 
 class FilterCore {
@@ -49,17 +52,23 @@ class FilterCore {
   MetricOdometry& odometry() { return odometry_; }
   const NavdataCounters& counters() const { return counters_; }
   const AltitudeTracker& altitude() const { return altitude_; }
+  const VelocityDropoutDetector& velocity_dropout() const { return dropout_; }
 
  private:
   void observe_attitude(const NavdataSample& n);
   void observe_yaw(const NavdataSample& n, bool vision_holding);
   void observe_velocity(const NavdataSample& n, bool vision_holding);
+  // Asks the dropout detector whether this packet's horizontal velocity may be fused; at an onset,
+  // takes back what the failing measurements pulled the estimate off by.
+  bool velocity_usable(const NavdataSample& n);
+  void fuse_horizontal_velocity(const NavdataSample& n, bool vision_holding);
   void observe_altitude(const NavdataSample& n, const SurfaceMap* map);
   void observe_landed();
 
   EstimatorConfig config_;
   DroneEkf ekf_;
   AltitudeTracker altitude_;
+  VelocityDropoutDetector dropout_;
   Seconds t_ = 0;
   bool initialized_ = false;
   std::optional<MoveCommand> command_;

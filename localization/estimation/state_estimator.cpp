@@ -575,6 +575,8 @@ EstimatorStatistics StateEstimator::statistics() const {
   st.counters["floor_steps"] = static_cast<std::uint64_t>(impl_->core.counters().floor_steps);
   st.counters["ultrasound_fused_as_motion"] = static_cast<std::uint64_t>(impl_->core.counters().fused_as_motion);
   st.counters["ultrasound_short_echoes"] = static_cast<std::uint64_t>(impl_->core.counters().short_echoes);
+  st.counters["velocity_dropouts"] = static_cast<std::uint64_t>(impl_->core.counters().velocity_dropouts);
+  st.counters["velocity_dropout_packets"] = static_cast<std::uint64_t>(impl_->core.counters().velocity_dropout_packets);
   return st;
 }
 

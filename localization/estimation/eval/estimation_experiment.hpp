@@ -38,6 +38,17 @@ struct ScaleWindow {
   double estimated_m_per_unit = 0;
 };
 
+// Dead reckoning across the lab's bare floor, where the bottom camera's velocity drops out: a set
+// point moving at 0.5 m/s along x over it (the estimate's error is what grew since the crossing began).
+struct BareFloorCrossing {
+  double final_error_m = 0;    // horizontal, 2 s after the set point stopped
+  double max_error_m = 0;      // horizontal, over the crossing and the 2 s
+  double overshoot_m = 0;      // how far the drone went past the set point's end along x
+  std::uint64_t dropouts = 0;  // the estimator's velocity_dropouts / velocity_dropout_packets
+  std::uint64_t dropout_packets = 0;
+  std::string crash;           // what the drone hit, if it did
+};
+
 struct EstimationResults {
   std::string plant;
   std::string vision_input;
@@ -63,6 +74,9 @@ struct EstimationResults {
   // Dead reckoning (vision lost) while flying a small square.
   double dead_reckoning_drift_m_per_s = 0;
   double dead_reckoning_yaw_drift_deg_per_s = 0;
+  // Across the bare floor, with the velocity dropout detected and fusing every velocity (as before).
+  BareFloorCrossing bare_floor;
+  BareFloorCrossing bare_floor_fusing_every_velocity;
   // z impulses of +0.5 m.
   ImpulseResult impulse_servo;           // while servoing on the instrument
   ImpulseResult impulse_dead_reckoning;  // with navdata only

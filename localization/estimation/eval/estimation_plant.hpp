@@ -33,6 +33,7 @@ struct PlantRequest {
   unsigned seed = 1;
   Seconds navdata_period = 1.0 / 200.0;
   bool video = false;  // render and deliver camera frames (real vision); otherwise none are made
+  bool flat_trim = true;  // calibrate the IMU's roll/pitch on the ground before the take-off
 };
 
 class EstimationPlant {

@@ -26,8 +26,9 @@ LabPlant::LabPlant(const LabPlantInputs& inputs, const PlantRequest& request) : 
   surfaces_ = surface_map_of(inputs.lab);
   frames_.reserve(8);
   pixels_.resize(8);
-  // Flat trim on the platform, take off, wait for the firmware's hover (navdata meanwhile dropped).
-  link_->flat_trim();
+  // Flat trim on the platform (unless asked not to), take off, wait for the firmware's hover (navdata
+  // meanwhile dropped).
+  if (request.flat_trim) link_->flat_trim();
   link_->advance_to(0.2);
   link_->takeoff();
   while (link_->now() < kTakeoffLimit && lab_->truth().phase != FirmwarePhase::Hovering) link_->advance_to(link_->now() + 0.05);

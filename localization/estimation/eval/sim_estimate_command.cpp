@@ -37,6 +37,12 @@ nlohmann::json scale_windows_json(const std::vector<ScaleWindow>& windows) {
   return out;
 }
 
+nlohmann::json bare_floor_json(const BareFloorCrossing& b) {
+  return {{"final_error_m", b.final_error_m}, {"max_error_m", b.max_error_m}, {"overshoot_m", b.overshoot_m},
+          {"velocity_dropouts", b.dropouts}, {"velocity_dropout_packets", b.dropout_packets},
+          {"crash", b.crash}};
+}
+
 nlohmann::json run_json(const EstimationResults& r, unsigned seed) {
   return {{"seed", seed},
           {"scale", {{"error_percent", r.scale_error_percent},
@@ -54,6 +60,8 @@ nlohmann::json run_json(const EstimationResults& r, unsigned seed) {
           {"servo_instrument", tracking_json(r.servo)},
           {"dead_reckoning", {{"drift_m_per_s", r.dead_reckoning_drift_m_per_s},
                               {"yaw_drift_deg_per_s", r.dead_reckoning_yaw_drift_deg_per_s}}},
+          {"bare_floor_crossing", {{"dropout_detected", bare_floor_json(r.bare_floor)},
+                                   {"fusing_every_velocity", bare_floor_json(r.bare_floor_fusing_every_velocity)}}},
           {"z_impulse", {{"servo_instrument", impulse_json(r.impulse_servo)},
                          {"dead_reckoning", impulse_json(r.impulse_dead_reckoning)},
                          {"dead_reckoning_paper_gamma_rule", impulse_json(r.impulse_paper_rule)}}},
@@ -222,6 +230,10 @@ int run_sim_estimate_command(const ParsedArgs& args, const RealVisionMaker& real
       {"dead_reckoning_drift_m_per_s_mean", mean_of(results, member(&EstimationResults::dead_reckoning_drift_m_per_s))},
       {"dead_reckoning_drift_m_per_s_max", max_of(results, member(&EstimationResults::dead_reckoning_drift_m_per_s))},
       {"dead_reckoning_yaw_drift_deg_per_s_mean", mean_of(results, member(&EstimationResults::dead_reckoning_yaw_drift_deg_per_s))},
+      {"bare_floor_final_error_m_mean", mean_of(results, [](const EstimationResults& r) { return r.bare_floor.final_error_m; })},
+      {"bare_floor_final_error_m_max", max_of(results, [](const EstimationResults& r) { return r.bare_floor.final_error_m; })},
+      {"bare_floor_fusing_every_velocity_final_error_m_mean",
+       mean_of(results, [](const EstimationResults& r) { return r.bare_floor_fusing_every_velocity.final_error_m; })},
       {"z_impulse_servo_returned_within_5_s_fraction", impulse_ok / n},
       {"z_impulse_peak_displacement_m_mean",
        mean_of(results, [](const EstimationResults& r) { return r.impulse_servo.peak_displacement_m; })},

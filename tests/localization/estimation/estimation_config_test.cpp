@@ -24,3 +24,24 @@ TEST_CASE("estimation: config reads delays in ms and model constants, refuses ba
   const ConfigDocument order = ConfigDocument::parse(R"({"scale_interval_min_s": 3, "scale_interval_max_s": 2})", "o.json");
   CHECK_THROWS_WITH(read_estimation_config(order.root()), Catch::Contains("scale_interval_max_s"));
 }
+
+TEST_CASE("estimation: config reads the velocity dropout detector, refuses bad values") {
+  const ConfigDocument doc = ConfigDocument::parse(
+      R"({"velocity_dropout": {"enabled": false, "window_s": 0.5, "onset_mps": 0.15, "confirm_packets": 3}})", "test.json");
+  const EstimatorConfig c = read_estimation_config(doc.root());
+  CHECK_FALSE(c.velocity_dropout.enabled);
+  CHECK(c.velocity_dropout.window_s == Approx(0.5));
+  CHECK(c.velocity_dropout.onset_mps == Approx(0.15));
+  CHECK(c.velocity_dropout.confirm_packets == 3);
+  CHECK(c.velocity_dropout.agree_mps == Approx(VelocityDropoutSettings{}.agree_mps));
+
+  const auto refuses = [](const char* json, const char* key) {
+    const ConfigDocument bad = ConfigDocument::parse(json, "bad.json");
+    CHECK_THROWS_WITH(read_estimation_config(bad.root()), Catch::Contains(key));
+  };
+  refuses(R"({"velocity_dropout": {"onset_mps": -0.1}})", "onset_mps");
+  refuses(R"({"velocity_dropout": {"onset_ratio": 1.5}})", "onset_ratio");
+  refuses(R"({"velocity_dropout": {"window_s": 0.2, "average_s": 0.3}})", "average_s");
+  refuses(R"({"velocity_dropout": {"confirm_packets": 0}})", "confirm_packets");
+  refuses(R"({"velocity_dropout": {"window": 0.4}})", "window");
+}

@@ -99,4 +99,10 @@ TEST_CASE("estimation: lockstep experiments on the simulated lab meet the issue'
   CHECK(r.impulse_dead_reckoning.returned);
   CHECK(r.rejections.at("rejected_out_of_order") == 0);  // burst packets of the link are taken
   CHECK(r.controller_input_error_compensated_m < r.controller_input_error_uncompensated_m);
+  // Across the bare floor the bottom camera's velocity drops out: detected, and less wrong for it.
+  INFO("bare floor: error " << r.bare_floor.final_error_m << " m with the dropout detected, "
+                            << r.bare_floor_fusing_every_velocity.final_error_m << " m fusing every velocity");
+  CHECK(r.bare_floor.dropouts >= 1);
+  CHECK(r.bare_floor_fusing_every_velocity.dropouts == 0);
+  CHECK(r.bare_floor.final_error_m < r.bare_floor_fusing_every_velocity.final_error_m);
 }
