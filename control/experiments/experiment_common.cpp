@@ -32,6 +32,10 @@ std::vector<OptionSpec> real_vision_option_specs() {
           {"--fps", "N", "with --vision real: frames rendered and processed per second (default 30)"}};
 }
 
+OptionSpec jobs_option_spec() {
+  return {"--jobs", "N", "fly N runs at once on N threads (default 1); each run's result is the same as alone"};
+}
+
 ExperimentOptions read_experiment_options(const ParsedArgs& args) {
   ExperimentOptions o;
   const std::string vision = args.value_or("--vision", "model");
@@ -43,6 +47,7 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args) {
   }
   o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
   o.runs = args.integer_or("--runs", 1, 1, 10000);
+  if (args.value("--jobs")) o.jobs = args.integer_or("--jobs", 1, 1, 64);
   o.json = args.flag("--json");
   o.config = args.value_or("--config", (labo::source_root() / "config" / "default.json").string());
   if (!std::filesystem::exists(o.config)) throw UsageError("--config " + o.config.string() + ": no such file");

@@ -27,11 +27,14 @@ struct ExperimentOptions {
   // --route (sim face-follow, model vision): fly in the config's lab file with its teacher walking
   // the lab's route, as with --vision real, instead of the model lab's 2 m back-and-forth.
   bool model_route = false;
+  int jobs = 1;  // --jobs: seeded runs flown at once on that many threads (seed_runner.hpp)
 };
 
 std::vector<OptionSpec> experiment_option_specs();
 // --vision model|real and --fps, for the experiments that can fly the simulated lab.
 std::vector<OptionSpec> real_vision_option_specs();
+// --jobs N, for the experiments whose runs fly in parallel (inspect, perturb, face-follow).
+OptionSpec jobs_option_spec();
 ExperimentOptions read_experiment_options(const ParsedArgs& args);
 
 // What the experiments fly: the setup (config's control/estimation/vision sections; the model lab,

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "control/experiments/experiment_common.hpp"
+#include "control/experiments/seed_runner.hpp"
 #include "core/frames.hpp"
 
 namespace labo {
@@ -216,6 +217,7 @@ const CommandSpec& sim_inspect_command_spec() {
     s.options.push_back({"--hold", "S", "inspection hold time (default 5 s)"});
     s.options.push_back({"--instrument", "ID", "the instrument to inspect (default: the lab's first)"});
     for (auto& option : real_vision_option_specs()) s.options.push_back(option);
+    s.options.push_back(jobs_option_spec());
     return s;
   }();
   return spec;
@@ -232,10 +234,15 @@ int run_sim_inspect_command(const ParsedArgs& args) {
   nlohmann::json runs = nlohmann::json::array();
   int ok = 0;
   std::vector<double> standoff, centre, landing;
+  const std::vector<InspectRun> results = run_seeded_flights<InspectRun>(o.runs, o.jobs, [&](int i) {
+    const auto f = make_flight(experiment, o.seed + static_cast<unsigned>(i));
+    const InspectRun r = run_inspect(setup, *instrument, hold, *f);
+    write_run_outputs(o, "inspect", i, *f);
+    return r;
+  });
   for (int i = 0; i < o.runs; ++i) {
     const unsigned seed = o.seed + static_cast<unsigned>(i);
-    const auto f = make_flight(experiment, seed);
-    const InspectRun r = run_inspect(setup, *instrument, hold, *f);
+    const InspectRun& r = results[static_cast<std::size_t>(i)];
     ok += r.success();
     if (std::isfinite(r.standoff_error_m)) standoff.push_back(r.standoff_error_m);
     if (std::isfinite(r.centre_offset)) centre.push_back(r.centre_offset);
@@ -245,7 +252,6 @@ int run_sim_inspect_command(const ParsedArgs& args) {
                     {"centre_offset_fraction", std::isfinite(r.centre_offset) ? r.centre_offset : -1},
                     {"landing_error_m", std::isfinite(r.landing_error_m) ? r.landing_error_m : -1},
                     {"crashed", r.crashed}, {"duration_s", r.duration_s}, {"result", r.result}});
-    write_run_outputs(o, "inspect", i, *f);
   }
   const double rate = double(ok) / o.runs;
   nlohmann::json summary = {{"experiment", "sim inspect"}, {"note", note_of(o)}, {"instrument", id}, {"seed", o.seed}, {"runs", o.runs},
@@ -276,6 +282,7 @@ const CommandSpec& sim_perturb_command_spec() {
     s.options.push_back({"--axis", "x|y|z|yaw", "the perturbed axis (required)"});
     s.options.push_back({"--impulses", "N", "impulses per run, alternating sign (default 4)"});
     for (auto& option : real_vision_option_specs()) s.options.push_back(option);
+    s.options.push_back(jobs_option_spec());
     return s;
   }();
   return spec;
@@ -292,11 +299,21 @@ int run_sim_perturb_command(const ParsedArgs& args) {
   std::vector<double> recovery;
   int recovered = 0, total = 0, not_reached = 0;
   nlohmann::json runs = nlohmann::json::array();
+  struct PerturbRun {
+    bool reached = false;
+    std::vector<Impulse> impulses;
+  };
+  const std::vector<PerturbRun> results = run_seeded_flights<PerturbRun>(o.runs, o.jobs, [&](int i) {
+    const auto f = make_flight(experiment, o.seed + static_cast<unsigned>(i));
+    PerturbRun r;
+    r.impulses = run_perturb(axis, impulses, *f, setup.lab.instruments.front(), r.reached);
+    write_run_outputs(o, "perturb_" + *axis_name, i, *f);
+    return r;
+  });
   for (int i = 0; i < o.runs; ++i) {
     const unsigned seed = o.seed + static_cast<unsigned>(i);
-    const auto f = make_flight(experiment, seed);
-    bool reached = false;
-    const auto imps = run_perturb(axis, impulses, *f, setup.lab.instruments.front(), reached);
+    const bool reached = results[static_cast<std::size_t>(i)].reached;
+    const std::vector<Impulse>& imps = results[static_cast<std::size_t>(i)].impulses;
     not_reached += !reached;
     nlohmann::json list = nlohmann::json::array();
     for (const auto& imp : imps) {
@@ -307,7 +324,6 @@ int run_sim_perturb_command(const ParsedArgs& args) {
       list.push_back({{"t", imp.t}, {"recovery_s", std::isfinite(imp.recovery_s) ? imp.recovery_s : -1}, {"peak_error", imp.peak_error}});
     }
     runs.push_back({{"seed", seed}, {"reached_hold", reached}, {"impulses", list}});
-    write_run_outputs(o, "perturb_" + *axis_name, i, *f);
   }
   nlohmann::json summary = {{"experiment", "sim perturb"}, {"axis", *axis_name}, {"note", note_of(o)}, {"seed", o.seed},
                             {"runs", o.runs}, {"impulses", total}, {"recovered_within_5s", recovered},
@@ -330,6 +346,7 @@ const CommandSpec& sim_face_follow_command_spec() {
     s.options.push_back({"--route", "",
                          "with the model vision: fly in the config's lab file, the teacher walking its route (as with --vision real)"});
     for (auto& option : real_vision_option_specs()) s.options.push_back(option);
+    s.options.push_back(jobs_option_spec());
     return s;
   }();
   return spec;
@@ -345,10 +362,15 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
   std::vector<double> dist, centre, all_dist, all_centre, tracked_dist, tracked_centre;
   int found = 0, walking = 0, tracked = 0, unfollowable = 0;
   nlohmann::json runs = nlohmann::json::array();
+  const std::vector<FaceRun> results = run_seeded_flights<FaceRun>(o.runs, o.jobs, [&](int i) {
+    const auto f = make_flight(experiment, o.seed + static_cast<unsigned>(i));
+    FaceRun r = run_face_follow(setup, walk, *f);
+    write_run_outputs(o, "face_follow", i, *f);
+    return r;
+  });
   for (int i = 0; i < o.runs; ++i) {
     const unsigned seed = o.seed + static_cast<unsigned>(i);
-    const auto f = make_flight(experiment, seed);
-    const FaceRun r = run_face_follow(setup, walk, *f);
+    const FaceRun& r = results[static_cast<std::size_t>(i)];
     found += r.followed;
     walking += r.walking_ticks;
     tracked += r.tracked_ticks;
@@ -365,7 +387,6 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
                     {"unfollowable_walking_s", r.unfollowable_ticks * ExperimentFlight::kControlDt},
                     {"tracked_distance_error_rms_m", rms(r.tracked_distance_error)},
                     {"tracked_centre_error_rms", rms(r.tracked_centre_error)}});
-    write_run_outputs(o, "face_follow", i, *f);
   }
   nlohmann::json summary = {{"experiment", "sim face-follow"}, {"note", note_of(o)}, {"seed", o.seed}, {"runs", o.runs},
                             {"runs_face_found", found}, {"walking_s", walking * ExperimentFlight::kControlDt},

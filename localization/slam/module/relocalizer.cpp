@@ -9,6 +9,41 @@
 
 namespace labo::slam {
 
+namespace {
+
+// The two smallest Hamming distances from `query` to the frame's descriptors and the index of the
+// first at the smallest (ties keep the earlier one). Relocalization's brute-force search spends most
+// of its time here, so it is compiled twice: with the POPCNT instruction, chosen at load time where
+// the CPU has it, and for the x86-64 baseline (the SWAR count); both give the same integers.
+struct NearestTwo {
+  int best = 257, second = 257, index = -1;
+};
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("popcnt", "default")))
+#endif
+NearestTwo nearest_two(const Descriptor& query, const std::vector<Descriptor>& candidates) {
+  std::uint64_t q[4];
+  __builtin_memcpy(q, query.data(), sizeof q);
+  NearestTwo n;
+  for (std::size_t j = 0; j < candidates.size(); ++j) {
+    std::uint64_t c[4];
+    __builtin_memcpy(c, candidates[j].data(), sizeof c);
+    const int d = __builtin_popcountll(q[0] ^ c[0]) + __builtin_popcountll(q[1] ^ c[1]) +
+                  __builtin_popcountll(q[2] ^ c[2]) + __builtin_popcountll(q[3] ^ c[3]);
+    if (d < n.best) {
+      n.second = n.best;
+      n.best = d;
+      n.index = static_cast<int>(j);
+    } else if (d < n.second) {
+      n.second = d;
+    }
+  }
+  return n;
+}
+
+}  // namespace
+
 cv::Mat small_blurry_image(const cv::Mat& gray) {
   cv::Mat small, blurred;
   const int w = 40, h = std::max(1, static_cast<int>(std::lround(40.0 * gray.rows / gray.cols)));
@@ -39,19 +74,9 @@ std::optional<RelocalizationCandidate> Relocalizer::relocalize(const SlamMap& ma
     for (std::size_t i = 0; i < kf.frame.size(); ++i) {
       const MapPoint* p = map.point(kf.point_of_feature[i]);
       if (!p) continue;
-      int best_d = 257, second_d = 257, best_j = -1;
-      for (std::size_t j = 0; j < frame.size(); ++j) {
-        const int d = hamming(kf.frame.descriptors[i], frame.descriptors[j]);
-        if (d < best_d) {
-          second_d = best_d;
-          best_d = d;
-          best_j = static_cast<int>(j);
-        } else if (d < second_d) {
-          second_d = d;
-        }
-      }
-      if (best_j < 0 || best_d > 60 || best_d > 0.8 * second_d) continue;
-      const Feature& f = frame.features[static_cast<std::size_t>(best_j)];
+      const NearestTwo n = nearest_two(kf.frame.descriptors[i], frame.descriptors);
+      if (n.index < 0 || n.best > 60 || n.best > 0.8 * n.second) continue;
+      const Feature& f = frame.features[static_cast<std::size_t>(n.index)];
       object.emplace_back(static_cast<float>(p->p_map.x()), static_cast<float>(p->p_map.y()), static_cast<float>(p->p_map.z()));
       image.emplace_back(static_cast<float>(f.px.x()), static_cast<float>(f.px.y()));
       observations.push_back({p->p_map, f.px, std::pow(1.5, f.level), true});
