@@ -280,6 +280,13 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
     true_landmarks.col(i) = renderer.head().landmarks_face_m.col(lm_model.landmark_ids()[static_cast<std::size_t>(i)]);
   }
   const bool truth_known = true_landmarks.allFinite();
+  // The registered person's landmarks as the estimator uses them: the shape's mapped points plus the
+  // person's offsets (surface landmarks, head turn) when registration made any.
+  Eigen::Matrix3Xd person_points =
+      lm_model.points_m(estimator.person().shape_params, estimator.person().interpupillary_distance_m);
+  if (estimator.person().landmark_offsets_m.cols() == person_points.cols()) {
+    person_points += estimator.person().landmark_offsets_m;
+  }
   for (std::size_t s = 0; s < sequences.size(); ++s) {
     const HeadPoseSequence& seq = sequences[s];
     const cv::Mat background = make_background(camera, options.seed + static_cast<unsigned>(s));
@@ -329,10 +336,9 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
         continue;
       }
       ++tracked;
-      // Every method solves the same landmarks.
-      const PnpProblem problem{estimator.model().points_m(estimator.person().shape_params,
-                                                          estimator.person().interpupillary_distance_m),
-                               estimator.ideal_pixels(r.landmarks), estimator.ideal_camera(), r.landmark_weights};
+      // Every method solves the same landmarks against the same person's points as the estimator.
+      const PnpProblem problem{person_points, estimator.ideal_pixels(r.landmarks), estimator.ideal_camera(),
+                               r.landmark_weights};
       const double iod = (r.landmarks.middleCols(42, 6).rowwise().mean() - r.landmarks.middleCols(36, 6).rowwise().mean()).norm();
       const HeadAngles ta = head_angles(truth.linear());
       if (!first_truth) first_truth = truth;

@@ -1,5 +1,8 @@
 #include "localization/face/multi_view_landmarks.hpp"
 
+#include <array>
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -10,9 +13,6 @@ namespace {
 
 constexpr int kRightEyeFirstId = 36;  // iBUG 36-41: the subject's right eye
 constexpr int kLeftEyeFirstId = 42;   // iBUG 42-47
-constexpr int kPointIterations = 3;   // per alternation; each point's problem is nearly linear
-
-double huber_weight(double residual_px, double k_px) { return residual_px <= k_px ? 1.0 : k_px / residual_px; }
 
 Eigen::Vector3d eye_centre(const FaceLandmarkModel& model, const Eigen::Matrix3Xd& points, int first_id) {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
@@ -39,70 +39,86 @@ double rms_over_views(const Eigen::Matrix3Xd& points, const std::vector<Landmark
   return count ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
 }
 
-// Gauss-Newton on one landmark's 3-D point: its reprojection in every view (Huber-weighted) plus the
-// prior towards its model position. The poses are held fixed, so the points are independent.
-Eigen::Vector3d refine_point(Eigen::Vector3d X, const Eigen::Vector3d& prior, Eigen::Index j,
-                             const std::vector<LandmarkView>& views, const std::vector<Eigen::Isometry3d>& poses,
-                             const IdealPinhole& camera, const MultiViewOptions& options) {
-  const Eigen::Vector3d prior_weight(1.0 / (options.prior_sigma_m * options.prior_sigma_m),
-                                     1.0 / (options.prior_sigma_m * options.prior_sigma_m),
-                                     1.0 / (options.prior_depth_sigma_m * options.prior_depth_sigma_m));
-  const double pixel_weight = 1.0 / (options.pixel_sigma_px * options.pixel_sigma_px);
-  for (int it = 0; it < kPointIterations; ++it) {
-    Eigen::Matrix3d H = prior_weight.asDiagonal();
-    Eigen::Vector3d g = prior_weight.cwiseProduct(X - prior);
-    for (std::size_t v = 0; v < views.size(); ++v) {
-      const Eigen::Vector3d p = poses[v] * X;
-      if (p.z() <= 1e-6) continue;
-      const Eigen::Vector2d r = camera.project(p) - views[v].pixels.col(j);
-      const double w = pixel_weight * huber_weight(r.norm(), options.huber_px);
-      const double iz = 1.0 / p.z();
-      Eigen::Matrix<double, 2, 3> d_proj;
-      d_proj << camera.fx * iz, 0, -camera.fx * p.x() * iz * iz, 0, camera.fy * iz, -camera.fy * p.y() * iz * iz;
-      const Eigen::Matrix<double, 2, 3> J = d_proj * poses[v].linear();
-      H += w * J.transpose() * J;
-      g += w * J.transpose() * r;
-    }
-    const Eigen::Vector3d step = -H.ldlt().solve(g);
-    X += step;
-    if (step.norm() < 1e-8) break;
+// A landmark's reprojection in one view; pose = angle-axis and translation (face to camera).
+struct LandmarkReprojection {
+  LandmarkReprojection(const Eigen::Vector2d& px, const IdealPinhole& camera, double sigma_px)
+      : u(px.x()), v(px.y()), fx(camera.fx), fy(camera.fy), cx(camera.cx), cy(camera.cy), inv_sigma(1.0 / sigma_px) {}
+  template <typename T>
+  bool operator()(const T* pose, const T* point, T* residual) const {
+    T p[3];
+    ceres::AngleAxisRotatePoint(pose, point, p);
+    for (int k = 0; k < 3; ++k) p[k] += pose[3 + k];
+    if (p[2] < T(1e-6)) return false;  // behind the camera: the step is rejected
+    residual[0] = (T(fx) * p[0] / p[2] + T(cx) - T(u)) * T(inv_sigma);
+    residual[1] = (T(fy) * p[1] / p[2] + T(cy) - T(v)) * T(inv_sigma);
+    return true;
   }
-  return X;
+  double u, v, fx, fy, cx, cy, inv_sigma;
+};
+
+// The prior of one landmark towards its registered position, tight in the face's plane, loose in depth.
+struct LandmarkPrior {
+  LandmarkPrior(const Eigen::Vector3d& prior, double sigma_plane_m, double sigma_depth_m)
+      : x0(prior), inv_plane(1.0 / sigma_plane_m), inv_depth(1.0 / sigma_depth_m) {}
+  template <typename T>
+  bool operator()(const T* point, T* residual) const {
+    residual[0] = (point[0] - T(x0.x())) * T(inv_plane);
+    residual[1] = (point[1] - T(x0.y())) * T(inv_plane);
+    residual[2] = (point[2] - T(x0.z())) * T(inv_depth);
+    return true;
+  }
+  Eigen::Vector3d x0;
+  double inv_plane, inv_depth;
+};
+
+using Pose6 = std::array<double, 6>;
+
+Pose6 to_params(const Eigen::Isometry3d& T) {
+  const Eigen::AngleAxisd aa(T.linear());
+  const Eigen::Vector3d r = aa.angle() * aa.axis();
+  return {r.x(), r.y(), r.z(), T.translation().x(), T.translation().y(), T.translation().z()};
 }
 
-// The rigid motion of the points (and the opposite one of every pose, so no image changes) that best
-// satisfies the prior: the alternation alone moves along that motion very slowly, because the images
-// do not see it at all, so it is solved for directly (Gauss-Newton on rotation vector and shift).
-void pin_gauge(MultiViewFit& fit, const Eigen::Matrix3Xd& prior, const MultiViewOptions& options) {
-  const Eigen::Vector3d w(1.0 / (options.prior_sigma_m * options.prior_sigma_m),
-                          1.0 / (options.prior_sigma_m * options.prior_sigma_m),
-                          1.0 / (options.prior_depth_sigma_m * options.prior_depth_sigma_m));
-  for (int it = 0; it < 3; ++it) {
-    const Eigen::Vector3d c = fit.points_m.rowwise().mean();
-    Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
-    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
-    for (Eigen::Index j = 0; j < prior.cols(); ++j) {
-      const Eigen::Vector3d d = fit.points_m.col(j) - c;
-      Eigen::Matrix<double, 3, 6> J;
-      J << 0, d.z(), -d.y(), 1, 0, 0, -d.z(), 0, d.x(), 0, 1, 0, d.y(), -d.x(), 0, 0, 0, 1;  // [-[d]x, I]
-      const Eigen::Vector3d r = fit.points_m.col(j) - prior.col(j);
-      H += J.transpose() * w.asDiagonal() * J;
-      g += J.transpose() * w.cwiseProduct(r);
+Eigen::Isometry3d from_params(const Pose6& x) {
+  const Eigen::Vector3d r(x[0], x[1], x[2]);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (r.norm() > 1e-12) T.linear() = Eigen::AngleAxisd(r.norm(), r.normalized()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(x[3], x[4], x[5]);
+  return T;
+}
+
+// Poses and points together (Levenberg-Marquardt, Schur complement on the points): alternating the
+// two converges very slowly along the directions that couple them (a landmark's depth against the
+// views' pitch), which are the ones this refinement is for.
+void adjust_jointly(MultiViewFit& fit, const Eigen::Matrix3Xd& prior, const std::vector<LandmarkView>& views,
+                    const IdealPinhole& camera, const MultiViewOptions& options) {
+  std::vector<Pose6> poses;
+  poses.reserve(fit.poses.size());
+  for (const auto& T : fit.poses) poses.push_back(to_params(T));
+  ceres::Problem::Options problem_options;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  ceres::HuberLoss huber(options.huber_px / options.pixel_sigma_px);  // residuals are in sigmas
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    for (Eigen::Index j = 0; j < fit.points_m.cols(); ++j) {
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LandmarkReprojection, 2, 6, 3>(
+                                   new LandmarkReprojection(views[v].pixels.col(j), camera, options.pixel_sigma_px)),
+                               &huber, poses[v].data(), fit.points_m.col(j).data());
     }
-    const Eigen::Matrix<double, 6, 1> step = -H.ldlt().solve(g);
-    const Eigen::Vector3d omega = step.head<3>();
-    const Eigen::Matrix3d Q =
-        omega.norm() > 1e-12 ? Eigen::AngleAxisd(omega.norm(), omega.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
-    const Eigen::Vector3d shift = step.tail<3>();
-    fit.points_m = ((Q * (fit.points_m.colwise() - c)).colwise() + (c + shift)).eval();
-    for (auto& T : fit.poses) {
-      // T' (Q (X - c) + c + shift) = T X for every X.
-      const Eigen::Matrix3d R = T.linear() * Q.transpose();
-      T.translation() = T.translation() + T.linear() * c - R * (c + shift);
-      T.linear() = R;
-    }
-    if (step.norm() < 1e-10) break;
   }
+  for (Eigen::Index j = 0; j < fit.points_m.cols(); ++j) {
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LandmarkPrior, 3, 3>(new LandmarkPrior(
+                                 prior.col(j), options.prior_sigma_m, options.prior_depth_sigma_m)),
+                             nullptr, fit.points_m.col(j).data());
+  }
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_SCHUR;
+  solver.max_num_iterations = options.max_iterations;
+  solver.num_threads = 1;  // deterministic
+  solver.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+  for (std::size_t v = 0; v < poses.size(); ++v) fit.poses[v] = from_params(poses[v]);
 }
 
 void check_inputs(const FaceLandmarkModel& model, const Eigen::Matrix3Xd& model_points_m,
@@ -149,13 +165,7 @@ MultiViewFit refine_landmarks_from_views(const FaceLandmarkModel& model, const E
   };
   refine_poses();  // the initial poses may be another model's (the tracker's): start consistent
   fit.rms_before_px = rms_over_views(fit.points_m, views, fit.poses, camera);
-  for (int a = 0; a < options.alternations; ++a) {
-    for (Eigen::Index j = 0; j < fit.points_m.cols(); ++j) {
-      fit.points_m.col(j) = refine_point(fit.points_m.col(j), model_points_m.col(j), j, views, fit.poses, camera, options);
-    }
-    pin_gauge(fit, model_points_m, options);
-    refine_poses();
-  }
+  adjust_jointly(fit, model_points_m, views, camera, options);
   // Back to the person's metric size: scaling the points and the poses' translations together does
   // not change a single image, so only the IPD can fix it.
   const double scale = interpupillary_distance_m / interpupillary_m(model, fit.points_m);

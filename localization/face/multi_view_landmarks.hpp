@@ -4,7 +4,7 @@
 // person's face the detector puts a brow end or the nose's base, front to back, is not seen, and that
 // depth error shows as a pitch and distance bias of every later pose (docs/face.md). Views with the
 // head turned left, right, up and down see those depths. This is a small bundle adjustment with the
-// camera known: the view poses and the landmarks' 3-D points are refined together, each point pulled
+// camera known (Ceres): the view poses and the landmarks' 3-D points are refined together, each point pulled
 // towards its model position by a prior (the model is right to a few millimetres; a point seen in
 // few views must not wander), and the result is put back to the person's interpupillary distance,
 // which is the only metric information (a monocular sequence has no scale of its own).
@@ -30,7 +30,7 @@ struct MultiViewOptions {
   double prior_sigma_m = 0.002;
   double prior_depth_sigma_m = 0.030;
   double huber_px = 3.0;         // larger residuals (a slipped landmark in one view) weigh less
-  int alternations = 12;         // poses, then points, this many times
+  int max_iterations = 50;       // of the joint Levenberg-Marquardt
 };
 
 struct MultiViewFit {

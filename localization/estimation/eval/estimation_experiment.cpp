@@ -175,7 +175,7 @@ BareFloorCrossing cross_bare_floor(FlightRun& run) {
   run.set_vision({});
   run.setpoint_yaw = 0.0;
   fly_to(run, Eigen::Vector3d(kFromX, kY, kZ), 15.0, 3.0);
-  const auto error = [&] { return (run.estimate_now().position_world - true_position(run)).head<2>(); };
+  const auto error = [&]() -> Eigen::Vector2d { return (run.estimate_now().position_world - true_position(run)).head<2>(); };
   const Eigen::Vector2d start_error = error();
   double furthest_x = -1e9;
   const auto track = [&] {
