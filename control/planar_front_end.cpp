@@ -26,6 +26,10 @@ bool implausible_retry(const PlanarResult& r, bool retried, std::optional<double
   return ratio > kRetryScaleFactor || ratio < 1.0 / kRetryScaleFactor;
 }
 
+bool lost_track(const PlanarResult& r) {
+  return r.method == PlanarMethod::Ecc || r.method == PlanarMethod::InverseCompositional;
+}
+
 TrackState track_state_of(PlanarState s) {
   switch (s) {
     case PlanarState::Searching: return TrackState::Searching;
@@ -70,11 +74,15 @@ const TargetObservation& PlanarFrontEnd::process(const cv::Mat& gray, Seconds t,
   last_t_ = t;
   // The predicted distance picks one detector (the paper's lambda switch); when that found nothing,
   // the next frame runs both, so a wrong prediction or a detector that fails at this range (template
-  // matching on a target filling the view) cannot keep the target unseen.
+  // matching on a target filling the view) cannot keep the target unseen. A lost *track* is no failed
+  // detection: the next frame detects with the prediction first. (Until 2026-12-02 a lost track also
+  // made the next frame a retry: with real vision, after a z push, the retry's template matching found
+  // the same false match every other frame, the tracker lost it the frame after, and SIFT, which finds
+  // the panel at the standoff, did not run for 2 s: sim perturb --axis z --vision real seed 3, 5.97 s.)
   const bool retried = retry_without_distance_;
   const std::optional<double> distance = retried ? std::nullopt : expected_distance_m;
   result_ = localizer_.process(gray, t, distance);
-  retry_without_distance_ = !result_.has_pose && distance.has_value();
+  retry_without_distance_ = !result_.has_pose && distance.has_value() && !lost_track(result_);
   if (implausible_retry(result_, retried, expected_distance_m)) {
     confirming_ = 0;
   } else if (confirming_ >= 0) {

@@ -146,6 +146,30 @@ TEST_CASE("vision front-ends: a retried detection far from the predicted distanc
   CHECK_FALSE(ever);
 }
 
+TEST_CASE("vision front-ends: after a lost track the predicted detector runs first, not the retry") {
+  // The simulated lab after a z push: the retry's template matching found the same false match every
+  // other frame and the tracker lost it the frame after; when the lost track also counted as a failed
+  // detection, every frame was either that retry or that track, and SIFT (which finds the panel at the
+  // predicted standoff distance) never ran. Here: a candidate 3.2 m away with a 1 m prediction.
+  const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
+  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, PlanarConfig{});
+  const cv::Mat far = scene.view(look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d::Zero()));
+  const cv::Mat empty = scene.view(look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d(6.0, 0.0, 0.0)));
+  CHECK(fe.process(far, 0.0, 1.0).reason == "not_found");                   // SIFT, predicted
+  CHECK(fe.process(far, 1 / 30.0, 1.0).reason == "unconfirmed_detection");  // the retry's template match
+  CHECK(fe.process(empty, 2 / 30.0, 1.0).state == TrackState::Lost);        // its track is lost
+  // Before: this frame was a retry again and found the candidate again ("unconfirmed_detection").
+  CHECK(fe.process(far, 3 / 30.0, 1.0).reason == "not_found");              // SIFT, predicted
+  CHECK(fe.process(far, 4 / 30.0, 1.0).reason == "unconfirmed_detection");  // then the retry
+  // And the panel where predicted is found by the predicted detector right after a lost track.
+  const Eigen::Isometry3d near = look_at_object(Eigen::Vector3d(0.02, 0.0, -1.0), Eigen::Vector3d::Zero());
+  CHECK(fe.process(empty, 5 / 30.0, 1.0).state == TrackState::Lost);
+  const TargetObservation& found = fe.process(scene.view(near), 6 / 30.0, 1.0);
+  CHECK(found.state == TrackState::Tracking);
+  CHECK(found.method == "sift");
+}
+
 TEST_CASE("vision front-ends: a target without a template is refused by name") {
   PlanarTarget t;
   t.id = "modelled";
