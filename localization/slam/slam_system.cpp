@@ -10,6 +10,7 @@
 #include "localization/slam/initialize/map_initializer.hpp"
 #include "localization/slam/io/map_file.hpp"
 #include "localization/slam/module/frame_tracker.hpp"
+#include "localization/slam/module/keyframe_policy.hpp"
 #include "localization/slam/module/local_mapper.hpp"
 #include "localization/slam/module/relocalizer.hpp"
 #include "localization/slam/optimize/se3.hpp"
@@ -108,7 +109,8 @@ struct SlamSystem::Impl {
   SlamResult initialize(Seconds t);
   SlamResult track_map(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior);
   void accept_pose(const Eigen::Isometry3d& T, Seconds t);
-  bool want_keyframe(const TrackOutcome& o, Seconds t) const;
+  KeyframeCandidate keyframe_candidate(const TrackOutcome& o, TrackingState frame_state) const;
+  bool want_keyframe(const TrackOutcome& o, TrackingState frame_state, Seconds t) const;
   void add_keyframe(const TrackOutcome& o, const cv::Mat& gray, Seconds t);
   void start_map(const InitialMap& init, const cv::Mat& gray, Seconds t);
   void clear_tracking();
@@ -382,33 +384,38 @@ SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std
   if (frame_state == TrackingState::Dodgy) result.reason = "dodgy: few points found";
   accept_pose(o.T_cam_map, t);
   if (o.reference_keyframe >= 0) reference_keyframe = o.reference_keyframe;
-  // Keyframes come from Good frames, and from Dodgy ones that still hold many points: a fast approach
-  // or a weak initial map leaves most of the local map unfound (found / attempted < quality_good)
-  // while hundreds of points pin the pose; refusing keyframes there starves the map of the new
-  // points it needs and tracking spirals down to lost (the lab-inspect flight, docs/slam.md).
-  const bool keyframe_quality = frame_state == TrackingState::Good ||
-                                (o.found >= settings.keyframe_min_points_dodgy && settings.keyframe_min_points_dodgy > 0);
-  if (keyframe_quality && want_keyframe(o, t)) {
+  // Which frames may and should become keyframes: module/keyframe_policy (Dodgy frames included
+  // when their pose is still pinned: a map starved of keyframes spirals down to lost).
+  if (want_keyframe(o, frame_state, t)) {
     add_keyframe(o, gray, t);
     result.keyframe_added = true;
   }
   return result;
 }
 
-bool SlamSystem::Impl::want_keyframe(const TrackOutcome& o, Seconds t) const {
+KeyframeCandidate SlamSystem::Impl::keyframe_candidate(const TrackOutcome& o, TrackingState frame_state) const {
+  KeyframeCandidate c;
+  c.state = frame_state;
+  c.found = o.found;
+  c.attempted = o.attempted;
+  c.reference_shared = o.reference_shared;
+  c.reference_points = o.reference_points;
+  c.mean_depth = o.mean_depth;
+  c.nearest_keyframe_distance = 1e9;
+  std::shared_lock lock(map.mutex());
+  const Eigen::Vector3d centre = o.T_cam_map.inverse().translation();
+  for (const Keyframe& kf : map.keyframes()) {
+    c.nearest_keyframe_distance = std::min(c.nearest_keyframe_distance, (kf.center() - centre).norm());
+  }
+  return c;
+}
+
+bool SlamSystem::Impl::want_keyframe(const TrackOutcome& o, TrackingState frame_state, Seconds t) const {
   if (t - last_keyframe_t < settings.keyframe_min_interval_s) return false;
   if (static_cast<int>(map.keyframes().size()) >= settings.max_keyframes) return false;
   if (mapper->queued() > 0) return false;  // the mapper is still busy with the previous one
-  // Far enough from every keyframe (relative to the scene depth) ...
-  double nearest = 1e9;
-  {
-    std::shared_lock lock(map.mutex());
-    const Eigen::Vector3d c = o.T_cam_map.inverse().translation();
-    for (const Keyframe& kf : map.keyframes()) nearest = std::min(nearest, (kf.center() - c).norm());
-  }
-  if (nearest > settings.keyframe_distance_ratio * o.mean_depth) return true;
-  // ... or the view has turned away from the reference keyframe (rotation, approach).
-  return o.reference_points > 0 && o.reference_shared < settings.keyframe_overlap_ratio * o.reference_points;
+  const KeyframeCandidate candidate = keyframe_candidate(o, frame_state);
+  return keyframe_eligible(candidate, settings) && keyframe_needed(candidate, settings);
 }
 
 void SlamSystem::Impl::add_keyframe(const TrackOutcome& o, const cv::Mat& gray, Seconds t) {
