@@ -54,6 +54,7 @@ class InspectMission final : public Mission {
   Seconds last_t_ = -1;
   Seconds lost_since_ = -1;
   bool backed_off_ = false;  // re-detection: backed off along the line of sight (else realigned first)
+  bool heading_back_ = false;  // re-detection: the panel was seen again, flying to the standoff
   HomeLanding home_;
   std::string stage_text_ = "1 init: taking off";
 };

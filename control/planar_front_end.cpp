@@ -8,6 +8,27 @@ namespace {
 // Frames further apart than this: the last homography is no prior any more (the front-end was not
 // in focus, or the camera switched), so the track starts over with a detection.
 constexpr Seconds kMaxTrackingGapS = 0.5;
+// The retry without the predicted distance may change the detector; a template match it finds farther
+// from the prediction than this factor (the localizer's own template window around a predicted
+// distance, planar_localizer.cpp) is a candidate, reported once the tracker has followed it for
+// kConfirmFrames frames in a row: hysteresis on the detection. In the simulated lab, with the panel
+// below the view after a push up, the retry's template matching found other texture at 4.4-6.5 m
+// (correlation 0.88-0.93) while the panel was 1.3 m away; those tracks ended in a pose jump within
+// 1-13 frames, and each was reported as the panel (sim perturb --axis z --vision real). A prediction
+// that is wrong, with the panel really there, costs kConfirmFrames frames, not the panel.
+constexpr double kRetryScaleFactor = 1.6;
+constexpr int kConfirmFrames = 15;
+
+bool implausible_retry(const PlanarResult& r, bool retried, std::optional<double> expected_m) {
+  if (!retried || !expected_m || !(*expected_m > 0) || !r.has_pose || r.state != PlanarState::Detected) return false;
+  if (r.method != PlanarMethod::TemplateMatching) return false;  // SIFT's inliers identify the panel at any scale
+  const double ratio = r.distance_m / *expected_m;
+  return ratio > kRetryScaleFactor || ratio < 1.0 / kRetryScaleFactor;
+}
+
+bool lost_track(const PlanarResult& r) {
+  return r.method == PlanarMethod::Ecc || r.method == PlanarMethod::InverseCompositional;
+}
 
 TrackState track_state_of(PlanarState s) {
   switch (s) {
@@ -39,27 +60,43 @@ PlanarFrontEnd::PlanarFrontEnd(const PlanarTarget& target, const PinholeCamera& 
 
 void PlanarFrontEnd::reset() {
   localizer_.reset();
+  confirming_ = -1;
   last_t_.reset();
   retry_without_distance_ = false;
   observation_.state = TrackState::Off;
 }
 
 const TargetObservation& PlanarFrontEnd::process(const cv::Mat& gray, Seconds t, std::optional<double> expected_distance_m) {
-  if (last_t_ && t - *last_t_ > kMaxTrackingGapS) localizer_.reset();
+  if (last_t_ && t - *last_t_ > kMaxTrackingGapS) {
+    localizer_.reset();
+    confirming_ = -1;
+  }
   last_t_ = t;
   // The predicted distance picks one detector (the paper's lambda switch); when that found nothing,
   // the next frame runs both, so a wrong prediction or a detector that fails at this range (template
-  // matching on a target filling the view) cannot keep the target unseen.
-  const std::optional<double> distance = retry_without_distance_ ? std::nullopt : expected_distance_m;
+  // matching on a target filling the view) cannot keep the target unseen. A lost *track* is no failed
+  // detection: the next frame detects with the prediction first. (Until 2026-12-02 a lost track also
+  // made the next frame a retry: with real vision, after a z push, the retry's template matching found
+  // the same false match every other frame, the tracker lost it the frame after, and SIFT, which finds
+  // the panel at the standoff, did not run for 2 s: sim perturb --axis z --vision real seed 3, 5.97 s.)
+  const bool retried = retry_without_distance_;
+  const std::optional<double> distance = retried ? std::nullopt : expected_distance_m;
   result_ = localizer_.process(gray, t, distance);
-  retry_without_distance_ = !result_.has_pose && distance.has_value();
+  retry_without_distance_ = !result_.has_pose && distance.has_value() && !lost_track(result_);
+  if (implausible_retry(result_, retried, expected_distance_m)) {
+    confirming_ = 0;
+  } else if (confirming_ >= 0) {
+    const bool followed = result_.has_pose && result_.state == PlanarState::Tracking;
+    confirming_ = followed && confirming_ + 1 < kConfirmFrames ? confirming_ + 1 : -1;
+  }
+  const bool unconfirmed = confirming_ >= 0;
   TargetObservation& o = observation_;
   o.t = t;
-  o.state = track_state_of(result_.state);
+  o.state = unconfirmed ? TrackState::Lost : track_state_of(result_.state);
   o.method = to_string(result_.method);
-  o.reason = result_.has_pose ? "" : to_string(result_.reason);
-  o.quality = result_.has_pose ? result_.quality : 0.0;
-  if (result_.has_pose) {
+  o.reason = unconfirmed ? "unconfirmed_detection" : result_.has_pose ? "" : to_string(result_.reason);
+  o.quality = result_.has_pose && !unconfirmed ? result_.quality : 0.0;
+  if (result_.has_pose && !unconfirmed) {
     o.T_cam_target = result_.T_cam_object;
     o.image_points.resize(4);
     for (std::size_t i = 0; i < 4; ++i)

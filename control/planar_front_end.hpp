@@ -4,7 +4,8 @@
 // and physical size and the paper's thresholds - template matching far and SIFT near, switching at
 // the object's lambda, then frame-to-frame tracking until a loss (correlation below alpha, a jump
 // beyond D or beta, too little of the panel in view) - and reports a TargetObservation. When the
-// detector the predicted distance picked finds nothing, the next frame runs both.
+// detector the predicted distance picked finds nothing, the next frame runs both; a template match of
+// that retry far from the predicted distance counts only once the tracker has confirmed it.
 #include <filesystem>
 #include <optional>
 
@@ -34,6 +35,7 @@ class PlanarFrontEnd final : public TargetFrontEnd {
   TargetObservation observation_;
   std::optional<Seconds> last_t_;
   bool retry_without_distance_ = false;
+  int confirming_ = -1;  // frames a retried detection at an implausible distance has been tracked; -1: none
 };
 
 // Reads a target's template, refusing a target without one with its id in the message.

@@ -28,7 +28,7 @@ double stddev(const std::vector<double>& v, std::size_t from, std::size_t to) {
 }  // namespace
 
 CommandLagEstimator::CommandLagEstimator(const MotionModelConstants& model, const CommandLagSettings& settings)
-    : model_(model), settings_(settings) {
+    : model_(model), settings_(settings), commands_(kCommandCapacity), navdata_(kNavdataCapacity) {
   const auto positive = [](double v) { return std::isfinite(v) && v > 0; };
   if (!positive(model.attitude_rate_hz) || !positive(model.tilt_max_rad))
     throw std::invalid_argument("CommandLagEstimator: attitude_rate_hz and tilt_max_rad must be positive");
@@ -38,8 +38,6 @@ CommandLagEstimator::CommandLagEstimator(const MotionModelConstants& model, cons
     throw std::invalid_argument(
         "CommandLagEstimator: settings must be positive, with grid_s <= max_lag_s / 4 and horizon_s < window_s");
   alpha_ = std::exp(-model.attitude_rate_hz * settings.grid_s);
-  commands_.resize(kCommandCapacity);
-  navdata_.resize(kNavdataCapacity);
   const auto grid_steps = static_cast<std::size_t>(std::ceil((settings.window_s + settings.max_lag_s) / settings.grid_s)) + 2;
   u_roll_.resize(grid_steps);
   u_pitch_.resize(grid_steps);
@@ -60,11 +58,9 @@ void CommandLagEstimator::add_command(const MoveCommand& command, Seconds t_sent
   last_command_t_ = t_sent;
   ++counters_.commands;
   // The driver clips to [-1, 1] before the wire; so does the model.
-  const CommandAt c{t_sent, std::clamp(command.roll, -1.0, 1.0) * model_.tilt_max_rad,
-                    std::clamp(command.pitch, -1.0, 1.0) * model_.tilt_max_rad};
-  commands_[(commands_head_ + commands_size_) % kCommandCapacity] = c;
-  if (commands_size_ < kCommandCapacity) ++commands_size_;
-  else commands_head_ = (commands_head_ + 1) % kCommandCapacity;
+  if (commands_.full()) commands_.pop();
+  commands_.push(t_sent, Tilt{std::clamp(command.roll, -1.0, 1.0) * model_.tilt_max_rad,
+                              std::clamp(command.pitch, -1.0, 1.0) * model_.tilt_max_rad});
 }
 
 void CommandLagEstimator::add_navdata(const NavdataSample& sample) {
@@ -76,17 +72,15 @@ void CommandLagEstimator::add_navdata(const NavdataSample& sample) {
     ++counters_.rejected_out_of_order;
     return;
   }
-  if (navdata_size_ == 0 && next_evaluation_t_ < sample.t)
+  if (navdata_.empty() && next_evaluation_t_ < sample.t)
     next_evaluation_t_ = sample.t + settings_.window_s + settings_.max_lag_s;
   last_navdata_t_ = sample.t;
   ++counters_.navdata;
   // A sample taken while the firmware ignores PCMD is stored as NaN: windows holding one are skipped.
   const double nan = std::nan("");
   const bool ok = follows_commands(sample.control_state);
-  navdata_[(navdata_head_ + navdata_size_) % kNavdataCapacity] =
-      AttitudeAt{sample.t, ok ? sample.roll_rad : nan, ok ? sample.pitch_rad : nan};
-  if (navdata_size_ < kNavdataCapacity) ++navdata_size_;
-  else navdata_head_ = (navdata_head_ + 1) % kNavdataCapacity;
+  if (navdata_.full()) navdata_.pop();
+  navdata_.push(sample.t, Tilt{ok ? sample.roll_rad : nan, ok ? sample.pitch_rad : nan});
   if (sample.t >= next_evaluation_t_) {
     evaluate(sample.t);
     next_evaluation_t_ = sample.t + settings_.evaluate_every_s;
@@ -94,14 +88,13 @@ void CommandLagEstimator::add_navdata(const NavdataSample& sample) {
 }
 
 bool CommandLagEstimator::command_grid(Seconds g0, std::size_t n) {
-  if (commands_size_ == 0 || commands_[commands_head_].t > g0) return false;
+  if (commands_.empty() || commands_.front().t > g0) return false;
   std::size_t k = 0;  // index (from the oldest) of the command in force
   for (std::size_t i = 0; i < n; ++i) {
     const Seconds t = g0 + static_cast<double>(i) * settings_.grid_s;
-    while (k + 1 < commands_size_ && commands_[(commands_head_ + k + 1) % kCommandCapacity].t <= t) ++k;
-    const CommandAt& c = commands_[(commands_head_ + k) % kCommandCapacity];
-    u_roll_[i] = c.roll;
-    u_pitch_[i] = c.pitch;
+    while (k + 1 < commands_.size() && commands_.at(k + 1).t <= t) ++k;
+    u_roll_[i] = commands_.at(k).item.roll;
+    u_pitch_[i] = commands_.at(k).item.pitch;
   }
   return true;
 }
@@ -115,19 +108,19 @@ double CommandLagEstimator::prediction_error(std::size_t lag_steps, bool pitch_a
   double sum2 = 0;
   std::size_t count = 0;
   Seconds last_start = -1e300;
-  for (std::size_t s = 0; s < navdata_size_; ++s) {
-    const AttitudeAt& start = navdata_[(navdata_head_ + s) % kNavdataCapacity];
+  for (std::size_t s = 0; s < navdata_.size(); ++s) {
+    const auto& start = navdata_.at(s);
     if (start.t < t0 || start.t < last_start + kStartSpacing) continue;
     last_start = start.t;
-    double y = pitch_axis ? start.pitch : start.roll;
+    double y = pitch_axis ? start.item.pitch : start.item.roll;
     std::size_t j = grid_index(start.t);
     const std::size_t j_end = std::min(j + horizon_steps, last_grid);
-    for (std::size_t k = s + 1; k < navdata_size_; ++k) {
-      const AttitudeAt& m = navdata_[(navdata_head_ + k) % kNavdataCapacity];
+    for (std::size_t k = s + 1; k < navdata_.size(); ++k) {
+      const auto& m = navdata_.at(k);
       const std::size_t jm = grid_index(m.t);
       if (jm > j_end) break;
       for (; j < jm; ++j) y = alpha_ * y + (1.0 - alpha_) * u[j - lag_steps];  // j >= max lag >= lag_steps
-      const double e = (pitch_axis ? m.pitch : m.roll) - y;
+      const double e = (pitch_axis ? m.item.pitch : m.item.roll) - y;
       sum2 += e * e;
       ++count;
     }
@@ -140,14 +133,14 @@ void CommandLagEstimator::evaluate(Seconds t_end) {
   const Seconds t0 = t_end - settings_.window_s;
   const Seconds g0 = t0 - settings_.max_lag_s;
   // Any sample in the window taken while the firmware ignored the commands voids it.
-  for (std::size_t s = 0; s < navdata_size_; ++s) {
-    const AttitudeAt& a = navdata_[(navdata_head_ + s) % kNavdataCapacity];
-    if (a.t >= t0 && std::isnan(a.roll)) {
+  for (std::size_t s = 0; s < navdata_.size(); ++s) {
+    const auto& a = navdata_.at(s);
+    if (a.t >= t0 && std::isnan(a.item.roll)) {
       ++counters_.windows_low_excitation;
       return;
     }
   }
-  if (navdata_size_ == 0 || navdata_[navdata_head_].t > t0 || !command_grid(g0, u_roll_.size())) {
+  if (navdata_.empty() || navdata_.front().t > t0 || !command_grid(g0, u_roll_.size())) {
     ++counters_.windows_low_excitation;
     return;
   }
@@ -175,15 +168,14 @@ void CommandLagEstimator::evaluate(Seconds t_end) {
   const double curvature = a - 2 * b + c;
   const double offset = curvature > 0 ? std::clamp(0.5 * (a - c) / curvature, -0.5, 0.5) : 0.0;
   const Seconds lag_s = (static_cast<double>(best) + offset) * settings_.grid_s;
+  // The newest median_of windows (order does not matter for their median).
+  accepted_[counters_.windows_accepted % accepted_.size()] = lag_s;
   ++counters_.windows_accepted;
-  accepted_[(accepted_head_ + accepted_size_) % accepted_.size()] = lag_s;
-  if (accepted_size_ < accepted_.size()) ++accepted_size_;
-  else accepted_head_ = (accepted_head_ + 1) % accepted_.size();
-  // Median of the accepted windows (at most median_of values, copied into the scratch).
-  std::copy(accepted_.begin(), accepted_.begin() + static_cast<std::ptrdiff_t>(accepted_size_), sorted_.begin());
-  const auto mid = sorted_.begin() + static_cast<std::ptrdiff_t>(accepted_size_ / 2);
-  std::nth_element(sorted_.begin(), mid, sorted_.begin() + static_cast<std::ptrdiff_t>(accepted_size_));
-  current_ = CommandLagEstimate{*mid, accepted_size_, contrast};
+  const auto n = static_cast<std::ptrdiff_t>(std::min<std::uint64_t>(counters_.windows_accepted, accepted_.size()));
+  std::copy(accepted_.begin(), accepted_.begin() + n, sorted_.begin());
+  const auto mid = sorted_.begin() + n / 2;
+  std::nth_element(sorted_.begin(), mid, sorted_.begin() + n);
+  current_ = CommandLagEstimate{*mid, static_cast<std::size_t>(n), contrast};
 }
 
 }  // namespace labo

@@ -25,6 +25,7 @@
 #include "core/time.hpp"
 #include "drone/drone_link.hpp"
 #include "localization/estimation/estimation_config.hpp"
+#include "localization/estimation/timed_queue.hpp"
 
 namespace labo {
 
@@ -64,8 +65,7 @@ class CommandLagEstimator {
   const CommandLagCounters& counters() const { return counters_; }
 
  private:
-  struct CommandAt { Seconds t; double roll, pitch; };
-  struct AttitudeAt { Seconds t; double roll, pitch; };
+  struct Tilt { double roll = 0, pitch = 0; };  // rad
 
   void evaluate(Seconds t_end);
   // Fills u_ on the grid from t0 for n steps (zero-order hold of the commands sent); false if the
@@ -77,17 +77,14 @@ class CommandLagEstimator {
   CommandLagSettings settings_;
   double alpha_ = 0;                 // exp(-attitude_rate * grid): one grid step of the lag
 
-  // Fixed-capacity rings (oldest overwritten).
-  std::vector<CommandAt> commands_;
-  std::size_t commands_head_ = 0, commands_size_ = 0;
-  std::vector<AttitudeAt> navdata_;
-  std::size_t navdata_head_ = 0, navdata_size_ = 0;
+  // Fixed-capacity rings (the oldest dropped when full): commanded and measured tilt.
+  TimedQueue<Tilt> commands_;
+  TimedQueue<Tilt> navdata_;
 
   // Scratch, sized once.
   std::vector<double> u_roll_, u_pitch_, errors_;
   std::vector<Seconds> accepted_;
   std::vector<Seconds> sorted_;
-  std::size_t accepted_head_ = 0, accepted_size_ = 0;
   std::optional<CommandLagEstimate> current_;
 
   Seconds last_command_t_ = -1e300, last_navdata_t_ = -1e300, next_evaluation_t_ = -1e300;

@@ -1,5 +1,6 @@
 #include "localization/estimation/filter_core.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -11,7 +12,15 @@ using namespace est;
 
 namespace {
 constexpr Seconds kCommandValidity = 1.0;   // a command older than this no longer drives the model
-constexpr double kYawJumpRad = 10.0 * std::numbers::pi / 180.0;
+// A navdata yaw increment larger than the drone can turn in the packet interval is a firmware reset,
+// not a rotation: re-anchor instead of fusing it. tum_ardrone gates at 10 deg per packet, at 200 Hz;
+// at demo navdata's 15 Hz a knock turns the drone faster than that (sim perturb's 0.4 rad yaw kick:
+// 13 deg in 33 ms, ~18 deg between packets), and gating it at 10 deg left the estimate on the old yaw
+// while the drone was 23 deg off (recovery only once vision re-synced it, 4.3-5 s). So the bound is a
+// rate, two turns per second, and never below 10 deg nor above 90 deg (after a long navdata gap).
+constexpr double kYawJumpMinRad = 10.0 * std::numbers::pi / 180.0;
+constexpr double kYawJumpMaxRad = 90.0 * std::numbers::pi / 180.0;
+constexpr double kMaxYawRateRadps = 4.0 * std::numbers::pi;
 constexpr int kLandedState = 2;
 constexpr double kMinRange = 0.05, kMaxRange = 6.0;
 
@@ -56,9 +65,12 @@ void FilterCore::set_command(const MoveCommand& command, Seconds effect_time) {
 void FilterCore::apply_navdata(const NavdataSample& n, bool vision_holding, const SurfaceMap* map) {
   const Seconds gap = last_nav_valid_ ? t_ - last_nav_t_ : 0.0;
   observe_attitude(n);
-  observe_yaw(n, vision_holding);
+  observe_yaw(n, vision_holding, gap);
   if (n.control_state == kLandedState) {
+    // On the ground: the next take-off starts with a flat trim (the missions' executors send one), so
+    // the tilt offset is learned anew in each flight.
     dropout_.reset();
+    ekf_.set_tilt_bias_accel(Eigen::Vector2d::Zero());
     ekf_.reset_xy_accel_noise();
     observe_landed();
   } else {
@@ -88,11 +100,12 @@ void FilterCore::observe_attitude(const NavdataSample& n) {
   ekf_.update<2>(y, H, Eigen::Vector2d(s * s, s * s).asDiagonal());
 }
 
-void FilterCore::observe_yaw(const NavdataSample& n, bool vision_holding) {
+void FilterCore::observe_yaw(const NavdataSample& n, bool vision_holding, Seconds gap) {
   // Only increments of the navdata yaw are trusted (its absolute value drifts and starts anywhere).
   // Without vision the anchor is kept, so the filter follows the IMU's yaw; with vision it moves every
   // packet, so the IMU only constrains the change between packets (tum_ardrone's two modes).
-  const bool jump = yaw_anchored_ && std::abs(wrap_angle(n.yaw_rad - last_navdata_yaw_)) > kYawJumpRad;
+  const double jump_rad = std::clamp(kMaxYawRateRadps * gap, kYawJumpMinRad, kYawJumpMaxRad);
+  const bool jump = yaw_anchored_ && std::abs(wrap_angle(n.yaw_rad - last_navdata_yaw_)) > jump_rad;
   if (yaw_anchored_ && !jump) {
     Eigen::Matrix<double, 1, N> H = Eigen::Matrix<double, 1, N>::Zero();
     H(0, YAW) = 1.0;
@@ -115,7 +128,8 @@ bool FilterCore::velocity_usable(const NavdataSample& n) {
   const double c = std::cos(s(YAW)), sn = std::sin(s(YAW));
   const Eigen::Vector2d measured_world(c * n.vx_mps - sn * n.vy_mps, sn * n.vx_mps + c * n.vy_mps);
   const VelocityVerdict v = dropout_.process(t_, measured_world, ekf_.thrust_accel(n.roll_rad, n.pitch_rad, s(YAW)),
-                                             s.segment<2>(VX));
+                                             s(YAW), s.segment<2>(VX));
+  ekf_.set_tilt_bias_accel(dropout_.tilt_bias_accel());
   if (v.onset) {
     const DropoutCorrection& k = dropout_.correction();
     ekf_.mutable_state().segment<2>(VX) += k.velocity;

@@ -56,7 +56,7 @@ class FilterCore {
 
  private:
   void observe_attitude(const NavdataSample& n);
-  void observe_yaw(const NavdataSample& n, bool vision_holding);
+  void observe_yaw(const NavdataSample& n, bool vision_holding, Seconds gap);
   void observe_velocity(const NavdataSample& n, bool vision_holding);
   // Asks the dropout detector whether this packet's horizontal velocity may be fused; at an onset,
   // takes back what the failing measurements pulled the estimate off by.

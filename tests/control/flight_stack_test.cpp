@@ -115,6 +115,24 @@ TEST_CASE("control: a vertical push out of the panel's view is undone at the sta
   CHECK_FALSE(held_by_safety);
 }
 
+TEST_CASE("control: a re-detected panel turns the back-off into the approach before the source switches") {
+  ModelFlight f;
+  REQUIRE(f.request(inspect("oscilloscope", 60.0)).accepted);
+  REQUIRE(f.run_until([&] { return f.stack->status().stage.find("holding") != std::string::npos; }, 90.0));
+  f.world->slam_available = false;  // as with real vision: SLAM is lost next to the panel
+  f.run(4.0);
+  const Eigen::Vector4d hold = *f.stack->status().desired;
+  f.world->instrument_visible = false;  // lost at the standoff's altitude: back off
+  REQUIRE(f.run_until([&] { return f.stack->status().stage.find("re-detecting") != std::string::npos; }, 2.0));
+  f.run(1.0);
+  REQUIRE((f.stack->status().desired->head<3>() - hold.head<3>()).norm() > 0.3);  // backing off
+  f.world->instrument_visible = true;
+  f.run(0.2);  // seen, not yet the source (source_hold_s 0.5 s)
+  CHECK(f.stack->status().stage.find("re-detecting") != std::string::npos);
+  CHECK((f.stack->status().desired->head<3>() - hold.head<3>()).norm() < 0.05);  // heading back already
+  CHECK(f.run_until([&] { return f.stack->status().stage.find("holding") != std::string::npos; }, 10.0));
+}
+
 TEST_CASE("control: the localization source switches with hysteresis near the instrument") {
   ModelFlight f;
   REQUIRE(f.request(inspect("oscilloscope", 2.0)).accepted);

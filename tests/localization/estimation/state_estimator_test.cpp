@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "localization/estimation/state_estimator.hpp"
@@ -228,4 +229,30 @@ TEST_CASE("estimation: navdata packets received in one burst are all taken, a re
   CHECK_FALSE(est.add_navdata(b));  // the same packet again
   CHECK(est.statistics().count("rejected_out_of_order") == 1);
   CHECK(est.statistics().count("navdata") == 2);
+}
+
+TEST_CASE("estimation: demo navdata's yaw follows a knock turning faster than 10 deg a packet, and a reset is not followed") {
+  // 15 Hz navdata while hovering; navdata yaw = a 0.4 rad kick decaying in ~0.1 s (sim perturb's yaw
+  // impulse: 13 deg in 33 ms), later a 60 deg step within one packet (a firmware reset of psi).
+  StateEstimator est(no_delays());
+  est.reset(make_pose({0, 0, 1}, 0), 0.0);
+  const double dt = 1.0 / 15.0, kick_t = 1.0, reset_t = 3.0;
+  auto navdata_yaw = [&](Seconds t) {
+    const double kick = t < kick_t ? 0.0 : 0.4 * (1.0 - std::exp(-(t - kick_t) / 0.04));
+    return kick + (t < reset_t ? 0.0 : 60.0 * std::numbers::pi / 180.0);
+  };
+  double yaw_after_kick = 0;
+  for (int k = 1; k * dt < 4.0; ++k) {
+    NavdataSample n;
+    n.t = k * dt;
+    n.sequence = static_cast<std::uint32_t>(k);
+    n.control_state = 4;
+    n.altitude_m = 1.0;
+    n.yaw_rad = navdata_yaw(n.t);
+    REQUIRE(est.add_navdata(n));
+    if (n.t < reset_t) yaw_after_kick = est.filtered().state(est::YAW);
+  }
+  // Before: the kick's first increment (> 10 deg) was taken for a reset and the estimate stayed at 0.
+  CHECK(yaw_after_kick == Approx(0.4).margin(0.02));
+  CHECK(est.filtered().state(est::YAW) == Approx(0.4).margin(0.02));  // the reset re-anchored
 }
