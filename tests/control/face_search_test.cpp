@@ -22,6 +22,27 @@ TeacherRoute lab_route() {
   return r;
 }
 
+// Two long legs along x, 0.5 m apart, joined by short ones: a turn back at each end.
+TeacherRoute turn_back_route() {
+  TeacherRoute r;
+  r.waypoints = {{1.0, -2.0}, {3.5, -2.0}, {3.5, -1.5}, {1.0, -1.5}};
+  r.speed_mps = 0.4;
+  r.pause_s = 3.0;
+  r.eye_height_m = 1.6;
+  return r;
+}
+
+// The simulated teacher walking `route`, with the lab's head sway.
+TeacherSpec walking(const TeacherRoute& route) {
+  TeacherSpec spec;
+  spec.waypoints = route.waypoints;
+  spec.speed_mps = route.speed_mps;
+  spec.pause_s = route.pause_s;
+  spec.eye_height_m = route.eye_height_m;
+  spec.head = HeadMotionSpec{35, 7, 10, 5, 8, 9};
+  return spec;
+}
+
 MissionRequest find_teacher() {
   MissionRequest r;
   r.kind = RequestKind::FindTeacher;
@@ -123,16 +144,8 @@ TEST_CASE("control: the meeting point starts from the nearest corner when two ar
 
 TEST_CASE("control: a teacher turning back at a corner is met in front of the next leg and followed along it") {
   LabGeometry lab = model_lab();  // room x -1..5, y -3..3: fence y >= -2.7, x <= 4.7
-  lab.teacher.waypoints = {{1.0, -2.0}, {3.5, -2.0}, {3.5, -1.5}, {1.0, -1.5}};
-  lab.teacher.speed_mps = 0.4;
-  lab.teacher.pause_s = 3.0;
-  lab.teacher.eye_height_m = 1.6;
-  TeacherSpec spec;
-  spec.waypoints = lab.teacher.waypoints;
-  spec.speed_mps = lab.teacher.speed_mps;
-  spec.pause_s = lab.teacher.pause_s;
-  spec.eye_height_m = lab.teacher.eye_height_m;
-  spec.head = HeadMotionSpec{35, 7, 10, 5, 8, 9};  // the lab's head sway
+  lab.teacher = turn_back_route();
+  const TeacherSpec spec = walking(lab.teacher);
   const TeacherMotion motion(spec);
   test::ModelFlight f({}, lab);
   const auto walk = [&](double seconds) {
@@ -190,16 +203,8 @@ TEST_CASE("control: a face lost at a corner: the drone waiting on the next leg k
   // towards the drone, which then held, and met them at the leg's start, for a face that stayed out of
   // the detector's reach (head sway) while the teacher walked into it.
   LabGeometry lab = model_lab();  // room x -1..5, y -3..3
-  lab.teacher.waypoints = {{1.0, -2.0}, {3.5, -2.0}, {3.5, -1.5}, {1.0, -1.5}};
-  lab.teacher.speed_mps = 0.4;
-  lab.teacher.pause_s = 3.0;
-  lab.teacher.eye_height_m = 1.6;
-  TeacherSpec spec;
-  spec.waypoints = lab.teacher.waypoints;
-  spec.speed_mps = lab.teacher.speed_mps;
-  spec.pause_s = lab.teacher.pause_s;
-  spec.eye_height_m = lab.teacher.eye_height_m;
-  spec.head = HeadMotionSpec{35, 7, 10, 5, 8, 9};
+  lab.teacher = turn_back_route();
+  const TeacherSpec spec = walking(lab.teacher);
   const TeacherMotion motion(spec);
   test::ModelFlight f({}, lab);
   const auto tick = [&] {
