@@ -20,6 +20,8 @@ EstimatorCounts estimator_counts(const StateEstimator& estimator) {
   c.reacquisition_confirmed = stats.count("reacquisition_confirmed");
   c.rejected_innovation = stats.count("rejected_innovation");
   c.rejected_jump = stats.count("rejected_jump_distance") + stats.count("rejected_jump_angle");
+  c.velocity_dropouts = stats.count("velocity_dropouts");
+  c.velocity_dropout_packets = stats.count("velocity_dropout_packets");
   return c;
 }
 
@@ -28,6 +30,7 @@ FlightSample sample_of(const FlightStatus& s, const FlightOutput& out, const Sta
   FlightSample sample;
   sample.t = t;
   sample.estimated = xyz_yaw(s.pose.T_world_body);
+  sample.estimated_velocity = s.pose.velocity_world.head<2>();
   sample.truth = xyz_yaw(truth);
   sample.desired = s.desired;
   sample.source = s.source;

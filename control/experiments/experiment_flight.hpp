@@ -23,6 +23,8 @@ struct EstimatorCounts {
   std::uint64_t reacquisition_confirmed = 0;
   std::uint64_t rejected_innovation = 0;
   std::uint64_t rejected_jump = 0;  // beyond D or beta
+  std::uint64_t velocity_dropouts = 0;         // bottom-camera velocity dropouts detected (onsets)
+  std::uint64_t velocity_dropout_packets = 0;  // navdata packets whose velocity was not fused
 };
 EstimatorCounts estimator_counts(const StateEstimator& estimator);
 
@@ -49,6 +51,7 @@ struct FlightSample {
   std::string action;
   std::string alerts;
   EstimatorCounts estimator;
+  Eigen::Vector2d estimated_velocity = Eigen::Vector2d::Zero();  // world x, y (the estimate's, m/s)
 };
 
 class ExperimentFlight {

@@ -40,7 +40,8 @@ void write_flight_csv(const std::filesystem::path& file, const std::vector<Fligh
          "des_x_m,des_y_m,des_z_m,des_yaw_rad,source,slam,target,target_lost_reason,stage_index,stage,"
          "face_x_m,face_y_m,face_z_m,face_heading_rad,face_cam_x_m,face_cam_y_m,face_cam_z_m,"
          "face_meas_cam_x_m,face_meas_cam_y_m,face_meas_cam_z_m,cmd_roll,cmd_pitch,cmd_gaz,cmd_yaw_rate,action,alerts,"
-         "object_fused,slam_fused,rejected_reacquisition,reacquisition_confirmed,rejected_innovation,rejected_jump\n";
+         "object_fused,slam_fused,rejected_reacquisition,reacquisition_confirmed,rejected_innovation,rejected_jump,"
+         "velocity_dropouts,velocity_dropout_packets,est_vx_mps,est_vy_mps\n";
   for (const auto& s : samples) {
     out << s.t;
     for (int i = 0; i < 4; ++i) out << ',' << s.estimated[i];
@@ -63,7 +64,8 @@ void write_flight_csv(const std::filesystem::path& file, const std::vector<Fligh
     const EstimatorCounts& e = s.estimator;
     out << ',' << s.action << ",\"" << alerts << "\"," << e.object_fused << ',' << e.slam_fused << ','
         << e.rejected_reacquisition << ',' << e.reacquisition_confirmed << ',' << e.rejected_innovation << ','
-        << e.rejected_jump << '\n';
+        << e.rejected_jump << ',' << e.velocity_dropouts << ',' << e.velocity_dropout_packets << ','
+        << s.estimated_velocity.x() << ',' << s.estimated_velocity.y() << '\n';
   }
 }
 

@@ -52,7 +52,11 @@ void SimLabFlight::apply(const FlightOutput& out) {
   switch (out.action) {
     case FlightOutput::Action::Move: link_->move(out.move); break;
     case FlightOutput::Action::Hover: link_->hover(); break;
-    case FlightOutput::Action::Takeoff: link_->takeoff(); break;
+    case FlightOutput::Action::Takeoff:
+      // The IMU's roll/pitch calibrated on the ground first (as on the real drone: FlightRuntime).
+      link_->flat_trim();
+      link_->takeoff();
+      break;
     case FlightOutput::Action::Land: link_->land(); break;
     case FlightOutput::Action::Emergency: link_->emergency(); break;
     case FlightOutput::Action::None: break;

@@ -248,10 +248,12 @@ void SimDroneLink::apply_commands(const CommandPacket& p, Seconds t) {
   lab_.advance_to(t);
   if (p.emergency_bit && !drone_emergency_bit_) lab_.emergency(t);  // the toggle acts on its rising edge
   drone_emergency_bit_ = p.emergency_bit;
+  // ArdroneLink writes AT*FTRIM before AT*REF in a datagram: a flat trim sent with the take-off acts
+  // while the drone is still on the ground.
+  if (p.flat_trim) lab_.flat_trim(t);
   if (p.takeoff_bit && !drone_takeoff_bit_) lab_.takeoff(t);
   if (!p.takeoff_bit && drone_takeoff_bit_) lab_.land(t);
   drone_takeoff_bit_ = p.takeoff_bit;
-  if (p.flat_trim) lab_.flat_trim(t);
   if (p.camera) {
     switching_to_ = *p.camera;
     switch_at_ = t + settings_.camera_switch_delay_s;

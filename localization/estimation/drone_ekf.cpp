@@ -34,8 +34,9 @@ StateVector DroneEkf::derivative(const StateVector& s, const std::optional<MoveC
   d(Y) = s(VY);
   d(Z) = s(VZ);
   const Eigen::Vector2d f = thrust_direction(s(ROLL), s(PITCH), s(YAW));
-  d(VX) = model_.thrust_accel_mps2 * f.x() - model_.drag_per_s * s(VX);
-  d(VY) = model_.thrust_accel_mps2 * f.y() - model_.drag_per_s * s(VY);
+  const double cy = std::cos(s(YAW)), sy = std::sin(s(YAW));
+  d(VX) = model_.thrust_accel_mps2 * f.x() - (cy * tilt_bias_.x() - sy * tilt_bias_.y()) - model_.drag_per_s * s(VX);
+  d(VY) = model_.thrust_accel_mps2 * f.y() - (sy * tilt_bias_.x() + cy * tilt_bias_.y()) - model_.drag_per_s * s(VY);
   d(YAW) = s(YAW_RATE);
   if (command) {
     d(ROLL) = model_.attitude_rate_hz * (model_.tilt_max_rad * clip_unit(command->roll) - s(ROLL));
@@ -67,10 +68,10 @@ void DroneEkf::step(double dt, const std::optional<MoveCommand>& command) {
   const double cy = std::cos(y), sy = std::sin(y);
   A(VX, ROLL) = g * (cy * dfbx_dr - sy * dfby_dr);
   A(VX, PITCH) = g * (cy * dfbx_dp);
-  A(VX, YAW) = g * (-sy * fbx - cy * fby);
+  A(VX, YAW) = g * (-sy * fbx - cy * fby) + (sy * tilt_bias_.x() + cy * tilt_bias_.y());
   A(VY, ROLL) = g * (sy * dfbx_dr + cy * dfby_dr);
   A(VY, PITCH) = g * (sy * dfbx_dp);
-  A(VY, YAW) = g * (cy * fbx - sy * fby);
+  A(VY, YAW) = g * (cy * fbx - sy * fby) - (cy * tilt_bias_.x() - sy * tilt_bias_.y());
   A(VX, VX) = A(VY, VY) = -model_.drag_per_s;
   if (command) {
     A(ROLL, ROLL) = A(PITCH, PITCH) = -model_.attitude_rate_hz;

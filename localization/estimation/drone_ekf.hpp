@@ -20,6 +20,7 @@ class DroneEkf {
   void reset(const StateVector& s, const StateCovariance& P) {
     s_ = s;
     P_ = P;
+    tilt_bias_.setZero();
   }
   void set_model(const MotionModelConstants& model) { model_ = model; }
 
@@ -33,6 +34,9 @@ class DroneEkf {
   // the configured one. The filter runs on the model alone during a velocity dropout.
   void set_xy_accel_noise(double sigma_mps2) { xy_accel_noise_ = sigma_mps2; }
   void reset_xy_accel_noise() { xy_accel_noise_ = noise_.accel_xy_mps2; }
+  // The tilt bias: the horizontal acceleration (heading frame: x forward, y left) that the thrust
+  // along the measured roll/pitch overstates (the IMU's offset, learned by VelocityDropoutDetector).
+  void set_tilt_bias_accel(const Eigen::Vector2d& heading) { tilt_bias_ = heading; }
   // Adds `variance` to the diagonal element i (an estimate that was just moved by a correction).
   void add_variance(int i, double variance) {
     P_(i, i) += variance;
@@ -79,6 +83,7 @@ class DroneEkf {
   MotionModelConstants model_;
   EstimatorNoise noise_;
   double xy_accel_noise_;
+  Eigen::Vector2d tilt_bias_ = Eigen::Vector2d::Zero();
   StateVector s_ = StateVector::Zero();
   StateCovariance P_ = StateCovariance::Identity();
   int repairs_ = 0;

@@ -67,7 +67,10 @@ void FilterCore::apply_navdata(const NavdataSample& n, bool vision_holding, cons
   observe_attitude(n);
   observe_yaw(n, vision_holding, gap);
   if (n.control_state == kLandedState) {
+    // On the ground: the next take-off starts with a flat trim (the missions' executors send one), so
+    // the tilt offset is learned anew in each flight.
     dropout_.reset();
+    ekf_.set_tilt_bias_accel(Eigen::Vector2d::Zero());
     ekf_.reset_xy_accel_noise();
     observe_landed();
   } else {
@@ -125,7 +128,8 @@ bool FilterCore::velocity_usable(const NavdataSample& n) {
   const double c = std::cos(s(YAW)), sn = std::sin(s(YAW));
   const Eigen::Vector2d measured_world(c * n.vx_mps - sn * n.vy_mps, sn * n.vx_mps + c * n.vy_mps);
   const VelocityVerdict v = dropout_.process(t_, measured_world, ekf_.thrust_accel(n.roll_rad, n.pitch_rad, s(YAW)),
-                                             s.segment<2>(VX));
+                                             s(YAW), s.segment<2>(VX));
+  ekf_.set_tilt_bias_accel(dropout_.tilt_bias_accel());
   if (v.onset) {
     const DropoutCorrection& k = dropout_.correction();
     ekf_.mutable_state().segment<2>(VX) += k.velocity;

@@ -1,14 +1,30 @@
 #include "localization/estimation/velocity_dropout_detector.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace labo {
 
+namespace {
+Eigen::Vector2d rotate(double yaw, const Eigen::Vector2d& v) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
+}
+}  // namespace
+
 void VelocityDropoutDetector::reset() {
+  restart();
+  bias_heading_.setZero();
+  bias_time_ = 0;
+}
+
+void VelocityDropoutDetector::restart() {
   head_ = size_ = 0;
   in_dropout_ = false;
   dropout_start_ = 0;
   onset_votes_ = resume_votes_ = 0;
+  shadow_.setZero();
+  consistent_since_ = shadow_reset_t_ = 0;
   correction_ = {};
 }
 
@@ -28,79 +44,133 @@ Eigen::Vector2d VelocityDropoutDetector::mean_measured(std::size_t from, std::si
   return sum / static_cast<double>(to - from + 1);
 }
 
-VelocityDropoutDetector::Consistency VelocityDropoutDetector::consistency(Start from) {
-  Consistency c;
-  if (size_ < 2) return c;
-  const Seconds now = at(size_ - 1).t;
-  // At least half a window of history (after a reset, or a navdata gap that emptied nothing).
-  if (at(0).t > now - 0.5 * settings_.window_s) return c;
-  const std::size_t start = first_at_or_after(now - settings_.window_s);
-  if (start + 1 >= size_) return c;
-  const std::size_t start_end = std::max(start, first_at_or_after(at(start).t + settings_.average_s) - 1);
-  const std::size_t end_begin = std::max(start + 1, first_at_or_after(now - settings_.average_s));
-  if (start_end >= end_begin) return c;
-  // The model from the window's start: v' = thrust - drag v, with each packet's measured tilt.
-  Eigen::Vector2d v = from == Start::Measured ? mean_measured(start, start_end) : at(start).filter;
-  model_velocity_[start] = v;
-  for (std::size_t i = start + 1; i < size_; ++i) {
-    const double dt = at(i).t - at(i - 1).t;
-    v += (at(i - 1).thrust_accel - model_.drag_per_s * v) * dt;
-    model_velocity_[i] = v;
-  }
-  Eigen::Vector2d model_end = Eigen::Vector2d::Zero();
-  for (std::size_t i = end_begin; i < size_; ++i) model_end += model_velocity_[i];
-  model_end /= static_cast<double>(size_ - end_begin);
-  c.valid = true;
-  c.measured_speed = mean_measured(end_begin, size_ - 1).norm();
-  c.model_speed = model_end.norm();
-  return c;
-}
-
-void VelocityDropoutDetector::take_back(std::size_t start) {
-  // model_velocity_ holds the model over the window (consistency() of this packet); the filter fused
-  // the failing measurements meanwhile. Its velocity becomes the model's, and it moves by what the
-  // model would have moved more.
-  correction_ = {};
-  for (std::size_t i = start + 1; i < size_; ++i) {
-    const double dt = at(i).t - at(i - 1).t;
-    correction_.position += 0.5 * ((model_velocity_[i] - at(i).filter) + (model_velocity_[i - 1] - at(i - 1).filter)) * dt;
-  }
-  correction_.velocity = model_velocity_[size_ - 1] - at(size_ - 1).filter;
-}
-
-VelocityVerdict VelocityDropoutDetector::process(Seconds t, const Eigen::Vector2d& measured_world,
-                                                 const Eigen::Vector2d& thrust_accel_world,
-                                                 const Eigen::Vector2d& filter_velocity) {
-  if (size_ > 0 && t < at(size_ - 1).t) reset();  // time went back: a new flight
+void VelocityDropoutDetector::push(const Entry& e) {
   if (size_ == kCapacity) {
     head_ = (head_ + 1) % kCapacity;
     --size_;
   }
-  Entry& e = ring_[(head_ + size_) % kCapacity];
-  e = {t, measured_world, thrust_accel_world, filter_velocity};
+  ring_[(head_ + size_) % kCapacity] = e;
   ++size_;
+}
+
+VelocityDropoutDetector::Window VelocityDropoutDetector::window() const {
+  Window w;
+  if (size_ < 2) return w;
+  const Seconds now = at(size_ - 1).t;
+  if (at(0).t > now - 0.5 * settings_.window_s) return w;
+  w.start = first_at_or_after(now - settings_.window_s);
+  if (w.start + 1 >= size_) return w;
+  w.start_end = std::max(w.start, first_at_or_after(at(w.start).t + settings_.average_s) - 1);
+  w.end_begin = std::max(w.start + 1, first_at_or_after(now - settings_.average_s));
+  w.valid = w.start_end < w.end_begin;
+  return w;
+}
+
+Eigen::Vector2d VelocityDropoutDetector::model_from_measured(const Window& w) const {
+  Eigen::Vector2d v = mean_measured(w.start, w.start_end);
+  Eigen::Vector2d end_sum = Eigen::Vector2d::Zero();
+  for (std::size_t i = w.start + 1; i < size_; ++i) {
+    v += (at(i - 1).thrust_accel - model_.drag_per_s * v) * (at(i).t - at(i - 1).t);
+    if (i >= w.end_begin) end_sum += v;
+  }
+  return end_sum / static_cast<double>(size_ - w.end_begin);
+}
+
+void VelocityDropoutDetector::learn_bias(const Window& w, double yaw, Seconds dt) {
+  // Over the window, the model from the measured start against the measured end: what is left is the
+  // bias times the window's effective length (the drag forgets part of it).
+  const Eigen::Vector2d residual = mean_measured(w.end_begin, size_ - 1) - model_from_measured(w);
+  const Seconds span = 0.5 * (at(size_ - 1).t + at(w.end_begin).t) - 0.5 * (at(w.start).t + at(w.start_end).t);
+  if (!(span > 0)) return;
+  const double effective = (1.0 - std::exp(-model_.drag_per_s * span)) / model_.drag_per_s;
+  const Eigen::Vector2d error_world = -residual / effective;  // what the model still overstates
+  // A larger residual is a manoeuvre the model misses, or a flow starting to fail: not an offset.
+  if (error_world.norm() > kBiasGateMps2) return;
+  bias_time_ = std::min(bias_time_ + dt, kBiasWarmup);
+  // A running mean over the warm-up, then a slow exponential average.
+  const double gain = bias_time_ < kBiasWarmup ? dt / bias_time_ : dt / kBiasTimeConstant;
+  bias_heading_ += std::min(1.0, gain) * rotate(-yaw, error_world);
+}
+
+double VelocityDropoutDetector::unexplained_by_failing_flow(const Eigen::Vector2d& measured) const {
+  // A failing flow shrinks the true velocity towards zero along its direction: what it can explain of
+  // `measured` is its part along the shadow's velocity, between zero and the shadow's speed.
+  const double speed = shadow_.norm();
+  const Eigen::Vector2d along_unit = speed > 1e-9 ? Eigen::Vector2d(shadow_ / speed) : Eigen::Vector2d::Zero();
+  const double along = measured.dot(along_unit);
+  const double beyond = along > speed ? along - speed : along < 0 ? -along : 0.0;
+  return std::hypot(beyond, (measured - along * along_unit).norm());
+}
+
+void VelocityDropoutDetector::take_back() {
+  // Since the model and the flow last agreed (at least the last window), as far as the ring reaches.
+  correction_ = {};
+  const Seconds since = std::max(shadow_reset_t_, std::min(consistent_since_, at(size_ - 1).t - settings_.window_s));
+  const std::size_t start = first_at_or_after(since);
+  for (std::size_t i = std::max<std::size_t>(start, 1); i < size_; ++i) {
+    const double dt = at(i).t - at(i - 1).t;
+    correction_.position += 0.5 * ((at(i).shadow - at(i).filter) + (at(i - 1).shadow - at(i - 1).filter)) * dt;
+  }
+  correction_.velocity = at(size_ - 1).shadow - at(size_ - 1).filter;
+}
+
+VelocityVerdict VelocityDropoutDetector::process(Seconds t, const Eigen::Vector2d& measured_world,
+                                                 const Eigen::Vector2d& thrust_accel_world, double yaw,
+                                                 const Eigen::Vector2d& filter_velocity) {
+  if (size_ > 0 && t < at(size_ - 1).t) restart();  // time went back: a new flight
+  const Eigen::Vector2d thrust = thrust_accel_world - rotate(yaw, bias_heading_);
+  if (size_ == 0) {
+    shadow_ = measured_world;
+  } else {
+    const Seconds dt = t - at(size_ - 1).t;
+    const Eigen::Vector2d pull =
+        in_dropout_ ? Eigen::Vector2d::Zero() : Eigen::Vector2d(kShadowPullPerS * (measured_world - shadow_));
+    shadow_ += (at(size_ - 1).thrust_accel - model_.drag_per_s * shadow_ + pull) * dt;
+  }
+  const Seconds dt = size_ > 0 ? t - at(size_ - 1).t : 0.0;
+  push({t, measured_world, thrust, filter_velocity, shadow_});
 
   VelocityVerdict verdict;
-  const Consistency c = consistency(in_dropout_ ? Start::Measured : Start::Filter);
+  const Window w = window();
+  if (!w.valid) {
+    verdict.fuse = !in_dropout_;
+    return verdict;
+  }
+  const Eigen::Vector2d measured_now = mean_measured(w.end_begin, size_ - 1);
   if (!in_dropout_) {
-    const bool lost = c.valid && c.model_speed - c.measured_speed > settings_.onset_mps &&
-                      c.measured_speed < settings_.onset_ratio * c.model_speed;
+    if (unexplained_by_failing_flow(measured_now) > settings_.onset_mps) {
+      // The drone moved in a way the model cannot know (a push, a gust, a collision): the flow is
+      // right, the model's velocity takes it.
+      shadow_ = measured_now;
+      back().shadow = shadow_;
+      shadow_reset_t_ = consistent_since_ = t;
+      onset_votes_ = 0;
+      return verdict;
+    }
+    const double measured_speed = measured_now.norm(), model_speed = shadow_.norm();
+    const bool lost = warmed_up() && model_speed - measured_speed > settings_.onset_mps &&
+                      measured_speed < settings_.onset_ratio * model_speed;
     onset_votes_ = lost ? onset_votes_ + 1 : 0;
     if (onset_votes_ >= settings_.confirm_packets) {
-      // The filter's velocity in the window's entries: e.filter of this packet is its prediction.
-      take_back(first_at_or_after(t - settings_.window_s));
+      take_back();
       in_dropout_ = true;
       dropout_start_ = t;
       onset_votes_ = resume_votes_ = 0;
       verdict.onset = true;
       verdict.fuse = false;
+      return verdict;
     }
+    // After the warm-up, learned only while the flow shows motion and agrees with the model: reading
+    // zero, a failed flow and a hover look alike, and a drone creeping on a small tilt while the flow
+    // reads zero would be learned as an offset.
+    const bool consistent = model_speed - measured_speed < 0.5 * settings_.onset_mps;
+    if (consistent) consistent_since_ = t;
+    if (!warmed_up() || (consistent && measured_speed > settings_.alive_mps)) learn_bias(w, yaw, dt);
     return verdict;
   }
-  const std::size_t recent = std::max<std::size_t>(1, first_at_or_after(t - settings_.average_s));
-  const Eigen::Vector2d measured_now = mean_measured(std::min(recent, size_ - 1), size_ - 1);
-  const bool alive = c.valid && c.measured_speed > settings_.alive_mps &&
-                     c.measured_speed > c.model_speed - settings_.onset_mps;
+  const double measured_speed = measured_now.norm();
+  const bool alive = measured_speed > settings_.alive_mps &&
+                     measured_speed > model_from_measured(w).norm() - settings_.onset_mps;
   const bool agrees = (measured_now - filter_velocity).norm() < settings_.agree_mps;
   resume_votes_ = (alive || agrees) ? resume_votes_ + 1 : 0;
   if (resume_votes_ >= settings_.confirm_packets) {
@@ -114,7 +184,7 @@ VelocityVerdict VelocityDropoutDetector::process(Seconds t, const Eigen::Vector2
 }
 
 void VelocityDropoutDetector::record_filter_velocity(const Eigen::Vector2d& filter_velocity) {
-  if (size_ > 0) ring_[(head_ + size_ - 1) % kCapacity].filter = filter_velocity;
+  if (size_ > 0) back().filter = filter_velocity;
 }
 
 }  // namespace labo

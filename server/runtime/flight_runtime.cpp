@@ -111,7 +111,13 @@ void FlightRuntime::apply(const FlightAction& a) {
     case FlightAction::Kind::None: break;
     case FlightAction::Kind::Move: link_.move(a.move); break;
     case FlightAction::Kind::Hover: link_.hover(); break;
-    case FlightAction::Kind::Takeoff: link_.takeoff(); break;
+    case FlightAction::Kind::Takeoff:
+      // A take-off is only accepted while landed: calibrate the IMU's roll/pitch on the ground first
+      // (AT*FTRIM, sent before the take-off's AT*REF). Without it the attitude carries the last
+      // calibration's offset (~0.6 deg), which the estimator's model reads as a steady push.
+      link_.flat_trim();
+      link_.takeoff();
+      break;
     case FlightAction::Kind::Land: link_.land(); break;
     case FlightAction::Kind::Emergency: link_.emergency(); break;
   }

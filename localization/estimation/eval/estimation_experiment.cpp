@@ -295,9 +295,18 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
     (detect ? out.bare_floor : out.bare_floor_fusing_every_velocity) = cross_bare_floor(run);
     count_rejections(run);
   }
-  for (const bool compensate : {true, false}) {  // holding a point against gusts and pushes, SLAM on
+  // Holding a point against gusts and pushes, SLAM on: delays compensated as configured, not
+  // compensated, and compensated with the control delay measured in the first run (round trip minus
+  // the configured navdata delay).
+  enum class Delays { Configured, None, Measured };
+  for (const Delays delays : {Delays::Configured, Delays::None, Delays::Measured}) {
+    EstimatorConfig c = config;
+    if (delays == Delays::Measured) {
+      if (out.round_trip_measured_s <= 0) break;  // nothing measured: no third run
+      c.control_delay_s = std::max(0.0, out.round_trip_measured_s - config.navdata_delay_s);
+    }
     auto plant = make_plant(request(seed + 3000, kFullNavdata, frames));
-    FlightRun run(*plant, config, make_pipeline, seed, compensate);
+    FlightRun run(*plant, c, make_pipeline, seed, delays != Delays::None);
     run.set_gains(FlightRun::Gains::aggressive());  // where delays matter: a stiff position loop
     run.setpoint = plant->truth().T_world_body.translation();
     scale_manoeuvre(run);
@@ -310,9 +319,27 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
       run.plant().push(Eigen::Vector3d(n(rng), n(rng), 0.0));
       accumulate(run, 4.0, p, y, control);
     }
-    (compensate ? out.control_rmse_compensated_m : out.control_rmse_uncompensated_m) = control.value();
-    (compensate ? out.controller_input_error_compensated_m : out.controller_input_error_uncompensated_m) =
-        run.controller_input_error_rms();
+    switch (delays) {
+      case Delays::Configured: {
+        out.control_rmse_compensated_m = control.value();
+        out.controller_input_error_compensated_m = run.controller_input_error_rms();
+        const auto lag = run.command_lag().estimate();
+        out.round_trip_measured_s = lag ? lag->round_trip_s : 0.0;
+        out.round_trip_windows = lag ? lag->windows : 0;
+        out.round_trip_true_s = run.plant().command_latency() + run.plant().navdata_delay();
+        out.round_trip_configured_s = config.control_delay_s + config.navdata_delay_s;
+        break;
+      }
+      case Delays::None:
+        out.control_rmse_uncompensated_m = control.value();
+        out.controller_input_error_uncompensated_m = run.controller_input_error_rms();
+        break;
+      case Delays::Measured:
+        out.control_delay_measured_s = c.control_delay_s;
+        out.control_rmse_measured_delay_m = control.value();
+        out.controller_input_error_measured_delay_m = run.controller_input_error_rms();
+        break;
+    }
     count_rejections(run);
   }
   out.rejected_inputs = rejected;

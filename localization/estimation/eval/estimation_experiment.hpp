@@ -87,6 +87,16 @@ struct EstimationResults {
   // What compensation targets: the controller's input vs the true position when its command acts.
   double controller_input_error_compensated_m = 0;
   double controller_input_error_uncompensated_m = 0;
+  // The same hold with the control delay set from the measured round trip (0 when none was measured).
+  double control_delay_measured_s = 0;   // round trip minus the configured navdata delay
+  double control_rmse_measured_delay_m = 0;
+  double controller_input_error_measured_delay_m = 0;
+  // The command round trip (control + navdata delay) as measured by CommandLagEstimator during the
+  // compensated hold, against the plant's own (command latency + navdata delay) and the configured one.
+  double round_trip_measured_s = 0;      // 0 when no window was accepted
+  std::uint64_t round_trip_windows = 0;
+  double round_trip_true_s = 0;
+  double round_trip_configured_s = 0;
   std::uint64_t rejected_inputs = 0;
   std::map<std::string, std::uint64_t> rejections;  // by the estimator's counter name, over all runs
 };

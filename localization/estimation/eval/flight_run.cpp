@@ -19,7 +19,7 @@ FlightRun::FlightRun(EstimationPlant& plant, EstimatorConfig config, const Pipel
         if (!compensate) config.video_delay_s = config.navdata_delay_s = config.control_delay_s = 0.0;
         return config;
       }()),
-      pipeline_(make(config_, plant, seed)), compensate_(compensate) {
+      pipeline_(make(config_, plant, seed)), compensate_(compensate), command_lag_(config_.model) {
   Eigen::Isometry3d start = plant_.truth().T_world_body;
   start.translation() += initial_error;
   pipeline_->reset(start, plant_.now() - config_.navdata_delay_s);
@@ -56,7 +56,10 @@ Eigen::Isometry3d FlightRun::truth_at(Seconds t) const {
 void FlightRun::tick() {
   arrived_.clear();
   plant_.step(kTick, arrived_);
-  for (const NavdataSample& n : arrived_) pipeline_->on_navdata(n);
+  for (const NavdataSample& n : arrived_) {
+    pipeline_->on_navdata(n);
+    command_lag_.add_navdata(n);
+  }
   for (const VideoFrame& frame : plant_.frames_of_last_step()) pipeline_->on_frame(frame);
   const Seconds now = plant_.now();
   const GroundTruth truth = plant_.truth();
@@ -76,6 +79,7 @@ void FlightRun::tick() {
   const MoveCommand c = control(f);
   plant_.move(c);
   pipeline_->on_command(c, now);
+  command_lag_.add_command(c, now);
 }
 
 double FlightRun::estimated_scale_at(Seconds t) const {

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 
+#include "localization/estimation/command_lag_estimator.hpp"
 #include "localization/estimation/eval/estimation_pipeline.hpp"
 
 namespace labo {
@@ -49,6 +50,9 @@ class FlightRun {
   double estimated_scale_at(Seconds t) const;
 
   // RMS of |position the controller acted on - true position when that command acted|.
+  // The command round trip (control + navdata delay) measured from this run's commands and navdata.
+  const CommandLagEstimator& command_lag() const { return command_lag_; }
+
   double controller_input_error_rms() const { return input_error_n_ > 0 ? std::sqrt(input_error_sum2_ / input_error_n_) : 0.0; }
 
  private:
@@ -59,6 +63,7 @@ class FlightRun {
   EstimatorConfig config_;
   std::unique_ptr<EstimationPipeline> pipeline_;
   bool compensate_;
+  CommandLagEstimator command_lag_;
   std::vector<NavdataSample> arrived_;
   std::deque<std::pair<Seconds, Eigen::Vector3d>> controller_inputs_;  // effect time, position used
   std::deque<GroundTruth> history_;  // the last seconds of truth, one per tick

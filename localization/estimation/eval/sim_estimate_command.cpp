@@ -71,6 +71,13 @@ nlohmann::json run_json(const EstimationResults& r, unsigned seed) {
                                   {"control_rmse_without_m", r.control_rmse_uncompensated_m},
                                   {"gain_percent", 100.0 * (1.0 - r.control_rmse_compensated_m /
                                                                       std::max(1e-9, r.control_rmse_uncompensated_m))}}},
+          {"delay_compensation_measured", {{"control_delay_s", r.control_delay_measured_s},
+                                           {"controller_input_error_m", r.controller_input_error_measured_delay_m},
+                                           {"control_rmse_m", r.control_rmse_measured_delay_m}}},
+          {"command_round_trip", {{"measured_s", r.round_trip_measured_s},
+                                  {"windows", r.round_trip_windows},
+                                  {"true_s", r.round_trip_true_s},
+                                  {"configured_s", r.round_trip_configured_s}}},
           {"rejected_inputs", r.rejected_inputs},
           {"rejections", r.rejections}};
 }
@@ -248,7 +255,14 @@ int run_sim_estimate_command(const ParsedArgs& args, const RealVisionMaker& real
       {"controller_input_error_without_delay_compensation_m_mean",
        mean_of(results, member(&EstimationResults::controller_input_error_uncompensated_m))},
       {"control_rmse_with_delay_compensation_m_mean", mean_of(results, member(&EstimationResults::control_rmse_compensated_m))},
-      {"control_rmse_without_delay_compensation_m_mean", mean_of(results, member(&EstimationResults::control_rmse_uncompensated_m))}};
+      {"control_rmse_without_delay_compensation_m_mean", mean_of(results, member(&EstimationResults::control_rmse_uncompensated_m))},
+      {"controller_input_error_with_measured_delay_m_mean",
+       mean_of(results, member(&EstimationResults::controller_input_error_measured_delay_m))},
+      {"control_rmse_with_measured_delay_m_mean", mean_of(results, member(&EstimationResults::control_rmse_measured_delay_m))},
+      {"command_round_trip_measured_s_mean", mean_of(results, member(&EstimationResults::round_trip_measured_s))},
+      {"command_round_trip_measured_s_max", max_of(results, member(&EstimationResults::round_trip_measured_s))},
+      {"command_round_trip_true_s", results.front().round_trip_true_s},
+      {"command_round_trip_configured_s", results.front().round_trip_configured_s}};
   out["targets"] = {{"scale_within_3_percent_fraction", ">= 0.95"},
                     {"hover_slam_position_rmse_m", "<= 0.05"},
                     {"z_impulse_returned_within_5_s_fraction", "1.0 (within 0.1 m of the set point)"}};

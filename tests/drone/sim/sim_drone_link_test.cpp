@@ -2,6 +2,7 @@
 // link supervision, the camera switch, the H.264 round trip, and the same flight bit for bit.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <opencv2/imgproc.hpp>
@@ -139,6 +140,38 @@ TEST_CASE("sim link: commands reach the drone through the AT loop; lost datagram
   deaf.run_to(5.0);
   CHECK(deaf.rec.navdata.back().control_state == 2);
   CHECK(deaf.link->statistics().counters.at("commands_lost") == deaf.link->statistics().counters.at("commands_sent"));
+}
+
+TEST_CASE("sim link: a flat trim sent with the take-off acts on the ground (AT*FTRIM before AT*REF)", "[sim][link]") {
+  // The mean navdata roll/pitch minus the true attitude over [from, to): the IMU's offset.
+  const auto offset = [](Rig& rig, Seconds from, Seconds to) {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    int n = 0;
+    for (Seconds t = rig.link->now(); t < to; t += 0.02) {
+      const std::size_t before = rig.rec.navdata.size();
+      rig.link->advance_to(t + 0.02);
+      const QuadrotorState& truth = rig.sim->truth();
+      for (std::size_t i = before; i < rig.rec.navdata.size(); ++i) {
+        if (rig.rec.navdata[i].t < from) continue;
+        sum += Eigen::Vector2d(rig.rec.navdata[i].roll_rad - truth.roll_rad, rig.rec.navdata[i].pitch_rad - truth.pitch_rad);
+        ++n;
+      }
+    }
+    return Eigen::Vector2d(sum / std::max(n, 1));
+  };
+  for (const bool trim : {true, false}) {
+    Rig rig({}, 3);
+    const Eigen::Vector2d on_ground = offset(rig, 0.2, 1.0);
+    REQUIRE(on_ground.norm() > 0.004);  // the seed's offset before any trim (sigma 0.01 rad)
+    if (trim) rig.link->flat_trim();
+    rig.link->takeoff();  // the same datagram
+    rig.run_to(8.0);
+    REQUIRE(rig.sim->truth().phase == FirmwarePhase::Hovering);
+    const Eigen::Vector2d hovering = offset(rig, 8.0, 10.0);
+    INFO("trim " << trim << ": offset on the ground " << on_ground.transpose() << " rad, hovering " << hovering.transpose());
+    if (trim) CHECK(hovering.norm() < 0.5 * on_ground.norm());
+    else CHECK((hovering - on_ground).norm() < 0.002);
+  }
 }
 
 TEST_CASE("sim link: a command issued from a callback is stamped with the event's time", "[sim][link]") {
