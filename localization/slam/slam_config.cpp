@@ -14,6 +14,7 @@ SlamSettings read_slam_settings(const ConfigReader& node) {
   s.quality_lost = node.number_or("quality_lost", s.quality_lost, Range{0.0, 1.0, true});
   if (s.quality_lost >= s.quality_good) node.fail("quality_lost", "must be below quality_good");
   s.keyframe_min_interval_s = node.number_or("keyframe_min_interval_s", s.keyframe_min_interval_s, Range::closed(0.0, 10.0));
+  s.keyframe_overlap_ratio = node.number_or("keyframe_overlap_ratio", s.keyframe_overlap_ratio, Range::closed(0.1, 0.95));
   s.keyframe_min_points_dodgy = node.integer_or("keyframe_min_points_dodgy", s.keyframe_min_points_dodgy, 0, 5000);
   s.max_keyframes = node.integer_or("max_keyframes", s.max_keyframes, 2, 2000);
   s.global_ba_when_idle = node.boolean_or("global_ba_when_idle", s.global_ba_when_idle);

@@ -18,6 +18,9 @@ TEST_CASE("slam: config section is read, range-checked and refuses unknown keys"
   CHECK_THROWS_WITH(read(R"({"max_features": 10})"), Catch::Contains("max_features"));
   CHECK(read(R"({"max_points_searched": 1200})").max_points_searched == 1200);
   CHECK(read(R"({"keyframe_min_points_dodgy": 0})").keyframe_min_points_dodgy == 0);
+  CHECK(read(R"({"keyframe_overlap_ratio": 0.7})").keyframe_overlap_ratio == Approx(0.7));
+  CHECK(read("{}").keyframe_overlap_ratio == Approx(0.55));
+  CHECK_THROWS_WITH(read(R"({"keyframe_overlap_ratio": 1.2})"), Catch::Contains("keyframe_overlap_ratio"));
   CHECK_THROWS_WITH(read(R"({"keyframe_min_points_dodgy": -1})"), Catch::Contains("keyframe_min_points_dodgy"));
   CHECK_THROWS_WITH(read(R"({"max_points_searched": 10})"), Catch::Contains("max_points_searched"));
   CHECK_THROWS_WITH(read(R"({"quality_good": 0.1, "quality_lost": 0.2})"), Catch::Contains("quality_lost"));
