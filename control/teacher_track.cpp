@@ -73,9 +73,9 @@ void TeacherTrack::coast(Seconds dt) {
   t_ += dt;
 }
 
-void TeacherTrack::place(const Eigen::Vector2d& xy, double heading_rad) {
+void TeacherTrack::place(const Eigen::Vector2d& xy, double heading_rad, const Eigen::Vector2d& velocity) {
   position_.head<2>() = xy;
-  velocity_.setZero();
+  velocity_ = Eigen::Vector3d(velocity.x(), velocity.y(), 0.0);
   heading_ = wrap_angle(heading_rad);
   heading_rate_ = 0;
 }

@@ -24,8 +24,9 @@ class TeacherTrack {
   void resume(const Eigen::Isometry3d& T_world_face, Seconds t);
   // Move the track along its motion (face lost: where it most likely went); the turn rate decays.
   void coast(Seconds dt);
-  // Pretend the teacher stands at `xy` facing `heading_rad` (a prediction from the route).
-  void place(const Eigen::Vector2d& xy, double heading_rad);
+  // Pretend the teacher is at `xy` facing `heading_rad`, moving at `velocity` (a prediction from the
+  // route).
+  void place(const Eigen::Vector2d& xy, double heading_rad, const Eigen::Vector2d& velocity = Eigen::Vector2d::Zero());
 
   const Eigen::Vector3d& position() const { return position_; }
   const Eigen::Vector3d& velocity() const { return velocity_; }  // horizontal

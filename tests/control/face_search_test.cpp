@@ -22,6 +22,27 @@ TeacherRoute lab_route() {
   return r;
 }
 
+// Two long legs along x, 0.5 m apart, joined by short ones: a turn back at each end.
+TeacherRoute turn_back_route() {
+  TeacherRoute r;
+  r.waypoints = {{1.0, -2.0}, {3.5, -2.0}, {3.5, -1.5}, {1.0, -1.5}};
+  r.speed_mps = 0.4;
+  r.pause_s = 3.0;
+  r.eye_height_m = 1.6;
+  return r;
+}
+
+// The simulated teacher walking `route`, with the lab's head sway.
+TeacherSpec walking(const TeacherRoute& route) {
+  TeacherSpec spec;
+  spec.waypoints = route.waypoints;
+  spec.speed_mps = route.speed_mps;
+  spec.pause_s = route.pause_s;
+  spec.eye_height_m = route.eye_height_m;
+  spec.head = HeadMotionSpec{35, 7, 10, 5, 8, 9};
+  return spec;
+}
+
 MissionRequest find_teacher() {
   MissionRequest r;
   r.kind = RequestKind::FindTeacher;
@@ -123,16 +144,8 @@ TEST_CASE("control: the meeting point starts from the nearest corner when two ar
 
 TEST_CASE("control: a teacher turning back at a corner is met in front of the next leg and followed along it") {
   LabGeometry lab = model_lab();  // room x -1..5, y -3..3: fence y >= -2.7, x <= 4.7
-  lab.teacher.waypoints = {{1.0, -2.0}, {3.5, -2.0}, {3.5, -1.5}, {1.0, -1.5}};
-  lab.teacher.speed_mps = 0.4;
-  lab.teacher.pause_s = 3.0;
-  lab.teacher.eye_height_m = 1.6;
-  TeacherSpec spec;
-  spec.waypoints = lab.teacher.waypoints;
-  spec.speed_mps = lab.teacher.speed_mps;
-  spec.pause_s = lab.teacher.pause_s;
-  spec.eye_height_m = lab.teacher.eye_height_m;
-  spec.head = HeadMotionSpec{35, 7, 10, 5, 8, 9};  // the lab's head sway
+  lab.teacher = turn_back_route();
+  const TeacherSpec spec = walking(lab.teacher);
   const TeacherMotion motion(spec);
   test::ModelFlight f({}, lab);
   const auto walk = [&](double seconds) {
@@ -183,4 +196,47 @@ TEST_CASE("control: a teacher turning back at a corner is met in front of the ne
   CHECK(meetings >= 3);   // each turn back (two per round) met ahead
   CHECK(rms < 0.15);
   CHECK(nearest > 0.6);   // never into the teacher (hull 0.26 m + body 0.25 m)
+}
+
+TEST_CASE("control: a face lost at a corner: the drone waiting on the next leg keeps ahead of a teacher who sets off unseen") {
+  // Real vision, seed 1 (2026-12-02): the face was lost just as the teacher set off on the next leg
+  // towards the drone, which then held, and met them at the leg's start, for a face that stayed out of
+  // the detector's reach (head sway) while the teacher walked into it.
+  LabGeometry lab = model_lab();  // room x -1..5, y -3..3
+  lab.teacher = turn_back_route();
+  const TeacherSpec spec = walking(lab.teacher);
+  const TeacherMotion motion(spec);
+  test::ModelFlight f({}, lab);
+  const auto tick = [&] {
+    f.world->T_world_face = motion.pose(f.t).T_world_head * flip_about_y();
+    f.run(1.0 / 30.0);
+  };
+  REQUIRE(f.request(find_teacher()).accepted);
+  bool following = false;
+  for (const double end = f.t + 120; f.t < end && !following;) {
+    tick();
+    following = f.stack->status().stage == "3 face-follow";
+  }
+  REQUIRE(following);
+  for (const double end = f.t + 5.0; f.t < end;) tick();
+  const auto on_long_leg = [&](const TeacherPose& p) { return p.walking && std::abs(std::cos(p.heading_rad)) > 0.9; };
+  // Wait for a short leg, then for the long leg after it; hide the face 0.3 s into it (the head swayed
+  // away as they set off) until they have walked 2.5 s of it.
+  for (const double end = f.t + motion.cycle_s(); f.t < end && !(motion.pose(f.t).walking && !on_long_leg(motion.pose(f.t)));) tick();
+  REQUIRE_FALSE(on_long_leg(motion.pose(f.t)));
+  double nearest = 10;
+  Seconds long_leg_since = -1;
+  const double hidden_until_walked_s = 2.5;
+  for (const double end = f.t + 30.0; f.t < end;) {
+    tick();
+    const TeacherPose p = motion.pose(f.t);
+    if (long_leg_since < 0 && on_long_leg(p)) long_leg_since = f.t;
+    if (long_leg_since >= 0) f.world->face_visible = f.t - long_leg_since < 0.3 || f.t - long_leg_since > hidden_until_walked_s;
+    nearest = std::min(nearest, (f.world->drone.pose().translation() - p.T_world_head.translation()).head<2>().norm());
+    if (long_leg_since >= 0 && f.t - long_leg_since > hidden_until_walked_s + 3.0) break;
+  }
+  INFO("nearest " << nearest << " m, stage " << f.stack->status().stage);
+  REQUIRE(long_leg_since > 0);
+  CHECK(nearest > 0.6);  // hull 0.26 m + body 0.25 m, with margin
+  CHECK(f.stack->status().stage.find("3 face-follow") == 0);
 }
