@@ -34,9 +34,11 @@ constexpr double kStandoffEaseMps = 0.2;
 // point's distance from it (~1.2 m): ~0.85 m from the teacher at least (hull 0.26 m + body 0.25 m
 // collide at 0.51 m). Circling the leg's start, the chords cut inside and the drone was hit as the
 // teacher stood at the corner (real vision, seed 1).
-// A teacher walking within this of a corner after which their next long leg heads more than
-// kTurnBackRad away from their heading is about to turn round: the drone leaves for the meeting point.
+// A teacher stopped within this of a corner (or still walking, within kAtCornerM of it) after which
+// their next long leg heads more than kTurnBackRad away from their heading is about to turn round: the
+// drone leaves for the meeting point.
 constexpr double kCornerAheadM = 0.25;
+constexpr double kAtCornerM = 0.05;
 constexpr double kTurnBackRad = 2 * std::numbers::pi / 3;
 // Meeting: a face is the teacher on the next leg when it looks within this of the leg's direction (the
 // face still turning at the corner would bring the drone back behind them).
@@ -188,11 +190,15 @@ void FindTeacherMission::place_on_meeting_leg(const MissionContext& ctx) {
 
 bool FindTeacherMission::turning_back_ahead(const MissionContext& ctx) const {
   if (watch_points_.empty()) return false;
-  const std::optional<WatchPoint> start =
-      next_leg_meeting_point(ctx.lab.teacher, track_.position().head<2>(), ctx.autopilot.fence(), 0.0, kCornerAheadM);
-  if (!start) return false;
-  const double next_leg = start->yaw + std::numbers::pi;
-  return std::abs(wrap_angle(next_leg - track_.heading())) > kTurnBackRad;
+  // Only once they stop there (or all but): the walk into the corner is followed to its end. Leaving
+  // 0.25 m before it, the drone swung off a teacher still walking for 0.6-1.1 s (the face's place,
+  // measured a little short, runs ahead of them) and those ticks count: real vision, seed 1, the
+  // ends of legs A and C, distance error -0.2 to -0.33 m, the face 0.3-0.7 rad off the centre ray.
+  // The pause (3 s) and the short leg after it leave the time to go round.
+  if (track_.walking() && !next_long_leg(ctx.lab.teacher, track_.position().head<2>(), kAtCornerM)) return false;
+  const std::optional<RouteLeg> next = next_long_leg(ctx.lab.teacher, track_.position().head<2>(), kCornerAheadM);
+  if (!next) return false;
+  return std::abs(wrap_angle(std::atan2(next->along.y(), next->along.x()) - track_.heading())) > kTurnBackRad;
 }
 
 bool FindTeacherMission::face_on_meeting_leg(const MissionContext& ctx) const {
@@ -237,7 +243,10 @@ void FindTeacherMission::follow(MissionContext& ctx) {
   // Met in front of a leg, the drone waits farther out; it comes in to the follow distance only as
   // the teacher walks at it: from the follow distance the drone's lag (the walk noticed, then the
   // drone accelerated backwards) let the teacher come within 0.55 m.
-  if (standoff_m_ > d && track_.walking()) standoff_m_ = std::max(d, standoff_m_ - kStandoffEaseMps * (f.t - last_face_t_));
+  // (Per face result, not over a gap: after a meeting the last face was seconds ago, and the whole
+  // 0.2 m came at once.)
+  if (standoff_m_ > d && track_.walking())
+    standoff_m_ = std::max(d, standoff_m_ - kStandoffEaseMps * std::min(f.t - last_face_t_, kFreshObservationS));
   last_face_t_ = f.t;
   fly_standoff(ctx, fresh_, track_.position());
   fresh_ = false;

@@ -43,7 +43,9 @@ void TeacherTrack::reset(const Eigen::Isometry3d& T_world_face, Seconds t) {
 void TeacherTrack::resume(const Eigen::Isometry3d& T_world_face, Seconds t) {
   walk_ = last_walk_ = WalkSpell{};
   position_ = T_world_face.translation();
-  velocity_.setZero();
+  // The velocity stays the prediction's (place()): zeroed, the feed-forward dropped and the
+  // derivative, relative to it, braked the drone as the face of a teacher walking at it came back
+  // (real vision, seed 1, leg A: 0.18 m too close for 1 s after the face was found again).
   heading_rate_ = 0;
   hold_heading_ = true;
   t_ = t;

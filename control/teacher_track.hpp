@@ -19,8 +19,9 @@ class TeacherTrack {
   void reset(const Eigen::Isometry3d& T_world_face, Seconds t);
   // Fold in the next face pose (t after the previous one).
   void update(const Eigen::Isometry3d& T_world_face, Seconds t);
-  // Take the face up again after a gap: its place now, standing, keeping the heading the track had
-  // (placed from the route: the leg they are about to walk) until they walk.
+  // Take the face up again after a gap: its place now, keeping the heading and the velocity the track
+  // had (placed from the route: the leg they walk, or are about to walk: then the heading stays until
+  // they walk).
   void resume(const Eigen::Isometry3d& T_world_face, Seconds t);
   // Move the track along its motion (face lost: where it most likely went); the turn rate decays.
   void coast(Seconds dt);

@@ -96,3 +96,20 @@ TEST_CASE("control: a sustained walk is remembered after the teacher stops; the 
   CHECK(w.to < (90 + 38 + 30) / 30.0 - 0.3);  // ended when they stopped, not now
   CHECK_FALSE(track.walking());
 }
+
+TEST_CASE("control: a face taken up again after a route prediction keeps the predicted walk") {
+  TeacherTrack track;
+  track.reset(face_at({1.2, -2.4, 1.65}, 0.0), 0.0);
+  // Predicted walking the leg along +x at 0.4 m/s; the face found again 0.5 m along it.
+  track.place({1.6, -2.4}, 0.0, {0.4, 0.0});
+  track.resume(face_at({1.7, -2.4, 1.65}, 0.3), 2.0);
+  CHECK(track.walking());
+  CHECK((track.velocity() - Eigen::Vector3d(0.4, 0, 0)).norm() < 1e-9);
+  CHECK(track.position().x() == Approx(1.7));
+  // Predicted standing: taken up standing, the heading held until they walk.
+  track.place({1.2, -2.4}, 0.0);
+  track.resume(face_at({1.2, -2.4, 1.65}, 0.8), 3.0);
+  track.update(face_at({1.2, -2.4, 1.65}, 0.8), 3.0 + 1.0 / 30.0);
+  CHECK_FALSE(track.walking());
+  CHECK(std::abs(track.heading()) < 1e-9);
+}
