@@ -34,11 +34,10 @@ constexpr double kStandoffEaseMps = 0.2;
 // point's distance from it (~1.2 m): ~0.85 m from the teacher at least (hull 0.26 m + body 0.25 m
 // collide at 0.51 m). Circling the leg's start, the chords cut inside and the drone was hit as the
 // teacher stood at the corner (real vision, seed 1).
-// A teacher stopped within this of a corner (or still walking, within kAtCornerM of it) after which
-// their next long leg heads more than kTurnBackRad away from their heading is about to turn round: the
-// drone leaves for the meeting point.
+// A teacher walking within this of a corner after which their next long leg heads more than
+// kTurnBackRad away from their heading is about to turn round: the drone leaves for the meeting point
+// when they reach it.
 constexpr double kCornerAheadM = 0.25;
-constexpr double kAtCornerM = 0.05;
 constexpr double kTurnBackRad = 2 * std::numbers::pi / 3;
 // Meeting: a face is the teacher on the next leg when it looks within this of the leg's direction (the
 // face still turning at the corner would bring the drone back behind them).
@@ -143,7 +142,8 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, double co
   // one walked on at the drone).
   const std::optional<RouteLeg> leg = next_long_leg(ctx.lab.teacher, track_.position().head<2>(), corner_radius_m);
   if (!leg) return false;
-  meet_centre_ = 0.5 * (track_.position() + Eigen::Vector3d(leg->from.x(), leg->from.y(), track_.position().z()));
+  const Eigen::Vector2d corner = ctx.lab.teacher.waypoints[leg->corner];
+  meet_centre_ = Eigen::Vector3d(0.5 * (corner.x() + leg->from.x()), 0.5 * (corner.y() + leg->from.y()), track_.position().z());
   // When they set off along it (real vision, seed 1, 2026-12-02 at a08cc03, two ways to get it wrong:
   // the face lost 0.3 s into leg A, the drone held at its start and the teacher walked into it; the
   // face lost as the teacher arrived at the corner before leg C, the prediction walked leg C at once
@@ -168,12 +168,23 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, double co
   // A meeting on this leg already expected them later (the face then taken up at the corner for too
   // short a time to see them walk in: real vision, seed 1, leg C): that still holds.
   const bool expected_later = meet_leg_.index == leg->index && meet_walk_from_ > seen_at && meet_walk_from_ < ctx.t + kMeetWaitS;
-  Seconds walk_from = seen_at;
-  if (arriving) walk_from = walked.to + seconds_to_set_off(ctx.lab.teacher, xy, *leg);
-  else if (!set_off && expected_later) walk_from = meet_walk_from_;
+  Seconds walk_from = seen_at, arrived_at = -1;
+  if (arriving) {
+    walk_from = walked.to + seconds_to_set_off(ctx.lab.teacher, xy, *leg);
+    arrived_at = walked.to + (corner - xy).norm() / std::max(ctx.lab.teacher.speed_mps, 0.1);
+  } else if (!set_off && expected_later) {
+    walk_from = meet_walk_from_;
+    arrived_at = meet_arrived_at_;
+  }
   meet_leg_ = *leg;
   meet_on_leg_m_ = set_off ? std::clamp(on_leg, 0.0, leg->length_m) : 0.0;
   meet_walk_from_ = walk_from;
+  meet_arrived_at_ = arrived_at;
+  // Walking into the corner still: followed there first (leaving at once, the drone swung off a
+  // teacher with up to 0.6 m, 1.5 s, still to walk towards it: real vision, seed 1, ends of legs A, C).
+  walk_in_from_ = xy;
+  walk_in_t0_ = walked.to;
+  walk_in_until_ = arriving ? arrived_at : -1.0;
   track_.place(leg->from + meet_on_leg_m_ * leg->along, std::atan2(leg->along.y(), leg->along.x()));
   standoff_m_ = ctx.config.mission.face_distance_m + kMeetBeyondFollowM;
   return true;
@@ -184,21 +195,46 @@ void FindTeacherMission::place_on_meeting_leg(const MissionContext& ctx) {
   const bool may_walk = ctx.t > meet_walk_from_;
   const double walked = meet_on_leg_m_ + (may_walk ? speed * (ctx.t - meet_walk_from_) : 0.0);
   const bool walking = may_walk && walked < meet_leg_.length_m;
-  track_.place(meet_leg_.from + std::min(walked, meet_leg_.length_m) * meet_leg_.along, track_.heading(),
+  track_.place(meet_leg_.from + std::min(walked, meet_leg_.length_m) * meet_leg_.along,
+               std::atan2(meet_leg_.along.y(), meet_leg_.along.x()),
                walking ? Eigen::Vector2d(speed * meet_leg_.along) : Eigen::Vector2d::Zero());
 }
 
-bool FindTeacherMission::turning_back_ahead(const MissionContext& ctx) const {
+bool FindTeacherMission::walk_into_corner(MissionContext& ctx) {
+  if (ctx.t >= walk_in_until_) return false;
+  const Eigen::Vector2d corner = ctx.lab.teacher.waypoints[meet_leg_.corner];
+  const Eigen::Vector2d to = corner - walk_in_from_;
+  if (to.norm() < 1e-6) return false;
+  const Eigen::Vector2d dir = to.normalized();
+  const double speed = std::max(ctx.lab.teacher.speed_mps, 0.1);
+  track_.place(walk_in_from_ + std::min(to.norm(), speed * (ctx.t - walk_in_t0_)) * dir, std::atan2(dir.y(), dir.x()),
+               speed * dir);
+  const double meeting_standoff = standoff_m_;
+  standoff_m_ = ctx.config.mission.face_distance_m;
+  fly_standoff(ctx, false, track_.position());
+  standoff_m_ = meeting_standoff;
+  return true;
+}
+
+bool FindTeacherMission::turning_back_ahead(const MissionContext& ctx) {
   if (watch_points_.empty()) return false;
-  // Only once they stop there (or all but): the walk into the corner is followed to its end. Leaving
-  // 0.25 m before it, the drone swung off a teacher still walking for 0.6-1.1 s (the face's place,
-  // measured a little short, runs ahead of them) and those ticks count: real vision, seed 1, the
-  // ends of legs A and C, distance error -0.2 to -0.33 m, the face 0.3-0.7 rad off the centre ray.
-  // The pause (3 s) and the short leg after it leave the time to go round.
-  if (track_.walking() && !next_long_leg(ctx.lab.teacher, track_.position().head<2>(), kAtCornerM)) return false;
   const std::optional<RouteLeg> next = next_long_leg(ctx.lab.teacher, track_.position().head<2>(), kCornerAheadM);
-  if (!next) return false;
-  return std::abs(wrap_angle(std::atan2(next->along.y(), next->along.x()) - track_.heading())) > kTurnBackRad;
+  if (!next || std::abs(wrap_angle(std::atan2(next->along.y(), next->along.x()) - track_.heading())) <= kTurnBackRad) {
+    corner_eta_ = -1;
+    return false;
+  }
+  // Only once they reach it: the walk into the corner is followed to its end. Leaving 0.25 m before
+  // it, the drone swung off a teacher still walking for 0.6-1.1 s (the face's place, measured a
+  // little short, runs ahead of them) and those ticks count: real vision, seed 1, the ends of legs A
+  // and C, distance error -0.2 to -0.33 m, the face 0.3-0.7 rad off the centre ray. The pause (3 s)
+  // and the short leg after it leave the time to go round. When they reach it is timed from where
+  // the track came within kCornerAheadM at the route's speed: the track's speed does not say when
+  // they stop (the face's jitter reads as 0.2-0.35 m/s standing, in the model at 1.3 m).
+  if (corner_eta_ < 0) {
+    const Eigen::Vector2d corner = ctx.lab.teacher.waypoints[next->corner];
+    corner_eta_ = ctx.t + (corner - track_.position().head<2>()).norm() / std::max(ctx.lab.teacher.speed_mps, 0.1);
+  }
+  return ctx.t >= corner_eta_;
 }
 
 bool FindTeacherMission::face_on_meeting_leg(const MissionContext& ctx) const {
@@ -253,6 +289,11 @@ void FindTeacherMission::follow(MissionContext& ctx) {
 }
 
 void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, const Eigen::Vector3d& orbit_centre) {
+  fly_standoff(ctx, new_waypoint, orbit_centre, track_.position());
+}
+
+void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, const Eigen::Vector3d& orbit_centre,
+                                      const Eigen::Vector3d& look_at) {
   const double d = standoff_m_;
   const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
   const double a = track_.heading();
@@ -264,7 +305,7 @@ void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, co
   // Point the camera at the face from where the drone is (the same as the line of sight once in
   // place; it keeps a walking teacher in view while the drone catches up), with the face on the ray
   // through the image centre rather than the principal point.
-  next.yaw = wrap_angle(bearing(here, track_.position()) + std::atan(ctx.centre_ray_front.x()));
+  next.yaw = wrap_angle(bearing(here, look_at) + std::atan(ctx.centre_ray_front.x()));
   // A far standoff (the face found from 2-4 m, the teacher walking at the drone) is approached
   // through a set point at most kMaxApproachStepM ahead: a full jump saturates the tilt and the drone
   // overshoots into the teacher's face.
@@ -302,9 +343,19 @@ void FindTeacherMission::lost(MissionContext& ctx) {
 
 void FindTeacherMission::meet(MissionContext& ctx) {
   fresh_ = false;
+  if (walk_into_corner(ctx)) {
+    // Still in front of them: a face found again is followed on.
+    if (face_seen(ctx)) enter(Step::Follow, ctx.t);
+    return;
+  }
   place_on_meeting_leg(ctx);
-  // Round the middle between the corner and the leg's start, then in to the meeting point.
-  fly_standoff(ctx, false, meet_centre_);
+  // Round the middle between the corner and the leg's start, then in to the meeting point, the camera
+  // on where the route has them meanwhile (pausing, walking the short leg: looking at the leg's start
+  // instead put their face 0.3-0.5 rad off the centre ray on the short leg, in the model).
+  Eigen::Vector3d look_at = track_.position();
+  if (meet_arrived_at_ >= 0 && ctx.t < meet_walk_from_)
+    look_at.head<2>() = route_place_before(ctx.lab.teacher, meet_leg_, ctx.t - meet_arrived_at_);
+  fly_standoff(ctx, false, meet_centre_, look_at);
   if (face_on_meeting_leg(ctx)) {
     resume_track_ = true;
     enter(Step::Follow, ctx.t);

@@ -47,19 +47,22 @@ class FindTeacherMission final : public Mission {
     step_ = step;
     since_ = t;
     fresh_ = true;
+    corner_eta_ = -1;
   }
   std::vector<Eigen::Vector3d> viewpoints(const MissionContext& ctx) const;
   void start_search(MissionContext& ctx);
   void plan_transit(const MissionContext& ctx, const WatchPoint& to);
   bool predict_from_route(const MissionContext& ctx, double corner_radius_m);
   void place_on_meeting_leg(const MissionContext& ctx);
-  bool turning_back_ahead(const MissionContext& ctx) const;
+  bool walk_into_corner(MissionContext& ctx);
+  bool turning_back_ahead(const MissionContext& ctx);
   Geofence roomy_fence(const MissionContext& ctx) const;
   bool face_on_meeting_leg(const MissionContext& ctx) const;
   void meet(MissionContext& ctx);
   bool face_seen(const MissionContext& ctx) const;
   void follow(MissionContext& ctx);
   void fly_standoff(MissionContext& ctx, bool new_waypoint, const Eigen::Vector3d& orbit_centre);
+  void fly_standoff(MissionContext& ctx, bool new_waypoint, const Eigen::Vector3d& orbit_centre, const Eigen::Vector3d& look_at);
   void lost(MissionContext& ctx);
   std::string describe(Seconds t) const;
 
@@ -80,6 +83,13 @@ class FindTeacherMission final : public Mission {
   RouteLeg meet_leg_;
   double meet_on_leg_m_ = 0;
   Seconds meet_walk_from_ = 0;
+  // Before the meeting: still walking into the corner from `walk_in_from_` (at `walk_in_t0_`) until
+  // `walk_in_until_`, followed in front as before.
+  Eigen::Vector2d walk_in_from_ = Eigen::Vector2d::Zero();
+  Seconds walk_in_t0_ = 0;
+  Seconds walk_in_until_ = -1;
+  Seconds meet_arrived_at_ = -1;  // when they reached the corner before the meeting's leg (-1: not known)
+  Seconds corner_eta_ = -1;  // following into a turn-back corner: when they reach it
   std::vector<PoseTarget> transit_;         // legs to it
   std::size_t transit_leg_ = 0;
   Seconds last_tick_ = 0;

@@ -74,6 +74,20 @@ double seconds_to_set_off(const TeacherRoute& route, const Eigen::Vector2d& teac
   return s;
 }
 
+Eigen::Vector2d route_place_before(const TeacherRoute& route, const RouteLeg& leg, double since_arrival_s) {
+  const std::size_t n = route.waypoints.size();
+  const double speed = std::max(route.speed_mps, 1e-3);
+  double left = since_arrival_s - std::max(route.pause_s, 0.0);  // time left after the pause at k
+  std::size_t k = leg.corner % n;
+  for (; k != leg.index % n && left > 0; k = (k + 1) % n) {
+    const Eigen::Vector2d from = route.waypoints[k], to = route.waypoints[(k + 1) % n];
+    const double walk_s = (to - from).norm() / speed;
+    if (left < walk_s) return from + (left / walk_s) * (to - from);
+    left -= walk_s + std::max(route.pause_s, 0.0);
+  }
+  return route.waypoints[k];
+}
+
 std::optional<WatchPoint> next_leg_meeting_point(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy,
                                                  const Geofence& fence, double ahead_m, double corner_radius_m,
                                                  double min_leg_m) {

@@ -44,6 +44,10 @@ std::optional<RouteLeg> next_long_leg(const TeacherRoute& route, const Eigen::Ve
 // route: the rest of the way to the corner, a pause at each waypoint, the short legs in between.
 double seconds_to_set_off(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy, const RouteLeg& leg);
 
+// Where a teacher who reached `leg.corner` `since_arrival_s` ago is by the route, until they set off
+// along `leg`: pausing at each waypoint, walking the short legs in between; `leg.from` from then on.
+Eigen::Vector2d route_place_before(const TeacherRoute& route, const RouteLeg& leg, double since_arrival_s);
+
 // Where to meet a teacher who stands at a corner of the route (within corner_radius_m of waypoint k, the nearest,
 // turning): `ahead_m` along the first leg of at least min_leg_m that starts at or after k, facing back
 // along it - the teacher walks that leg next, towards the camera. Clamped into the fence. Empty when
