@@ -32,6 +32,17 @@ void take_off(ModelFlight& f) {
   REQUIRE(f.request(req(RequestKind::Takeoff)).accepted);
   REQUIRE(f.run_until([&] { return f.stack->status().phase == FlightPhase::Flying; }, 8.0));
 }
+// Flies an inspect mission of the oscilloscope until stage 3 holds at the standoff.
+void reach_standoff_hold(ModelFlight& f, double hold_s) {
+  REQUIRE(f.request(inspect("oscilloscope", hold_s)).accepted);
+  REQUIRE(f.run_until([&] { return f.stack->status().stage.find("holding") != std::string::npos; }, 90.0));
+}
+// As with real vision, SLAM is lost next to the panel: the hold settles on the homography alone.
+void hold_at_standoff_without_slam(ModelFlight& f) {
+  reach_standoff_hold(f, 60.0);
+  f.world->slam_available = false;
+  f.run(4.0);
+}
 }  // namespace
 
 TEST_CASE("control: inspect runs stages 1-6 in order and ends on the platform") {
@@ -69,8 +80,7 @@ TEST_CASE("control: inspect runs stages 1-6 in order and ends on the platform") 
 
 TEST_CASE("control: losing the instrument in stage 3 triggers re-detection, not a push forward") {
   ModelFlight f;
-  REQUIRE(f.request(inspect("oscilloscope", 20.0)).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().stage.find("holding") != std::string::npos; }, 90.0));
+  reach_standoff_hold(f, 20.0);
   f.world->instrument_visible = false;
   REQUIRE(f.run_until([&] { return f.stack->status().stage.find("re-detecting") != std::string::npos; }, 2.0));
   const double x_at_loss = f.world->drone.p.x();
@@ -83,10 +93,7 @@ TEST_CASE("control: losing the instrument in stage 3 triggers re-detection, not 
 
 TEST_CASE("control: a vertical push out of the panel's view is undone at the standoff's altitude, not by backing off") {
   ModelFlight f;
-  REQUIRE(f.request(inspect("oscilloscope", 60.0)).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().stage.find("holding") != std::string::npos; }, 90.0));
-  f.world->slam_available = false;  // as with real vision: SLAM is lost next to the panel
-  f.run(4.0);
+  hold_at_standoff_without_slam(f);
   REQUIRE(f.stack->status().source == FeedbackSource::Homography);
   const Eigen::Vector4d hold = *f.stack->status().desired;
   const Eigen::Vector3d hold_position = f.world->drone.p;
@@ -117,10 +124,7 @@ TEST_CASE("control: a vertical push out of the panel's view is undone at the sta
 
 TEST_CASE("control: a re-detected panel turns the back-off into the approach before the source switches") {
   ModelFlight f;
-  REQUIRE(f.request(inspect("oscilloscope", 60.0)).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().stage.find("holding") != std::string::npos; }, 90.0));
-  f.world->slam_available = false;  // as with real vision: SLAM is lost next to the panel
-  f.run(4.0);
+  hold_at_standoff_without_slam(f);
   const Eigen::Vector4d hold = *f.stack->status().desired;
   f.world->instrument_visible = false;  // lost at the standoff's altitude: back off
   REQUIRE(f.run_until([&] { return f.stack->status().stage.find("re-detecting") != std::string::npos; }, 2.0));
