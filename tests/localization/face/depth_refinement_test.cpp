@@ -39,15 +39,23 @@ Eigen::Matrix2Xd project(const Eigen::Matrix3Xd& points, const Eigen::Isometry3d
 // The person's true landmarks: the registered ones 30 % deeper about their mean depth (a face the
 // model makes too shallow), the brows 3 mm deeper still, their outer ends 8 mm more (on the temples)
 // and the nose base 2 mm farther out; in the image plane the registered ones (the frontal picture saw
-// that).
+// that). Less the part of the difference that is linear in x and y: that part is, to first order, a
+// tilt of the face frame, which no sequence can tell from the poses (the refinement leaves it alone
+// by design; here it would show as a constant pitch offset of every pose).
 Eigen::Matrix3Xd deeper_face(const FaceLandmarkModel& model, const Eigen::Matrix3Xd& registered) {
-  Eigen::Matrix3Xd truth = registered;
+  const Eigen::Index n = registered.cols();
   const double mean_z = registered.row(2).mean();
-  for (Eigen::Index j = 0; j < truth.cols(); ++j) {
+  Eigen::VectorXd d(n);
+  for (Eigen::Index j = 0; j < n; ++j) {
     const int id = model.landmark_ids()[static_cast<std::size_t>(j)];
-    truth(2, j) = mean_z + 1.3 * (registered(2, j) - mean_z) + (id <= 26 ? -0.003 : 0.0) +
-                  (id >= 31 && id <= 35 ? 0.002 : 0.0) + (id == 17 || id == 26 ? -0.008 : 0.0);
+    d(j) = 0.3 * (registered(2, j) - mean_z) + (id <= 26 ? -0.003 : 0.0) + (id >= 31 && id <= 35 ? 0.002 : 0.0) +
+           (id == 17 || id == 26 ? -0.008 : 0.0);
   }
+  Eigen::MatrixXd G(n, 3);
+  G << Eigen::VectorXd::Ones(n), registered.row(0).transpose(), registered.row(1).transpose();
+  d -= G * G.colPivHouseholderQr().solve(d);
+  Eigen::Matrix3Xd truth = registered;
+  truth.row(2) += d.transpose();
   return truth;
 }
 
@@ -125,7 +133,7 @@ TEST_CASE("face: the landmarks' depth comes back from views of a turning head, a
   const double before_mm = depth_rms_mm(registered, truth), after_mm = depth_rms_mm(refined, truth);
   INFO("depth RMS before " << before_mm << " mm, after " << after_mm << " mm");
   // The components alone cannot place the brows' outer ends; each landmark's own depth can.
-  CHECK(after_mm < (per_landmark ? 0.25 : 0.6) * before_mm);
+  CHECK(after_mm < (per_landmark ? 0.3 : 0.45) * before_mm);
   const double pitch_before = pitch_error_deg(registered, truth), pitch_after = pitch_error_deg(refined, truth);
   INFO("pitch error before " << pitch_before << " deg, after " << pitch_after << " deg");
   CHECK(pitch_before > 1.0);
