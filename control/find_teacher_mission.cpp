@@ -53,6 +53,8 @@ constexpr double kRouteClearanceM = 0.8;
 constexpr double kTransitAboveEyesM = 0.6;  // crossing the route: this far above the teacher's eyes
 constexpr double kWatchMarginS = 5.0;       // a watch lasts one round of the route plus this
 constexpr double kOnLegLateralM = 0.25;     // a face this near a leg's line walks it
+constexpr double kSetOffM = 0.2;            // ... once this far past its start (not standing at the corner)
+constexpr double kSetOffMps = 0.1;          // ... or moving along it this fast
 constexpr double kCornerRadiusM = 0.6;      // a face lost this near a waypoint: the teacher is turning there
 constexpr double kMaxOrbitStepRad = std::numbers::pi / 3;  // the standoff's bearing leads the drone's by at most this
 
@@ -132,35 +134,45 @@ Geofence FindTeacherMission::roomy_fence(const MissionContext& ctx) const {
 
 bool FindTeacherMission::predict_from_route(const MissionContext& ctx, double corner_radius_m) {
   if (watch_points_.empty()) return false;
-  // The next long leg's start, the teacher facing along it (the meeting point at 0 m faces back),
-  // drawn in from the walls.
-  const std::optional<WatchPoint> start =
-      next_leg_meeting_point(ctx.lab.teacher, track_.position().head<2>(), roomy_fence(ctx), 0.0, corner_radius_m);
-  if (!start) return false;
-  meet_centre_ = 0.5 * (track_.position() + Eigen::Vector3d(start->position.x(), start->position.y(), track_.position().z()));
-  // The face lost with the teacher already on the next leg: they walk it at the route's speed, and
-  // the meeting point keeps ahead of them (real vision, seed 1: the face lost 1.1 m away as the
-  // teacher set off towards the drone waiting at the leg's start, and they walked into it).
-  meet_leg_start_ = start->position.head<2>();
-  meet_leg_dir_ = Eigen::Vector2d(std::cos(start->yaw + std::numbers::pi), std::sin(start->yaw + std::numbers::pi));
-  const Eigen::Vector2d last_seen = track_.position().head<2>();
-  // On the leg already: ahead of its start and on its line (a leg walked the other way before a turn
-  // back lies alongside it, 0.5 m off in the lab, and is no part of it).
-  const Eigen::Vector2d from_start = last_seen - meet_leg_start_;
-  const double lateral = std::abs(meet_leg_dir_.x() * from_start.y() - meet_leg_dir_.y() * from_start.x());
-  const double on_leg = lateral < kOnLegLateralM ? from_start.dot(meet_leg_dir_) : -1.0;
+  // The next long leg, on the route itself: the meeting point drawn in from the walls is where the
+  // drone waits, not where the teacher walks (drawn in 0.2 m from leg A of config/lab.json, the leg's
+  // start lay within the corner radius of the short leg's too, and the prediction took that 0.5 m
+  // leg's length: real vision, seed 1, the predicted teacher stopped 0.5 m into leg A while the real
+  // one walked on at the drone).
+  const std::optional<RouteLeg> leg = next_long_leg(ctx.lab.teacher, track_.position().head<2>(), corner_radius_m);
+  if (!leg) return false;
+  meet_centre_ = 0.5 * (track_.position() + Eigen::Vector3d(leg->from.x(), leg->from.y(), track_.position().z()));
+  // When they set off along it (real vision, seed 1, 2026-12-02 at a08cc03, two ways to get it wrong:
+  // the face lost 0.3 s into leg A, the drone held at its start and the teacher walked into it; the
+  // face lost as the teacher arrived at the corner before leg C, the prediction walked leg C at once
+  // and the drone waited 1.2 m ahead of a teacher who stood there 3 s more, 2.4 m from the face):
+  //  - walking along the leg already (past its start, or moving along it): from when last seen;
+  //  - walked into the corner from the leg before (a sustained spell of walking, not along this leg,
+  //    ended less than a pause ago): after the route's pauses and short legs from where it ended;
+  //  - standing at the corner, for how long is not known: any moment, so from when last seen (the
+  //    drone backs off ahead of them; a teacher still standing is found again walking at it).
+  // On the leg already means on its line (a leg walked the other way before a turn back lies
+  // alongside it, 0.5 m off in the lab, and is no part of it).
+  const Eigen::Vector2d xy = track_.position().head<2>();
+  const Eigen::Vector2d from_start = xy - leg->from;
+  const double lateral = std::abs(leg->along.x() * from_start.y() - leg->along.y() * from_start.x());
+  const double on_leg = lateral < kOnLegLateralM ? from_start.dot(leg->along) : -1.0;
+  const Eigen::Vector2d v = track_.velocity().head<2>();
+  const bool set_off = on_leg > kSetOffM || (on_leg > -kOnLegLateralM && v.dot(leg->along) > kSetOffMps);
   const Seconds seen_at = last_face_t_ >= 0 ? last_face_t_ : ctx.t;
-  // The leg ends at the route's next waypoint (where they turn again; beyond it the prediction stops).
-  const std::vector<Eigen::Vector2d>& w = ctx.lab.teacher.waypoints;
-  meet_leg_length_m_ = 0;
-  for (std::size_t k = 0; k < w.size(); ++k)
-    if ((w[k] - meet_leg_start_).norm() < kCornerRadiusM) meet_leg_length_m_ = (w[(k + 1) % w.size()] - w[k]).norm();
-  meet_on_leg_m_ = std::clamp(on_leg, 0.0, meet_leg_length_m_);
-  // Not on it yet: they will stand and turn at the corners first, for how long is not known; the
-  // meeting waits at the leg's start as before (advancing from the route's timing, pauses included,
-  // made the model's meetings worse: distance error RMS 0.09 -> 0.21-0.29 m in face_search_test).
-  meet_walk_from_ = on_leg >= 0 ? seen_at : std::numeric_limits<double>::infinity();
-  track_.place(meet_leg_start_ + meet_on_leg_m_ * meet_leg_dir_, start->yaw + std::numbers::pi);
+  const TeacherTrack::WalkSpell& walked = track_.last_walk();
+  const bool arriving = !set_off && walked.seen && seen_at - walked.to < ctx.lab.teacher.pause_s &&
+                        walked.direction.dot(leg->along) < std::cos(kOnMeetingLegRad);
+  // A meeting on this leg already expected them later (the face then taken up at the corner for too
+  // short a time to see them walk in: real vision, seed 1, leg C): that still holds.
+  const bool expected_later = meet_leg_.index == leg->index && meet_walk_from_ > seen_at && meet_walk_from_ < ctx.t + kMeetWaitS;
+  Seconds walk_from = seen_at;
+  if (arriving) walk_from = walked.to + seconds_to_set_off(ctx.lab.teacher, xy, *leg);
+  else if (!set_off && expected_later) walk_from = meet_walk_from_;
+  meet_leg_ = *leg;
+  meet_on_leg_m_ = set_off ? std::clamp(on_leg, 0.0, leg->length_m) : 0.0;
+  meet_walk_from_ = walk_from;
+  track_.place(leg->from + meet_on_leg_m_ * leg->along, std::atan2(leg->along.y(), leg->along.x()));
   standoff_m_ = ctx.config.mission.face_distance_m + kMeetBeyondFollowM;
   return true;
 }
@@ -169,9 +181,9 @@ void FindTeacherMission::place_on_meeting_leg(const MissionContext& ctx) {
   const double speed = std::max(ctx.lab.teacher.speed_mps, 0.1);
   const bool may_walk = ctx.t > meet_walk_from_;
   const double walked = meet_on_leg_m_ + (may_walk ? speed * (ctx.t - meet_walk_from_) : 0.0);
-  const bool walking = may_walk && walked < meet_leg_length_m_;
-  track_.place(meet_leg_start_ + std::min(walked, meet_leg_length_m_) * meet_leg_dir_, track_.heading(),
-               walking ? Eigen::Vector2d(speed * meet_leg_dir_) : Eigen::Vector2d::Zero());
+  const bool walking = may_walk && walked < meet_leg_.length_m;
+  track_.place(meet_leg_.from + std::min(walked, meet_leg_.length_m) * meet_leg_.along, track_.heading(),
+               walking ? Eigen::Vector2d(speed * meet_leg_.along) : Eigen::Vector2d::Zero());
 }
 
 bool FindTeacherMission::turning_back_ahead(const MissionContext& ctx) const {
@@ -254,7 +266,15 @@ void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, co
 
 void FindTeacherMission::lost(MissionContext& ctx) {
   const Seconds lost_for = ctx.t - since_;
+  const bool just_lost = fresh_;
   fresh_ = false;
+  if (just_lost && predict_from_route(ctx, kCornerRadiusM)) {
+    // Lost at a corner of a known route: the route says where they go, at once. Coasting first along
+    // the track's lagging velocity (0.2 m/s, a teacher 0.3 s into a leg walking at 0.4 m/s) kept the
+    // drone closing on them for 0.5 s (real vision, seed 1: 0.41 m from the face).
+    enter(Step::Meet, ctx.t);
+    return;
+  }
   if (lost_for < kCoastS) {
     // Coast along the teacher's last motion and turn (they most likely walked or turned out of view).
     track_.coast(ctx.t - last_tick_);

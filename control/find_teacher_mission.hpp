@@ -75,12 +75,10 @@ class FindTeacherMission final : public Mission {
   WatchPoint watch_;                        // the watch point flown to / watched from
   bool resume_track_ = false;               // the next face takes up the track's heading (after a meeting)
   Eigen::Vector3d meet_centre_ = Eigen::Vector3d::Zero();  // gone round at a meeting: the corner and the leg's start
-  // The meeting's leg (its start and direction) and where the teacher may be on it, at the earliest:
-  // `meet_on_leg_m_` along it from `meet_walk_from_` on, walking at the route's speed.
-  Eigen::Vector2d meet_leg_start_ = Eigen::Vector2d::Zero();
-  Eigen::Vector2d meet_leg_dir_ = Eigen::Vector2d::UnitX();
+  // The meeting's leg and where the teacher is on it: `meet_on_leg_m_` along it, walking at the route's
+  // speed from `meet_walk_from_` on (infinite: standing at its start).
+  RouteLeg meet_leg_;
   double meet_on_leg_m_ = 0;
-  double meet_leg_length_m_ = 0;
   Seconds meet_walk_from_ = 0;
   std::vector<PoseTarget> transit_;         // legs to it
   std::size_t transit_leg_ = 0;

@@ -19,6 +19,8 @@ constexpr double kHeadingRateTauS = 0.5;
 constexpr double kCoastRateDecayS = 1.0;
 // Walking forwards: the walking direction within this of where the face looks.
 constexpr double kForwardWalkRad = std::numbers::pi / 3;
+// A gap in walking longer than this (standing, or a lost face) ends a spell of walking.
+constexpr double kSpellGapS = 0.3;
 
 double blend(double dt, double tau) { return 1.0 - std::exp(-dt / tau); }
 }  // namespace
@@ -29,6 +31,7 @@ double facing_heading(const Eigen::Isometry3d& T_world_face) {
 }
 
 void TeacherTrack::reset(const Eigen::Isometry3d& T_world_face, Seconds t) {
+  walk_ = last_walk_ = WalkSpell{};
   position_ = T_world_face.translation();
   velocity_.setZero();
   heading_ = facing_heading(T_world_face);
@@ -38,6 +41,7 @@ void TeacherTrack::reset(const Eigen::Isometry3d& T_world_face, Seconds t) {
 }
 
 void TeacherTrack::resume(const Eigen::Isometry3d& T_world_face, Seconds t) {
+  walk_ = last_walk_ = WalkSpell{};
   position_ = T_world_face.translation();
   velocity_.setZero();
   heading_rate_ = 0;
@@ -53,6 +57,7 @@ void TeacherTrack::update(const Eigen::Isometry3d& T_world_face, Seconds t) {
   Eigen::Vector3d v = (position_ - previous) / dt;
   v.z() = 0;
   velocity_ += blend(dt, kVelocityTauS) * (v - velocity_);
+  note_walking(t);
   if (hold_heading_ && !walking()) return;
   hold_heading_ = false;
   const double looking = facing_heading(T_world_face);
@@ -64,6 +69,19 @@ void TeacherTrack::update(const Eigen::Isometry3d& T_world_face, Seconds t) {
   const double step = blend(dt, kHeadingTauS) * wrap_angle(towards - heading_);
   heading_ = wrap_angle(heading_ + step);
   heading_rate_ += blend(dt, kHeadingRateTauS) * (step / dt - heading_rate_);
+}
+
+void TeacherTrack::note_walking(Seconds t) {
+  if (!walking()) return;
+  const Eigen::Vector2d direction = velocity_.head<2>().normalized();
+  // A new spell after a stop or a turn of more than 45 degrees.
+  if (!walk_.seen || t - walk_.to > kSpellGapS || direction.dot(walk_.direction) < std::cos(std::numbers::pi / 4)) {
+    walk_ = WalkSpell{true, t, t, direction};
+  } else {
+    walk_.to = t;
+    walk_.direction = direction;
+  }
+  if (walk_.to - walk_.from >= kSustainedWalkS) last_walk_ = walk_;
 }
 
 void TeacherTrack::coast(Seconds dt) {

@@ -28,6 +28,17 @@ class TeacherTrack {
   // route).
   void place(const Eigen::Vector2d& xy, double heading_rad, const Eigen::Vector2d& velocity = Eigen::Vector2d::Zero());
 
+  // The last sustained spell of walking seen (kSustainedWalkS or longer; may still go on): when it
+  // started and last walked, and which way. A teacher stopping at a corner of a known route after one
+  // is arriving there (they pause, then set off along the next leg); a short spell is the face pose's
+  // jitter as likely as a step.
+  struct WalkSpell {
+    bool seen = false;
+    Seconds from = 0, to = 0;
+    Eigen::Vector2d direction = Eigen::Vector2d::UnitX();
+  };
+  const WalkSpell& last_walk() const { return last_walk_; }
+
   const Eigen::Vector3d& position() const { return position_; }
   const Eigen::Vector3d& velocity() const { return velocity_; }  // horizontal
   double heading() const { return heading_; }                   // the body's facing direction (rad, world)
@@ -37,6 +48,7 @@ class TeacherTrack {
   Eigen::Isometry3d T_world_upright_face(double heading_rad) const;
 
   static constexpr double kWalkingMps = 0.2;
+  static constexpr double kSustainedWalkS = 0.7;
 
  private:
   Eigen::Vector3d position_ = Eigen::Vector3d::Zero();
@@ -45,6 +57,9 @@ class TeacherTrack {
   double heading_rate_ = 0;
   bool hold_heading_ = false;  // resumed: the heading stays until the teacher walks
   Seconds t_ = 0;
+  WalkSpell walk_;       // the current (or last) spell of walking, sustained or not
+  WalkSpell last_walk_;  // the last sustained one
+  void note_walking(Seconds t);
 };
 
 // Where a face (control's convention, z into the face) looks, as a world heading.

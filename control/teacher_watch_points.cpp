@@ -42,9 +42,8 @@ std::vector<WatchPoint> teacher_watch_points(const TeacherRoute& route, const Ge
   return out;
 }
 
-std::optional<WatchPoint> next_leg_meeting_point(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy,
-                                                 const Geofence& fence, double ahead_m, double corner_radius_m,
-                                                 double min_leg_m) {
+std::optional<RouteLeg> next_long_leg(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy, double corner_radius_m,
+                                      double min_leg_m) {
   const std::size_t n = route.waypoints.size();
   if (n < 2) return std::nullopt;
   std::size_t corner = n;  // the nearest waypoint within corner_radius_m (two can be, round a short leg)
@@ -60,11 +59,28 @@ std::optional<WatchPoint> next_leg_meeting_point(const TeacherRoute& route, cons
     const std::size_t leg = (corner + i) % n;
     const Eigen::Vector2d from = route.waypoints[leg], to = route.waypoints[(leg + 1) % n];
     if ((to - from).norm() < min_leg_m) continue;
-    const Eigen::Vector2d along = (to - from).normalized();
-    const Eigen::Vector2d p = from + std::min(ahead_m, (to - from).norm()) * along;
-    return WatchPoint{fence.clamp({p.x(), p.y(), route.eye_height_m}), std::atan2(-along.y(), -along.x())};
+    return RouteLeg{leg, corner, from, (to - from).normalized(), (to - from).norm()};
   }
   return std::nullopt;
+}
+
+double seconds_to_set_off(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy, const RouteLeg& leg) {
+  const std::size_t n = route.waypoints.size();
+  const double speed = std::max(route.speed_mps, 1e-3);
+  const double pause = std::max(route.pause_s, 0.0);
+  double s = (route.waypoints[leg.corner % n] - teacher_xy).norm() / speed + pause;
+  for (std::size_t k = leg.corner % n; k != leg.index % n; k = (k + 1) % n)
+    s += (route.waypoints[(k + 1) % n] - route.waypoints[k]).norm() / speed + pause;
+  return s;
+}
+
+std::optional<WatchPoint> next_leg_meeting_point(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy,
+                                                 const Geofence& fence, double ahead_m, double corner_radius_m,
+                                                 double min_leg_m) {
+  const std::optional<RouteLeg> leg = next_long_leg(route, teacher_xy, corner_radius_m, min_leg_m);
+  if (!leg) return std::nullopt;
+  const Eigen::Vector2d p = leg->from + std::min(ahead_m, leg->length_m) * leg->along;
+  return WatchPoint{fence.clamp({p.x(), p.y(), route.eye_height_m}), std::atan2(-leg->along.y(), -leg->along.x())};
 }
 
 }  // namespace labo

@@ -24,6 +24,26 @@ struct WatchPoint {
 std::vector<WatchPoint> teacher_watch_points(const TeacherRoute& route, const Geofence& fence, double beyond_m,
                                              double clearance_m, double min_leg_m = 1.0);
 
+// One leg of the teacher's route: from waypoint `index` to the next (looped).
+struct RouteLeg {
+  std::size_t index = 0;
+  std::size_t corner = 0;  // the waypoint the teacher stood nearest to when it was looked up
+  Eigen::Vector2d from = Eigen::Vector2d::Zero();
+  Eigen::Vector2d along = Eigen::Vector2d::UnitX();  // unit direction of walking
+  double length_m = 0;
+};
+
+// The leg a teacher standing at a corner of the route (within corner_radius_m of waypoint k, the
+// nearest) walks next: the first leg of at least min_leg_m that starts at or after k. Empty when the
+// teacher is not at a corner or the route has no such leg. On the route itself, never clamped into a
+// fence: where the teacher walks, not where the drone may fly.
+std::optional<RouteLeg> next_long_leg(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy, double corner_radius_m,
+                                      double min_leg_m = 1.0);
+
+// How long a teacher at `teacher_xy` walking into `leg.corner` takes to set off along `leg` by the
+// route: the rest of the way to the corner, a pause at each waypoint, the short legs in between.
+double seconds_to_set_off(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy, const RouteLeg& leg);
+
 // Where to meet a teacher who stands at a corner of the route (within corner_radius_m of waypoint k, the nearest,
 // turning): `ahead_m` along the first leg of at least min_leg_m that starts at or after k, facing back
 // along it - the teacher walks that leg next, towards the camera. Clamped into the fence. Empty when

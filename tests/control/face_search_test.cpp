@@ -8,41 +8,14 @@
 #include "control/lab_pipelines.hpp"
 #include "drone/sim/teacher_motion.hpp"
 #include "model_flight.hpp"
+#include "teacher_routes.hpp"
 
 using namespace labo;
+using labo::test::lab_route;
+using labo::test::turn_back_route;
+using labo::test::walking;
 
 namespace {
-// The route of config/lab.json: along x at y = -2.4, back at y = -1.9.
-TeacherRoute lab_route() {
-  TeacherRoute r;
-  r.waypoints = {{1.2, -2.4}, {4.2, -2.4}, {4.2, -1.9}, {1.2, -1.9}};
-  r.speed_mps = 0.4;
-  r.pause_s = 3.0;
-  r.eye_height_m = 1.65;
-  return r;
-}
-
-// Two long legs along x, 0.5 m apart, joined by short ones: a turn back at each end.
-TeacherRoute turn_back_route() {
-  TeacherRoute r;
-  r.waypoints = {{1.0, -2.0}, {3.5, -2.0}, {3.5, -1.5}, {1.0, -1.5}};
-  r.speed_mps = 0.4;
-  r.pause_s = 3.0;
-  r.eye_height_m = 1.6;
-  return r;
-}
-
-// The simulated teacher walking `route`, with the lab's head sway.
-TeacherSpec walking(const TeacherRoute& route) {
-  TeacherSpec spec;
-  spec.waypoints = route.waypoints;
-  spec.speed_mps = route.speed_mps;
-  spec.pause_s = route.pause_s;
-  spec.eye_height_m = route.eye_height_m;
-  spec.head = HeadMotionSpec{35, 7, 10, 5, 8, 9};
-  return spec;
-}
-
 MissionRequest find_teacher() {
   MissionRequest r;
   r.kind = RequestKind::FindTeacher;

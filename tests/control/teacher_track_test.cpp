@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 #include "control/teacher_track.hpp"
@@ -68,4 +69,30 @@ TEST_CASE("control: a lost teacher coasts along the last motion; a route predict
   CHECK(track.position().z() == Approx(1.6).margin(0.01));  // the face's height is kept
   CHECK_FALSE(track.walking());
   CHECK(std::abs(std::abs(track.heading()) - std::numbers::pi) < 1e-9);
+}
+
+TEST_CASE("control: a sustained walk is remembered after the teacher stops; the pose's jitter is no walk") {
+  TeacherTrack track;
+  const Eigen::Vector3d start(4.2, -2.4, 1.65);
+  track.reset(face_at(start, std::numbers::pi / 2), 0.0);
+  // Standing, the face's place jittering by 3 cm frame to frame (seeded): no sustained walk.
+  std::uint32_t state = 12345;
+  const auto jitter = [&] {
+    state = state * 1664525u + 1013904223u;
+    return 0.03 * (static_cast<double>(state >> 8) / double(1u << 24) - 0.5) * 2.0;
+  };
+  int k = 1;
+  for (; k <= 90; ++k) track.update(face_at(start + Eigen::Vector3d(jitter(), jitter(), 0), std::numbers::pi / 2), k / 30.0);
+  CHECK_FALSE(track.last_walk().seen);
+  // 1.25 s along +y at 0.4 m/s (the short leg), then standing at its end.
+  const Seconds walk_start = k / 30.0;
+  for (; k <= 90 + 38; ++k) track.update(face_at(start + Eigen::Vector3d(0, 0.4 * (k / 30.0 - walk_start), 0), std::numbers::pi / 2), k / 30.0);
+  const Eigen::Vector3d end = track.position();
+  for (; k <= 90 + 38 + 30; ++k) track.update(face_at(end, std::numbers::pi / 2), k / 30.0);
+  const TeacherTrack::WalkSpell& w = track.last_walk();
+  REQUIRE(w.seen);
+  CHECK(w.direction.y() > 0.95);
+  CHECK(w.to > w.from + TeacherTrack::kSustainedWalkS);
+  CHECK(w.to < (90 + 38 + 30) / 30.0 - 0.3);  // ended when they stopped, not now
+  CHECK_FALSE(track.walking());
 }
