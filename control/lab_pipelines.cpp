@@ -144,6 +144,7 @@ void LabPipelines::add_instrument_result(const TargetObservation& obs) {
     o.T_cam_object = obs.T_cam_target;
     o.T_world_object_surveyed = lab_.instruments[static_cast<std::size_t>(index - 1)].T_world_object;
     o.quality = obs.quality;
+    o.rotation_sigma_rad = obs.rotation_sigma_rad;
     estimator_.add_object_pose(o);
   }
   if (auto placed = estimator_.T_world_object(index)) {
@@ -162,6 +163,7 @@ void LabPipelines::add_platform_result(const TargetObservation& obs) {
     o.T_cam_object = obs.T_cam_target;
     o.T_world_object_surveyed = lab_.platform.T_world_object;
     o.quality = obs.quality;
+    o.rotation_sigma_rad = obs.rotation_sigma_rad;
     estimator_.add_object_pose(o);
   }
   if (auto placed = estimator_.T_world_object(kPlatformIndex)) {

@@ -96,6 +96,7 @@ const TargetObservation& PlanarFrontEnd::process(const cv::Mat& gray, Seconds t,
   o.method = to_string(result_.method);
   o.reason = unconfirmed ? "unconfirmed_detection" : result_.has_pose ? "" : to_string(result_.reason);
   o.quality = result_.has_pose && !unconfirmed ? result_.quality : 0.0;
+  o.rotation_sigma_rad = result_.has_pose && !unconfirmed ? result_.rotation_sigma_rad : 0.0;
   if (result_.has_pose && !unconfirmed) {
     o.T_cam_target = result_.T_cam_object;
     o.image_points.resize(4);

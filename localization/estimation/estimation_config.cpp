@@ -36,6 +36,7 @@ void read_noise(const ConfigReader& n, EstimatorNoise& e) {
   sigma("face_position_m", e.face_position_m);
   sigma("face_yaw_rad", e.face_yaw_rad);
   sigma("survey_position_m", e.survey_position_m);
+  sigma("survey_rotation_rad", e.survey_rotation_rad);
   n.finish();
 }
 

@@ -47,6 +47,10 @@ struct EstimatorNoise {
   double face_position_m = 0.04;
   double face_yaw_rad = 0.05;
   double survey_position_m = 0.05;      // lab.json object poses
+  // How far a lab.json orientation (facing_deg, tilt_deg) may be off. A planar object's orientation
+  // measured from a few metres is worse than that (the face-on tilt of a 60 px panel: degrees), so
+  // placements weigh rotations by their own variances, not by the position's (docs/state-estimation.md).
+  double survey_rotation_rad = 0.05;
 };
 
 // Detection of a failed bottom-camera velocity (velocity_dropout_detector.hpp; thresholds chosen on

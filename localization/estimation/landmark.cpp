@@ -4,34 +4,50 @@
 
 namespace labo {
 
+namespace {
+// Kalman weight of a measurement of variance `measured` against a state of variance `self`.
+double kalman_weight(double self, double measured) {
+  const double sum = self + measured;
+  return sum > 0 ? self / sum : 0.5;
+}
+
+Eigen::Quaterniond slerp_towards(const Eigen::Matrix3d& from, const Eigen::Matrix3d& to, double k) {
+  return Eigen::Quaterniond(from).slerp(std::clamp(k, 0.0, 1.0), Eigen::Quaterniond(to)).normalized();
+}
+}  // namespace
+
 void Landmark::blend(const Eigen::Isometry3d& T_measured, double k) {
   k = std::clamp(k, 0.0, 1.0);
-  const Eigen::Quaterniond q0(T_world_landmark.linear()), q1(T_measured.linear());
   const Eigen::Vector3d t = (1.0 - k) * T_world_landmark.translation() + k * T_measured.translation();
-  T_world_landmark.linear() = q0.slerp(k, q1).normalized().toRotationMatrix();
+  T_world_landmark.linear() = slerp_towards(T_world_landmark.linear(), T_measured.linear(), k).toRotationMatrix();
   T_world_landmark.translation() = t;
 }
 
-void Landmark::fuse(const Eigen::Isometry3d& T_measured, double var) {
-  const double k = position_var / (position_var + var);
-  blend(T_measured, k);
-  position_var = (1.0 - k) * position_var;
+void Landmark::fuse(const PoseWithVariance& measured) {
+  const double kp = kalman_weight(position_var, measured.position_var);
+  const double kr = kalman_weight(rotation_var, measured.rotation_var);
+  T_world_landmark.translation() += kp * (measured.T.translation() - T_world_landmark.translation());
+  T_world_landmark.linear() = slerp_towards(T_world_landmark.linear(), measured.T.linear(), kr).toRotationMatrix();
+  position_var = (1.0 - kp) * position_var;
+  rotation_var = (1.0 - kr) * rotation_var;
   ++refinements;
 }
 
-Landmark place_landmark(const Eigen::Isometry3d& T_cascade, double cascade_var, const Eigen::Isometry3d* T_surveyed,
-                        double survey_var, Seconds t) {
+Landmark place_landmark(const PoseWithVariance& cascade, const PoseWithVariance* surveyed, Seconds t) {
   Landmark l;
-  l.T_world_landmark = T_cascade;
-  l.position_var = cascade_var;
+  l.T_world_landmark = cascade.T;
+  l.position_var = cascade.position_var;
+  l.rotation_var = cascade.rotation_var;
   l.last_seen = t;
-  if (T_surveyed != nullptr) {
-    Landmark surveyed;
-    surveyed.T_world_landmark = *T_surveyed;
-    surveyed.position_var = survey_var;
-    surveyed.fuse(T_cascade, cascade_var);
-    l.T_world_landmark = surveyed.T_world_landmark;
-    l.position_var = surveyed.position_var;
+  if (surveyed != nullptr) {
+    Landmark s;
+    s.T_world_landmark = surveyed->T;
+    s.position_var = surveyed->position_var;
+    s.rotation_var = surveyed->rotation_var;
+    s.fuse(cascade);
+    l.T_world_landmark = s.T_world_landmark;
+    l.position_var = s.position_var;
+    l.rotation_var = s.rotation_var;
   }
   return l;
 }

@@ -45,6 +45,9 @@ struct ObjectObservation {
   // survey, and refines it while another source (SLAM) localizes the drone.
   std::optional<Eigen::Isometry3d> T_world_object_surveyed;
   double quality = 1.0;           // 0..1
+  // 1-sigma of T_cam_object's rotation as the localizer measured it (PlanarResult::rotation_sigma_rad,
+  // growing with the distance); 0: unknown, the estimator then assumes noise.object_yaw_rad x distance.
+  double rotation_sigma_rad = 0;
 };
 
 // The teacher's face from the front camera. The face moves: its world pose is tracked with a short

@@ -39,6 +39,13 @@ Eigen::Isometry3d body_pose(const StateVector& s) {
 
 double position_var(const StateCovariance& P) { return P.block<3, 3>(X, X).trace() / 3.0; }
 
+// Variance of an object's measured orientation: the localizer's own sigma when it reports one, else
+// object_yaw_rad growing with the distance (a panel's tilt is worse determined the smaller it looks).
+double object_rotation_var(const EstimatorNoise& noise, const ObjectObservation& o, double distance_m) {
+  const double sigma = o.rotation_sigma_rad > 0 ? o.rotation_sigma_rad : noise.object_yaw_rad * std::max(1.0, distance_m);
+  return sigma * sigma;
+}
+
 enum Counter {
   kNavdata, kCommands, kSlam, kObject, kFace, kRejectedNonfinite, kRejectedOutOfOrder, kRejectedFuture,
   kRejectedLate, kRejectedJumpDistance, kRejectedJumpAngle, kRejectedInnovation, kRejectedNotTracking,
@@ -458,12 +465,12 @@ bool StateEstimator::add_slam_pose(const SlamObservation& o) {
 
 bool StateEstimator::add_object_pose(const ObjectObservation& o) {
   Impl& m = *impl_;
-  if (!finite_pose(o.T_cam_object) || !std::isfinite(o.quality) ||
+  if (!finite_pose(o.T_cam_object) || !std::isfinite(o.quality) || !std::isfinite(o.rotation_sigma_rad) ||
       (o.T_world_object_surveyed && !finite_pose(*o.T_world_object_surveyed))) {
     m.count(kRejectedNonfinite);
     return false;
   }
-  if (o.object_index < 0) {
+  if (o.object_index < 0 || o.rotation_sigma_rad < 0) {
     m.count(kRejectedBadInput);
     return false;
   }
@@ -477,21 +484,24 @@ bool StateEstimator::add_object_pose(const ObjectObservation& o) {
   m.object_last_t[o.object_index] = o.t;
   const Eigen::Isometry3d T_bc = T_body_cam(o.camera);
   const StateVector& s = m.core.ekf().state();
-  const Eigen::Isometry3d cascade = body_pose(s) * T_bc * o.T_cam_object;
   const double distance = o.T_cam_object.translation().norm();
   const double sigma_obs = m.config.noise.object_position_m * std::max(1.0, distance);
-  const double cascade_var = position_var(m.core.ekf().covariance()) + sigma_obs * sigma_obs;
+  PoseWithVariance cascade;
+  cascade.T = body_pose(s) * T_bc * o.T_cam_object;
+  cascade.position_var = position_var(m.core.ekf().covariance()) + sigma_obs * sigma_obs;
+  cascade.rotation_var = m.core.ekf().covariance()(est::YAW, est::YAW) + object_rotation_var(m.config.noise, o, distance);
   auto it = m.objects.find(o.object_index);
   if (it == m.objects.end()) {
-    const double survey_var = m.config.noise.survey_position_m * m.config.noise.survey_position_m;
-    it = m.objects.emplace(o.object_index, place_landmark(cascade, cascade_var,
-                                                          o.T_world_object_surveyed ? &*o.T_world_object_surveyed : nullptr,
-                                                          survey_var, t_meas)).first;
+    std::optional<PoseWithVariance> surveyed;
+    if (o.T_world_object_surveyed)
+      surveyed = PoseWithVariance{*o.T_world_object_surveyed, std::pow(m.config.noise.survey_position_m, 2),
+                                  std::pow(m.config.noise.survey_rotation_rad, 2)};
+    it = m.objects.emplace(o.object_index, place_landmark(cascade, surveyed ? &*surveyed : nullptr, t_meas)).first;
     m.count(kObjectsPlaced);
   } else if (it->second.refinements < m.config.object_placement_frames &&
              m.selector.active(t_meas) == LocalizationSource::Slam) {
     // SLAM localizes the drone independently of the object: refine the object, not the drone.
-    it->second.fuse(cascade, cascade_var);
+    it->second.fuse(cascade);
     it->second.last_seen = t_meas;
     m.selector.on_consistent(LocalizationSource::Homography, t_meas, o.quality);
     return true;
@@ -499,8 +509,10 @@ bool StateEstimator::add_object_pose(const ObjectObservation& o) {
   it->second.last_seen = t_meas;
   const Eigen::Isometry3d T_world_body = it->second.T_world_landmark * o.T_cam_object.inverse() * T_bc.inverse();
   const double sigma_pos = std::sqrt(sigma_obs * sigma_obs + it->second.position_var);
-  const auto outcome = m.fuse_vision(LocalizationSource::Homography, t_meas, T_world_body, sigma_pos,
-                                     m.config.noise.object_yaw_rad, o.quality);
+  // The drone's yaw from the panel is as good as the panel's measured orientation (at range, or with
+  // two IPPE branches in play, degrees), never better than object_yaw_rad.
+  const double sigma_yaw = std::max(m.config.noise.object_yaw_rad, o.rotation_sigma_rad);
+  const auto outcome = m.fuse_vision(LocalizationSource::Homography, t_meas, T_world_body, sigma_pos, sigma_yaw, o.quality);
   if (outcome == Impl::VisionOutcome::Fused) m.count(kObject);
   return outcome == Impl::VisionOutcome::Fused || outcome == Impl::VisionOutcome::Settling;
 }
@@ -517,8 +529,9 @@ bool StateEstimator::add_face_pose(const FaceObservation& o) {
   const StateVector& s = m.core.ekf().state();
   const double sigma_obs = m.config.noise.face_position_m * std::max(1.0, o.T_cam_face.translation().norm());
   if (!m.face || t_meas - m.face->last_seen > kFaceForgetS) {
-    m.face = place_landmark(body_pose(s) * T_bc * o.T_cam_face,
-                            position_var(m.core.ekf().covariance()) + sigma_obs * sigma_obs, nullptr, 0, t_meas);
+    const PoseWithVariance cascade{body_pose(s) * T_bc * o.T_cam_face,
+                                   position_var(m.core.ekf().covariance()) + sigma_obs * sigma_obs, 0.0};
+    m.face = place_landmark(cascade, nullptr, t_meas);
   }
   const Eigen::Isometry3d T_world_body = m.face->T_world_landmark * o.T_cam_face.inverse() * T_bc.inverse();
   const double sigma_pos = std::sqrt(sigma_obs * sigma_obs + m.face->position_var);
