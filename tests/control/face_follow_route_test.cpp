@@ -76,6 +76,18 @@ TEST_CASE("control: next_long_leg is the route's own leg, not one drawn in from 
   CHECK_FALSE(next_long_leg(test::lab_route(), {2.5, -2.4}, 0.6));  // mid-leg: at no corner
 }
 
+TEST_CASE("control: route_place_before walks the pauses and the short leg between a corner and the next long leg") {
+  // Reached (4.2, -2.4) at 0: pause 3 s, the 0.5 m leg to (4.2, -1.9) in 1.25 s, pause 3 s, then leg C.
+  const std::optional<RouteLeg> leg = next_long_leg(test::lab_route(), {4.2, -2.4}, 0.25);
+  REQUIRE(leg);
+  CHECK(leg->index == 2);
+  CHECK(seconds_to_set_off(test::lab_route(), {4.2, -2.4}, *leg) == Approx(7.25));
+  CHECK((route_place_before(test::lab_route(), *leg, 1.0) - Eigen::Vector2d(4.2, -2.4)).norm() < 1e-9);
+  CHECK((route_place_before(test::lab_route(), *leg, 3.625) - Eigen::Vector2d(4.2, -2.15)).norm() < 1e-9);
+  CHECK((route_place_before(test::lab_route(), *leg, 5.0) - Eigen::Vector2d(4.2, -1.9)).norm() < 1e-9);
+  CHECK((route_place_before(test::lab_route(), *leg, 20.0) - Eigen::Vector2d(4.2, -1.9)).norm() < 1e-9);
+}
+
 TEST_CASE("control: a face lost as the teacher sets off along the leg by the wall is predicted along the whole leg") {
   // Real vision, seed 1 (2026-12-02, a08cc03): the face lost 0.3 s into leg A (the track still
   // standing: the face's jitter hides 0.1 m of walking), the predicted teacher stopped after 0.5 m
