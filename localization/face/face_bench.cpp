@@ -98,11 +98,11 @@ class FrameDegrader {
   ardrone2::EncodedFrame packet_;
 };
 
-// The registration's head turn: at 0.8 m, yaw 0 -> +25 -> -25 -> 0 degrees over the first half,
-// then pitch 0 -> +15 -> -15 -> 0 over the second, degraded like the frontal picture.
+// The registration's head turn: at 0.8 m, yaw 0 -> +a -> -a -> 0 degrees over the first half,
+// then pitch 0 -> +b -> -b -> 0 over the second, degraded like the frontal picture.
 std::vector<cv::Mat> render_turn_frames(TexturedHeadRenderer& renderer, const PinholeCamera& camera,
                                         const FaceBenchOptions& options) {
-  constexpr double kYawDeg = 25, kPitchDeg = 15;
+  const double kYawDeg = options.turn_yaw_deg, kPitchDeg = options.turn_pitch_deg;
   const double rad = std::numbers::pi / 180.0;
   const cv::Mat background = make_background(camera, options.seed + 1000);
   FrameDegrader degrader(options, camera, options.seed + 1);
@@ -188,6 +188,30 @@ MethodErrors summarise(PnpMethod m, const MethodAccumulator& a) {
 
 double angle_error_deg(double a, double b) { return std::abs(std::remainder(a - b, 2 * std::numbers::pi)) * kDeg; }
 
+// RMS (mm) of the depth difference between `points` and `truth` (3 x n, face frame), the mean removed;
+// with `untilted`, also the part linear in the points' x and y (least squares).
+double depth_error_rms_mm(const Eigen::Matrix3Xd& points, const Eigen::Matrix3Xd& truth, bool untilted) {
+  const Eigen::Index n = points.cols();
+  Eigen::MatrixXd G(n, untilted ? 3 : 1);
+  G.col(0).setOnes();
+  if (untilted) {
+    G.col(1) = points.row(0).transpose();
+    G.col(2) = points.row(1).transpose();
+  }
+  const Eigen::VectorXd d = (points.row(2) - truth.row(2)).transpose();
+  const Eigen::VectorXd r = d - G * G.colPivHouseholderQr().solve(d);
+  return std::sqrt(r.squaredNorm() / static_cast<double>(n)) * 1000.0;
+}
+
+// The registered person's landmarks as the estimator uses them: the shape's mapped points plus the
+// person's offsets (surface landmarks, head turn) when registration made any.
+Eigen::Matrix3Xd person_points_of(const FacePoseEstimator& estimator) {
+  const PersonShape& person = estimator.person();
+  Eigen::Matrix3Xd points = estimator.model().points_m(person.shape_params, person.interpupillary_distance_m);
+  if (person.landmark_offsets_m.cols() == points.cols()) points += person.landmark_offsets_m;
+  return points;
+}
+
 }  // namespace
 
 FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamera& camera,
@@ -223,12 +247,29 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
     if (options.true_shape) used.shape_params = renderer.head().shape_params;
     estimator.set_person(used, true);
     report.shape_fit_rms_px = teacher.fit_rms_px;
+    const Eigen::Matrix3Xd registered_points = person_points_of(estimator);
     if (options.turn_frames > 0) {
-      const TurnRefinement turns =
-          refine_person_from_turns(estimator, used, render_turn_frames(renderer, camera, options), TurnRequirements{});
-      report.turn_views = turns.views;
-      report.turn_rms_before_px = turns.rms_before_px;
-      report.turn_rms_after_px = turns.rms_after_px;
+      try {
+        const TurnRefinement turns =
+            refine_person_from_turns(estimator, used, render_turn_frames(renderer, camera, options));
+        report.turn_views = turns.views;
+        report.turn_rms_before_px = turns.rms_before_px;
+        report.turn_rms_after_px = turns.rms_after_px;
+      } catch (const RegistrationError& e) {
+        report.turn_refused = e.what();  // the registered shape stays as it was
+        say(report.turn_refused);
+      }
+    }
+    const FaceLandmarkModel& model = estimator.model();
+    Eigen::Matrix3Xd truth(3, model.size());
+    for (int i = 0; i < model.size(); ++i) {
+      truth.col(i) = renderer.head().landmarks_face_m.col(model.landmark_ids()[static_cast<std::size_t>(i)]);
+    }
+    if (truth.allFinite()) {
+      report.depth_error_mm = depth_error_rms_mm(registered_points, truth, false);
+      report.depth_error_untilted_mm = depth_error_rms_mm(registered_points, truth, true);
+      report.depth_error_turned_mm = depth_error_rms_mm(person_points_of(estimator), truth, false);
+      report.depth_error_untilted_turned_mm = depth_error_rms_mm(person_points_of(estimator), truth, true);
     }
     const auto fitted = estimator.model().observable_units();
     double sum = 0;
@@ -280,13 +321,7 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
     true_landmarks.col(i) = renderer.head().landmarks_face_m.col(lm_model.landmark_ids()[static_cast<std::size_t>(i)]);
   }
   const bool truth_known = true_landmarks.allFinite();
-  // The registered person's landmarks as the estimator uses them: the shape's mapped points plus the
-  // person's offsets (surface landmarks, head turn) when registration made any.
-  Eigen::Matrix3Xd person_points =
-      lm_model.points_m(estimator.person().shape_params, estimator.person().interpupillary_distance_m);
-  if (estimator.person().landmark_offsets_m.cols() == person_points.cols()) {
-    person_points += estimator.person().landmark_offsets_m;
-  }
+  const Eigen::Matrix3Xd person_points = person_points_of(estimator);
   for (std::size_t s = 0; s < sequences.size(); ++s) {
     const HeadPoseSequence& seq = sequences[s];
     const cv::Mat background = make_background(camera, options.seed + static_cast<unsigned>(s));

@@ -23,9 +23,11 @@ struct FaceBenchOptions {
   bool lossy_video = true;        // H.264 round trip through the link's codec
   int video_bitrate_kbps = 1000;  // the AR.Drone 2.0's default video:max_bitrate
   bool true_shape = false;          // use the rendered head's shape instead of the registered one
-  // After the frontal picture, this many frames of the head turning left, right, up and down at
-  // 0.8 m refine the landmarks' depth (person_registration.hpp: refine_person_from_turns). 0: off.
+  // After the frontal picture, this many frames of the head turning left, right (± turn_yaw_deg),
+  // up and down (± turn_pitch_deg) at 0.8 m refine the landmarks' depth (person_registration.hpp:
+  // refine_person_from_turns). 0: off.
   int turn_frames = 0;
+  double turn_yaw_deg = 25, turn_pitch_deg = 15;
   std::filesystem::path sample_dir;  // when set, a few rendered frames are written there
   // Sequences drawn by the simulated lab's LabRenderer (drone/sim/lab_renderer.hpp: the room, the
   // teacher's body, neck and hair around the same textured CANDIDE-3 face), after the `sequences`
@@ -70,6 +72,13 @@ struct FaceBenchReport {
   double shape_param_error_rms = 0;       // fitted vs the rendered head's τs, observable units
   int turn_views = 0;                     // turn frames used (0: no turn refinement)
   double turn_rms_before_px = 0, turn_rms_after_px = 0;
+  std::string turn_refused;               // the refinement's refusal ("" when accepted or not asked)
+  // Evaluation only (the refinement never sees it): RMS over the rigid landmarks of the registered
+  // points' depth against the rendered head's true landmarks, each set's mean removed, before and
+  // after the head-turn refinement; and the same without the part linear in x and y (a tilt of the
+  // face frame, which no refinement of the shape alone can tell).
+  double depth_error_mm = 0, depth_error_turned_mm = 0;
+  double depth_error_untilted_mm = 0, depth_error_untilted_turned_mm = 0;
   std::vector<std::pair<std::string, int>> lost_reasons;
 };
 

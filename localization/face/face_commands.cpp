@@ -78,7 +78,11 @@ nlohmann::json to_json(const face::FaceBenchReport& r, const face::FaceBenchOpti
                        {"shape_param_error_rms", r.shape_param_error_rms},
                        {"turn_views", r.turn_views},
                        {"turn_rms_before_px", r.turn_rms_before_px},
-                       {"turn_rms_after_px", r.turn_rms_after_px}};
+                       {"turn_rms_after_px", r.turn_rms_after_px},
+                       {"turn_refused", r.turn_refused},
+                       {"depth_error_mm", {{"registered", r.depth_error_mm}, {"after_turn", r.depth_error_turned_mm},
+                                           {"registered_untilted", r.depth_error_untilted_mm},
+                                           {"after_turn_untilted", r.depth_error_untilted_turned_mm}}}};
   for (const auto& s : r.sequences) {
     j["per_sequence"].push_back({{"name", s.name}, {"renderer", s.renderer}, {"distance_m", s.distance_m}, {"detection_rate", s.detection_rate},
                                  {"lm_yaw_err_deg", s.yaw_err_deg}, {"lm_tz_err_mm", s.tz_err_mm}});
@@ -123,6 +127,10 @@ void print_table(const face::FaceBenchReport& r) {
     std::printf("head turn: %d views, landmark fit %.2f -> %.2f px\n", r.turn_views, r.turn_rms_before_px,
                 r.turn_rms_after_px);
   }
+  if (!r.turn_refused.empty()) std::printf("head turn not used: %s\n", r.turn_refused.c_str());
+  std::printf("landmark depth error against the rendered head (evaluation only): %.2f mm RMS registered, %.2f after "
+              "the turn; without the tilt part %.2f and %.2f mm\n",
+              r.depth_error_mm, r.depth_error_turned_mm, r.depth_error_untilted_mm, r.depth_error_untilted_turned_mm);
   for (const auto& [reason, count] : r.lost_reasons) std::printf("lost: %-60s %d frames\n", reason.c_str(), count);
 }
 
@@ -145,7 +153,9 @@ const CommandSpec& face_bench_command_spec() {
        {"--lab", "FILE", "lab description for those (default: config/lab.json)"},
        {"--frames-csv", "FILE", "write per-frame truth and LM-tracking errors there (for analysis)"},
        {"--true-shape", "", "use the rendered head's shape instead of the one registered from a frontal frame"},
-       {"--turn-frames", "N", "refine the registered landmarks from N frames of the head turning (default 0: off)"},
+       {"--turn-frames", "N", "refine the registered landmarks' depth from N frames of the head turning (default 0: off)"},
+       {"--turn-yaw-deg", "DEG", "how far the head turns left and right in those frames (default 25)"},
+       {"--turn-pitch-deg", "DEG", "how far it nods up and down (default 15)"},
        {"--json", "", "print the report as JSON"}},
       0,
       0};
@@ -164,6 +174,8 @@ int run_face_bench_command(const ParsedArgs& args) {
   o.sample_dir = args.value_or("--samples", "");
   o.true_shape = args.flag("--true-shape");
   o.turn_frames = args.integer_or("--turn-frames", 0, 0, 10000);
+  o.turn_yaw_deg = args.number_or("--turn-yaw-deg", 25, 0, 60);
+  o.turn_pitch_deg = args.number_or("--turn-pitch-deg", 15, 0, 45);
   o.frames_csv = args.value_or("--frames-csv", "");
   o.lab_sequences = args.integer_or("--lab-sequences", 4, 0, 1000);
   o.lab = args.value_or("--lab", (labo::source_root() / "config" / "lab.json").string());

@@ -56,6 +56,21 @@ FaceConfig read_face_config(const ConfigReader& node, const std::filesystem::pat
   c.detector.adjust_threshold = node.number_or("detector_adjust_threshold", 0.0, Range::closed(-1.0, 2.0));
   c.shape_fit.regularisation = node.number_or("shape_regularisation", c.shape_fit.regularisation, Range::non_negative());
   c.frontal_max_angle_rad = node.number_or("frontal_max_angle_deg", 15.0, Range::closed(1, 45)) * kDeg;
+  if (node.has("depth_refinement")) {
+    const ConfigReader d = node.object("depth_refinement");
+    auto& D = c.depth_refinement;
+    D.min_views = d.integer_or("min_views", D.min_views, 3, 100000);
+    D.min_yaw_span_rad = d.number_or("min_yaw_span_deg", D.min_yaw_span_rad / kDeg, Range::closed(0, 120)) * kDeg;
+    D.min_pitch_span_rad = d.number_or("min_pitch_span_deg", D.min_pitch_span_rad / kDeg, Range::closed(0, 120)) * kDeg;
+    D.pixel_sigma_px = d.number_or("pixel_sigma_px", D.pixel_sigma_px, Range::positive());
+    D.huber_px = d.number_or("huber_px", D.huber_px, Range::positive());
+    D.prior_sigma_m = d.number_or("prior_mm", D.prior_sigma_m * 1000.0, Range::positive()) / 1000.0;
+    D.landmark_prior_sigma_m = d.number_or("landmark_prior_mm", D.landmark_prior_sigma_m * 1000.0, Range::non_negative()) / 1000.0;
+    D.max_iterations = d.integer_or("max_iterations", D.max_iterations, 1, 1000);
+    D.max_rms_px = d.number_or("max_rms_px", D.max_rms_px, Range::positive());
+    D.max_depth_change_m = d.number_or("max_depth_change_mm", D.max_depth_change_m * 1000.0, Range::closed(0.1, 30)) / 1000.0;
+    d.finish();
+  }
   if (node.has("limits")) {
     const ConfigReader l = node.object("limits");
     auto& L = c.limits;

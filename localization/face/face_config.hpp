@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/config_reader.hpp"
+#include "localization/face/depth_refinement.hpp"
 #include "localization/face/face_detector.hpp"
 #include "localization/face/face_pose_solver.hpp"
 #include "localization/face/face_shape_fitter.hpp"
@@ -58,6 +59,8 @@ struct FaceConfig {
   std::vector<double> lost_search_scales{0.5, 1.0, 2.0};  // cycled over frames while lost
   ShapeFitOptions shape_fit;
   double frontal_max_angle_rad = 0.26;    // a registration picture must be within 15° of frontal
+  // The landmarks' depth refined from frames of the head turning (`face register --turns`).
+  DepthRefinementOptions depth_refinement;
   FaceLimits limits;
 };
 

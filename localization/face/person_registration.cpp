@@ -1,11 +1,9 @@
 #include "localization/face/person_registration.hpp"
 
-#include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 
-#include "localization/face/multi_view_landmarks.hpp"
+#include "localization/face/depth_refinement.hpp"
 #include "localization/face/surface_landmarks.hpp"
 
 namespace labo::face {
@@ -60,8 +58,8 @@ constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 constexpr double kTurnFramePeriodS = 1.0 / 30.0;  // the frames' timestamps: the tracker's motion limits
 
 struct TrackedTurns {
-  std::vector<LandmarkView> views;
-  double yaw_min = 1e9, yaw_max = -1e9, pitch_min = 1e9, pitch_max = -1e9;  // degrees
+  std::vector<DepthView> views;
+  int frames = 0;
 };
 
 TrackedTurns track_turns(FacePoseEstimator& estimator, const std::vector<cv::Mat>& frames) {
@@ -74,67 +72,42 @@ TrackedTurns track_turns(FacePoseEstimator& estimator, const std::vector<cv::Mat
     if (r.reason == FaceLostReason::BadImage) {
       throw RegistrationError("turn frame " + std::to_string(i) + ": not the camera's size");
     }
-    if (!r.tracking()) continue;
-    turns.views.push_back({estimator.ideal_pixels(r.landmarks), r.T_cam_face});
-    turns.yaw_min = std::min(turns.yaw_min, r.angles.yaw * kDegPerRad);
-    turns.yaw_max = std::max(turns.yaw_max, r.angles.yaw * kDegPerRad);
-    turns.pitch_min = std::min(turns.pitch_min, r.angles.pitch * kDegPerRad);
-    turns.pitch_max = std::max(turns.pitch_max, r.angles.pitch * kDegPerRad);
+    ++turns.frames;
+    if (r.tracking()) turns.views.push_back({estimator.ideal_pixels(r.landmarks), r.T_cam_face});
   }
   return turns;
-}
-
-std::string one_decimal(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f", v);
-  return text;
-}
-
-void check_turns(const TrackedTurns& turns, std::size_t frames, const TurnRequirements& req) {
-  if (static_cast<int>(turns.views.size()) < req.min_views) {
-    throw RegistrationError("turn frames refused: the face was tracked in " + std::to_string(turns.views.size()) +
-                            " of " + std::to_string(frames) + " frames, expected at least " +
-                            std::to_string(req.min_views));
-  }
-  const double yaw_span = turns.yaw_max - turns.yaw_min;
-  const double pitch_span = turns.pitch_max - turns.pitch_min;
-  if (yaw_span < req.min_yaw_span_deg || pitch_span < req.min_pitch_span_deg) {
-    throw RegistrationError("turn frames refused: the head turned " + one_decimal(yaw_span) + "° in yaw and " +
-                            one_decimal(pitch_span) + "° in pitch, expected at least " +
-                            one_decimal(req.min_yaw_span_deg) + "° and " + one_decimal(req.min_pitch_span_deg) +
-                            "° (turn left, right, up and down slowly)");
-  }
 }
 
 }  // namespace
 
 TurnRefinement refine_person_from_turns(FacePoseEstimator& estimator, const PersonShape& person,
-                                        const std::vector<cv::Mat>& frames, const TurnRequirements& requirements) {
+                                        const std::vector<cv::Mat>& frames) {
   estimator.set_person(person, true);
   estimator.reset();
   const TrackedTurns turns = track_turns(estimator, frames);
-  check_turns(turns, frames.size(), requirements);
-
+  estimator.reset();
   const FaceLandmarkModel& model = estimator.model();
-  const Eigen::Matrix3Xd mapped = model.points_m(person.shape_params, person.interpupillary_distance_m);
-  Eigen::Matrix3Xd start = mapped;
-  if (person.landmark_offsets_m.cols() == mapped.cols()) start += person.landmark_offsets_m;
-  const MultiViewFit fit =
-      refine_landmarks_from_views(model, start, turns.views, estimator.ideal_camera(), person.interpupillary_distance_m);
-
+  Eigen::Matrix3Xd points = model.points_m(person.shape_params, person.interpupillary_distance_m);
+  Eigen::Matrix3Xd offsets = Eigen::Matrix3Xd::Zero(3, points.cols());
+  if (person.landmark_offsets_m.cols() == points.cols()) offsets = person.landmark_offsets_m;
+  points += offsets;
+  const DepthRefinement fit = refine_depth_from_views(model, points, turns.views, estimator.ideal_camera(),
+                                                      estimator.config().depth_refinement);
+  if (!fit.accepted) {
+    throw RegistrationError("turn frames: " + fit.reason + " (the face was tracked in " +
+                            std::to_string(turns.views.size()) + " of " + std::to_string(turns.frames) + " frames)");
+  }
   TurnRefinement out;
   out.person = person;
-  out.person.landmark_offsets_m = fit.points_m - mapped;
-  for (Eigen::Index j = 0; j < mapped.cols(); ++j) {
-    if (out.person.landmark_offsets_m.col(j).norm() > requirements.max_offset_m) out.person.landmark_offsets_m.col(j).setZero();
-  }
-  out.views = static_cast<int>(turns.views.size());
-  out.yaw_span_deg = turns.yaw_max - turns.yaw_min;
-  out.pitch_span_deg = turns.pitch_max - turns.pitch_min;
+  offsets.row(2) += fit.depth_change_m.transpose();
+  out.person.landmark_offsets_m = offsets;
+  out.views = fit.views;
+  out.yaw_span_deg = fit.yaw_span_rad * kDegPerRad;
+  out.pitch_span_deg = fit.pitch_span_rad * kDegPerRad;
   out.rms_before_px = fit.rms_before_px;
   out.rms_after_px = fit.rms_after_px;
+  out.depth_change_m = fit.depth_change_m;
   estimator.set_person(out.person, true);
-  estimator.reset();
   return out;
 }
 

@@ -22,26 +22,22 @@ PersonShape register_person(FacePoseEstimator& estimator, const cv::Mat& gray, c
                             double interpupillary_distance_m);
 
 struct TurnRefinement {
-  PersonShape person;  // with landmark_offsets_m from the turning head
+  PersonShape person;  // with the refined landmark depths in landmark_offsets_m
   int views = 0;       // frames tracked and used
   double yaw_span_deg = 0, pitch_span_deg = 0;  // of the tracked head, max - min
-  double rms_before_px = 0, rms_after_px = 0;   // landmark fit over the views, model before and after
-};
-
-struct TurnRequirements {
-  int min_views = 10;
-  double min_yaw_span_deg = 20;    // e.g. the head turned 10 degrees left and 10 right
-  double min_pitch_span_deg = 12;  // and nodded 6 up and 6 down
-  double max_offset_m = 0.02;      // a landmark farther than this from its model point keeps the model's
+  double rms_before_px = 0, rms_after_px = 0;   // landmark fit over the views, before and after
+  Eigen::VectorXd depth_change_m;               // per model landmark
 };
 
 // Refines `person` (registered from a frontal picture) with frames of the same person slowly turning
-// their head left, right, up and down in front of the same camera (multi_view_landmarks.hpp): the
-// depth of each landmark, which one frontal picture cannot see, is what the pitch and distance of
-// every later pose depend on. `estimator` tracks the frames with `person`, is left set to the refined
-// person. Throws RegistrationError when too few frames are tracked or the head turned too little
-// (naming what was seen and what is needed), or a frame is not the camera's size.
+// their head left, right, up and down in front of the same camera: the depth of the landmarks, which
+// one frontal picture cannot see and on which the pitch and distance of every later pose depend, is
+// adjusted jointly with the frames' poses (depth_refinement.hpp, `estimator.config().depth_refinement`).
+// `estimator` tracks the frames with `person` and is left set to the refined person. Throws
+// RegistrationError, leaving the estimator set to `person` unchanged, when a frame is not the camera's
+// size or the refinement is refused (too few frames tracked, too little turn, a fit that diverges or
+// an implausible result: the reason says which, with what was seen and what is needed).
 TurnRefinement refine_person_from_turns(FacePoseEstimator& estimator, const PersonShape& person,
-                                        const std::vector<cv::Mat>& frames, const TurnRequirements& requirements = {});
+                                        const std::vector<cv::Mat>& frames);
 
 }  // namespace labo::face

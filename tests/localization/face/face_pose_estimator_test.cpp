@@ -168,6 +168,7 @@ TEST_CASE("face: a head turn refines the registered landmarks; too little turn i
   REQUIRE(r.person.landmark_offsets_m.cols() == f.estimator.model().size());
   CHECK(r.person.landmark_offsets_m.cwiseAbs().maxCoeff() <= 0.02);
   CHECK(r.person.landmark_offsets_m.cwiseAbs().maxCoeff() > 1e-4);  // it did move something
+  CHECK(r.person.landmark_offsets_m.topRows(2).cwiseAbs().maxCoeff() == 0.0);  // in depth only
   CHECK(f.estimator.person().landmark_offsets_m.cols() == f.estimator.model().size());
 
   const std::vector<cv::Mat> still(12, f.render({pose(0, 0, 0, {0, -0.02, 0.8})}));
