@@ -65,6 +65,7 @@ nlohmann::json sequences_json(const SequenceBenchResult& r) {
                               {"error_mm", {{"median", s.median_error_mm}, {"p95", s.p95_error_mm}}},
                               {"error_percent_of_range", {{"median", s.median_error_percent}, {"p95", s.p95_error_percent}}},
                               {"error_deg", {{"median", s.median_error_deg}, {"p95", s.p95_error_deg}}},
+                              {"filtered_error_deg", {{"median", s.median_filtered_error_deg}, {"p95", s.p95_filtered_error_deg}}},
                               {"refined_poses", s.refined_poses},
                               {"rotation_sigma_deg_median", s.median_rotation_sigma_deg},
                               {"rotation_error_within_2sigma_percent", s.rotation_within_2sigma_percent},
@@ -80,6 +81,7 @@ nlohmann::json sequences_json(const SequenceBenchResult& r) {
                                {"poses", b.poses},
                                {"error_percent_of_range", {{"median", b.median_error_percent}, {"p95", b.p95_error_percent}}},
                                {"error_deg", {{"median", b.median_error_deg}, {"p95", b.p95_error_deg}}},
+                               {"filtered_error_deg", {{"median", b.median_filtered_error_deg}, {"p95", b.p95_filtered_error_deg}}},
                                {"rotation_sigma_deg_median", b.median_rotation_sigma_deg},
                                {"rotation_error_within_2sigma_percent", b.rotation_within_2sigma_percent}});
   }
@@ -105,9 +107,10 @@ void print_sequences(const SequenceBenchResult& r) {
   }
   for (const auto& b : r.range_bins) {
     std::printf("range %.1f-%.1f m %-4s poses %5d  error %% median %.2f p95 %.2f  deg median %.2f p95 %.2f  sigma deg %.2f "
-                "within 2 sigma %.0f %%\n",
+                "within 2 sigma %.0f %%  filtered deg median %.2f p95 %.2f\n",
                 b.min_m, b.max_m, b.tracker.c_str(), b.poses, b.median_error_percent, b.p95_error_percent,
-                b.median_error_deg, b.p95_error_deg, b.median_rotation_sigma_deg, b.rotation_within_2sigma_percent);
+                b.median_error_deg, b.p95_error_deg, b.median_rotation_sigma_deg, b.rotation_within_2sigma_percent,
+                b.median_filtered_error_deg, b.p95_filtered_error_deg);
   }
 }
 
@@ -115,12 +118,14 @@ void print_sequences(const SequenceBenchResult& r) {
 // growing with range) or noise.
 void write_frames_csv(std::ofstream& out, const std::string& path, const std::vector<FrameRecord>& frames) {
   out << "sequence,tracker,frame,range_m,in_view,state,has_pose,refined,ex_m,ey_m,ez_m,"
-         "rx_deg,ry_deg,rz_deg,rotation_sigma_deg,cpu_ms\n";
+         "rx_deg,ry_deg,rz_deg,rotation_sigma_deg,cpu_ms,filtered_rx_deg,filtered_ry_deg,filtered_rz_deg\n";
   for (const auto& f : frames) {
     out << f.sequence << ',' << f.tracker << ',' << f.frame << ',' << f.range_m << ',' << f.in_view << ',' << f.state
         << ',' << f.has_pose << ',' << f.refined << ',' << f.position_error_m.x() << ',' << f.position_error_m.y() << ','
         << f.position_error_m.z() << ',' << f.rotation_error_deg.x() << ',' << f.rotation_error_deg.y() << ','
-        << f.rotation_error_deg.z() << ',' << f.rotation_sigma_deg << ',' << f.cpu_ms << '\n';
+        << f.rotation_error_deg.z() << ',' << f.rotation_sigma_deg << ',' << f.cpu_ms << ','
+        << f.filtered_rotation_error_deg.x() << ',' << f.filtered_rotation_error_deg.y() << ','
+        << f.filtered_rotation_error_deg.z() << '\n';
   }
   out.flush();
   if (!out) throw std::runtime_error("--frames-csv: writing '" + path + "' failed");

@@ -17,6 +17,7 @@
 
 #include "localization/planar/h264_roundtrip.hpp"
 #include "localization/planar/planar_localizer.hpp"
+#include "localization/planar/planar_pose_filter.hpp"
 #include "localization/planar/synthetic_scene.hpp"
 
 namespace labo {
@@ -227,7 +228,7 @@ std::vector<Sequence> make_sequences(const PlanarConfig& config, const PanelMode
 }
 
 struct ErrorSample {
-  double range_m, error_percent, error_deg, sigma_deg;
+  double range_m, error_percent, error_deg, sigma_deg, filtered_error_deg;
 };
 
 double percent_within_2sigma(const std::vector<double>& error_deg, const std::vector<double>& sigma_deg) {
@@ -248,7 +249,8 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
   st.sequence = s.name;
   st.tracker = to_string(kind);
   st.min_range_m = 1e9;
-  std::vector<double> err_mm, err_pct, err_deg, sigma_deg, all_ms, tracking_ms, tracking_cpu_ms, detection_ms;
+  std::vector<double> err_mm, err_pct, err_deg, sigma_deg, filtered_deg, all_ms, tracking_ms, tracking_cpu_ms, detection_ms;
+  PlanarPoseFilter filter;
   bool had_pose = false;
   int loss_wait = -1;  // frames in view since the last loss, -1 when not recovering
   for (std::size_t i = 0; i < s.frames.size(); ++i) {
@@ -277,7 +279,12 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
     rec.refined = r.pose_refined;
     rec.state = to_string(r.state);
     rec.cpu_ms = cpu_ms;
+    Eigen::Matrix3d R_filtered = r.T_cam_object.linear();
+    if (r.state == PlanarState::Detected) filter.reset();  // a new detection may be the other IPPE branch
+    if (r.has_pose) R_filtered = filter.update(r.T_cam_object.linear(), r.rotation_sigma_rad, static_cast<double>(i) / kFps).R_cam_object;
     if (r.has_pose) {
+      const Eigen::AngleAxisd filtered_error(R_filtered * s.truth[i].linear().transpose());
+      rec.filtered_rotation_error_deg = filtered_error.axis() * filtered_error.angle() * 180.0 / kPi;
       rec.position_error_m = r.T_cam_object.translation() - s.truth[i].translation();
       const Eigen::AngleAxisd error(r.T_cam_object.linear() * s.truth[i].linear().transpose());
       rec.rotation_error_deg = error.axis() * error.angle() * 180.0 / kPi;
@@ -302,8 +309,9 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
       err_pct.push_back(100 * e / range);
       err_deg.push_back(deg);
       sigma_deg.push_back(r.rotation_sigma_rad * 180.0 / kPi);
+      filtered_deg.push_back(rotation_angle(R_filtered, s.truth[i].linear()) * 180.0 / kPi);
       st.refined_poses += r.pose_refined ? 1 : 0;
-      pooled.push_back({range, 100 * e / range, deg, sigma_deg.back()});
+      pooled.push_back({range, 100 * e / range, deg, sigma_deg.back(), filtered_deg.back()});
       if (100 * e / range > 10 || deg > 10) ++st.gross_errors;
     } else if (s.in_view[i]) {
       ++st.frames_in_view_without_pose;
@@ -317,6 +325,8 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
   st.median_error_deg = percentile(err_deg, 0.5);
   st.p95_error_deg = percentile(err_deg, 0.95);
   st.median_rotation_sigma_deg = percentile(sigma_deg, 0.5);
+  st.median_filtered_error_deg = percentile(filtered_deg, 0.5);
+  st.p95_filtered_error_deg = percentile(filtered_deg, 0.95);
   st.rotation_within_2sigma_percent = percent_within_2sigma(err_deg, sigma_deg);
   st.median_frame_ms = percentile(all_ms, 0.5);
   st.median_tracking_ms = percentile(tracking_ms, 0.5);
@@ -343,17 +353,19 @@ SequenceBenchResult run_sequence_bench(const PlanarConfig& config, const VisionT
       result.sequences.push_back(run_one(s, s.panel, kind, config, vision, pooled, result.frames));
     }
     for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{0.4, 1.0}, {1.0, 2.0}, {2.0, 3.1}}) {
-      std::vector<double> pct, deg, sigma;
+      std::vector<double> pct, deg, sigma, filtered;
       for (const auto& e : pooled) {
         if (e.range_m >= lo && e.range_m < hi) {
           pct.push_back(e.error_percent);
           deg.push_back(e.error_deg);
           sigma.push_back(e.sigma_deg);
+          filtered.push_back(e.filtered_error_deg);
         }
       }
       result.range_bins.push_back({to_string(kind), lo, hi, static_cast<int>(pct.size()), percentile(pct, 0.5),
                                    percentile(pct, 0.95), percentile(deg, 0.5), percentile(deg, 0.95),
-                                   percentile(sigma, 0.5), percent_within_2sigma(deg, sigma)});
+                                   percentile(sigma, 0.5), percent_within_2sigma(deg, sigma),
+                                   percentile(filtered, 0.5), percentile(filtered, 0.95)});
     }
   }
   return result;

@@ -28,6 +28,8 @@ struct SequenceStats {
   // The reported rotation uncertainty against the error: its median, and how often the error is
   // within 2 sigma (95 % for an honest Gaussian sigma).
   double median_rotation_sigma_deg = 0, rotation_within_2sigma_percent = 0;
+  // The orientation fused over frames by PlanarPoseFilter (planar_pose_filter.hpp), same poses.
+  double median_filtered_error_deg = 0, p95_filtered_error_deg = 0;
   int refined_poses = 0;  // poses from the SE(3) refinement
   std::map<std::string, int> loss_reasons;
   double median_frame_ms = 0, median_tracking_ms = 0, p95_tracking_ms = 0, mean_detection_ms = 0;
@@ -40,6 +42,7 @@ struct RangeBinStats {
   int poses = 0;
   double median_error_percent = 0, p95_error_percent = 0, median_error_deg = 0, p95_error_deg = 0;
   double median_rotation_sigma_deg = 0, rotation_within_2sigma_percent = 0;
+  double median_filtered_error_deg = 0, p95_filtered_error_deg = 0;
 };
 
 // One frame of one sequence, for `bench planar --frames-csv`: where the error is, not only how big.
@@ -54,6 +57,7 @@ struct FrameRecord {
   Eigen::Vector3d position_error_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d rotation_error_deg = Eigen::Vector3d::Zero();
   double rotation_sigma_deg = 0, cpu_ms = 0;
+  Eigen::Vector3d filtered_rotation_error_deg = Eigen::Vector3d::Zero();  // PlanarPoseFilter's
 };
 
 struct SequenceBenchResult {
