@@ -60,6 +60,32 @@ struct RouteFlight {
     const Eigen::Vector3d p = ((f.world->drone.pose() * T_body_cam_front()).inverse() * motion.pose(f.t).T_world_head).translation();
     return p.z() - 1.0;
   }
+  struct LegStart {
+    Seconds walking_since = -1;  // when the teacher set off (-1: not within 20 s)
+    double nearest_m = 10;       // the drone's nearest approach to the teacher
+    double depth_error_rms_m = 0;  // over the leg's first 4 s
+  };
+  // Flies until the teacher has walked 4 s of the next leg (at most 20 s); `visible(t, walking_since)`
+  // says whether the face can be seen at t (walking_since < 0 while the teacher has not set off).
+  template <typename Visible>
+  LegStart measure_leg_start(Visible visible) {
+    LegStart out;
+    double sum = 0;
+    int n = 0;
+    for (const double end = f.t + 20.0; f.t < end;) {
+      tick();
+      if (out.walking_since < 0 && motion.pose(f.t).walking) out.walking_since = f.t;
+      f.world->face_visible = visible(f.t, out.walking_since);
+      out.nearest_m = std::min(out.nearest_m, drone_to_teacher_m());
+      if (out.walking_since >= 0) {
+        sum += depth_error_m() * depth_error_m();
+        ++n;
+      }
+      if (out.walking_since >= 0 && f.t - out.walking_since > 4.0) break;
+    }
+    out.depth_error_rms_m = std::sqrt(sum / std::max(n, 1));
+    return out;
+  }
 };
 
 }  // namespace
@@ -134,25 +160,11 @@ TEST_CASE("control: a face lost at a corner waits for the teacher pausing there,
   }
   REQUIRE_FALSE(r.motion.pose(r.f.t).walking);
   // Hidden while they stand and turn, and for the first second of the next leg.
-  Seconds walking_since = -1;
-  double nearest = 10;
-  std::vector<double> error;
-  for (const double end = r.f.t + 20.0; r.f.t < end;) {
-    r.tick();
-    const TeacherPose p = r.motion.pose(r.f.t);
-    if (walking_since < 0 && p.walking) walking_since = r.f.t;
-    r.f.world->face_visible = walking_since >= 0 && r.f.t - walking_since > 1.0;
-    nearest = std::min(nearest, r.drone_to_teacher_m());
-    if (walking_since >= 0) error.push_back(r.depth_error_m());
-    if (walking_since >= 0 && r.f.t - walking_since > 4.0) break;
-  }
-  double sum = 0;
-  for (const double e : error) sum += e * e;
-  const double rms = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(error.size(), 1)));
-  INFO("nearest " << nearest << " m, depth error RMS over the leg's first 4 s " << rms << " m");
-  REQUIRE(walking_since > 0);
-  CHECK(nearest > 0.7);
-  CHECK(rms < 0.3);
+  const auto leg = r.measure_leg_start([](Seconds t, Seconds walking_since) { return walking_since >= 0 && t - walking_since > 1.0; });
+  INFO("nearest " << leg.nearest_m << " m, depth error RMS over the leg's first 4 s " << leg.depth_error_rms_m << " m");
+  REQUIRE(leg.walking_since > 0);
+  CHECK(leg.nearest_m > 0.7);
+  CHECK(leg.depth_error_rms_m < 0.3);
 }
 
 TEST_CASE("control: a face taken up for a moment at the corner keeps the meeting's wait for the teacher to set off") {
@@ -169,24 +181,12 @@ TEST_CASE("control: a face taken up for a moment at the corner keeps the meeting
   for (const double end = r.f.t + 1.0; r.f.t < end;) r.tick();
   REQUIRE(r.f.stack->status().stage.find("meeting") != std::string::npos);
   // Seen for 0.4 s while standing there, then hidden until 1 s into the leg.
-  Seconds walking_since = -1;
-  double nearest = 10;
-  std::vector<double> error;
-  for (const double end = r.f.t + 20.0; r.f.t < end;) {
-    r.tick();
-    const TeacherPose p = r.motion.pose(r.f.t);
-    if (walking_since < 0 && p.walking) walking_since = r.f.t;
-    const bool glimpse = r.f.t - stopped > 1.0 && r.f.t - stopped < 1.4;
-    r.f.world->face_visible = glimpse || (walking_since >= 0 && r.f.t - walking_since > 1.0);
-    nearest = std::min(nearest, r.drone_to_teacher_m());
-    if (walking_since >= 0) error.push_back(r.depth_error_m());
-    if (walking_since >= 0 && r.f.t - walking_since > 4.0) break;
-  }
-  double sum = 0;
-  for (const double e : error) sum += e * e;
-  const double rms = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(error.size(), 1)));
-  INFO("nearest " << nearest << " m, depth error RMS over the leg's first 4 s " << rms << " m");
-  REQUIRE(walking_since > 0);
-  CHECK(nearest > 0.7);
-  CHECK(rms < 0.3);
+  const auto leg = r.measure_leg_start([stopped](Seconds t, Seconds walking_since) {
+    const bool glimpse = t - stopped > 1.0 && t - stopped < 1.4;
+    return glimpse || (walking_since >= 0 && t - walking_since > 1.0);
+  });
+  INFO("nearest " << leg.nearest_m << " m, depth error RMS over the leg's first 4 s " << leg.depth_error_rms_m << " m");
+  REQUIRE(leg.walking_since > 0);
+  CHECK(leg.nearest_m > 0.7);
+  CHECK(leg.depth_error_rms_m < 0.3);
 }
