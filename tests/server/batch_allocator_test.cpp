@@ -11,6 +11,11 @@
 using namespace labo;
 
 TEST_CASE("batch allocator: large blocks come from the heap and stay there after free") {
+#if defined(__SANITIZE_ADDRESS__)
+  // ASan replaces glibc's malloc: mallopt does not apply and mallinfo2 does not see its heap.
+  WARN("not checked under AddressSanitizer");
+  return;
+#endif
   REQUIRE(keep_freed_memory_for_batch_runs());
   constexpr std::size_t kBlock = 4 << 20;  // a SIFT pyramid level of a doubled 640x360 frame
   const std::size_t mmapped_before = mallinfo2().hblkhd;
