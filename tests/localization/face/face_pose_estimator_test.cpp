@@ -76,6 +76,16 @@ TEST_CASE("face: config and person files are validated") {
   CHECK_THROWS_AS(read_face_config(doc.root(), "."), ConfigError);
   const auto typo = ConfigDocument::parse(R"({"pnp_metod": "epnp"})", "test.json");
   CHECK_THROWS_AS(read_face_config(typo.root(), "."), ConfigError);
+  // The head-turn depth refinement's section: values out of range and unknown keys name the key.
+  const std::pair<const char*, const char*> bad_refinements[] = {
+      {R"({"depth_refinement": {"min_views": 0}})", "min_views"},
+      {R"({"depth_refinement": {"max_depth_change_mm": 50}})", "max_depth_change_mm"},
+      {R"({"depth_refinement": {"huber_px": -1}})", "huber_px"},
+      {R"({"depth_refinement": {"min_view": 10}})", "min_view"}};
+  for (const auto& [text, key] : bad_refinements) {
+    const auto d = ConfigDocument::parse(text, "test.json");
+    CHECK_THROWS_WITH(read_face_config(d.root(), "."), Catch::Contains(key));
+  }
   const auto good = ConfigDocument::parse(R"({"pnp_method": "epnp_lm", "interpupillary_distance_mm": 60,
       "limits": {"max_yaw_deg": 60}})", "test.json");
   const FaceConfig c = read_face_config(good.root(), ".");
