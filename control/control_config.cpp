@@ -23,6 +23,7 @@ PoseControlGains read_gains(const ConfigReader& node, PoseControlGains g) {
   if (node.has("yaw")) g.yaw = read_pid(node.object("yaw"), g.yaw);
   g.max_tilt_command = node.number_or("max_tilt_command", g.max_tilt_command, {0.0, 1.0, true});
   g.xy_velocity_feedforward = node.number_or("xy_velocity_feedforward", g.xy_velocity_feedforward, Range::closed(0.0, 2.0));
+  g.yaw_rate_feedforward = node.number_or("yaw_rate_feedforward", g.yaw_rate_feedforward, Range::closed(0.0, 2.0));
   node.finish();
   return g;
 }

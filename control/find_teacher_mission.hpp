@@ -54,6 +54,7 @@ class FindTeacherMission final : public Mission {
   void plan_transit(const MissionContext& ctx, const WatchPoint& to);
   bool predict_from_route(const MissionContext& ctx, double corner_radius_m);
   void place_on_meeting_leg(const MissionContext& ctx);
+
   bool walk_into_corner(MissionContext& ctx);
   bool turning_back_ahead(const MissionContext& ctx);
   Geofence roomy_fence(const MissionContext& ctx) const;
@@ -62,8 +63,10 @@ class FindTeacherMission final : public Mission {
   bool face_seen(const MissionContext& ctx) const;
   void follow(MissionContext& ctx);
   void fly_standoff(MissionContext& ctx, bool new_waypoint, const Eigen::Vector3d& orbit_centre);
-  void fly_standoff(MissionContext& ctx, bool new_waypoint, const Eigen::Vector3d& orbit_centre, const Eigen::Vector3d& look_at);
+  void fly_standoff(MissionContext& ctx, bool new_waypoint, const Eigen::Vector3d& orbit_centre, const Eigen::Vector3d& look_at,
+                    const Eigen::Vector3d& look_at_velocity);
   void lost(MissionContext& ctx);
+  void follow_estimate_corrections(const MissionContext& ctx);
   std::string describe(Seconds t) const;
 
   Step step_ = Step::Init;
@@ -93,6 +96,10 @@ class FindTeacherMission final : public Mission {
   std::vector<PoseTarget> transit_;         // legs to it
   std::size_t transit_leg_ = 0;
   Seconds last_tick_ = 0;
+  // The pose estimate at the last tick (position, velocity): its corrections are not the teacher's walk.
+  bool have_last_pose_ = false;
+  Eigen::Vector3d last_position_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_velocity_ = Eigen::Vector3d::Zero();
   Seconds last_face_t_ = -1;
   TeacherTrack track_;
   double standoff_m_ = 1.0;                 // face_distance_m, farther while meeting on the next leg

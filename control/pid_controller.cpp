@@ -79,7 +79,9 @@ MoveCommand PoseController::update(const PoseEstimate& pose, double dt) {
   cmd.pitch = u_body.x();   // > 0: nose down, forward
   cmd.roll = -u_body.y();   // > 0: right, i.e. towards -y (body y is left)
   cmd.gaz = z_.update(e.z(), v.z(), dt);
-  cmd.yaw_rate = yaw_.update(wrap_angle(target_.yaw - yaw), pose.yaw_rate, dt);
+  const double yaw_feed_forward = gains_.yaw_rate_feedforward * target_.yaw_rate;
+  cmd.yaw_rate = std::clamp(yaw_.update(wrap_angle(target_.yaw - yaw), pose.yaw_rate - target_.yaw_rate, dt) + yaw_feed_forward,
+                            gains_.yaw.out_min, gains_.yaw.out_max);
   return cmd;
 }
 

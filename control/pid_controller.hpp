@@ -38,6 +38,8 @@ struct PoseTarget {
   // A moving set point's velocity (world): the derivative acts on (target velocity - velocity) and
   // the horizontal command gets a feed-forward tilt for it, so a followed target is not lagged.
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  // A turning set point's yaw rate (rad/s), fed forward the same way.
+  double yaw_rate = 0;
 };
 
 class PoseController {

@@ -25,6 +25,10 @@ class TeacherTrack {
   void resume(const Eigen::Isometry3d& T_world_face, Seconds t);
   // Move the track along its motion (face lost: where it most likely went); the turn rate decays.
   void coast(Seconds dt);
+  // The drone's pose estimate was corrected by `by` (world), beyond what its velocity explains: the
+  // faces placed from it move by as much, and that is no walk of the teacher. Moves the track with it,
+  // so the next face's displacement is measured in the corrected frame.
+  void shift(const Eigen::Vector3d& by) { position_ += by; }
   // Pretend the teacher is at `xy` facing `heading_rad`, moving at `velocity` (a prediction from the
   // route).
   void place(const Eigen::Vector2d& xy, double heading_rad, const Eigen::Vector2d& velocity = Eigen::Vector2d::Zero());

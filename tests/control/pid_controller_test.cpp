@@ -108,3 +108,19 @@ TEST_CASE("control: yaw error is wrapped across +-180 degrees") {
   CHECK(m.yaw_rate == Approx(wrap_angle(-3.0 - 3.0)));
   CHECK(m.yaw_rate > 0);  // the short way round: counter-clockwise
 }
+
+TEST_CASE("control: a turning set point's yaw rate is fed forward, so the yaw does not lag it") {
+  PoseControlGains g;  // yaw kp 2.0, yaw_rate_feedforward 0.57 command per rad/s
+  PoseController c(g);
+  PoseTarget target{{0, 0, 1}, 0.5};
+  target.yaw_rate = 0.5;  // rad/s
+  c.set_target(target);
+  PoseEstimate turning = at({0, 0, 1}, 0.5);
+  turning.yaw_rate = 0.5;
+  // On the set point and turning with it: keep turning (before: 0, the drone stopped and fell behind).
+  CHECK(c.update(turning, 0.03).yaw_rate == Approx(g.yaw_rate_feedforward * 0.5));
+  // Clipped to the command range.
+  target.yaw_rate = 5.0;
+  c.set_target(target, true);
+  CHECK(c.update(turning, 0.03).yaw_rate == Approx(1.0));
+}
