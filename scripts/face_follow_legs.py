@@ -6,9 +6,11 @@ Re-computes the followable walking ticks as sim_commands.cpp does (the true face
 (5 s after the stage first reads "3 face-follow", then --walk seconds), and splits them into legs
 (runs of ticks walking the same way). Per leg: time, ticks, the share of the run's squared distance
 error, distance and centre RMS, the face tracked fraction, and the mean signed distance error.
-With --trace T0 T1: every 5th tick in [T0, T1] (drone, set point, face, errors, stage).
+With --trace T0 T1: every 5th tick in [T0, T1] (drone, set point, face, errors, stage). With --jumps:
+the ticks after 30 s where the drone's estimate moved more than 0.02 m beyond what its velocity
+explains (estimator corrections).
 
-usage: face_follow_legs.py CSV [--walk 30] [--room xmin ymin xmax ymax] [--margin 0.3] [--trace T0 T1]
+usage: face_follow_legs.py CSV [--walk 30] [--room xmin ymin xmax ymax] [--margin 0.3] [--trace T0 T1] [--jumps]
 """
 import argparse
 import csv
@@ -32,6 +34,7 @@ def main():
     ap.add_argument("--margin", type=float, default=0.3)
     ap.add_argument("--distance", type=float, default=1.0)
     ap.add_argument("--trace", type=float, nargs=2)
+    ap.add_argument("--jumps", action="store_true")
     a = ap.parse_args()
     rows = list(csv.DictReader(open(a.csv)))
     found = next(float(r["t_s"]) for r in rows if r["stage"] == "3 face-follow")
@@ -80,6 +83,14 @@ def main():
               f"  {rms(d):8.3f}  {sum(d)/len(d):+6.3f}  {rms(c):10.3f}  {l['tracked']/len(d):6.1%}")
     if dd:
         print(f"all: distance RMS {math.sqrt(sum(x*x for x in dd)/len(dd)):.3f} m, centre RMS {math.sqrt(sum(x*x for x in cc)/len(cc)):.3f}")
+    if a.jumps:
+        num = lambda r, k: float(r[k]) if r[k] != "" else float("nan")
+        for p, q in zip(rows, rows[1:]):
+            t, dt = num(q, "t_s"), num(q, "t_s") - num(p, "t_s")
+            jx = num(q, "est_x_m") - num(p, "est_x_m") - 0.5 * (num(p, "est_vx_mps") + num(q, "est_vx_mps")) * dt
+            jy = num(q, "est_y_m") - num(p, "est_y_m") - 0.5 * (num(p, "est_vy_mps") + num(q, "est_vy_mps")) * dt
+            if t > 30 and math.hypot(jx, jy) > 0.02:
+                print(f"estimate jump at {t:.2f} s: {math.hypot(jx, jy):.3f} m ({q['source']})")
     if a.trace:
         print("t  drone(x,y,yaw)  des(x,y,yaw)  face(x,y,heading)  cam_z  cam_x  target  stage")
         for i, r in enumerate(rows):
