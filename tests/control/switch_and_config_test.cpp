@@ -236,6 +236,9 @@ TEST_CASE("control: config section is validated with the key path") {
   CHECK(net.safety.estimate_jump_hold_s == 2.0);
   CHECK_THROWS_WITH(read(R"({"safety": {"min_clearance_m": 3}})"), Catch::Contains("min_clearance_m"));
   CHECK_THROWS_WITH(read(R"({"safety": {"estimate_jump_m": -1}})"), Catch::Contains("estimate_jump_m"));
+  CHECK(read(R"({"gains": {"yaw_rate_feedforward": 0.3}})").gains.yaw_rate_feedforward == 0.3);
+  CHECK_THROWS_WITH(read(R"({"gains": {"yaw_rate_feedforward": -0.1}})"), Catch::Contains("yaw_rate_feedforward"));
+  CHECK_THROWS_WITH(read(R"({"gains": {"yaw_rate_feedforward": "fast"}})"), Catch::Contains("yaw_rate_feedforward"));
 }
 
 #include "control/mission.hpp"
