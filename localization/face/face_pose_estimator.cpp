@@ -309,7 +309,13 @@ void FacePoseEstimator::detect_landmarks(const cv::Mat& gray, const Candidate& c
     if (provisional && plausible_distance(*provisional)) {
       // The view's box comes from the detector's box relation, which a new track has not measured
       // yet (it is set at the end of a tracked frame): measure it now, on this detector box.
-      if (candidate.from_detector) remember_box_relation(candidate.box, lm, provisional->T_cam_face.translation().z());
+      // Kept for the rest of the frame: measured on the crop's landmarks, whose spread is the one the
+      // frontal view's box is placed by (the view's landmarks of a turned head, mapped back to the
+      // image, are not).
+      if (candidate.from_detector) {
+        remember_box_relation(candidate.box, lm, provisional->T_cam_face.translation().z());
+        box_relation_measured_ = true;
+      }
       detect_in_frontal_view(gray, candidate, provisional->T_cam_face, Eigen::Vector2d::Zero(), lm);
     }
   }
@@ -360,6 +366,7 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
   if (!candidate) return lose(result, result.reason);
 
   start = process_cpu_seconds();
+  box_relation_measured_ = false;
   Eigen::Matrix2Xd lm;
   detect_landmarks(gray, *candidate, lm);
   result.timings.landmarks_ms = ms_since(start);
@@ -409,7 +416,7 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
   result.quality = std::clamp(1.0 - rms_ratio / L.max_rms_per_interocular, 0.0, 1.0);
   result.reinitialised = estimate->reinitialised;
 
-  if (candidate->from_detector) remember_box_relation(candidate->box, lm, s.T_cam_face.translation().z());
+  if (candidate->from_detector && !box_relation_measured_) remember_box_relation(candidate->box, lm, s.T_cam_face.translation().z());
   if (last_landmarks_) {
     landmark_velocity_px_ = (lm.middleCols(17, 43) - last_landmarks_->middleCols(17, 43)).rowwise().mean();
   }

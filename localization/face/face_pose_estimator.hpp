@@ -136,6 +136,7 @@ class FacePoseEstimator {
   // (side x distance / fx, which does not change when the head turns, unlike the landmarks' spread).
   Eigen::Vector2d box_offset_ = Eigen::Vector2d(0, 0.1);
   double box_side_m_ = 0.2;
+  bool box_relation_measured_ = false;  // this frame, by the first frame's frontal pass
   std::optional<Eigen::Isometry3d> last_pose_;
   double last_spread_px_ = 0;
   int detector_misses_ = 0;
