@@ -37,6 +37,8 @@ class InspectMission final : public Mission {
   bool instrument_seen(const MissionContext& ctx) const;
   // The estimate is above or below the standoff by more than the panel's view allows.
   bool lost_vertically(const MissionContext& ctx, const PoseTarget& standoff) const;
+  // The estimate has run on dead reckoning (no vision source) too long for stages that need the panel.
+  bool on_dead_reckoning_too_long(const MissionContext& ctx);
   // Camera to the panel's plane, horizontally along the panel's normal (m).
   double distance_along_line_of_sight(const MissionContext& ctx) const;
   std::string describe(Seconds t) const;
@@ -53,6 +55,7 @@ class InspectMission final : public Mission {
   double held_s_ = 0;
   Seconds last_t_ = -1;
   Seconds lost_since_ = -1;
+  Seconds dead_reckoning_since_ = -1;
   bool backed_off_ = false;  // re-detection: backed off along the line of sight (else realigned first)
   bool heading_back_ = false;  // re-detection: the panel was seen again, flying to the standoff
   HomeLanding home_;
