@@ -8,6 +8,7 @@
 #include <optional>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 #include <stdexcept>
 
 #include "core/candide3.hpp"
@@ -212,6 +213,31 @@ Eigen::Matrix3Xd person_points_of(const FacePoseEstimator& estimator) {
   return points;
 }
 
+std::string pose_columns(const Eigen::Isometry3d& T) {
+  const Eigen::Quaterniond q(T.linear());
+  std::ostringstream out;
+  out.precision(9);
+  out << T.translation().x() << ',' << T.translation().y() << ',' << T.translation().z() << ',' << q.w() << ',' << q.x()
+      << ',' << q.y() << ',' << q.z();
+  return out.str();
+}
+
+// For offline analysis of the pose from the landmarks: the ideal camera, and per rigid landmark the
+// person's registered point and the rendered head's true point (face frame, metres).
+void write_model_csv(const std::string& path, const FacePoseEstimator& estimator, const Eigen::Matrix3Xd& person,
+                     const Eigen::Matrix3Xd& truth) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error(path + ": cannot write the model CSV");
+  out.precision(9);
+  const IdealPinhole c = estimator.ideal_camera();
+  out << "landmark,person_x_m,person_y_m,person_z_m,true_x_m,true_y_m,true_z_m,fx,fy,cx,cy\n";
+  for (Eigen::Index i = 0; i < person.cols(); ++i) {
+    out << estimator.model().landmark_ids()[static_cast<std::size_t>(i)] << ',' << person(0, i) << ',' << person(1, i)
+        << ',' << person(2, i) << ',' << truth(0, i) << ',' << truth(1, i) << ',' << truth(2, i) << ',' << c.fx << ','
+        << c.fy << ',' << c.cx << ',' << c.cy << '\n';
+  }
+}
+
 }  // namespace
 
 FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamera& camera,
@@ -303,7 +329,7 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
       sequences.push_back(std::move(q));
     }
   }
-  std::ofstream csv, landmark_csv;
+  std::ofstream csv, landmark_csv, pose_csv;
   if (!options.frames_csv.empty()) {
     csv.open(options.frames_csv);
     if (!csv) throw std::runtime_error(options.frames_csv.string() + ": cannot write the per-frame CSV");
@@ -312,7 +338,11 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
            "model_only_abs_tz_mm,model_only_yaw_deg,model_only_pitch_deg,landmarks_only_abs_tz_mm,"
            "landmarks_only_yaw_deg,landmarks_only_pitch_deg,lost_reason\n";
     landmark_csv.open(options.frames_csv.string() + ".landmarks.csv");
-    landmark_csv << "sequence,frame,true_yaw_deg,true_pitch_deg,true_roll_deg,interocular_px,landmark,dx_px,dy_px\n";
+    landmark_csv << "sequence,frame,true_yaw_deg,true_pitch_deg,true_roll_deg,interocular_px,landmark,dx_px,dy_px,"
+                    "true_u_px,true_v_px\n";
+    pose_csv.open(options.frames_csv.string() + ".poses.csv");
+    pose_csv << "sequence,frame,t_s,true_x_m,true_y_m,true_z_m,true_qw,true_qx,true_qy,true_qz,est_x_m,est_y_m,est_z_m,"
+                "est_qw,est_qx,est_qy,est_qz\n";
   }
   // The rendered head's true landmarks, rigid subset (face frame, metres), for the analysis columns.
   const FaceLandmarkModel& lm_model = estimator.model();
@@ -322,6 +352,7 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
   }
   const bool truth_known = true_landmarks.allFinite();
   const Eigen::Matrix3Xd person_points = person_points_of(estimator);
+  if (csv.is_open()) write_model_csv(options.frames_csv.string() + ".model.csv", estimator, person_points, true_landmarks);
   for (std::size_t s = 0; s < sequences.size(); ++s) {
     const HeadPoseSequence& seq = sequences[s];
     const cv::Mat background = make_background(camera, options.seed + static_cast<unsigned>(s));
@@ -410,9 +441,12 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
                 const Eigen::Vector2d d = problem.pixels.col(i) - true_pixels.pixels.col(i);
                 landmark_csv << seq.name << ',' << f << ',' << ta.yaw * kDeg << ',' << ta.pitch * kDeg << ','
                              << ta.roll * kDeg << ',' << iod << ',' << lm_model.landmark_ids()[static_cast<std::size_t>(i)]
-                             << ',' << d.x() << ',' << d.y() << '\n';
+                             << ',' << d.x() << ',' << d.y() << ',' << true_pixels.pixels(0, i) << ','
+                             << true_pixels.pixels(1, i) << '\n';
               }
             }
+            pose_csv << seq.name << ',' << f << ',' << static_cast<double>(f) / 30.0 << ',' << pose_columns(truth) << ','
+                     << pose_columns(T) << '\n';
             true_model.points_face = true_landmarks;
             const auto write_errors = [&](const PnpProblem& p) {
               const auto r = truth_known ? refine_lm(p, truth, config.solver.lm) : std::nullopt;

@@ -194,9 +194,7 @@ std::optional<FacePoseEstimator::Candidate> FacePoseEstimator::select_among(cons
     std::optional<cv::Rect2d> best_box;
     for (const auto& b : boxes) {
       const Eigen::Matrix2Xd lm = landmarks_in(gray, b.box);
-      const PnpProblem problem{points_face_, ideal_pixels(lm), ideal_camera(), {}};
-      auto init = solve_epnp(problem);
-      auto refined = init ? refine_lm(problem, init->T_cam_face, config_.solver.lm) : std::nullopt;
+      const auto refined = fit_pose(lm);
       const double score = refined ? refined->rms_px / std::max(interocular_px(lm), 1.0) : best;
       if (score < best) {
         second = best;
@@ -283,8 +281,17 @@ void FacePoseEstimator::set_landmark_weights(PnpProblem& problem) const {
   }
 }
 
+std::optional<PnpSolution> FacePoseEstimator::fit_pose(const Eigen::Matrix2Xd& lm) const {
+  const PnpProblem problem{points_face_, ideal_pixels(lm), ideal_camera(), {}};
+  const auto init = solve_epnp(problem);
+  return init ? refine_lm(problem, init->T_cam_face, config_.solver.lm) : std::nullopt;
+}
+
 void FacePoseEstimator::detect_landmarks(const cv::Mat& gray, const Candidate& candidate, Eigen::Matrix2Xd& lm) {
-  if (detect_in_frontal_view(gray, candidate, lm)) return;
+  if (last_pose_ &&
+      detect_in_frontal_view(gray, candidate, *last_pose_, landmark_velocity_px_.value_or(Eigen::Vector2d::Zero()), lm)) {
+    return;
+  }
   const double upright = config_.upright_crop && last_landmarks_ ? eye_line_angle(*last_landmarks_) : 0.0;
   double widen = 1;
   if (config_.yaw_widen_exponent > 0 && last_pose_) {
@@ -292,16 +299,42 @@ void FacePoseEstimator::detect_landmarks(const cv::Mat& gray, const Candidate& c
     widen = std::min(1.6, std::pow(1.0 / std::max(std::cos(yaw), 0.1), config_.yaw_widen_exponent));
   }
   landmark_detector_.detect(gray, candidate.box, lm, upright, widen);
+  // The first frame of a track has no pose to make the frontal view from, so the crop's landmarks
+  // carry the predictor's pull towards a frontal shape (a turned head seen less turned and farther),
+  // and under the relative-motion protocol that first pose's error is carried through the whole
+  // track. Pose them once (the solver's state untouched) and run the predictor again on the frontal
+  // view at that pose: the first frame then gets the landmarks every later frame gets.
+  if (frontal_ && !last_pose_) {
+    const auto provisional = fit_pose(lm);
+    if (provisional && plausible_distance(*provisional)) {
+      // The view's box comes from the detector's box relation, which a new track has not measured
+      // yet (it is set at the end of a tracked frame): measure it now, on this detector box.
+      // Kept for the rest of the frame: measured on the crop's landmarks, whose spread is the one the
+      // frontal view's box is placed by (the view's landmarks of a turned head, mapped back to the
+      // image, are not).
+      if (candidate.from_detector) {
+        remember_box_relation(candidate.box, lm, provisional->T_cam_face.translation().z());
+        box_relation_measured_ = true;
+      }
+      detect_in_frontal_view(gray, candidate, provisional->T_cam_face, Eigen::Vector2d::Zero(), lm);
+    }
+  }
 }
 
-bool FacePoseEstimator::detect_in_frontal_view(const cv::Mat& gray, const Candidate& candidate, Eigen::Matrix2Xd& lm) {
-  if (!frontal_ || !last_pose_) return false;
+bool FacePoseEstimator::plausible_distance(const PnpSolution& s) const {
+  const double distance = s.T_cam_face.translation().norm();
+  return distance >= config_.limits.min_distance_m && distance <= config_.limits.max_distance_m;
+}
+
+bool FacePoseEstimator::detect_in_frontal_view(const cv::Mat& gray, const Candidate& candidate,
+                                               const Eigen::Isometry3d& T_cam_face, const Eigen::Vector2d& shift,
+                                               Eigen::Matrix2Xd& lm) {
+  if (!frontal_) return false;
   const double fx = camera_.intrinsics().fx;
-  const double distance = last_pose_->translation().norm();
+  const double distance = T_cam_face.translation().norm();
   const double side_px = box_side_m_ * fx / distance;
-  const Eigen::Vector2d shift = landmark_velocity_px_.value_or(Eigen::Vector2d::Zero());
   // Only for the face being tracked: a detector box elsewhere (another face) takes the plain crop.
-  const auto origin = camera_.project(last_pose_->translation());
+  const auto origin = camera_.project(T_cam_face.translation());
   if (!origin) return false;
   const Eigen::Vector2d o = *origin + shift;
   const cv::Point2d bc = centre(candidate.box);
@@ -310,7 +343,7 @@ bool FacePoseEstimator::detect_in_frontal_view(const cv::Mat& gray, const Candid
   const double scale = std::max(1.0, 160.0 / side_px);
   const double side = side_px * scale;
   const int size = static_cast<int>(std::ceil(1.6 * side));
-  if (!frontal_->render(gray, camera_, *last_pose_, shift, fx * scale, cv::Size(size, size))) return false;
+  if (!frontal_->render(gray, camera_, T_cam_face, shift, fx * scale, cv::Size(size, size))) return false;
   Eigen::Vector2d c = Eigen::Vector2d::Zero();
   for (Eigen::Index i = 0; i < points_face_.cols(); ++i) c += frontal_->view_of(points_face_.col(i));
   c = c / static_cast<double>(points_face_.cols()) + box_offset_ * side;
@@ -333,6 +366,7 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
   if (!candidate) return lose(result, result.reason);
 
   start = process_cpu_seconds();
+  box_relation_measured_ = false;
   Eigen::Matrix2Xd lm;
   detect_landmarks(gray, *candidate, lm);
   result.timings.landmarks_ms = ms_since(start);
@@ -363,8 +397,7 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
   if (std::abs(result.angles.yaw) > L.max_yaw_rad || std::abs(result.angles.pitch) > L.max_pitch_rad) {
     return lose(result, FaceLostReason::BeyondProfile);
   }
-  const double distance = s.T_cam_face.translation().norm();
-  if (distance < L.min_distance_m || distance > L.max_distance_m) return lose(result, FaceLostReason::ImplausibleDistance);
+  if (!plausible_distance(s)) return lose(result, FaceLostReason::ImplausibleDistance);
 
   const double spread = centroid_and_spread(lm).second;
   if (last_pose_ && last_landmarks_) {
@@ -383,7 +416,7 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
   result.quality = std::clamp(1.0 - rms_ratio / L.max_rms_per_interocular, 0.0, 1.0);
   result.reinitialised = estimate->reinitialised;
 
-  if (candidate->from_detector) remember_box_relation(candidate->box, lm, s.T_cam_face.translation().z());
+  if (candidate->from_detector && !box_relation_measured_) remember_box_relation(candidate->box, lm, s.T_cam_face.translation().z());
   if (last_landmarks_) {
     landmark_velocity_px_ = (lm.middleCols(17, 43) - last_landmarks_->middleCols(17, 43)).rowwise().mean();
   }

@@ -103,7 +103,13 @@ class FacePoseEstimator {
   double interocular_px(const Eigen::Matrix2Xd& landmarks68) const;
   void set_landmark_weights(PnpProblem& problem) const;
   void detect_landmarks(const cv::Mat& gray, const Candidate& candidate, Eigen::Matrix2Xd& lm);
-  bool detect_in_frontal_view(const cv::Mat& gray, const Candidate& candidate, Eigen::Matrix2Xd& lm);
+  // The landmarks found on a frontal view of the face made at `T_cam_face` (moved by `shift` px);
+  // false (lm untouched) when the view is off or cannot be made for this candidate.
+  bool detect_in_frontal_view(const cv::Mat& gray, const Candidate& candidate, const Eigen::Isometry3d& T_cam_face,
+                              const Eigen::Vector2d& shift, Eigen::Matrix2Xd& lm);
+  // EPnP + LM of the person's points to `lm` (68 image landmarks), outside the tracking solver.
+  std::optional<PnpSolution> fit_pose(const Eigen::Matrix2Xd& lm) const;
+  bool plausible_distance(const PnpSolution& s) const;
 
   FaceConfig config_;
   PinholeCamera camera_;
@@ -130,6 +136,7 @@ class FacePoseEstimator {
   // (side x distance / fx, which does not change when the head turns, unlike the landmarks' spread).
   Eigen::Vector2d box_offset_ = Eigen::Vector2d(0, 0.1);
   double box_side_m_ = 0.2;
+  bool box_relation_measured_ = false;  // this frame, by the first frame's frontal pass
   std::optional<Eigen::Isometry3d> last_pose_;
   double last_spread_px_ = 0;
   int detector_misses_ = 0;

@@ -29,6 +29,13 @@ std::optional<double> ray_hit(const Eigen::Vector3d& o, const Eigen::Vector3d& d
   return t;
 }
 
+double eye_centre_distance(const FaceLandmarkModel& model, const Eigen::Matrix3Xd& points) {
+  Eigen::Vector3d right = Eigen::Vector3d::Zero(), left = Eigen::Vector3d::Zero();
+  for (int id = 36; id < 42; ++id) right += points.col(model.column_of(id)) / 6.0;
+  for (int id = 42; id < 48; ++id) left += points.col(model.column_of(id)) / 6.0;
+  return (left - right).norm();
+}
+
 }  // namespace
 
 Eigen::Matrix3Xd surface_landmark_offsets(const Candide3Model& candide, const FaceLandmarkModel& model,
@@ -55,11 +62,20 @@ Eigen::Matrix3Xd surface_landmark_offsets(const Candide3Model& candide, const Fa
                              mesh[static_cast<std::size_t>(tri[2])]);
       if (t && *t < nearest) nearest = *t;
     }
-    if (!std::isfinite(nearest)) continue;
-    const Eigen::Vector3d offset = origin + nearest * d - mapped.col(i);
+    if (!std::isfinite(nearest)) continue;  // past the face: keep the mapped point
+    // Where the ray crosses the mapped point's depth plane (face frame): the picture's in-plane
+    // position, the model's depth. Taking the mesh's depth at the hit as well moved the depth by
+    // what a frontal picture cannot see and made distance worse (docs/face.md).
+    const double t_plane = (mapped(2, i) - origin.z()) / d.z();
+    Eigen::Vector3d offset = origin + t_plane * d - mapped.col(i);
+    offset.z() = 0;
     if (offset.norm() <= max_offset_m) offsets.col(i) = offset;
   }
-  return offsets;
+  // The metric scale stays the interpupillary distance's: the offsets move the eye landmarks too
+  // (by the picture's detection noise), so the moved points are scaled about the face origin back to
+  // the mapped eye centres' distance.
+  const Eigen::Matrix3Xd moved = mapped + offsets;
+  return moved * (eye_centre_distance(model, mapped) / eye_centre_distance(model, moved)) - mapped;
 }
 
 }  // namespace labo::face

@@ -16,7 +16,7 @@ namespace {
 const IdealPinhole kCamera{569.9, 568.0, 331.4, 135.9};
 }  // namespace
 
-TEST_CASE("face: surface landmarks are where the picture's rays cut the fitted mesh") {
+TEST_CASE("face: surface landmarks are where the picture's rays cross the mapped depth, scale kept") {
   const Candide3Model candide = Candide3Model::load(Candide3Model::default_path());
   const FaceLandmarkModel model = make_face_landmark_model(candide, load_ibug68_mapping(default_ibug68_mapping_path()));
   const Eigen::VectorXd tau = Eigen::VectorXd::Zero(model.shape_unit_count());
@@ -27,16 +27,13 @@ TEST_CASE("face: surface landmarks are where the picture's rays cut the fitted m
   Eigen::Matrix2Xd px(2, model.size());
   for (Eigen::Index i = 0; i < model.size(); ++i) px.col(i) = kCamera.project(T * mapped.col(i).eval());
 
-  // Landmarks seen exactly where their mapped points project: the mapped points that lie on the
-  // mesh (vertices and points on its faces) keep them.
+  // Landmarks seen exactly where their mapped points project keep them, all of them (the depth is
+  // the mapped point's, not the mesh's under it).
   const Eigen::Matrix3Xd same = surface_landmark_offsets(candide, model, tau, 0.063, T, px, kCamera, 0.015);
   REQUIRE(same.cols() == model.size());
-  int on_surface = 0;
-  for (Eigen::Index i = 0; i < model.size(); ++i) on_surface += same.col(i).norm() < 1e-4;
-  CHECK(on_surface > model.size() / 2);
+  CHECK(same.cwiseAbs().maxCoeff() < 1e-9);
 
-  // A landmark seen 4 px to the right lies on the surface 4 px to the right: x moves by ~4 px at
-  // 0.8 m, the point stays on the mesh (the new ray's hit), within 15 mm.
+  // A landmark seen 4 px to the right moves 4 px to the right in the face's plane, its depth kept.
   const int nose_tip = model.column_of(30);
   REQUIRE(nose_tip >= 0);
   Eigen::Matrix2Xd moved = px;
@@ -46,11 +43,26 @@ TEST_CASE("face: surface landmarks are where the picture's rays cut the fitted m
   CHECK(kCamera.project(p_cam).x() == Approx(px(0, nose_tip) + 4.0).margin(0.05));
   CHECK(std::abs(off(0, nose_tip)) > 0.5 * 4.0 * 0.8 / kCamera.fx);
   CHECK(off.col(nose_tip).norm() < 0.015);
+  CHECK(off(2, nose_tip) == Approx(0.0).margin(1e-12));
+
+  // An eye corner seen 3 px outwards moves that eye's centre; the points are scaled back so that the
+  // eye centres keep the interpupillary distance (the metric scale).
+  const auto eye_distance = [&](const Eigen::Matrix3Xd& p) {
+    Eigen::Vector3d right = Eigen::Vector3d::Zero(), left = Eigen::Vector3d::Zero();
+    for (int id = 36; id < 42; ++id) right += p.col(model.column_of(id)) / 6.0;
+    for (int id = 42; id < 48; ++id) left += p.col(model.column_of(id)) / 6.0;
+    return (left - right).norm();
+  };
+  Eigen::Matrix2Xd wider = px;
+  wider(0, model.column_of(45)) += 3.0;
+  const Eigen::Matrix3Xd scaled = surface_landmark_offsets(candide, model, tau, 0.063, T, wider, kCamera, 0.015);
+  CHECK(eye_distance(mapped + scaled) == Approx(eye_distance(mapped)).epsilon(1e-9));
+  CHECK(scaled.col(model.column_of(45)).norm() > 0.5 * 3.0 * 0.8 / kCamera.fx);
 
   // A ray past the face keeps the mapped point.
   moved(0, nose_tip) += 400.0;
   const Eigen::Matrix3Xd missed = surface_landmark_offsets(candide, model, tau, 0.063, T, moved, kCamera, 0.015);
-  CHECK(missed.col(nose_tip).norm() == 0.0);
+  CHECK(missed.col(nose_tip).norm() < 1e-12);
   CHECK_THROWS_AS(surface_landmark_offsets(candide, model, tau, 0.063, T, moved.leftCols(3), kCamera, 0.015),
                   std::invalid_argument);
 }
