@@ -67,6 +67,7 @@ nlohmann::json sequences_json(const SequenceBenchResult& r) {
                               {"error_deg", {{"median", s.median_error_deg}, {"p95", s.p95_error_deg}}},
                               {"filtered_error_deg", {{"median", s.median_filtered_error_deg}, {"p95", s.p95_filtered_error_deg}}},
                               {"refined_poses", s.refined_poses},
+                              {"mean_refinement_iterations", s.mean_refinement_iterations},
                               {"rotation_sigma_deg_median", s.median_rotation_sigma_deg},
                               {"rotation_error_within_2sigma_percent", s.rotation_within_2sigma_percent},
                               {"frame_ms", {{"median_all", s.median_frame_ms},

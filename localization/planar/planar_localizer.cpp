@@ -124,6 +124,7 @@ PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, con
 void PlanarObjectLocalizer::reset() {
   tracking_ = false;
   last_pose_.reset();
+  last_exposure_ = -1;
 }
 
 const cv::Mat& PlanarObjectLocalizer::undistort(const cv::Mat& gray) {
@@ -268,27 +269,62 @@ PlanarLoss PlanarObjectLocalizer::accept(const cv::Mat& image, const cv::Matx33d
 }
 
 Se3Refinement PlanarObjectLocalizer::refine_with_blur_search(const Eigen::Isometry3d& T_start, Seconds t,
-                                                             Eigen::Vector2d& blur_px) const {
-  Se3Refinement best = pose_refiner_.refine(smoothed_, T_start);
+                                                             Eigen::Vector2d& blur_px, int& iterations) {
   blur_px.setZero();
   // The panel's image motion since the previous frame; the exposure is an unknown part of the frame
   // interval (auto exposure), so a few fractions of that motion are tried and the best fit kept.
-  if (!last_pose_ || !(t - last_pose_t_ > 0) || t - last_pose_t_ > kMaxBlurIntervalS) return best;
   const auto centre_px = [&](const Eigen::Isometry3d& T) {
     const Eigen::Vector3d c = T.translation();
     return Eigen::Vector2d(camera_.intrinsics().fx * c.x() / c.z(), camera_.intrinsics().fy * c.y() / c.z());
   };
-  const Eigen::Vector2d motion_px = centre_px(T_start) - centre_px(*last_pose_);
-  if (!(motion_px.norm() >= kMinBlurMotionPx)) return best;
-  for (const double fraction : kExposureFractions) {
-    const Se3Refinement candidate = pose_refiner_.refine(smoothed_, T_start, fraction * motion_px);
-    if (!candidate.refined) continue;
-    // The residual is unimodal in the exposure: once it rises, longer ones only fit worse.
-    if (best.refined && candidate.residual_grey >= best.residual_grey) break;
-    best = candidate;
-    blur_px = fraction * motion_px;
+  const bool recent = last_pose_ && t - last_pose_t_ > 0 && t - last_pose_t_ <= kMaxBlurIntervalS;
+  const Eigen::Vector2d motion_px = recent ? Eigen::Vector2d(centre_px(T_start) - centre_px(*last_pose_)) : Eigen::Vector2d::Zero();
+  if (!(motion_px.norm() >= kMinBlurMotionPx)) {
+    last_exposure_ = -1;
+    Se3Refinement only = pose_refiner_.refine(smoothed_, T_start);
+    iterations += only.iterations;
+    return only;
   }
-  return best;
+  // Hypotheses -1 (no blur) .. 3 (kExposureFractions); the residual is unimodal in the exposure. The
+  // search starts at the last frame's choice and walks towards lower residuals, each refinement
+  // starting from the best pose so far.
+  constexpr int kCount = static_cast<int>(kExposureFractions.size());
+  std::array<std::optional<Se3Refinement>, kExposureFractions.size() + 1> tried;
+  int best_index = -2;
+  enum class Fit { Better, Worse, Failed };
+  const auto evaluate = [&](int k) {
+    if (k < -1 || k >= kCount || tried[static_cast<std::size_t>(k + 1)]) return Fit::Worse;
+    const Eigen::Isometry3d* warm = best_index >= -1 ? &tried[static_cast<std::size_t>(best_index + 1)]->T_cam_object : nullptr;
+    const Eigen::Vector2d blur = k < 0 ? Eigen::Vector2d::Zero() : Eigen::Vector2d(kExposureFractions[static_cast<std::size_t>(k)] * motion_px);
+    tried[static_cast<std::size_t>(k + 1)] = pose_refiner_.refine(smoothed_, T_start, blur, warm);
+    const Se3Refinement& c = *tried[static_cast<std::size_t>(k + 1)];
+    iterations += c.iterations;
+    if (!c.refined) return Fit::Failed;  // e.g. beyond the corner leash: the walk goes on
+    if (best_index >= -1 && c.residual_grey >= tried[static_cast<std::size_t>(best_index + 1)]->residual_grey) return Fit::Worse;
+    best_index = k;
+    return Fit::Better;
+  };
+  const int start = last_exposure_ >= 0 ? last_exposure_ : -1;
+  evaluate(start);
+  bool improved_up = false;
+  for (int k = start + 1; k < kCount; ++k) {
+    const Fit f = evaluate(k);
+    if (f == Fit::Worse) break;
+    improved_up = improved_up || f == Fit::Better;
+  }
+  if (!improved_up) {
+    for (int k = start - 1; k >= -1; --k) {
+      if (evaluate(k) == Fit::Worse) break;
+    }
+  }
+  if (best_index < -1) {  // nothing refined: the unblurred refinement says why
+    last_exposure_ = -1;
+    if (!tried[0]) evaluate(-1);
+    return *tried[0];
+  }
+  last_exposure_ = best_index;
+  if (best_index >= 0) blur_px = kExposureFractions[static_cast<std::size_t>(best_index)] * motion_px;
+  return *tried[static_cast<std::size_t>(best_index + 1)];
 }
 
 void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, double size_px, double margin,
@@ -301,7 +337,7 @@ void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
       pose_refiner_.smooth(image, {pose.T_cam_object}, smoothed_);
     }
     Eigen::Vector2d blur_px = Eigen::Vector2d::Zero();
-    Se3Refinement refined = refine_with_blur_search(pose.T_cam_object, r.t, blur_px);
+    Se3Refinement refined = refine_with_blur_search(pose.T_cam_object, r.t, blur_px, r.refinement_iterations);
     if (pose.alternative_plausible) {
       // Two distinct IPPE poses fit the corners: the photometric fit sees the perspective that tells
       // them apart. Both are refined; when they end apart with residuals within 2 %, IPPE's choice
@@ -309,6 +345,7 @@ void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
       // residual wins and the ambiguity is resolved. Within kUnresolvedResidualRatio the rotation sigma
       // covers the other branch whichever wins.
       const Se3Refinement other = pose_refiner_.refine(smoothed_, pose.T_alternative, blur_px);
+      r.refinement_iterations += other.iterations;
       if (refined.refined && other.refined) {
         const double branch_angle = rotation_angle(refined.T_cam_object.linear(), other.T_cam_object.linear());
         const bool apart = branch_angle > kDistinctPosesRad;

@@ -64,7 +64,10 @@ class PlanarObjectLocalizer {
   // The SE(3) refinement of the IPPE pose when configured; fills the result's uncertainties.
   void refine_pose(const cv::Mat& image, PlanarPose& pose, double size_px, double margin, PlanarResult& r);
   // The SE(3) refinement of T_start, with the motion blur (if the panel moved fast) that fits best.
-  Se3Refinement refine_with_blur_search(const Eigen::Isometry3d& T_start, Seconds t, Eigen::Vector2d& blur_px) const;
+  // The exposure chosen last (index into the tried fractions, -1: none) is tried first: under auto
+  // exposure it changes slowly, and the search then needs fewer refinements.
+  Se3Refinement refine_with_blur_search(const Eigen::Isometry3d& T_start, Seconds t, Eigen::Vector2d& blur_px,
+                                        int& iterations);
   const cv::Mat& undistort(const cv::Mat& gray);
 
   PlanarTemplate template_;
@@ -84,6 +87,7 @@ class PlanarObjectLocalizer {
   cv::Matx33d H_working_ = cv::Matx33d::eye();  // last accepted, working template px -> undistorted px
   std::optional<Eigen::Isometry3d> last_pose_;
   Seconds last_pose_t_ = 0;
+  int last_exposure_ = -1;  // see refine_with_blur_search
 };
 
 }  // namespace labo

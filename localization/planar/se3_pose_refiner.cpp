@@ -253,7 +253,7 @@ Se3Refinement Se3PoseRefiner::refine(const cv::Mat& undistorted, const Eigen::Is
 }
 
 Se3Refinement Se3PoseRefiner::refine(const SmoothedFrame& frame, const Eigen::Isometry3d& T_start,
-                                     const Eigen::Vector2d& blur_px) const {
+                                     const Eigen::Vector2d& blur_px, const Eigen::Isometry3d* warm_start) const {
   const cv::Mat& undistorted = frame.image;
   Se3Refinement out;
   out.T_cam_object = T_start;
@@ -286,7 +286,7 @@ Se3Refinement Se3PoseRefiner::refine(const SmoothedFrame& frame, const Eigen::Is
     return shift;
   };
 
-  Eigen::Isometry3d T = T_start, T_previous = T_start;
+  Eigen::Isometry3d T = warm_start != nullptr ? *warm_start : T_start, T_previous = T;
   Appearance appearance;
   Normal n, n_previous;
   for (int it = 0; it < settings_.max_iterations; ++it) {

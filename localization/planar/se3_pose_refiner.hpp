@@ -82,8 +82,11 @@ class Se3PoseRefiner {
   // `blur_px`: the panel's apparent motion during the exposure (undistorted-frame pixels, at its
   // centre). When it is longer than half a pixel the template is blurred the same way before the fit:
   // a sharp template against a smeared frame pulls the pose by degrees (docs/planar.md).
+  // `warm_start` (optional): where the iterations begin, e.g. the refined pose of a neighbouring blur
+  // hypothesis (fewer iterations); the corner leash is still measured from T_start.
   Se3Refinement refine(const SmoothedFrame& frame, const Eigen::Isometry3d& T_start,
-                       const Eigen::Vector2d& blur_px = Eigen::Vector2d::Zero()) const;
+                       const Eigen::Vector2d& blur_px = Eigen::Vector2d::Zero(),
+                       const Eigen::Isometry3d* warm_start = nullptr) const;
   // Convenience for one-off calls (tests, tools): smooths around T_start, then refines. Allocates.
   Se3Refinement refine(const cv::Mat& undistorted, const Eigen::Isometry3d& T_start) const;
 

@@ -250,6 +250,7 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
   st.tracker = to_string(kind);
   st.min_range_m = 1e9;
   std::vector<double> err_mm, err_pct, err_deg, sigma_deg, filtered_deg, all_ms, tracking_ms, tracking_cpu_ms, detection_ms;
+  std::vector<double> refinement_iterations;
   PlanarPoseFilter filter;
   bool had_pose = false;
   int loss_wait = -1;  // frames in view since the last loss, -1 when not recovering
@@ -266,7 +267,10 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
     st.max_range_m = std::max(st.max_range_m, range);
     if (s.in_view[i]) ++st.frames_in_view;
     if (r.state == PlanarState::Tracking) tracking_ms.push_back(ms);
-    if (r.state == PlanarState::Tracking) tracking_cpu_ms.push_back(cpu_ms);
+    if (r.state == PlanarState::Tracking) {
+      tracking_cpu_ms.push_back(cpu_ms);
+      refinement_iterations.push_back(r.refinement_iterations);
+    }
     if (r.state != PlanarState::Tracking) detection_ms.push_back(ms);
     if (r.state == PlanarState::Detected) ++st.detections;
     FrameRecord& rec = records.emplace_back();
@@ -333,6 +337,7 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
   st.p95_tracking_ms = percentile(tracking_ms, 0.95);
   st.median_tracking_cpu_ms = percentile(tracking_cpu_ms, 0.5);
   for (double m : detection_ms) st.mean_detection_ms += m / static_cast<double>(detection_ms.size());
+  for (double n : refinement_iterations) st.mean_refinement_iterations += n / static_cast<double>(refinement_iterations.size());
   return st;
 }
 

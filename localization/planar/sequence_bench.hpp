@@ -34,6 +34,8 @@ struct SequenceStats {
   std::map<std::string, int> loss_reasons;
   double median_frame_ms = 0, median_tracking_ms = 0, p95_tracking_ms = 0, mean_detection_ms = 0;
   double median_tracking_cpu_ms = 0;  // this thread's CPU time (wall time includes the neighbours' load)
+  // SE(3) refinement Gauss-Newton iterations per tracked frame (PlanarResult::refinement_iterations).
+  double mean_refinement_iterations = 0;
 };
 
 struct RangeBinStats {
