@@ -9,6 +9,7 @@ SlamSettings read_slam_settings(const ConfigReader& node) {
   s.max_features = node.integer_or("max_features", s.max_features, 100, 5000);
   s.fast_threshold = node.integer_or("fast_threshold", s.fast_threshold, 5, 100);
   s.max_points_searched = node.integer_or("max_points_searched", s.max_points_searched, 50, 5000);
+  s.patch_refinement = node.boolean_or("patch_refinement", s.patch_refinement);
   s.smoothing_sigma_px = node.number_or("smoothing_sigma_px", s.smoothing_sigma_px, Range::closed(0.0, 3.0));
   s.quality_good = node.number_or("quality_good", s.quality_good, Range{0.0, 1.0, true});
   s.quality_lost = node.number_or("quality_lost", s.quality_lost, Range{0.0, 1.0, true});

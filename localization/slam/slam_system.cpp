@@ -67,6 +67,14 @@ void validate_settings(const SlamSettings& s) {
   if (!(s.loop_min_gap_s > 0)) fail("loop_min_gap_s must be > 0");
 }
 
+// Keyframes keep their own pyramid: the extractor reuses its buffers (and level 0 may be the caller's frame).
+std::vector<cv::Mat> copy_pyramid(const std::vector<cv::Mat>& pyramid) {
+  std::vector<cv::Mat> out;
+  out.reserve(pyramid.size());
+  for (const cv::Mat& level : pyramid) out.push_back(level.clone());
+  return out;
+}
+
 const PinholeCamera& validated(const PinholeCamera& camera) {
   validate(camera.intrinsics(), "slam");
   return camera;
@@ -82,7 +90,7 @@ struct SlamSystem::Impl {
         grid(camera.ideal_min(), camera.ideal_max(), 24.0),
         initializer(camera, {s.init_min_parallax_px, s.init_timeout_s, 30.0, 60, {s.init_min_points, s.init_min_parallax_deg, 1.5, 0.45}}),
         tracker(camera, {s.pyramid_levels, s.pyramid_scale, s.max_points_searched, s.coarse_points, s.coarse_radius_px,
-                         s.fine_radius_px, 50, 10}),
+                         s.fine_radius_px, 50, 10, s.patch_refinement}),
         relocalizer(camera),
         mapper(std::make_unique<LocalMapper>(camera, map, mapper_settings(s))) {}
 
@@ -97,6 +105,7 @@ struct SlamSystem::Impl {
     m.global_ba_every = s.global_ba_every;
     m.global_ba_fixed_keyframes = s.global_ba_fixed_keyframes;
     m.cull_points = s.cull_points;
+    m.patch_refinement = s.patch_refinement;
     m.loop.enabled = s.loop_closure;
     m.loop.min_gap_s = s.loop_min_gap_s;
     m.loop.levels = s.pyramid_levels;
@@ -137,6 +146,7 @@ struct SlamSystem::Impl {
   int map_generation = 0;  // the last map correction this tracker's poses follow
   Seconds last_keyframe_t = -1e9;
   cv::Mat reference_small_image;  // of the initializer's reference frame
+  std::vector<cv::Mat> reference_pyramid;  // the same frame's pyramid (keyframe 0's)
   SlamResult last;
   double inline_mapping_wall_ms = 0, inline_mapping_cpu_ms = 0;
 };
@@ -171,7 +181,10 @@ SlamResult SlamSystem::Impl::track(const cv::Mat& gray, Seconds t, const std::op
   if (state == TrackingState::Initializing) {
     const int attempts = initializer.attempts();
     std::optional<InitialMap> init = initializer.add_frame(frame, grid, t);
-    if (initializer.attempts() != attempts) reference_small_image = small_blurry_image(gray);
+    if (initializer.attempts() != attempts) {
+      reference_small_image = small_blurry_image(gray);
+      reference_pyramid = copy_pyramid(extractor.pyramid());
+    }
     if (init) {
       const Stopwatch mapping_watch;
       start_map(*init, gray, t);
@@ -203,12 +216,14 @@ void SlamSystem::Impl::start_map(const InitialMap& init, const cv::Mat& gray, Se
     first.t = init.reference_t;
     first.frame = init.reference;
     first.small_image = reference_small_image.clone();
+    first.pyramid = reference_pyramid;
     const int k0 = map.add_keyframe(std::move(first));
     Keyframe second;
     second.t = t;
     second.T_cam_map = init.T_current_reference;
     second.frame = frame;
     second.small_image = small_blurry_image(gray);
+    second.pyramid = copy_pyramid(extractor.pyramid());
     const int k1 = map.add_keyframe(std::move(second));
     const Eigen::Vector3d c0 = Eigen::Vector3d::Zero();
     for (std::size_t i = 0; i < init.points.size(); ++i) {
@@ -325,7 +340,7 @@ SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std
     // PTAM switches the coarse stage off when the camera barely moves: less jitter.
     coarse = rotation_angle(step) * camera.fx() + step.translation().norm() * camera.fx() > 4.0;
   }
-  TrackOutcome o = tracker.track(map, frame, grid, guess, reference_keyframe, coarse);
+  TrackOutcome o = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, coarse);
   if (o.map_generation != map_generation && !relocalizing) {
     // The mapper corrected the map between our prior and the tracking pass. An adjustment moves the
     // map by a fraction of a pixel: the pose found in the old map is carried over. A loop correction
@@ -340,16 +355,16 @@ SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std
         o.T_cam_map = (Similarity3::from_rigid(o.T_cam_map) * *G_inv).rigid_pose();
       } else {
         guess = (Similarity3::from_rigid(guess) * *G_inv).rigid_pose();
-        o = tracker.track(map, frame, grid, guess, reference_keyframe, coarse);
+        o = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, coarse);
       }
     } else {
-      o = tracker.track(map, frame, grid, guess, reference_keyframe, coarse);
+      o = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, coarse);
     }
   }
   if (!coarse && !relocalizing && (!o.pose_valid || o.found < settings.min_found_good)) {
     // The motion model said "barely moving" but the view jumped (the drone tilts to start or stop a
     // manoeuvre: 5 deg in one frame is ~50 px): search again coarse to fine from the same prior.
-    TrackOutcome wide = tracker.track(map, frame, grid, guess, reference_keyframe, true);
+    TrackOutcome wide = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, true);
     if (wide.pose_valid && wide.found > o.found && wide.map_generation == o.map_generation) o = std::move(wide);
   }
   result.points_found = o.found;
@@ -424,7 +439,15 @@ void SlamSystem::Impl::add_keyframe(const TrackOutcome& o, const cv::Mat& gray, 
   kf.T_cam_map = o.T_cam_map;
   kf.frame = frame;
   kf.point_of_feature.assign(frame.size(), kNoPoint);
-  for (const auto& [feature, id] : o.matches) kf.point_of_feature[static_cast<std::size_t>(feature)] = id;
+  for (std::size_t i = 0; i < o.matches.size(); ++i) {
+    const auto [feature, id] = o.matches[i];
+    kf.point_of_feature[static_cast<std::size_t>(feature)] = id;
+    // The keyframe measures its tracked points where the tracker did (patch-aligned when it could).
+    Feature& f = kf.frame.features[static_cast<std::size_t>(feature)];
+    f.image_px = o.match_image_px[i].cast<float>();
+    f.px = camera.ideal_from_image(o.match_image_px[i].x(), o.match_image_px[i].y());
+  }
+  kf.pyramid = copy_pyramid(extractor.pyramid());
   kf.small_image = small_blurry_image(gray);
   kf.map_generation = map_generation;
   kf.tracking_reference = reference_keyframe;

@@ -34,6 +34,7 @@ struct SlamSettings {
   int fast_threshold = 20;           // FAST intensity threshold (falls back to 7 in flat cells)
   double smoothing_sigma_px = 1.2;   // Gaussian smoothing before FAST (0: none), see docs/slam.md
   int max_points_searched = 800;     // fine stage
+  bool patch_refinement = false;     // fine matches aligned to sub-pixel with the points' warped patches (docs/slam.md)
   int coarse_points = 60;            // coarse stage, from levels >= 2
   double coarse_radius_px = 30.0;    // level-0 pixels
   double fine_radius_px = 6.0;

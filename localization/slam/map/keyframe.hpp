@@ -1,7 +1,8 @@
 #pragma once
 // Keyframe and MapPoint: what the map is made of. A keyframe keeps its features and descriptors (for
 // new points, re-measurement and relocalization) and a small blurry image for ranking keyframes when
-// relocalizing. A map point keeps its position, a representative descriptor and its observations.
+// relocalizing, and its image pyramid for the points' patches. A map point keeps its position, a
+// representative descriptor and its observations.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <opencv2/core.hpp>
@@ -22,6 +23,10 @@ struct Keyframe {
   FrameFeatures frame;
   std::vector<PointId> point_of_feature;  // one per feature, kNoPoint when none
   cv::Mat small_image;                    // CV_32F, zero mean, blurred (relocalization ranking)
+  // The 8-bit pyramid the features were found on (smoothed as extracted): the source of the map
+  // points' patches (match/patch_aligner). Not saved: a loaded map's points are tracked from their
+  // corners alone.
+  std::vector<cv::Mat> pyramid;
   // Set by the tracker, not saved: the map generation its pose was computed in and the tracker's
   // reference keyframe, so that a loop correction made while it was queued can be applied to it.
   int map_generation = 0;

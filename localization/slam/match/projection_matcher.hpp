@@ -19,6 +19,8 @@ struct SearchCandidate {
   Descriptor descriptor;
   int reference_level = 0;
   double reference_distance = 1.0;
+  int reference_keyframe = -1;
+  int reference_feature = -1;  // the point's feature in its reference keyframe (its patch), -1: none
   // Filled by project_candidates():
   Eigen::Vector2d px = Eigen::Vector2d::Zero();
   int predicted_level = 0;
@@ -32,6 +34,8 @@ inline SearchCandidate candidate_of(const MapPoint& p) {
   c.descriptor = p.descriptor;
   c.reference_level = p.reference_level;
   c.reference_distance = p.reference_distance;
+  c.reference_keyframe = p.reference_keyframe;
+  c.reference_feature = p.observed_by(p.reference_keyframe);
   return c;
 }
 

@@ -6,11 +6,27 @@
 namespace labo::slam {
 
 FrameTracker::FrameTracker(const IdealCamera& camera, const TrackerSettings& settings)
-    : camera_(camera), settings_(settings), matcher_(camera, settings.levels, settings.level_scale) {}
+    : camera_(camera), settings_(settings), matcher_(camera, settings.levels, settings.level_scale), aligner_(camera) {}
+
+int FrameTracker::pyramid_slot(const Keyframe& kf) {
+  if (kf.pyramid.empty()) return -1;
+  int& slot = slot_of_keyframe_[static_cast<std::size_t>(kf.id)];
+  if (slot >= 0) return slot;
+  if (pyramid_count_ == pyramids_.size()) pyramids_.emplace_back();
+  pyramids_[pyramid_count_] = kf.pyramid;  // headers only: keyframe images are never written again
+  slot = static_cast<int>(pyramid_count_++);
+  return slot;
+}
 
 void FrameTracker::collect_candidates(const SlamMap& map, const Eigen::Isometry3d& T, int reference_keyframe) {
   candidates_.clear();
+  patches_.clear();
   seen_.clear();
+  for (std::size_t i = 0; i < pyramid_count_; ++i) {
+    for (cv::Mat& level : pyramids_[i]) level.release();  // let go of keyframes no longer local
+  }
+  pyramid_count_ = 0;
+  slot_of_keyframe_.assign(map.keyframes().size(), -1);
   std::vector<int> kfs = map.nearest(T, settings_.local_keyframes);
   if (reference_keyframe >= 0 && reference_keyframe < static_cast<int>(map.keyframes().size())) {
     kfs.push_back(reference_keyframe);
@@ -22,21 +38,53 @@ void FrameTracker::collect_candidates(const SlamMap& map, const Eigen::Isometry3
       const MapPoint* p = map.point(id);
       if (!p) continue;
       candidates_.push_back(candidate_of(*p));
+      PatchRef patch;
+      const SearchCandidate& c = candidates_.back();
+      if (settings_.patch_refinement && c.reference_feature >= 0 && c.reference_keyframe >= 0 &&
+          c.reference_keyframe < static_cast<int>(map.keyframes().size())) {
+        const Keyframe& source = map.keyframes()[static_cast<std::size_t>(c.reference_keyframe)];
+        patch.slot = pyramid_slot(source);
+        patch.T_cam_map = source.T_cam_map;
+        const Feature& f = source.frame.features[static_cast<std::size_t>(c.reference_feature)];
+        patch.image_px = f.image_px.cast<double>();
+        patch.level = f.level;
+      }
+      patches_.push_back(patch);
     }
   }
 }
 
-int FrameTracker::solve(const std::vector<SearchMatch>& matches, const FrameFeatures& frame, Eigen::Isometry3d& T) {
-  observations_.clear();
-  for (const SearchMatch& m : matches) {
+void FrameTracker::refine_matches(const FrameFeatures& frame, const std::vector<cv::Mat>& pyramid, const Eigen::Isometry3d& T) {
+  match_image_px_.clear();
+  match_refined_.assign(matches_.size(), 0);
+  for (std::size_t i = 0; i < matches_.size(); ++i) {
+    const SearchMatch& m = matches_[i];
     const Feature& f = frame.features[static_cast<std::size_t>(m.feature)];
-    observations_.push_back({candidates_[static_cast<std::size_t>(m.candidate)].p_map, f.px, matcher_.level_scale(f.level), true});
+    match_image_px_.push_back(f.image_px.cast<double>());
+    const PatchRef& patch = patches_[static_cast<std::size_t>(m.candidate)];
+    if (!settings_.patch_refinement || patch.slot < 0 || pyramid.empty()) continue;
+    const PatchSource source{&pyramids_[static_cast<std::size_t>(patch.slot)], patch.T_cam_map, patch.image_px, patch.level};
+    const auto aligned = aligner_.align(source, candidates_[static_cast<std::size_t>(m.candidate)].p_map, pyramid, T,
+                                        match_image_px_.back());
+    if (!aligned) continue;
+    match_image_px_.back() = aligned->image_px;
+    match_refined_[i] = 1;
+  }
+}
+
+int FrameTracker::solve(const std::vector<SearchMatch>& matches, const FrameFeatures& frame, Eigen::Isometry3d& T, bool refined) {
+  observations_.clear();
+  for (std::size_t i = 0; i < matches.size(); ++i) {
+    const SearchMatch& m = matches[i];
+    const Feature& f = frame.features[static_cast<std::size_t>(m.feature)];
+    const Eigen::Vector2d px = refined && match_refined_[i] ? camera_.ideal_from_image(match_image_px_[i].x(), match_image_px_[i].y()) : f.px;
+    observations_.push_back({candidates_[static_cast<std::size_t>(m.candidate)].p_map, px, matcher_.level_scale(f.level), true});
   }
   return optimize_pose(camera_, observations_, T);
 }
 
 TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame, const FeatureGrid& grid,
-                                 const Eigen::Isometry3d& prior, int last_reference_keyframe, bool coarse_stage) {
+                                 const std::vector<cv::Mat>& pyramid, const Eigen::Isometry3d& prior, int last_reference_keyframe, bool coarse_stage) {
   TrackOutcome out;
   Eigen::Isometry3d T = prior;
   std::shared_lock lock(map.mutex());
@@ -55,7 +103,7 @@ TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame,
     }
     matcher_.search(candidates_, coarse_, frame, grid, settings_.coarse_radius_px, 0, settings_.max_hamming, matches_);
     Eigen::Isometry3d T_coarse = T;
-    if (matches_.size() >= 10 && solve(matches_, frame, T_coarse) >= 8) {
+    if (matches_.size() >= 10 && solve(matches_, frame, T_coarse, false) >= 8) {
       T = T_coarse;
       matcher_.project_candidates(candidates_, T);
     }
@@ -78,7 +126,8 @@ TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame,
   }
   out.search = matcher_.breakdown();
   if (matches_.size() < 6) return out;
-  const int inliers = solve(matches_, frame, T);
+  refine_matches(frame, pyramid, T);
+  const int inliers = solve(matches_, frame, T, true);
   out.pose_outliers = static_cast<int>(matches_.size()) - inliers;
   if (inliers < 6) return out;
   out.pose_valid = true;
@@ -89,6 +138,8 @@ TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame,
     if (!observations_[i].inlier) continue;
     const SearchCandidate& c = candidates_[static_cast<std::size_t>(matches_[i].candidate)];
     out.matches.emplace_back(matches_[i].feature, c.id);
+    out.match_image_px.push_back(match_image_px_[i]);
+    out.refined += match_refined_[i];
     depth_sum += (T * c.p_map).z();
   }
   out.mean_depth = depth_sum / std::max(1, inliers);

@@ -4,10 +4,14 @@
 // stage searches a few points (coarsest levels first) over a wide radius and updates the pose; a
 // fine stage searches every point in view over a tight radius; the final pose is solved from the
 // fine matches with Huber weights and a chi-square outlier gate. Quality = found / attempted.
+// Before the final pose, each fine match's corner is refined to sub-pixel by aligning the point's
+// warped patch from its reference keyframe (match/patch_aligner): the pose and, through the
+// keyframes the tracker adds, the map are measured at those positions.
 #include <unordered_set>
 #include <vector>
 
 #include "localization/slam/map/slam_map.hpp"
+#include "localization/slam/match/patch_aligner.hpp"
 #include "localization/slam/match/projection_matcher.hpp"
 #include "localization/slam/optimize/pose_optimizer.hpp"
 
@@ -22,6 +26,7 @@ struct TrackerSettings {
   double fine_radius_px = 6.0;
   int max_hamming = 50;
   int local_keyframes = 10;
+  bool patch_refinement = true;  // sub-pixel alignment of the fine matches (match/patch_aligner)
 };
 
 struct TrackOutcome {
@@ -34,6 +39,8 @@ struct TrackOutcome {
   int reference_shared = 0;        // how many
   int reference_points = 0;        // points of that keyframe
   std::vector<std::pair<int, PointId>> matches;  // (feature, point), inliers only
+  std::vector<Eigen::Vector2d> match_image_px;   // per match: where it was measured (distorted level-0 px)
+  int refined = 0;                               // matches measured by patch alignment
   int map_generation = 0;          // of the map the local map was read from
   SearchBreakdown search;          // the fine stage's misses
   int pose_outliers = 0;           // matched, then rejected by the pose update
@@ -42,16 +49,35 @@ struct TrackOutcome {
 class FrameTracker {
  public:
   FrameTracker(const IdealCamera& camera, const TrackerSettings& settings);
-  TrackOutcome track(const SlamMap& map, const FrameFeatures& frame, const FeatureGrid& grid,
+  // pyramid: the frame's (as the features were found on it), for the patch alignment.
+  TrackOutcome track(const SlamMap& map, const FrameFeatures& frame, const FeatureGrid& grid, const std::vector<cv::Mat>& pyramid,
                      const Eigen::Isometry3d& prior_T_cam_map, int last_reference_keyframe, bool coarse_stage);
 
  private:
   void collect_candidates(const SlamMap& map, const Eigen::Isometry3d& T, int reference_keyframe);
-  int solve(const std::vector<SearchMatch>& matches, const FrameFeatures& frame, Eigen::Isometry3d& T);
+  int solve(const std::vector<SearchMatch>& matches, const FrameFeatures& frame, Eigen::Isometry3d& T, bool refined);
+  // Keeps (a copy of the header of) a keyframe's pyramid for this frame; returns its slot or -1.
+  int pyramid_slot(const Keyframe& kf);
+  void refine_matches(const FrameFeatures& frame, const std::vector<cv::Mat>& pyramid, const Eigen::Isometry3d& T);
+
+  // A candidate's patch source, copied under the map lock (parallel to candidates_).
+  struct PatchRef {
+    int slot = -1;
+    Eigen::Isometry3d T_cam_map = Eigen::Isometry3d::Identity();
+    Eigen::Vector2d image_px = Eigen::Vector2d::Zero();
+    int level = 0;
+  };
 
   const IdealCamera& camera_;
   TrackerSettings settings_;
   ProjectionMatcher matcher_;
+  PatchAligner aligner_;
+  std::vector<PatchRef> patches_;
+  std::vector<std::vector<cv::Mat>> pyramids_;  // reused: slots [0, pyramid_count_)
+  std::size_t pyramid_count_ = 0;
+  std::vector<int> slot_of_keyframe_;
+  std::vector<Eigen::Vector2d> match_image_px_;  // per fine match: refined or the corner's
+  std::vector<char> match_refined_;
   std::vector<SearchCandidate> candidates_;
   std::unordered_set<PointId> seen_;
   std::vector<int> in_view_, coarse_;

@@ -18,6 +18,7 @@ LocalMapper::LocalMapper(const IdealCamera& camera, SlamMap& map, const MapperSe
       map_(map),
       settings_(settings),
       matcher_(camera, settings.levels, settings.level_scale),
+      aligner_(camera),
       loop_closer_(camera, map, settings.loop) {
   if (settings_.threaded) thread_ = std::thread([this] { worker(); });
 }
@@ -33,6 +34,23 @@ LocalMapper::~LocalMapper() {
 }
 
 double LocalMapper::sigma(int level) const { return std::pow(settings_.level_scale, level); }
+
+std::optional<Eigen::Vector2d> LocalMapper::align(const Keyframe& source, int source_feature, const Eigen::Vector3d& p_map,
+                                                  const Keyframe& target, int target_feature) {
+  if (!settings_.patch_refinement || source_feature < 0 || source.pyramid.empty() || target.pyramid.empty()) return std::nullopt;
+  const Feature& fs = source.frame.features[static_cast<std::size_t>(source_feature)];
+  const Feature& ft = target.frame.features[static_cast<std::size_t>(target_feature)];
+  const auto aligned = aligner_.align({&source.pyramid, source.T_cam_map, fs.image_px.cast<double>(), fs.level}, p_map,
+                                      target.pyramid, target.T_cam_map, ft.image_px.cast<double>());
+  if (!aligned) return std::nullopt;
+  return aligned->image_px;
+}
+
+void LocalMapper::move_feature(Keyframe& kf, int feature, const Eigen::Vector2d& image_px) const {
+  Feature& f = kf.frame.features[static_cast<std::size_t>(feature)];
+  f.image_px = image_px.cast<float>();
+  f.px = camera_.ideal_from_image(image_px.x(), image_px.y());
+}
 
 void LocalMapper::enqueue(Keyframe keyframe) {
   if (!settings_.threaded) {
@@ -150,10 +168,20 @@ void LocalMapper::remeasure(int kf, const std::vector<int>& neighbours) {
   std::vector<SearchMatch> matches;
   matcher_.search(candidates, search, key.frame, grid, 4.0, 0, settings_.max_hamming, matches);
   std::vector<char> found(already);
+  // The re-found corners measured as the tracker measures them: aligned with the point's patch.
+  std::vector<std::optional<Eigen::Vector2d>> refined(matches.size());
+  for (std::size_t i = 0; i < matches.size(); ++i) {
+    const SearchCandidate& c = candidates[static_cast<std::size_t>(matches[i].candidate)];
+    if (c.reference_keyframe < 0 || c.reference_keyframe >= static_cast<int>(map_.keyframes().size())) continue;
+    refined[i] = align(map_.keyframes()[static_cast<std::size_t>(c.reference_keyframe)], c.reference_feature, c.p_map, key,
+                       matches[i].feature);
+  }
   std::unique_lock lock(map_.mutex());
-  for (const SearchMatch& m : matches) {
+  for (std::size_t i = 0; i < matches.size(); ++i) {
+    const SearchMatch& m = matches[i];
     found[static_cast<std::size_t>(m.candidate)] = 1;
     if (key.point_of_feature[static_cast<std::size_t>(m.feature)] != kNoPoint) continue;
+    if (refined[i]) move_feature(map_.keyframes_mutable()[static_cast<std::size_t>(kf)], m.feature, *refined[i]);
     map_.add_observation(candidates[static_cast<std::size_t>(m.candidate)].id, kf, m.feature);
   }
   // Points that keep failing to be re-found where they should be visible are wrong (bad depth,
@@ -202,6 +230,7 @@ void LocalMapper::triangulate_new_points(int kf, const std::vector<int>& neighbo
     std::vector<PointId> new_points;
     std::unique_lock lock(map_.mutex(), std::defer_lock);
     std::vector<MapPoint> created;
+    std::vector<std::pair<int, Eigen::Vector2d>> other_moved;  // refined corners of the neighbour
     std::vector<char> other_used(other.frame.size(), 0);
     for (std::size_t i = 0; i < key.frame.size(); ++i) {
       if (key_used[i] || key.point_of_feature[i] != kNoPoint) continue;
@@ -231,14 +260,23 @@ void LocalMapper::triangulate_new_points(int kf, const std::vector<int>& neighbo
       }
       if (best_j < 0 || best > settings_.max_hamming || best > 0.8 * second) continue;
       const Feature& fo = other.frame.features[static_cast<std::size_t>(best_j)];
-      const auto p = triangulate(camera_, key.T_cam_map, fk.px, other.T_cam_map, fo.px);
+      auto p = triangulate(camera_, key.T_cam_map, fk.px, other.T_cam_map, fo.px);
       if (!p) continue;
+      // The neighbour's corner aligned with the new point's patch (the new keyframe's feature is the
+      // patch's centre, i.e. exact by definition), then triangulated again.
+      Eigen::Vector2d fo_px = fo.px;
+      const auto fo_refined = align(key, static_cast<int>(i), *p, other, best_j);
+      if (fo_refined) {
+        fo_px = camera_.ideal_from_image(fo_refined->x(), fo_refined->y());
+        p = triangulate(camera_, key.T_cam_map, fk.px, other.T_cam_map, fo_px);
+        if (!p) continue;
+      }
       const Eigen::Vector3d rk = *p - c_key, ro = *p - other.center();
       if (rk.normalized().dot(ro.normalized()) > cos_min_parallax) continue;
       const auto pk = camera_.project(key.T_cam_map * *p), po = camera_.project(other.T_cam_map * *p);
       if (!pk || !po) continue;
       if ((*pk - fk.px).squaredNorm() > kChi2 * sigma(fk.level) * sigma(fk.level)) continue;
-      if ((*po - fo.px).squaredNorm() > kChi2 * sigma(fo.level) * sigma(fo.level)) continue;
+      if ((*po - fo_px).squaredNorm() > kChi2 * sigma(fo.level) * sigma(fo.level)) continue;
       // Scale consistency: the two observations' levels must agree with the two distances.
       const double ratio = rk.norm() / ro.norm(), level_ratio = sigma(fo.level) / sigma(fk.level);
       if (ratio > 1.8 * level_ratio || ratio < level_ratio / 1.8) continue;
@@ -250,10 +288,12 @@ void LocalMapper::triangulate_new_points(int kf, const std::vector<int>& neighbo
       mp.reference_level = fk.level;
       mp.reference_distance = rk.norm();
       created.push_back(std::move(mp));
+      if (fo_refined) other_moved.emplace_back(best_j, *fo_refined);
       key_used[i] = 1;
       other_used[static_cast<std::size_t>(best_j)] = 1;
     }
     lock.lock();
+    for (const auto& [feature, image_px] : other_moved) move_feature(map_.keyframes_mutable()[static_cast<std::size_t>(n)], feature, image_px);
     for (MapPoint& mp : created) map_.add_point(std::move(mp));
     std::lock_guard stats_lock(mutex_);
     stats_.points_created += static_cast<int>(created.size());

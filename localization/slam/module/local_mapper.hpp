@@ -15,6 +15,7 @@
 
 #include "localization/slam/camera/ideal_camera.hpp"
 #include "localization/slam/map/slam_map.hpp"
+#include "localization/slam/match/patch_aligner.hpp"
 #include "localization/slam/match/projection_matcher.hpp"
 #include "localization/slam/module/loop_closer.hpp"
 
@@ -33,6 +34,7 @@ struct MapperSettings {
   bool cull_points = true;            // remove points that keep being missed when re-measured
   double min_parallax_deg = 0.5;
   int max_hamming = 50;
+  bool patch_refinement = true;  // re-measured and newly matched corners aligned to sub-pixel
   LoopSettings loop;
 };
 
@@ -75,11 +77,18 @@ class LocalMapper {
   void close_loops(int kf);
   void carry_over_corrections(Keyframe& keyframe) const;
   double sigma(int level) const;
+  // Sub-pixel position of `p_map` in keyframe `target`, by aligning the patch of `source`'s feature
+  // (distorted level-0 pixel), or empty (no pyramid, no convergence).
+  std::optional<Eigen::Vector2d> align(const Keyframe& source, int source_feature, const Eigen::Vector3d& p_map,
+                                       const Keyframe& target, int target_feature);
+  // Moves a keyframe feature to a refined distorted level-0 position (caller holds the unique lock).
+  void move_feature(Keyframe& kf, int feature, const Eigen::Vector2d& image_px) const;
 
   const IdealCamera& camera_;
   SlamMap& map_;
   MapperSettings settings_;
   ProjectionMatcher matcher_;
+  PatchAligner aligner_;
   LoopCloser loop_closer_;
   mutable std::mutex mutex_;
   std::condition_variable wake_, idle_;

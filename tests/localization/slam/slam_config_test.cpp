@@ -43,4 +43,7 @@ TEST_CASE("slam: config section is read, range-checked and refuses unknown keys"
   CHECK(read("{}").init_min_parallax_deg == Approx(1.0));
   CHECK_THROWS_WITH(read(R"({"init_min_parallax_deg": 0})"), Catch::Contains("init_min_parallax_deg"));
   CHECK_THROWS_WITH(read(R"({"init_min_parallax_px": 500})"), Catch::Contains("init_min_parallax_px"));
+  CHECK(read(R"({"patch_refinement": true})").patch_refinement);
+  CHECK_FALSE(read("{}").patch_refinement);
+  CHECK_THROWS_WITH(read(R"({"patch_refinement": 1})"), Catch::Contains("patch_refinement"));
 }
