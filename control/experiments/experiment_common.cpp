@@ -22,7 +22,7 @@ std::vector<OptionSpec> experiment_option_specs() {
           {"--runs", "N", "number of seeded runs (default 1)"},
           {"--json", "", "print the summary as JSON"},
           {"--out", "DIR", "write CSV per run, an SVG plot of the first run and summary.json"},
-          {"--config", "FILE", "configuration to read the control section from (default config/default.json)"}};
+          {"--config", "FILE", "configuration: its control, estimation and vision sections; with --route its lab; with --vision real its lab, cameras, front ends (planar, slam, face) and sim (default config/default.json)"}};
 }
 
 std::vector<OptionSpec> real_vision_option_specs() {

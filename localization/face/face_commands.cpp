@@ -151,7 +151,7 @@ const CommandSpec& face_bench_command_spec() {
        {"--samples", "DIR", "write a few rendered frames there"},
        {"--lab-sequences", "N", "more sequences drawn by the simulated lab's LabRenderer (default 4; 0 none)"},
        {"--lab", "FILE", "lab description for those (default: config/lab.json)"},
-       {"--frames-csv", "FILE", "write per-frame truth and LM-tracking errors there (for analysis)"},
+       {"--frames-csv", "FILE", "write per-frame truth and LM-tracking errors there, with FILE.poses.csv (true and estimated poses) and FILE.model.csv (camera, registered and true landmarks) beside it (for analysis)"},
        {"--true-shape", "", "use the rendered head's shape instead of the one registered from a frontal frame"},
        {"--turn-frames", "N", "refine the registered landmarks' depth from N frames of the head turning (default 0: off)"},
        {"--turn-yaw-deg", "DEG", "how far the head turns left and right in those frames (default 25)"},
