@@ -50,6 +50,17 @@ Se3Refinement midway(const Se3Refinement& a, const Se3Refinement& b) {
   return m;
 }
 
+// The panel's other pose of (nearly) the same image: its normal reflected about the line of sight to
+// its centre, the centre kept (the relation between IPPE's two solutions).
+Eigen::Isometry3d mirrored_about_line_of_sight(const Eigen::Isometry3d& T) {
+  const Eigen::Vector3d v = T.translation().normalized();
+  const Eigen::Vector3d n = T.linear().col(2);
+  const Eigen::Vector3d n_mirror = 2 * n.dot(v) * v - n;
+  Eigen::Isometry3d out = T;
+  out.linear() = Eigen::Quaterniond::FromTwoVectors(n, n_mirror).toRotationMatrix() * T.linear();
+  return out;
+}
+
 double visible_fraction(const std::array<cv::Point2d, 4>& corners, cv::Size size) {
   std::vector<cv::Point2f> quad, frame{{-0.5f, -0.5f},
                                        {size.width - 0.5f, -0.5f},
@@ -362,9 +373,11 @@ void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
       // translation), within half their angle of either; the rotation sigma covers the whole angle.
       const Se3Refinement other = pose_refiner_.refine(smoothed_, pose.T_alternative, blur_px);
       r.refinement_iterations += other.iterations;
+      bool two_minima = false;
       if (refined.refined && other.refined) {
         const double branch_angle = rotation_angle(refined.T_cam_object.linear(), other.T_cam_object.linear());
         const bool apart = branch_angle > kDistinctPosesRad;
+        two_minima = apart;
         const double low = std::min(refined.residual_grey, other.residual_grey);
         const double high = std::max(refined.residual_grey, other.residual_grey);
         if (!apart || high >= 1.02 * low) pose.ambiguous = false;
@@ -376,6 +389,28 @@ void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
         }
       } else if (other.refined) {
         refined = other;
+      }
+      // Both branches may also end in the same one of the two mirror minima (the lab's oscilloscope at
+      // 2-3 m: both 3-4 deg off): the refined pose mirrored about the line of sight to the panel's
+      // centre is refined too, and treated as the other branch above.
+      if (refined.refined && !two_minima) {
+        const Eigen::Isometry3d T_mirror = mirrored_about_line_of_sight(refined.T_cam_object);
+        if (rotation_angle(T_mirror.linear(), refined.T_cam_object.linear()) > kDistinctPosesRad) {
+          const Se3Refinement mirror = pose_refiner_.refine(smoothed_, T_mirror, blur_px);
+          r.refinement_iterations += mirror.iterations;
+          const double angle = rotation_angle(mirror.T_cam_object.linear(), refined.T_cam_object.linear());
+          if (mirror.refined && angle > kDistinctPosesRad) {
+            const double low = std::min(refined.residual_grey, mirror.residual_grey);
+            const double high = std::max(refined.residual_grey, mirror.residual_grey);
+            if (high < kUnresolvedResidualRatio * low) {
+              const double sigma = std::max({refined.rotation_sigma_rad, mirror.rotation_sigma_rad, angle});
+              refined = midway(refined, mirror);
+              refined.rotation_sigma_rad = sigma;
+            } else if (mirror.residual_grey < refined.residual_grey) {
+              refined = mirror;
+            }
+          }
+        }
       }
     }
     if (refined.refined) {
