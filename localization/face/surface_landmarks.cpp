@@ -63,12 +63,11 @@ Eigen::Matrix3Xd surface_landmark_offsets(const Candide3Model& candide, const Fa
       if (t && *t < nearest) nearest = *t;
     }
     if (!std::isfinite(nearest)) continue;  // past the face: keep the mapped point
-    // Where the ray crosses the mapped point's depth plane (face frame): the picture's in-plane
-    // position, the model's depth. Taking the mesh's depth at the hit as well moved the depth by
-    // what a frontal picture cannot see and made distance worse (docs/face.md).
-    const double t_plane = (mapped(2, i) - origin.z()) / d.z();
-    Eigen::Vector3d offset = origin + t_plane * d - mapped.col(i);
-    offset.z() = 0;
+    // Where the ray meets the fitted mesh: the picture's position on the face's surface. The depth
+    // is the mesh's there, not the mapped vertex's: a brow end seen on the temple lies ~10 mm deeper
+    // than the brow vertex the mapping names, which a frontal picture cannot tell otherwise and which
+    // showed as a pitch bias (docs/face.md, "Pitch").
+    const Eigen::Vector3d offset = origin + nearest * d - mapped.col(i);
     if (offset.norm() <= max_offset_m) offsets.col(i) = offset;
   }
   // The metric scale stays the interpupillary distance's: the offsets move the eye landmarks too

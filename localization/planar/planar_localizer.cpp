@@ -20,7 +20,8 @@ constexpr double kDistinctPosesRad = 2.0 * 3.14159265358979 / 180.0;
 // Two refined IPPE branches whose photometric residuals are within this ratio are not told apart
 // reliably: at 3.9-6 m in the simulated lab they were 10-25 deg apart with residuals 1-5 % apart, and
 // the lower residual picked the wrong branch (17.8 deg off at 3.9 m while the refinement's own sigma
-// said 2.8 deg). The pose stays the lower residual's, but its rotation sigma covers the other branch.
+// said 2.8 deg). The pose is then the midway between the two (below), and its rotation sigma covers
+// both branches.
 constexpr double kUnresolvedResidualRatio = 1.15;
 // Template-matching scale window around a predicted width.
 constexpr double kPredictedWidthFactor = 1.6;
@@ -37,6 +38,27 @@ Se3RefinerSettings se3_settings(const PlanarConfig& config) {
   s.covariance_inflation = config.se3_covariance_inflation;
   s.smoothing_sigma_px = config.se3_smoothing_sigma_px;
   return s;
+}
+
+// The pose midway between two refined poses (rotation by slerp, translation averaged); the other
+// fields are the lower residual's.
+Se3Refinement midway(const Se3Refinement& a, const Se3Refinement& b) {
+  Se3Refinement m = a.residual_grey <= b.residual_grey ? a : b;
+  const Eigen::Quaterniond qa(a.T_cam_object.linear()), qb(b.T_cam_object.linear());
+  m.T_cam_object.linear() = qa.slerp(0.5, qb).normalized().toRotationMatrix();
+  m.T_cam_object.translation() = 0.5 * (a.T_cam_object.translation() + b.T_cam_object.translation());
+  return m;
+}
+
+// The panel's other pose of (nearly) the same image: its normal reflected about the line of sight to
+// its centre, the centre kept (the relation between IPPE's two solutions).
+Eigen::Isometry3d mirrored_about_line_of_sight(const Eigen::Isometry3d& T) {
+  const Eigen::Vector3d v = T.translation().normalized();
+  const Eigen::Vector3d n = T.linear().col(2);
+  const Eigen::Vector3d n_mirror = 2 * n.dot(v) * v - n;
+  Eigen::Isometry3d out = T;
+  out.linear() = Eigen::Quaterniond::FromTwoVectors(n, n_mirror).toRotationMatrix() * T.linear();
+  return out;
 }
 
 double visible_fraction(const std::array<cv::Point2d, 4>& corners, cv::Size size) {
@@ -340,25 +362,55 @@ void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
     Se3Refinement refined = refine_with_blur_search(pose.T_cam_object, r.t, blur_px, r.refinement_iterations);
     if (pose.alternative_plausible) {
       // Two distinct IPPE poses fit the corners: the photometric fit sees the perspective that tells
-      // them apart. Both are refined; when they end apart with residuals within 2 %, IPPE's choice
-      // (continuity, else the lower corner error) and its ambiguity flag stand, otherwise the lower
-      // residual wins and the ambiguity is resolved. Within kUnresolvedResidualRatio the rotation sigma
-      // covers the other branch whichever wins.
+      // them apart. Both are refined; the lower residual wins when they end together or when its
+      // residual is clearly lower (kUnresolvedResidualRatio), and the ambiguity is resolved unless the
+      // residuals are within 2 % (then IPPE's flag stands).
+      // Otherwise the two refined branches are the two minima of a photometric cost that cannot tell
+      // them apart: a panel seen nearly face-on at range, whose tilt changes its image only to second
+      // order, so a small bias in its apparent aspect ratio splits the minimum into two mirror poses on
+      // either side of the truth (the simulated lab's oscilloscope at 2.6-3 m: the two branches 5-11 deg
+      // apart, one 3-6 deg off either way). The pose is then the midway between them (rotation and
+      // translation), within half their angle of either; the rotation sigma covers the whole angle.
       const Se3Refinement other = pose_refiner_.refine(smoothed_, pose.T_alternative, blur_px);
       r.refinement_iterations += other.iterations;
+      bool two_minima = false;
       if (refined.refined && other.refined) {
         const double branch_angle = rotation_angle(refined.T_cam_object.linear(), other.T_cam_object.linear());
         const bool apart = branch_angle > kDistinctPosesRad;
+        two_minima = apart;
         const double low = std::min(refined.residual_grey, other.residual_grey);
         const double high = std::max(refined.residual_grey, other.residual_grey);
-        if (!apart || high >= 1.02 * low) {
-          pose.ambiguous = false;
-          if (other.residual_grey < refined.residual_grey) refined = other;
-        }
-        if (apart && high < kUnresolvedResidualRatio * low)
+        if (!apart || high >= 1.02 * low) pose.ambiguous = false;
+        if (apart && high < kUnresolvedResidualRatio * low) {
+          refined = midway(refined, other);
           refined.rotation_sigma_rad = std::max(refined.rotation_sigma_rad, branch_angle);
+        } else if (other.residual_grey < refined.residual_grey) {
+          refined = other;
+        }
       } else if (other.refined) {
         refined = other;
+      }
+      // Both branches may also end in the same one of the two mirror minima (the lab's oscilloscope at
+      // 2-3 m: both 3-4 deg off): the refined pose mirrored about the line of sight to the panel's
+      // centre is refined too, and treated as the other branch above.
+      if (refined.refined && !two_minima) {
+        const Eigen::Isometry3d T_mirror = mirrored_about_line_of_sight(refined.T_cam_object);
+        if (rotation_angle(T_mirror.linear(), refined.T_cam_object.linear()) > kDistinctPosesRad) {
+          const Se3Refinement mirror = pose_refiner_.refine(smoothed_, T_mirror, blur_px);
+          r.refinement_iterations += mirror.iterations;
+          const double angle = rotation_angle(mirror.T_cam_object.linear(), refined.T_cam_object.linear());
+          if (mirror.refined && angle > kDistinctPosesRad) {
+            const double low = std::min(refined.residual_grey, mirror.residual_grey);
+            const double high = std::max(refined.residual_grey, mirror.residual_grey);
+            if (high < kUnresolvedResidualRatio * low) {
+              const double sigma = std::max({refined.rotation_sigma_rad, mirror.rotation_sigma_rad, angle});
+              refined = midway(refined, mirror);
+              refined.rotation_sigma_rad = sigma;
+            } else if (mirror.residual_grey < refined.residual_grey) {
+              refined = mirror;
+            }
+          }
+        }
       }
     }
     if (refined.refined) {

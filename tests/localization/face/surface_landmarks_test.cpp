@@ -16,7 +16,7 @@ namespace {
 const IdealPinhole kCamera{569.9, 568.0, 331.4, 135.9};
 }  // namespace
 
-TEST_CASE("face: surface landmarks are where the picture's rays cross the mapped depth, scale kept") {
+TEST_CASE("face: surface landmarks are where the picture's rays meet the mesh, scale kept") {
   const Candide3Model candide = Candide3Model::load(Candide3Model::default_path());
   const FaceLandmarkModel model = make_face_landmark_model(candide, load_ibug68_mapping(default_ibug68_mapping_path()));
   const Eigen::VectorXd tau = Eigen::VectorXd::Zero(model.shape_unit_count());
@@ -27,13 +27,22 @@ TEST_CASE("face: surface landmarks are where the picture's rays cross the mapped
   Eigen::Matrix2Xd px(2, model.size());
   for (Eigen::Index i = 0; i < model.size(); ++i) px.col(i) = kCamera.project(T * mapped.col(i).eval());
 
-  // Landmarks seen exactly where their mapped points project keep them, all of them (the depth is
-  // the mapped point's, not the mesh's under it).
+  // Landmarks seen exactly where their mapped points project keep them (the mapped points are
+  // vertices of the mesh or midpoints of its edges, so on its surface), except the nasion (27):
+  // CANDIDE-3's vertex 4 belongs to no triangle and floats 2.3 mm in front of the surface there, and
+  // the landmark becomes the surface's point on the same ray.
   const Eigen::Matrix3Xd same = surface_landmark_offsets(candide, model, tau, 0.063, T, px, kCamera, 0.015);
   REQUIRE(same.cols() == model.size());
-  CHECK(same.cwiseAbs().maxCoeff() < 1e-9);
+  for (Eigen::Index i = 0; i < model.size(); ++i) {
+    const int id = model.landmark_ids()[static_cast<std::size_t>(i)];
+    INFO("landmark " << id << " offset " << same.col(i).transpose());
+    CHECK((kCamera.project(T * (mapped.col(i) + same.col(i)).eval()) - px.col(i)).norm() < 1e-3);
+    if (id != 27) CHECK(same.col(i).norm() < 1e-4);
+  }
+  CHECK(same(2, model.column_of(27)) < -0.002);  // into the face, onto its surface
 
-  // A landmark seen 4 px to the right moves 4 px to the right in the face's plane, its depth kept.
+  // A landmark seen 4 px to the right of the nose tip (the face's foremost point) lies on that ray,
+  // on the flank of the nose: deeper than the tip.
   const int nose_tip = model.column_of(30);
   REQUIRE(nose_tip >= 0);
   Eigen::Matrix2Xd moved = px;
@@ -41,9 +50,10 @@ TEST_CASE("face: surface landmarks are where the picture's rays cross the mapped
   const Eigen::Matrix3Xd off = surface_landmark_offsets(candide, model, tau, 0.063, T, moved, kCamera, 0.015);
   const Eigen::Vector3d p_cam = T * (mapped.col(nose_tip) + off.col(nose_tip)).eval();
   CHECK(kCamera.project(p_cam).x() == Approx(px(0, nose_tip) + 4.0).margin(0.05));
+  CHECK(kCamera.project(p_cam).y() == Approx(px(1, nose_tip)).margin(0.05));
   CHECK(std::abs(off(0, nose_tip)) > 0.5 * 4.0 * 0.8 / kCamera.fx);
+  CHECK(off(2, nose_tip) < -1e-4);
   CHECK(off.col(nose_tip).norm() < 0.015);
-  CHECK(off(2, nose_tip) == Approx(0.0).margin(1e-12));
 
   // An eye corner seen 3 px outwards moves that eye's centre; the points are scaled back so that the
   // eye centres keep the interpupillary distance (the metric scale).
@@ -62,7 +72,7 @@ TEST_CASE("face: surface landmarks are where the picture's rays cross the mapped
   // A ray past the face keeps the mapped point.
   moved(0, nose_tip) += 400.0;
   const Eigen::Matrix3Xd missed = surface_landmark_offsets(candide, model, tau, 0.063, T, moved, kCamera, 0.015);
-  CHECK(missed.col(nose_tip).norm() < 1e-12);
+  CHECK(missed.col(nose_tip).norm() < 1e-6);
   CHECK_THROWS_AS(surface_landmark_offsets(candide, model, tau, 0.063, T, moved.leftCols(3), kCamera, 0.015),
                   std::invalid_argument);
 }
