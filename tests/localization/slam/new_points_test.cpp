@@ -11,20 +11,10 @@
 #include "localization/slam/bench/synthetic_room.hpp"
 #include "localization/slam/feature/feature_extractor.hpp"
 #include "localization/slam/module/local_mapper.hpp"
+#include "slam_test_helpers.hpp"
 
 namespace labo::slam {
 namespace {
-
-// Where a camera ray (world frame) leaves the room's box.
-Eigen::Vector3d hit_wall(const SyntheticRoomSpec& room, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
-  double nearest = 1e9;
-  for (int axis = 0; axis < 3; ++axis) {
-    if (std::abs(dir[axis]) < 1e-12) continue;
-    const double wall = dir[axis] > 0 ? room.max_corner[axis] : room.min_corner[axis];
-    nearest = std::min(nearest, (wall - origin[axis]) / dir[axis]);
-  }
-  return origin + nearest * dir;
-}
 
 struct MappedViews {
   int new_points = 0;
@@ -57,7 +47,7 @@ MappedViews map_three_keyframes(double clearance_px) {
   for (std::size_t i = 0; i < kfa.frame.size(); i += 2) {
     const Feature& f = kfa.frame.features[i];
     MapPoint p;
-    p.p_map = hit_wall(room.spec(), T_world_a.translation(), T_world_a.linear() * camera.bearing(f.px));
+    p.p_map = testing::hit_wall(room.spec(), T_world_a.translation(), T_world_a.linear() * camera.bearing(f.px));
     p.descriptor = kfa.frame.descriptors[i];
     p.observations = {{ka, static_cast<int>(i)}};
     p.reference_keyframe = ka;
