@@ -267,12 +267,22 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
     T.linear() = head_rotation({});
     T.translation() = Eigen::Vector3d(0, -0.02, 0.8);
     renderer.render(T, frontal);
-    FrameDegrader(options, camera, options.seed).apply(0.5, 2.0, frontal);
-    const PersonShape teacher = register_person(estimator, frontal, "teacher", options.interpupillary_distance_m);
+    // Consecutive frames of the still head: the first is the single picture registration used
+    // before (same seed), the others the same video's next frames.
+    std::vector<cv::Mat> pictures;
+    FrameDegrader reg_degrader(options, camera, options.seed);
+    for (int k = 0; k < std::max(options.registration_frames, 1); ++k) {
+      cv::Mat pic = frontal.clone();
+      reg_degrader.apply(0.5, 2.0, pic);
+      pictures.push_back(pic);
+    }
+    frontal = pictures.front();
+    const PersonShape teacher = register_person(estimator, pictures, "teacher", options.interpupillary_distance_m);
     PersonShape used = teacher;
     if (options.true_shape) used.shape_params = renderer.head().shape_params;
     estimator.set_person(used, true);
     report.shape_fit_rms_px = teacher.fit_rms_px;
+    report.registration_frames = static_cast<int>(pictures.size());
     const Eigen::Matrix3Xd registered_points = person_points_of(estimator);
     if (options.turn_frames > 0) {
       try {

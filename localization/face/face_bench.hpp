@@ -22,6 +22,9 @@ struct FaceBenchOptions {
   double interpupillary_distance_m = 0.063;
   bool lossy_video = true;        // H.264 round trip through the link's codec
   int video_bitrate_kbps = 1000;  // the AR.Drone 2.0's default video:max_bitrate
+  // The teacher is registered from this many consecutive frames of the still, frontal head at 0.8 m
+  // (each with its own noise and the video's loss; landmarks averaged, person_registration.hpp).
+  int registration_frames = 8;
   bool true_shape = false;          // use the rendered head's shape instead of the registered one
   // After the frontal picture, this many frames of the head turning left, right (± turn_yaw_deg),
   // up and down (± turn_pitch_deg) at 0.8 m refine the landmarks' depth (person_registration.hpp:
@@ -68,6 +71,7 @@ struct FaceBenchReport {
   double frame_ms_median = 0, frame_ms_mean = 0, frame_ms_p95 = 0;
   double tracking_frame_ms_median = 0;  // frames where the detector did not run
   double detect_ms_median = 0, landmarks_ms_median = 0, pose_ms_median = 0;
+  int registration_frames = 0;            // frontal frames the teacher was registered from
   double shape_fit_rms_px = 0;            // registration picture
   double shape_param_error_rms = 0;       // fitted vs the rendered head's τs, observable units
   int turn_views = 0;                     // turn frames used (0: no turn refinement)

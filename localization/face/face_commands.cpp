@@ -74,7 +74,8 @@ nlohmann::json to_json(const face::FaceBenchReport& r, const face::FaceBenchOpti
                    {"median_tracking_no_detector", r.tracking_frame_ms_median},
                    {"detect_median", r.detect_ms_median}, {"landmarks_median", r.landmarks_ms_median},
                    {"pose_median", r.pose_ms_median}};
-  j["registration"] = {{"fit_rms_px", r.shape_fit_rms_px},
+  j["registration"] = {{"frames", r.registration_frames},
+                       {"fit_rms_px", r.shape_fit_rms_px},
                        {"shape_param_error_rms", r.shape_param_error_rms},
                        {"turn_views", r.turn_views},
                        {"turn_rms_before_px", r.turn_rms_before_px},
@@ -121,8 +122,8 @@ void print_table(const face::FaceBenchReport& r) {
     std::printf("LM tracking, %s-rendered sequences (%d frames): tx %.2f ty %.2f tz %.2f mm, roll %.2f yaw %.2f pitch %.2f deg\n",
                 renderer.c_str(), m.frames, m.tx_mm, m.ty_mm, m.tz_mm, m.roll_deg, m.yaw_deg, m.pitch_deg);
   }
-  std::printf("registration: fit RMS %.2f px, shape parameter error (RMS over fitted units) %.3f\n", r.shape_fit_rms_px,
-              r.shape_param_error_rms);
+  std::printf("registration (%d frames): fit RMS %.2f px, shape parameter error (RMS over fitted units) %.3f\n",
+              r.registration_frames, r.shape_fit_rms_px, r.shape_param_error_rms);
   if (r.turn_views > 0) {
     std::printf("head turn: %d views, landmark fit %.2f -> %.2f px\n", r.turn_views, r.turn_rms_before_px,
                 r.turn_rms_after_px);
@@ -152,7 +153,8 @@ const CommandSpec& face_bench_command_spec() {
        {"--lab-sequences", "N", "more sequences drawn by the simulated lab's LabRenderer (default 4; 0 none)"},
        {"--lab", "FILE", "lab description for those (default: config/lab.json)"},
        {"--frames-csv", "FILE", "write per-frame truth and LM-tracking errors there, with FILE.poses.csv (true and estimated poses) and FILE.model.csv (camera, registered and true landmarks) beside it (for analysis)"},
-       {"--true-shape", "", "use the rendered head's shape instead of the one registered from a frontal frame"},
+       {"--registration-frames", "N", "register the teacher from N consecutive frames of the still, frontal head, landmarks averaged (default 8)"},
+       {"--true-shape", "", "use the rendered head's shape instead of the one registered from the frontal frames"},
        {"--turn-frames", "N", "refine the registered landmarks' depth from N frames of the head turning (default 0: off)"},
        {"--turn-yaw-deg", "DEG", "how far the head turns left and right in those frames (default 25)"},
        {"--turn-pitch-deg", "DEG", "how far it nods up and down (default 15)"},
@@ -173,6 +175,7 @@ int run_face_bench_command(const ParsedArgs& args) {
   o.video_bitrate_kbps = args.integer_or("--bitrate-kbps", 1000, 100, 20000);
   o.sample_dir = args.value_or("--samples", "");
   o.true_shape = args.flag("--true-shape");
+  o.registration_frames = args.integer_or("--registration-frames", 8, 1, 100);
   o.turn_frames = args.integer_or("--turn-frames", 0, 0, 10000);
   o.turn_yaw_deg = args.number_or("--turn-yaw-deg", 25, 0, 60);
   o.turn_pitch_deg = args.number_or("--turn-pitch-deg", 15, 0, 45);
@@ -196,8 +199,9 @@ int run_face_bench_command(const ParsedArgs& args) {
 const CommandSpec& face_register_command_spec() {
   static const CommandSpec spec{
       "face register",
-      "IMAGE",
-      "Fit a person's CANDIDE-3 shape from a frontal picture taken with the front camera and store it.",
+      "IMAGE...",
+      "Fit a person's CANDIDE-3 shape from frontal pictures taken with the front camera (one, or several consecutive "
+      "frames of the still head: their landmarks are averaged) and store it.",
       {{"--config", "FILE", "configuration file (default: config/default.json)"},
        {"--name", "NAME", "person's name (A-Z a-z 0-9 _ -), required"},
        {"--ipd-mm", "MM", "interpupillary distance in mm (default: face.interpupillary_distance_mm)"},
@@ -205,7 +209,7 @@ const CommandSpec& face_register_command_spec() {
                           "up and down: refine the landmarks' depth from them"},
        {"--out", "FILE", "where to write (default: <face.people_dir>/<NAME>.json)"}},
       1,
-      1};
+      100};
   return spec;
 }
 
@@ -245,17 +249,21 @@ int run_face_register_command(const ParsedArgs& args) {
   const auto name = args.value("--name");
   if (!name) throw UsageError("--name NAME is required");
   const double ipd_m = args.number_or("--ipd-mm", setup.face.interpupillary_distance_m * 1000.0, 40, 90) / 1000.0;
-  const cv::Mat image = cv::imread(args.positionals[0], cv::IMREAD_GRAYSCALE);
-  if (image.empty()) throw UsageError(args.positionals[0] + ": cannot read the picture");
-  if (image.cols != setup.camera.width() || image.rows != setup.camera.height()) {
-    throw UsageError(args.positionals[0] + ": picture is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-                     ", expected the front camera's " + std::to_string(setup.camera.width()) + "x" +
-                     std::to_string(setup.camera.height()));
+  std::vector<cv::Mat> images;
+  for (const std::string& path : args.positionals) {
+    cv::Mat image = cv::imread(path, cv::IMREAD_GRAYSCALE);
+    if (image.empty()) throw UsageError(path + ": cannot read the picture");
+    if (image.cols != setup.camera.width() || image.rows != setup.camera.height()) {
+      throw UsageError(path + ": picture is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                       ", expected the front camera's " + std::to_string(setup.camera.width()) + "x" +
+                       std::to_string(setup.camera.height()));
+    }
+    images.push_back(std::move(image));
   }
   const std::vector<cv::Mat> turns = read_turn_pictures(args.value("--turns"), setup.camera);
   face::FacePoseEstimator estimator(setup.face, setup.camera);
   try {
-    face::PersonShape person = face::register_person(estimator, image, *name, ipd_m);
+    face::PersonShape person = face::register_person(estimator, images, *name, ipd_m);
     if (!turns.empty()) {
       const face::TurnRefinement refined = face::refine_person_from_turns(estimator, person, turns);
       person = refined.person;

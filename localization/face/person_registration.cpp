@@ -16,15 +16,26 @@ constexpr double kMaxSurfaceOffsetM = 0.015;
 
 PersonShape register_person(FacePoseEstimator& estimator, const cv::Mat& gray, const std::string& name,
                             double interpupillary_distance_m) {
+  return register_person(estimator, std::vector<cv::Mat>{gray}, name, interpupillary_distance_m);
+}
+
+PersonShape register_person(FacePoseEstimator& estimator, const std::vector<cv::Mat>& pictures, const std::string& name,
+                            double interpupillary_distance_m) {
   validate_person_name(name);
-  if (gray.empty() || gray.type() != CV_8UC1) throw RegistrationError("frontal picture: expected a non-empty 8-bit grey image");
+  if (pictures.empty()) throw RegistrationError("frontal pictures: none given");
   const IdealPinhole cam = estimator.ideal_camera();
-  const auto faces = estimator.find_faces(gray);
-  if (faces.empty()) throw RegistrationError("frontal picture refused: no face found");
-  if (faces.size() > 1) {
-    throw RegistrationError("frontal picture refused: " + std::to_string(faces.size()) + " faces found, expected one");
+  Eigen::Matrix2Xd landmarks = Eigen::Matrix2Xd::Zero(2, 68);
+  for (std::size_t k = 0; k < pictures.size(); ++k) {
+    const cv::Mat& gray = pictures[k];
+    const std::string which = pictures.size() > 1 ? "frontal picture " + std::to_string(k) : "frontal picture";
+    if (gray.empty() || gray.type() != CV_8UC1) throw RegistrationError(which + ": expected a non-empty 8-bit grey image");
+    const auto faces = estimator.find_faces(gray);
+    if (faces.empty()) throw RegistrationError(which + " refused: no face found");
+    if (faces.size() > 1) {
+      throw RegistrationError(which + " refused: " + std::to_string(faces.size()) + " faces found, expected one");
+    }
+    landmarks += estimator.landmarks_in(gray, faces.front().box) / static_cast<double>(pictures.size());
   }
-  const Eigen::Matrix2Xd landmarks = estimator.landmarks_in(gray, faces.front().box);
   const ShapeFit fit = fit_shape(estimator.model(), estimator.ideal_pixels(landmarks), cam, interpupillary_distance_m,
                                  estimator.config().shape_fit);
   const HeadAngles a = head_angles(fit.T_cam_face.linear());

@@ -20,6 +20,12 @@ class RegistrationError : public std::runtime_error {
 // "picture is WxH, the camera's is ...").
 PersonShape register_person(FacePoseEstimator& estimator, const cv::Mat& gray, const std::string& name,
                             double interpupillary_distance_m);
+// The same from several pictures of the person holding still (e.g. consecutive frames): each must
+// hold exactly one face; the landmarks are averaged over them before the fit, so the picture's
+// detection noise, which the person's landmarks keep (surface_landmarks), is averaged down. The
+// reason of a refusal names the picture's index.
+PersonShape register_person(FacePoseEstimator& estimator, const std::vector<cv::Mat>& pictures, const std::string& name,
+                            double interpupillary_distance_m);
 
 struct TurnRefinement {
   PersonShape person;  // with the refined landmark depths in landmark_offsets_m

@@ -21,7 +21,8 @@ namespace labo::face {
 // 3 x n offsets (metres, face frame) from model.points_m(tau, ipd_m) to where the rays through
 // `ideal_pixels` (2 x n, the model's landmarks in the registration picture, camera at `T_cam_face`)
 // first meet the fitted CANDIDE-3 mesh. A landmark whose ray misses the mesh, or whose hit lies farther
-// than `max_offset_m` from its mapped point, keeps a zero offset. The moved points are then scaled
+// than `max_offset_m` from its mapped point in the face's plane (x, y; the depth is the mesh's),
+// keeps a zero offset. The moved points are then scaled
 // about the face origin so that the eye centres keep the mapped points' distance (the interpupillary
 // distance stays the metric scale).
 Eigen::Matrix3Xd surface_landmark_offsets(const Candide3Model& candide, const FaceLandmarkModel& model,

@@ -159,6 +159,20 @@ TEST_CASE("face: registration fits a frontal picture and refuses none or several
                     Catch::Contains("2 faces"));
   CHECK_THROWS_WITH(register_person(f.estimator, f.render({pose(35, 0, 0, {0, -0.02, 0.8})}), "teacher", 0.063),
                     Catch::Contains("turned"));
+
+  // Several pictures of the still head: their landmarks are averaged (the same picture twice gives
+  // the one picture's person); each must hold one face, and a refusal names the picture.
+  const cv::Mat frontal = f.render({pose(0, 0, 0, {0, -0.02, 0.8})});
+  const PersonShape once = register_person(f.estimator, frontal, "teacher", 0.063);
+  const PersonShape twice = register_person(f.estimator, std::vector<cv::Mat>{frontal, frontal}, "teacher", 0.063);
+  CHECK(twice.shape_params.isApprox(once.shape_params, 1e-9));
+  CHECK(twice.fit_rms_px == Approx(once.fit_rms_px).epsilon(1e-9));
+  const PersonShape moved =
+      register_person(f.estimator, std::vector<cv::Mat>{frontal, f.render({pose(0, 0, 0, {0.01, -0.02, 0.8})})}, "teacher", 0.063);
+  CHECK((moved.shape_params - f.renderer.head().shape_params).cwiseAbs().maxCoeff() < 0.3);
+  CHECK_THROWS_WITH(register_person(f.estimator, std::vector<cv::Mat>{frontal, blank()}, "teacher", 0.063),
+                    Catch::Contains("frontal picture 1 refused: no face found"));
+  CHECK_THROWS_WITH(register_person(f.estimator, std::vector<cv::Mat>{}, "teacher", 0.063), Catch::Contains("none given"));
 }
 
 TEST_CASE("face: a head turn refines the registered landmarks; too little turn is refused") {

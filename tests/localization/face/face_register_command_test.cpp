@@ -93,4 +93,12 @@ TEST_CASE("face register: a head turn refines the person; bad --turns folders ar
   const std::string still_out = (dir / "still.json").string();
   CHECK(run_register({frontal, "--name", "ada", "--turns", (dir / "still").string(), "--out", still_out}) == 2);
   CHECK_FALSE(std::filesystem::exists(still_out));
+
+  // Several frontal pictures (consecutive frames of the still head) are averaged; each is checked.
+  const std::string several_out = (dir / "several.json").string();
+  const std::string second = (dir / "still" / "still_00.png").string();
+  REQUIRE(run_register({frontal, second, "--name", "ada", "--out", several_out}, &printed) == 0);
+  CHECK(std::filesystem::exists(several_out));
+  CHECK_THROWS_WITH(run_register({frontal, (dir / "small" / "a.png").string(), "--name", "ada", "--out", several_out}),
+                    Catch::Contains("a.png: picture is 100x100"));
 }

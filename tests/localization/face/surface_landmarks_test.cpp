@@ -54,6 +54,14 @@ TEST_CASE("face: surface landmarks are where the picture's rays meet the mesh, s
   CHECK(std::abs(off(0, nose_tip)) > 0.5 * 4.0 * 0.8 / kCamera.fx);
   CHECK(off(2, nose_tip) < -1e-4);
   CHECK(off.col(nose_tip).norm() < 0.015);
+  // The limit is on the in-plane part (what the picture saw), not on the depth the mesh gives.
+  const double in_plane = off.col(nose_tip).head<2>().norm(), whole = off.col(nose_tip).norm();
+  REQUIRE(whole > in_plane * 1.02);
+  const Eigen::Matrix3Xd limited =
+      surface_landmark_offsets(candide, model, tau, 0.063, T, moved, kCamera, 0.5 * (in_plane + whole));
+  CHECK(limited.col(nose_tip).isApprox(off.col(nose_tip), 1e-6));
+  const Eigen::Matrix3Xd refused = surface_landmark_offsets(candide, model, tau, 0.063, T, moved, kCamera, 0.9 * in_plane);
+  CHECK(refused.col(nose_tip).norm() < 1e-6);
 
   // An eye corner seen 3 px outwards moves that eye's centre; the points are scaled back so that the
   // eye centres keep the interpupillary distance (the metric scale).
