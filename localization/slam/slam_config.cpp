@@ -24,6 +24,7 @@ SlamSettings read_slam_settings(const ConfigReader& node) {
   s.local_ba_keyframes = node.integer_or("local_ba_keyframes", s.local_ba_keyframes, 2, 50);
   s.global_ba_fixed_keyframes = node.integer_or("global_ba_fixed_keyframes", s.global_ba_fixed_keyframes, 1, 10);
   s.cull_points = node.boolean_or("cull_points", s.cull_points);
+  s.new_point_clearance_px = node.number_or("new_point_clearance_px", s.new_point_clearance_px, Range::closed(0.0, 10.0));
   s.loop_closure = node.boolean_or("loop_closure", s.loop_closure);
   s.loop_min_gap_s = node.number_or("loop_min_gap_s", s.loop_min_gap_s, Range::closed(1.0, 600.0));
   s.init_min_parallax_px = node.number_or("init_min_parallax_px", s.init_min_parallax_px, Range::closed(2.0, 200.0));

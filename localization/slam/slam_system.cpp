@@ -105,6 +105,7 @@ struct SlamSystem::Impl {
     m.global_ba_every = s.global_ba_every;
     m.global_ba_fixed_keyframes = s.global_ba_fixed_keyframes;
     m.cull_points = s.cull_points;
+    m.new_point_clearance_px = s.new_point_clearance_px;
     m.patch_refinement = s.patch_refinement;
     m.loop.enabled = s.loop_closure;
     m.loop.min_gap_s = s.loop_min_gap_s;
@@ -502,6 +503,7 @@ MappingStatistics SlamSystem::mapping_statistics() const {
   out.keyframe_ms = stats.keyframe_ms;
   out.points_created = stats.points_created;
   out.observations_removed = stats.observations_removed;
+  out.clearance_skips = stats.clearance_skips;
   out.global_ba_runs = stats.global_ba_runs;
   out.loops_detected = static_cast<int>(stats.loops.size());
   out.loops_corrected = static_cast<int>(stats.loop_ms.size());

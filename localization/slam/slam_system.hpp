@@ -54,6 +54,7 @@ struct SlamSettings {
   int global_ba_every = 5;                // synchronous mode: keyframes between global adjustments
   int global_ba_fixed_keyframes = 2;      // first keyframes held fixed by global adjustments (2: also the scale)
   bool cull_points = true;                // drop points that keep being missed where they should be seen
+  double new_point_clearance_px = 0;      // no new point at a corner this close (x level scale) to a mapped one (0: off)
   bool loop_closure = true;
   double loop_min_gap_s = 20.0;           // a loop keyframe is at least this much older
   double init_min_parallax_px = 20.0;     // median displacement before trying two-view init
@@ -105,7 +106,8 @@ struct MappingStatistics {
   int global_ba_runs = 0;
   int loops_detected = 0;
   int loops_corrected = 0;
-  int points_fused = 0;
+  int points_fused = 0;        // by loop closures
+  int clearance_skips = 0;         // corners left alone next to a mapped corner (new_point_clearance_px)
   std::vector<double> loop_ms;  // each correction's wall time
   std::vector<double> loop_search_ms;  // each keyframe's loop search (no correction) wall time
   std::vector<LoopReport> loops;

@@ -56,6 +56,7 @@ nlohmann::json to_json(const slam::FlightReport& r) {
   j["loops_detected"] = r.loops_detected;
   j["loops_corrected"] = r.loops_corrected;
   j["points_fused"] = r.points_fused;
+  j["new_point_clearance_skips"] = r.clearance_skips;
   j["loop_correction_ms_max"] = r.loop_ms_max;
   j["loop_search_ms_median"] = r.loop_search_ms_median;
   j["loop_search_ms_p95"] = r.loop_search_ms_p95;

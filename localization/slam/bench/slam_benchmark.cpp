@@ -85,6 +85,7 @@ FlightReport run_flight(const FlightRenderer& render, const Flight& flight, cons
   report.loops_detected = mapping.loops_detected;
   report.loops_corrected = mapping.loops_corrected;
   report.points_fused = mapping.points_fused;
+  report.clearance_skips = mapping.clearance_skips;
   report.loop_ms_max = percentile(mapping.loop_ms, 1.0);
   report.loop_search_ms_median = percentile(mapping.loop_search_ms, 0.5);
   report.loop_search_ms_p95 = percentile(mapping.loop_search_ms, 0.95);

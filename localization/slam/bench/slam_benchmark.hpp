@@ -33,6 +33,7 @@ struct FlightReport {
   double mapping_ms_per_keyframe_median = 0, mapping_ms_per_keyframe_max = 0;
   int keyframes = 0, map_points = 0, global_ba_runs = 0;
   int loops_detected = 0, loops_corrected = 0, points_fused = 0;
+  int clearance_skips = 0;
   double loop_ms_max = 0;
   double loop_search_ms_median = 0, loop_search_ms_p95 = 0;
   std::optional<double> relocalization_s;  // view back -> tracking good again

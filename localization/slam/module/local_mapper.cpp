@@ -202,10 +202,38 @@ void LocalMapper::remeasure(int kf, const std::vector<int>& neighbours) {
   stats_.points_culled += culled;
 }
 
+std::vector<char> LocalMapper::near_mapped(const Keyframe& kf, const FeatureGrid& grid) const {
+  std::vector<char> out(kf.frame.size(), 0);
+  if (settings_.new_point_clearance_px <= 0) return out;
+  std::vector<int> nearby;
+  for (std::size_t i = 0; i < kf.frame.size(); ++i) {
+    if (kf.point_of_feature[i] != kNoPoint) continue;
+    const Feature& f = kf.frame.features[i];
+    grid.query(f.px, settings_.new_point_clearance_px * sigma(f.level), 0, settings_.levels - 1, kf.frame, nearby);
+    for (int j : nearby) {
+      if (kf.point_of_feature[static_cast<std::size_t>(j)] != kNoPoint) {
+        out[i] = 1;
+        break;
+      }
+    }
+  }
+  return out;
+}
+
 void LocalMapper::triangulate_new_points(int kf, const std::vector<int>& neighbours) {
   const Keyframe& key = map_.keyframes()[static_cast<std::size_t>(kf)];
   const Eigen::Vector3d c_key = key.center();
   std::vector<char> key_used(key.frame.size(), 0);
+  // Corners next to a mapped corner (another level's detection of it) would only duplicate that point.
+  FeatureGrid key_grid(camera_.ideal_min(), camera_.ideal_max(), 24.0), other_grid = key_grid;
+  std::vector<int> nearby;
+  const bool clearance = settings_.new_point_clearance_px > 0;
+  int skipped = 0;
+  if (clearance) {
+    key_grid.build(key.frame);
+    key_used = near_mapped(key, key_grid);
+    for (char c : key_used) skipped += c;
+  }
   const double cos_min_parallax = std::cos(settings_.min_parallax_deg * M_PI / 180.0);
   int tried = 0;
   for (int n : neighbours) {
@@ -232,6 +260,10 @@ void LocalMapper::triangulate_new_points(int kf, const std::vector<int>& neighbo
     std::vector<MapPoint> created;
     std::vector<std::pair<int, Eigen::Vector2d>> other_moved;  // refined corners of the neighbour
     std::vector<char> other_used(other.frame.size(), 0);
+    if (clearance) {
+      other_grid.build(other.frame);
+      other_used = near_mapped(other, other_grid);
+    }
     for (std::size_t i = 0; i < key.frame.size(); ++i) {
       if (key_used[i] || key.point_of_feature[i] != kNoPoint) continue;
       const Feature& fk = key.frame.features[i];
@@ -291,13 +323,23 @@ void LocalMapper::triangulate_new_points(int kf, const std::vector<int>& neighbo
       if (fo_refined) other_moved.emplace_back(best_j, *fo_refined);
       key_used[i] = 1;
       other_used[static_cast<std::size_t>(best_j)] = 1;
+      if (clearance) {
+        // The same corner on the other levels is now mapped too.
+        key_grid.query(fk.px, settings_.new_point_clearance_px * sigma(fk.level), 0, settings_.levels - 1, key.frame, nearby);
+        for (int k : nearby) key_used[static_cast<std::size_t>(k)] = 1;
+        other_grid.query(fo.px, settings_.new_point_clearance_px * sigma(fo.level), 0, settings_.levels - 1, other.frame, nearby);
+        for (int k : nearby) other_used[static_cast<std::size_t>(k)] = 1;
+      }
     }
     lock.lock();
     for (const auto& [feature, image_px] : other_moved) move_feature(map_.keyframes_mutable()[static_cast<std::size_t>(n)], feature, image_px);
     for (MapPoint& mp : created) map_.add_point(std::move(mp));
+    lock.unlock();
     std::lock_guard stats_lock(mutex_);
     stats_.points_created += static_cast<int>(created.size());
   }
+  std::lock_guard stats_lock(mutex_);
+  stats_.clearance_skips += skipped;
 }
 
 void LocalMapper::adjust(const std::vector<int>& free_keyframes, bool global, int max_iterations) {

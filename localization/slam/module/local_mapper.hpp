@@ -32,6 +32,7 @@ struct MapperSettings {
   int global_ba_max_keyframes = 200;
   int global_ba_fixed_keyframes = 1;  // the first n keyframes hold the gauge (2 also fixes the scale)
   bool cull_points = true;            // remove points that keep being missed when re-measured
+  double new_point_clearance_px = 0;  // no new point at a corner this close (x level scale) to a mapped one
   double min_parallax_deg = 0.5;
   int max_hamming = 50;
   bool patch_refinement = true;  // re-measured and newly matched corners aligned to sub-pixel
@@ -44,6 +45,7 @@ struct MapperStats {
   int global_ba_runs = 0;
   int points_created = 0;
   int observations_removed = 0;
+  int clearance_skips = 0;      // corners not triangulated: a mapped corner next to them
   int points_culled = 0;
   double last_keyframe_ms = 0;  // wall time of the last keyframe's processing (measurement only)
   std::vector<double> keyframe_ms;
@@ -77,6 +79,9 @@ class LocalMapper {
   void close_loops(int kf);
   void carry_over_corrections(Keyframe& keyframe) const;
   double sigma(int level) const;
+  // Per feature of `kf`: 1 when a feature within new_point_clearance_px x its level scale (any level)
+  // holds a map point - the same corner found on another pyramid level, already mapped.
+  std::vector<char> near_mapped(const Keyframe& kf, const FeatureGrid& grid) const;
   // Sub-pixel position of `p_map` in keyframe `target`, by aligning the patch of `source`'s feature
   // (distorted level-0 pixel), or empty (no pyramid, no convergence).
   std::optional<Eigen::Vector2d> align(const Keyframe& source, int source_feature, const Eigen::Vector3d& p_map,

@@ -13,20 +13,10 @@
 #include "localization/slam/module/frame_tracker.hpp"
 #include "localization/slam/module/local_mapper.hpp"
 #include "localization/slam/optimize/se3.hpp"
+#include "slam_test_helpers.hpp"
 
 namespace labo::slam {
 namespace {
-
-// Where a camera ray (world frame) leaves the room's box.
-Eigen::Vector3d hit_wall(const SyntheticRoomSpec& room, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
-  double nearest = 1e9;
-  for (int axis = 0; axis < 3; ++axis) {
-    if (std::abs(dir[axis]) < 1e-12) continue;
-    const double wall = dir[axis] > 0 ? room.max_corner[axis] : room.min_corner[axis];
-    nearest = std::min(nearest, (wall - origin[axis]) / dir[axis]);
-  }
-  return origin + nearest * dir;
-}
 
 struct TrackedView {
   double rms_px = 0;          // measured - true projection, distorted level-0 pixels
@@ -59,7 +49,7 @@ TrackedView track_second_view(bool patch_refinement) {
     const Feature& f = kf.frame.features[i];
     const Eigen::Vector3d ray = T_world_key.linear() * camera.bearing(f.px);
     MapPoint p;
-    p.p_map = hit_wall(room.spec(), T_world_key.translation(), ray);
+    p.p_map = testing::hit_wall(room.spec(), T_world_key.translation(), ray);
     p.descriptor = kf.frame.descriptors[i];
     p.observations = {{k, static_cast<int>(i)}};
     p.reference_keyframe = k;
@@ -137,7 +127,7 @@ NewPoints map_second_keyframe(bool patch_refinement) {
   for (std::size_t i = 0; i < kfa.frame.size(); i += 2) {  // half the corners hold points
     const Feature& f = kfa.frame.features[i];
     MapPoint p;
-    p.p_map = hit_wall(room.spec(), T_world_a.translation(), T_world_a.linear() * camera.bearing(f.px));
+    p.p_map = testing::hit_wall(room.spec(), T_world_a.translation(), T_world_a.linear() * camera.bearing(f.px));
     p.descriptor = kfa.frame.descriptors[i];
     p.observations = {{ka, static_cast<int>(i)}};
     p.reference_keyframe = ka;

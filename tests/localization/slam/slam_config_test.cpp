@@ -46,4 +46,8 @@ TEST_CASE("slam: config section is read, range-checked and refuses unknown keys"
   CHECK(read(R"({"patch_refinement": true})").patch_refinement);
   CHECK_FALSE(read("{}").patch_refinement);
   CHECK_THROWS_WITH(read(R"({"patch_refinement": 1})"), Catch::Contains("patch_refinement"));
+  CHECK(read("{}").new_point_clearance_px == Approx(0.0));
+  CHECK(read(R"({"new_point_clearance_px": 1.5})").new_point_clearance_px == Approx(1.5));
+  CHECK_THROWS_WITH(read(R"({"new_point_clearance_px": -1})"), Catch::Contains("new_point_clearance_px"));
+  CHECK_THROWS_WITH(read(R"({"new_point_clearance_px": "wide"})"), Catch::Contains("new_point_clearance_px"));
 }

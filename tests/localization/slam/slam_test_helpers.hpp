@@ -1,6 +1,8 @@
 #pragma once
 // Shared fixtures for the SLAM tests: the synthetic room seen by the AR.Drone front camera, and a
 // runner that feeds a flight's frames to a SlamSystem.
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "localization/slam/bench/bench_flights.hpp"
@@ -9,6 +11,17 @@
 #include "localization/slam/slam_system.hpp"
 
 namespace labo::slam::testing {
+
+// Where a camera ray (world frame) leaves the room's box.
+inline Eigen::Vector3d hit_wall(const SyntheticRoomSpec& room, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
+  double nearest = 1e9;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (std::abs(dir[axis]) < 1e-12) continue;
+    const double wall = dir[axis] > 0 ? room.max_corner[axis] : room.min_corner[axis];
+    nearest = std::min(nearest, (wall - origin[axis]) / dir[axis]);
+  }
+  return origin + nearest * dir;
+}
 
 inline SlamSettings synchronous() {
   SlamSettings s;
