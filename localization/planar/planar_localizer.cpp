@@ -37,6 +37,7 @@ Se3RefinerSettings se3_settings(const PlanarConfig& config) {
   s.max_samples = config.se3_max_samples;
   s.covariance_inflation = config.se3_covariance_inflation;
   s.smoothing_sigma_px = config.se3_smoothing_sigma_px;
+  s.resample_to_frame = config.se3_template_at_frame_resolution;
   return s;
 }
 

@@ -20,6 +20,19 @@ constexpr int kMinLevelSidePx = 16;
 constexpr int kBorderPx = 2;   // template pixels this close to the edge see the outside in the frame
 constexpr int kCells = 6;      // per side: the samples are spread over the panel (perspective leverage)
 constexpr int kMinSamples = 50;
+// At range the template is area-resampled to kOversampling times the panel's apparent size (template
+// px per frame px at the panel's centre), and blurred to the frame's blur, instead of the pyramid
+// level: the pyramid's 2x steps left the template 0.6-0.9 or 1.1-1.3 frame px per px and its blur off
+// by as much. Not exactly 1: then every sample has the same sub-pixel phase in the frame and the
+// bilinear interpolation's phase-dependent bias no longer averages out over the panel (measured: worse
+// than the pyramid); not a simple ratio either (2: two phases). Only while the panel appears smaller
+// than kResampleBelow times the working template (nearer, the pyramid measured better on the
+// synthetic sequences). docs/planar.md, "the template at the frame's resolution".
+constexpr double kOversampling = 1.3;
+constexpr double kResampleBelow = 0.5;
+// The resampled template is rebuilt when the panel's apparent width or height changes by more than
+// this ratio (an approach at 1 m/s from 2.5 m: every ~3 frames).
+constexpr double kRebuildRatio = 0.02;
 // How much farther than max_corner_shift_px a corner may move when a blur is modelled (half the blur,
 // at most this): the smoothed region is grown by it.
 constexpr double kMaxBlurLeashPx = 6.0;
@@ -51,6 +64,7 @@ Se3PoseRefiner::Se3PoseRefiner(const cv::Mat& working_template, double width_m, 
       cx_(K(0, 2)),
       cy_(K(1, 2)),
       settings_(settings) {
+  working_ = working_template;
   if (working_template.empty() || working_template.type() != CV_8UC1) {
     throw std::invalid_argument("Se3PoseRefiner: the template must be a non-empty CV_8UC1 image");
   }
@@ -66,25 +80,16 @@ Se3PoseRefiner::Se3PoseRefiner(const cv::Mat& working_template, double width_m, 
   }
 }
 
-void Se3PoseRefiner::add_level(const cv::Mat& level, int k) {
-  cv::Mat gray = level;
-  if (settings_.smoothing_sigma_px > 0) cv::GaussianBlur(level, gray, cv::Size(0, 0), settings_.smoothing_sigma_px);
-  cv::Mat gx, gy, magnitude;
-  cv::Sobel(gray, gx, CV_32F, 1, 0, 3);
-  cv::Sobel(gray, gy, CV_32F, 0, 1, 3);
-  cv::magnitude(gx, gy, magnitude);
-  // Level-k pixel i is centred on working pixel i * 2^k (cv::pyrDown keeps every other pixel).
-  const double step = std::ldexp(1.0, k);
-  const double mx = width_m_ / template_size_.width, my = height_m_ / template_size_.height;
+void Se3PoseRefiner::select_samples(const cv::Mat& gray, const cv::Mat& magnitude, double mx, double my, double bx,
+                                    double by, int border, std::vector<float>& strengths, std::vector<Sample>& out) const {
   const int quota = std::max(1, settings_.max_samples / (kCells * kCells));
-  std::vector<Sample> samples;
-  std::vector<float> strengths;
+  out.clear();
   for (int cy = 0; cy < kCells; ++cy) {
     for (int cx = 0; cx < kCells; ++cx) {
-      const int y0 = std::max(kBorderPx, cy * gray.rows / kCells);
-      const int y1 = std::min(gray.rows - kBorderPx, (cy + 1) * gray.rows / kCells);
-      const int x0 = std::max(kBorderPx, cx * gray.cols / kCells);
-      const int x1 = std::min(gray.cols - kBorderPx, (cx + 1) * gray.cols / kCells);
+      const int y0 = std::max(border, cy * gray.rows / kCells);
+      const int y1 = std::min(gray.rows - border, (cy + 1) * gray.rows / kCells);
+      const int x0 = std::max(border, cx * gray.cols / kCells);
+      const int x1 = std::min(gray.cols - border, (cx + 1) * gray.cols / kCells);
       strengths.clear();
       for (int y = y0; y < y1; ++y) {
         for (int x = x0; x < x1; ++x) strengths.push_back(magnitude.at<float>(y, x));
@@ -98,14 +103,29 @@ void Se3PoseRefiner::add_level(const cv::Mat& level, int k) {
       for (int y = y0; y < y1 && taken < quota; ++y) {
         for (int x = x0; x < x1 && taken < quota; ++x) {
           if (magnitude.at<float>(y, x) < threshold) continue;
-          samples.push_back({static_cast<float>((x * step + 0.5) * mx - 0.5 * width_m_),
-                             static_cast<float>((y * step + 0.5) * my - 0.5 * height_m_),
-                             static_cast<float>(gray.at<uchar>(y, x)), static_cast<float>(x), static_cast<float>(y)});
+          out.push_back({static_cast<float>(x * mx + bx), static_cast<float>(y * my + by),
+                         static_cast<float>(gray.at<uchar>(y, x)), static_cast<float>(x), static_cast<float>(y)});
           ++taken;
         }
       }
     }
   }
+}
+
+void Se3PoseRefiner::add_level(const cv::Mat& level, int k) {
+  cv::Mat gray = level;
+  if (settings_.smoothing_sigma_px > 0) cv::GaussianBlur(level, gray, cv::Size(0, 0), settings_.smoothing_sigma_px);
+  cv::Mat gx, gy, magnitude;
+  cv::Sobel(gray, gx, CV_32F, 1, 0, 3);
+  cv::Sobel(gray, gy, CV_32F, 0, 1, 3);
+  cv::magnitude(gx, gy, magnitude);
+  // Level-k pixel i is centred on working pixel i * 2^k (cv::pyrDown keeps every other pixel).
+  const double step = std::ldexp(1.0, k);
+  const double mx = width_m_ / template_size_.width, my = height_m_ / template_size_.height;
+  std::vector<Sample> samples;
+  std::vector<float> strengths;
+  select_samples(gray, magnitude, step * mx, step * my, 0.5 * mx - 0.5 * width_m_, 0.5 * my - 0.5 * height_m_,
+                 kBorderPx, strengths, samples);
   if (static_cast<int>(samples.size()) < kMinSamples) return;  // coarser levels have even less
   if (static_cast<int>(levels_.size()) == k) {
     levels_.push_back(std::move(samples));
@@ -113,22 +133,20 @@ void Se3PoseRefiner::add_level(const cv::Mat& level, int k) {
   }
 }
 
-void Se3PoseRefiner::blur_samples(int level, const Eigen::Isometry3d& T, const Eigen::Vector2d& blur_px,
+void Se3PoseRefiner::blur_samples(const View& view, const Eigen::Isometry3d& T, const Eigen::Vector2d& blur_px,
                                   std::vector<float>& out) const {
-  const std::vector<Sample>& samples = levels_[static_cast<std::size_t>(level)];
-  const cv::Mat& image = level_images_[static_cast<std::size_t>(level)];
-  // Image px per level px at the panel's centre: the projection's Jacobian times metres per level px.
-  const double step = std::ldexp(1.0, level);
-  const double mx = step * width_m_ / template_size_.width, my = step * height_m_ / template_size_.height;
+  const std::vector<Sample>& samples = *view.samples;
+  const cv::Mat& image = *view.image;
+  // Image px per view px at the panel's centre: the projection's Jacobian times metres per view px.
   const Eigen::Vector3d P = T.translation();
-  const Eigen::Vector3d r1 = T.linear().col(0) * mx, r2 = T.linear().col(1) * my;
+  const Eigen::Vector3d r1 = T.linear().col(0) * view.mx, r2 = T.linear().col(1) * view.my;
   Eigen::Matrix2d J;
   for (int c = 0; c < 2; ++c) {
     const Eigen::Vector3d d = c == 0 ? r1 : r2;
     J(0, c) = fx_ * (d.x() * P.z() - P.x() * d.z()) / (P.z() * P.z());
     J(1, c) = fy_ * (d.y() * P.z() - P.y() * d.z()) / (P.z() * P.z());
   }
-  const Eigen::Vector2d delta = J.inverse() * blur_px;  // the blur in level px
+  const Eigen::Vector2d delta = J.inverse() * blur_px;  // the blur in view px
   const int taps = std::clamp(static_cast<int>(std::ceil(delta.norm())) + 1, 2, 16);
   const double x_max = image.cols - 1.001, y_max = image.rows - 1.001;
   out.resize(samples.size());
@@ -141,6 +159,73 @@ void Se3PoseRefiner::blur_samples(int level, const Eigen::Isometry3d& T, const E
     }
     out[i] = static_cast<float>(sum / taps);
   }
+}
+
+Se3PoseRefiner::View Se3PoseRefiner::view_for(const Eigen::Isometry3d& T) const {
+  const auto level_view = [&](int level) {
+    const double step = std::ldexp(1.0, level);
+    return View{&levels_[static_cast<std::size_t>(level)], &level_images_[static_cast<std::size_t>(level)],
+                step * width_m_ / template_size_.width, step * height_m_ / template_size_.height};
+  };
+  if (!settings_.resample_to_frame) return level_view(level_for(T));
+  // The panel's apparent size: frame px per metre along its x and y at its centre, times its size.
+  const Eigen::Vector3d P = T.translation();
+  if (!(P.z() > 1e-3)) return level_view(level_for(T));
+  const auto px_per_m = [&](const Eigen::Vector3d& d) {
+    return std::hypot(fx_ * (d.x() * P.z() - P.x() * d.z()), fy_ * (d.y() * P.z() - P.y() * d.z())) / (P.z() * P.z());
+  };
+  const double target_w = kOversampling * width_m_ * px_per_m(T.linear().col(0));
+  const double target_h = kOversampling * height_m_ * px_per_m(T.linear().col(1));
+  if (!(target_w < kResampleBelow * template_size_.width && target_h < template_size_.height)) {
+    return level_view(level_for(T));
+  }
+  Resampled& r = resampled_;
+  const bool fresh = r.size.area() > 0 && std::abs(target_w / r.target_w - 1) <= kRebuildRatio &&
+                     std::abs(target_h / r.target_h - 1) <= kRebuildRatio;
+  if (!fresh) {
+    const cv::Size size(std::clamp(static_cast<int>(std::lround(target_w)), kMinLevelSidePx, template_size_.width),
+                        std::clamp(static_cast<int>(std::lround(target_h)), kMinLevelSidePx, template_size_.height));
+    const std::size_t capacity = static_cast<std::size_t>(template_size_.area());
+    if (r.area.size() < capacity) {  // once: every later size fits
+      r.area.resize(capacity);
+      r.smoothed.resize(capacity);
+      r.gx.resize(capacity);
+      r.gy.resize(capacity);
+      r.magnitude.resize(capacity);
+      r.strengths.reserve(capacity);
+      r.samples.reserve(static_cast<std::size_t>(settings_.max_samples) + kCells * kCells);
+    }
+    // Headers over the buffers, each a whole image (no neighbours outside it for the filters to read).
+    cv::Mat area(size, CV_8UC1, r.area.data()), smoothed(size, CV_8UC1, r.smoothed.data());
+    cv::Mat gx(size, CV_32FC1, r.gx.data()), gy(size, CV_32FC1, r.gy.data()), magnitude(size, CV_32FC1, r.magnitude.data());
+    // Area averaging, as a camera's pixel integrates the panel (an explicit size: the exact scale is
+    // the ratio of the sizes, used below for the samples' positions).
+    cv::resize(working_, area, size, 0, 0, cv::INTER_AREA);
+    // The frame's blur in its own pixels: the pixel's box (variance 1/12) and the smoothing Gaussian;
+    // the area resampling already gave the template a box of 1/k frame px, the Gaussian adds the rest
+    // (in template px, k per frame px).
+    const double sigma = settings_.smoothing_sigma_px;
+    const double sigma_template =
+        kOversampling * std::sqrt(sigma * sigma + (1 - 1 / (kOversampling * kOversampling)) / 12);
+    if (sigma > 0) {
+      cv::GaussianBlur(area, smoothed, cv::Size(0, 0), sigma_template);
+    } else {
+      area.copyTo(smoothed);
+    }
+    cv::Sobel(smoothed, gx, CV_32F, 1, 0, 3);
+    cv::Sobel(smoothed, gy, CV_32F, 0, 1, 3);
+    cv::magnitude(gx, gy, magnitude);
+    const double mx = width_m_ / size.width, my = height_m_ / size.height;
+    select_samples(smoothed, magnitude, mx, my, 0.5 * mx - 0.5 * width_m_, 0.5 * my - 0.5 * height_m_, kBorderPx,
+                   r.strengths, r.samples);
+    r.size = static_cast<int>(r.samples.size()) >= kMinSamples ? size : cv::Size();
+    r.target_w = target_w;
+    r.target_h = target_h;
+    ++r.builds;
+  }
+  if (r.size.area() == 0) return level_view(level_for(T));  // too little texture at that size
+  r.image = cv::Mat(r.size, CV_8UC1, r.smoothed.data());     // a header (also right in a copy of this refiner)
+  return View{&r.samples, &r.image, width_m_ / r.size.width, height_m_ / r.size.height};
 }
 
 int Se3PoseRefiner::level_for(const Eigen::Isometry3d& T) const {
@@ -265,11 +350,12 @@ Se3Refinement Se3PoseRefiner::refine(const SmoothedFrame& frame, const Eigen::Is
     out.failure = "frame is not a non-empty CV_8UC1 image";
     return out;
   }
-  const int level = level_for(T_start);
-  const std::vector<Sample>& samples = levels_[static_cast<std::size_t>(level)];
+  const View view = view_for(T_start);
+  const std::vector<Sample>& samples = *view.samples;
+  last_template_size_ = view.image->size();
   const float* values = nullptr;
   if (blur_px.allFinite() && blur_px.norm() >= 0.5) {
-    blur_samples(level, T_start, blur_px, frame.blurred_template);
+    blur_samples(view, T_start, blur_px, frame.blurred_template);
     values = frame.blurred_template.data();
   }
   const int needed = std::max(kMinSamples, static_cast<int>(samples.size()) / 2);

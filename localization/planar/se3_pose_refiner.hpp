@@ -47,6 +47,11 @@ struct Se3RefinerSettings {
   double covariance_inflation = 3.0;   // on the Gauss-Newton standard deviations
   double rotation_sigma_floor_rad = 0.0026;  // 0.15 deg, added in quadrature (model errors)
   double smoothing_sigma_px = 0.5;     // Gaussian on frame and template before the fit; 0 = none
+  // true: at range the template is area-resampled to 1.3x the panel's apparent size and blurred like
+  // the frame (se3_pose_refiner.cpp, kOversampling); false: always the pyramid level matching the
+  // apparent size (the tracker's rule). Config: planar.se3_template_resolution "frame" | "pyramid".
+  // Not the default: better on the simulated lab's renderer, worse on this module's (docs/planar.md).
+  bool resample_to_frame = false;
 };
 
 struct Se3Refinement {
@@ -91,6 +96,10 @@ class Se3PoseRefiner {
   Se3Refinement refine(const cv::Mat& undistorted, const Eigen::Isometry3d& T_start) const;
 
   int levels() const { return static_cast<int>(levels_.size()); }
+  // The template the last refine() fitted (a pyramid level's size or the resampled one's), and how
+  // many times the resampled template was built: for tests.
+  cv::Size last_template_size() const { return last_template_size_; }
+  int resample_builds() const { return resampled_.builds; }
 
  private:
   struct Sample {
@@ -105,16 +114,43 @@ class Se3PoseRefiner {
     double gain = 1, gain_x = 0, gain_y = 0, bias = 0;
   };
 
+  // A template image the fit reads: its samples, the (smoothed) image they come from, metres per
+  // pixel of that image along the panel's x and y.
+  struct View {
+    const std::vector<Sample>* samples = nullptr;
+    const cv::Mat* image = nullptr;
+    double mx = 0, my = 0;
+  };
+  // The template resampled for the frame, rebuilt when the panel's apparent size changes by more than
+  // 2 %; its buffers have the working template's size (allocated once), the images are headers.
+  struct Resampled {
+    cv::Size size;  // 0 x 0: not built (or too little texture at that size)
+    double target_w = 0, target_h = 0;
+    std::vector<Sample> samples;
+    std::vector<uchar> area, smoothed;
+    std::vector<float> gx, gy, magnitude, strengths;
+    cv::Mat image;
+    int builds = 0;
+  };
   void add_level(const cv::Mat& gray, int level);
+  // The strongest gradients of each cell of `gray` (smoothed); pixel (x, y) is at object (x mx + bx, y my + by).
+  void select_samples(const cv::Mat& gray, const cv::Mat& magnitude, double mx, double my, double bx, double by,
+                      int border, std::vector<float>& strengths, std::vector<Sample>& out) const;
   int level_for(const Eigen::Isometry3d& T) const;
+  // The template to fit at pose T: resampled for the frame, or a pyramid level.
+  View view_for(const Eigen::Isometry3d& T) const;
   // `values`: the samples' template grey levels to fit (blurred), or null for their own.
   Normal accumulate(const std::vector<Sample>& samples, const float* values, const SmoothedFrame& frame,
                     const Eigen::Isometry3d& T, const Appearance& appearance) const;
-  // The level's samples averaged along the blur (image px mapped into the level at the panel's centre).
-  void blur_samples(int level, const Eigen::Isometry3d& T, const Eigen::Vector2d& blur_px, std::vector<float>& out) const;
+  // The view's samples averaged along the blur (image px mapped into the view at the panel's centre).
+  void blur_samples(const View& view, const Eigen::Isometry3d& T, const Eigen::Vector2d& blur_px,
+                    std::vector<float>& out) const;
 
+  cv::Mat working_;
   std::vector<std::vector<Sample>> levels_;
   std::vector<cv::Mat> level_images_;  // the levels as sampled (smoothed), for blurring the samples
+  mutable Resampled resampled_;
+  mutable cv::Size last_template_size_;
   cv::Size template_size_;
   double width_m_, height_m_;
   double fx_, fy_, cx_, cy_;

@@ -87,6 +87,10 @@ TEST_CASE("planar: the planar config section is validated") {
   CHECK(error_of(R"({"pose_refinement": "ippe"})").find("pose_refinement") != std::string::npos);
   CHECK(error_of(R"({"se3_covariance_inflation": 0})").find("se3_covariance_inflation") != std::string::npos);
   CHECK(error_of(R"({"pose_refinement": "none", "se3_iterations": 4})").empty());
+  CHECK(error_of(R"({"se3_template_resolution": "native"})").find("se3_template_resolution") != std::string::npos);
   const ConfigDocument doc = ConfigDocument::parse(R"({"tracker": "ecc"})", "p.json");
   CHECK(read_planar_config(doc.root()).tracker == TrackerKind::Ecc);
+  CHECK_FALSE(read_planar_config(doc.root()).se3_template_at_frame_resolution);
+  const ConfigDocument frame = ConfigDocument::parse(R"({"se3_template_resolution": "frame"})", "p.json");
+  CHECK(read_planar_config(frame.root()).se3_template_at_frame_resolution);
 }

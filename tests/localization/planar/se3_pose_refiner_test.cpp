@@ -153,3 +153,35 @@ TEST_CASE("planar: the SE(3) refinement models a motion blur it is told about") 
     CHECK(modelled_error < rotation_angle(sharp.T_cam_object.linear(), truth.linear()));
   }
 }
+
+TEST_CASE("planar: at range the SE(3) refinement can fit the template resampled to 1.3x the panel's apparent size") {
+  const Scene scene;
+  Se3RefinerSettings settings;
+  settings.resample_to_frame = true;
+  const Se3PoseRefiner refiner{scene.panel, kW, kH, scene.camera.K(), settings};
+  const double fx = scene.camera.K()(0, 0);
+  const Eigen::Isometry3d far = look_at_object(Eigen::Vector3d(0.0, 0.0, -2.5), Eigen::Vector3d::Zero());
+  const Se3Refinement a = refiner.refine(scene.view(far), tilted(far, 2.0 * kDeg));
+  REQUIRE(a.refined);
+  CHECK(rotation_angle(a.T_cam_object.linear(), far.linear()) < 1.0 * kDeg);
+  CHECK(std::abs(refiner.last_template_size().width - 1.3 * fx * kW / 2.5) <= 1.0);
+  const int builds = refiner.resample_builds();
+  CHECK(builds == 1);
+  // 1 % farther: the same resampled template; 8 % farther: rebuilt.
+  const Eigen::Isometry3d farther = look_at_object(Eigen::Vector3d(0.0, 0.0, -2.525), Eigen::Vector3d::Zero());
+  REQUIRE(refiner.refine(scene.view(farther), farther).refined);
+  CHECK(refiner.resample_builds() == builds);
+  const Eigen::Isometry3d further = look_at_object(Eigen::Vector3d(0.0, 0.0, -2.7), Eigen::Vector3d::Zero());
+  REQUIRE(refiner.refine(scene.view(further), further).refined);
+  CHECK(refiner.resample_builds() == builds + 1);
+  CHECK(std::abs(refiner.last_template_size().width - 1.3 * fx * kW / 2.7) <= 1.0);
+  // Near (the panel's image times 1.3 wider than half the template): a pyramid level.
+  const Eigen::Isometry3d near = look_at_object(Eigen::Vector3d(0.0, 0.0, -1.0), Eigen::Vector3d::Zero());
+  REQUIRE(refiner.refine(scene.view(near), near).refined);
+  const int w = refiner.last_template_size().width;
+  CHECK((w == 320 || w == 160));
+  // The default: the pyramid level at range too.
+  REQUIRE(scene.refiner.refine(scene.view(far), far).refined);
+  CHECK((scene.refiner.last_template_size().width == 160 || scene.refiner.last_template_size().width == 80));
+  CHECK(scene.refiner.resample_builds() == 0);
+}
