@@ -165,15 +165,23 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, double co
   const bool set_off = on_leg > kSetOffM || (on_leg > -kOnLegLateralM && v.dot(leg->along) > kSetOffMps);
   const Seconds seen_at = last_face_t_ >= 0 ? last_face_t_ : ctx.t;
   const TeacherTrack::WalkSpell& walked = track_.last_walk();
-  const bool arriving = !set_off && walked.seen && seen_at - walked.to < ctx.lab.teacher.pause_s &&
-                        walked.direction.dot(leg->along) < std::cos(kOnMeetingLegRad);
+  const bool walked_in = !set_off && walked.seen && seen_at - walked.to < ctx.lab.teacher.pause_s &&
+                         walked.direction.dot(leg->along) < std::cos(kOnMeetingLegRad);
+  // Seen on the leg into the corner, short of it: walking in, however briefly the face was seen (a
+  // glimpse at the end of leg C, 0.4 s, too short for a sustained spell, was taken for a teacher
+  // standing at the corner, and leg A walked at once, 7 s early: the drone waited 2.4 m RMS too far
+  // along it; the face-follow model test "first seen for a moment").
+  const double short_of_corner = metres_short_of_waypoint(ctx.lab.teacher, xy, leg->corner, kOnLegLateralM);
+  const bool seen_walking_in = !set_off && !walked_in && short_of_corner > kSetOffM;
+  const bool arriving = walked_in || seen_walking_in;
+  const Seconds walked_to = walked_in ? walked.to : seen_at;
   // A meeting on this leg already expected them later (the face then taken up at the corner for too
   // short a time to see them walk in: real vision, seed 1, leg C): that still holds.
   const bool expected_later = meet_leg_.index == leg->index && meet_walk_from_ > seen_at && meet_walk_from_ < ctx.t + kMeetWaitS;
   Seconds walk_from = seen_at, arrived_at = -1;
   if (arriving) {
-    walk_from = walked.to + seconds_to_set_off(ctx.lab.teacher, xy, *leg);
-    arrived_at = walked.to + (corner - xy).norm() / std::max(ctx.lab.teacher.speed_mps, 0.1);
+    walk_from = walked_to + seconds_to_set_off(ctx.lab.teacher, xy, *leg);
+    arrived_at = walked_to + (corner - xy).norm() / std::max(ctx.lab.teacher.speed_mps, 0.1);
   } else if (!set_off && expected_later) {
     walk_from = meet_walk_from_;
     arrived_at = meet_arrived_at_;
@@ -185,7 +193,7 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, double co
   // Walking into the corner still: followed there first (leaving at once, the drone swung off a
   // teacher with up to 0.6 m, 1.5 s, still to walk towards it: real vision, seed 1, ends of legs A, C).
   walk_in_from_ = xy;
-  walk_in_t0_ = walked.to;
+  walk_in_t0_ = walked_to;
   walk_in_until_ = arriving ? arrived_at : -1.0;
   track_.place(leg->from + meet_on_leg_m_ * leg->along, std::atan2(leg->along.y(), leg->along.x()));
   standoff_m_ = ctx.config.mission.face_distance_m + kMeetBeyondFollowM;

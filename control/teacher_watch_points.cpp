@@ -74,6 +74,20 @@ double seconds_to_set_off(const TeacherRoute& route, const Eigen::Vector2d& teac
   return s;
 }
 
+double metres_short_of_waypoint(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy, std::size_t k,
+                                double lateral_m) {
+  const std::size_t n = route.waypoints.size();
+  if (n < 2) return -1.0;
+  const Eigen::Vector2d to = route.waypoints[k % n], from = route.waypoints[(k + n - 1) % n];
+  const double length = (to - from).norm();
+  if (length < 1e-9) return -1.0;
+  const Eigen::Vector2d along = (to - from) / length;
+  const Eigen::Vector2d rel = teacher_xy - from;
+  const double s = rel.dot(along);
+  const double lateral = std::abs(along.x() * rel.y() - along.y() * rel.x());
+  return lateral <= lateral_m && s >= 0.0 && s <= length ? length - s : -1.0;
+}
+
 Eigen::Vector2d route_place_before(const TeacherRoute& route, const RouteLeg& leg, double since_arrival_s) {
   const std::size_t n = route.waypoints.size();
   const double speed = std::max(route.speed_mps, 1e-3);

@@ -57,6 +57,13 @@ std::optional<WatchPoint> next_leg_meeting_point(const TeacherRoute& route, cons
                                                  const Geofence& fence, double ahead_m, double corner_radius_m,
                                                  double min_leg_m = 1.0);
 
+// How far short of waypoint k a teacher at `teacher_xy` is along the leg that ends there (from
+// waypoint k-1, looped), when within `lateral_m` of that leg's line and between its ends; negative
+// when not on it. By the route a teacher stands only at waypoints: one seen on a leg, short of its end,
+// walks into it.
+double metres_short_of_waypoint(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy, std::size_t k,
+                                double lateral_m);
+
 // Distance from p to the nearest leg of the route, loop included (floor plane); infinite without legs.
 double distance_to_route(const Eigen::Vector2d& p, const TeacherRoute& route);
 
