@@ -175,6 +175,17 @@ Eigen::Matrix2Xd FacePoseEstimator::landmarks_in(const cv::Mat& gray, const cv::
   return lm;
 }
 
+std::optional<Eigen::Matrix2Xd> FacePoseEstimator::landmarks_in_frontal_view(const cv::Mat& gray, const cv::Rect2d& box,
+                                                                             const Eigen::Isometry3d& T_cam_face) {
+  if (!frontal_) return std::nullopt;
+  // The view's box is placed by the detector box's relation to the crop's landmarks, as on a track's
+  // first frame.
+  remember_box_relation(box, landmarks_in(gray, box), T_cam_face.translation().z());
+  Eigen::Matrix2Xd lm;
+  if (!detect_in_frontal_view(gray, Candidate{box, true}, T_cam_face, Eigen::Vector2d::Zero(), lm)) return std::nullopt;
+  return lm;
+}
+
 std::optional<FacePoseEstimator::Candidate> FacePoseEstimator::select_among(const cv::Mat& gray,
                                                                              const std::vector<FaceBox>& boxes,
                                                                              FaceResult& result) {

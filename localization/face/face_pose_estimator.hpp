@@ -79,6 +79,7 @@ class FacePoseEstimator {
   // The person whose shape is used; `registered` marks them as the teacher to follow among several.
   void set_person(const PersonShape& person, bool registered);
   const PersonShape& person() const { return person_; }
+  bool person_registered() const { return person_registered_; }
   const FaceLandmarkModel& model() const { return model_; }
   const FaceConfig& config() const { return config_; }
   PnpMethod method() const { return solver_.method(); }
@@ -89,6 +90,13 @@ class FacePoseEstimator {
   // The faces' boxes in a whole picture (registration, tests): the full-frame search at every scale.
   std::vector<FaceBox> find_faces(const cv::Mat& gray);
   Eigen::Matrix2Xd landmarks_in(const cv::Mat& gray, const cv::Rect2d& box);
+  // The 68 landmarks tracking would find for the face in detector box `box` seen at `T_cam_face`: the
+  // predictor on the frontal view made at that pose through the current person's mesh, mapped back to
+  // the image (registration, so that the person's points are where tracking's landmarks lie). Empty
+  // when the frontal view is off or cannot be made there. Sets the detector box's relation, as a
+  // track's first frame does: reset() before tracking.
+  std::optional<Eigen::Matrix2Xd> landmarks_in_frontal_view(const cv::Mat& gray, const cv::Rect2d& box,
+                                                            const Eigen::Isometry3d& T_cam_face);
 
  private:
   struct Candidate {

@@ -23,7 +23,10 @@ PersonShape register_person(FacePoseEstimator& estimator, const cv::Mat& gray, c
 // The same from several pictures of the person holding still (e.g. consecutive frames): each must
 // hold exactly one face; the landmarks are averaged over them before the fit, so the picture's
 // detection noise, which the person's landmarks keep (surface_landmarks), is averaged down. The
-// reason of a refusal names the picture's index.
+// reason of a refusal names the picture's index. With surface_landmarks and frontal_view both on, the
+// person's points are where the landmarks found on the frontal view (tracking's way) at the fitted
+// pose meet the mesh, averaged over the pictures; the shape is fitted to the crop's landmarks. The
+// estimator keeps its person; its track is reset.
 PersonShape register_person(FacePoseEstimator& estimator, const std::vector<cv::Mat>& pictures, const std::string& name,
                             double interpupillary_distance_m);
 
