@@ -53,7 +53,8 @@ struct Se3RefinerSettings {
   // true: at range the template is area-resampled to 1.3x the panel's apparent size and blurred like
   // the frame (se3_pose_refiner.cpp, kOversampling); false: always the pyramid level matching the
   // apparent size (the tracker's rule). Config: planar.se3_template_resolution "frame" | "pyramid".
-  // Not the default: better on the simulated lab's renderer, worse on this module's (docs/planar.md).
+  // Not the default: with the blur fixed it was better on the simulated lab's renderer and worse on this
+  // module's; with the blur estimated (estimate_blur) it is worse on both (docs/planar.md).
   bool resample_to_frame = false;
   // true: the fit also estimates how much blurrier (or sharper) the frame is than the template level,
   // as a multiple of the level's Laplacian (template * Gaussian of variance v = template + v/2 Laplacian
