@@ -36,6 +36,7 @@ struct PlanarConfig {
   // the pyramid level matching the panel's apparent size ("pyramid", false, the default: "frame" is
   // better on the simulated lab's renderer, worse on the planar bench's own; docs/planar.md).
   bool se3_template_at_frame_resolution = false;
+  bool se3_estimate_blur = true;   // the refinement also fits the frame's blur relative to the template
 
   // ECC (OpenCV).
   int ecc_max_iterations = 50;
@@ -67,7 +68,7 @@ struct PlanarConfig {
 };
 
 // Reads {"tracker": "ic"|"ecc", "pose_refinement": "se3"|"none", "se3_iterations", "se3_max_samples",
-// "se3_covariance_inflation", "se3_smoothing_sigma_px", "se3_template_resolution": "frame"|"pyramid", "pyramid_levels", "max_iterations", "max_samples", "convergence_px", "ic_smoothing_sigma", "esm_iterations",
+// "se3_covariance_inflation", "se3_smoothing_sigma_px", "se3_template_resolution": "frame"|"pyramid", "se3_estimate_blur", "pyramid_levels", "max_iterations", "max_samples", "convergence_px", "ic_smoothing_sigma", "esm_iterations",
 // "ecc_max_iterations", "ecc_epsilon", "ecc_gauss_size", "detection_min_width_fraction",
 // "detection_max_width_fraction", "detection_scale_step", "detection_match_width_px", "sift_ratio",
 // "ransac_threshold_px", "sift_max_frame_features", "min_visible_fraction", "max_template_side_px",

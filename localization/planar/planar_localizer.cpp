@@ -38,6 +38,7 @@ Se3RefinerSettings se3_settings(const PlanarConfig& config) {
   s.covariance_inflation = config.se3_covariance_inflation;
   s.smoothing_sigma_px = config.se3_smoothing_sigma_px;
   s.resample_to_frame = config.se3_template_at_frame_resolution;
+  s.estimate_blur = config.se3_estimate_blur;
   return s;
 }
 

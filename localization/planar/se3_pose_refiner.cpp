@@ -36,8 +36,21 @@ constexpr double kRebuildRatio = 0.02;
 // How much farther than max_corner_shift_px a corner may move when a blur is modelled (half the blur,
 // at most this): the smoothed region is grown by it.
 constexpr double kMaxBlurLeashPx = 6.0;
-// Pose (6), then the appearance: gain, its gradients across the panel (x, y), bias.
-constexpr int kParams = 10;
+// Pose (6), then the appearance: gain, its gradients across the panel (x, y), bias, and the blur
+// (estimate_blur; fixed at 0 otherwise).
+constexpr int kParams = 11;
+constexpr int kBlurParam = 10;
+
+// Bilinear value of a CV_32FC1 image (no bounds check, as bilinear_grey).
+double bilinear_float(const cv::Mat& image, double x, double y) {
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const double fx = x - x0, fy = y - y0;
+  const float* r0 = image.ptr<float>(y0) + x0;
+  const float* r1 = image.ptr<float>(y0 + 1) + x0;
+  const double top = r0[0] + fx * (r0[1] - r0[0]);
+  const double bottom = r1[0] + fx * (r1[1] - r1[0]);
+  return top + fy * (bottom - top);
+}
 
 Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
@@ -80,8 +93,8 @@ Se3PoseRefiner::Se3PoseRefiner(const cv::Mat& working_template, double width_m, 
   }
 }
 
-void Se3PoseRefiner::select_samples(const cv::Mat& gray, const cv::Mat& magnitude, double mx, double my, double bx,
-                                    double by, int border, std::vector<float>& strengths, std::vector<Sample>& out) const {
+void Se3PoseRefiner::select_samples(const cv::Mat& gray, const cv::Mat& magnitude, const cv::Mat& laplacian, double mx,
+                                    double my, double bx, double by, int border, std::vector<float>& strengths, std::vector<Sample>& out) const {
   const int quota = std::max(1, settings_.max_samples / (kCells * kCells));
   out.clear();
   for (int cy = 0; cy < kCells; ++cy) {
@@ -104,7 +117,8 @@ void Se3PoseRefiner::select_samples(const cv::Mat& gray, const cv::Mat& magnitud
         for (int x = x0; x < x1 && taken < quota; ++x) {
           if (magnitude.at<float>(y, x) < threshold) continue;
           out.push_back({static_cast<float>(x * mx + bx), static_cast<float>(y * my + by),
-                         static_cast<float>(gray.at<uchar>(y, x)), static_cast<float>(x), static_cast<float>(y)});
+                         static_cast<float>(gray.at<uchar>(y, x)), static_cast<float>(x), static_cast<float>(y),
+                         laplacian.at<float>(y, x)});
           ++taken;
         }
       }
@@ -119,22 +133,25 @@ void Se3PoseRefiner::add_level(const cv::Mat& level, int k) {
   cv::Sobel(gray, gx, CV_32F, 1, 0, 3);
   cv::Sobel(gray, gy, CV_32F, 0, 1, 3);
   cv::magnitude(gx, gy, magnitude);
+  cv::Mat laplacian;
+  cv::Laplacian(gray, laplacian, CV_32F, 1);
   // Level-k pixel i is centred on working pixel i * 2^k (cv::pyrDown keeps every other pixel).
   const double step = std::ldexp(1.0, k);
   const double mx = width_m_ / template_size_.width, my = height_m_ / template_size_.height;
   std::vector<Sample> samples;
   std::vector<float> strengths;
-  select_samples(gray, magnitude, step * mx, step * my, 0.5 * mx - 0.5 * width_m_, 0.5 * my - 0.5 * height_m_,
+  select_samples(gray, magnitude, laplacian, step * mx, step * my, 0.5 * mx - 0.5 * width_m_, 0.5 * my - 0.5 * height_m_,
                  kBorderPx, strengths, samples);
   if (static_cast<int>(samples.size()) < kMinSamples) return;  // coarser levels have even less
   if (static_cast<int>(levels_.size()) == k) {
     levels_.push_back(std::move(samples));
     level_images_.push_back(gray.clone());
+    level_laplacians_.push_back(laplacian);
   }
 }
 
 void Se3PoseRefiner::blur_samples(const View& view, const Eigen::Isometry3d& T, const Eigen::Vector2d& blur_px,
-                                  std::vector<float>& out) const {
+                                  std::vector<float>& out, std::vector<float>& out_laplacian) const {
   const std::vector<Sample>& samples = *view.samples;
   const cv::Mat& image = *view.image;
   // Image px per view px at the panel's centre: the projection's Jacobian times metres per view px.
@@ -149,15 +166,20 @@ void Se3PoseRefiner::blur_samples(const View& view, const Eigen::Isometry3d& T, 
   const Eigen::Vector2d delta = J.inverse() * blur_px;  // the blur in view px
   const int taps = std::clamp(static_cast<int>(std::ceil(delta.norm())) + 1, 2, 16);
   const double x_max = image.cols - 1.001, y_max = image.rows - 1.001;
+  const bool with_laplacian = settings_.estimate_blur;
   out.resize(samples.size());
+  out_laplacian.resize(with_laplacian ? samples.size() : 0);
   for (std::size_t i = 0; i < samples.size(); ++i) {
-    double sum = 0;
+    double sum = 0, sum_laplacian = 0;
     for (int k = 0; k < taps; ++k) {
       const double f = -0.5 + static_cast<double>(k) / (taps - 1);
-      sum += bilinear_grey(image, std::clamp(samples[i].lx + f * delta.x(), 0.0, x_max),
-                           std::clamp(samples[i].ly + f * delta.y(), 0.0, y_max));
+      const double x = std::clamp(samples[i].lx + f * delta.x(), 0.0, x_max);
+      const double y = std::clamp(samples[i].ly + f * delta.y(), 0.0, y_max);
+      sum += bilinear_grey(image, x, y);
+      if (with_laplacian) sum_laplacian += bilinear_float(*view.laplacian, x, y);
     }
     out[i] = static_cast<float>(sum / taps);
+    if (with_laplacian) out_laplacian[i] = static_cast<float>(sum_laplacian / taps);
   }
 }
 
@@ -165,7 +187,7 @@ Se3PoseRefiner::View Se3PoseRefiner::view_for(const Eigen::Isometry3d& T) const 
   const auto level_view = [&](int level) {
     const double step = std::ldexp(1.0, level);
     return View{&levels_[static_cast<std::size_t>(level)], &level_images_[static_cast<std::size_t>(level)],
-                step * width_m_ / template_size_.width, step * height_m_ / template_size_.height};
+                &level_laplacians_[static_cast<std::size_t>(level)], step * width_m_ / template_size_.width, step * height_m_ / template_size_.height};
   };
   if (!settings_.resample_to_frame) return level_view(level_for(T));
   // The panel's apparent size: frame px per metre along its x and y at its centre, times its size.
@@ -192,6 +214,7 @@ Se3PoseRefiner::View Se3PoseRefiner::view_for(const Eigen::Isometry3d& T) const 
       r.gx.resize(capacity);
       r.gy.resize(capacity);
       r.magnitude.resize(capacity);
+      r.laplacian.resize(capacity);
       r.strengths.reserve(capacity);
       r.samples.reserve(static_cast<std::size_t>(settings_.max_samples) + kCells * kCells);
     }
@@ -215,8 +238,10 @@ Se3PoseRefiner::View Se3PoseRefiner::view_for(const Eigen::Isometry3d& T) const 
     cv::Sobel(smoothed, gx, CV_32F, 1, 0, 3);
     cv::Sobel(smoothed, gy, CV_32F, 0, 1, 3);
     cv::magnitude(gx, gy, magnitude);
+    cv::Mat laplacian(size, CV_32FC1, r.laplacian.data());
+    cv::Laplacian(smoothed, laplacian, CV_32F, 1);
     const double mx = width_m_ / size.width, my = height_m_ / size.height;
-    select_samples(smoothed, magnitude, mx, my, 0.5 * mx - 0.5 * width_m_, 0.5 * my - 0.5 * height_m_, kBorderPx,
+    select_samples(smoothed, magnitude, laplacian, mx, my, 0.5 * mx - 0.5 * width_m_, 0.5 * my - 0.5 * height_m_, kBorderPx,
                    r.strengths, r.samples);
     r.size = static_cast<int>(r.samples.size()) >= kMinSamples ? size : cv::Size();
     r.target_w = target_w;
@@ -225,7 +250,8 @@ Se3PoseRefiner::View Se3PoseRefiner::view_for(const Eigen::Isometry3d& T) const 
   }
   if (r.size.area() == 0) return level_view(level_for(T));  // too little texture at that size
   r.image = cv::Mat(r.size, CV_8UC1, r.smoothed.data());     // a header (also right in a copy of this refiner)
-  return View{&r.samples, &r.image, width_m_ / r.size.width, height_m_ / r.size.height};
+  r.laplacian_image = cv::Mat(r.size, CV_32FC1, r.laplacian.data());
+  return View{&r.samples, &r.image, &r.laplacian_image, width_m_ / r.size.width, height_m_ / r.size.height};
 }
 
 int Se3PoseRefiner::level_for(const Eigen::Isometry3d& T) const {
@@ -239,7 +265,7 @@ int Se3PoseRefiner::level_for(const Eigen::Isometry3d& T) const {
   S << mx, 0, 0.5 * mx - 0.5 * width_m_, 0, my, 0.5 * my - 0.5 * height_m_, 0, 0, 1;
   Eigen::Matrix3d P;
   P << R.col(0), R.col(1), t;
-  const Eigen::Matrix3d H = K * P * S;
+  Eigen::Matrix3d H = K * P * S;
   cv::Matx33d Hc;
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) Hc(i, j) = H(i, j);
@@ -285,7 +311,7 @@ void Se3PoseRefiner::smooth(const cv::Mat& undistorted, std::initializer_list<Ei
 }
 
 Se3PoseRefiner::Normal Se3PoseRefiner::accumulate(const std::vector<Sample>& samples, const float* values,
-                                                  const SmoothedFrame& frame, const Eigen::Isometry3d& T,
+                                                  const float* laplacians, const SmoothedFrame& frame, const Eigen::Isometry3d& T,
                                                   const Appearance& a) const {
   Normal n;
   const cv::Mat& image = frame.image;
@@ -297,7 +323,9 @@ Se3PoseRefiner::Normal Se3PoseRefiner::accumulate(const std::vector<Sample>& sam
   const double sx = 2.0 / width_m_, sy = 2.0 / height_m_;  // panel coordinates in [-1, 1]
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const Sample& s = samples[i];
-    const double template_grey = values != nullptr ? values[i] : s.t;
+    const double sharp_grey = values != nullptr ? values[i] : s.t;
+    const double laplacian = laplacians != nullptr ? laplacians[i] : s.laplacian;
+    const double template_grey = sharp_grey + a.blur * laplacian;
     const Eigen::Vector3d P = s.X * r1 + s.Y * r2 + t;
     if (!(P.z() > 1e-3)) continue;
     const double iz = 1.0 / P.z();
@@ -315,13 +343,16 @@ Se3PoseRefiner::Normal Se3PoseRefiner::accumulate(const std::vector<Sample>& sam
     J[7] = -template_grey * x;
     J[8] = -template_grey * y;
     J[9] = -1.0;
-    const double residual = value - (a.gain + a.gain_x * x + a.gain_y * y) * template_grey - a.bias;
+    const double gain = a.gain + a.gain_x * x + a.gain_y * y;
+    J[kBlurParam] = settings_.estimate_blur ? -gain * laplacian : 0.0;
+    const double residual = value - gain * template_grey - a.bias;
     n.JtJ.selfadjointView<Eigen::Lower>().rankUpdate(J);
     n.Jtr += J * residual;
     n.ssr += residual * residual;
     ++n.valid;
   }
   n.JtJ.triangularView<Eigen::StrictlyUpper>() = n.JtJ.transpose();
+  if (!settings_.estimate_blur) n.JtJ(kBlurParam, kBlurParam) = 1.0;  // the blur stays 0
   return n;
 }
 
@@ -354,9 +385,11 @@ Se3Refinement Se3PoseRefiner::refine(const SmoothedFrame& frame, const Eigen::Is
   const std::vector<Sample>& samples = *view.samples;
   last_template_size_ = view.image->size();
   const float* values = nullptr;
+  const float* laplacians = nullptr;
   if (blur_px.allFinite() && blur_px.norm() >= 0.5) {
-    blur_samples(view, T_start, blur_px, frame.blurred_template);
+    blur_samples(view, T_start, blur_px, frame.blurred_template, frame.blurred_laplacian);
     values = frame.blurred_template.data();
+    if (settings_.estimate_blur) laplacians = frame.blurred_laplacian.data();
   }
   const int needed = std::max(kMinSamples, static_cast<int>(samples.size()) / 2);
   const std::array<Eigen::Vector3d, 4> corners{Eigen::Vector3d(-0.5 * width_m_, -0.5 * height_m_, 0),
@@ -376,7 +409,7 @@ Se3Refinement Se3PoseRefiner::refine(const SmoothedFrame& frame, const Eigen::Is
   Appearance appearance;
   Normal n, n_previous;
   for (int it = 0; it < settings_.max_iterations; ++it) {
-    n = accumulate(samples, values, frame, T, appearance);
+    n = accumulate(samples, values, laplacians, frame, T, appearance);
     ++out.iterations;
     if (n.valid < needed) {
       out.failure = "too little of the panel in view";
@@ -404,6 +437,7 @@ Se3Refinement Se3PoseRefiner::refine(const SmoothedFrame& frame, const Eigen::Is
     appearance.gain_x += delta[7];
     appearance.gain_y += delta[8];
     appearance.bias += delta[9];
+    appearance.blur += delta[kBlurParam];
     if (max_corner_shift(T, T_previous) < settings_.convergence_px) break;
   }
   if (!(appearance.gain > 1e-3) || !T.matrix().allFinite()) {
@@ -433,9 +467,16 @@ Se3Refinement Se3PoseRefiner::refine(const SmoothedFrame& frame, const Eigen::Is
   out.rotation_sigma_rad = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov_r).eigenvalues().maxCoeff()));
   out.position_sigma_m = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov_t).eigenvalues().maxCoeff()));
   out.residual_grey = std::sqrt(n.ssr / std::max(1, n.valid));
+  {
+    // Frame px per template-view px at the panel's centre (mean of the two directions).
+    const double z = std::max(1e-3, T.translation().z());
+    const double scale = 0.5 * (fx_ * view.mx + fy_ * view.my) / z;
+    out.blur_variance_px2 = 2.0 * appearance.blur * scale * scale;
+  }
   out.T_cam_object = T;
   out.refined = true;
   return out;
 }
 
 }  // namespace labo
+

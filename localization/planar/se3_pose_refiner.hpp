@@ -23,6 +23,9 @@
 // it cannot see. On the SmoothedFrame path LaboDrone allocates nothing per call once the buffers
 // have the frame's size (OpenCV's Gaussian filter keeps its own small row buffers).
 //
+// Blur: a Laplacian term in the appearance model absorbs the remaining difference between the
+// frame's blur and the level's (Se3RefinerSettings::estimate_blur).
+//
 // Smoothing: the frame and the template are resampled differently (the camera or renderer integrates
 // over pixels and mip levels, the template pyramid is cv::pyrDown's 5-tap Gaussian), and at 2-3 m, where
 // 0.01 px on a corner is 0.25 deg of tilt, that mismatch dominated the error: on the simulated lab's
@@ -52,6 +55,14 @@ struct Se3RefinerSettings {
   // apparent size (the tracker's rule). Config: planar.se3_template_resolution "frame" | "pyramid".
   // Not the default: better on the simulated lab's renderer, worse on this module's (docs/planar.md).
   bool resample_to_frame = false;
+  // true: the fit also estimates how much blurrier (or sharper) the frame is than the template level,
+  // as a multiple of the level's Laplacian (template * Gaussian of variance v = template + v/2 Laplacian
+  // to first order), one more linear parameter beside gain and bias. Why: the camera's (or renderer's)
+  // blur differs from the level's and changes with the range (the level is up to 0.3 octave coarser or
+  // 0.7 finer than the panel's image); with the blur fixed the fit bends the panel's shape to absorb
+  // the difference, and face-on at 2-3 m a shape change is a tilt of degrees. Config:
+  // planar.se3_estimate_blur (default true; docs/planar.md, "the frame's blur estimated").
+  bool estimate_blur = true;
 };
 
 struct Se3Refinement {
@@ -62,6 +73,7 @@ struct Se3Refinement {
   double rotation_sigma_rad = 0;  // 1-sigma along the worst-determined rotation axis
   double position_sigma_m = 0;    // 1-sigma along the worst-determined direction of T_cam_object's translation
   double residual_grey = 0;       // RMS residual after gain and bias
+  double blur_variance_px2 = 0;   // estimate_blur: the frame's extra blur, Gaussian variance in frame px^2
   int iterations = 0;
   const char* failure = "";
 };
@@ -79,6 +91,7 @@ class Se3PoseRefiner {
     cv::Mat image;    // CV_8UC1, frame size; only `valid` is meaningful
     cv::Rect valid;   // the region smoothed (the whole frame when smoothing is off)
     mutable std::vector<float> blurred_template;  // scratch: the template samples blurred like the frame
+    mutable std::vector<float> blurred_laplacian;  // scratch: their Laplacians blurred the same way
   };
   // Smooths the region the panel covers at any of `poses` (plus the refinement's reach) into `out`;
   // reuses out's frame-sized buffer. `undistorted` is CV_8UC1.
@@ -106,12 +119,14 @@ class Se3PoseRefiner {
     float X, Y;    // object frame, metres (Z = 0)
     float t;       // template grey level
     float lx, ly;  // position in its level's image, px
+    float laplacian;  // of the (smoothed) level image at the sample, grey levels per px^2
   };
   struct Normal;
   // Grey level = (gain + gain_x x + gain_y y) template + bias, x and y across the panel in [-1, 1]:
   // brightness, contrast and a light gradient over the panel.
   struct Appearance {
     double gain = 1, gain_x = 0, gain_y = 0, bias = 0;
+    double blur = 0;  // half the frame's extra blur variance, template-view px^2 (estimate_blur)
   };
 
   // A template image the fit reads: its samples, the (smoothed) image they come from, metres per
@@ -119,6 +134,7 @@ class Se3PoseRefiner {
   struct View {
     const std::vector<Sample>* samples = nullptr;
     const cv::Mat* image = nullptr;
+    const cv::Mat* laplacian = nullptr;  // CV_32FC1, of `image`
     double mx = 0, my = 0;
   };
   // The template resampled for the frame, rebuilt when the panel's apparent size changes by more than
@@ -128,27 +144,30 @@ class Se3PoseRefiner {
     double target_w = 0, target_h = 0;
     std::vector<Sample> samples;
     std::vector<uchar> area, smoothed;
-    std::vector<float> gx, gy, magnitude, strengths;
-    cv::Mat image;
+    std::vector<float> gx, gy, magnitude, strengths, laplacian;
+    cv::Mat image, laplacian_image;
     int builds = 0;
   };
   void add_level(const cv::Mat& gray, int level);
   // The strongest gradients of each cell of `gray` (smoothed); pixel (x, y) is at object (x mx + bx, y my + by).
-  void select_samples(const cv::Mat& gray, const cv::Mat& magnitude, double mx, double my, double bx, double by,
-                      int border, std::vector<float>& strengths, std::vector<Sample>& out) const;
+  void select_samples(const cv::Mat& gray, const cv::Mat& magnitude, const cv::Mat& laplacian, double mx, double my,
+                      double bx, double by, int border, std::vector<float>& strengths, std::vector<Sample>& out) const;
   int level_for(const Eigen::Isometry3d& T) const;
   // The template to fit at pose T: resampled for the frame, or a pyramid level.
   View view_for(const Eigen::Isometry3d& T) const;
-  // `values`: the samples' template grey levels to fit (blurred), or null for their own.
-  Normal accumulate(const std::vector<Sample>& samples, const float* values, const SmoothedFrame& frame,
+  // `values` / `laplacians`: the samples' template grey levels and Laplacians to fit (blurred), or null
+  // for their own.
+  Normal accumulate(const std::vector<Sample>& samples, const float* values, const float* laplacians,
+                    const SmoothedFrame& frame,
                     const Eigen::Isometry3d& T, const Appearance& appearance) const;
   // The view's samples averaged along the blur (image px mapped into the view at the panel's centre).
   void blur_samples(const View& view, const Eigen::Isometry3d& T, const Eigen::Vector2d& blur_px,
-                    std::vector<float>& out) const;
+                    std::vector<float>& out, std::vector<float>& out_laplacian) const;
 
   cv::Mat working_;
   std::vector<std::vector<Sample>> levels_;
   std::vector<cv::Mat> level_images_;  // the levels as sampled (smoothed), for blurring the samples
+  std::vector<cv::Mat> level_laplacians_;  // their Laplacians (CV_32FC1)
   mutable Resampled resampled_;
   mutable cv::Size last_template_size_;
   cv::Size template_size_;

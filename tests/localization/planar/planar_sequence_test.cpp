@@ -86,14 +86,15 @@ TEST_CASE("planar: the mirror of the refined pose finds the other minimum both I
   CHECK(binned);
 }
 
-// With `se3_template_resolution: frame` the refinement fits, at range, the template resampled to 1.3x
-// the panel's apparent size and blurred like the frame, instead of the 160 / 80 px pyramid level (0.6-0.9
-// or 1.1-1.3 frame px per template px): the lab's 2-3 m error 1.28 / 3.17 deg (median / p95) with the
-// pyramid, 0.83 / 2.25 with it (target <= 1 deg). Not the default: worse on the synthetic renderer's
-// sequences at 2-3 m (docs/planar.md).
-TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree with the template at the frame's resolution") {
+// The SE(3) refinement estimates the frame's blur relative to the template level (`se3_estimate_blur`,
+// the default): the lab's 2-3 m error 0.91 / 2.91 deg (median / p95; target <= 1 deg), against 1.28 /
+// 3.14 with the blur fixed at the level's. With `se3_template_resolution: frame` (the template resampled
+// to 1.3x the panel's apparent size) and the blur fixed it was 0.83 / 2.25; with the blur estimated the
+// frame option gives 1.11 / 2.49, so the pyramid level stays the default (docs/planar.md).
+TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree with the frame's blur estimated") {
   PlanarConfig config;
-  config.se3_template_at_frame_resolution = true;
+  REQUIRE(config.se3_estimate_blur);
+  REQUIRE_FALSE(config.se3_template_at_frame_resolution);
   const SequenceBenchResult result =
       run_sequence_bench(config, VisionThresholds{}, "lab_renderer", {TrackerKind::InverseCompositional});
   bool binned = false;
@@ -101,7 +102,7 @@ TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree with the t
     if (bin.min_m != 2.0) continue;
     binned = true;
     CHECK(bin.median_error_deg < 1.0);
-    CHECK(bin.p95_error_deg < 2.6);
+    CHECK(bin.p95_error_deg < 3.1);
   }
   CHECK(binned);
 }

@@ -185,3 +185,42 @@ TEST_CASE("planar: at range the SE(3) refinement can fit the template resampled 
   CHECK((scene.refiner.last_template_size().width == 160 || scene.refiner.last_template_size().width == 80));
   CHECK(scene.refiner.resample_builds() == 0);
 }
+
+// The frame blurrier (or sharper) than the template level: the fit estimates the difference as a
+// multiple of the template's Laplacian (template * Gaussian of variance v = template + v/2 Laplacian
+// to first order) instead of reading it as a change of the panel's shape, i.e. a tilt.
+TEST_CASE("planar: the SE(3) refinement estimates the frame's blur relative to the template") {
+  const Scene scene;
+  Se3RefinerSettings fixed_settings;
+  fixed_settings.estimate_blur = false;
+  const Se3PoseRefiner fixed{scene.panel, kW, kH, scene.camera.K(), fixed_settings};
+  REQUIRE(Se3RefinerSettings{}.estimate_blur);  // the default
+  // 2.3 m: the 160 px level is finer than the panel's ~112 px image, so the frame is blurrier than it;
+  // with the blur fixed the fit tilts the panel by more than a degree.
+  const Eigen::Isometry3d near = look_at_object(Eigen::Vector3d(0.05, 0.03, -2.3), Eigen::Vector3d::Zero(), 0.02);
+  const cv::Mat near_frame = scene.view(near);
+  for (const double start_deg : {-2.0, 2.0}) {
+    const Eigen::Isometry3d start = tilted(near, start_deg * kDeg);
+    const Se3Refinement estimated = scene.refiner.refine(near_frame, start), kept = fixed.refine(near_frame, start);
+    REQUIRE(estimated.refined);
+    REQUIRE(kept.refined);
+    CHECK(rotation_angle(estimated.T_cam_object.linear(), near.linear()) < 0.5 * kDeg);
+    CHECK(rotation_angle(kept.T_cam_object.linear(), near.linear()) > 1.0 * kDeg);
+    CHECK(estimated.blur_variance_px2 > 0.15);
+    CHECK(kept.blur_variance_px2 == 0.0);
+  }
+  // 2.5-2.7 m through a softer lens (an extra Gaussian of sigma 0.7 px): the estimate grows by its
+  // variance, and the tilt stays within 0.6 deg.
+  for (const double d : {2.5, 2.7}) {
+    const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.05, 0.03, -d), Eigen::Vector3d::Zero(), 0.02);
+    const cv::Mat frame = scene.view(truth);
+    cv::Mat soft;
+    cv::GaussianBlur(frame, soft, cv::Size(0, 0), 0.7);
+    const Eigen::Isometry3d start = tilted(truth, 2.0 * kDeg);
+    const Se3Refinement sharp = scene.refiner.refine(frame, start), blurred = scene.refiner.refine(soft, start);
+    REQUIRE(sharp.refined);
+    REQUIRE(blurred.refined);
+    CHECK(blurred.blur_variance_px2 - sharp.blur_variance_px2 == Approx(0.49).margin(0.15));
+    CHECK(rotation_angle(blurred.T_cam_object.linear(), truth.linear()) < 0.6 * kDeg);
+  }
+}
