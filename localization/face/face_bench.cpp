@@ -339,6 +339,10 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
       sequences.push_back(std::move(q));
     }
   }
+  if (!options.only_sequence.empty() &&
+      std::none_of(sequences.begin(), sequences.end(), [&](const HeadPoseSequence& q) { return q.name == options.only_sequence; })) {
+    throw std::runtime_error("face bench: no sequence named '" + options.only_sequence + "'");
+  }
   std::ofstream csv, landmark_csv, pose_csv;
   if (!options.frames_csv.empty()) {
     csv.open(options.frames_csv);
@@ -365,6 +369,7 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
   if (csv.is_open()) write_model_csv(options.frames_csv.string() + ".model.csv", estimator, person_points, true_landmarks);
   for (std::size_t s = 0; s < sequences.size(); ++s) {
     const HeadPoseSequence& seq = sequences[s];
+    if (!options.only_sequence.empty() && seq.name != options.only_sequence) continue;
     const cv::Mat background = make_background(camera, options.seed + static_cast<unsigned>(s));
     FrameDegrader degrader(options, camera, options.seed * 7919u + static_cast<unsigned>(s));
     estimator.reset();

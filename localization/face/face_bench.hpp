@@ -39,6 +39,9 @@ struct FaceBenchOptions {
   std::filesystem::path lab;  // lab description (config/lab.json)
   CamerasConfig cameras;      // the lab renderer's cameras (front: the benchmark's camera)
   std::filesystem::path frames_csv;  // when set, per-frame truth and LM-tracking errors (analysis)
+  // When set, only the sequence of that name runs (the others are drawn but neither rendered nor
+  // tracked; each sequence starts a new track, so its figures are those it has in the whole run).
+  std::string only_sequence;
 };
 
 struct MethodErrors {

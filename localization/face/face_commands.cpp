@@ -158,6 +158,7 @@ const CommandSpec& face_bench_command_spec() {
        {"--turn-frames", "N", "refine the registered landmarks' depth from N frames of the head turning (default 0: off)"},
        {"--turn-yaw-deg", "DEG", "how far the head turns left and right in those frames (default 25)"},
        {"--turn-pitch-deg", "DEG", "how far it nods up and down (default 15)"},
+       {"--sequence", "NAME", "run only the sequence of that name (e.g. free_5_138cm, lab_guided_0_50cm)"},
        {"--json", "", "print the report as JSON"}},
       0,
       0};
@@ -180,6 +181,7 @@ int run_face_bench_command(const ParsedArgs& args) {
   o.turn_yaw_deg = args.number_or("--turn-yaw-deg", 25, 0, 60);
   o.turn_pitch_deg = args.number_or("--turn-pitch-deg", 15, 0, 45);
   o.frames_csv = args.value_or("--frames-csv", "");
+  o.only_sequence = args.value_or("--sequence", "");
   o.lab_sequences = args.integer_or("--lab-sequences", 4, 0, 1000);
   o.lab = args.value_or("--lab", (labo::source_root() / "config" / "lab.json").string());
   o.cameras = setup.cameras;

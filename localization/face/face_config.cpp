@@ -77,6 +77,7 @@ FaceConfig read_face_config(const ConfigReader& node, const std::filesystem::pat
     L.max_rms_per_interocular = l.number_or("max_rms_per_interocular", L.max_rms_per_interocular, Range::positive());
     L.max_yaw_rad = l.number_or("max_yaw_deg", 70.0, Range::closed(10, 90)) * kDeg;
     L.max_pitch_rad = l.number_or("max_pitch_deg", 50.0, Range::closed(10, 90)) * kDeg;
+    L.max_start_yaw_rad = l.number_or("max_start_yaw_deg", L.max_start_yaw_rad / kDeg, Range::closed(5, 90)) * kDeg;
     L.min_distance_m = l.number_or("min_distance_m", L.min_distance_m, Range::positive());
     L.max_distance_m = l.number_or("max_distance_m", L.max_distance_m, Range::positive());
     L.border_margin_px = l.number_or("border_margin_px", L.border_margin_px, Range::non_negative());

@@ -56,6 +56,7 @@ std::string_view to_string(FaceLostReason reason) {
     case FaceLostReason::ImplausibleDistance: return "implausible distance";
     case FaceLostReason::ImplausibleMotion: return "implausible motion between frames";
     case FaceLostReason::NotConfirmed: return "detector no longer confirms the tracked face";
+    case FaceLostReason::TurnedAtStart: return "head too turned to start a track";
   }
   return "unknown";
 }
@@ -409,6 +410,14 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
     return lose(result, FaceLostReason::BeyondProfile);
   }
   if (!plausible_distance(s)) return lose(result, FaceLostReason::ImplausibleDistance);
+  // A track's first pose has no earlier pose to make the frontal view from, and at a large yaw the
+  // view made at its own provisional pose still carries the predictor's pull towards a frontal face
+  // (seen less turned and farther: +50 to +100 mm at 44° and 1.3 m, docs/face.md). Every later frame's
+  // view starts from it and the error decays only as the head turns back, so wait for a less turned
+  // face to start from.
+  if (!last_pose_ && std::abs(result.angles.yaw) > L.max_start_yaw_rad) {
+    return lose(result, FaceLostReason::TurnedAtStart);
+  }
 
   const double spread = centroid_and_spread(lm).second;
   if (last_pose_ && last_landmarks_) {

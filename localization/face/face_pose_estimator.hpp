@@ -35,6 +35,7 @@ enum class FaceLostReason {
   ImplausibleDistance,  // outside [min, max] distance
   ImplausibleMotion,    // the face jumped or changed size between frames: the landmarks slid off it
   NotConfirmed,         // the detector no longer finds the face the landmarks follow
+  TurnedAtStart,        // a new track's first face turned beyond max_start_yaw: its pose is biased
 };
 std::string_view to_string(FaceState state);
 std::string_view to_string(FaceLostReason reason);

@@ -87,9 +87,10 @@ TEST_CASE("face: config and person files are validated") {
     CHECK_THROWS_WITH(read_face_config(d.root(), "."), Catch::Contains(key));
   }
   const auto good = ConfigDocument::parse(R"({"pnp_method": "epnp_lm", "interpupillary_distance_mm": 60,
-      "limits": {"max_yaw_deg": 60}})", "test.json");
+      "limits": {"max_yaw_deg": 60, "max_start_yaw_deg": 35}})", "test.json");
   const FaceConfig c = read_face_config(good.root(), ".");
   CHECK(c.solver.method == PnpMethod::EpnpLm);
+  CHECK(c.limits.max_start_yaw_rad == Approx(35 * kDeg));
   CHECK(c.interpupillary_distance_m == Approx(0.060));
 
   const ScratchDir scratch("face_people");
@@ -239,6 +240,7 @@ TEST_CASE("face: a frontal view of a turned head removes the predictor's pull to
   for (const bool frontal : {false, true}) {
     FaceConfig config = default_face_config();
     config.frontal_view = frontal;
+    config.limits.max_start_yaw_rad = 90 * kDeg;  // the track starts at 40°
     RenderedHeadFixture f(config);
     FaceResult r;
     for (int i = 0; i < 6; ++i) r = f.estimator.process(f.render({truth}), i / 30.0);
@@ -261,6 +263,7 @@ TEST_CASE("face: the first frame of a track is posed on the frontal view too") {
   for (const bool frontal : {false, true}) {
     FaceConfig config = default_face_config();
     config.frontal_view = frontal;
+    config.limits.max_start_yaw_rad = 90 * kDeg;  // the track starts at 40°
     RenderedHeadFixture f(config);
     // The full-frame search cycles its scales while nothing is tracked: the first tracked frame.
     FaceResult r;
@@ -272,6 +275,40 @@ TEST_CASE("face: the first frame of a track is posed on the frontal view too") {
   CHECK(yaw_error_deg[0] > 3.0);
   CHECK(yaw_error_deg[1] < 2.0);
   CHECK(distance_error_m[1] < distance_error_m[0]);
+}
+
+TEST_CASE("face: a track starts only on a face turned less than max_start_yaw, then follows it further") {
+  // A track's first pose is biased at a large yaw (seen less turned and farther) and, under the
+  // relative-motion protocol, its error is carried through the track: the estimator waits for a less
+  // turned face to start from, and a started track keeps following the head as it turns further.
+  RenderedHeadFixture f;
+  REQUIRE(f.config.limits.max_start_yaw_rad == Approx(30 * kDeg).epsilon(0.01));
+  const Eigen::Vector3d at(0.02, -0.02, 1.0);
+  double t = 0;
+  int refused = 0;
+  for (int i = 0; i < 4; ++i, t += 1 / 30.0) {
+    const FaceResult r = f.estimator.process(f.render({pose(44, 0, 0, at)}), t);
+    CHECK_FALSE(r.tracking());
+    refused += r.reason == FaceLostReason::TurnedAtStart;
+  }
+  CHECK(refused >= 1);  // the others: the full-frame search's scales that miss the face
+  FaceResult r;
+  for (int i = 0; i < 3 && !r.tracking(); ++i, t += 1 / 30.0) r = f.estimator.process(f.render({pose(20, 0, 0, at)}), t);
+  REQUIRE(r.tracking());
+  for (const double yaw : {26.0, 32.0, 38.0, 44.0}) {
+    r = f.estimator.process(f.render({pose(yaw, 0, 0, at)}), t);
+    t += 1 / 30.0;
+    REQUIRE(r.tracking());
+  }
+  CHECK(std::abs(r.angles.yaw / kDeg - 44.0) < 5.0);
+
+  // Without the limit the same turned face starts a track at once.
+  FaceConfig unlimited = default_face_config();
+  unlimited.limits.max_start_yaw_rad = 90 * kDeg;
+  RenderedHeadFixture g(unlimited);
+  FaceResult first;
+  for (int i = 0; i < 3 && !first.tracking(); ++i) first = g.estimator.process(g.render({pose(44, 0, 0, at)}), i / 30.0);
+  CHECK(first.tracking());
 }
 
 TEST_CASE("face: the registered points are where tracking's frontal-view landmarks lie") {
