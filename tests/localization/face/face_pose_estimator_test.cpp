@@ -281,8 +281,9 @@ TEST_CASE("face: a track starts only on a face turned less than max_start_yaw, t
   // A track's first pose is biased at a large yaw (seen less turned and farther) and, under the
   // relative-motion protocol, its error is carried through the track: the estimator waits for a less
   // turned face to start from, and a started track keeps following the head as it turns further.
-  RenderedHeadFixture f;
-  REQUIRE(f.config.limits.max_start_yaw_rad == Approx(30 * kDeg).epsilon(0.01));
+  FaceConfig limited = default_face_config();
+  limited.limits.max_start_yaw_rad = 30 * kDeg;  // off by default (control's search needs turned starts)
+  RenderedHeadFixture f{limited};
   const Eigen::Vector3d at(0.02, -0.02, 1.0);
   double t = 0;
   int refused = 0;
@@ -302,9 +303,9 @@ TEST_CASE("face: a track starts only on a face turned less than max_start_yaw, t
   }
   CHECK(std::abs(r.angles.yaw / kDeg - 44.0) < 5.0);
 
-  // Without the limit the same turned face starts a track at once.
-  FaceConfig unlimited = default_face_config();
-  unlimited.limits.max_start_yaw_rad = 90 * kDeg;
+  // Without the limit (the shipped default) the same turned face starts a track at once.
+  const FaceConfig unlimited = default_face_config();
+  REQUIRE(unlimited.limits.max_start_yaw_rad >= 89 * kDeg);
   RenderedHeadFixture g(unlimited);
   FaceResult first;
   for (int i = 0; i < 3 && !first.tracking(); ++i) first = g.estimator.process(g.render({pose(44, 0, 0, at)}), i / 30.0);
