@@ -82,7 +82,8 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
     setup.estimation.control_delay_s = 0;
     setup.lab = model_lab();
     if (options.model_route) {
-      const LabDescription lab = load_lab_file(options.config, root);
+      LabDescription lab = load_lab_file(options.config, root);
+      if (options.teacher_speed_mps) lab.teacher.speed_mps = *options.teacher_speed_mps;
       setup.lab = lab_geometry_from(lab);
       e.model_route = lab.teacher;
     }
@@ -91,6 +92,7 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   // SimDroneLink has the link's delays: the estimator keeps the configured ones.
   const std::filesystem::path base_dir = options.config.parent_path();
   e.lab = load_lab_file(options.config, root);
+  if (options.teacher_speed_mps) e.lab->teacher.speed_mps = *options.teacher_speed_mps;
   setup.lab = lab_geometry_from(*e.lab);
   if (root.has("cameras")) setup.cameras = read_cameras_config(root.object("cameras"));
   FrontEndSettings front_ends = read_front_end_settings(root, base_dir);

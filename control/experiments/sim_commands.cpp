@@ -340,9 +340,13 @@ int run_sim_perturb_command(const ParsedArgs& args) {
 
 const CommandSpec& sim_face_follow_command_spec() {
   static const CommandSpec spec = [] {
-    CommandSpec s{"sim face-follow", "", "find the teacher and follow the face while they walk at 0.5 m/s (paper 6.4)",
+    CommandSpec s{"sim face-follow", "",
+                  "find the teacher and follow the face while they walk at 0.5 m/s (paper 6.4; the issue's target speed)",
                   experiment_option_specs()};
     s.options.push_back({"--walk", "S", "seconds of walking measured (default 30)"});
+    s.options.push_back({"--teacher-speed", "MPS",
+                         "with --route or --vision real: the teacher walks the lab's route at this speed, replacing the lab "
+                         "file's (default 0.5; the model lab's back-and-forth is always 0.5)"});
     s.options.push_back({"--route", "",
                          "with the model vision: fly in the config's lab file, the teacher walking its route (as with --vision real)"});
     for (auto& option : real_vision_option_specs()) s.options.push_back(option);
@@ -357,6 +361,9 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
   const double walk = args.number_or("--walk", 30.0, 1.0, 600.0);
   o.model_route = args.flag("--route");
   if (o.model_route && o.real_vision) throw UsageError("--route is for the model vision (--vision real always walks the route)");
+  if (args.flag("--teacher-speed") && !o.model_route && !o.real_vision)
+    throw UsageError("--teacher-speed is for --route or --vision real (the model lab's teacher walks at 0.5 m/s)");
+  if (o.model_route || o.real_vision) o.teacher_speed_mps = args.number_or("--teacher-speed", 0.5, 0.05, 2.0);
   const Experiment experiment = make_experiment(o, true);
   const FlightStackSetup& setup = experiment.setup;
   std::vector<double> dist, centre, all_dist, all_centre, tracked_dist, tracked_centre;
