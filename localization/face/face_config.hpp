@@ -59,6 +59,15 @@ struct FaceConfig {
   // While tracking, run the predictor on a frontal view of the face made through the person's
   // CANDIDE-3 mesh at the last pose (frontal_view.hpp) instead of the upright crop.
   bool frontal_view = false;
+  // A track's first frame (no earlier pose): views made, landmarks found and the pose refitted up to
+  // this many times, each view at the last pass's pose, until the pose moves less than 2 mm and 0.2°
+  // (1: one view at the crop's pose).
+  int start_view_passes = 1;
+  // In those views, the far side of a face turned beyond this (fully 15° further) is replaced by the
+  // near side's mirror image, and its landmarks carry no weight in the pose (0: off). At a large yaw
+  // the far side is seen obliquely, stretched from few pixels and partly hidden by the nose, and the
+  // predictor's landmarks on it bias the first pose (docs/face.md, "The start of a turned face").
+  double start_mirror_yaw_rad = 0.0;
   // Registration keeps where the picture's landmarks lie on the fitted mesh (surface_landmarks.hpp).
   bool surface_landmarks = false;
   std::vector<double> lost_search_scales{0.5, 1.0, 2.0};  // cycled over frames while lost

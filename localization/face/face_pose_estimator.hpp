@@ -113,11 +113,16 @@ class FacePoseEstimator {
   void set_landmark_weights(PnpProblem& problem) const;
   void detect_landmarks(const cv::Mat& gray, const Candidate& candidate, Eigen::Matrix2Xd& lm);
   // The landmarks found on a frontal view of the face made at `T_cam_face` (moved by `shift` px);
-  // false (lm untouched) when the view is off or cannot be made for this candidate.
+  // false (lm and view_weights_ untouched) when the view is off or cannot be made for this candidate.
+  // On a track's first frame (`start`) a turned face's far side is mirrored (start_mirror_yaw) and
+  // view_weights_ set; otherwise view_weights_ is cleared.
   bool detect_in_frontal_view(const cv::Mat& gray, const Candidate& candidate, const Eigen::Isometry3d& T_cam_face,
-                              const Eigen::Vector2d& shift, Eigen::Matrix2Xd& lm);
+                              const Eigen::Vector2d& shift, Eigen::Matrix2Xd& lm, bool start = false);
+  // The frontal view with its far side (for a face turned by `yaw`) blended with the near side's
+  // mirror image, `mirror` (0-1) at most; sets view_weights_.
+  const cv::Mat& mirror_far_side(double yaw, double mirror, double view_px_per_m);
   // EPnP + LM of the person's points to `lm` (68 image landmarks), outside the tracking solver.
-  std::optional<PnpSolution> fit_pose(const Eigen::Matrix2Xd& lm) const;
+  std::optional<PnpSolution> fit_pose(const Eigen::Matrix2Xd& lm, const Eigen::VectorXd& weights = {}) const;
   bool plausible_distance(const PnpSolution& s) const;
 
   FaceConfig config_;
@@ -133,6 +138,9 @@ class FacePoseEstimator {
   std::optional<Candide3Model> candide_;  // the mesh, when the frontal view is on
   std::optional<FrontalView> frontal_;
   Eigen::Matrix2Xd view_landmarks_;       // reused buffer
+  cv::Mat flipped_, mirrored_;            // reused buffers (a track's first frame only)
+  Eigen::VectorXd view_weights_;          // per model landmark, from the last view (empty: equal)
+  Eigen::Matrix2Xd start_lm_;             // reused buffer
 
   // Track state.
   std::optional<Eigen::Matrix2Xd> last_landmarks_;
