@@ -142,8 +142,25 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, double co
   // start lay within the corner radius of the short leg's too, and the prediction took that 0.5 m
   // leg's length: real vision, seed 1, the predicted teacher stopped 0.5 m into leg A while the real
   // one walked on at the drone).
-  const std::optional<RouteLeg> leg = next_long_leg(ctx.lab.teacher, track_.position().head<2>(), corner_radius_m);
-  if (!leg) return false;
+  return predict_from_route(ctx, next_long_leg(ctx.lab.teacher, track_.position().head<2>(), corner_radius_m));
+}
+
+bool FindTeacherMission::predict_walk_along_leg(const MissionContext& ctx) {
+  // A face lost in the middle of a leg while the teacher walks it (the head's sway takes it past the
+  // detector's ~30°: real vision, teacher at 0.5 m/s, seeds 1, 2, 8, leg A, 1.1 m short of its end):
+  // by the route they walk on into its end and turn there, so the drone keeps backing off ahead of
+  // them at the route's speed and then meets them as at a corner. Holding instead, the drone was
+  // walked into (seed 1), or the track, moved by the estimate's corrections, reached the corner and
+  // was taken for a teacher standing there for an unknown time (seeds 2, 5, 8: the meeting walked
+  // the next leg at once and the drone waited at its far end, 3-4 m away).
+  if (watch_points_.empty() || !track_.walking()) return false;
+  const std::optional<std::size_t> corner = waypoint_walked_into(
+      ctx.lab.teacher, track_.position().head<2>(), track_.velocity().head<2>(), kOnLegLateralM, kSetOffMps);
+  return corner && predict_from_route(ctx, next_long_leg_from(ctx.lab.teacher, *corner));
+}
+
+bool FindTeacherMission::predict_from_route(const MissionContext& ctx, const std::optional<RouteLeg>& leg) {
+  if (watch_points_.empty() || !leg) return false;
   const Eigen::Vector2d corner = ctx.lab.teacher.waypoints[leg->corner];
   meet_centre_ = Eigen::Vector3d(0.5 * (corner.x() + leg->from.x()), 0.5 * (corner.y() + leg->from.y()), track_.position().z());
   // When they set off along it (real vision, seed 1, 2026-12-02 at a08cc03, two ways to get it wrong:
@@ -334,7 +351,7 @@ void FindTeacherMission::lost(MissionContext& ctx) {
   const Seconds lost_for = ctx.t - since_;
   const bool just_lost = fresh_;
   fresh_ = false;
-  if (just_lost && predict_from_route(ctx, kCornerRadiusM)) {
+  if (just_lost && (predict_from_route(ctx, kCornerRadiusM) || predict_walk_along_leg(ctx))) {
     // Lost at a corner of a known route: the route says where they go, at once. Coasting first along
     // the track's lagging velocity (0.2 m/s, a teacher 0.3 s into a leg walking at 0.4 m/s) kept the
     // drone closing on them for 0.5 s (real vision, seed 1: 0.41 m from the face).

@@ -53,6 +53,8 @@ class FindTeacherMission final : public Mission {
   void start_search(MissionContext& ctx);
   void plan_transit(const MissionContext& ctx, const WatchPoint& to);
   bool predict_from_route(const MissionContext& ctx, double corner_radius_m);
+  bool predict_from_route(const MissionContext& ctx, const std::optional<RouteLeg>& leg);
+  bool predict_walk_along_leg(const MissionContext& ctx);
   void place_on_meeting_leg(const MissionContext& ctx);
 
   bool walk_into_corner(MissionContext& ctx);

@@ -13,6 +13,25 @@ double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, c
   const double s = len2 > 1e-12 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
   return (a + s * ab - p).norm();
 }
+
+// Where a point lies relative to the leg into waypoint k (from k-1, looped).
+struct PlaceOnLeg {
+  Eigen::Vector2d along = Eigen::Vector2d::UnitX();
+  double length_m = 0;
+  double s_m = 0;        // along the leg from its start
+  double lateral_m = 0;  // off its line
+};
+
+std::optional<PlaceOnLeg> place_on_leg_into(const TeacherRoute& route, std::size_t k, const Eigen::Vector2d& p) {
+  const std::size_t n = route.waypoints.size();
+  if (n < 2) return std::nullopt;
+  const Eigen::Vector2d to = route.waypoints[k % n], from = route.waypoints[(k + n - 1) % n];
+  const double length = (to - from).norm();
+  if (length < 1e-9) return std::nullopt;
+  const Eigen::Vector2d along = (to - from) / length;
+  const Eigen::Vector2d rel = p - from;
+  return PlaceOnLeg{along, length, rel.dot(along), std::abs(along.x() * rel.y() - along.y() * rel.x())};
+}
 }  // namespace
 
 double distance_to_route(const Eigen::Vector2d& p, const TeacherRoute& route) {
@@ -55,6 +74,12 @@ std::optional<RouteLeg> next_long_leg(const TeacherRoute& route, const Eigen::Ve
     }
   }
   if (corner == n) return std::nullopt;
+  return next_long_leg_from(route, corner, min_leg_m);
+}
+
+std::optional<RouteLeg> next_long_leg_from(const TeacherRoute& route, std::size_t corner, double min_leg_m) {
+  const std::size_t n = route.waypoints.size();
+  if (n < 2 || corner >= n) return std::nullopt;
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t leg = (corner + i) % n;
     const Eigen::Vector2d from = route.waypoints[leg], to = route.waypoints[(leg + 1) % n];
@@ -76,16 +101,25 @@ double seconds_to_set_off(const TeacherRoute& route, const Eigen::Vector2d& teac
 
 double metres_short_of_waypoint(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy, std::size_t k,
                                 double lateral_m) {
-  const std::size_t n = route.waypoints.size();
-  if (n < 2) return -1.0;
-  const Eigen::Vector2d to = route.waypoints[k % n], from = route.waypoints[(k + n - 1) % n];
-  const double length = (to - from).norm();
-  if (length < 1e-9) return -1.0;
-  const Eigen::Vector2d along = (to - from) / length;
-  const Eigen::Vector2d rel = teacher_xy - from;
-  const double s = rel.dot(along);
-  const double lateral = std::abs(along.x() * rel.y() - along.y() * rel.x());
-  return lateral <= lateral_m && s >= 0.0 && s <= length ? length - s : -1.0;
+  const std::optional<PlaceOnLeg> on = place_on_leg_into(route, k, teacher_xy);
+  if (!on) return -1.0;
+  return on->lateral_m <= lateral_m && on->s_m >= 0.0 && on->s_m <= on->length_m ? on->length_m - on->s_m : -1.0;
+}
+
+std::optional<std::size_t> waypoint_walked_into(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy,
+                                                const Eigen::Vector2d& velocity, double lateral_m, double min_speed_mps) {
+  std::optional<std::size_t> best;
+  double best_lateral = lateral_m;
+  for (std::size_t k = 0; k < route.waypoints.size(); ++k) {
+    const std::optional<PlaceOnLeg> on = place_on_leg_into(route, k, teacher_xy);
+    // The nearest line wins: a leg walked back alongside another (0.5 m apart in the lab) is no part of it.
+    if (!on || on->s_m < 0.0 || on->s_m > on->length_m || on->lateral_m > best_lateral ||
+        velocity.dot(on->along) <= min_speed_mps)
+      continue;
+    best = k;
+    best_lateral = on->lateral_m;
+  }
+  return best;
 }
 
 Eigen::Vector2d route_place_before(const TeacherRoute& route, const RouteLeg& leg, double since_arrival_s) {

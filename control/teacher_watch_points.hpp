@@ -40,6 +40,15 @@ struct RouteLeg {
 std::optional<RouteLeg> next_long_leg(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy, double corner_radius_m,
                                       double min_leg_m = 1.0);
 
+// The same from waypoint `corner` itself (the teacher standing there, or walking into it).
+std::optional<RouteLeg> next_long_leg_from(const TeacherRoute& route, std::size_t corner, double min_leg_m = 1.0);
+
+// The waypoint a teacher at `teacher_xy`, moving at `velocity`, walks into: the end of the leg whose
+// line they are within `lateral_m` of, between its ends, and along which they move faster than
+// `min_speed_mps`. Empty when they are on no leg or not walking along one (standing, turning).
+std::optional<std::size_t> waypoint_walked_into(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy,
+                                                const Eigen::Vector2d& velocity, double lateral_m, double min_speed_mps);
+
 // How long a teacher at `teacher_xy` walking into `leg.corner` takes to set off along `leg` by the
 // route: the rest of the way to the corner, a pause at each waypoint, the short legs in between.
 double seconds_to_set_off(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy, const RouteLeg& leg);

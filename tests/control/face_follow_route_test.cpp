@@ -329,3 +329,57 @@ TEST_CASE("control: a face first seen for a moment at the end of a leg waits out
   REQUIRE(followed);  // the glimpse was seen and taken up
   check_leg_start_met(leg);
 }
+
+TEST_CASE("control: waypoint_walked_into is the end of the leg walked along, only while walking it") {
+  const TeacherRoute route = test::lab_route();
+  // Mid-leg A (+x into waypoint 1), walking along it.
+  const std::optional<std::size_t> k = waypoint_walked_into(route, {2.7, -2.35}, {0.4, 0.0}, 0.25, 0.1);
+  REQUIRE(k);
+  CHECK(*k == 1);
+  // Walking back along leg C (-x into waypoint 3), 0.5 m from leg A: leg C, not A.
+  const std::optional<std::size_t> c = waypoint_walked_into(route, {2.7, -1.95}, {-0.4, 0.0}, 0.25, 0.1);
+  REQUIRE(c);
+  CHECK(*c == 3);
+  CHECK_FALSE(waypoint_walked_into(route, {2.7, -2.4}, {0.0, 0.0}, 0.25, 0.1));    // standing
+  CHECK_FALSE(waypoint_walked_into(route, {2.7, -2.4}, {-0.4, 0.0}, 0.25, 0.1));   // against the leg
+  CHECK_FALSE(waypoint_walked_into(route, {2.7, -2.9}, {0.4, 0.0}, 0.25, 0.1));    // off the route
+  const std::optional<RouteLeg> after = next_long_leg_from(route, 1);  // past the 0.5 m leg: leg C
+  REQUIRE(after);
+  CHECK(after->index == 2);
+  CHECK(after->corner == 1);
+}
+
+TEST_CASE("control: a face lost in the middle of a leg is followed on along the route, not held") {
+  // The head's sway takes the face past the detector in the middle of a leg (real vision, teacher at
+  // 0.5 m/s: leg A, 1.1 m short of its end). Holding there, the drone was walked into; now it backs
+  // off ahead of where the route has them and meets them at the corner.
+  for (const double speed : {0.4, 0.5}) {
+    LabGeometry lab = lab_of_config();
+    lab.teacher.speed_mps = speed;
+    RouteFlight r(lab);
+    REQUIRE(r.find_and_settle());
+    // Until the teacher is 1.5 m short of leg A's end, walking it, with the face followed.
+    bool mid_leg = false;
+    for (const double end = r.f.t + 3 * r.motion.cycle_s(); r.f.t < end && !mid_leg;) {
+      r.tick();
+      const TeacherPose p = r.motion.pose(r.f.t);
+      mid_leg = p.walking && std::cos(p.heading_rad) > 0.9 && p.T_world_head.translation().x() > 2.7 &&
+                r.f.stack->status().stage == "3 face-follow";
+    }
+    REQUIRE(mid_leg);
+    // Hidden for the rest of the leg: 1.5 m, 3-3.75 s of walking.
+    r.f.world->face_visible = false;
+    double nearest = 10, sum = 0;
+    int n = 0;
+    for (const double end = r.f.t + 1.5 / speed; r.f.t < end;) {
+      r.tick();
+      nearest = std::min(nearest, r.drone_to_teacher_m());
+      sum += r.depth_error_m() * r.depth_error_m();
+      ++n;
+    }
+    const double rms = std::sqrt(sum / std::max(n, 1));
+    INFO("speed " << speed << " m/s: nearest " << nearest << " m, depth error RMS while hidden " << rms << " m");
+    CHECK(nearest > 0.8);
+    CHECK(rms < 0.15);
+  }
+}
