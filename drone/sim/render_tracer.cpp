@@ -13,6 +13,7 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr double kNear = 1e-3;  // m: closer than this a rectangle is clipped
 constexpr std::uint32_t kBackground = 0;
+constexpr int kAreaMinLevel = 2;  // area filtering from this mip level's footprint on (> 3 texels per pixel)
 
 // Clips a convex polygon to the half-space d(p) >= 0 (Sutherland-Hodgman); returns the new count.
 template <typename Distance>
@@ -157,6 +158,7 @@ SceneTracer::LevelMap SceneTracer::level_for(const View& v, int ti) const {
   const TextureMap& tex = scene_.textures[static_cast<std::size_t>(v.texture)];
   int level = tex.level_count() - 1;  // when the plane's horizon crosses the tile
   float ta[4], tb[4];
+  float half_u = 0, half_v = 0;
   bool below_horizon = true;
   for (int i = 0; i < 4; ++i) {
     const float x = spans[2 * corner[i]], y = spans[2 * corner[i] + 1];
@@ -175,6 +177,20 @@ SceneTracer::LevelMap SceneTracer::level_for(const View& v, int ti) const {
     const float across = std::max(std::hypot(ta[1] - ta[0], tb[1] - tb[0]), std::hypot(ta[3] - ta[2], tb[3] - tb[2])) / w;
     const float down = std::max(std::hypot(ta[2] - ta[0], tb[2] - tb[0]), std::hypot(ta[3] - ta[1], tb[3] - tb[1])) / h;
     level = tex.level_for_footprint(std::max(across, down));
+    // The pixel square's extent along the texture's axes (level-0 texels): the box with its second
+    // moments, for area filtering.
+    const float du_dx = 0.5f * ((ta[1] - ta[0]) + (ta[3] - ta[2])) / w, du_dy = 0.5f * ((ta[2] - ta[0]) + (ta[3] - ta[1])) / h;
+    const float dv_dx = 0.5f * ((tb[1] - tb[0]) + (tb[3] - tb[2])) / w, dv_dy = 0.5f * ((tb[2] - tb[0]) + (tb[3] - tb[1])) / h;
+    half_u = 0.5f * std::hypot(du_dx, du_dy);
+    half_v = 0.5f * std::hypot(dv_dx, dv_dy);
+  }
+  // Minified more than 3 texels per pixel (mip level 2 and up): a panel's pixels average their
+  // footprint. Nearer, the mip level's bilinear sample stays: its blur (the level's texel box and the
+  // bilinear tent, 0.75-1.5 level texels per pixel) is close to the pixel's box there, and area
+  // filtering costs ~27 ns per pixel, i.e. +1.1 ms for a panel filling 40 k pixels (docs/sim_rendering.md).
+  if (level >= kAreaMinLevel && tex.has_area_table() && half_u > 0 && half_v > 0) {
+    const TextureMap::Level& l0 = tex.level(0);
+    return {&l0, v.tpu, v.tpv, &tex, static_cast<std::int32_t>(half_u * 256.f + 0.5f), static_cast<std::int32_t>(half_v * 256.f + 0.5f)};
   }
   const TextureMap::Level& l = tex.level(level);
   return {&l, v.tpu * l.scale_x, v.tpv * l.scale_y};
@@ -207,6 +223,16 @@ inline void sample_points(const TextureMap::Level& level, const std::int32_t* u,
   for (int i = 0; i < n; ++i) {
     const std::uint32_t w11 = (fx[i] * fy[i]) >> 8, w01 = fx[i] - w11, w10 = fy[i] - w11, w00 = 256 - w01 - w10 - w11;
     out[i] = blend4(p00[i], p01[i], p10[i], p11[i], w00, w01, w10, w11);
+  }
+}
+
+// Area-filtered samples: level-0 texel coordinates (16.16, texel centres at integers) to the mean of
+// the box of half-sizes (half_u, half_v) about them (1/256 texels, edges at multiples of 256).
+void area_points(const TextureMap& tex, std::int32_t half_u, std::int32_t half_v, const std::int32_t* u,
+                 const std::int32_t* w, int n, std::uint32_t* out) {
+  for (int i = 0; i < n; ++i) {
+    const std::int32_t x = (u[i] + 32768) >> 8, y = (w[i] + 32768) >> 8;
+    out[i] = tex.box_mean(x - half_u, y - half_v, x + half_u, y + half_v);
   }
 }
 
@@ -249,7 +275,9 @@ LABO_VECTOR_CLONES void SceneTracer::fill_uniform(int ti, const View& v, const L
     }
     us[count - 1] = u[kPoints - 1];
     ws[count - 1] = w[kPoints - 1];
-    if (count == kRow) {
+    if (m.area != nullptr) {
+      area_points(*m.area, m.half_u, m.half_v, us, ws, count, colour + row + tile.x0);
+    } else if (count == kRow) {
       sample_points<kRow>(level, us, ws, kRow, colour + row + tile.x0);
     } else {
       sample_points<kRow>(level, us, ws, count, colour + row + tile.x0);
@@ -306,6 +334,12 @@ LABO_VECTOR_CLONES void SceneTracer::fill_mixed(int ti, const std::uint16_t* can
         continue;
       }
       const LevelMap& m = maps_[static_cast<std::size_t>(k)];
+      if (m.area != nullptr) {
+        const std::int32_t u = TextureMap::to_fixed(best_a[i] * m.ku - 0.5f, m.level->width);
+        const std::int32_t w = TextureMap::to_fixed(best_b[i] * m.kv - 0.5f, m.level->height);
+        area_points(*m.area, m.half_u, m.half_v, &u, &w, 1, colour + row + i);
+        continue;
+      }
       colour[row + i] = TextureMap::sample_fixed(*m.level, TextureMap::to_fixed(best_a[i] * m.ku - 0.5f, m.level->width),
                                                  TextureMap::to_fixed(best_b[i] * m.kv - 0.5f, m.level->height));
     }

@@ -5,7 +5,9 @@
 // other object binned into it, is covered by that rectangle entirely (the rays that hit a convex
 // polygon form a convex cone, and the room's shell is behind everything), so its pixels skip the
 // visibility tests; the other tiles test their few candidates per pixel. Textures are sampled
-// bilinearly at the mip level of the tile's footprint. No allocation per frame.
+// bilinearly at the mip level of the tile's footprint, except the instrument panels and the landing
+// pattern seen from afar: each pixel is the mean of the texels its footprint covers (an area table).
+// No allocation per frame.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <vector>
@@ -51,6 +53,11 @@ class SceneTracer {
   struct LevelMap {
     const TextureMap::Level* level;
     float ku, kv;  // level texels per metre along a, b
+    // Area filtering (a texture with an area table, minified): level is level 0, and each pixel
+    // records the mean of the texels under its footprint, a box of half-sizes half_u x half_v (1/256
+    // level-0 texels) about the pixel's texel coordinate; null: one bilinear sample of `level`.
+    const TextureMap* area = nullptr;
+    std::int32_t half_u = 0, half_v = 0;
   };
 
   void prepare_views(const Eigen::Isometry3d& T_world_cam);

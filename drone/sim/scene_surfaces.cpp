@@ -97,6 +97,9 @@ void add_template(LabScene& scene, SceneRect r, const std::filesystem::path& fil
                              (std::filesystem::exists(file) ? " (not a decodable image)" : " (no such file)"));
   }
   scene.textures.emplace_back(img);
+  // Panels seen from afar are area filtered (docs/sim_rendering.md): the planar localizer measures
+  // their pose to a tenth of a pixel, and a mip level's phase-dependent blur would bias it.
+  scene.textures.back().build_area_table();
   r.texture = static_cast<int>(scene.textures.size()) - 1;
   r.texels_per_m_u = img.cols / r.size_u;
   r.texels_per_m_v = img.rows / r.size_v;

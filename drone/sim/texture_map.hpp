@@ -73,8 +73,23 @@ class TextureMap {
   // The mean colour of level 0 (for untextured stand-ins).
   std::uint32_t mean_colour() const;
 
+  // Area filtering (docs/sim_rendering.md, "Instrument panels: the pixel's area"): a summed-area table
+  // of level 0, so that a pixel can record the exact mean of the texels its footprint covers, as a
+  // camera's pixel integrates the light falling on it, instead of one bilinear sample of a mip level
+  // (whose blur and aliasing depend on the sub-pixel phase and jump with the level). Built on request
+  // (the instrument panels and the landing pattern); false for textures larger than 16 M texels (the
+  // 32-bit sums would overflow).
+  bool build_area_table();
+  bool has_area_table() const { return !area_.empty(); }
+  // The mean of level 0 over the box [x0, x1) x [y0, y1), in 1/256 level-0 texels with texel edges at
+  // multiples of 256 (texel i spans [256 i, 256 (i + 1))), clamped to the texture; x1 > x0, y1 > y0.
+  // Exact for the texture's piecewise-constant texels (the table is interpolated bilinearly).
+  std::uint32_t box_mean(std::int32_t x0, std::int32_t y0, std::int32_t x1, std::int32_t y1) const;
+
  private:
   std::vector<Level> levels_;
+  // (height + 1) x (width + 1) x 3 (b, g, r): sums of level 0 over [0, x) x [0, y).
+  std::vector<std::uint32_t> area_;
 };
 
 }  // namespace labo

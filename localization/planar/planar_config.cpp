@@ -20,6 +20,9 @@ PlanarConfig read_planar_config(const ConfigReader& node) {
   c.se3_template_at_frame_resolution =
       node.choice_or("se3_template_resolution", "pyramid", {"frame", "pyramid"}) == "frame";
   c.se3_estimate_blur = node.boolean_or("se3_estimate_blur", c.se3_estimate_blur);
+  c.se3_footprint_model = node.choice_or("se3_pixel_model", "footprint", {"footprint", "sampled"}) == "footprint";
+  c.se3_footprint_max_width_px =
+      node.number_or("se3_footprint_max_width_px", c.se3_footprint_max_width_px, Range::positive());
   c.pyramid_levels = node.integer_or("pyramid_levels", c.pyramid_levels, 1, 5);
   c.max_iterations = node.integer_or("max_iterations", c.max_iterations, 1, 200);
   c.max_samples = node.integer_or("max_samples", c.max_samples, 100, 100000);

@@ -37,6 +37,12 @@ struct PlanarConfig {
   // better on the simulated lab's renderer, worse on the planar bench's own; docs/planar.md).
   bool se3_template_at_frame_resolution = false;
   bool se3_estimate_blur = true;   // the refinement also fits the frame's blur relative to the template
+  // How the refinement predicts the frame ("se3_pixel_model"): "footprint" (true) fits the raw frame's
+  // pixels, each predicted as the template's mean over its footprint (AreaPoseRefiner), while the
+  // panel's image is at most `se3_footprint_max_width_px` wide and no motion blur is modelled;
+  // "sampled" (false): the template samples in the undistorted, smoothed frame (Se3PoseRefiner).
+  bool se3_footprint_model = true;
+  double se3_footprint_max_width_px = 1e9;
 
   // ECC (OpenCV).
   int ecc_max_iterations = 50;
@@ -68,7 +74,7 @@ struct PlanarConfig {
 };
 
 // Reads {"tracker": "ic"|"ecc", "pose_refinement": "se3"|"none", "se3_iterations", "se3_max_samples",
-// "se3_covariance_inflation", "se3_smoothing_sigma_px", "se3_template_resolution": "frame"|"pyramid", "se3_estimate_blur", "pyramid_levels", "max_iterations", "max_samples", "convergence_px", "ic_smoothing_sigma", "esm_iterations",
+// "se3_covariance_inflation", "se3_smoothing_sigma_px", "se3_template_resolution": "frame"|"pyramid", "se3_estimate_blur", "se3_pixel_model": "footprint"|"sampled", "se3_footprint_max_width_px", "pyramid_levels", "max_iterations", "max_samples", "convergence_px", "ic_smoothing_sigma", "esm_iterations",
 // "ecc_max_iterations", "ecc_epsilon", "ecc_gauss_size", "detection_min_width_fraction",
 // "detection_max_width_fraction", "detection_scale_step", "detection_match_width_px", "sift_ratio",
 // "ransac_threshold_px", "sift_max_frame_features", "min_visible_fraction", "max_template_side_px",

@@ -137,6 +137,9 @@ PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, con
       pose_solver_(camera.K(), template_.object_corners()),
       pose_refiner_(template_.working(), template_.width_m(), template_.height_m(), camera.K(),
                     se3_settings(config)) {
+  if (config.pose_refinement == PoseRefinement::Se3 && config.se3_footprint_model) {
+    footprint_refiner_.emplace(template_.original(), template_.width_m(), template_.height_m(), camera, se3_settings(config));
+  }
   if (camera_.has_distortion()) {
     const cv::Size size(camera_.width(), camera_.height());
     cv::initUndistortRectifyMap(camera_.K(), camera_.distortion_coefficients(), cv::Mat(), camera_.K(), size,
@@ -168,6 +171,7 @@ PlanarResult PlanarObjectLocalizer::process(const cv::Mat& gray, Seconds t, std:
                                            : "frame size differs from the camera's";
     return r;
   }
+  raw_ = gray;
   const cv::Mat& image = undistort(gray);
   if (tracking_) return track(image, r);
   std::optional<double> distance = predicted_distance_m;
@@ -292,20 +296,30 @@ PlanarLoss PlanarObjectLocalizer::accept(const cv::Mat& image, const cv::Matx33d
   return PlanarLoss::None;
 }
 
-Se3Refinement PlanarObjectLocalizer::refine_with_blur_search(const Eigen::Isometry3d& T_start, Seconds t,
+Eigen::Vector2d PlanarObjectLocalizer::panel_motion_px(const Eigen::Isometry3d& T, Seconds t) const {
+  const auto centre_px = [&](const Eigen::Isometry3d& pose) {
+    const Eigen::Vector3d c = pose.translation();
+    return Eigen::Vector2d(camera_.intrinsics().fx * c.x() / c.z(), camera_.intrinsics().fy * c.y() / c.z());
+  };
+  const bool recent = last_pose_ && t - last_pose_t_ > 0 && t - last_pose_t_ <= kMaxBlurIntervalS;
+  return recent ? Eigen::Vector2d(centre_px(T) - centre_px(*last_pose_)) : Eigen::Vector2d::Zero();
+}
+
+Se3Refinement PlanarObjectLocalizer::refine_once(const Eigen::Isometry3d& T_start, bool use_footprint,
+                                                 const Eigen::Vector2d& blur_px, const Eigen::Isometry3d* warm_start) const {
+  if (use_footprint && footprint_refiner_) return footprint_refiner_->refine(T_start, warm_start);
+  return pose_refiner_.refine(smoothed_, T_start, blur_px, warm_start);
+}
+
+Se3Refinement PlanarObjectLocalizer::refine_with_blur_search(const Eigen::Isometry3d& T_start, Seconds t, bool use_footprint,
                                                              Eigen::Vector2d& blur_px, int& iterations) {
   blur_px.setZero();
   // The panel's image motion since the previous frame; the exposure is an unknown part of the frame
   // interval (auto exposure), so a few fractions of that motion are tried and the best fit kept.
-  const auto centre_px = [&](const Eigen::Isometry3d& T) {
-    const Eigen::Vector3d c = T.translation();
-    return Eigen::Vector2d(camera_.intrinsics().fx * c.x() / c.z(), camera_.intrinsics().fy * c.y() / c.z());
-  };
-  const bool recent = last_pose_ && t - last_pose_t_ > 0 && t - last_pose_t_ <= kMaxBlurIntervalS;
-  const Eigen::Vector2d motion_px = recent ? Eigen::Vector2d(centre_px(T_start) - centre_px(*last_pose_)) : Eigen::Vector2d::Zero();
+  const Eigen::Vector2d motion_px = panel_motion_px(T_start, t);
   if (!(motion_px.norm() >= kMinBlurMotionPx)) {
     last_exposure_ = -1;
-    Se3Refinement only = pose_refiner_.refine(smoothed_, T_start);
+    Se3Refinement only = refine_once(T_start, use_footprint);
     iterations += only.iterations;
     return only;
   }
@@ -355,13 +369,22 @@ void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
                                         PlanarResult& r) {
   r.pose_refined = false;
   if (config_.pose_refinement == PoseRefinement::Se3) {
-    if (pose.alternative_plausible) {
-      pose_refiner_.smooth(image, {pose.T_cam_object, pose.T_alternative}, smoothed_);
+    // The footprint model (raw frame, no smoothing) while no motion blur is modelled and the panel is
+    // narrow enough; its residuals are not comparable with the sampled model's, so one frame uses one.
+    const double width_px = camera_.intrinsics().fx * template_.width_m() / std::max(1e-3, pose.T_cam_object.translation().z());
+    const bool use_footprint = footprint_refiner_.has_value() && width_px <= config_.se3_footprint_max_width_px &&
+                               !(panel_motion_px(pose.T_cam_object, r.t).norm() >= kMinBlurMotionPx);
+    if (use_footprint) {
+      footprint_refiner_->select(raw_, pose.T_cam_object);  // the pixels every refinement below fits
     } else {
-      pose_refiner_.smooth(image, {pose.T_cam_object}, smoothed_);
+      if (pose.alternative_plausible) {
+        pose_refiner_.smooth(image, {pose.T_cam_object, pose.T_alternative}, smoothed_);
+      } else {
+        pose_refiner_.smooth(image, {pose.T_cam_object}, smoothed_);
+      }
     }
     Eigen::Vector2d blur_px = Eigen::Vector2d::Zero();
-    Se3Refinement refined = refine_with_blur_search(pose.T_cam_object, r.t, blur_px, r.refinement_iterations);
+    Se3Refinement refined = refine_with_blur_search(pose.T_cam_object, r.t, use_footprint, blur_px, r.refinement_iterations);
     if (pose.alternative_plausible) {
       // Two distinct IPPE poses fit the corners: the photometric fit sees the perspective that tells
       // them apart. Both are refined; the lower residual wins when they end together or when its
@@ -373,7 +396,7 @@ void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
       // either side of the truth (the simulated lab's oscilloscope at 2.6-3 m: the two branches 5-11 deg
       // apart, one 3-6 deg off either way). The pose is then the midway between them (rotation and
       // translation), within half their angle of either; the rotation sigma covers the whole angle.
-      const Se3Refinement other = pose_refiner_.refine(smoothed_, pose.T_alternative, blur_px);
+      const Se3Refinement other = refine_once(pose.T_alternative, use_footprint, blur_px);
       r.refinement_iterations += other.iterations;
       bool two_minima = false;
       if (refined.refined && other.refined) {
@@ -394,11 +417,13 @@ void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
       }
       // Both branches may also end in the same one of the two mirror minima (the lab's oscilloscope at
       // 2-3 m: both 3-4 deg off): the refined pose mirrored about the line of sight to the panel's
-      // centre is refined too, and treated as the other branch above.
-      if (refined.refined && !two_minima) {
+      // centre is refined too, and treated as the other branch above. Not with the footprint model,
+      // whose cost has no such split minimum: on the 9 bench sequences the mirror never changed its pose
+      // (docs/planar.md, "the pixel's footprint"), and it cost a third of the refinement work.
+      if (refined.refined && !two_minima && !use_footprint) {
         const Eigen::Isometry3d T_mirror = mirrored_about_line_of_sight(refined.T_cam_object);
         if (rotation_angle(T_mirror.linear(), refined.T_cam_object.linear()) > kDistinctPosesRad) {
-          const Se3Refinement mirror = pose_refiner_.refine(smoothed_, T_mirror, blur_px);
+          const Se3Refinement mirror = refine_once(T_mirror, use_footprint, blur_px);
           r.refinement_iterations += mirror.iterations;
           const double angle = rotation_angle(mirror.T_cam_object.linear(), refined.T_cam_object.linear());
           if (mirror.refined && angle > kDistinctPosesRad) {
@@ -418,6 +443,7 @@ void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
     if (refined.refined) {
       pose.T_cam_object = refined.T_cam_object;
       r.pose_refined = true;
+      r.footprint_model = use_footprint;
       r.position_sigma_m = refined.position_sigma_m;
       r.rotation_sigma_rad = refined.rotation_sigma_rad;
       return;

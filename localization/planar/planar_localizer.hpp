@@ -16,6 +16,7 @@
 #include <optional>
 
 #include "core/camera_model.hpp"
+#include "localization/planar/area_pose_refiner.hpp"
 #include "localization/planar/homography_tracker.hpp"
 #include "localization/planar/planar_config.hpp"
 #include "localization/planar/planar_detectors.hpp"
@@ -66,9 +67,16 @@ class PlanarObjectLocalizer {
   // The SE(3) refinement of T_start, with the motion blur (if the panel moved fast) that fits best.
   // The exposure chosen last (index into the tried fractions, -1: none) is tried first: under auto
   // exposure it changes slowly, and the search then needs fewer refinements.
-  Se3Refinement refine_with_blur_search(const Eigen::Isometry3d& T_start, Seconds t, Eigen::Vector2d& blur_px,
+  // The panel centre's image motion since the last pose (zero when that is older than
+  // kMaxBlurIntervalS): what the motion blur search models.
+  Eigen::Vector2d panel_motion_px(const Eigen::Isometry3d& T, Seconds t) const;
+  Se3Refinement refine_with_blur_search(const Eigen::Isometry3d& T_start, Seconds t, bool use_footprint, Eigen::Vector2d& blur_px,
                                         int& iterations);
   const cv::Mat& undistort(const cv::Mat& gray);
+  // One refinement of T_start: the footprint model on the raw frame when configured, no motion blur is
+  // modelled and the panel is narrow enough (`use_footprint`), else Se3PoseRefiner on smoothed_.
+  Se3Refinement refine_once(const Eigen::Isometry3d& T_start, bool use_footprint, const Eigen::Vector2d& blur_px = Eigen::Vector2d::Zero(),
+                            const Eigen::Isometry3d* warm_start = nullptr) const;
 
   PlanarTemplate template_;
   PinholeCamera camera_;
@@ -79,7 +87,9 @@ class PlanarObjectLocalizer {
   SiftDetector sift_detector_;
   PlanarPoseSolver pose_solver_;
   Se3PoseRefiner pose_refiner_;
+  std::optional<AreaPoseRefiner> footprint_refiner_;  // se3_pixel_model "footprint"
   cv::Mat map1_, map2_, undistorted_;  // precomputed undistortion maps and reused output
+  cv::Mat raw_;                         // the frame being processed, as it came (a header)
   Se3PoseRefiner::SmoothedFrame smoothed_;  // reused by the pose refinement
 
   bool tracking_ = false;

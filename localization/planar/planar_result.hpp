@@ -49,6 +49,7 @@ struct PlanarResult {
   double position_sigma_m = 0;
   double rotation_sigma_rad = 0;
   bool pose_refined = false;         // the photometric SE(3) refinement gave the pose (se3_pose_refiner.hpp)
+  bool footprint_model = false;      // it fitted the raw frame's pixels as footprints (area_pose_refiner.hpp)
   double reprojection_error_px = 0;  // IPPE, RMS over the corners
   double correlation = 0;            // after alignment
   double visible_fraction = 0;       // of the panel's area inside the image

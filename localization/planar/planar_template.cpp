@@ -88,6 +88,7 @@ PlanarTemplate PlanarTemplate::create(const cv::Mat& image, double width_m, doub
   t.height_m_ = height_m;
   t.original_size_ = image.size();
   const cv::Mat gray = to_gray(image);
+  t.original_ = gray.clone();
   const double side = std::max(gray.cols, gray.rows);
   const double s = side > config.max_template_side_px ? config.max_template_side_px / side : 1.0;
   if (s < 1.0) {

@@ -28,6 +28,8 @@ class PlanarTemplate {
 
   const std::string& name() const { return name_; }
   const cv::Mat& working() const { return working_; }  // CV_8UC1
+  // The image as given, in grey (CV_8UC1): the footprint refinement integrates its texels.
+  const cv::Mat& original() const { return original_; }
   cv::Size original_size() const { return original_size_; }
   double width_m() const { return width_m_; }
   double height_m() const { return height_m_; }
@@ -43,6 +45,7 @@ class PlanarTemplate {
   PlanarTemplate() = default;
   std::string name_;
   cv::Mat working_;
+  cv::Mat original_;
   cv::Size original_size_;
   double width_m_ = 0, height_m_ = 0;
   cv::Matx33d working_from_original_ = cv::Matx33d::eye();

@@ -186,3 +186,39 @@ TEST_CASE("planar: the pose carries a rotation uncertainty that grows with the d
   CHECK_FALSE(r.pose_refined);
   CHECK(r.rotation_sigma_rad > previous);
 }
+
+// The refinement fits the pixel's footprint on the raw frame (se3_pixel_model "footprint", the default)
+// unless the panel is wider than se3_footprint_max_width_px or moves fast enough for the motion-blur
+// model (>= 2 px between frames), which only the sampled model has.
+TEST_CASE("planar: the footprint model refines the pose unless the panel is too wide or a motion blur is modelled") {
+  Rig rig;
+  const Eigen::Isometry3d T0 = at(0.05, 0.02, 2.2);  // ~100 px wide
+  {
+    PlanarObjectLocalizer loc = rig.localizer();
+    REQUIRE(loc.process(rig.view(T0), 0.0).state == PlanarState::Detected);
+    const PlanarResult still = loc.process(rig.view(T0), 1 / 30.0);
+    REQUIRE(still.state == PlanarState::Tracking);
+    CHECK(still.pose_refined);
+    CHECK(still.footprint_model);
+    // 1.2 deg: this renderer samples a shrunk template bilinearly, not each pixel's area, so the
+    // footprint model does not describe its frames exactly (docs/planar.md).
+    CHECK(deg_error(still, T0) < 2.0);
+    // Sideways at 0.9 m/s: ~4 px per frame, the motion-blur search runs on the sampled model.
+    const Eigen::Isometry3d T1 = at(0.08, 0.02, 2.2);
+    const PlanarResult moving = loc.process(rig.view(T1), 2 / 30.0);
+    REQUIRE(moving.state == PlanarState::Tracking);
+    CHECK(moving.pose_refined);
+    CHECK_FALSE(moving.footprint_model);
+  }
+  rig.config.se3_footprint_max_width_px = 60;
+  PlanarObjectLocalizer narrow = rig.localizer();
+  REQUIRE(narrow.process(rig.view(T0), 0.0).state == PlanarState::Detected);
+  const PlanarResult wide = narrow.process(rig.view(T0), 1 / 30.0);
+  REQUIRE(wide.state == PlanarState::Tracking);
+  CHECK(wide.pose_refined);
+  CHECK_FALSE(wide.footprint_model);
+  rig.config.se3_footprint_model = false;
+  PlanarObjectLocalizer sampled = rig.localizer();
+  sampled.process(rig.view(T0), 0.0);
+  CHECK_FALSE(sampled.process(rig.view(T0), 1 / 30.0).footprint_model);
+}

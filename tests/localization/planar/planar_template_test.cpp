@@ -93,4 +93,11 @@ TEST_CASE("planar: the planar config section is validated") {
   CHECK_FALSE(read_planar_config(doc.root()).se3_template_at_frame_resolution);
   const ConfigDocument frame = ConfigDocument::parse(R"({"se3_template_resolution": "frame"})", "p.json");
   CHECK(read_planar_config(frame.root()).se3_template_at_frame_resolution);
+  CHECK(error_of(R"({"se3_pixel_model": "box"})").find("se3_pixel_model") != std::string::npos);
+  CHECK(error_of(R"({"se3_footprint_max_width_px": 0})").find("se3_footprint_max_width_px") != std::string::npos);
+  CHECK(read_planar_config(doc.root()).se3_footprint_model);
+  const ConfigDocument sampled =
+      ConfigDocument::parse(R"({"se3_pixel_model": "sampled", "se3_footprint_max_width_px": 150})", "p.json");
+  CHECK_FALSE(read_planar_config(sampled.root()).se3_footprint_model);
+  CHECK(read_planar_config(sampled.root()).se3_footprint_max_width_px == 150.0);
 }
