@@ -22,6 +22,8 @@ SlamSettings read_slam_settings(const ConfigReader& node) {
   s.global_ba_max_keyframes = node.integer_or("global_ba_max_keyframes", s.global_ba_max_keyframes, 3, 2000);
   s.global_ba_every = node.integer_or("global_ba_every", s.global_ba_every, 1, 1000);
   s.local_ba_keyframes = node.integer_or("local_ba_keyframes", s.local_ba_keyframes, 2, 50);
+  s.local_ba_iterations = node.integer_or("local_ba_iterations", s.local_ba_iterations, 1, 100);
+  s.global_ba_iterations = node.integer_or("global_ba_iterations", s.global_ba_iterations, 1, 100);
   s.global_ba_fixed_keyframes = node.integer_or("global_ba_fixed_keyframes", s.global_ba_fixed_keyframes, 1, 10);
   s.cull_points = node.boolean_or("cull_points", s.cull_points);
   s.new_point_clearance_px = node.number_or("new_point_clearance_px", s.new_point_clearance_px, Range::closed(0.0, 10.0));

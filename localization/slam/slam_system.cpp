@@ -58,6 +58,7 @@ void validate_settings(const SlamSettings& s) {
   if (s.keyframe_min_points_dodgy < 0) fail("keyframe_min_points_dodgy must be >= 0 (0: keyframes from Good frames only)");
   if (s.lost_after_bad_frames < 1) fail("lost_after_bad_frames must be >= 1");
   if (s.local_ba_keyframes < 2) fail("local_ba_keyframes must be >= 2");
+  if (s.local_ba_iterations < 1 || s.global_ba_iterations < 1) fail("local_ba_iterations and global_ba_iterations must be >= 1");
   if (s.init_min_points < 20) fail("init_min_points must be >= 20");
   if (!(s.init_min_parallax_px > 0)) fail("init_min_parallax_px must be > 0");
   if (!(s.init_min_parallax_deg > 0 && s.init_min_parallax_deg < 90)) fail("init_min_parallax_deg must be in (0, 90)");
@@ -100,6 +101,8 @@ struct SlamSystem::Impl {
     m.levels = s.pyramid_levels;
     m.level_scale = s.pyramid_scale;
     m.local_ba_keyframes = s.local_ba_keyframes;
+    m.local_ba_iterations = s.local_ba_iterations;
+    m.global_ba_iterations = s.global_ba_iterations;
     m.global_ba = s.global_ba_when_idle;
     m.global_ba_max_keyframes = s.global_ba_max_keyframes;
     m.global_ba_every = s.global_ba_every;

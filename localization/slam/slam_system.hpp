@@ -48,6 +48,8 @@ struct SlamSettings {
   double keyframe_overlap_ratio = 0.55;   // tracked / points of the reference keyframe
   int keyframe_min_points_dodgy = 100;    // a Dodgy frame holding this many points may add a keyframe (0: never)
   int local_ba_keyframes = 5;             // newest + 4 nearest
+  int local_ba_iterations = 10;           // Levenberg-Marquardt iterations per local adjustment
+  int global_ba_iterations = 10;          // ... per global adjustment
   int max_keyframes = 400;
   bool global_ba_when_idle = true;
   int global_ba_max_keyframes = 200;      // larger maps get local adjustments only

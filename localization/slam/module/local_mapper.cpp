@@ -135,7 +135,7 @@ void LocalMapper::process(Keyframe keyframe) {
   triangulate_new_points(kf, neighbours);
   std::vector<int> free_kfs{kf};
   for (int n : map_.covisible(kf, settings_.local_ba_keyframes - 1)) free_kfs.push_back(n);
-  adjust(free_kfs, false, 10);
+  adjust(free_kfs, false, settings_.local_ba_iterations);
   close_loops(kf);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   std::lock_guard lock(mutex_);
@@ -436,7 +436,7 @@ void LocalMapper::close_loops(int kf) {
 
 void LocalMapper::global_adjustment() {
   if (map_.keyframes().size() < 3 || static_cast<int>(map_.keyframes().size()) > settings_.global_ba_max_keyframes) return;
-  adjust({}, true, 10);
+  adjust({}, true, settings_.global_ba_iterations);
   std::lock_guard lock(mutex_);
   ++stats_.global_ba_runs;
 }

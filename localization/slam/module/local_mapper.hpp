@@ -26,6 +26,8 @@ struct MapperSettings {
   int levels = 4;
   double level_scale = 1.5;
   int local_ba_keyframes = 5;
+  int local_ba_iterations = 10;
+  int global_ba_iterations = 10;
   int triangulation_neighbours = 5;
   bool global_ba = true;
   int global_ba_every = 5;        // synchronous mode

@@ -35,6 +35,13 @@ TEST_CASE("slam: config section is read, range-checked and refuses unknown keys"
   const slam::SlamSettings ba = read(R"({"global_ba_every": 5, "local_ba_keyframes": 8})");
   CHECK(ba.global_ba_every == 5);
   CHECK(ba.local_ba_keyframes == 8);
+  CHECK(read("{}").local_ba_iterations == 10);
+  CHECK(read("{}").global_ba_iterations == 10);
+  const slam::SlamSettings iterations = read(R"({"local_ba_iterations": 20, "global_ba_iterations": 25})");
+  CHECK(iterations.local_ba_iterations == 20);
+  CHECK(iterations.global_ba_iterations == 25);
+  CHECK_THROWS_WITH(read(R"({"local_ba_iterations": 0})"), Catch::Contains("local_ba_iterations"));
+  CHECK_THROWS_WITH(read(R"({"global_ba_iterations": 500})"), Catch::Contains("global_ba_iterations"));
   CHECK_THROWS_WITH(read(R"({"global_ba_every": 0})"), Catch::Contains("global_ba_every"));
   CHECK_THROWS_WITH(read(R"({"local_ba_keyframes": 1})"), Catch::Contains("local_ba_keyframes"));
   const slam::SlamSettings init = read(R"({"init_min_parallax_deg": 3, "init_min_parallax_px": 40})");
