@@ -8,6 +8,22 @@
 
 namespace labo {
 
+class RemoteLab::Locked {
+ public:
+  explicit Locked(RemoteLab& lab) : lab_(lab), lock_(lab.mutex_) {}
+  Locked(const Locked&) = delete;
+  Locked& operator=(const Locked&) = delete;
+  ~Locked() {
+    std::vector<std::shared_ptr<LabClient>> release;
+    release.swap(lab_.release_after_unlock_);
+    lock_.unlock();
+  }  // `release` goes here, unlocked: a session it held last leaves the lab without a deadlock
+
+ private:
+  RemoteLab& lab_;
+  std::unique_lock<std::mutex> lock_;
+};
+
 using nlohmann::json;
 
 namespace {
@@ -69,7 +85,7 @@ void RemoteLab::join(const std::shared_ptr<LabClient>& client) {
                                   {"instruments", instruments},
                                   {"heartbeat_timeout_s", settings_.control.heartbeat_timeout_s},
                                   {"time_limit_s", settings_.control.time_limit_s}}));
-  std::lock_guard lock(mutex_);
+  Locked lock(*this);
   clients_.emplace(client->id(), Client{client, Participant{client->id(), s.user, s.role},
                                         TokenBucket(settings_.clients.commands_per_s, settings_.clients.command_burst)});
   log_.info(clock_.now(), "client joined").kv("client", client->id()).kv("user", s.user).kv("role", to_string(s.role));
@@ -77,7 +93,7 @@ void RemoteLab::join(const std::shared_ptr<LabClient>& client) {
 }
 
 void RemoteLab::leave(ClientId client) {
-  std::lock_guard lock(mutex_);
+  Locked lock(*this);
   clients_.erase(client);
   deliver(control_.leave(client, clock_.now()));
   broadcast_control_state();
@@ -90,7 +106,7 @@ void RemoteLab::log_disconnect(ClientId client, const std::string& reason) {
 void RemoteLab::disconnect_all(const std::string& reason) {
   std::vector<std::shared_ptr<LabClient>> targets;
   {
-    std::lock_guard lock(mutex_);
+    Locked lock(*this);
     for (const auto& [id, c] : clients_)
       if (auto link = c.link.lock()) targets.push_back(std::move(link));
   }
@@ -109,7 +125,7 @@ void RemoteLab::on_message(LabClient& client, const std::string& text) {
   const bool emergency = type == "command" && msg.value("command", json()) == "emergency_stop";
   const double now = clock_.now();
   {
-    std::lock_guard lock(mutex_);
+    Locked lock(*this);
     auto it = clients_.find(client.id());
     if (it == clients_.end()) return;
     // Emergency stop is never rate limited: it must act at once, whatever came before.
@@ -122,7 +138,7 @@ void RemoteLab::on_message(LabClient& client, const std::string& text) {
   if (type == "command") return handle_command(client, text);
   if (msg.size() != 1) return reply_error(400, "'" + type + "' takes no other field");
   const Participant who{client.id(), client.session().user, client.session().role};
-  std::lock_guard lock(mutex_);
+  Locked lock(*this);
   if (type == "heartbeat") {
     control_.heartbeat(client.id(), now);
   } else if (type == "request_control") {
@@ -178,7 +194,7 @@ void RemoteLab::handle_command(LabClient& client, const std::string& text) {
   const Permission needed = *kind == MissionCommandKind::EmergencyStop ? Permission::EmergencyStop : Permission::RequestControl;
   if (!role_may(role, needed)) return ack(false, "role " + to_string(role) + " may not send " + name);
   if (*kind != MissionCommandKind::EmergencyStop) {
-    std::lock_guard lock(mutex_);
+    Locked lock(*this);
     if (!control_.is_controller(client.id()))
       return ack(false, "you do not have control: request it and wait for your turn");
   }
@@ -199,6 +215,7 @@ void RemoteLab::deliver(const std::vector<ControlNotice>& notices) {
     if (it == clients_.end()) continue;
     auto link = it->second.link.lock();
     if (!link) continue;
+    release_after_unlock_.push_back(link);
     json j{{"type", "notice"}};
     switch (n.kind) {
       case ControlNotice::Kind::Granted: j["kind"] = "granted"; j["remaining_s"] = n.remaining_s; break;
@@ -228,13 +245,16 @@ std::string RemoteLab::control_json_for(ClientId client) const {
 void RemoteLab::broadcast_control_state() {
   metrics_.queue_length = static_cast<std::int64_t>(control_.snapshot(clock_.now()).queue.size());
   for (const auto& [id, c] : clients_)
-    if (auto link = c.link.lock()) link->send_event(std::make_shared<const std::string>(control_json_for(id)));
+    if (auto link = c.link.lock()) {
+      link->send_event(std::make_shared<const std::string>(control_json_for(id)));
+      release_after_unlock_.push_back(std::move(link));
+    }
 }
 
 void RemoteLab::broadcast(const std::shared_ptr<const std::string>& json_text) {
   std::vector<std::shared_ptr<LabClient>> targets;
   {
-    std::lock_guard lock(mutex_);
+    Locked lock(*this);
     for (const auto& [id, c] : clients_)
       if (auto link = c.link.lock()) targets.push_back(std::move(link));
   }
@@ -243,7 +263,7 @@ void RemoteLab::broadcast(const std::shared_ptr<const std::string>& json_text) {
 
 void RemoteLab::tick() {
   {
-    std::lock_guard lock(mutex_);
+    Locked lock(*this);
     const auto notices = control_.tick(clock_.now());
     deliver(notices);
     bool changed = false;
@@ -262,7 +282,7 @@ void RemoteLab::on_frame(const EncodedFrame& frame) {
   metrics_.frames_published++;
   std::vector<std::shared_ptr<LabClient>> targets;
   {
-    std::lock_guard lock(mutex_);
+    Locked lock(*this);
     targets.reserve(clients_.size());
     for (const auto& [id, c] : clients_)
       if (auto link = c.link.lock()) targets.push_back(std::move(link));

@@ -4,6 +4,7 @@
 // sessions call in from their strands, the runtime from its threads, the server's timer from the
 // io_context. Frames and events are serialized once and shared by every client.
 #include <map>
+#include <vector>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -57,6 +58,13 @@ class RemoteLab final : public FlightEventSink {
   void broadcast_control_state();                                 // with mutex_ held
   void broadcast(const std::shared_ptr<const std::string>& json);  // takes mutex_
   std::string control_json_for(ClientId client) const;            // with mutex_ held
+  // Holds mutex_; the sessions kept alive while it was held are released after it is unlocked.
+  class Locked;
+  // A weak link locked under mutex_ may be a session's last owner (it closed meanwhile on the server's
+  // thread): destroyed there, its destructor leaves the lab, which takes mutex_ again, a deadlock
+  // (seen in CI, 2026-12-03: "a WebSocket needs a session"). deliver() and broadcast_control_state()
+  // park the links they locked here, and Locked releases them after unlocking.
+  std::vector<std::shared_ptr<LabClient>> release_after_unlock_;
 
   FlightService& flight_;
   ServerSettings settings_;
