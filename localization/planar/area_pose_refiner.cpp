@@ -272,20 +272,7 @@ Se3Refinement AreaPoseRefiner::refine(const Eigen::Isometry3d& T_start, const Ei
       warm_start != nullptr ? *warm_start : T_start,
       [&](const Eigen::Isometry3d& T, const PanelAppearance& a) { return accumulate(T, a); }, needed,
       ResidualComparison::Mean, settings_.max_iterations, settings_.convergence_px, width_m_, height_m_, fx_, fy_);
-  out.iterations = run.iterations;
-  if (*run.failure != '\0') {
-    out.failure = run.failure;
-    return out;
-  }
-  if (!(run.appearance.gain > 1e-3) || !run.T.matrix().allFinite()) {
-    out.failure = "no correlation with the template";
-    return out;
-  }
-  if (max_corner_shift_px(run.T, T_start, width_m_, height_m_, fx_, fy_) > settings_.max_corner_shift_px) {
-    out.failure = "the pose moved too far from the homography's";
-    return out;
-  }
-  fill_refinement(run, settings_, out);
+  if (!finish_refinement(run, T_start, settings_.max_corner_shift_px, width_m_, height_m_, fx_, fy_, settings_, out)) return out;
   out.blur_variance_px2 = 2.0 * run.appearance.blur;
   return out;
 }

@@ -20,7 +20,21 @@ double max_corner_shift_px(const Eigen::Isometry3d& a, const Eigen::Isometry3d& 
   return shift;
 }
 
-void fill_refinement(const GaussNewtonRun& run, const Se3RefinerSettings& settings, Se3Refinement& out) {
+bool finish_refinement(const GaussNewtonRun& run, const Eigen::Isometry3d& T_start, double leash_px, double width_m,
+                       double height_m, double fx, double fy, const Se3RefinerSettings& settings, Se3Refinement& out) {
+  out.iterations = run.iterations;
+  if (*run.failure != '\0') {
+    out.failure = run.failure;
+    return false;
+  }
+  if (!(run.appearance.gain > 1e-3) || !run.T.matrix().allFinite()) {
+    out.failure = "no correlation with the template";
+    return false;
+  }
+  if (max_corner_shift_px(run.T, T_start, width_m, height_m, fx, fy) > leash_px) {
+    out.failure = "the pose moved too far from the homography's";
+    return false;
+  }
   const PhotometricNormal& n = run.normal;
   const double dof = std::max(1, n.valid - kPhotometricParams);
   const double inflation = settings.covariance_inflation * settings.covariance_inflation;
@@ -42,6 +56,7 @@ void fill_refinement(const GaussNewtonRun& run, const Se3RefinerSettings& settin
   out.residual_grey = std::sqrt(n.ssr / std::max(1, n.valid));
   out.T_cam_object = run.T;
   out.refined = true;
+  return true;
 }
 
 }  // namespace labo

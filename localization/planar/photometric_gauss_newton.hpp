@@ -106,10 +106,13 @@ GaussNewtonRun run_gauss_newton(const Eigen::Isometry3d& T_begin, Accumulate&& a
   return run;
 }
 
-// The result of a converged run (its leash already checked by the caller): the Gauss-Newton covariance
-// sigma^2 (J^T J)^-1 of the pose, marginalized over the appearance, with sigma^2 the residual variance,
-// inflated by settings.covariance_inflation, plus the rotation floor; the worst-axis sigmas, the RMS
-// residual and the pose. Leaves `blur_variance_px2` to the caller (its unit is the refiner's).
-void fill_refinement(const GaussNewtonRun& run, const Se3RefinerSettings& settings, Se3Refinement& out);
+// The run's result into `out` (whose T_cam_object is the starting pose): refused (out.failure says why,
+// out.refined stays false) when the run failed, the gain collapsed, or a corner of the panel ended more
+// than `leash_px` from where T_start puts it. Otherwise the pose, the RMS residual and the Gauss-Newton
+// covariance sigma^2 (J^T J)^-1 of the pose, marginalized over the appearance, with sigma^2 the residual
+// variance, inflated by settings.covariance_inflation, plus the rotation floor, and the worst-axis
+// sigmas. Leaves `blur_variance_px2` to the caller (its unit is the refiner's). Returns out.refined.
+bool finish_refinement(const GaussNewtonRun& run, const Eigen::Isometry3d& T_start, double leash_px, double width_m,
+                       double height_m, double fx, double fy, const Se3RefinerSettings& settings, Se3Refinement& out);
 
 }  // namespace labo

@@ -379,22 +379,12 @@ Se3Refinement Se3PoseRefiner::refine(const SmoothedFrame& frame, const Eigen::Is
       warm_start != nullptr ? *warm_start : T_start,
       [&](const Eigen::Isometry3d& T, const PanelAppearance& a) { return accumulate(samples, values, laplacians, frame, T, a); },
       needed, ResidualComparison::Sum, settings_.max_iterations, settings_.convergence_px, width_m_, height_m_, fx_, fy_);
-  out.iterations = run.iterations;
-  if (*run.failure != '\0') {
-    out.failure = run.failure;
-    return out;
-  }
-  if (!(run.appearance.gain > 1e-3) || !run.T.matrix().allFinite()) {
-    out.failure = "no correlation with the template";
-    return out;
-  }
   // A blurred frame pulls the tracker's corners along the blur: the modelled blur widens the leash.
   const double blur_leash_px = values != nullptr ? std::min(kMaxBlurLeashPx, 0.5 * blur_px.norm()) : 0.0;
-  if (max_corner_shift_px(run.T, T_start, width_m_, height_m_, fx_, fy_) > settings_.max_corner_shift_px + blur_leash_px) {
-    out.failure = "the pose moved too far from the homography's";
+  if (!finish_refinement(run, T_start, settings_.max_corner_shift_px + blur_leash_px, width_m_, height_m_, fx_, fy_, settings_,
+                         out)) {
     return out;
   }
-  fill_refinement(run, settings_, out);
   // Frame px per template-view px at the panel's centre (mean of the two directions).
   const double z = std::max(1e-3, run.T.translation().z());
   const double scale = 0.5 * (fx_ * view.mx + fy_ * view.my) / z;
