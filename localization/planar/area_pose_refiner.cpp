@@ -242,6 +242,8 @@ PhotometricNormal AreaPoseRefiner::accumulate(const Eigen::Isometry3d& T, const 
     n.JtJ.noalias() += J * J.transpose();
     n.Jtr += J * residual;
     n.ssr += residual * residual;
+    n.sum_grey += s.grey;
+    n.sum_grey2 += static_cast<double>(s.grey) * s.grey;
     ++n.valid;
   }
   if (!settings_.estimate_blur) n.JtJ(kBlurParam, kBlurParam) = 1.0;

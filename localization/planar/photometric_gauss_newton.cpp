@@ -29,10 +29,21 @@ bool finish_refinement(const GaussNewtonRun& run, const Eigen::Isometry3d& T_sta
   }
   if (!(run.appearance.gain > 1e-3) || !run.T.matrix().allFinite()) {
     out.failure = "no correlation with the template";
+    out.contradicts_start = true;
+    return false;
+  }
+  // The correlation of the fitted model with the frame: the share of the grey levels' variance it explains.
+  const PhotometricNormal& fit = run.normal;
+  const double variance_sum = fit.sum_grey2 - fit.sum_grey * fit.sum_grey / std::max(1, fit.valid);
+  out.correlation = variance_sum > 0 ? std::sqrt(std::max(0.0, 1.0 - fit.ssr / variance_sum)) : 0.0;
+  if (out.correlation < settings.min_correlation) {
+    out.failure = "the fit does not explain the frame (correlation below the threshold)";
+    out.contradicts_start = true;
     return false;
   }
   if (max_corner_shift_px(run.T, T_start, width_m, height_m, fx, fy) > leash_px) {
     out.failure = "the pose moved too far from the homography's";
+    out.contradicts_start = true;
     return false;
   }
   const PhotometricNormal& n = run.normal;

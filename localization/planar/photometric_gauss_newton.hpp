@@ -28,6 +28,7 @@ struct PhotometricNormal {
   PhotometricVector Jtr = PhotometricVector::Zero();
   double ssr = 0;  // sum of squared residuals
   int valid = 0;   // residuals summed
+  double sum_grey = 0, sum_grey2 = 0;  // of the frame's grey levels fitted: how much of their variance the fit explains
 };
 
 // Grey level = (gain + gain_x x + gain_y y) (prediction + blur * its change with blur) + bias, x and y
@@ -107,8 +108,9 @@ GaussNewtonRun run_gauss_newton(const Eigen::Isometry3d& T_begin, Accumulate&& a
 }
 
 // The run's result into `out` (whose T_cam_object is the starting pose): refused (out.failure says why,
-// out.refined stays false) when the run failed, the gain collapsed, or a corner of the panel ended more
-// than `leash_px` from where T_start puts it. Otherwise the pose, the RMS residual and the Gauss-Newton
+// out.refined stays false) when the run failed, the gain collapsed, the fit explains the frame's grey
+// levels with a correlation below settings.min_correlation, or a corner of the panel ended more than
+// `leash_px` from where T_start puts it. Otherwise the pose, the RMS residual and the Gauss-Newton
 // covariance sigma^2 (J^T J)^-1 of the pose, marginalized over the appearance, with sigma^2 the residual
 // variance, inflated by settings.covariance_inflation, plus the rotation floor, and the worst-axis
 // sigmas. Leaves `blur_variance_px2` to the caller (its unit is the refiner's). Returns out.refined.

@@ -332,6 +332,8 @@ PhotometricNormal Se3PoseRefiner::accumulate(const std::vector<Sample>& samples,
     n.JtJ.selfadjointView<Eigen::Lower>().rankUpdate(J);
     n.Jtr += J * residual;
     n.ssr += residual * residual;
+    n.sum_grey += value;
+    n.sum_grey2 += value * value;
     ++n.valid;
   }
   n.JtJ.triangularView<Eigen::StrictlyUpper>() = n.JtJ.transpose();
