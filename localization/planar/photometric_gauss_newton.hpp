@@ -12,6 +12,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <opencv2/core.hpp>
 
 #include "localization/planar/se3_pose_refiner.hpp"
 
@@ -114,7 +115,12 @@ GaussNewtonRun run_gauss_newton(const Eigen::Isometry3d& T_begin, Accumulate&& a
 // covariance sigma^2 (J^T J)^-1 of the pose, marginalized over the appearance, with sigma^2 the residual
 // variance, inflated by settings.covariance_inflation, plus the rotation floor, and the worst-axis
 // sigmas. Leaves `blur_variance_px2` to the caller (its unit is the refiner's). Returns out.refined.
+// The leash is measured over the part of the panel in view at T_start (a 5 x 5 grid of its points
+// inside `image` of the undistorted frame, whose principal point is (cx, cy)): beyond the image's edge
+// the tracker's homography is an extrapolation, and a partly visible panel's far corners may
+// legitimately move farther.
 bool finish_refinement(const GaussNewtonRun& run, const Eigen::Isometry3d& T_start, double leash_px, double width_m,
-                       double height_m, double fx, double fy, const Se3RefinerSettings& settings, Se3Refinement& out);
+                       double height_m, double fx, double fy, double cx, double cy, cv::Size image,
+                       const Se3RefinerSettings& settings, Se3Refinement& out);
 
 }  // namespace labo
