@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "localization/planar/synthetic_scene.hpp"
+#include "tests/localization/planar/supersampled_pixel.hpp"
 
 using namespace labo;
 
@@ -11,30 +12,11 @@ namespace {
 constexpr double kW = 0.40, kH = 0.30;
 constexpr uchar kBackground = 120;  // PlanarViewRenderer's flat grey without a wall
 
-// The reference a camera would record: each pixel the mean of 8 x 8 sub-pixel rays through the lens
-// onto the panel (nearest texel: the template's texels piecewise constant), the background elsewhere.
-double reference_pixel(const PinholeCamera& camera, const cv::Mat& panel, const Eigen::Isometry3d& T_object_cam, int x, int y) {
-  constexpr int kSub = 16;
-  double sum = 0;
-  for (int j = 0; j < kSub; ++j) {
-    for (int i = 0; i < kSub; ++i) {
-      const Eigen::Vector2d sub(x - 0.5 + (i + 0.5) / kSub, y - 0.5 + (j + 0.5) / kSub);
-      const Eigen::Vector3d ray = T_object_cam.linear() * camera.unproject(sub);
-      const Eigen::Vector3d o = T_object_cam.translation();
-      const double s = -o.z() / ray.z();
-      const Eigen::Vector3d p = o + s * ray;
-      const int u = static_cast<int>(std::floor((p.x() / kW + 0.5) * panel.cols));
-      const int v = static_cast<int>(std::floor((p.y() / kH + 0.5) * panel.rows));
-      sum += (s > 0 && u >= 0 && v >= 0 && u < panel.cols && v < panel.rows) ? panel.at<uchar>(v, u) : kBackground;
-    }
-  }
-  return sum / (kSub * kSub);
-}
-
 }  // namespace
 
 // The renderer the planar benchmark's synthetic sequences use, checked on its own (no tracker): every
-// pixel over and around the panel against a supersampled reference, from far (3.5 texels per pixel,
+// other pixel over and around the panel against a reference of 16 x 16 rays per pixel (the texels
+// piecewise constant), from far (3.5 texels per pixel,
 // where the old renderer's double resampling displaced the detail) to near (magnified), face-on, tilted
 // and rolled, through the distorted front camera.
 TEST_CASE("planar: the synthetic renderer's pixels integrate the panel over their footprint") {
@@ -61,7 +43,7 @@ TEST_CASE("planar: the synthetic renderer's pixels integrate the panel over thei
           }
         }
         if (!near_panel) continue;
-        const double e = frame.at<uchar>(y, x) - reference_pixel(camera, panel, T_object_cam, x, y);
+        const double e = frame.at<uchar>(y, x) - supersampled_pixel(camera, panel, kW, kH, T_object_cam, x, y, 16, kBackground);
         sum_squares += e * e;
         worst = std::max(worst, std::abs(e));
         ++pixels;
