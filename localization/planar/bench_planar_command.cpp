@@ -146,6 +146,7 @@ const CommandSpec& bench_planar_command_spec() {
        {"--tracker", "T", "sequences with ic, ecc or both (default both)"},
        {"--config", "FILE", "read the \"vision\" and \"planar\" sections of this config (default: built-in values)"},
        {"--noise", "G", "grey-level noise added to the sweep's scenes (default 2)"},
+       {"--h264-kbps", "K", "bit rate of the H.264 sequence, 100-20000 (default 1000: the AR.Drone 2.0's video:max_bitrate)"},
        {"--frames-csv", "FILE", "write every sequence frame's errors (camera frame, per axis) to FILE"}},
       0,
       0};
@@ -168,6 +169,7 @@ int run_bench_planar_command(const ParsedArgs& args) {
   PerturbationSettings settings;
   settings.trials = args.integer_or("--trials", settings.trials, 1, 10000);
   settings.pixel_noise = args.number_or("--noise", settings.pixel_noise, 0.0, 50.0);
+  const int h264_kbps = args.integer_or("--h264-kbps", kDefaultH264Kbps, 100, 20000);
   const std::string frames_csv = args.value_or("--frames-csv", "");
   if (!frames_csv.empty() && part == "sweep") {
     throw UsageError("--frames-csv needs the sequences (--part sequences or all): the sweep has no frames");
@@ -190,7 +192,7 @@ int run_bench_planar_command(const ParsedArgs& args) {
   }
   if (part != "sweep") {
     const SequenceBenchResult r =
-        run_sequence_bench(config, settings_from_file.vision, args.value_or("--sequence", ""), trackers);
+        run_sequence_bench(config, settings_from_file.vision, args.value_or("--sequence", ""), trackers, h264_kbps);
     if (frames_out.is_open()) write_frames_csv(frames_out, frames_csv, r.frames);
     if (json) {
       out["sequences"] = sequences_json(r);

@@ -150,7 +150,7 @@ Sequence render_lab_approach(const std::string& name, double min_visible) {
 }
 
 std::vector<Sequence> make_sequences(const PlanarConfig& config, const PanelModel& panel, const PanelModel& platform,
-                                     const std::string& only) {
+                                     const std::string& only, int h264_kbps) {
   const PinholeCamera front = PinholeCamera::ardrone2_front();
   const PinholeCamera bottom = PinholeCamera::ardrone2_bottom();
   const PlanarViewRenderer front_renderer(front, make_clutter_background(cv::Size(1600, 1600), 21), 0.0025);
@@ -187,7 +187,7 @@ std::vector<Sequence> make_sequences(const PlanarConfig& config, const PanelMode
       const double a = i / 149.0;
       return facing(0.1 * std::sin(2 * a), 0.0, 2.5 - 1.8 * a, 0, 0, 0.03 * std::sin(4 * a));
     }, nullptr, mv);
-    h264.frames = h264_roundtrip(h264.frames, kFps, 1'000'000);
+    h264.frames = h264_roundtrip(h264.frames, kFps, h264_kbps * 1000);
     out.push_back(std::move(h264));
   }
   if (wanted("lighting_change_1.0m")) out.push_back(render_sequence("lighting_change_1.0m", front_renderer, panel, 150, [](int i) {
@@ -344,14 +344,16 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
 }  // namespace
 
 SequenceBenchResult run_sequence_bench(const PlanarConfig& config, const VisionThresholds& vision,
-                                       const std::string& only, const std::vector<TrackerKind>& trackers) {
+                                       const std::string& only, const std::vector<TrackerKind>& trackers,
+                                       int h264_kbps) {
+  if (h264_kbps <= 0) throw std::invalid_argument("run_sequence_bench: h264_kbps must be positive");
   SequenceBenchResult result;
   result.renderer = "planar synthetic renderer (localization/planar/synthetic_scene): panel on a textured wall, "
                     "AR.Drone 2.0 front camera with distortion / bottom camera, 2 grey-level noise; lab_renderer_*: "
                     "the simulated lab's LabRenderer (config/lab.json, motion blur, sensor noise)";
   const PanelModel panel{make_procedural_panel(cv::Size(320, 240), 11), 0.40, 0.30};
   const PanelModel platform{make_procedural_panel(cv::Size(256, 256), 12), 0.60, 0.60};
-  std::vector<Sequence> sequences = make_sequences(config, panel, platform, only);
+  std::vector<Sequence> sequences = make_sequences(config, panel, platform, only, h264_kbps);
   for (TrackerKind kind : trackers) {
     std::vector<ErrorSample> pooled;
     for (const auto& s : sequences) {

@@ -69,10 +69,15 @@ struct SequenceBenchResult {
   std::vector<RangeBinStats> range_bins;  // all sequences pooled, per tracker
 };
 
-// `only` (when not empty) keeps the sequences whose name contains it; `trackers` run in turn.
+// The H.264 sequence's bit rate: the AR.Drone 2.0's default video:max_bitrate.
+inline constexpr int kDefaultH264Kbps = 1000;
+
+// `only` (when not empty) keeps the sequences whose name contains it; `trackers` run in turn;
+// `h264_kbps` is the bit rate the H.264 sequence is encoded at.
 SequenceBenchResult run_sequence_bench(const PlanarConfig& config, const VisionThresholds& vision,
                                        const std::string& only = "",
                                        const std::vector<TrackerKind>& trackers = {TrackerKind::InverseCompositional,
-                                                                                   TrackerKind::Ecc});
+                                                                                   TrackerKind::Ecc},
+                                       int h264_kbps = kDefaultH264Kbps);
 
 }  // namespace labo

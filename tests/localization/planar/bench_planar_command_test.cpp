@@ -28,3 +28,11 @@ TEST_CASE("bench planar: --frames-csv is refused with the reason when it cannot 
   const std::string sweep_only = usage_error({"--part", "sweep", "--frames-csv", "frames.csv"});
   CHECK(sweep_only.find("--frames-csv needs the sequences") != std::string::npos);
 }
+
+TEST_CASE("bench planar: --h264-kbps outside 100-20000 or not a number is refused, naming the option") {
+  for (const std::string bad : {"50", "20001", "fast", "-1000"}) {
+    const std::string reason = usage_error({"--part", "sequences", "--h264-kbps", bad});
+    INFO(bad << ": " << reason);
+    CHECK(reason.find("--h264-kbps") != std::string::npos);
+  }
+}
