@@ -550,8 +550,11 @@ bool StateEstimator::add_face_pose(const FaceObservation& o) {
 
 FusedState StateEstimator::predict(Seconds t) const {
   Impl& m = *impl_;
+  // The filter cannot run backwards: for a time it has already passed, the state it holds is the
+  // best there is, and it is stamped with its own time so no caller takes it for the pose at t.
+  if (!(t > m.core.time())) return m.make_state(m.core, m.core.time());
   FilterCore copy = m.core;
-  if (t > copy.time()) m.run(copy, t, false, t);
+  m.run(copy, t, false, t);
   return m.make_state(copy, t);
 }
 

@@ -100,7 +100,8 @@ class StateEstimator {
   bool add_face_pose(const FaceObservation& observation);
 
   // The estimate at drone time t (no implicit delay): queued navdata and commands up to t are used,
-  // then the motion model alone.
+  // then the motion model alone. For t at or before filter_time() it is the filtered state, stamped
+  // with filter_time() (the filter does not run backwards).
   FusedState predict(Seconds t) const;
   // predict(now + control_delay): the state when a command computed now takes effect.
   FusedState predict_for_control(Seconds now) const;

@@ -6,17 +6,15 @@
 #include <functional>
 #include <stdexcept>
 
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
+
+#include "localization/planar/photometric_gauss_newton.hpp"
 
 namespace labo {
 
 namespace {
 
-// Pose (6), gain, its gradients across the panel (x, y), bias, blur.
-constexpr int kParams = 11;
-constexpr int kBlurParam = 10;
+constexpr int kBlurParam = kPhotometricBlurParam;
 constexpr int kMinPixels = 50;
 constexpr int kCells = 6;  // per side, as Se3PoseRefiner: the pixels are spread over the panel
 // A pixel is fitted when its widened footprint, grown by this many frame px, lies on the panel: the
@@ -28,12 +26,6 @@ constexpr float kMinStrength = 2.0f;
 // The blur term: the footprint widened by this factor adds (kWiden^2 - 1) / 12 px^2 of variance.
 constexpr double kWiden = 2.0;
 constexpr double kWidenVariance = (kWiden * kWiden - 1.0) / 12.0;
-
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
 
 // Template px (texel edges at integers) -> frame px of the undistorted image, for pose T.
 Eigen::Matrix3d template_to_frame(const Eigen::Isometry3d& T, double fx, double fy, double cx, double cy, double width_m,
@@ -48,13 +40,6 @@ Eigen::Matrix3d template_to_frame(const Eigen::Isometry3d& T, double fx, double 
 }
 
 }  // namespace
-
-struct AreaPoseRefiner::Normal {
-  Eigen::Matrix<double, kParams, kParams> JtJ = Eigen::Matrix<double, kParams, kParams>::Zero();
-  Eigen::Matrix<double, kParams, 1> Jtr = Eigen::Matrix<double, kParams, 1>::Zero();
-  double ssr = 0;
-  int valid = 0;
-};
 
 AreaPoseRefiner::AreaPoseRefiner(const cv::Mat& template_image, double width_m, double height_m, const PinholeCamera& camera,
                                  const Se3RefinerSettings& settings)
@@ -216,12 +201,12 @@ bool AreaPoseRefiner::select(const cv::Mat& raw, const Eigen::Isometry3d& T) con
   return static_cast<int>(samples_.size()) >= kMinPixels;
 }
 
-AreaPoseRefiner::Normal AreaPoseRefiner::accumulate(const Eigen::Isometry3d& T, const Appearance& a) const {
-  Normal n;
+PhotometricNormal AreaPoseRefiner::accumulate(const Eigen::Isometry3d& T, const PanelAppearance& a) const {
+  PhotometricNormal n;
   const Eigen::Matrix3d G = template_to_frame(T, fx_, fy_, cx_, cy_, width_m_, height_m_, tw_, th_);
   const Eigen::Matrix3d Ginv = G.inverse();
   const Eigen::Vector3d r1 = T.linear().col(0), r2 = T.linear().col(1), t = T.translation();
-  Eigen::Matrix<double, kParams, 1> J;
+  PhotometricVector J;
   for (const Sample& s : samples_) {
     // The template point seen at the pixel.
     const Eigen::Vector3d q = Ginv * Eigen::Vector3d(s.pu.x(), s.pu.y(), 1.0);
@@ -278,84 +263,17 @@ Se3Refinement AreaPoseRefiner::refine(const cv::Mat& raw, const Eigen::Isometry3
 Se3Refinement AreaPoseRefiner::refine(const Eigen::Isometry3d& T_start, const Eigen::Isometry3d* warm_start) const {
   Se3Refinement out;
   out.T_cam_object = T_start;
-  const std::array<Eigen::Vector3d, 4> corners{Eigen::Vector3d(-0.5 * width_m_, -0.5 * height_m_, 0),
-                                               Eigen::Vector3d(0.5 * width_m_, -0.5 * height_m_, 0),
-                                               Eigen::Vector3d(0.5 * width_m_, 0.5 * height_m_, 0),
-                                               Eigen::Vector3d(-0.5 * width_m_, 0.5 * height_m_, 0)};
-  const auto max_corner_shift = [&](const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-    double shift = 0;
-    for (const auto& c : corners) {
-      const Eigen::Vector3d pa = a * c, pb = b * c;
-      shift = std::max(shift, std::hypot(fx_ * (pa.x() / pa.z() - pb.x() / pb.z()), fy_ * (pa.y() / pa.z() - pb.y() / pb.z())));
-    }
-    return shift;
-  };
-  Eigen::Isometry3d T = warm_start != nullptr ? *warm_start : T_start, T_previous = T;
   if (static_cast<int>(samples_.size()) < kMinPixels) {
     out.failure = "too little of the panel in view";
     return out;
   }
   const int needed = std::max(kMinPixels, static_cast<int>(samples_.size()) / 2);
-  Appearance appearance;
-  Normal n, n_previous;
-  for (int it = 0; it < settings_.max_iterations; ++it) {
-    n = accumulate(T, appearance);
-    ++out.iterations;
-    if (n.valid < needed) {
-      out.failure = "too little of the panel in view";
-      return out;
-    }
-    // Pixels near the edge may leave or join the fit as the pose moves: compare mean squares.
-    if (it > 0 && n.ssr / n.valid > n_previous.ssr / n_previous.valid) {
-      T = T_previous;
-      n = n_previous;
-      break;
-    }
-    const Eigen::Matrix<double, kParams, 1> delta = -n.JtJ.ldlt().solve(n.Jtr);
-    if (!delta.allFinite()) {
-      out.failure = "singular normal equations";
-      return out;
-    }
-    T_previous = T;
-    n_previous = n;
-    const Eigen::Vector3d omega = delta.head<3>();
-    const double angle = omega.norm();
-    Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
-    if (angle > 0) step.linear() = Eigen::AngleAxisd(angle, omega / angle).toRotationMatrix();
-    step.translation() = delta.segment<3>(3);
-    T = step * T;
-    appearance.gain += delta[6];
-    appearance.gain_x += delta[7];
-    appearance.gain_y += delta[8];
-    appearance.bias += delta[9];
-    appearance.blur += delta[kBlurParam];
-    if (max_corner_shift(T, T_previous) < settings_.convergence_px) break;
-  }
-  if (!(appearance.gain > 1e-3) || !T.matrix().allFinite()) {
-    out.failure = "no correlation with the template";
-    return out;
-  }
-  if (max_corner_shift(T, T_start) > settings_.max_corner_shift_px) {
-    out.failure = "the pose moved too far from the homography's";
-    return out;
-  }
-  const double dof = std::max(1, n.valid - kParams);
-  const double inflation = settings_.covariance_inflation * settings_.covariance_inflation;
-  const Eigen::Matrix<double, kParams, kParams> cov =
-      (n.ssr / dof) * inflation * n.JtJ.ldlt().solve(Eigen::Matrix<double, kParams, kParams>::Identity());
-  out.covariance = cov.topLeftCorner<6, 6>();
-  out.covariance.topLeftCorner<3, 3>() += Eigen::Matrix3d::Identity() * settings_.rotation_sigma_floor_rad *
-                                          settings_.rotation_sigma_floor_rad;
-  Eigen::Matrix<double, 3, 6> J_t;  // translation of exp(xi) T: t + omega x t + v
-  J_t << -skew(T.translation()), Eigen::Matrix3d::Identity();
-  const Eigen::Matrix3d cov_t = J_t * out.covariance * J_t.transpose();
-  const Eigen::Matrix3d cov_r = out.covariance.topLeftCorner<3, 3>();
-  out.rotation_sigma_rad = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov_r).eigenvalues().maxCoeff()));
-  out.position_sigma_m = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov_t).eigenvalues().maxCoeff()));
-  out.residual_grey = std::sqrt(n.ssr / std::max(1, n.valid));
-  out.blur_variance_px2 = 2.0 * appearance.blur;
-  out.T_cam_object = T;
-  out.refined = true;
+  const GaussNewtonRun run = run_gauss_newton(
+      warm_start != nullptr ? *warm_start : T_start,
+      [&](const Eigen::Isometry3d& T, const PanelAppearance& a) { return accumulate(T, a); }, needed,
+      ResidualComparison::Mean, settings_.max_iterations, settings_.convergence_px, width_m_, height_m_, fx_, fy_);
+  if (!finish_refinement(run, T_start, settings_.max_corner_shift_px, width_m_, height_m_, fx_, fy_, settings_, out)) return out;
+  out.blur_variance_px2 = 2.0 * run.appearance.blur;
   return out;
 }
 

@@ -64,11 +64,8 @@ class AreaPoseRefiner {
     float hx, hy;           // the footprint's half-sizes (template px) at the pose of select(): within
                             // a refinement's reach (a corner moves <= 1.5 px) they change by < 1 %
   };
-  struct Normal;
-  struct Appearance {
-    double gain = 1, gain_x = 0, gain_y = 0, bias = 0, blur = 0;
-  };
-  Normal accumulate(const Eigen::Isometry3d& T, const Appearance& a) const;
+  // The appearance's blur is in raw px^2 (see the header comment).
+  PhotometricNormal accumulate(const Eigen::Isometry3d& T, const PanelAppearance& a) const;
   // Mean of the template over [x0, x1] x [y0, y1] (template px, texel edges at integers).
   double box_mean(double x0, double y0, double x1, double y1) const;
   Eigen::Vector2f undistorted_at(int x, int y) const;

@@ -5,12 +5,11 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
 
 #include "localization/planar/bilinear_sample.hpp"
 #include "localization/planar/homography_tracker.hpp"
+#include "localization/planar/photometric_gauss_newton.hpp"
 
 namespace labo {
 
@@ -36,10 +35,7 @@ constexpr double kRebuildRatio = 0.02;
 // How much farther than max_corner_shift_px a corner may move when a blur is modelled (half the blur,
 // at most this): the smoothed region is grown by it.
 constexpr double kMaxBlurLeashPx = 6.0;
-// Pose (6), then the appearance: gain, its gradients across the panel (x, y), bias, and the blur
-// (estimate_blur; fixed at 0 otherwise).
-constexpr int kParams = 11;
-constexpr int kBlurParam = 10;
+constexpr int kBlurParam = kPhotometricBlurParam;  // fixed at 0 unless estimate_blur
 
 // Bilinear value of a CV_32FC1 image (no bounds check, as bilinear_grey).
 double bilinear_float(const cv::Mat& image, double x, double y) {
@@ -52,20 +48,7 @@ double bilinear_float(const cv::Mat& image, double x, double y) {
   return top + fy * (bottom - top);
 }
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
 }  // namespace
-
-struct Se3PoseRefiner::Normal {
-  Eigen::Matrix<double, kParams, kParams> JtJ = Eigen::Matrix<double, kParams, kParams>::Zero();
-  Eigen::Matrix<double, kParams, 1> Jtr = Eigen::Matrix<double, kParams, 1>::Zero();
-  double ssr = 0;
-  int valid = 0;
-};
 
 Se3PoseRefiner::Se3PoseRefiner(const cv::Mat& working_template, double width_m, double height_m, const cv::Matx33d& K,
                                const Se3RefinerSettings& settings)
@@ -310,16 +293,16 @@ void Se3PoseRefiner::smooth(const cv::Mat& undistorted, std::initializer_list<Ei
   cv::GaussianBlur(undistorted(out.valid), dst, cv::Size(0, 0), settings_.smoothing_sigma_px);
 }
 
-Se3PoseRefiner::Normal Se3PoseRefiner::accumulate(const std::vector<Sample>& samples, const float* values,
-                                                  const float* laplacians, const SmoothedFrame& frame, const Eigen::Isometry3d& T,
-                                                  const Appearance& a) const {
-  Normal n;
+PhotometricNormal Se3PoseRefiner::accumulate(const std::vector<Sample>& samples, const float* values, const float* laplacians,
+                                             const SmoothedFrame& frame, const Eigen::Isometry3d& T,
+                                             const PanelAppearance& a) const {
+  PhotometricNormal n;
   const cv::Mat& image = frame.image;
   const Eigen::Vector3d r1 = T.linear().col(0), r2 = T.linear().col(1), t = T.translation();
   // Bilinear reads at u +- 1 stay inside the smoothed region.
   const double x_min = frame.valid.x + 1, y_min = frame.valid.y + 1;
   const double x_max = frame.valid.x + frame.valid.width - 2, y_max = frame.valid.y + frame.valid.height - 2;
-  Eigen::Matrix<double, kParams, 1> J;
+  PhotometricVector J;
   const double sx = 2.0 / width_m_, sy = 2.0 / height_m_;  // panel coordinates in [-1, 1]
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const Sample& s = samples[i];
@@ -392,89 +375,20 @@ Se3Refinement Se3PoseRefiner::refine(const SmoothedFrame& frame, const Eigen::Is
     if (settings_.estimate_blur) laplacians = frame.blurred_laplacian.data();
   }
   const int needed = std::max(kMinSamples, static_cast<int>(samples.size()) / 2);
-  const std::array<Eigen::Vector3d, 4> corners{Eigen::Vector3d(-0.5 * width_m_, -0.5 * height_m_, 0),
-                                               Eigen::Vector3d(0.5 * width_m_, -0.5 * height_m_, 0),
-                                               Eigen::Vector3d(0.5 * width_m_, 0.5 * height_m_, 0),
-                                               Eigen::Vector3d(-0.5 * width_m_, 0.5 * height_m_, 0)};
-  const auto max_corner_shift = [&](const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-    double shift = 0;
-    for (const auto& c : corners) {
-      const Eigen::Vector3d pa = a * c, pb = b * c;
-      shift = std::max(shift, std::hypot(fx_ * (pa.x() / pa.z() - pb.x() / pb.z()), fy_ * (pa.y() / pa.z() - pb.y() / pb.z())));
-    }
-    return shift;
-  };
-
-  Eigen::Isometry3d T = warm_start != nullptr ? *warm_start : T_start, T_previous = T;
-  Appearance appearance;
-  Normal n, n_previous;
-  for (int it = 0; it < settings_.max_iterations; ++it) {
-    n = accumulate(samples, values, laplacians, frame, T, appearance);
-    ++out.iterations;
-    if (n.valid < needed) {
-      out.failure = "too little of the panel in view";
-      return out;
-    }
-    if (it > 0 && n.ssr > n_previous.ssr) {  // the last step made it worse: undo it and stop
-      T = T_previous;
-      n = n_previous;
-      break;
-    }
-    const Eigen::Matrix<double, kParams, 1> delta = -n.JtJ.ldlt().solve(n.Jtr);
-    if (!delta.allFinite()) {
-      out.failure = "singular normal equations";
-      return out;
-    }
-    T_previous = T;
-    n_previous = n;
-    const Eigen::Vector3d omega = delta.head<3>();
-    const double angle = omega.norm();
-    Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
-    if (angle > 0) step.linear() = Eigen::AngleAxisd(angle, omega / angle).toRotationMatrix();
-    step.translation() = delta.segment<3>(3);
-    T = step * T;
-    appearance.gain += delta[6];
-    appearance.gain_x += delta[7];
-    appearance.gain_y += delta[8];
-    appearance.bias += delta[9];
-    appearance.blur += delta[kBlurParam];
-    if (max_corner_shift(T, T_previous) < settings_.convergence_px) break;
-  }
-  if (!(appearance.gain > 1e-3) || !T.matrix().allFinite()) {
-    out.failure = "no correlation with the template";
-    return out;
-  }
+  const GaussNewtonRun run = run_gauss_newton(
+      warm_start != nullptr ? *warm_start : T_start,
+      [&](const Eigen::Isometry3d& T, const PanelAppearance& a) { return accumulate(samples, values, laplacians, frame, T, a); },
+      needed, ResidualComparison::Sum, settings_.max_iterations, settings_.convergence_px, width_m_, height_m_, fx_, fy_);
   // A blurred frame pulls the tracker's corners along the blur: the modelled blur widens the leash.
   const double blur_leash_px = values != nullptr ? std::min(kMaxBlurLeashPx, 0.5 * blur_px.norm()) : 0.0;
-  if (max_corner_shift(T, T_start) > settings_.max_corner_shift_px + blur_leash_px) {
-    out.failure = "the pose moved too far from the homography's";
+  if (!finish_refinement(run, T_start, settings_.max_corner_shift_px + blur_leash_px, width_m_, height_m_, fx_, fy_, settings_,
+                         out)) {
     return out;
   }
-  // Gauss-Newton covariance at the last evaluated point (within convergence_px of the result).
-  const double dof = std::max(1, n.valid - kParams);
-  const double inflation = settings_.covariance_inflation * settings_.covariance_inflation;
-  const Eigen::Matrix<double, kParams, kParams> cov =
-      (n.ssr / dof) * inflation * n.JtJ.ldlt().solve(Eigen::Matrix<double, kParams, kParams>::Identity());
-  out.covariance = cov.topLeftCorner<6, 6>();
-  // Model errors the Gauss-Newton covariance does not see (blur and resampling differences between
-  // template and frame): a floor on the rotation's standard deviation on every axis.
-  out.covariance.topLeftCorner<3, 3>() += Eigen::Matrix3d::Identity() * settings_.rotation_sigma_floor_rad *
-                                          settings_.rotation_sigma_floor_rad;
-  Eigen::Matrix<double, 3, 6> J_t;  // translation of exp(xi) T: t + omega x t + v
-  J_t << -skew(T.translation()), Eigen::Matrix3d::Identity();
-  const Eigen::Matrix3d cov_t = J_t * out.covariance * J_t.transpose();
-  const Eigen::Matrix3d cov_r = out.covariance.topLeftCorner<3, 3>();
-  out.rotation_sigma_rad = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov_r).eigenvalues().maxCoeff()));
-  out.position_sigma_m = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov_t).eigenvalues().maxCoeff()));
-  out.residual_grey = std::sqrt(n.ssr / std::max(1, n.valid));
-  {
-    // Frame px per template-view px at the panel's centre (mean of the two directions).
-    const double z = std::max(1e-3, T.translation().z());
-    const double scale = 0.5 * (fx_ * view.mx + fy_ * view.my) / z;
-    out.blur_variance_px2 = 2.0 * appearance.blur * scale * scale;
-  }
-  out.T_cam_object = T;
-  out.refined = true;
+  // Frame px per template-view px at the panel's centre (mean of the two directions).
+  const double z = std::max(1e-3, run.T.translation().z());
+  const double scale = 0.5 * (fx_ * view.mx + fy_ * view.my) / z;
+  out.blur_variance_px2 = 2.0 * run.appearance.blur * scale * scale;
   return out;
 }
 

@@ -42,6 +42,9 @@
 
 namespace labo {
 
+struct PhotometricNormal;
+struct PanelAppearance;
+
 struct Se3RefinerSettings {
   int max_iterations = 8;
   int max_samples = 1500;              // per template level
@@ -122,13 +125,6 @@ class Se3PoseRefiner {
     float lx, ly;  // position in its level's image, px
     float laplacian;  // of the (smoothed) level image at the sample, grey levels per px^2
   };
-  struct Normal;
-  // Grey level = (gain + gain_x x + gain_y y) template + bias, x and y across the panel in [-1, 1]:
-  // brightness, contrast and a light gradient over the panel.
-  struct Appearance {
-    double gain = 1, gain_x = 0, gain_y = 0, bias = 0;
-    double blur = 0;  // half the frame's extra blur variance, template-view px^2 (estimate_blur)
-  };
 
   // A template image the fit reads: its samples, the (smoothed) image they come from, metres per
   // pixel of that image along the panel's x and y.
@@ -158,9 +154,9 @@ class Se3PoseRefiner {
   View view_for(const Eigen::Isometry3d& T) const;
   // `values` / `laplacians`: the samples' template grey levels and Laplacians to fit (blurred), or null
   // for their own.
-  Normal accumulate(const std::vector<Sample>& samples, const float* values, const float* laplacians,
-                    const SmoothedFrame& frame,
-                    const Eigen::Isometry3d& T, const Appearance& appearance) const;
+  // The appearance's blur is half the frame's extra blur variance in template-view px^2 (estimate_blur).
+  PhotometricNormal accumulate(const std::vector<Sample>& samples, const float* values, const float* laplacians,
+                               const SmoothedFrame& frame, const Eigen::Isometry3d& T, const PanelAppearance& appearance) const;
   // The view's samples averaged along the blur (image px mapped into the view at the panel's centre).
   void blur_samples(const View& view, const Eigen::Isometry3d& T, const Eigen::Vector2d& blur_px,
                     std::vector<float>& out, std::vector<float>& out_laplacian) const;

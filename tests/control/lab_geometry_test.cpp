@@ -3,6 +3,7 @@
 #include "control/flight_stack.hpp"
 #include "control/lab_geometry.hpp"
 #include "drone/lab/lab_description.hpp"
+#include "teacher_routes.hpp"
 
 using namespace labo;
 
@@ -61,4 +62,16 @@ TEST_CASE("control: a FlightStack on the lab's geometry accepts its instruments 
   const CommandResult accepted = stack.request(r, 0.0);
   INFO(accepted.reason);
   CHECK(accepted.accepted);
+}
+
+TEST_CASE("control: the find-teacher tests' lab route is config/lab.json's teacher route") {
+  // test::lab_route() pins the route's figures for the route tests; this keeps it the lab's, so a
+  // change of the lab file shows up here instead of silently leaving those tests on an old route.
+  const TeacherRoute lab = lab_geometry_from(load_lab_description(default_lab_path())).teacher;
+  const TeacherRoute pinned = test::lab_route();
+  REQUIRE(lab.waypoints.size() == pinned.waypoints.size());
+  for (std::size_t i = 0; i < lab.waypoints.size(); ++i) CHECK(lab.waypoints[i].isApprox(pinned.waypoints[i]));
+  CHECK(lab.speed_mps == Approx(pinned.speed_mps));
+  CHECK(lab.pause_s == Approx(pinned.pause_s));
+  CHECK(lab.eye_height_m == Approx(pinned.eye_height_m));
 }

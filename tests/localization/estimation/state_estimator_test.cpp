@@ -153,6 +153,27 @@ TEST_CASE("estimation: dead reckoning on navdata follows a flight with little dr
   CHECK(f.colour == SourceColour::Red);
 }
 
+TEST_CASE("estimation: a prediction for a time the filter has passed is the filtered state, stamped with its own time") {
+  SyntheticFlight truth(4);
+  StateEstimator est(no_delays());
+  est.reset(truth.T_world_body(), 0.0);
+  DelayedLink link{truth, 0.0, 0.0, 1.0 / 200.0, {}, {}, 0.0};
+  const MoveCommand c{0.3, 0.0, 0.0, 0.0};
+  link.send(c, truth.t);
+  est.add_command(c, truth.t);
+  link.run_until(1.0, [&](const NavdataSample& n) { est.add_navdata(n); });
+  REQUIRE(est.add_slam_pose(slam_at(truth.T_world_body(), truth.t)));  // moves the filter to 1.0 s
+  const Seconds filter_t = est.filter_time();
+  REQUIRE(filter_t > 0.9);
+  const FusedState past = est.predict(0.5);
+  const FusedState now = est.filtered();
+  CHECK(past.t == filter_t);
+  CHECK(past.position_world.isApprox(now.position_world));
+  CHECK(past.velocity_world.isApprox(now.velocity_world));
+  // Ahead of the filter the motion model runs on: the stamp is the time asked for.
+  CHECK(est.predict(filter_t + 0.2).t == Approx(filter_t + 0.2));
+}
+
 TEST_CASE("estimation: a start pose without a time is taken at the first navdata, however late it comes") {
   // A server's clock has run for seconds (loading models, connecting) before the first navdata; the
   // filter must start there, not judge every sample "from the future" against time 0.
