@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/frames.hpp"
+#include "localization/slam/slam_system.hpp"
 
 namespace labo {
 
@@ -56,7 +57,16 @@ void LabPipelines::start_at_first_navdata(const Eigen::Isometry3d& T_world_body)
   estimator_.start_at_first_navdata(T_world_body);
 }
 
-void LabPipelines::on_navdata(const NavdataSample& sample) { estimator_.add_navdata(sample); }
+void LabPipelines::on_navdata(const NavdataSample& sample) {
+  estimator_.add_navdata(sample);
+  attitude_.add(sample.t - estimator_.config().navdata_delay_s, {sample.roll_rad, sample.pitch_rad});
+}
+
+std::optional<Eigen::Vector3d> LabPipelines::gravity_in_front_camera(Seconds frame_t) const {
+  const std::optional<Attitude> a = attitude_.at(frame_t - estimator_.config().video_delay_s);
+  if (!a) return std::nullopt;
+  return slam::gravity_down_in_camera(a->roll_rad, a->pitch_rad, T_body_cam_front());
+}
 
 void LabPipelines::on_command(const MoveCommand& command, Seconds t) { estimator_.add_command(command, t); }
 
@@ -103,7 +113,7 @@ void LabPipelines::run_front_camera(const VideoFrame& frame) {
   const cv::Mat* gray = grey_of(frame.bgr);
   if (!gray) return;
   if (slam_fe_ && focus_.slam) {
-    const SlamFrame& s = slam_fe_->process(*gray, frame.t, slam_prior(frame.t));
+    const SlamFrame& s = slam_fe_->process(*gray, frame.t, slam_prior(frame.t), gravity_in_front_camera(frame.t));
     add_slam_result(s.T_map_cam, s.summary, s.map_id, frame.t);
   }
   if (instrument) {

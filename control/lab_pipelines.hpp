@@ -14,6 +14,7 @@
 #include <optional>
 #include <vector>
 
+#include "control/attitude_history.hpp"
 #include "control/lab_geometry.hpp"
 #include "control/localization_pipelines.hpp"
 #include "control/vision_front_end.hpp"
@@ -62,6 +63,9 @@ class LabPipelines final : public LocalizationPipelines {
   // The estimator's camera pose at t in SLAM's current map, once the map is placed and its scale
   // estimated (the prior tum_ardrone gives PTAM); empty otherwise.
   std::optional<Eigen::Isometry3d> slam_prior(Seconds t) const;
+  // The IMU's attitude at a front frame's capture time as gravity's direction in the front camera
+  // (navdata and video delays from the estimator's configuration); empty without navdata around it.
+  std::optional<Eigen::Vector3d> gravity_in_front_camera(Seconds frame_t) const;
   const cv::Mat* grey_of(const cv::Mat& image);
   void run_front_camera(const VideoFrame& frame);
   void run_bottom_camera(const VideoFrame& frame);
@@ -75,6 +79,7 @@ class LabPipelines final : public LocalizationPipelines {
   std::vector<std::unique_ptr<TargetFrontEnd>> instrument_fes_;  // parallel to lab_.instruments
   std::unique_ptr<TargetFrontEnd> platform_fe_, face_fe_;
   std::unique_ptr<SlamFrontEnd> slam_fe_;
+  AttitudeHistory attitude_;  // navdata roll/pitch at their measurement times
   cv::Mat gray_;  // the frame in grey, reused
 };
 

@@ -33,8 +33,11 @@ const SlamFrame& SlamSystemFrontEnd::pause() {
 }
 
 const SlamFrame& SlamSystemFrontEnd::process(const cv::Mat& gray, Seconds t,
-                                             const std::optional<Eigen::Isometry3d>& prior_T_cam_map) {
-  result_ = slam_->track(gray, t, prior_T_cam_map);
+                                             const std::optional<Eigen::Isometry3d>& prior_T_cam_map,
+                                             const std::optional<Eigen::Vector3d>& gravity_down_cam) {
+  std::optional<slam::GravityMeasurement> gravity;
+  if (gravity_down_cam) gravity = slam::GravityMeasurement{t, *gravity_down_cam};
+  result_ = slam_->track(gray, t, prior_T_cam_map, gravity);
   SlamSummary& s = frame_.summary;
   s.state = slam_state_of(result_.state);
   s.points_found = result_.points_found;

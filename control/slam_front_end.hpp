@@ -15,7 +15,8 @@ class SlamSystemFrontEnd final : public SlamFrontEnd {
  public:
   explicit SlamSystemFrontEnd(std::unique_ptr<slam::SlamSystem> slam);
 
-  const SlamFrame& process(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior_T_cam_map) override;
+  const SlamFrame& process(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior_T_cam_map,
+                           const std::optional<Eigen::Vector3d>& gravity_down_cam = std::nullopt) override;
   const SlamFrame& pause() override;
   int map_id() const override { return frame_.map_id; }
 

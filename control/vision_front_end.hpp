@@ -39,9 +39,11 @@ class SlamFrontEnd {
  public:
   virtual ~SlamFrontEnd() = default;
   // One 8-bit grey front-camera frame. `prior_T_cam_map` (the state estimator's prediction, in the
-  // current map) replaces SLAM's own motion model and lets it relocalize from there. Valid until the
-  // next call.
-  virtual const SlamFrame& process(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior_T_cam_map) = 0;
+  // current map) replaces SLAM's own motion model and lets it relocalize from there.
+  // `gravity_down_cam`: the IMU's attitude at the frame's capture time as gravity's direction in the
+  // camera (SLAM's gravity prior, used when its settings enable it). Valid until the next call.
+  virtual const SlamFrame& process(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior_T_cam_map,
+                                   const std::optional<Eigen::Vector3d>& gravity_down_cam) = 0;
   // Frames stopped coming (the bottom camera streams): report SLAM off until the next frame.
   virtual const SlamFrame& pause() = 0;
   virtual int map_id() const = 0;

@@ -17,8 +17,9 @@ class RecordingSlamFrontEnd final : public SlamFrontEnd {
  public:
   RecordingSlamFrontEnd(std::unique_ptr<SlamFrontEnd> inner, std::vector<SlamTrackPoint>& track)
       : inner_(std::move(inner)), track_(track) {}
-  const SlamFrame& process(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior) override {
-    const SlamFrame& f = inner_->process(gray, t, prior);
+  const SlamFrame& process(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior,
+                           const std::optional<Eigen::Vector3d>& gravity_down_cam) override {
+    const SlamFrame& f = inner_->process(gray, t, prior, gravity_down_cam);
     if (f.has_pose && f.summary.state == SlamState::Good) track_.push_back({t, f.T_map_cam, f.map_id});
     return f;
   }

@@ -242,6 +242,8 @@ PhotometricNormal AreaPoseRefiner::accumulate(const Eigen::Isometry3d& T, const 
     n.JtJ.noalias() += J * J.transpose();
     n.Jtr += J * residual;
     n.ssr += residual * residual;
+    n.sum_grey += s.grey;
+    n.sum_grey2 += static_cast<double>(s.grey) * s.grey;
     ++n.valid;
   }
   if (!settings_.estimate_blur) n.JtJ(kBlurParam, kBlurParam) = 1.0;
@@ -272,7 +274,10 @@ Se3Refinement AreaPoseRefiner::refine(const Eigen::Isometry3d& T_start, const Ei
       warm_start != nullptr ? *warm_start : T_start,
       [&](const Eigen::Isometry3d& T, const PanelAppearance& a) { return accumulate(T, a); }, needed,
       ResidualComparison::Mean, settings_.max_iterations, settings_.convergence_px, width_m_, height_m_, fx_, fy_);
-  if (!finish_refinement(run, T_start, settings_.max_corner_shift_px, width_m_, height_m_, fx_, fy_, settings_, out)) return out;
+  if (!finish_refinement(run, T_start, settings_.max_corner_shift_px, width_m_, height_m_, fx_, fy_, cx_, cy_,
+                         cv::Size(camera_.width(), camera_.height()), settings_, out)) {
+    return out;
+  }
   out.blur_variance_px2 = 2.0 * run.appearance.blur;
   return out;
 }

@@ -20,8 +20,33 @@ double max_corner_shift_px(const Eigen::Isometry3d& a, const Eigen::Isometry3d& 
   return shift;
 }
 
+namespace {
+
+// The largest image motion between poses a and b of the panel's points (a 5 x 5 grid, corners
+// included) that b shows inside the image; all of them when none is inside.
+double max_visible_shift_px(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double width_m, double height_m, double fx,
+                            double fy, double cx, double cy, cv::Size image) {
+  constexpr int kGrid = 5;
+  double visible = -1, any = 0;
+  for (int j = 0; j < kGrid; ++j) {
+    for (int i = 0; i < kGrid; ++i) {
+      const Eigen::Vector3d p((static_cast<double>(i) / (kGrid - 1) - 0.5) * width_m, (static_cast<double>(j) / (kGrid - 1) - 0.5) * height_m, 0);
+      const Eigen::Vector3d pa = a * p, pb = b * p;
+      const double ua = fx * pa.x() / pa.z() + cx, va = fy * pa.y() / pa.z() + cy;
+      const double ub = fx * pb.x() / pb.z() + cx, vb = fy * pb.y() / pb.z() + cy;
+      const double shift = std::hypot(ua - ub, va - vb);
+      any = std::max(any, shift);
+      if (pb.z() > 0 && ub >= 0 && vb >= 0 && ub <= image.width - 1 && vb <= image.height - 1) visible = std::max(visible, shift);
+    }
+  }
+  return visible >= 0 ? visible : any;
+}
+
+}  // namespace
+
 bool finish_refinement(const GaussNewtonRun& run, const Eigen::Isometry3d& T_start, double leash_px, double width_m,
-                       double height_m, double fx, double fy, const Se3RefinerSettings& settings, Se3Refinement& out) {
+                       double height_m, double fx, double fy, double cx, double cy, cv::Size image,
+                       const Se3RefinerSettings& settings, Se3Refinement& out) {
   out.iterations = run.iterations;
   if (*run.failure != '\0') {
     out.failure = run.failure;
@@ -29,10 +54,21 @@ bool finish_refinement(const GaussNewtonRun& run, const Eigen::Isometry3d& T_sta
   }
   if (!(run.appearance.gain > 1e-3) || !run.T.matrix().allFinite()) {
     out.failure = "no correlation with the template";
+    out.contradicts_start = true;
     return false;
   }
-  if (max_corner_shift_px(run.T, T_start, width_m, height_m, fx, fy) > leash_px) {
+  // The correlation of the fitted model with the frame: the share of the grey levels' variance it explains.
+  const PhotometricNormal& fit = run.normal;
+  const double variance_sum = fit.sum_grey2 - fit.sum_grey * fit.sum_grey / std::max(1, fit.valid);
+  out.correlation = variance_sum > 0 ? std::sqrt(std::max(0.0, 1.0 - fit.ssr / variance_sum)) : 0.0;
+  if (out.correlation < settings.min_correlation) {
+    out.failure = "the fit does not explain the frame (correlation below the threshold)";
+    out.contradicts_start = true;
+    return false;
+  }
+  if (max_visible_shift_px(run.T, T_start, width_m, height_m, fx, fy, cx, cy, image) > leash_px) {
     out.failure = "the pose moved too far from the homography's";
+    out.contradicts_start = true;
     return false;
   }
   const PhotometricNormal& n = run.normal;

@@ -12,6 +12,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <opencv2/core.hpp>
 
 #include "localization/planar/se3_pose_refiner.hpp"
 
@@ -28,6 +29,7 @@ struct PhotometricNormal {
   PhotometricVector Jtr = PhotometricVector::Zero();
   double ssr = 0;  // sum of squared residuals
   int valid = 0;   // residuals summed
+  double sum_grey = 0, sum_grey2 = 0;  // of the frame's grey levels fitted: how much of their variance the fit explains
 };
 
 // Grey level = (gain + gain_x x + gain_y y) (prediction + blur * its change with blur) + bias, x and y
@@ -107,12 +109,18 @@ GaussNewtonRun run_gauss_newton(const Eigen::Isometry3d& T_begin, Accumulate&& a
 }
 
 // The run's result into `out` (whose T_cam_object is the starting pose): refused (out.failure says why,
-// out.refined stays false) when the run failed, the gain collapsed, or a corner of the panel ended more
-// than `leash_px` from where T_start puts it. Otherwise the pose, the RMS residual and the Gauss-Newton
+// out.refined stays false) when the run failed, the gain collapsed, the fit explains the frame's grey
+// levels with a correlation below settings.min_correlation, or a corner of the panel ended more than
+// `leash_px` from where T_start puts it. Otherwise the pose, the RMS residual and the Gauss-Newton
 // covariance sigma^2 (J^T J)^-1 of the pose, marginalized over the appearance, with sigma^2 the residual
 // variance, inflated by settings.covariance_inflation, plus the rotation floor, and the worst-axis
 // sigmas. Leaves `blur_variance_px2` to the caller (its unit is the refiner's). Returns out.refined.
+// The leash is measured over the part of the panel in view at T_start (a 5 x 5 grid of its points
+// inside `image` of the undistorted frame, whose principal point is (cx, cy)): beyond the image's edge
+// the tracker's homography is an extrapolation, and a partly visible panel's far corners may
+// legitimately move farther.
 bool finish_refinement(const GaussNewtonRun& run, const Eigen::Isometry3d& T_start, double leash_px, double width_m,
-                       double height_m, double fx, double fy, const Se3RefinerSettings& settings, Se3Refinement& out);
+                       double height_m, double fx, double fy, double cx, double cy, cv::Size image,
+                       const Se3RefinerSettings& settings, Se3Refinement& out);
 
 }  // namespace labo

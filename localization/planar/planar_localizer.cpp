@@ -31,8 +31,9 @@ constexpr double kMinBlurMotionPx = 2.0;
 constexpr Seconds kMaxBlurIntervalS = 0.1;
 constexpr std::array<double, 4> kExposureFractions{1.0 / 3.0, 2.0 / 3.0, 1.0, 4.0 / 3.0};
 
-Se3RefinerSettings se3_settings(const PlanarConfig& config) {
+Se3RefinerSettings se3_settings(const PlanarConfig& config, double min_correlation) {
   Se3RefinerSettings s;
+  s.min_correlation = min_correlation;
   s.max_iterations = config.se3_iterations;
   s.max_samples = config.se3_max_samples;
   s.covariance_inflation = config.se3_covariance_inflation;
@@ -136,9 +137,9 @@ PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, con
       sift_detector_(template_.working(), config, thresholds.sift_min_inliers),
       pose_solver_(camera.K(), template_.object_corners()),
       pose_refiner_(template_.working(), template_.width_m(), template_.height_m(), camera.K(),
-                    se3_settings(config)) {
+                    se3_settings(config, thresholds.min_correlation)) {
   if (config.pose_refinement == PoseRefinement::Se3 && config.se3_footprint_model) {
-    footprint_refiner_.emplace(template_.original(), template_.width_m(), template_.height_m(), camera, se3_settings(config));
+    footprint_refiner_.emplace(template_.original(), template_.width_m(), template_.height_m(), camera, se3_settings(config, thresholds.min_correlation));
   }
   if (camera_.has_distortion()) {
     const cv::Size size(camera_.width(), camera_.height());
@@ -151,6 +152,7 @@ PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, con
 void PlanarObjectLocalizer::reset() {
   tracking_ = false;
   last_pose_.reset();
+  unverified_pose_.reset();
   last_exposure_ = -1;
 }
 
@@ -264,7 +266,14 @@ PlanarLoss PlanarObjectLocalizer::accept(const cv::Mat& image, const cv::Matx33d
   const double size_px = std::sqrt(std::abs(cv::contourArea(std::vector<cv::Point2f>(
       {cv::Point2f(corners[0]), cv::Point2f(corners[1]), cv::Point2f(corners[2]), cv::Point2f(corners[3])}))));
   const double margin = std::clamp((correlation - thresholds_.min_correlation) / (1.0 - thresholds_.min_correlation), 0.0, 1.0);
-  refine_pose(image, *pose, size_px, margin, r);
+  if (!refine_pose(image, *pose, size_px, margin, r)) {
+    unverified_pose_ = pose->T_cam_object;
+    unverified_pose_t_ = r.t;
+    // Measured (docs/planar.md, 2026-12-03): every such pose on the bench's sequences was 4-10 deg off
+    // (a panel partly out of view, a detection on a smeared frame): IC's homography had gone wrong.
+    r.detail = "the photometric fit contradicts the tracker's homography";
+    return PlanarLoss::NoPose;
+  }
   if (check_jump && last_pose_) {
     // Motion between consecutive frames, measured as the object's displacement in the camera frame.
     // (The camera's position in the object frame, -R^T t, would carry the plane's tilt uncertainty
@@ -301,8 +310,12 @@ Eigen::Vector2d PlanarObjectLocalizer::panel_motion_px(const Eigen::Isometry3d& 
     const Eigen::Vector3d c = pose.translation();
     return Eigen::Vector2d(camera_.intrinsics().fx * c.x() / c.z(), camera_.intrinsics().fy * c.y() / c.z());
   };
-  const bool recent = last_pose_ && t - last_pose_t_ > 0 && t - last_pose_t_ <= kMaxBlurIntervalS;
-  return recent ? Eigen::Vector2d(centre_px(T) - centre_px(*last_pose_)) : Eigen::Vector2d::Zero();
+  // The most recent reference: the last reported pose, or a later unverified one.
+  const bool unverified = unverified_pose_ && (!last_pose_ || unverified_pose_t_ > last_pose_t_);
+  const std::optional<Eigen::Isometry3d>& reference = unverified ? unverified_pose_ : last_pose_;
+  const Seconds reference_t = unverified ? unverified_pose_t_ : last_pose_t_;
+  const bool recent = reference && t - reference_t > 0 && t - reference_t <= kMaxBlurIntervalS;
+  return recent ? Eigen::Vector2d(centre_px(T) - centre_px(*reference)) : Eigen::Vector2d::Zero();
 }
 
 Se3Refinement PlanarObjectLocalizer::refine_once(const Eigen::Isometry3d& T_start, bool use_footprint,
@@ -365,7 +378,7 @@ Se3Refinement PlanarObjectLocalizer::refine_with_blur_search(const Eigen::Isomet
   return *tried[static_cast<std::size_t>(best_index + 1)];
 }
 
-void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, double size_px, double margin,
+bool PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, double size_px, double margin,
                                         PlanarResult& r) {
   r.pose_refined = false;
   if (config_.pose_refinement == PoseRefinement::Se3) {
@@ -446,8 +459,9 @@ void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
       r.footprint_model = use_footprint;
       r.position_sigma_m = refined.position_sigma_m;
       r.rotation_sigma_rad = refined.rotation_sigma_rad;
-      return;
+      return true;
     }
+    if (refined.contradicts_start) return false;
   }
   // From the corners alone, with a corner noise growing as the correlation margin shrinks (0.3 px when
   // aligned perfectly): depth from the apparent size, sigma_Z = Z sigma_px / size_px; the tilt of a
@@ -457,6 +471,7 @@ void PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
   const double distance = pose.T_cam_object.translation().norm();
   r.position_sigma_m = distance * sigma_px / std::max(1.0, size_px);
   r.rotation_sigma_rad = std::sqrt(2.0 * sigma_px / std::max(1.0, size_px));
+  return true;
 }
 
 }  // namespace labo

@@ -62,8 +62,10 @@ class PlanarObjectLocalizer {
   // Checks an aligned homography and fills the pose; returns the loss reason (None when accepted).
   PlanarLoss accept(const cv::Mat& image, const cv::Matx33d& H_working, double correlation, bool check_jump,
                     PlanarResult& r);
-  // The SE(3) refinement of the IPPE pose when configured; fills the result's uncertainties.
-  void refine_pose(const cv::Mat& image, PlanarPose& pose, double size_px, double margin, PlanarResult& r);
+  // The SE(3) refinement of the IPPE pose when configured; fills the result's uncertainties. False
+  // when the fit contradicts the tracker's homography (Se3Refinement::contradicts_start): the frame is
+  // then a loss, not an unverified pose.
+  bool refine_pose(const cv::Mat& image, PlanarPose& pose, double size_px, double margin, PlanarResult& r);
   // The SE(3) refinement of T_start, with the motion blur (if the panel moved fast) that fits best.
   // The exposure chosen last (index into the tried fractions, -1: none) is tried first: under auto
   // exposure it changes slowly, and the search then needs fewer refinements.
@@ -98,6 +100,11 @@ class PlanarObjectLocalizer {
   std::optional<Eigen::Isometry3d> last_pose_;
   Seconds last_pose_t_ = 0;
   int last_exposure_ = -1;  // see refine_with_blur_search
+  // The IPPE pose of the last frame whose photometric fit contradicted the tracker (a loss): not a
+  // pose to report, but good enough to measure the panel's image motion from, so that the next frame
+  // can model its motion blur (a detection on a smeared frame has no other reference).
+  std::optional<Eigen::Isometry3d> unverified_pose_;
+  Seconds unverified_pose_t_ = 0;
 };
 
 }  // namespace labo

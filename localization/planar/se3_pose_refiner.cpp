@@ -332,6 +332,8 @@ PhotometricNormal Se3PoseRefiner::accumulate(const std::vector<Sample>& samples,
     n.JtJ.selfadjointView<Eigen::Lower>().rankUpdate(J);
     n.Jtr += J * residual;
     n.ssr += residual * residual;
+    n.sum_grey += value;
+    n.sum_grey2 += value * value;
     ++n.valid;
   }
   n.JtJ.triangularView<Eigen::StrictlyUpper>() = n.JtJ.transpose();
@@ -381,8 +383,8 @@ Se3Refinement Se3PoseRefiner::refine(const SmoothedFrame& frame, const Eigen::Is
       needed, ResidualComparison::Sum, settings_.max_iterations, settings_.convergence_px, width_m_, height_m_, fx_, fy_);
   // A blurred frame pulls the tracker's corners along the blur: the modelled blur widens the leash.
   const double blur_leash_px = values != nullptr ? std::min(kMaxBlurLeashPx, 0.5 * blur_px.norm()) : 0.0;
-  if (!finish_refinement(run, T_start, settings_.max_corner_shift_px + blur_leash_px, width_m_, height_m_, fx_, fy_, settings_,
-                         out)) {
+  if (!finish_refinement(run, T_start, settings_.max_corner_shift_px + blur_leash_px, width_m_, height_m_, fx_, fy_, cx_, cy_,
+                         undistorted.size(), settings_, out)) {
     return out;
   }
   // Frame px per template-view px at the panel's centre (mean of the two directions).

@@ -67,6 +67,9 @@ struct Se3RefinerSettings {
   // the difference, and face-on at 2-3 m a shape change is a tilt of degrees. Config:
   // planar.se3_estimate_blur (default true; docs/planar.md, "the frame's blur estimated").
   bool estimate_blur = true;
+  // A refinement whose model correlates with the frame's grey levels below this is refused
+  // (Se3Refinement::contradicts_start): the localizer passes the detection threshold alpha. 0: off.
+  double min_correlation = 0.0;
 };
 
 struct Se3Refinement {
@@ -78,8 +81,14 @@ struct Se3Refinement {
   double position_sigma_m = 0;    // 1-sigma along the worst-determined direction of T_cam_object's translation
   double residual_grey = 0;       // RMS residual after gain and bias
   double blur_variance_px2 = 0;   // estimate_blur: the frame's extra blur, Gaussian variance in frame px^2
+  double correlation = 0;         // of the fitted model with the frame's grey levels (sqrt of the variance explained)
   int iterations = 0;
   const char* failure = "";
+  // Not refined because the photometric fit disagrees with the starting pose: it ended beyond the
+  // corner leash, or the panel's appearance could not be fitted at all (the gain collapsed). The
+  // starting pose (the tracker's homography through IPPE) is then suspect, unlike a refusal for too
+  // few pixels in view or a template too small to refine.
+  bool contradicts_start = false;
 };
 
 class Se3PoseRefiner {

@@ -151,29 +151,45 @@ PlanarViewRenderer::PlanarViewRenderer(const PinholeCamera& camera, cv::Mat wall
   }
 }
 
+namespace {
+
+// The integral of the template over [0, x) x [0, y) (template px, texel edges at integers) from its
+// summed-area table: bilinear within a texel, exact for piecewise-constant texels.
+double area_integral(const cv::Mat& sat, double x, double y) {
+  const int w = sat.cols - 1, h = sat.rows - 1;
+  x = std::clamp(x, 0.0, static_cast<double>(w));
+  y = std::clamp(y, 0.0, static_cast<double>(h));
+  const int i = std::min(static_cast<int>(x), w - 1), j = std::min(static_cast<int>(y), h - 1);
+  const double fx = x - i, fy = y - j;
+  const double* r0 = sat.ptr<double>(j);
+  const double* r1 = sat.ptr<double>(j + 1);
+  const double top = r0[i] + fx * (r0[i + 1] - r0[i]), bottom = r1[i] + fx * (r1[i + 1] - r1[i]);
+  return top + fy * (bottom - top);
+}
+
+}  // namespace
+
 cv::Mat PlanarViewRenderer::render(const cv::Mat& templ, double width_m, double height_m,
                                    const Eigen::Isometry3d& T_cam_object) const {
   const Eigen::Isometry3d T_object_cam = T_cam_object.inverse();
   const Eigen::Matrix3f R = T_object_cam.linear().cast<float>();
   const Eigen::Vector3f origin = T_object_cam.translation().cast<float>();
-  const double depth = std::max(1e-3, T_cam_object.translation().z());
-  cv::Mat small;
-  const cv::Matx33d small_from_original = shrink(templ, camera_.intrinsics().fx * width_m / depth / templ.cols, small).inv();
+  // Where each pixel's centre meets the panel's plane, in template px (texel edges at integers).
   cv::Mat panel_map(camera_.height(), camera_.width(), CV_32FC2), wall_map(camera_.height(), camera_.width(), CV_32FC2);
+  constexpr float kNone = -1e6f;
   std::size_t k = 0;
   for (int y = 0; y < camera_.height(); ++y) {
     auto* prow = panel_map.ptr<cv::Vec2f>(y);
     auto* wrow = wall_map.ptr<cv::Vec2f>(y);
     for (int x = 0; x < camera_.width(); ++x, ++k) {
       const Eigen::Vector3f ray = R * rays_[k];
-      prow[x] = wrow[x] = cv::Vec2f(-1e6f, -1e6f);
+      prow[x] = wrow[x] = cv::Vec2f(kNone, kNone);
       if (ray.z() <= 1e-6f) continue;  // parallel to or away from the planes
       const float s_panel = -origin.z() / ray.z();
       if (s_panel > 0) {
         const Eigen::Vector3f p = origin + s_panel * ray;
-        const double u = (p.x() / width_m + 0.5) * templ.cols - 0.5, v = (p.y() / height_m + 0.5) * templ.rows - 0.5;
-        const cv::Vec3d q = small_from_original * cv::Vec3d(u, v, 1.0);
-        prow[x] = cv::Vec2f(static_cast<float>(q[0] / q[2]), static_cast<float>(q[1] / q[2]));
+        prow[x] = cv::Vec2f(static_cast<float>((p.x() / width_m + 0.5) * templ.cols),
+                            static_cast<float>((p.y() / height_m + 0.5) * templ.rows));
       }
       const float s_wall = (static_cast<float>(wall_depth_m_) - origin.z()) / ray.z();
       if (s_wall > 0 && !wall_.empty()) {
@@ -185,10 +201,64 @@ cv::Mat PlanarViewRenderer::render(const cv::Mat& templ, double width_m, double 
   }
   cv::Mat out(camera_.height(), camera_.width(), CV_8UC1, cv::Scalar(120));
   if (!wall_.empty()) cv::remap(wall_, out, wall_map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_WRAP);
-  blend_warped(small, out, [&](const cv::Mat& src, cv::Mat& dst, int border, double offset) {
-    cv::Mat shifted = panel_map + cv::Scalar(offset, offset);
-    cv::remap(src, dst, shifted, cv::noArray(), cv::INTER_LINEAR, border);
-  });
+  // Each pixel records the panel's mean over the pixel's footprint, as a camera's pixel integrates the
+  // light over its area (the template's texels piecewise constant): the pixel square mapped onto the
+  // template by the local Jacobian of the map, split into 2 x 2 sub-squares, each a box with its second
+  // moments along the template's axes (a sheared or rotated footprint is then close to its true shape),
+  // each box's mean read from the summed-area table. The part of the footprint outside the panel shows
+  // the wall: the pixel blends the two by the covered area. (Before 2026-12-03 the template was
+  // area-shrunk to the panel's size and then sampled bilinearly: resampled twice, each pixel's kernel
+  // depended on its sub-pixel phase and displaced the detail by a phase-dependent fraction of a pixel,
+  // which read as a tilt of a degree at 2-3 m; docs/planar.md.)
+  cv::Mat sat;
+  cv::integral(templ, sat, CV_64F);
+  const double tw = templ.cols, th = templ.rows;
+  const auto at = [&](int x, int y) { return panel_map.at<cv::Vec2f>(y, x); };
+  const auto valid = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < panel_map.cols && y < panel_map.rows && at(x, y)[0] > kNone / 2;
+  };
+  // The map's derivative along one image axis at (x, y): central where both neighbours hit the plane.
+  const auto derivative = [&](int x, int y, int dx, int dy, cv::Vec2f& d) {
+    const bool ahead = valid(x + dx, y + dy), behind = valid(x - dx, y - dy);
+    if (ahead && behind) {
+      d = 0.5f * (at(x + dx, y + dy) - at(x - dx, y - dy));
+    } else if (ahead) {
+      d = at(x + dx, y + dy) - at(x, y);
+    } else if (behind) {
+      d = at(x, y) - at(x - dx, y - dy);
+    } else {
+      return false;
+    }
+    return true;
+  };
+  for (int y = 0; y < out.rows; ++y) {
+    uchar* o = out.ptr<uchar>(y);
+    for (int x = 0; x < out.cols; ++x) {
+      if (!valid(x, y)) continue;
+      const cv::Vec2f c = at(x, y);
+      cv::Vec2f du, dv;  // template px per image px along x and along y
+      if (!derivative(x, y, 1, 0, du) || !derivative(x, y, 0, 1, dv)) continue;
+      const double reach_u = 0.5 * (std::abs(du[0]) + std::abs(dv[0])), reach_v = 0.5 * (std::abs(du[1]) + std::abs(dv[1]));
+      if (c[0] + reach_u <= 0 || c[1] + reach_v <= 0 || c[0] - reach_u >= tw || c[1] - reach_v >= th) continue;
+      // A quarter pixel's square: half-sizes from the rows of the Jacobian (second moments).
+      const double hu = 0.25 * std::hypot(du[0], dv[0]), hv = 0.25 * std::hypot(du[1], dv[1]);
+      if (!(hu > 0 && hv > 0)) continue;
+      double inside = 0, integral = 0;
+      for (const float sy : {-0.25f, 0.25f}) {
+        for (const float sx : {-0.25f, 0.25f}) {
+          const cv::Vec2f q = c + sx * du + sy * dv;
+          const double u0 = std::max(0.0, q[0] - hu), u1 = std::min(tw, q[0] + hu);
+          const double v0 = std::max(0.0, q[1] - hv), v1 = std::min(th, q[1] + hv);
+          if (!(u1 > u0 && v1 > v0)) continue;
+          inside += (u1 - u0) * (v1 - v0);
+          integral += area_integral(sat, u1, v1) - area_integral(sat, u0, v1) - area_integral(sat, u1, v0) + area_integral(sat, u0, v0);
+        }
+      }
+      const double footprint = 4.0 * (2 * hu) * (2 * hv);
+      const double covered = std::min(1.0, inside / footprint);
+      o[x] = cv::saturate_cast<uchar>(integral / footprint + (1.0 - covered) * o[x]);
+    }
+  }
   return out;
 }
 

@@ -23,7 +23,9 @@ void draw_template(const cv::Mat& templ, const cv::Matx33d& H, cv::Mat& scene);
 
 // Renders a planar object (object frame of planar_template.hpp) through a camera, distortion
 // included, in front of a textured wall parallel to it `wall_depth_m` behind; the camera's rays are
-// computed once. Used for sequences with ground truth when the simulated lab is not at hand.
+// computed once. Each pixel over the panel is the template's mean over the pixel's footprint (the
+// texels piecewise constant), blended with the wall by the share of the footprint off the panel: what
+// a camera's pixel integrates. Used for sequences with ground truth when the simulated lab is not at hand.
 class PlanarViewRenderer {
  public:
   // `wall` is tiled at `wall_m_per_px`; an empty wall renders flat grey.

@@ -31,6 +31,8 @@ SlamSettings read_slam_settings(const ConfigReader& node) {
   s.loop_min_gap_s = node.number_or("loop_min_gap_s", s.loop_min_gap_s, Range::closed(1.0, 600.0));
   s.init_min_parallax_px = node.number_or("init_min_parallax_px", s.init_min_parallax_px, Range::closed(2.0, 200.0));
   s.init_min_parallax_deg = node.number_or("init_min_parallax_deg", s.init_min_parallax_deg, Range::closed(0.1, 20.0));
+  s.gravity_sigma_deg = node.number_or("gravity_sigma_deg", s.gravity_sigma_deg, Range::closed(0.0, 10.0));
+  s.gravity_in_tracking = node.boolean_or("gravity_in_tracking", s.gravity_in_tracking);
   node.finish();
   return s;
 }

@@ -5,6 +5,7 @@
 #include <ctime>
 #include <stdexcept>
 
+#include "core/frames.hpp"
 #include "localization/slam/camera/ideal_camera.hpp"
 #include "localization/slam/feature/feature_extractor.hpp"
 #include "localization/slam/initialize/map_initializer.hpp"
@@ -16,6 +17,11 @@
 #include "localization/slam/optimize/se3.hpp"
 
 namespace labo::slam {
+
+Eigen::Vector3d gravity_down_in_camera(double roll_rad, double pitch_rad, const Eigen::Isometry3d& T_body_cam) {
+  const Eigen::Matrix3d R_world_body = rotation_from_ypr(0.0, pitch_rad, roll_rad);
+  return T_body_cam.linear().transpose() * (R_world_body.transpose() * -Eigen::Vector3d::UnitZ());
+}
 
 std::string to_string(TrackingState state) {
   switch (state) {
@@ -65,6 +71,7 @@ void validate_settings(const SlamSettings& s) {
   if (s.global_ba_max_keyframes < 3) fail("global_ba_max_keyframes must be >= 3");
   if (s.global_ba_every < 1) fail("global_ba_every must be >= 1");
   if (s.global_ba_fixed_keyframes < 1 || s.global_ba_fixed_keyframes > 10) fail("global_ba_fixed_keyframes must be in [1, 10]");
+  if (!(s.gravity_sigma_deg >= 0 && s.gravity_sigma_deg <= 10)) fail("gravity_sigma_deg must be in [0, 10] (0: no gravity prior)");
   if (!(s.loop_min_gap_s > 0)) fail("loop_min_gap_s must be > 0");
 }
 
@@ -110,6 +117,7 @@ struct SlamSystem::Impl {
     m.cull_points = s.cull_points;
     m.new_point_clearance_px = s.new_point_clearance_px;
     m.patch_refinement = s.patch_refinement;
+    m.gravity_sigma_rad = s.gravity_sigma_deg * M_PI / 180.0;
     m.loop.enabled = s.loop_closure;
     m.loop.min_gap_s = s.loop_min_gap_s;
     m.loop.levels = s.pyramid_levels;
@@ -117,8 +125,10 @@ struct SlamSystem::Impl {
     return m;
   }
 
-  SlamResult track(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior);
-  std::optional<std::string> refuse_input(const cv::Mat& gray, Seconds t) const;
+  SlamResult track(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior,
+                   const std::optional<GravityMeasurement>& gravity);
+  std::optional<std::string> refuse_input(const cv::Mat& gray, Seconds t, const std::optional<GravityMeasurement>& gravity) const;
+  std::optional<GravityPrior> gravity_prior() const;
   SlamResult initialize(Seconds t);
   SlamResult track_map(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior);
   void accept_pose(const Eigen::Isometry3d& T, Seconds t);
@@ -139,6 +149,7 @@ struct SlamSystem::Impl {
   Relocalizer relocalizer;
   std::unique_ptr<LocalMapper> mapper;
   FrameFeatures frame;
+  std::optional<Eigen::Vector3d> frame_down_cam;  // this frame's IMU attitude, when given
 
   TrackingState state = TrackingState::Initializing;
   std::optional<Seconds> last_t;
@@ -151,11 +162,13 @@ struct SlamSystem::Impl {
   Seconds last_keyframe_t = -1e9;
   cv::Mat reference_small_image;  // of the initializer's reference frame
   std::vector<cv::Mat> reference_pyramid;  // the same frame's pyramid (keyframe 0's)
+  std::optional<Eigen::Vector3d> reference_down_cam;  // the same frame's IMU attitude
   SlamResult last;
   double inline_mapping_wall_ms = 0, inline_mapping_cpu_ms = 0;
 };
 
-std::optional<std::string> SlamSystem::Impl::refuse_input(const cv::Mat& gray, Seconds t) const {
+std::optional<std::string> SlamSystem::Impl::refuse_input(const cv::Mat& gray, Seconds t,
+                                                         const std::optional<GravityMeasurement>& gravity) const {
   if (gray.empty()) return "empty frame";
   if (gray.type() != CV_8UC1) return "frame must be 8-bit grey (CV_8UC1)";
   if (gray.cols != camera.real().width() || gray.rows != camera.real().height()) {
@@ -166,20 +179,31 @@ std::optional<std::string> SlamSystem::Impl::refuse_input(const cv::Mat& gray, S
   if (last_t && t <= *last_t) {
     return "timestamp " + std::to_string(t) + " s is not after the previous frame's " + std::to_string(*last_t) + " s";
   }
+  if (gravity) {
+    if (!gravity->down_cam.allFinite() || !(gravity->down_cam.norm() > 0.5 && gravity->down_cam.norm() < 2.0)) {
+      return "gravity direction is not a finite unit vector";
+    }
+    if (!std::isfinite(gravity->t) || std::abs(gravity->t - t) > kGravityMaxOffsetS) {
+      return "attitude stamped " + std::to_string(gravity->t) + " s for a frame at " + std::to_string(t) + " s";
+    }
+  }
   return std::nullopt;
 }
 
-SlamResult SlamSystem::Impl::track(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior) {
+SlamResult SlamSystem::Impl::track(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior,
+                                   const std::optional<GravityMeasurement>& gravity) {
   const Stopwatch watch;
   inline_mapping_wall_ms = inline_mapping_cpu_ms = 0;
   SlamResult result;
-  if (const auto refusal = refuse_input(gray, t)) {
+  if (const auto refusal = refuse_input(gray, t, gravity)) {
     // Refused frames change nothing: not the map, not the motion model, not the state.
     result.state = TrackingState::Lost;
     result.reason = "frame refused: " + *refusal;
     return result;
   }
   last_t = t;
+  frame_down_cam.reset();
+  if (gravity && settings.gravity_sigma_deg > 0) frame_down_cam = gravity->down_cam.normalized();
   extractor.extract(gray, frame);
   grid.build(frame);
   if (state == TrackingState::Initializing) {
@@ -188,6 +212,7 @@ SlamResult SlamSystem::Impl::track(const cv::Mat& gray, Seconds t, const std::op
     if (initializer.attempts() != attempts) {
       reference_small_image = small_blurry_image(gray);
       reference_pyramid = copy_pyramid(extractor.pyramid());
+      reference_down_cam = frame_down_cam;
     }
     if (init) {
       const Stopwatch mapping_watch;
@@ -221,6 +246,7 @@ void SlamSystem::Impl::start_map(const InitialMap& init, const cv::Mat& gray, Se
     first.frame = init.reference;
     first.small_image = reference_small_image.clone();
     first.pyramid = reference_pyramid;
+    first.down_cam = reference_down_cam;
     const int k0 = map.add_keyframe(std::move(first));
     Keyframe second;
     second.t = t;
@@ -228,7 +254,12 @@ void SlamSystem::Impl::start_map(const InitialMap& init, const cv::Mat& gray, Se
     second.frame = frame;
     second.small_image = small_blurry_image(gray);
     second.pyramid = copy_pyramid(extractor.pyramid());
+    second.down_cam = frame_down_cam;
     const int k1 = map.add_keyframe(std::move(second));
+    // The map's gravity direction from the first keyframe's attitude (its camera frame is the map's);
+    // global adjustments refine it with every keyframe's.
+    if (reference_down_cam) map.set_down_map(*reference_down_cam);
+    else if (frame_down_cam) map.set_down_map(init.T_current_reference.linear().transpose() * *frame_down_cam);
     const Eigen::Vector3d c0 = Eigen::Vector3d::Zero();
     for (std::size_t i = 0; i < init.points.size(); ++i) {
       MapPoint p;
@@ -306,6 +337,13 @@ std::optional<Similarity3> SlamSystem::Impl::follow_map_corrections() {
   return G_inv;
 }
 
+std::optional<GravityPrior> SlamSystem::Impl::gravity_prior() const {
+  if (!frame_down_cam || !settings.gravity_in_tracking) return std::nullopt;
+  std::shared_lock lock(map.mutex());
+  if (!map.down_map()) return std::nullopt;
+  return GravityPrior{*map.down_map(), *frame_down_cam, settings.gravity_sigma_deg * M_PI / 180.0};
+}
+
 void SlamSystem::Impl::accept_pose(const Eigen::Isometry3d& T, Seconds t) {
   previous_T = last_T;
   previous_pose_t = last_pose_t;
@@ -315,7 +353,9 @@ void SlamSystem::Impl::accept_pose(const Eigen::Isometry3d& T, Seconds t) {
 
 SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior) {
   follow_map_corrections();
+  const std::optional<GravityPrior> gravity = gravity_prior();
   SlamResult result;
+  result.gravity_used = gravity.has_value();
   bool coarse = true;
   Eigen::Isometry3d guess = last_T.value_or(Eigen::Isometry3d::Identity());
   std::optional<RelocalizationCandidate> reloc;
@@ -344,7 +384,7 @@ SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std
     // PTAM switches the coarse stage off when the camera barely moves: less jitter.
     coarse = rotation_angle(step) * camera.fx() + step.translation().norm() * camera.fx() > 4.0;
   }
-  TrackOutcome o = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, coarse);
+  TrackOutcome o = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, coarse, gravity);
   if (o.map_generation != map_generation && !relocalizing) {
     // The mapper corrected the map between our prior and the tracking pass. An adjustment moves the
     // map by a fraction of a pixel: the pose found in the old map is carried over. A loop correction
@@ -359,16 +399,16 @@ SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std
         o.T_cam_map = (Similarity3::from_rigid(o.T_cam_map) * *G_inv).rigid_pose();
       } else {
         guess = (Similarity3::from_rigid(guess) * *G_inv).rigid_pose();
-        o = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, coarse);
+        o = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, coarse, gravity);
       }
     } else {
-      o = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, coarse);
+      o = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, coarse, gravity);
     }
   }
   if (!coarse && !relocalizing && (!o.pose_valid || o.found < settings.min_found_good)) {
     // The motion model said "barely moving" but the view jumped (the drone tilts to start or stop a
     // manoeuvre: 5 deg in one frame is ~50 px): search again coarse to fine from the same prior.
-    TrackOutcome wide = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, true);
+    TrackOutcome wide = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, true, gravity);
     if (wide.pose_valid && wide.found > o.found && wide.map_generation == o.map_generation) o = std::move(wide);
   }
   result.points_found = o.found;
@@ -455,6 +495,7 @@ void SlamSystem::Impl::add_keyframe(const TrackOutcome& o, const cv::Mat& gray, 
   kf.small_image = small_blurry_image(gray);
   kf.map_generation = map_generation;
   kf.tracking_reference = reference_keyframe;
+  kf.down_cam = frame_down_cam;
   last_keyframe_t = t;
   const Stopwatch mapping_watch;
   mapper->enqueue(std::move(kf));  // returns at once in threaded mode
@@ -469,8 +510,9 @@ SlamSystem::SlamSystem(const PinholeCamera& camera, const SlamSettings& settings
 
 SlamSystem::~SlamSystem() = default;
 
-SlamResult SlamSystem::track(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior_T_cam_map) {
-  return impl_->track(gray, t, prior_T_cam_map);
+SlamResult SlamSystem::track(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior_T_cam_map,
+                             const std::optional<GravityMeasurement>& gravity) {
+  return impl_->track(gray, t, prior_T_cam_map, gravity);
 }
 
 SlamStatus SlamSystem::status() const {
@@ -497,6 +539,7 @@ SlamStatus SlamSystem::status() const {
     s.keyframes_T_map_cam.push_back(kf.T_cam_map.inverse());
     s.keyframe_times.push_back(kf.t);
   }
+  s.down_map = impl_->map.down_map();
   return s;
 }
 

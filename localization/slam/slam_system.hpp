@@ -63,7 +63,24 @@ struct SlamSettings {
   double init_min_parallax_deg = 1.0;     // median triangulation angle an initial map must reach
   double init_timeout_s = 3.0;            // retry with a new reference after this
   int init_min_points = 60;
+  // Gravity prior (docs/slam.md): the IMU's roll and pitch given with a frame hold the tilt of that
+  // frame's pose and of its keyframe in every adjustment, with this standard deviation (0: off).
+  double gravity_sigma_deg = 0;
+  bool gravity_in_tracking = true;        // also in the tracker's pose update (else adjustments only)
 };
+
+// The IMU's attitude at a frame: gravity's direction ("down", a unit vector) in the camera frame, from
+// the drone's roll and pitch (absolute, gravity-referenced) and the camera's mounting. `t` is when
+// the attitude holds; it must be the frame's time (within kGravityMaxOffsetS): the caller interpolates.
+struct GravityMeasurement {
+  Seconds t = 0;
+  Eigen::Vector3d down_cam = Eigen::Vector3d::UnitY();
+};
+constexpr Seconds kGravityMaxOffsetS = 0.005;
+
+// "down" in the camera frame from the body's roll and pitch (radians, core/frames' yaw-pitch-roll
+// convention; yaw does not matter) and the camera's mounting on the body.
+Eigen::Vector3d gravity_down_in_camera(double roll_rad, double pitch_rad, const Eigen::Isometry3d& T_body_cam);
 
 struct SlamResult {
   TrackingState state = TrackingState::Initializing;
@@ -73,6 +90,7 @@ struct SlamResult {
   double quality = 0.0;       // found / attempted
   bool keyframe_added = false;
   bool relocalized = false;   // this frame recovered from Lost
+  bool gravity_used = false;  // the tracker's pose update held the frame's tilt to the IMU's
   std::string reason;         // why not Good (empty when Good)
   // Why attempted points were not found (diagnosis, benchmark trace): the fine search's misses and
   // the matches the pose update rejected.
@@ -98,6 +116,7 @@ struct SlamStatus {
   std::vector<Eigen::Vector3d> points_map;       // subsampled for the top-down view
   std::vector<Eigen::Isometry3d> keyframes_T_map_cam;
   std::vector<Seconds> keyframe_times;  // one per keyframe pose
+  std::optional<Eigen::Vector3d> down_map;  // gravity's direction in the map, from the IMU attitudes given
 };
 
 // Mapping figures for benchmarks (wall times are measurements only).
@@ -126,8 +145,11 @@ class SlamSystem {
   // One 8-bit grey frame of the camera's size, stamped t. prior_T_cam_map (e.g. the filter's
   // prediction) replaces the motion model's prior when given. Frames of the wrong size or type,
   // and non-increasing timestamps, return Lost with the reason and leave the map untouched.
+  // `gravity`: the IMU's attitude at this frame (used when settings.gravity_sigma_deg > 0); a
+  // non-finite or zero direction, or one stamped at another time, refuses the frame.
   SlamResult track(const cv::Mat& gray, Seconds t,
-                   const std::optional<Eigen::Isometry3d>& prior_T_cam_map = std::nullopt);
+                   const std::optional<Eigen::Isometry3d>& prior_T_cam_map = std::nullopt,
+                   const std::optional<GravityMeasurement>& gravity = std::nullopt);
 
   SlamStatus status() const;
   MappingStatistics mapping_statistics() const;

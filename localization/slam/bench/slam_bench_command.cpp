@@ -108,6 +108,9 @@ const CommandSpec& bench_slam_command_spec() {
        {"--noise-seed", "N", "another realization of the synthetic room's sensor noise (default 0; single runs of the tour move by "
                              "several cm with any perturbation: compare variants over a few seeds)"},
        {"--no-distortion", "", "a lens without distortion, for the renderer and the SLAM alike"},
+       {"--attitude-noise-deg", "X", "the IMU roll/pitch noise per frame given to SLAM (default 0.09, drone/sim's)"},
+       {"--attitude-offset-deg", "X", "sigma of the IMU's constant roll/pitch offset, drawn per flight from the noise seed "
+                                      "(default 0.06: after a flat trim; 0.6 without)"},
        {"--trace", "", "print every frame that is not tracked well, and keyframes, to stderr"},
        {"--tum-dir", "DIR", "write each flight's estimate and ground truth as TUM trajectories (for evo)"}},
       0,
@@ -141,6 +144,10 @@ int run_bench_slam_command(const ParsedArgs& args) {
   // Each frame's noise is seeded by its index; another noise seed offsets every frame's seed.
   const auto noise_seed = static_cast<unsigned>(args.integer_or("--noise-seed", 0, 0, 1000000));
   const slam::SyntheticRoom room(camera, room_spec);
+  slam::ImuAttitudeModel imu;
+  imu.noise_rad = args.number_or("--attitude-noise-deg", 0.09, 0.0, 5.0) * M_PI / 180.0;
+  imu.offset_rad = args.number_or("--attitude-offset-deg", 0.06, 0.0, 10.0) * M_PI / 180.0;
+  imu.seed = noise_seed * 7919u + 17u;
   const slam::FlightRenderer in_room = [&room, noise_seed](const slam::Flight& flight, std::size_t i) {
     return room.render(flight.frames[i].T_world_cam, static_cast<unsigned>(i) + noise_seed * 1000003u);
   };
@@ -163,10 +170,13 @@ int run_bench_slam_command(const ParsedArgs& args) {
   out["noise_seed"] = noise_seed;
   out["lens_distortion"] = camera.has_distortion();
   out["mapping_mode"] = mode == slam::MappingMode::Threaded ? "threaded" : "synchronous";
+  out["imu_attitude"] = {{"noise_deg", imu.noise_rad * 180.0 / M_PI}, {"offset_sigma_deg", imu.offset_rad * 180.0 / M_PI},
+                         {"used_by_slam", settings.gravity_sigma_deg > 0}, {"gravity_sigma_deg", settings.gravity_sigma_deg},
+                         {"gravity_in_tracking", settings.gravity_in_tracking}};
   out["targets"] = {{"tracking_ms_median", 10.0}, {"ate_rmse_cm", 3.0}, {"relocalization_s", 1.0}};
   for (const auto& [flight, render] : flights) {
     const PinholeCamera& flight_camera = flight.name == "lab-inspect" ? lab->camera : camera;
-    const slam::FlightReport r = slam::run_flight(render, flight, flight_camera, settings, args.flag("--trace") ? &std::cerr : nullptr);
+    const slam::FlightReport r = slam::run_flight(render, flight, flight_camera, settings, args.flag("--trace") ? &std::cerr : nullptr, imu);
     if (const auto dir = args.value("--tum-dir")) {
       slam::write_tum_trajectory(*dir + "/" + r.name + "_estimate.tum", r.trajectory, false);
       slam::write_tum_trajectory(*dir + "/" + r.name + "_truth.tum", r.trajectory, true);

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <ostream>
+#include <random>
+
+#include "core/frames.hpp"
 
 namespace labo::slam {
 namespace {
@@ -15,8 +18,13 @@ double percentile(std::vector<double> v, double q) {
 }  // namespace
 
 FlightReport run_flight(const FlightRenderer& render, const Flight& flight, const PinholeCamera& camera,
-                        const SlamSettings& settings, std::ostream* trace) {
+                        const SlamSettings& settings, std::ostream* trace, const std::optional<ImuAttitudeModel>& imu) {
   SlamSystem slam(camera, settings);
+  std::mt19937 imu_rng(imu ? imu->seed : 0u);
+  std::normal_distribution<double> unit_normal(0.0, 1.0);
+  const double roll_offset = imu ? imu->offset_rad * unit_normal(imu_rng) : 0.0;
+  const double pitch_offset = imu ? imu->offset_rad * unit_normal(imu_rng) : 0.0;
+  const Eigen::Isometry3d T_cam_body = T_body_cam_front().inverse();
   FlightReport report;
   report.name = flight.name;
   std::vector<PosePair> pairs;
@@ -26,7 +34,14 @@ FlightReport run_flight(const FlightRenderer& render, const Flight& flight, cons
   for (std::size_t i = 0; i < flight.frames.size(); ++i) {
     const FlightFrame& f = flight.frames[i];
     const cv::Mat image = f.covered ? black : render(flight, i);
-    const SlamResult r = slam.track(image, f.t);
+    std::optional<GravityMeasurement> gravity;
+    if (imu) {
+      const Eigen::Vector3d ypr = ypr_from_rotation((f.T_world_cam * T_cam_body).linear());
+      const double roll = ypr.z() + roll_offset + imu->noise_rad * unit_normal(imu_rng);
+      const double pitch = ypr.y() + pitch_offset + imu->noise_rad * unit_normal(imu_rng);
+      gravity = GravityMeasurement{f.t, gravity_down_in_camera(roll, pitch, T_body_cam_front())};
+    }
+    const SlamResult r = slam.track(image, f.t, std::nullopt, gravity);
     ++report.frames;
     if (trace && (r.state != TrackingState::Good || r.keyframe_added)) {
       *trace << flight.name << " t=" << f.t << " " << to_string(r.state) << " found " << r.points_found << "/" << r.points_attempted

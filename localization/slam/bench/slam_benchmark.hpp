@@ -55,8 +55,20 @@ struct BenchOptions {
 // Frame i of a flight, 8-bit grey (the synthetic room or the simulated lab).
 using FlightRenderer = std::function<cv::Mat(const Flight& flight, std::size_t i)>;
 
-// trace (optional): one line per frame that is not Good or adds a keyframe.
+// The IMU's roll and pitch given to SLAM with every frame, as drone/sim's SensorModel makes them: the
+// true attitude of the body plus a constant offset per axis (drawn once per flight) and white noise
+// per sample. Defaults: the simulated lab's noise (0.09 deg) and the offset a flat trim before
+// take-off leaves (0.1 x 0.6 deg, docs/state-estimation.md).
+struct ImuAttitudeModel {
+  double noise_rad = 0.0015;
+  double offset_rad = 0.001;
+  unsigned seed = 0;
+};
+
+// trace (optional): one line per frame that is not Good or adds a keyframe. imu: the attitude given
+// with each frame (none: frames alone; SLAM uses it only when settings.gravity_sigma_deg > 0).
 FlightReport run_flight(const FlightRenderer& render, const Flight& flight, const PinholeCamera& camera,
-                        const SlamSettings& settings, std::ostream* trace = nullptr);
+                        const SlamSettings& settings, std::ostream* trace = nullptr,
+                        const std::optional<ImuAttitudeModel>& imu = std::nullopt);
 
 }  // namespace labo::slam

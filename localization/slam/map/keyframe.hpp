@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 #include "core/time.hpp"
@@ -31,6 +32,9 @@ struct Keyframe {
   // reference keyframe, so that a loop correction made while it was queued can be applied to it.
   int map_generation = 0;
   int tracking_reference = -1;
+  // The IMU's gravity direction ("down", unit vector) in this keyframe's camera frame when the frame
+  // came with an attitude: the gravity prior of the adjustments. Not saved with the map.
+  std::optional<Eigen::Vector3d> down_cam;
 
   Eigen::Vector3d center() const { return T_cam_map.inverse().translation(); }
   Eigen::Vector3d optical_axis() const { return T_cam_map.linear().row(2).transpose(); }

@@ -91,6 +91,7 @@ void SlamMap::clear() {
   next_point_id_ = 0;
   loop_edges_.clear();
   corrections_.clear();
+  down_map_.reset();
   ++generation_;  // whoever tracked the old map must not carry a pose over
 }
 

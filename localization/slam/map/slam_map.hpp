@@ -3,6 +3,7 @@
 // (it may therefore read without the lock); the tracker and status() read under a shared lock.
 #include <map>
 #include <mutex>
+#include <optional>
 #include <shared_mutex>
 #include <unordered_map>
 #include <vector>
@@ -45,6 +46,9 @@ class SlamMap {
   void add_loop_edge(const LoopEdge& edge) { loop_edges_.push_back(edge); }
   // Records a correction (the keyframe poses and points were already written) and bumps the generation.
   void record_correction(std::vector<Similarity3> keyframe_correction);
+  // The map's estimate of gravity's direction (unit "down" vector in map coordinates), from the
+  // keyframes' IMU attitudes; refined by global adjustments, held by local ones.
+  void set_down_map(const Eigen::Vector3d& down) { down_map_ = down.normalized(); }
   void clear();
 
   // Readers.
@@ -66,6 +70,7 @@ class SlamMap {
   int generation() const { return generation_; }
   // Corrections newer than `generation`, oldest first (the last few are kept).
   std::vector<const MapCorrection*> corrections_since(int generation) const;
+  const std::optional<Eigen::Vector3d>& down_map() const { return down_map_; }
   PointId next_point_id() const { return next_point_id_; }
   void set_next_point_id(PointId id) { next_point_id_ = id; }
 
@@ -75,6 +80,7 @@ class SlamMap {
   std::unordered_map<PointId, MapPoint> points_;
   PointId next_point_id_ = 0;
   std::vector<LoopEdge> loop_edges_;
+  std::optional<Eigen::Vector3d> down_map_;
   std::vector<MapCorrection> corrections_;  // the most recent few
   int generation_ = 0;
 };

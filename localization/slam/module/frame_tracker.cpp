@@ -72,7 +72,8 @@ void FrameTracker::refine_matches(const FrameFeatures& frame, const std::vector<
   }
 }
 
-int FrameTracker::solve(const std::vector<SearchMatch>& matches, const FrameFeatures& frame, Eigen::Isometry3d& T, bool refined) {
+int FrameTracker::solve(const std::vector<SearchMatch>& matches, const FrameFeatures& frame, Eigen::Isometry3d& T, bool refined,
+                        const std::optional<GravityPrior>& gravity) {
   observations_.clear();
   for (std::size_t i = 0; i < matches.size(); ++i) {
     const SearchMatch& m = matches[i];
@@ -80,11 +81,12 @@ int FrameTracker::solve(const std::vector<SearchMatch>& matches, const FrameFeat
     const Eigen::Vector2d px = refined && match_refined_[i] ? camera_.ideal_from_image(match_image_px_[i].x(), match_image_px_[i].y()) : f.px;
     observations_.push_back({candidates_[static_cast<std::size_t>(m.candidate)].p_map, px, matcher_.level_scale(f.level), true});
   }
-  return optimize_pose(camera_, observations_, T);
+  return optimize_pose(camera_, observations_, T, {}, gravity);
 }
 
 TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame, const FeatureGrid& grid,
-                                 const std::vector<cv::Mat>& pyramid, const Eigen::Isometry3d& prior, int last_reference_keyframe, bool coarse_stage) {
+                                 const std::vector<cv::Mat>& pyramid, const Eigen::Isometry3d& prior, int last_reference_keyframe, bool coarse_stage,
+                                 const std::optional<GravityPrior>& gravity) {
   TrackOutcome out;
   Eigen::Isometry3d T = prior;
   std::shared_lock lock(map.mutex());
@@ -103,7 +105,7 @@ TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame,
     }
     matcher_.search(candidates_, coarse_, frame, grid, settings_.coarse_radius_px, 0, settings_.max_hamming, matches_);
     Eigen::Isometry3d T_coarse = T;
-    if (matches_.size() >= 10 && solve(matches_, frame, T_coarse, false) >= 8) {
+    if (matches_.size() >= 10 && solve(matches_, frame, T_coarse, false, gravity) >= 8) {
       T = T_coarse;
       matcher_.project_candidates(candidates_, T);
     }
@@ -127,7 +129,7 @@ TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame,
   out.search = matcher_.breakdown();
   if (matches_.size() < 6) return out;
   refine_matches(frame, pyramid, T);
-  const int inliers = solve(matches_, frame, T, true);
+  const int inliers = solve(matches_, frame, T, true, gravity);
   out.pose_outliers = static_cast<int>(matches_.size()) - inliers;
   if (inliers < 6) return out;
   out.pose_valid = true;

@@ -49,13 +49,16 @@ struct TrackOutcome {
 class FrameTracker {
  public:
   FrameTracker(const IdealCamera& camera, const TrackerSettings& settings);
-  // pyramid: the frame's (as the features were found on it), for the patch alignment.
+  // pyramid: the frame's (as the features were found on it), for the patch alignment. `gravity`:
+  // the IMU's attitude at this frame as a prior of every pose update (none: reprojection only).
   TrackOutcome track(const SlamMap& map, const FrameFeatures& frame, const FeatureGrid& grid, const std::vector<cv::Mat>& pyramid,
-                     const Eigen::Isometry3d& prior_T_cam_map, int last_reference_keyframe, bool coarse_stage);
+                     const Eigen::Isometry3d& prior_T_cam_map, int last_reference_keyframe, bool coarse_stage,
+                     const std::optional<GravityPrior>& gravity = std::nullopt);
 
  private:
   void collect_candidates(const SlamMap& map, const Eigen::Isometry3d& T, int reference_keyframe);
-  int solve(const std::vector<SearchMatch>& matches, const FrameFeatures& frame, Eigen::Isometry3d& T, bool refined);
+  int solve(const std::vector<SearchMatch>& matches, const FrameFeatures& frame, Eigen::Isometry3d& T, bool refined,
+            const std::optional<GravityPrior>& gravity);
   // Keeps (a copy of the header of) a keyframe's pyramid for this frame; returns its slot or -1.
   int pyramid_slot(const Keyframe& kf);
   void refine_matches(const FrameFeatures& frame, const std::vector<cv::Mat>& pyramid, const Eigen::Isometry3d& T);

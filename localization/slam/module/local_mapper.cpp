@@ -123,6 +123,9 @@ void LocalMapper::process(Keyframe keyframe) {
     for (std::size_t f = 0; f < associations.size(); ++f) {
       if (associations[f] != kNoPoint) map_.add_observation(associations[f], kf, static_cast<int>(f));
     }
+    // A map started without attitudes takes its gravity direction from the first keyframe with one.
+    const Keyframe& added = map_.keyframes()[static_cast<std::size_t>(kf)];
+    if (!map_.down_map() && added.down_cam) map_.set_down_map(added.T_cam_map.linear().transpose() * *added.down_cam);
   }
   // Neighbours: the most covisible keyframes, completed by the nearest ones.
   std::vector<int> neighbours = map_.covisible(kf, 8);
@@ -368,6 +371,17 @@ void LocalMapper::adjust(const std::vector<int>& free_keyframes, bool global, in
   // Monocular gauge: the first keyframe is fixed; the remaining scale freedom is held by the
   // damping of Levenberg-Marquardt (the map is up to scale anyway).
   if (problem.points.empty()) return;
+  if (settings_.gravity_sigma_rad > 0 && map_.down_map()) {
+    // The gravity prior: every keyframe of the problem that came with an attitude; the map's gravity
+    // direction is refined by global adjustments only (a local window of ~2 s of flight at one
+    // heading cannot tell a tilted map from a tilted IMU).
+    problem.gravity_sigma_rad = settings_.gravity_sigma_rad;
+    problem.down_map = map_.down_map();
+    problem.down_map_fixed = !global;
+    for (const auto& [id, T] : problem.poses) {
+      if (const auto& down = map_.keyframes()[static_cast<std::size_t>(id)].down_cam) problem.down_cam[id] = *down;
+    }
+  }
   BundleSettings settings;
   settings.max_iterations = max_iterations;
   const BundleReport report = solve_bundle(camera_, problem, settings, settings_.threaded ? &abort_ : nullptr);
@@ -385,6 +399,7 @@ void LocalMapper::adjust(const std::vector<int>& free_keyframes, bool global, in
     pose = T;
   }
   map_.record_correction(std::move(correction));
+  if (problem.down_map && !problem.down_map_fixed) map_.set_down_map(*problem.down_map);
   auto& points = map_.points_mutable();
   for (const auto& [id, p] : problem.points) {
     auto it = points.find(id);

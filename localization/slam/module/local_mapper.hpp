@@ -38,6 +38,7 @@ struct MapperSettings {
   double min_parallax_deg = 0.5;
   int max_hamming = 50;
   bool patch_refinement = true;  // re-measured and newly matched corners aligned to sub-pixel
+  double gravity_sigma_rad = 0;  // > 0: the keyframes' IMU attitudes as a prior of every adjustment
   LoopSettings loop;
 };
 

@@ -29,6 +29,23 @@ struct ReprojectionCost {
   double u, v, inv_sigma, fx, fy, cx, cy;
 };
 
+// The IMU's gravity direction in the camera against the map's, rotated by the keyframe's pose:
+// a tilt error of a radians gives a residual of ~a / sigma (the component along "down" stays ~0).
+struct GravityCost {
+  GravityCost(const Eigen::Vector3d& down_cam, double sigma) : measured(down_cam), inv_sigma(1.0 / sigma) {}
+
+  template <typename T>
+  bool operator()(const T* pose, const T* down_map, T* residual) const {
+    T d[3];
+    ceres::AngleAxisRotatePoint(pose, down_map, d);
+    for (int i = 0; i < 3; ++i) residual[i] = (d[i] - T(measured[i])) * T(inv_sigma);
+    return true;
+  }
+
+  Eigen::Vector3d measured;
+  double inv_sigma;
+};
+
 class AbortCallback : public ceres::IterationCallback {
  public:
   explicit AbortCallback(const std::atomic<bool>* abort) : abort_(abort) {}
@@ -71,6 +88,28 @@ BundleReport solve_bundle(const IdealCamera& camera, BundleProblem& problem, con
       ceres_problem.SetParameterBlockConstant(x.data());
     }
   }
+  // Gravity prior: on the keyframes that move (a fixed keyframe's term is constant unless the map's
+  // gravity direction is estimated). No robust loss: the IMU's attitude has no outliers the way
+  // matches do, and its error does not grow with what the images say.
+  std::array<double, 3> down_map{};
+  const bool gravity = problem.gravity_sigma_rad > 0 && problem.down_map.has_value();
+  if (gravity) {
+    const Eigen::Vector3d d = problem.down_map->normalized();
+    down_map = {d.x(), d.y(), d.z()};
+    int terms = 0;
+    for (const auto& [id, down_cam] : problem.down_cam) {
+      auto pose = pose_params.find(id);
+      if (pose == pose_params.end() || !ceres_problem.HasParameterBlock(pose->second.data())) continue;
+      if (problem.pose_fixed[id] && problem.down_map_fixed) continue;
+      auto* cost = new ceres::AutoDiffCostFunction<GravityCost, 3, 6, 3>(new GravityCost(down_cam, problem.gravity_sigma_rad));
+      ceres_problem.AddResidualBlock(cost, nullptr, pose->second.data(), down_map.data());
+      ++terms;
+    }
+    if (terms > 0) {
+      if (problem.down_map_fixed) ceres_problem.SetParameterBlockConstant(down_map.data());
+      else ceres_problem.SetManifold(down_map.data(), new ceres::SphereManifold<3>());
+    }
+  }
   BundleReport report;
   if (ceres_problem.NumResidualBlocks() == 0) return report;
 
@@ -101,6 +140,7 @@ BundleReport solve_bundle(const IdealCamera& camera, BundleProblem& problem, con
     T.translation() = Eigen::Vector3d(x[3], x[4], x[5]);
     problem.poses[id] = T;
   }
+  if (gravity && !problem.down_map_fixed) problem.down_map = Eigen::Vector3d(down_map[0], down_map[1], down_map[2]).normalized();
   return report;
 }
 

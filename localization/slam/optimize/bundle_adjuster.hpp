@@ -3,10 +3,12 @@
 // positions, reprojection error in ideal pixels divided by sigma = scale^level, Huber loss,
 // Levenberg-Marquardt. A problem is copied out of the map, solved without holding the map lock, and
 // written back by the caller. `abort` (may be null) stops the solve between iterations: the mapper
-// sets it when a new keyframe arrives, so adjustment never delays a keyframe.
+// sets it when a new keyframe arrives, so adjustment never delays a keyframe. An optional gravity
+// prior (the IMU's roll and pitch) holds each keyframe's tilt against the map's gravity direction.
 #include <Eigen/Geometry>
 #include <atomic>
 #include <map>
+#include <optional>
 #include <vector>
 
 #include "localization/slam/camera/ideal_camera.hpp"
@@ -26,6 +28,13 @@ struct BundleProblem {
   std::map<int, bool> pose_fixed;
   std::map<PointId, Eigen::Vector3d> points;
   std::vector<BundleObservation> observations;
+  // Gravity prior (used when gravity_sigma_rad > 0 and down_map is set): per keyframe the IMU's
+  // "down" in its camera; residual (R_cam_map * down_map - down_cam) / sigma on each free keyframe.
+  // down_map (the map's gravity direction) is estimated too unless down_map_fixed.
+  std::map<int, Eigen::Vector3d> down_cam;
+  std::optional<Eigen::Vector3d> down_map;
+  bool down_map_fixed = true;
+  double gravity_sigma_rad = 0;
 };
 
 struct BundleSettings {

@@ -7,7 +7,7 @@
 namespace labo::slam {
 
 int optimize_pose(const IdealCamera& camera, std::vector<PoseObservation>& observations,
-                  Eigen::Isometry3d& T, const PoseOptimizerSettings& settings) {
+                  Eigen::Isometry3d& T, const PoseOptimizerSettings& settings, const std::optional<GravityPrior>& gravity) {
   for (auto& o : observations) o.inlier = true;
   const double fx = camera.fx(), fy = camera.fy(), cx = camera.cx(), cy = camera.cy();
   int inliers = 0;
@@ -42,6 +42,16 @@ int optimize_pose(const IdealCamera& camera, std::vector<PoseObservation>& obser
         ++used;
       }
       if (used < 4) return 0;
+      if (gravity) {
+        // d(R * down_map)/d(rotation twist) = -[R * down_map]x: rotation block only.
+        const Eigen::Vector3d d = T.linear() * gravity->down_map;
+        const Eigen::Vector3d r = gravity->down_cam - d;
+        Eigen::Matrix3d J;
+        J << 0, d.z(), -d.y(), -d.z(), 0, d.x(), d.y(), -d.x(), 0;
+        const double w = 1.0 / (gravity->sigma_rad * gravity->sigma_rad);
+        H.bottomRightCorner<3, 3>().noalias() += w * J.transpose() * J;
+        g.tail<3>().noalias() += w * J.transpose() * r;
+      }
       const Eigen::Matrix<double, 6, 1> dx = H.ldlt().solve(g);
       if (!dx.allFinite()) return 0;
       T = se3_exp(dx) * T;

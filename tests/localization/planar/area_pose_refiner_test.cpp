@@ -8,6 +8,7 @@
 #include "localization/planar/area_pose_refiner.hpp"
 #include "localization/planar/planar_pose.hpp"
 #include "localization/planar/synthetic_scene.hpp"
+#include "tests/localization/planar/supersampled_pixel.hpp"
 
 using namespace labo;
 
@@ -32,23 +33,9 @@ cv::Mat integrated_view(const PinholeCamera& camera, const cv::Mat& panel, const
   }
   const int left = std::max(0, static_cast<int>(x0) - 4), right = std::min(camera.width() - 1, static_cast<int>(x1) + 4);
   const int top = std::max(0, static_cast<int>(y0) - 4), bottom = std::min(camera.height() - 1, static_cast<int>(y1) + 4);
-  constexpr int kSub = 8;
   for (int y = top; y <= bottom; ++y) {
     for (int x = left; x <= right; ++x) {
-      double sum = 0;
-      for (int j = 0; j < kSub; ++j) {
-        for (int i = 0; i < kSub; ++i) {
-          const Eigen::Vector2d sub(x - 0.5 + (i + 0.5) / kSub, y - 0.5 + (j + 0.5) / kSub);
-          const Eigen::Vector3d ray = T_object_cam.linear() * camera.unproject(sub);
-          const Eigen::Vector3d o = T_object_cam.translation();
-          const double s = -o.z() / ray.z();
-          const Eigen::Vector3d p = o + s * ray;
-          const int u = static_cast<int>(std::floor((p.x() / kW + 0.5) * panel.cols));
-          const int v = static_cast<int>(std::floor((p.y() / kH + 0.5) * panel.rows));
-          sum += (s > 0 && u >= 0 && v >= 0 && u < panel.cols && v < panel.rows) ? panel.at<uchar>(v, u) : 90.0;
-        }
-      }
-      frame.at<uchar>(y, x) = cv::saturate_cast<uchar>(sum / (kSub * kSub));
+      frame.at<uchar>(y, x) = cv::saturate_cast<uchar>(supersampled_pixel(camera, panel, kW, kH, T_object_cam, x, y, 8, 90.0));
     }
   }
   return frame;

@@ -195,10 +195,14 @@ TEST_CASE("planar: the SE(3) refinement estimates the frame's blur relative to t
   fixed_settings.estimate_blur = false;
   const Se3PoseRefiner fixed{scene.panel, kW, kH, scene.camera.K(), fixed_settings};
   REQUIRE(Se3RefinerSettings{}.estimate_blur);  // the default
-  // 2.3 m: the 160 px level is finer than the panel's ~112 px image, so the frame is blurrier than it;
-  // with the blur fixed the fit tilts the panel by more than a degree.
+  // 2.3 m: the 160 px level is finer than the panel's ~112 px image, and the camera is a little softer
+  // than a pixel's box (an extra Gaussian of sigma 0.5 px), so the frame is blurrier than the level; with
+  // the blur fixed the fit tilts the panel by more than a degree. (Since the renderer integrates each
+  // pixel's footprint, 2026-12-03, the frame without the extra blur is close enough to the level's blur
+  // that the fixed fit is only 0.63 deg off; measured with it: fixed 1.33-1.37 deg, estimated 0.14 deg.)
   const Eigen::Isometry3d near = look_at_object(Eigen::Vector3d(0.05, 0.03, -2.3), Eigen::Vector3d::Zero(), 0.02);
-  const cv::Mat near_frame = scene.view(near);
+  cv::Mat near_frame;
+  cv::GaussianBlur(scene.view(near), near_frame, cv::Size(0, 0), 0.5);
   for (const double start_deg : {-2.0, 2.0}) {
     const Eigen::Isometry3d start = tilted(near, start_deg * kDeg);
     const Se3Refinement estimated = scene.refiner.refine(near_frame, start), kept = fixed.refine(near_frame, start);

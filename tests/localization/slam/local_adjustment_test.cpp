@@ -7,9 +7,6 @@
 #include <cmath>
 
 #include "core/frames.hpp"
-#include "localization/slam/bench/synthetic_room.hpp"
-#include "localization/slam/feature/feature_extractor.hpp"
-#include "localization/slam/module/local_mapper.hpp"
 #include "slam_test_helpers.hpp"
 
 namespace labo::slam {
@@ -26,50 +23,22 @@ struct WindowRun {
 // triangulated and adjusted locally. The last one is given a pose 1 cm and 0.3 deg off, so that
 // its adjustment moves the keyframes it frees.
 WindowRun run_window(int local_ba_keyframes, int count) {
-  const PinholeCamera real = PinholeCamera::ardrone2_front();
-  const IdealCamera camera(real);
-  const SyntheticRoom room(real);
-  FeatureExtractor extractor(camera, ExtractorSettings{});
-  SlamMap map;
-  MapperSettings settings;
-  settings.threaded = false;
-  settings.global_ba = false;
-  settings.loop.enabled = false;
-  settings.patch_refinement = false;
+  MapperSettings settings = testing::SeededMapper::settings();
   settings.local_ba_keyframes = local_ba_keyframes;
-  LocalMapper mapper(camera, map, settings);
-  const Eigen::Isometry3d T_world_0 = make_pose({5.3, 3.2, 1.3}, 0.0) * T_body_cam_front();
-  Keyframe first;
-  first.T_cam_map = T_world_0.inverse();
-  extractor.extract(room.render(T_world_0, 3), first.frame);
-  const int k0 = map.add_keyframe(std::move(first));
-  const Keyframe& kf0 = map.keyframes()[static_cast<std::size_t>(k0)];
-  for (std::size_t i = 0; i < kf0.frame.size(); i += 2) {
-    const Feature& f = kf0.frame.features[i];
-    MapPoint p;
-    p.p_map = testing::hit_wall(room.spec(), T_world_0.translation(), T_world_0.linear() * camera.bearing(f.px));
-    p.descriptor = kf0.frame.descriptors[i];
-    p.observations = {{k0, static_cast<int>(i)}};
-    p.reference_keyframe = k0;
-    p.reference_level = f.level;
-    p.reference_distance = (p.p_map - T_world_0.translation()).norm();
-    map.add_point(std::move(p));
-  }
+  testing::SeededMapper fixture(settings);
+  SlamMap& map = fixture.map;
+  fixture.seed(make_pose({5.3, 3.2, 1.3}, 0.0) * T_body_cam_front(), 3);
   std::vector<Eigen::Isometry3d> before;
   for (int k = 1; k <= count; ++k) {
     const Eigen::Isometry3d T_world = make_pose({5.3, 3.2 - 0.05 * k, 1.3 + 0.01 * (k % 2)}, 0.5 * k * M_PI / 180) * T_body_cam_front();
-    Keyframe kf;
-    kf.t = 0.3 * k;
-    kf.T_cam_map = T_world.inverse();
+    Eigen::Isometry3d T_cam_map = T_world.inverse();
     if (k == count) {
       before.clear();
       for (const Keyframe& old : map.keyframes()) before.push_back(old.T_cam_map);
-      kf.T_cam_map = Eigen::AngleAxisd(0.3 * M_PI / 180, Eigen::Vector3d::UnitX()) * kf.T_cam_map;
-      kf.T_cam_map.translation().y() += 0.01;
+      T_cam_map = Eigen::AngleAxisd(0.3 * M_PI / 180, Eigen::Vector3d::UnitX()) * T_cam_map;
+      T_cam_map.translation().y() += 0.01;
     }
-    extractor.extract(room.render(T_world, 10 + static_cast<unsigned>(k)), kf.frame);
-    kf.point_of_feature.assign(kf.frame.size(), kNoPoint);
-    mapper.enqueue(std::move(kf));
+    fixture.mapper.enqueue(fixture.keyframe(T_world, T_cam_map, 0.3 * k, 10 + static_cast<unsigned>(k)));
   }
   WindowRun out;
   out.keyframes = static_cast<int>(map.keyframes().size());

@@ -8,9 +8,6 @@
 #include <set>
 
 #include "core/frames.hpp"
-#include "localization/slam/bench/synthetic_room.hpp"
-#include "localization/slam/feature/feature_extractor.hpp"
-#include "localization/slam/module/local_mapper.hpp"
 #include "slam_test_helpers.hpp"
 
 namespace labo::slam {
@@ -26,50 +23,22 @@ struct MappedViews {
 // 0.2 m apart sideways along the wall, no associations): the mapper re-measures, triangulates and
 // adjusts each in turn.
 MappedViews map_three_keyframes(double clearance_px) {
-  const PinholeCamera real = PinholeCamera::ardrone2_front();
-  const IdealCamera camera(real);
-  const SyntheticRoom room(real);
-  FeatureExtractor extractor(camera, ExtractorSettings{});
-  SlamMap map;
-  MapperSettings settings;
-  settings.threaded = false;
-  settings.global_ba = false;
-  settings.loop.enabled = false;
-  settings.patch_refinement = false;
+  MapperSettings settings = testing::SeededMapper::settings();
   settings.new_point_clearance_px = clearance_px;
-  LocalMapper mapper(camera, map, settings);
-  const Eigen::Isometry3d T_world_a = make_pose({5.3, 3.1, 1.3}, 0.0) * T_body_cam_front();
-  Keyframe a;
-  a.T_cam_map = T_world_a.inverse();
-  extractor.extract(room.render(T_world_a, 3), a.frame);
-  const int ka = map.add_keyframe(std::move(a));
-  const Keyframe& kfa = map.keyframes()[static_cast<std::size_t>(ka)];
-  for (std::size_t i = 0; i < kfa.frame.size(); i += 2) {
-    const Feature& f = kfa.frame.features[i];
-    MapPoint p;
-    p.p_map = testing::hit_wall(room.spec(), T_world_a.translation(), T_world_a.linear() * camera.bearing(f.px));
-    p.descriptor = kfa.frame.descriptors[i];
-    p.observations = {{ka, static_cast<int>(i)}};
-    p.reference_keyframe = ka;
-    p.reference_level = f.level;
-    p.reference_distance = (p.p_map - T_world_a.translation()).norm();
-    map.add_point(std::move(p));
-  }
+  testing::SeededMapper fixture(settings);
+  const SlamMap& map = fixture.map;
+  fixture.seed(make_pose({5.3, 3.1, 1.3}, 0.0) * T_body_cam_front(), 3);
   std::set<PointId> seeded;
   for (const auto& [id, p] : map.points()) seeded.insert(id);
   const Eigen::Vector3d steps[] = {{5.3, 2.9, 1.32}, {5.3, 2.7, 1.28}};
   double t = 0;
   for (const Eigen::Vector3d& position : steps) {
     const Eigen::Isometry3d T_world = make_pose(position, 1.5 * M_PI / 180) * T_body_cam_front();
-    Keyframe kf;
-    kf.t = t += 0.5;
-    kf.T_cam_map = T_world.inverse();
-    extractor.extract(room.render(T_world, 4 + static_cast<int>(t * 2)), kf.frame);
-    kf.point_of_feature.assign(kf.frame.size(), kNoPoint);
-    mapper.enqueue(std::move(kf));
+    t += 0.5;
+    fixture.mapper.enqueue(fixture.keyframe(T_world, T_world.inverse(), t, 4 + static_cast<unsigned>(t * 2)));
   }
   MappedViews out;
-  out.stats = mapper.stats();
+  out.stats = fixture.mapper.stats();
   for (const auto& [id, p] : map.points()) {
     if (seeded.count(id)) continue;
     ++out.new_points;

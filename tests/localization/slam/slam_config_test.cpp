@@ -57,4 +57,11 @@ TEST_CASE("slam: config section is read, range-checked and refuses unknown keys"
   CHECK(read(R"({"new_point_clearance_px": 1.5})").new_point_clearance_px == Approx(1.5));
   CHECK_THROWS_WITH(read(R"({"new_point_clearance_px": -1})"), Catch::Contains("new_point_clearance_px"));
   CHECK_THROWS_WITH(read(R"({"new_point_clearance_px": "wide"})"), Catch::Contains("new_point_clearance_px"));
+  CHECK(read("{}").gravity_sigma_deg == Approx(0.0));
+  CHECK(read("{}").gravity_in_tracking);
+  const slam::SlamSettings gravity = read(R"({"gravity_sigma_deg": 0.5, "gravity_in_tracking": false})");
+  CHECK(gravity.gravity_sigma_deg == Approx(0.5));
+  CHECK_FALSE(gravity.gravity_in_tracking);
+  CHECK_THROWS_WITH(read(R"({"gravity_sigma_deg": -0.1})"), Catch::Contains("gravity_sigma_deg"));
+  CHECK_THROWS_WITH(read(R"({"gravity_sigma_deg": 20})"), Catch::Contains("gravity_sigma_deg"));
 }

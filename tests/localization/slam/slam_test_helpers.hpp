@@ -1,6 +1,6 @@
 #pragma once
-// Shared fixtures for the SLAM tests: the synthetic room seen by the AR.Drone front camera, and a
-// runner that feeds a flight's frames to a SlamSystem.
+// Shared fixtures for the SLAM tests: the synthetic room seen by the AR.Drone front camera, a
+// runner that feeds a flight's frames to a SlamSystem, and a mapper fed keyframes with true poses.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -8,6 +8,8 @@
 #include "localization/slam/bench/bench_flights.hpp"
 #include "localization/slam/bench/synthetic_room.hpp"
 #include "localization/slam/bench/trajectory_metrics.hpp"
+#include "localization/slam/feature/feature_extractor.hpp"
+#include "localization/slam/module/local_mapper.hpp"
 #include "localization/slam/slam_system.hpp"
 
 namespace labo::slam::testing {
@@ -64,5 +66,62 @@ inline std::vector<FlightFrame> first_seconds(const Flight& flight, double secon
   }
   return out;
 }
+
+// A LocalMapper in synchronous mode on the synthetic room, without global adjustment, loop closure
+// or patch alignment (the mapper's own steps alone), with a first keyframe whose every other corner
+// is mapped exactly on the walls. Further keyframes are rendered at given poses and enqueued without
+// associations: each is re-measured, triangulated and adjusted locally.
+struct SeededMapper {
+  explicit SeededMapper(const MapperSettings& mapper_settings)
+      : real(PinholeCamera::ardrone2_front()), camera(real), room(real), extractor(camera, ExtractorSettings{}),
+        mapper(camera, map, mapper_settings) {}
+
+  static MapperSettings settings() {
+    MapperSettings s;
+    s.threaded = false;
+    s.global_ba = false;
+    s.loop.enabled = false;
+    s.patch_refinement = false;
+    return s;
+  }
+
+  // Keyframe 0 at its true pose, every other corner mapped where its ray meets a wall.
+  void seed(const Eigen::Isometry3d& T_world_cam, unsigned noise_seed) {
+    Keyframe first;
+    first.T_cam_map = T_world_cam.inverse();
+    extractor.extract(room.render(T_world_cam, noise_seed), first.frame);
+    const int k0 = map.add_keyframe(std::move(first));
+    const Keyframe& kf0 = map.keyframes()[static_cast<std::size_t>(k0)];
+    for (std::size_t i = 0; i < kf0.frame.size(); i += 2) {
+      const Feature& f = kf0.frame.features[i];
+      MapPoint p;
+      p.p_map = hit_wall(room.spec(), T_world_cam.translation(), T_world_cam.linear() * camera.bearing(f.px));
+      p.descriptor = kf0.frame.descriptors[i];
+      p.observations = {{k0, static_cast<int>(i)}};
+      p.reference_keyframe = k0;
+      p.reference_level = f.level;
+      p.reference_distance = (p.p_map - T_world_cam.translation()).norm();
+      map.add_point(std::move(p));
+    }
+  }
+
+  // A keyframe rendered at T_world_cam, given the pose T_cam_map (the true one unless a test
+  // perturbs it), no associations.
+  Keyframe keyframe(const Eigen::Isometry3d& T_world_cam, const Eigen::Isometry3d& T_cam_map, Seconds t, unsigned noise_seed) {
+    Keyframe kf;
+    kf.t = t;
+    kf.T_cam_map = T_cam_map;
+    extractor.extract(room.render(T_world_cam, noise_seed), kf.frame);
+    kf.point_of_feature.assign(kf.frame.size(), kNoPoint);
+    return kf;
+  }
+
+  PinholeCamera real;
+  IdealCamera camera;
+  SyntheticRoom room;
+  FeatureExtractor extractor;
+  SlamMap map;
+  LocalMapper mapper;
+};
 
 }  // namespace labo::slam::testing
