@@ -95,6 +95,17 @@ class FindTeacherMission final : public Mission {
   Seconds walk_in_until_ = -1;
   Seconds meet_arrived_at_ = -1;  // when they reached the corner before the meeting's leg (-1: not known)
   Seconds corner_eta_ = -1;  // following into a turn-back corner: when they reach it
+  // Met in front of a leg, the teacher standing at its start: their set-off is fed forward (the track
+  // moves at least at the route's walking velocity along the leg) from the first sign of it in the
+  // face's place, or from a little before the route's time when that is known (they were seen walking
+  // into the corner), until the face shows the walk.
+  bool set_off_armed_ = false;
+  bool set_off_timed_ = false;
+  bool set_off_from_known_ = false;
+  Eigen::Vector2d set_off_from_ = Eigen::Vector2d::Zero();  // where the face stood when taken up
+  Seconds set_off_armed_until_ = -1;
+  Seconds set_off_started_ = -1;  // fed forward since (-1: not yet)
+  void expect_set_off(const MissionContext& ctx);
   std::vector<PoseTarget> transit_;         // legs to it
   std::size_t transit_leg_ = 0;
   Seconds last_tick_ = 0;

@@ -100,6 +100,14 @@ void TeacherTrack::place(const Eigen::Vector2d& xy, double heading_rad, const Ei
   heading_rate_ = 0;
 }
 
+void TeacherTrack::expect_walk(const Eigen::Vector2d& velocity) {
+  const double speed = velocity.norm();
+  if (speed < 1e-9) return;
+  const Eigen::Vector2d along = velocity / speed;
+  const double now = velocity_.head<2>().dot(along);
+  if (now < speed) velocity_.head<2>() += (speed - now) * along;
+}
+
 Eigen::Isometry3d TeacherTrack::T_world_upright_face(double heading_rad) const {
   const Eigen::Vector3d into(-std::cos(heading_rad), -std::sin(heading_rad), 0.0);
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();

@@ -32,6 +32,11 @@ class TeacherTrack {
   // Pretend the teacher is at `xy` facing `heading_rad`, moving at `velocity` (a prediction from the
   // route).
   void place(const Eigen::Vector2d& xy, double heading_rad, const Eigen::Vector2d& velocity = Eigen::Vector2d::Zero());
+  // The route has the teacher walking at `velocity` now (set off from a corner at the route's time)
+  // while the face may not show it yet: the track moves at least that fast along it.
+  void expect_walk(const Eigen::Vector2d& velocity);
+  // ... and the route was early: they still stand.
+  void stand() { velocity_.setZero(); }
 
   // The last sustained spell of walking seen (kSustainedWalkS or longer; may still go on): when it
   // started and last walked, and which way. A teacher stopping at a corner of a known route after one
