@@ -53,6 +53,18 @@ struct RouteFlight {
     }
     return false;
   }
+  // Ticks until the teacher walks leg A (along +x) between x_min and x_max with the face followed.
+  bool until_walking_leg_a(double x_min, double x_max) {
+    for (const double end = f.t + 3 * motion.cycle_s(); f.t < end;) {
+      tick();
+      const TeacherPose p = motion.pose(f.t);
+      const double x = p.T_world_head.translation().x();
+      if (p.walking && std::cos(p.heading_rad) > 0.9 && x > x_min && x < x_max &&
+          f.stack->status().stage == "3 face-follow")
+        return true;
+    }
+    return false;
+  }
   double drone_to_teacher_m() const {
     return (f.world->drone.pose().translation() - motion.pose(f.t).T_world_head.translation()).head<2>().norm();
   }
@@ -359,14 +371,7 @@ TEST_CASE("control: a face lost in the middle of a leg is followed on along the 
     RouteFlight r(lab);
     REQUIRE(r.find_and_settle());
     // Until the teacher is 1.5 m short of leg A's end, walking it, with the face followed.
-    bool mid_leg = false;
-    for (const double end = r.f.t + 3 * r.motion.cycle_s(); r.f.t < end && !mid_leg;) {
-      r.tick();
-      const TeacherPose p = r.motion.pose(r.f.t);
-      mid_leg = p.walking && std::cos(p.heading_rad) > 0.9 && p.T_world_head.translation().x() > 2.7 &&
-                r.f.stack->status().stage == "3 face-follow";
-    }
-    REQUIRE(mid_leg);
+    REQUIRE(r.until_walking_leg_a(2.7, 1e9));
     // Hidden for the rest of the leg: 1.5 m, 3-3.75 s of walking.
     r.f.world->face_visible = false;
     double nearest = 10, sum = 0;
@@ -420,14 +425,7 @@ TEST_CASE("control: a face lost for a few frames mid-leg is bridged along the tr
   // the teacher walks a leg is now flown along the coasted track.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
-  bool mid_leg = false;
-  for (const double end = r.f.t + 3 * r.motion.cycle_s(); r.f.t < end && !mid_leg;) {
-    r.tick();
-    const TeacherPose p = r.motion.pose(r.f.t);
-    mid_leg = p.walking && std::cos(p.heading_rad) > 0.9 && p.T_world_head.translation().x() > 2.2 &&
-              p.T_world_head.translation().x() < 2.8 && r.f.stack->status().stage == "3 face-follow";
-  }
-  REQUIRE(mid_leg);
+  REQUIRE(r.until_walking_leg_a(2.2, 2.8));
   // Hidden for 0.2 s: every tick stays in face-follow, and the drone keeps its distance.
   r.f.world->face_visible = false;
   double worst = 0;
