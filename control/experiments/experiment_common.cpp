@@ -99,7 +99,7 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   front_ends.slam.mapping_mode = slam::MappingMode::Synchronous;  // lockstep: the same flight every time
   front_ends.with_face = with_face;
   setup.front_ends = front_ends;
-  if (root.has("sim")) e.sim = read_sim_config(root.object("sim"));
+  e.sim = read_sim_config_of(root);
   if (options.video_fps) e.sim.link.video_fps = *options.video_fps;
   if (with_face) e.head = face::load_lab_teacher_head(*e.lab, front_ends.face);
   return e;

@@ -38,7 +38,8 @@ ArdroneEmulatorSettings read_ardrone_emulator_settings(const ConfigReader& c) {
 }
 
 ArdroneEmulator::ArdroneEmulator(EmulatedVehicle& vehicle, ArdroneEmulatorSettings settings, Logger logger)
-    : vehicle_(vehicle), settings_(std::move(settings)), logger_(std::move(logger)), counters_(logger_) {}
+    : vehicle_(vehicle), settings_(std::move(settings)), logger_(std::move(logger)), counters_(logger_),
+      bitrate_(settings_.video_bitrate_kbps), streaming_bitrate_kbps_(settings_.video_bitrate_kbps) {}
 
 ArdroneEmulator::~ArdroneEmulator() { stop(); }
 
@@ -170,6 +171,9 @@ void ArdroneEmulator::apply_config(const std::string& key, const std::string& va
       counters_.bad_input("config_bad_value", t, key + "=" + value);
     }
     camera_switch_t_ = t + settings_.camera_switch_delay_s;
+  } else if (VideoBitrateControl::is_key(key)) {
+    if (!bitrate_.apply(key, value)) counters_.bad_input("config_bad_value", t, key + "=" + value);
+    streaming_bitrate_kbps_ = bitrate_.streaming_kbps();
   }
   config_ack_ = true;  // the firmware acknowledges every CONFIG (bit 6), the client clears it (CTRL 5)
   counters_.add("config_received");
@@ -235,6 +239,8 @@ void ArdroneEmulator::fill_packet(const VehicleTelemetry& tel, Seconds t) {
     packet_.set(kTagWindSpeed, "wind_angle", tel.wind_angle_rad);
   }
   if (packet_.has(kTagWifi)) packet_.set(kTagWifi, "link_quality", std::round(tel.wifi_link_quality * 500.0));
+  // kbit/s here; the firmware's unit for this field is not documented (to check on a real drone).
+  if (packet_.has(kTagVideoStream)) packet_.set(kTagVideoStream, "desired_bitrate", streaming_bitrate_kbps_.load());
 }
 
 void ArdroneEmulator::navdata_loop() {
@@ -294,7 +300,6 @@ void ArdroneEmulator::navdata_loop() {
 void ArdroneEmulator::video_loop() {
   H264EncoderSettings es;
   es.fps = static_cast<int>(std::lround(settings_.video_fps));
-  es.bitrate_kbps = settings_.video_bitrate_kbps;
   std::unique_ptr<H264Encoder> encoder;
   EncodedFrame encoded;
   PaveWriter writer;
@@ -305,6 +310,7 @@ void ArdroneEmulator::video_loop() {
     Socket client = video_listener_.accept(0.1);
     if (!client.valid()) continue;
     counters_.add("video_clients");
+    es.bitrate_kbps = streaming_bitrate_kbps_;
     encoder = std::make_unique<H264Encoder>(es);  // a new client starts with an IDR
     std::uint32_t frame_number = 0;
     std::uint64_t position = 0;
@@ -324,6 +330,10 @@ void ArdroneEmulator::video_loop() {
       if (image.empty() || image.type() != CV_8UC3) {
         counters_.bad_input("vehicle_render_empty", t, "render() gave no BGR image");
         continue;
+      }
+      if (const int kbps = streaming_bitrate_kbps_; kbps != encoder->settings().bitrate_kbps) {
+        encoder->set_bitrate_kbps(kbps);  // an AT*CONFIG changed it: from this frame on (an IDR)
+        counters_.add("video_bitrate_changes");
       }
       if (!encoder->encode(image, encoded)) {
         counters_.add("video_encode_failed");

@@ -5,7 +5,9 @@
 // land, emergency toggle), PCMD/PCMD_MAG, FTRIM, CONFIG + acknowledgement (state bit 6, CTRL 5),
 // COMWDG and the com-watchdog bit; navdata in bootstrap, demo (15 Hz, general:navdata_options) or
 // full mode (200 Hz, every option); PaVE/H.264 of vehicle.render() on TCP, with the camera switch
-// (video:video_channel) applied after a delay. Signs are converted at this edge (wire_signs.hpp).
+// (video:video_channel) applied after a delay, and the bit rate (video:bitrate_ctrl_mode,
+// video:max_bitrate, video:bitrate) applied to the encoder from the next frame, reported in the
+// video_stream option's desired_bitrate. Signs are converted at this edge (wire_signs.hpp).
 #include <atomic>
 #include <memory>
 #include <mutex>
@@ -17,6 +19,7 @@
 #include "drone/ardrone2/link_counters.hpp"
 #include "drone/ardrone2/navdata_packet.hpp"
 #include "drone/ardrone2/socket.hpp"
+#include "drone/ardrone2/video_bitrate.hpp"
 #include "drone/emulated_vehicle.hpp"
 
 namespace labo {
@@ -31,7 +34,7 @@ struct ArdroneEmulatorSettings {
   double demo_rate_hz = 15;
   double full_rate_hz = 200;
   double video_fps = 30;
-  int video_bitrate_kbps = 1000;
+  int video_bitrate_kbps = 1000;        // the firmware's video:max_bitrate until a client sets it
   Seconds camera_switch_delay_s = 1.0;  // a real switch takes more than 1 s
   Seconds com_watchdog_s = 0.05;        // no AT command for this long sets state bit 30
 };
@@ -52,6 +55,8 @@ class ArdroneEmulator {
   int at_port() const { return at_port_; }
   int navdata_port() const { return navdata_port_; }
   int video_port() const { return video_port_; }
+  // The bit rate the firmware streams at now (kbit/s), from the video:* keys received.
+  int video_bitrate_kbps() const { return streaming_bitrate_kbps_.load(); }
   LinkStatistics statistics() const { return counters_.snapshot(); }
   Seconds now() const { return clock_.now(); }
   // Runs f(vehicle) under the lock the emulator's threads hold while they drive the vehicle, so
@@ -94,6 +99,8 @@ class ArdroneEmulator {
   ardrone2::Endpoint navdata_client_;
   CameraId pending_camera_ = CameraId::Front;
   Seconds camera_switch_t_ = -1;
+  ardrone2::VideoBitrateControl bitrate_;
+  std::atomic<int> streaming_bitrate_kbps_{0};  // what the encoder is asked for (video thread reads it)
 
   ardrone2::NavdataPacket packet_;  // navdata thread only
   std::atomic<bool> running_{false};

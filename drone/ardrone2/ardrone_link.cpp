@@ -38,6 +38,8 @@ ArdroneLinkSettings read_ardrone_link_settings(const ConfigReader& c) {
   s.config_ack_timeout_s = c.number_or("config_ack_timeout_s", s.config_ack_timeout_s, Range::closed(0.05, 10.0));
   s.full_navdata = c.boolean_or("full_navdata", s.full_navdata);
   s.video = c.boolean_or("video", s.video);
+  s.video_max_bitrate_kbps =
+      c.integer_or("video_max_bitrate_kbps", s.video_max_bitrate_kbps, kMinVideoBitrateKbps, kMaxVideoBitrateKbps);
   const std::string rec = c.string_or("recording", "");
   if (!rec.empty()) s.recording = rec;
   if (s.lost_after_s <= s.degraded_after_s) c.fail("lost_after_s", "must be greater than degraded_after_s");
@@ -153,6 +155,8 @@ void ArdroneLink::queue_startup_config() {
   } else {
     configs_.push_front({"general:navdata_demo", "TRUE"});
   }
+  // The video keys are K_SHALLOW in the SDK's config table (not kept across a reboot): sent every time.
+  for (auto& [key, value] : video_bitrate_configs(settings_.video_max_bitrate_kbps)) configs_.push_back({key, value});
   if (requested_camera_ == CameraId::Bottom) configs_.push_back({"video:video_channel", "1"});
   configs_.restart();
 }

@@ -16,6 +16,7 @@
 #include "drone/ardrone2/link_counters.hpp"
 #include "drone/ardrone2/link_receiver.hpp"
 #include "drone/ardrone2/socket.hpp"
+#include "drone/ardrone2/video_bitrate.hpp"
 #include "drone/drone_link.hpp"
 #include "drone/replay/recording.hpp"
 
@@ -34,8 +35,13 @@ struct ArdroneLinkSettings {
   Seconds config_ack_timeout_s = 0.5;   // resend a CONFIG not acknowledged in this time
   bool full_navdata = false;            // false: navdata_demo at 15 Hz; true: all options at 200 Hz
   bool video = true;
+  // Sent at every connect as video:bitrate_ctrl_mode 0 (VBC_MODE_DISABLED: the stream held at
+  // video:max_bitrate) and video:max_bitrate (the firmware's default is 1000). 4000: ardrone_autonomy's
+  // choice for the AR.Drone 2.0, and the pose of a panel at 2-3 m needs it (docs/planar.md).
+  int video_max_bitrate_kbps = 4000;
   std::filesystem::path recording;      // empty: no recording
 };
+
 
 // Reads the "link" section (keys as above; see docs/ardrone2.md); refuses unknown keys.
 ArdroneLinkSettings read_ardrone_link_settings(const ConfigReader& section);

@@ -25,7 +25,7 @@ struct EncodedFrame {
   bool keyframe = false;
   std::uint8_t sps_size = 0;       // with start code, 0 when absent (PaVE header1_size)
   std::uint8_t pps_size = 0;       // with start code, 0 when absent (PaVE header2_size)
-  std::int64_t index = 0;
+  std::int64_t index = 0;          // frames since the encoder was (re)created
 };
 
 // Sizes of the SPS and PPS NAL units (start codes included) in an Annex-B access unit.
@@ -45,6 +45,9 @@ class H264Encoder {
   // Encodes one BGR frame (CV_8UC3, the configured size; other sizes are resized). With
   // zerolatency every input yields its access unit at once; returns false only on an encoder error.
   bool encode(const cv::Mat& bgr, EncodedFrame& out);
+  // Changes the target bit rate from the next frame on (AT*CONFIG video:max_bitrate): the encoder is
+  // re-created, so the next frame is an IDR (with SPS/PPS) and the GOP cadence restarts there.
+  void set_bitrate_kbps(int kbps);
   const H264EncoderSettings& settings() const;
 
  private:

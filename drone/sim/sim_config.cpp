@@ -3,6 +3,7 @@
 #include <numbers>
 
 #include "core/config_reader.hpp"
+#include "drone/ardrone2/ardrone_link.hpp"
 
 namespace labo {
 
@@ -61,7 +62,9 @@ void read_link(const ConfigReader& r, SimLinkSettings& l) {
   l.video_loss = r.number_or("video_loss", l.video_loss, Range::closed(0, 1));
   l.command_loss = r.number_or("command_loss", l.command_loss, Range::closed(0, 1));
   l.h264 = r.boolean_or("h264", l.h264);
-  l.video_bitrate_kbps = r.integer_or("video_bitrate_kbps", l.video_bitrate_kbps, 100, 20000);
+  // The sim link streams at the bit rate the driver configures (the "link" section), as the drone does.
+  if (r.has("video_bitrate_kbps"))
+    r.fail("video_bitrate_kbps", "no longer a sim key: the simulated drone streams at the driver's link.video_max_bitrate_kbps");
   l.camera_switch_delay_s = r.number_or("camera_switch_delay_s", l.camera_switch_delay_s, Range::closed(0, 10));
   r.finish();
 }
@@ -104,6 +107,13 @@ SimConfig read_sim_config(const ConfigReader& r) {
     for (const ConfigReader& d : r.objects("disturbances")) c.lab.disturbances.push_back(read_disturbance(d));
   }
   r.finish();
+  return c;
+}
+
+SimConfig read_sim_config_of(const ConfigReader& root) {
+  SimConfig c = root.has("sim") ? read_sim_config(root.object("sim")) : SimConfig{};
+  const ArdroneLinkSettings driver = root.has("link") ? read_ardrone_link_settings(root.object("link")) : ArdroneLinkSettings{};
+  c.link.video_bitrate_kbps = driver.video_max_bitrate_kbps;
   return c;
 }
 

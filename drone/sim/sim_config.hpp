@@ -18,5 +18,8 @@ struct SimConfig {
 
 // Throws ConfigError "<file>: sim.<key>: <value> ... expected <range>".
 SimConfig read_sim_config(const ConfigReader& section);
+// The "sim" section of a whole configuration, with the sim link's video bit rate taken from the
+// driver's "link" section (link.video_max_bitrate_kbps, validated with the rest of that section).
+SimConfig read_sim_config_of(const ConfigReader& root);
 
 }  // namespace labo

@@ -43,10 +43,12 @@ SimDroneLink::SimDroneLink(SimulatedLab& lab, SimLinkSettings settings)
       demo_(!settings.full_navdata) {
   next_command_ = next_navdata_ = next_frame_ = now_;
   last_command_arrival_ = last_navdata_arrival_sent_ = last_video_arrival_ = now_;
+  // The driver's bit-rate configs go out with the first AT datagram, as ArdroneLink queues them.
+  for (const auto& [key, value] : ardrone2::video_bitrate_configs(settings_.video_bitrate_kbps)) set_config(key, value);
   if (settings_.h264) {
     ardrone2::H264EncoderSettings es;
     es.fps = static_cast<int>(std::lround(settings_.video_fps));
-    es.bitrate_kbps = settings_.video_bitrate_kbps;
+    es.bitrate_kbps = drone_bitrate_.streaming_kbps();
     for (int i = 0; i < (settings_.both_cameras ? 2 : 1); ++i) streams_.push_back(std::make_unique<VideoStream>(es));
   }
 }
@@ -69,6 +71,8 @@ void SimDroneLink::set_config(const std::string& key, const std::string& value) 
     select_camera(CameraId::Front);
   } else if (key == "video:video_channel" && (value == "1" || value == "3")) {
     select_camera(CameraId::Bottom);
+  } else if (ardrone2::VideoBitrateControl::is_key(key) && requested_bitrate_.apply(key, value)) {
+    pending_bitrate_ = true;
   } else {
     ++counters_.config_ignored;
   }
@@ -81,7 +85,9 @@ LinkStatistics SimDroneLink::statistics() const {
                 {"video_frames", c.video_frames},         {"video_lost", c.video_lost},
                 {"video_dropout", c.video_dropout},       {"video_waiting_for_idr", c.video_waiting_for_idr},
                 {"commands_sent", c.commands_sent},       {"commands_lost", c.commands_lost},
-                {"config_ignored", c.config_ignored},     {"camera_switches", c.camera_switches}};
+                {"config_ignored", c.config_ignored},     {"camera_switches", c.camera_switches},
+                {"video_bitrate_changes", c.video_bitrate_changes},
+                {"video_bitrate_kbps", static_cast<std::uint64_t>(drone_bitrate_.streaming_kbps())}};
   if (now_ > 0) {
     s.navdata_rate_hz = static_cast<double>(c.navdata_packets) / now_;
     s.video_fps = static_cast<double>(c.video_frames) / now_;
@@ -138,6 +144,7 @@ void SimDroneLink::send_commands(Seconds t) {
   p.move = move_;
   p.camera = pending_camera_;
   p.demo = pending_demo_;
+  if (pending_bitrate_) p.video_bitrate = requested_bitrate_;
   ++counters_.commands_sent;
   if (lost(settings_.command_loss) || lab_.link_outage(t)) {
     ++counters_.commands_lost;  // one-off requests go again with the next datagram, as the driver resends them
@@ -147,6 +154,7 @@ void SimDroneLink::send_commands(Seconds t) {
   if (pending_camera_ && settings_.h264 && !settings_.both_cameras) streams_.front()->decoder.reset();  // wait for an IDR
   pending_camera_.reset();
   pending_demo_.reset();
+  pending_bitrate_ = false;
   const std::size_t slot = commands_.acquire();
   commands_.items[slot] = p;
   schedule(arrival(t, settings_.command_delay_s, last_command_arrival_), Channel::Command, slot);
@@ -257,6 +265,14 @@ void SimDroneLink::apply_commands(const CommandPacket& p, Seconds t) {
   if (p.camera) {
     switching_to_ = *p.camera;
     switch_at_ = t + settings_.camera_switch_delay_s;
+  }
+  if (p.video_bitrate) {
+    drone_bitrate_ = *p.video_bitrate;
+    for (auto& stream : streams_) {
+      if (stream->encoder.settings().bitrate_kbps == drone_bitrate_.streaming_kbps()) continue;
+      stream->encoder.set_bitrate_kbps(drone_bitrate_.streaming_kbps());  // from the next frame (an IDR)
+      ++counters_.video_bitrate_changes;
+    }
   }
   if (p.demo) demo_ = *p.demo;
   lab_.move(p.move, p.hover, t);

@@ -20,7 +20,9 @@
 //  - video at 30 fps from the selected camera (the switch takes effect `camera_switch_delay_s` after
 //    the CONFIG arrives), delayed, jittered, lost; optionally through the real H.264 encoder and
 //    decoder (drone/ardrone2/h264_codec.hpp) for the compression loss, the decoder waiting for an IDR
-//    after a camera switch; optionally both cameras every frame (not possible on a real AR.Drone 2.0,
+//    after a camera switch; the bit rate set as the driver sets it (video:bitrate_ctrl_mode,
+//    video:max_bitrate and video:bitrate sent at connect, or later through set_config), applied when
+//    the CONFIG reaches the drone; optionally both cameras every frame (not possible on a real AR.Drone 2.0,
 //    for benchmarks and experiments); scheduled video dropouts of the lab send nothing;
 //  - the lab's scheduled link outages: nothing gets through either way;
 //  - link supervision: Connected while navdata arrives, Degraded after 0.5 s of silence, Lost after 2 s.
@@ -34,6 +36,7 @@
 #include <random>
 #include <vector>
 
+#include "drone/ardrone2/video_bitrate.hpp"
 #include "drone/drone_link.hpp"
 #include "drone/sim/simulated_lab.hpp"
 
@@ -58,7 +61,9 @@ struct SimLinkSettings {
   double video_loss = 0;             // per frame (the drone skips it)
   double command_loss = 0;           // per AT datagram
   bool h264 = false;                 // the real encoder and decoder in the loop
-  int video_bitrate_kbps = 1000;
+  // What the driver configures at connect (ArdroneLink's link.video_max_bitrate_kbps): the drone
+  // streams at the firmware's 1000 kbit/s until those AT*CONFIGs arrive, then at this.
+  int video_bitrate_kbps = 4000;
   bool both_cameras = false;         // every frame from both cameras
   Seconds camera_switch_delay_s = 1.0;
   Seconds degraded_after_s = 0.5;
@@ -86,6 +91,8 @@ class SimDroneLink final : public DroneLink {
   Seconds now() const { return now_; }
   SimulatedLab& lab() { return lab_; }
   const SimLinkProfile& profile() const { return profile_; }
+  // The bit rate the simulated drone streams at now (kbit/s).
+  int video_bitrate_kbps() const { return drone_bitrate_.streaming_kbps(); }
 
   // DroneLink
   void set_listener(DroneLinkListener* listener) override { listener_ = listener; }
@@ -96,7 +103,8 @@ class SimDroneLink final : public DroneLink {
   void move(const MoveCommand& command) override;
   void hover() override { hover_ = true; }
   void select_camera(CameraId camera) override { pending_camera_ = camera; }
-  // general:navdata_demo and video:video_channel act as on the drone; other keys are counted only.
+  // general:navdata_demo, video:video_channel and the video bit-rate keys act as on the drone; other
+  // keys (and bad values) are counted only.
   void set_config(const std::string& key, const std::string& value) override;
   LinkState state() const override { return state_; }
   LinkStatistics statistics() const override;
@@ -108,6 +116,7 @@ class SimDroneLink final : public DroneLink {
     MoveCommand move;
     std::optional<CameraId> camera;
     std::optional<bool> demo;
+    std::optional<ardrone2::VideoBitrateControl> video_bitrate;  // the driver's requested state
   };
   enum class Channel { Command, Navdata, Video };
   struct Delivery {
@@ -127,7 +136,7 @@ class SimDroneLink final : public DroneLink {
   struct Counters {
     std::uint64_t navdata_packets = 0, navdata_lost = 0, video_frames = 0, video_lost = 0, video_dropout = 0,
                   video_waiting_for_idr = 0, commands_sent = 0, commands_lost = 0, config_ignored = 0,
-                  camera_switches = 0;
+                  camera_switches = 0, video_bitrate_changes = 0;
   };
   struct VideoStream;  // one camera's H.264 encoder and decoder
 
@@ -157,11 +166,14 @@ class SimDroneLink final : public DroneLink {
   MoveCommand move_;
   std::optional<CameraId> pending_camera_;
   std::optional<bool> pending_demo_;
+  ardrone2::VideoBitrateControl requested_bitrate_;
+  bool pending_bitrate_ = false;
   LinkState state_ = LinkState::Disconnected;
   Seconds last_navdata_arrival_ = 0;
   // Drone side.
   bool drone_takeoff_bit_ = false, drone_emergency_bit_ = false;
   bool demo_;
+  ardrone2::VideoBitrateControl drone_bitrate_;
   std::optional<CameraId> switching_to_;
   Seconds switch_at_ = 0;
   std::uint32_t sequence_ = 0, frame_number_ = 0;

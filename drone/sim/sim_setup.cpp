@@ -24,7 +24,7 @@ SimInputs load_sim_inputs(const std::filesystem::path& config_file, const std::o
                                    : CamerasConfig{PinholeCamera::ardrone2_front().intrinsics(),
                                                    PinholeCamera::ardrone2_bottom().intrinsics()};
   in.emulator = root.has("emulator") ? read_ardrone_emulator_settings(root.object("emulator")) : ArdroneEmulatorSettings{};
-  in.sim = root.has("sim") ? read_sim_config(root.object("sim")) : SimConfig{};
+  in.sim = read_sim_config_of(root);
   in.lab = load_lab_description(lab_file ? *lab_file
                                          : (config_file.parent_path() / root.string_or("lab", "lab.json")).lexically_normal());
   return in;

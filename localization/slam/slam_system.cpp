@@ -597,6 +597,7 @@ void SlamSystem::load_map(const std::filesystem::path& file) {
     for (auto& [id, p] : loaded.points_mutable()) impl_->map.points_mutable().emplace(id, std::move(p));
     impl_->map.set_next_point_id(loaded.next_point_id());
     for (const LoopEdge& e : loaded.loop_edges()) impl_->map.add_loop_edge(e);
+    if (loaded.down_map()) impl_->map.set_down_map(*loaded.down_map());
   }
   impl_->clear_tracking();
   impl_->relocalizing = true;

@@ -1,6 +1,7 @@
 // Steady-state allocations of the vision front-ends: counted by replacing the global operator new in
-// this test executable (test_control), on the calling thread only. The front-ends may allocate what
-// the pipeline they wrap allocates, and nothing more.
+// this test executable (test_control), on the calling thread only. The planar localizer's tracking
+// allocates only inside the OpenCV calls named below (kPlanarLocalizerAllocations), and the
+// front-ends add nothing to it.
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
@@ -79,7 +80,17 @@ std::size_t allocations_of(F&& f) {
 }
 }  // namespace
 
-TEST_CASE("vision front-ends: tracking a panel allocates no more than the planar localizer itself") {
+// What the planar localizer's tracking still allocates per frame, inside an OpenCV call that
+// allocates its own scratch buffers (found with a backtrace on the counting operator new):
+// cv::GaussianBlur in Se3PoseRefiner::smooth, 16 (the filter engine, its kernels and ring buffer),
+// on frames where motion blur is modelled (the panel moved 2 px or more since the previous frame:
+// the sampled model runs); the footprint model's frames do not smooth and allocate nothing.
+// Until 2026-12-03 there were 93-109: cv::solvePnPGeneric (IPPE) 82, the corner clipping's vectors 6,
+// cv::pyrDown 3, cv::remap 2, replaced by LaboDrone's own allocation-free code (ippe.hpp,
+// image_ops.hpp, planar_localizer.cpp).
+constexpr std::size_t kPlanarLocalizerAllocations = 16;
+
+TEST_CASE("vision front-ends: tracking a panel allocates only inside the OpenCV calls it names") {
   // OpenCV's thread pool splits work differently from call to call, and with it the allocations
   // made on this thread: counted single-threaded, they repeat exactly.
   const int threads = cv::getNumThreads();
@@ -134,6 +145,7 @@ TEST_CASE("vision front-ends: tracking a panel allocates no more than the planar
     const std::size_t by_pipelines = allocations_of([&] { pipelines->on_video(video[i]); });
     INFO("frame " << i << ": localizer " << by_localizer << ", front-end " << by_front_end << ", LabPipelines "
                   << by_pipelines);
+    CHECK(by_localizer <= kPlanarLocalizerAllocations);
     CHECK(by_front_end == by_localizer);
     CHECK(by_pipelines == by_localizer);
   }

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -13,8 +14,12 @@ namespace {
 
 constexpr char kMagic[8] = {'L', 'A', 'B', 'O', 'S', 'L', 'A', 'M'};
 constexpr char kEnd[8] = {'E', 'N', 'D', 'S', 'L', 'A', 'M', '!'};
-// Version 2 added the loop edges (after the points).
-constexpr std::uint32_t kVersion = 2;
+// Version 2 added the loop edges (after the points); version 3 the gravity directions (each
+// keyframe's IMU "down" in its camera, and the map's). Version 2 files still load, without gravity:
+// a lab mapped before stays usable, and the map's gravity is then re-estimated by the adjustments
+// from the attitudes of the keyframes added after loading.
+constexpr std::uint32_t kVersion = 3;
+constexpr std::uint32_t kOldestReadable = 2;
 
 std::uint64_t fnv1a(const std::uint8_t* data, std::size_t size) {
   std::uint64_t h = 1469598103934665603ull;
@@ -89,6 +94,25 @@ void put_pose(Writer& w, const Eigen::Isometry3d& T) {
   }
 }
 
+// An optional unit vector: u8 present (0 or 1), then 3 f64 when present.
+void put_direction(Writer& w, const std::optional<Eigen::Vector3d>& d) {
+  w.put(static_cast<std::uint8_t>(d ? 1 : 0));
+  if (d) {
+    for (int i = 0; i < 3; ++i) w.put((*d)[i]);
+  }
+}
+
+std::optional<Eigen::Vector3d> get_direction(Reader& r, const char* what) {
+  const auto present = r.get<std::uint8_t>(what);
+  if (present > 1) r.fail(std::string(what) + " flag " + std::to_string(present) + ", expected 0 or 1");
+  if (present == 0) return std::nullopt;
+  Eigen::Vector3d d;
+  for (int i = 0; i < 3; ++i) d[i] = r.finite(what);
+  // Saved normalized: anything far from unit length is damage, not rounding.
+  if (std::abs(d.norm() - 1.0) > 1e-6) r.fail(std::string(what) + " is not a unit vector (norm " + std::to_string(d.norm()) + ")");
+  return d.normalized();
+}
+
 Eigen::Isometry3d get_pose(Reader& r) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   for (int i = 0; i < 3; ++i) {
@@ -126,6 +150,7 @@ void write_map_file(const std::filesystem::path& file, const CameraIntrinsics& c
     w.put(static_cast<std::int32_t>(small.rows));
     w.put(static_cast<std::int32_t>(small.cols));
     if (!small.empty()) w.put_bytes(small.ptr<float>(0), small.total() * sizeof(float));
+    put_direction(w, kf.down_cam);
   }
   w.put(static_cast<std::uint32_t>(map.points().size()));
   w.put(map.next_point_id());
@@ -152,6 +177,7 @@ void write_map_file(const std::filesystem::path& file, const CameraIntrinsics& c
     }
     for (int i = 0; i < 3; ++i) w.put(e.measured.t[i]);
   }
+  put_direction(w, map.down_map());
   w.put(fnv1a(w.bytes.data(), w.bytes.size()));
   w.put_bytes(kEnd, 8);
   // Write to a temporary file and rename: a crash while saving never leaves half a map in place.
@@ -185,7 +211,10 @@ void read_map_file(const std::filesystem::path& file, const CameraIntrinsics& ca
   std::uint8_t magic[8];
   r.get_bytes(magic, 8, "magic");
   const auto version = r.get<std::uint32_t>("version");
-  if (version != kVersion) r.fail("version " + std::to_string(version) + ", expected " + std::to_string(kVersion));
+  if (version < kOldestReadable || version > kVersion) {
+    r.fail("version " + std::to_string(version) + ", expected " + std::to_string(kOldestReadable) + " to " + std::to_string(kVersion));
+  }
+  const bool with_gravity = version >= 3;
   const std::vector<double> expected = camera_numbers(camera);
   static constexpr const char* kCameraFields[] = {"width", "height", "fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3"};
   for (std::size_t i = 0; i < expected.size(); ++i) {
@@ -224,6 +253,7 @@ void read_map_file(const std::filesystem::path& file, const CameraIntrinsics& ca
       kf.small_image.create(rows, cols, CV_32F);
       r.get_bytes(kf.small_image.ptr<float>(0), static_cast<std::size_t>(rows * cols) * sizeof(float), "small image");
     }
+    if (with_gravity) kf.down_cam = get_direction(r, "keyframe gravity direction");
     features_of[k] = n_f;
     const int id = out.add_keyframe(std::move(kf));
     out.keyframes_mutable()[static_cast<std::size_t>(id)].point_of_feature = std::move(links);
@@ -266,7 +296,10 @@ void read_map_file(const std::filesystem::path& file, const CameraIntrinsics& ca
     for (int c = 0; c < 3; ++c) e.measured.t[c] = r.finite("loop edge translation");
     out.add_loop_edge(e);
   }
-  if (r.position() != body) r.fail("unexpected bytes after the loop edges");
+  if (with_gravity) {
+    if (const auto down = get_direction(r, "map gravity direction")) out.set_down_map(*down);
+  }
+  if (r.position() != body) r.fail("unexpected bytes after the last section");
   // Keyframe links must point at points that exist.
   for (Keyframe& kf : out.keyframes_mutable()) {
     for (PointId& id : kf.point_of_feature) {

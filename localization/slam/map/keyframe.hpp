@@ -33,7 +33,7 @@ struct Keyframe {
   int map_generation = 0;
   int tracking_reference = -1;
   // The IMU's gravity direction ("down", unit vector) in this keyframe's camera frame when the frame
-  // came with an attitude: the gravity prior of the adjustments. Not saved with the map.
+  // came with an attitude: the gravity prior of the adjustments. Saved with the map (version 3).
   std::optional<Eigen::Vector3d> down_cam;
 
   Eigen::Vector3d center() const { return T_cam_map.inverse().translation(); }

@@ -205,3 +205,63 @@ TEST_CASE("link: the com-watchdog bit gets COMWDG answers and CALIB reaches the 
   CHECK(wait_until([&] { return count(emulator.statistics(), "at_CALIB") == 1; }, 2.0));
   link.stop();
 }
+
+namespace {
+// Detail that moves every frame, so the encoder's bit rate, not the picture, sets the frame size.
+struct BusyVehicle : test::TinyVehicle {
+  cv::Mat texture = cv::Mat(400, 700, CV_8UC3);
+  int frame = 0;
+  BusyVehicle() { cv::randu(texture, cv::Scalar::all(0), cv::Scalar::all(255)); }
+  void render(CameraId, cv::Mat& bgr) override {
+    ++frame;
+    texture(cv::Rect(frame % 50, (2 * frame) % 40, 640, 360)).copyTo(bgr);
+  }
+};
+
+// Mean encoded bytes per frame the driver receives over `seconds`.
+double bytes_per_frame(const ArdroneLink& link, double seconds) {
+  const auto before = link.statistics().counters;
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  const auto after = link.statistics().counters;
+  const double frames = static_cast<double>(after.at("video_frames") - before.at("video_frames"));
+  return frames > 0 ? static_cast<double>(after.at("video_bytes") - before.at("video_bytes")) / frames : 0.0;
+}
+}  // namespace
+
+TEST_CASE("link: the driver sets the video bit rate at connect and the emulator's encoder follows", "[link][loopback]") {
+  BusyVehicle vehicle;
+  ArdroneEmulatorSettings es;
+  es.at_port = es.navdata_port = es.video_port = 0;
+  es.com_watchdog_s = 0.5;
+  ArdroneEmulator emulator(vehicle, es, quiet());
+  REQUIRE(emulator.video_bitrate_kbps() == 1000);  // the firmware's default until a client sets it
+  emulator.start();
+
+  ArdroneLinkSettings ls;
+  ls.host = "127.0.0.1";
+  ls.at_port = emulator.at_port();
+  ls.navdata_port = emulator.navdata_port();
+  ls.video_port = emulator.video_port();
+  ls.video_max_bitrate_kbps = 500;
+  ArdroneLink link(ls, quiet());
+  link.start();
+  // navdata_demo, then video:bitrate_ctrl_mode, video:max_bitrate and video:bitrate, each acknowledged.
+  REQUIRE(wait_until([&] { return emulator.video_bitrate_kbps() == 500; }, 10.0));
+  REQUIRE(wait_until([&] { auto c = link.statistics().counters; return c.count("video_frames") && c.at("video_frames") > 20; }, 10.0));
+  const double at_500 = bytes_per_frame(link, 1.5);
+  link.set_config("video:max_bitrate", "3000");  // at run time, as a user's config would
+  REQUIRE(wait_until([&] { return emulator.video_bitrate_kbps() == 3000; }, 10.0));
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));  // rate control settles
+  const double at_3000 = bytes_per_frame(link, 1.5);
+  INFO("bytes per frame at 500 kbit/s " << at_500 << ", at 3000 kbit/s " << at_3000);
+  CHECK(at_500 > 0);
+  CHECK(at_500 < 500e3 / 8 / 30 * 2);  // ~2.1 kB per frame at 30 fps, IDRs included
+  CHECK(at_3000 > 3.0 * at_500);
+  // A value the firmware's range refuses leaves the rate as it was.
+  link.set_config("video:max_bitrate", "90000");
+  REQUIRE(wait_until([&] { return emulator.statistics().counters.count("config_bad_value") == 1; }, 10.0));
+  CHECK(emulator.video_bitrate_kbps() == 3000);
+  CHECK(emulator.statistics().counters.at("video_bitrate_changes") >= 2);  // 1000 -> 500 -> 3000
+  link.stop();
+  emulator.stop();
+}

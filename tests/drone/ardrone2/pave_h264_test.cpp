@@ -233,3 +233,59 @@ TEST_CASE("link: corrupt H.264 is reported, never crashes, and the next IDR reco
   const auto r = fresh.decode(garbage, bgr);
   CHECK(r != DecodeStatus::Decoded);
 }
+
+namespace {
+// A detailed picture that moves every frame, so that the bit rate, not the content, limits the size.
+cv::Mat busy_image(int i) {
+  static const cv::Mat texture = [] {
+    cv::Mat t(400, 700, CV_8UC3);
+    cv::randu(t, cv::Scalar::all(0), cv::Scalar::all(255));
+    cv::GaussianBlur(t, t, cv::Size(3, 3), 0.7);
+    return t;
+  }();
+  return texture(cv::Rect(i % 50, (2 * i) % 40, 640, 360)).clone();
+}
+
+// Mean size of the P frames among `count` frames; `keyframes` counts the IDRs.
+double mean_p_frame_bytes(H264Encoder& enc, int first, int count, int& keyframes) {
+  EncodedFrame ef;
+  double bytes = 0;
+  int frames = 0;
+  for (int i = first; i < first + count; ++i) {
+    REQUIRE(enc.encode(busy_image(i), ef));
+    if (ef.keyframe) {
+      ++keyframes;
+    } else {
+      bytes += static_cast<double>(ef.data.size());
+      ++frames;
+    }
+  }
+  return bytes / frames;
+}
+}  // namespace
+
+TEST_CASE("link: the H.264 encoder changes its bit rate at run time", "[link]") {
+  H264EncoderSettings s;
+  s.bitrate_kbps = 1000;
+  H264Encoder enc(s);
+  int keyframes = 0;
+  // Rate control settles over the first GOPs; compare steady states.
+  mean_p_frame_bytes(enc, 0, 30, keyframes);
+  const double at_1000 = mean_p_frame_bytes(enc, 30, 30, keyframes);
+  CHECK(keyframes == 4);  // every 15 frames
+  enc.set_bitrate_kbps(4000);
+  CHECK(enc.settings().bitrate_kbps == 4000);
+  EncodedFrame ef;
+  REQUIRE(enc.encode(busy_image(60), ef));
+  CHECK(ef.keyframe);  // the re-created encoder starts with an IDR, SPS and PPS in band
+  CHECK(ef.sps_size > 4);
+  mean_p_frame_bytes(enc, 61, 29, keyframes);
+  const double at_4000 = mean_p_frame_bytes(enc, 90, 30, keyframes);
+  // 1000 kbit/s at 30 fps is ~4.2 kB per frame, 4000 kbit/s ~16.7 kB (the IDRs take their share).
+  CHECK(at_1000 < 4200);
+  CHECK(at_4000 > 3.0 * at_1000);
+  enc.set_bitrate_kbps(1000);
+  mean_p_frame_bytes(enc, 120, 30, keyframes);
+  CHECK(mean_p_frame_bytes(enc, 150, 30, keyframes) < 1.3 * at_1000);
+  CHECK_THROWS(enc.set_bitrate_kbps(0));
+}

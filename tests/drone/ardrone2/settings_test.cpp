@@ -19,6 +19,12 @@ TEST_CASE("link: link and emulator settings are read and validated", "[link]") {
   CHECK_THROWS_WITH(read_ardrone_link_settings(order.root()), Catch::Contains("lost_after_s"));
   auto port = ConfigDocument::parse(R"({"video_port": 70000})", "t.json");
   CHECK_THROWS_WITH(read_ardrone_emulator_settings(port.root()), Catch::Contains("video_port"));
+  CHECK(read_ardrone_link_settings(doc.root()).video_max_bitrate_kbps == 4000);
+  auto rate = ConfigDocument::parse(R"({"video_max_bitrate_kbps": 8000})", "t.json");
+  CHECK_THROWS_WITH(read_ardrone_link_settings(rate.root()),
+                    Catch::Contains("video_max_bitrate_kbps") && Catch::Contains("[250, 4000]"));
+  auto low = ConfigDocument::parse(R"({"video_max_bitrate_kbps": 100})", "t.json");
+  CHECK_THROWS_WITH(read_ardrone_link_settings(low.root()), Catch::Contains("[250, 4000]"));
   auto ok = ConfigDocument::parse(R"({"at_port": 0, "video_fps": 15})", "t.json");
   CHECK(read_ardrone_emulator_settings(ok.root()).video_fps == 15);
 }

@@ -10,7 +10,7 @@
 
 namespace labo::test {
 
-class TinyVehicle final : public EmulatedVehicle {
+class TinyVehicle : public EmulatedVehicle {
  public:
   struct Snapshot {
     double x_m = 0, y_m = 0, z_m = 0, yaw_rad = 0;

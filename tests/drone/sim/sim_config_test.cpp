@@ -91,7 +91,6 @@ TEST_CASE("sim config: out-of-range values are refused naming the key and the ex
       {"/sensors/velocity_noise_mps", -0.1, "sim.sensors.velocity_noise_mps", "0"},
       {"/link/video_delay_s", 3, "sim.link.video_delay_s", "2"},
       {"/link/navdata_loss", 2, "sim.link.navdata_loss", "1"},
-      {"/link/video_bitrate_kbps", 50, "sim.link.video_bitrate_kbps", "100"},
       {"/teacher", "yes", "sim.teacher", "true or false"},
   };
   for (const Case& c : cases) {
@@ -114,6 +113,12 @@ TEST_CASE("sim config: inconsistent values, bad disturbances and unknown keys ar
   sim["dynamics"]["takeoff_height_m"] = 2.0;
   sim["dynamics"]["altitude_max_m"] = 1.5;
   CHECK(error_of(sim).find("sim.dynamics.takeoff_height_m") != std::string::npos);
+
+  // The simulated drone streams at the driver's bit rate: the old sim key says where it went.
+  sim = shipped_sim();
+  sim["link"]["video_bitrate_kbps"] = 4000;
+  CHECK(error_of(sim).find("sim.link.video_bitrate_kbps: no longer a sim key") != std::string::npos);
+  CHECK(error_of(sim).find("link.video_max_bitrate_kbps") != std::string::npos);
 
   sim = shipped_sim();
   sim["disturbances"] = json::array({{{"kind", "earthquake"}, {"t_s", 1}}});

@@ -3,6 +3,8 @@
 // wall a pitch and a vertical translation move the image alike; the prior decides between them.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
+#include <unistd.h>
 
 #include "core/frames.hpp"
 #include "localization/slam/optimize/bundle_adjuster.hpp"
@@ -178,6 +180,17 @@ TEST_CASE("slam gravity: the system keeps the map's gravity direction from the f
        << "; without worst " << without_worst << " deg, mean " << without_mean);
   CHECK(with_worst < 0.5);
   CHECK(with_mean < 0.75 * without_mean);
+
+  // A saved map keeps its gravity direction: a system that loads it starts from the same "down".
+  with.wait_for_mapping();
+  const Eigen::Vector3d saved_down = *with.status().down_map;
+  const auto file = std::filesystem::temp_directory_path() / ("labodrone_gravity_map_" + std::to_string(::getpid()) + ".bin");
+  with.save_map(file);
+  SlamSystem loaded(camera, settings);
+  loaded.load_map(file);
+  std::filesystem::remove(file);
+  REQUIRE(loaded.status().down_map);
+  CHECK(angle_deg(*loaded.status().down_map, saved_down) < 1e-9);
 }
 
 TEST_CASE("slam gravity: a malformed attitude refuses the frame") {

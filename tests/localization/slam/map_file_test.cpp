@@ -85,7 +85,7 @@ TEST_CASE("slam: map file keeps the loop edges; a file of another version is ref
   const auto old_file = temp_file("v1.bin");
   std::ofstream(old_file, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   SlamMap untouched;
-  CHECK_THROWS_WITH(read_map_file(old_file, camera, untouched), Catch::Contains("version 1, expected 2"));
+  CHECK_THROWS_WITH(read_map_file(old_file, camera, untouched), Catch::Contains("version 1, expected 2 to 3"));
 
   // A loop edge naming a keyframe that does not exist is refused.
   SlamMap bad;
@@ -93,6 +93,67 @@ TEST_CASE("slam: map file keeps the loop edges; a file of another version is ref
   bad.add_loop_edge({5, 0, {}});
   write_map_file(file, camera, bad);
   CHECK_THROWS_WITH(read_map_file(file, camera, untouched), Catch::Contains("loop edge between keyframes that do not exist"));
+  std::filesystem::remove(file);
+  std::filesystem::remove(old_file);
+}
+
+TEST_CASE("slam: map file keeps the gravity directions; a version 2 file (without them) still loads") {
+  const CameraIntrinsics camera = PinholeCamera::ardrone2_front().intrinsics();
+  SlamMap map;
+  tiny_map(map);
+  const Eigen::Vector3d down0 = Eigen::Vector3d(0.02, 0.99, -0.1).normalized();
+  map.keyframes_mutable()[0].down_cam = down0;  // keyframe 1 had no attitude
+  map.set_down_map(Eigen::Vector3d(0.0, 0.05, 1.0));
+  const auto file = temp_file("gravity.bin");
+  write_map_file(file, camera, map);
+  SlamMap loaded;
+  read_map_file(file, camera, loaded);
+  REQUIRE(loaded.keyframes()[0].down_cam);
+  CHECK(loaded.keyframes()[0].down_cam->isApprox(down0, 1e-15));
+  CHECK_FALSE(loaded.keyframes()[1].down_cam);
+  REQUIRE(loaded.down_map());
+  CHECK(loaded.down_map()->isApprox(*map.down_map(), 1e-15));
+
+  // The same map without gravity, written as version 2 did: the per-keyframe and map direction flags
+  // (one zero byte each) are the only difference. Keyframe layout of the tiny map: time 8, pose 96,
+  // feature count 4, one feature 72, small image size 8 = 188 bytes, after a header of 104 bytes.
+  SlamMap plain;
+  tiny_map(plain);
+  write_map_file(file, camera, plain);
+  std::vector<char> bytes(std::filesystem::file_size(file));
+  std::ifstream(file, std::ios::binary).read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  constexpr std::size_t kHeader = 8 + 4 + 11 * 8 + 4, kKeyframe = 8 + 96 + 4 + 72 + 8;
+  REQUIRE(bytes[kHeader + kKeyframe] == 0);
+  REQUIRE(bytes[kHeader + 2 * kKeyframe + 1] == 0);
+  REQUIRE(bytes[bytes.size() - 17] == 0);
+  bytes.erase(bytes.end() - 17);  // the map's flag, just before the checksum
+  bytes.erase(bytes.begin() + static_cast<std::ptrdiff_t>(kHeader + 2 * kKeyframe + 1));
+  bytes.erase(bytes.begin() + static_cast<std::ptrdiff_t>(kHeader + kKeyframe));
+  const std::uint32_t v2 = 2;
+  std::memcpy(bytes.data() + 8, &v2, 4);
+  const std::size_t body = bytes.size() - 16;
+  const std::uint64_t sum = fnv1a(bytes, body);
+  std::memcpy(bytes.data() + body, &sum, 8);
+  const auto old_file = temp_file("v2.bin");
+  std::ofstream(old_file, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  SlamMap old;
+  read_map_file(old_file, camera, old);
+  CHECK(old.keyframes().size() == 2);
+  CHECK(old.points().size() == 1);
+  CHECK(old.loop_edges().size() == 1);
+  CHECK_FALSE(old.down_map());
+
+  // A gravity direction that is not a unit vector (written by hand into a valid file) is refused.
+  write_map_file(file, camera, map);
+  bytes.assign(std::filesystem::file_size(file), 0);
+  std::ifstream(file, std::ios::binary).read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  const double doubled = 2.0 * down0.x();
+  std::memcpy(bytes.data() + kHeader + kKeyframe + 1, &doubled, 8);
+  const std::uint64_t sum2 = fnv1a(bytes, bytes.size() - 16);
+  std::memcpy(bytes.data() + bytes.size() - 16, &sum2, 8);
+  std::ofstream(file, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  SlamMap untouched;
+  CHECK_THROWS_WITH(read_map_file(file, camera, untouched), Catch::Contains("keyframe gravity direction is not a unit vector"));
   std::filesystem::remove(file);
   std::filesystem::remove(old_file);
 }
