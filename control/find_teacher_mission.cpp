@@ -207,14 +207,20 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, const std
   const double short_of_corner = metres_short_of_waypoint(ctx.lab.teacher, xy, leg->corner, kOnLegLateralM);
   const bool seen_walking_in = !set_off && !walked_in && short_of_corner > kSetOffM;
   const bool arriving = walked_in || seen_walking_in;
+  // Where and when they were last seen walking in: the rest of the way is timed from that place at that
+  // time. (The place last seen may be later and nearer the corner: timed from the end of the walk, the
+  // way walked since was counted twice; real vision, 0.5 m/s, seed 1: the face lost 0.54 m short of
+  // the corner, taken up again for 0.4 s on the way in, too short for a walk spell, and lost at the
+  // corner: leg A's set-off predicted 0.8 s early, the drone backed off ahead of a teacher standing.)
   const Seconds walked_to = walked_in ? walked.to : seen_at;
+  const Eigen::Vector2d walked_from_xy = walked_in ? walked.at : xy;
   // A meeting on this leg already expected them later (the face then taken up at the corner for too
   // short a time to see them walk in: real vision, seed 1, leg C): that still holds.
   const bool expected_later = meet_leg_.index == leg->index && meet_walk_from_ > seen_at && meet_walk_from_ < ctx.t + kMeetWaitS;
   Seconds walk_from = seen_at, arrived_at = -1;
   if (arriving) {
-    walk_from = walked_to + seconds_to_set_off(ctx.lab.teacher, xy, *leg);
-    arrived_at = walked_to + (corner - xy).norm() / std::max(ctx.lab.teacher.speed_mps, 0.1);
+    walk_from = walked_to + seconds_to_set_off(ctx.lab.teacher, walked_from_xy, *leg);
+    arrived_at = walked_to + (corner - walked_from_xy).norm() / std::max(ctx.lab.teacher.speed_mps, 0.1);
   } else if (!set_off && expected_later) {
     walk_from = meet_walk_from_;
     arrived_at = meet_arrived_at_;
@@ -225,7 +231,7 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, const std
   meet_arrived_at_ = arrived_at;
   // Walking into the corner still: followed there first (leaving at once, the drone swung off a
   // teacher with up to 0.6 m, 1.5 s, still to walk towards it: real vision, seed 1, ends of legs A, C).
-  walk_in_from_ = xy;
+  walk_in_from_ = walked_from_xy;
   walk_in_t0_ = walked_to;
   walk_in_until_ = arriving ? arrived_at : -1.0;
   track_.place(leg->from + meet_on_leg_m_ * leg->along, std::atan2(leg->along.y(), leg->along.x()));

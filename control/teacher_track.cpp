@@ -78,10 +78,11 @@ void TeacherTrack::note_walking(Seconds t) {
   const Eigen::Vector2d direction = velocity_.head<2>().normalized();
   // A new spell after a stop or a turn of more than 45 degrees.
   if (!walk_.seen || t - walk_.to > kSpellGapS || direction.dot(walk_.direction) < std::cos(std::numbers::pi / 4)) {
-    walk_ = WalkSpell{true, t, t, direction};
+    walk_ = WalkSpell{true, t, t, direction, position_.head<2>()};
   } else {
     walk_.to = t;
     walk_.direction = direction;
+    walk_.at = position_.head<2>();
   }
   if (walk_.to - walk_.from >= kSustainedWalkS) last_walk_ = walk_;
 }

@@ -28,7 +28,11 @@ class TeacherTrack {
   // The drone's pose estimate was corrected by `by` (world), beyond what its velocity explains: the
   // faces placed from it move by as much, and that is no walk of the teacher. Moves the track with it,
   // so the next face's displacement is measured in the corrected frame.
-  void shift(const Eigen::Vector3d& by) { position_ += by; }
+  void shift(const Eigen::Vector3d& by) {
+    position_ += by;
+    walk_.at += by.head<2>();
+    last_walk_.at += by.head<2>();
+  }
   // Pretend the teacher is at `xy` facing `heading_rad`, moving at `velocity` (a prediction from the
   // route).
   void place(const Eigen::Vector2d& xy, double heading_rad, const Eigen::Vector2d& velocity = Eigen::Vector2d::Zero());
@@ -46,6 +50,7 @@ class TeacherTrack {
     bool seen = false;
     Seconds from = 0, to = 0;
     Eigen::Vector2d direction = Eigen::Vector2d::UnitX();
+    Eigen::Vector2d at = Eigen::Vector2d::Zero();  // where the track was at `to`
   };
   const WalkSpell& last_walk() const { return last_walk_; }
 
