@@ -4,6 +4,7 @@
 // every call (cv::pyrDown 1-2 row buffers, cv::remap its per-stripe blocks). The results are integer
 // arithmetic, so "the same" is exact: tests/localization/planar/image_ops_test.cpp compares them
 // pixel for pixel with OpenCV's on random images.
+#include <array>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -24,19 +25,41 @@ void pyr_down_8u(const cv::Mat& src, cv::Mat& dst, std::vector<int>& column_sums
 class LinearRemap8u {
  public:
   LinearRemap8u() = default;
-  // map_x, map_y: CV_32FC1 of the output's size, the source pixel each output pixel samples.
-  LinearRemap8u(const cv::Mat& map_x, const cv::Mat& map_y);
+  // map_x, map_y: CV_32FC1 of the output's size, the source pixel each output pixel samples, in a
+  // source image of `source_size`.
+  LinearRemap8u(const cv::Mat& map_x, const cv::Mat& map_y, cv::Size source_size);
   bool empty() const { return taps_.empty(); }
-  // dst: the output's size, CV_8UC1 (reallocated only when it differs). src must not be dst.
+  // src: CV_8UC1 of the source size. dst: the output's size, CV_8UC1 (reallocated only when it
+  // differs). src must not be dst.
   void apply(const cv::Mat& src, cv::Mat& dst) const;
 
  private:
   struct Tap {
-    int x, y;          // the top-left neighbour (floor of the position at 1/32 px)
-    unsigned short fx, fy;  // the position's fraction in 1/32 px
+    int x, y;                   // the top-left neighbour (floor of the position at 1/32 px)
+    std::array<short, 4> w;     // its and its right, lower, lower-right neighbours' weights, over 2^10
+    bool interior;              // all four neighbours inside the source
   };
-  cv::Size size_;
+  cv::Size size_, source_size_;
   std::vector<Tap> taps_;  // row-major over the output
+};
+
+// cv::GaussianBlur(image(roi), dst(roi), cv::Size(0, 0), sigma) for CV_8UC1 and a region of interest
+// smaller than the image, which allocates its filter engine, kernels and ring buffer on every call.
+// For such a region OpenCV 4.6 filters in float (its bit-exact fixed-point path is only for whole
+// images): the float kernel of size round(6 sigma + 1) | 1, rows then columns, every multiply-add
+// fused as its SIMD code does on FMA hardware (AVX2, AVX-512), rounded to nearest. The same
+// operations in the same order here, so the pixels are OpenCV's on such machines. Pixels outside
+// `roi` are the image's own, reflected (101) at the image's border, as for an OpenCV region of interest.
+class GaussianBlur8u {
+ public:
+  GaussianBlur8u() = default;
+  explicit GaussianBlur8u(double sigma);
+  // dst: the image's size and type (created if not); only its `roi` is written. `scratch`: kept by
+  // the caller. Not for roi == the whole image (OpenCV blurs that differently).
+  void apply(const cv::Mat& image, cv::Rect roi, cv::Mat& dst, std::vector<float>& scratch) const;
+
+ private:
+  std::vector<float> kernel_;  // 2 r + 1 taps
 };
 
 }  // namespace labo

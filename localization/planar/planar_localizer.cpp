@@ -184,7 +184,7 @@ PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, con
     cv::Mat map_x, map_y;
     cv::initUndistortRectifyMap(camera_.K(), camera_.distortion_coefficients(), cv::Mat(), camera_.K(), size,
                                 CV_32FC1, map_x, map_y);
-    undistortion_ = LinearRemap8u(map_x, map_y);
+    undistortion_ = LinearRemap8u(map_x, map_y, size);
     undistorted_.create(size, CV_8UC1);
   }
 }

@@ -11,9 +11,8 @@
 //   resolving the IPPE ambiguity, planar_pose.hpp). The frame after a loss runs detection again.
 // Frames are undistorted first (precomputed maps, same K), so homographies are exact perspective
 // maps; the reported corners are in the raw frame. Steady-state tracking with the IC tracker
-// allocates nothing on frames the footprint model refines; the sampled model's frames allocate inside
-// cv::GaussianBlur (tests/control/front_end_allocation_test.cpp counts them; OpenCV's ECC allocates
-// inside every call).
+// allocates nothing (tests/control/front_end_allocation_test.cpp; OpenCV's ECC allocates inside every
+// call): IPPE, undistortion, pyramid and smoothing are LaboDrone's own (ippe.hpp, image_ops.hpp).
 #include <memory>
 #include <optional>
 
