@@ -190,7 +190,12 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, const std
   const double lateral = std::abs(leg->along.x() * from_start.y() - leg->along.y() * from_start.x());
   const double on_leg = lateral < kOnLegLateralM ? from_start.dot(leg->along) : -1.0;
   const Eigen::Vector2d v = track_.velocity().head<2>();
-  const bool set_off = on_leg > kSetOffM || (on_leg > -kOnLegLateralM && v.dot(leg->along) > kSetOffMps);
+  // The velocity an unconfirmed set-off feed-forward gave the track is an expectation, not a walk seen:
+  // it is no sign of one (real vision, teacher at 0.4 m/s, seed 7: the face lost 0.1 s after a 5 cm
+  // move fed the route's speed forward, 1.1 s before the route's time; taken for a teacher walking the
+  // leg, the meeting backed off along it at once while they stood, and they were found again 1.7 m away).
+  const bool velocity_seen = !(set_off_unconfirmed() && leg->index == meet_leg_.index);
+  const bool set_off = on_leg > kSetOffM || (velocity_seen && on_leg > -kOnLegLateralM && v.dot(leg->along) > kSetOffMps);
   const Seconds seen_at = last_face_t_ >= 0 ? last_face_t_ : ctx.t;
   const TeacherTrack::WalkSpell& walked = track_.last_walk();
   const bool walked_in = !set_off && walked.seen && seen_at - walked.to < ctx.lab.teacher.pause_s &&
@@ -345,11 +350,22 @@ void FindTeacherMission::expect_set_off(const MissionContext& ctx) {
     return;
   }
   const bool seen_walking = walked > kSetOffSignM;
-  if (set_off_started_ < 0 && (seen_walking || (set_off_timed_ && ctx.t >= meet_walk_from_ - kSetOffLeadS))) set_off_started_ = ctx.t;
+  if (set_off_started_ < 0 && (seen_walking || (set_off_timed_ && ctx.t >= meet_walk_from_ - kSetOffLeadS))) {
+    set_off_started_ = ctx.t;
+    set_off_by_route_ = !seen_walking;
+    set_off_walked_at_start_ = walked;
+  }
   if (set_off_started_ < 0) return;
-  if (!seen_walking && ctx.t - set_off_started_ > kSetOffConfirmS) {
-    // The route's time was early: they still stand. Wait for the face to show the walk.
-    set_off_timed_ = false;
+  // Confirmed only by the walk going on: the face's place moving another kSetOffSignM along the leg
+  // since the feed-forward started. A face that moved 5 cm and stopped is a head turning at the corner
+  // (the face sits ~0.1 m in front of the turning axis) or the pose's jitter, not a walk (real vision,
+  // teacher at 0.4 m/s, seed 7, leg C: 5 cm 1.2 s before the route's time, fed forward until the face
+  // was lost, and the meeting then walked the leg at once).
+  if (walked - set_off_walked_at_start_ >= kSetOffSignM) set_off_confirmed_ = true;
+  if (!set_off_confirmed_ && ctx.t - set_off_started_ > kSetOffConfirmS) {
+    // Early: they still stand. A route's time is not used again; the next sign is measured from here.
+    if (set_off_by_route_) set_off_timed_ = false;
+    set_off_from_ = xy;
     set_off_started_ = -1;
     track_.stand();
     return;
@@ -447,6 +463,7 @@ void FindTeacherMission::meet(MissionContext& ctx) {
     set_off_timed_ = meet_arrived_at_ >= 0 && ctx.t < meet_walk_from_;
     set_off_from_known_ = false;
     set_off_started_ = -1;
+    set_off_confirmed_ = false;
     set_off_armed_until_ = std::max(ctx.t, meet_walk_from_) + kMeetWaitS;
     enter(Step::Follow, ctx.t);
   } else if (ctx.t - since_ > kMeetWaitS) {

@@ -102,9 +102,14 @@ class FindTeacherMission final : public Mission {
   bool set_off_armed_ = false;
   bool set_off_timed_ = false;
   bool set_off_from_known_ = false;
-  Eigen::Vector2d set_off_from_ = Eigen::Vector2d::Zero();  // where the face stood when taken up
+  Eigen::Vector2d set_off_from_ = Eigen::Vector2d::Zero();  // where the face stood when taken up (or an early set-off ended)
   Seconds set_off_armed_until_ = -1;
   Seconds set_off_started_ = -1;  // fed forward since (-1: not yet)
+  bool set_off_by_route_ = false;      // ... started by the route's time (else by the face's first move)
+  double set_off_walked_at_start_ = 0;  // how far the face had moved along the leg then
+  bool set_off_confirmed_ = false;     // the face has walked on since: the walk is seen, not only expected
+  // Fed forward and not yet confirmed: the track's velocity along the leg is the expectation's.
+  bool set_off_unconfirmed() const { return set_off_armed_ && set_off_started_ >= 0 && !set_off_confirmed_; }
   void expect_set_off(const MissionContext& ctx);
   std::vector<PoseTarget> transit_;         // legs to it
   std::size_t transit_leg_ = 0;

@@ -8,6 +8,8 @@
 #include <Eigen/LU>
 #include <opencv2/imgproc.hpp>
 
+#include "localization/planar/image_ops.hpp"
+
 #include "localization/planar/bilinear_sample.hpp"
 #include "localization/planar/planar_template.hpp"
 
@@ -317,7 +319,8 @@ TrackOutcome InverseCompositionalTracker::track(const cv::Mat& image, const cv::
   const int n_levels = std::min(config_.pyramid_levels, static_cast<int>(levels_.size()) - base);
   for (int j = 1; j < n_levels; ++j) {
     const cv::Mat& previous = j == 1 ? image : frame_pyramid_[static_cast<std::size_t>(j - 1)];
-    cv::pyrDown(previous, frame_pyramid_[static_cast<std::size_t>(j)]);  // reuses the buffer
+    // Not cv::pyrDown, which allocates row buffers on every call: the same pixels, reused buffers.
+    pyr_down_8u(previous, frame_pyramid_[static_cast<std::size_t>(j)], pyramid_scratch_);
   }
   const std::array<cv::Point2d, 4> corners_n{cv::Point2d(-1, -1), cv::Point2d(1, -1), cv::Point2d(1, 1),
                                              cv::Point2d(-1, 1)};

@@ -71,6 +71,7 @@ class InverseCompositionalTracker final : public HomographyTracker {
   cv::Size template_size_;
   cv::Matx33d normalized_from_template_;  // working template px -> normalized
   std::vector<cv::Mat> frame_pyramid_;    // reused buffers, [0] unused (the frame itself)
+  std::vector<int> pyramid_scratch_;      // pyr_down_8u's column sums
   PlanarConfig config_;
 };
 

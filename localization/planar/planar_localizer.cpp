@@ -64,17 +64,55 @@ Eigen::Isometry3d mirrored_about_line_of_sight(const Eigen::Isometry3d& T) {
   return out;
 }
 
+// A polygon of at most 8 vertices: a quadrilateral clipped by a rectangle (each of its 4 edges adds
+// at most one vertex). Fixed storage: the per-frame checks allocate nothing.
+struct SmallPolygon {
+  std::array<cv::Point2d, 8> v;
+  std::size_t n = 0;
+};
+
+// Shoelace area, positive whatever the orientation.
+double polygon_area(const SmallPolygon& p) {
+  double twice = 0;
+  for (std::size_t i = 0, j = p.n - 1; i < p.n; j = i++) twice += p.v[j].x * p.v[i].y - p.v[i].x * p.v[j].y;
+  return 0.5 * std::abs(twice);
+}
+
+// Sutherland-Hodgman: the part of `in` on the side of the line where inside(point) holds; `cross`
+// gives the edge's intersection with the line. Right for any simple polygon against a convex window.
+template <typename Inside, typename Cross>
+SmallPolygon clip(const SmallPolygon& in, Inside inside, Cross cross) {
+  SmallPolygon out;
+  if (in.n == 0) return out;
+  for (std::size_t i = 0, j = in.n - 1; i < in.n; j = i++) {
+    const cv::Point2d& a = in.v[j];
+    const cv::Point2d& b = in.v[i];
+    const bool a_in = inside(a), b_in = inside(b);
+    if (a_in != b_in && out.n < out.v.size()) out.v[out.n++] = cross(a, b);
+    if (b_in && out.n < out.v.size()) out.v[out.n++] = b;
+  }
+  return out;
+}
+
+// The fraction of the quad's area inside the image (pixel centres at integers, so the image spans
+// -0.5 .. size - 0.5).
 double visible_fraction(const std::array<cv::Point2d, 4>& corners, cv::Size size) {
-  std::vector<cv::Point2f> quad, frame{{-0.5f, -0.5f},
-                                       {size.width - 0.5f, -0.5f},
-                                       {size.width - 0.5f, size.height - 0.5f},
-                                       {-0.5f, size.height - 0.5f}},
-      inter;
-  for (const auto& c : corners) quad.emplace_back(static_cast<float>(c.x), static_cast<float>(c.y));
-  const double area = std::abs(cv::contourArea(quad));
+  SmallPolygon quad;
+  for (const auto& c : corners) quad.v[quad.n++] = c;
+  const double area = polygon_area(quad);
   if (!(area > 1.0)) return 0.0;
-  const float overlap = cv::intersectConvexConvex(quad, frame, inter, true);
-  return std::clamp(overlap / area, 0.0, 1.0);
+  const double x0 = -0.5, y0 = -0.5, x1 = size.width - 0.5, y1 = size.height - 0.5;
+  const auto at_x = [](double x) {
+    return [x](const cv::Point2d& a, const cv::Point2d& b) { return cv::Point2d(x, a.y + (b.y - a.y) * (x - a.x) / (b.x - a.x)); };
+  };
+  const auto at_y = [](double y) {
+    return [y](const cv::Point2d& a, const cv::Point2d& b) { return cv::Point2d(a.x + (b.x - a.x) * (y - a.y) / (b.y - a.y), y); };
+  };
+  SmallPolygon p = clip(quad, [&](const cv::Point2d& q) { return q.x >= x0; }, at_x(x0));
+  p = clip(p, [&](const cv::Point2d& q) { return q.x <= x1; }, at_x(x1));
+  p = clip(p, [&](const cv::Point2d& q) { return q.y >= y0; }, at_y(y0));
+  p = clip(p, [&](const cv::Point2d& q) { return q.y <= y1; }, at_y(y1));
+  return p.n < 3 ? 0.0 : std::clamp(polygon_area(p) / area, 0.0, 1.0);
 }
 
 }  // namespace
@@ -143,8 +181,10 @@ PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, con
   }
   if (camera_.has_distortion()) {
     const cv::Size size(camera_.width(), camera_.height());
+    cv::Mat map_x, map_y;
     cv::initUndistortRectifyMap(camera_.K(), camera_.distortion_coefficients(), cv::Mat(), camera_.K(), size,
-                                CV_32FC1, map1_, map2_);  // float maps: no 1/32 px quantization
+                                CV_32FC1, map_x, map_y);
+    undistortion_ = LinearRemap8u(map_x, map_y, size);
     undistorted_.create(size, CV_8UC1);
   }
 }
@@ -157,8 +197,8 @@ void PlanarObjectLocalizer::reset() {
 }
 
 const cv::Mat& PlanarObjectLocalizer::undistort(const cv::Mat& gray) {
-  if (map1_.empty()) return gray;
-  cv::remap(gray, undistorted_, map1_, map2_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  if (undistortion_.empty()) return gray;
+  undistortion_.apply(gray, undistorted_);  // cv::remap's pixels, without its per-call allocations
   return undistorted_;
 }
 
@@ -263,8 +303,9 @@ PlanarLoss PlanarObjectLocalizer::accept(const cv::Mat& image, const cv::Matx33d
       last_pose_ && r.t - last_pose_t_ < kRecentPoseS ? last_pose_ : std::nullopt;
   std::optional<PlanarPose> pose = pose_solver_.solve(corners, previous);
   if (!pose) return PlanarLoss::NoPose;
-  const double size_px = std::sqrt(std::abs(cv::contourArea(std::vector<cv::Point2f>(
-      {cv::Point2f(corners[0]), cv::Point2f(corners[1]), cv::Point2f(corners[2]), cv::Point2f(corners[3])}))));
+  SmallPolygon quad;
+  for (const auto& c : corners) quad.v[quad.n++] = c;
+  const double size_px = std::sqrt(polygon_area(quad));
   const double margin = std::clamp((correlation - thresholds_.min_correlation) / (1.0 - thresholds_.min_correlation), 0.0, 1.0);
   if (!refine_pose(image, *pose, size_px, margin, r)) {
     unverified_pose_ = pose->T_cam_object;

@@ -10,14 +10,16 @@
 //   or a camera motion of more than D or a turn of more than beta since the previous frame (after
 //   resolving the IPPE ambiguity, planar_pose.hpp). The frame after a loss runs detection again.
 // Frames are undistorted first (precomputed maps, same K), so homographies are exact perspective
-// maps; the reported corners are in the raw frame. Steady-state tracking allocates nothing with the
-// IC tracker (OpenCV's ECC allocates internally).
+// maps; the reported corners are in the raw frame. Steady-state tracking with the IC tracker
+// allocates nothing (tests/control/front_end_allocation_test.cpp; OpenCV's ECC allocates inside every
+// call): IPPE, undistortion, pyramid and smoothing are LaboDrone's own (ippe.hpp, image_ops.hpp).
 #include <memory>
 #include <optional>
 
 #include "core/camera_model.hpp"
 #include "localization/planar/area_pose_refiner.hpp"
 #include "localization/planar/homography_tracker.hpp"
+#include "localization/planar/image_ops.hpp"
 #include "localization/planar/planar_config.hpp"
 #include "localization/planar/planar_detectors.hpp"
 #include "localization/planar/planar_pose.hpp"
@@ -90,7 +92,8 @@ class PlanarObjectLocalizer {
   PlanarPoseSolver pose_solver_;
   Se3PoseRefiner pose_refiner_;
   std::optional<AreaPoseRefiner> footprint_refiner_;  // se3_pixel_model "footprint"
-  cv::Mat map1_, map2_, undistorted_;  // precomputed undistortion maps and reused output
+  LinearRemap8u undistortion_;          // precomputed undistortion (empty without distortion)
+  cv::Mat undistorted_;                 // its reused output
   cv::Mat raw_;                         // the frame being processed, as it came (a header)
   Se3PoseRefiner::SmoothedFrame smoothed_;  // reused by the pose refinement
 

@@ -2,10 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
-
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core/eigen.hpp>
+#include <stdexcept>
 
 namespace labo {
 
@@ -15,7 +12,13 @@ double rotation_angle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
 
 PlanarPoseSolver::PlanarPoseSolver(const cv::Matx33d& K, const std::array<cv::Point3d, 4>& object_corners,
                                    double max_reprojection_px)
-    : K_(K), object_(object_corners), max_reprojection_px_(max_reprojection_px) {}
+    : intrinsics_{K(0, 0), K(1, 1), K(0, 2), K(1, 2)}, max_reprojection_px_(max_reprojection_px) {
+  if (K(0, 1) != 0.0) throw std::invalid_argument("PlanarPoseSolver: the camera matrix has a skew");
+  for (std::size_t i = 0; i < 4; ++i) {
+    if (object_corners[i].z != 0.0) throw std::invalid_argument("PlanarPoseSolver: the object corners are not in z = 0");
+    object_xy_[i] = Eigen::Vector2d(object_corners[i].x, object_corners[i].y);
+  }
+}
 
 std::optional<PlanarPose> PlanarPoseSolver::solve(const std::array<cv::Point2d, 4>& image_corners,
                                                   const std::optional<Eigen::Isometry3d>& previous) const {
@@ -23,37 +26,26 @@ std::optional<PlanarPose> PlanarPoseSolver::solve(const std::array<cv::Point2d, 
     Eigen::Isometry3d T;
     double error;
   };
-  std::vector<cv::Point3d> object(object_.begin(), object_.end());
-  std::vector<cv::Point2d> image(image_corners.begin(), image_corners.end());
-  std::vector<cv::Mat> rvecs, tvecs;
-  std::vector<double> errors;
-  try {
-    cv::solvePnPGeneric(object, image, K_, cv::noArray(), rvecs, tvecs, false, cv::SOLVEPNP_IPPE, cv::noArray(),
-                        cv::noArray(), errors);
-  } catch (const cv::Exception&) {
-    return std::nullopt;  // degenerate corners (collinear, ...)
-  }
-  std::vector<Candidate> candidates;
-  for (std::size_t i = 0; i < rvecs.size(); ++i) {
-    cv::Matx33d R;
-    cv::Rodrigues(rvecs[i], R);
-    Eigen::Matrix3d Re;
-    cv::cv2eigen(cv::Mat(R), Re);
-    const Eigen::Vector3d t(tvecs[i].at<double>(0), tvecs[i].at<double>(1), tvecs[i].at<double>(2));
+  std::array<Eigen::Vector2d, 4> image;
+  for (std::size_t i = 0; i < 4; ++i) image[i] = Eigen::Vector2d(image_corners[i].x, image_corners[i].y);
+  const auto solutions = ippe_four_points(object_xy_, image, intrinsics_);
+  if (!solutions) return std::nullopt;  // degenerate corners (collinear, ...)
+  // The solutions come lower reprojection error first.
+  std::array<Candidate, 2> candidates;
+  std::size_t count = 0;
+  for (const IppeSolution& s : *solutions) {
     // In front of the camera, and facing it: the panel's z axis (into the panel) points away.
-    const double error = i < errors.size() ? errors[i] : 0.0;
-    if (t.z() <= 0 || Re.col(2).dot(t) <= 0 || !t.allFinite() || !(error <= max_reprojection_px_)) continue;
+    if (s.t.z() <= 0 || s.R.col(2).dot(s.t) <= 0 || !(s.rms_px <= max_reprojection_px_)) continue;
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Re;
-    T.translation() = t;
-    candidates.push_back({T, error});
+    T.linear() = s.R;
+    T.translation() = s.t;
+    candidates[count++] = {T, s.rms_px};
   }
-  if (candidates.empty()) return std::nullopt;
-  std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.error < b.error; });
+  if (count == 0) return std::nullopt;
   PlanarPose pose;
   pose.T_cam_object = candidates[0].T;
   pose.reprojection_error_px = candidates[0].error;
-  if (candidates.size() == 1) return pose;
+  if (count == 1) return pose;
   const Candidate& second = candidates[1];
   pose.alternative_error_px = second.error;
   pose.T_alternative = second.T;

@@ -1,7 +1,7 @@
 #pragma once
-// Camera-from-object pose of a planar object from its four corners: IPPE (solvePnPGeneric with
-// SOLVEPNP_IPPE) on the corners at physical size, which returns the two poses a plane seen from
-// afar cannot tell apart. The ambiguity is resolved before anything else uses the pose, so that the
+// Camera-from-object pose of a planar object from its four corners: IPPE (ippe.hpp, LaboDrone's own,
+// equal to OpenCV's SOLVEPNP_IPPE to 1e-9 and allocation-free) on the corners at physical size,
+// which returns the two poses a plane seen from afar cannot tell apart. The ambiguity is resolved before anything else uses the pose, so that the
 // pose-jump loss test does not fire on a flip:
 //  1. a candidate must put the panel in front of the camera with its front towards it, and
 //     reproject within `max_reprojection_px`;
@@ -14,6 +14,8 @@
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+
+#include "localization/planar/ippe.hpp"
 
 namespace labo {
 
@@ -30,17 +32,18 @@ struct PlanarPose {
 
 class PlanarPoseSolver {
  public:
+  // `K` without skew, `object_corners` in the object's z = 0 plane (std::invalid_argument otherwise).
   // Candidates reprojecting worse than `max_reprojection_px` (RMS) are refused: the corners then do
   // not come from a rigid panel of this size seen through this camera (a mirror image, a wrong H).
   PlanarPoseSolver(const cv::Matx33d& K, const std::array<cv::Point3d, 4>& object_corners,
                    double max_reprojection_px = 4.0);
-  // Empty when no candidate is physically possible. `previous` is the last accepted pose.
+  // Empty when no candidate is physically possible. `previous` is the last accepted pose. Allocates nothing.
   std::optional<PlanarPose> solve(const std::array<cv::Point2d, 4>& image_corners,
                                   const std::optional<Eigen::Isometry3d>& previous) const;
 
  private:
-  cv::Matx33d K_;
-  std::array<cv::Point3d, 4> object_;
+  IppeIntrinsics intrinsics_;
+  std::array<Eigen::Vector2d, 4> object_xy_;
   double max_reprojection_px_;
 };
 

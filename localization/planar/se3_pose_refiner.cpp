@@ -60,6 +60,7 @@ Se3PoseRefiner::Se3PoseRefiner(const cv::Mat& working_template, double width_m, 
       cx_(K(0, 2)),
       cy_(K(1, 2)),
       settings_(settings) {
+  if (settings_.smoothing_sigma_px > 0) frame_blur_ = GaussianBlur8u(settings_.smoothing_sigma_px);
   working_ = working_template;
   if (working_template.empty() || working_template.type() != CV_8UC1) {
     throw std::invalid_argument("Se3PoseRefiner: the template must be a non-empty CV_8UC1 image");
@@ -289,8 +290,13 @@ void Se3PoseRefiner::smooth(const cv::Mat& undistorted, std::initializer_list<Ei
   out.image.create(undistorted.size(), CV_8UC1);
   if (out.valid.area() == 0) return;
   // A region of interest: the blur reads the real neighbours outside it (reflects only at the frame's border).
-  cv::Mat dst = out.image(out.valid);
-  cv::GaussianBlur(undistorted(out.valid), dst, cv::Size(0, 0), settings_.smoothing_sigma_px);
+  if (out.valid != whole) {
+    frame_blur_.apply(undistorted, out.valid, out.image, out.blur_rows);  // cv::GaussianBlur's pixels, no allocation
+  } else {
+    // The whole frame (a panel filling it): OpenCV blurs a whole image by its fixed-point path, which
+    // GaussianBlur8u does not reproduce; rare, and it allocates.
+    cv::GaussianBlur(undistorted, out.image, cv::Size(0, 0), settings_.smoothing_sigma_px);
+  }
 }
 
 PhotometricNormal Se3PoseRefiner::accumulate(const std::vector<Sample>& samples, const float* values, const float* laplacians,

@@ -40,6 +40,8 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
+#include "localization/planar/image_ops.hpp"
+
 namespace labo {
 
 struct PhotometricNormal;
@@ -105,6 +107,7 @@ class Se3PoseRefiner {
     cv::Rect valid;   // the region smoothed (the whole frame when smoothing is off)
     mutable std::vector<float> blurred_template;  // scratch: the template samples blurred like the frame
     mutable std::vector<float> blurred_laplacian;  // scratch: their Laplacians blurred the same way
+    std::vector<float> blur_rows;  // scratch of smooth()'s Gaussian
   };
   // Smooths the region the panel covers at any of `poses` (plus the refinement's reach) into `out`;
   // reuses out's frame-sized buffer. `undistorted` is CV_8UC1.
@@ -180,6 +183,7 @@ class Se3PoseRefiner {
   double width_m_, height_m_;
   double fx_, fy_, cx_, cy_;
   Se3RefinerSettings settings_;
+  GaussianBlur8u frame_blur_;  // smooth()'s Gaussian (cv::GaussianBlur's pixels, no allocation per call)
 };
 
 }  // namespace labo

@@ -26,9 +26,10 @@ struct RouteFlight {
   LabGeometry lab;
   TeacherMotion motion{test::walking(lab.teacher)};
   test::ModelFlight f;
+  Eigen::Vector3d face_shift = Eigen::Vector3d::Zero();  // the face seen this far from the head's place
 
   void tick() {
-    f.world->T_world_face = motion.pose(f.t).T_world_head * flip_about_y();
+    f.world->T_world_face = Eigen::Translation3d(face_shift) * motion.pose(f.t).T_world_head * flip_about_y();
     f.run(1.0 / 30.0);
   }
   bool find_and_settle() {
@@ -451,4 +452,78 @@ TEST_CASE("control: a face lost for a few frames mid-leg is bridged along the tr
     reported_lost = reported_lost || r.f.stack->status().stage != "3 face-follow";
   }
   CHECK(reported_lost);
+}
+
+namespace {
+struct SetOffFlown {
+  double depth_error_at_set_off_m = 0;
+  double depth_error_rms_m = 0;  // over the leg's first 4 s
+};
+// Followed standing at the start of the next long leg, 1.5 s before the route's set-off (the pause is
+// 3 s), the face's place moves 7 cm along the leg and stays there (a head turning at the corner: the
+// face sits in front of the turning axis); 0.3 s later the face is lost until 1 s into the leg, or
+// stays in view.
+SetOffFlown fly_face_moved_at_corner(bool then_lost) {
+  RouteFlight r;
+  SetOffFlown out;
+  REQUIRE(r.find_and_settle());
+  REQUIRE(r.until_end_of_short_leg());
+  const std::optional<RouteLeg> leg = next_long_leg(r.lab.teacher, r.motion.pose(r.f.t).T_world_head.translation().head<2>(), 0.6);
+  REQUIRE(leg);
+  for (const double end = r.f.t + 1.5; r.f.t < end;) r.tick();
+  REQUIRE(r.f.stack->status().stage == "3 face-follow");
+  REQUIRE_FALSE(r.motion.pose(r.f.t).walking);
+  r.face_shift.head<2>() = 0.07 * leg->along;
+  for (const double end = r.f.t + 0.3; r.f.t < end;) r.tick();
+  r.f.world->face_visible = !then_lost;
+  double sum = 0;
+  int n = 0;
+  Seconds walking_since = -1;
+  for (const double end = r.f.t + 10.0; r.f.t < end;) {
+    r.tick();
+    if (walking_since < 0 && r.motion.pose(r.f.t).walking) {
+      walking_since = r.f.t;
+      r.face_shift.setZero();  // the head faces the way they walk
+      out.depth_error_at_set_off_m = r.depth_error_m();
+    }
+    if (then_lost) r.f.world->face_visible = walking_since >= 0 && r.f.t - walking_since > 1.0;
+    if (walking_since >= 0) {
+      sum += r.depth_error_m() * r.depth_error_m();
+      ++n;
+      if (r.f.t - walking_since > 4.0) break;
+    }
+  }
+  REQUIRE(walking_since > 0);
+  out.depth_error_rms_m = std::sqrt(sum / std::max(n, 1));
+  INFO("depth error at the set-off " << out.depth_error_at_set_off_m << " m, RMS over the leg's first 4 s "
+                                      << out.depth_error_rms_m << " m");
+  return out;
+}
+}  // namespace
+
+TEST_CASE("control: a face that moves a few cm along the next leg and is lost is no set-off for the meeting") {
+  // Real vision, teacher at 0.4 m/s, seed 7 (2026-12-03): met in front of leg C and followed standing
+  // at its start, the face's place moved 5 cm along the leg 1.2 s before the route's set-off and
+  // stopped; that first 5 cm fed the route's walking speed forward, and the face, lost 0.1 s later,
+  // was taken for a teacher walking the leg (the track's velocity was the feed-forward's): the meeting
+  // backed off along it at once, and the drone was 1.6 m from the face when they came.
+  const SetOffFlown flown = fly_face_moved_at_corner(true);
+  INFO("depth error at the set-off " << flown.depth_error_at_set_off_m << " m, RMS over the leg's first 4 s "
+                                      << flown.depth_error_rms_m << " m");
+  // The meeting waits 0.2 m beyond the follow distance; the drone, backing off for the 0.3 s the move
+  // was fed forward, overshoots it by ~0.15 m. Without the change: 0.67 m, RMS 0.55 m.
+  CHECK(flown.depth_error_at_set_off_m < 0.45);  // 0.34 m
+  CHECK(flown.depth_error_rms_m < 0.2);          // 0.105 m
+}
+
+TEST_CASE("control: a face that moves a few cm along the next leg and stops is no set-off while followed") {
+  // The same 5 cm with the face still in view: the feed-forward it started is confirmed only by the
+  // face walking on; before, it ran until the face had walked 0.2 m, i.e. until the teacher really set
+  // off, and the drone backed off at the route's speed meanwhile.
+  const SetOffFlown flown = fly_face_moved_at_corner(false);
+  INFO("depth error at the set-off " << flown.depth_error_at_set_off_m << " m, RMS over the leg's first 4 s "
+                                      << flown.depth_error_rms_m << " m");
+  // Without the change: 0.50 m, RMS 0.186 m (the feed-forward ran from the 5 cm to the set-off).
+  CHECK(flown.depth_error_at_set_off_m < 0.42);  // 0.36 m: the meeting's 0.2 m, and 0.5 s fed forward
+  CHECK(flown.depth_error_rms_m < 0.15);         // 0.111 m
 }
