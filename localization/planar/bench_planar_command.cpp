@@ -146,7 +146,7 @@ const CommandSpec& bench_planar_command_spec() {
        {"--tracker", "T", "sequences with ic, ecc or both (default both)"},
        {"--config", "FILE", "read the \"vision\" and \"planar\" sections of this config (default: built-in values)"},
        {"--noise", "G", "grey-level noise added to the sweep's scenes (default 2)"},
-       {"--h264-kbps", "K", "bit rate of the H.264 sequence, 100-20000 (default 1000: the AR.Drone 2.0's video:max_bitrate)"},
+       {"--h264-kbps", "K", "bit rate of the H.264 sequence, 100-20000 (default 4000: what the driver configures; the firmware's default is 1000)"},
        {"--frames-csv", "FILE", "write every sequence frame's errors (camera frame, per axis) to FILE"}},
       0,
       0};

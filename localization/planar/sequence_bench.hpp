@@ -69,8 +69,9 @@ struct SequenceBenchResult {
   std::vector<RangeBinStats> range_bins;  // all sequences pooled, per tracker
 };
 
-// The H.264 sequence's bit rate: the AR.Drone 2.0's default video:max_bitrate.
-inline constexpr int kDefaultH264Kbps = 1000;
+// The H.264 sequence's bit rate: what LaboDrone's driver configures (link.video_max_bitrate_kbps,
+// docs/ardrone2.md); the firmware's own default is 1000 (--h264-kbps 1000).
+inline constexpr int kDefaultH264Kbps = 4000;
 
 // `only` (when not empty) keeps the sequences whose name contains it; `trackers` run in turn;
 // `h264_kbps` is the bit rate the H.264 sequence is encoded at.
