@@ -22,6 +22,9 @@ constexpr std::size_t kCommandCapacity = 512;
 constexpr Seconds kFaceForgetS = 2.0;          // a face unseen this long is placed anew
 constexpr int kForcedAcceptAfter = 10;         // innovation-gated frames in a row before re-sync
 constexpr int kMapRotationFrames = 30;         // first SLAM frames averaging the map's rotation
+// predict()'s reach beyond the newest navdata: the link's default lost_after_s, after which the
+// safety monitor, not the model's extrapolation, decides what the drone does.
+constexpr Seconds kMaxExtrapolationS = 2.0;
 
 bool finite_pose(const Eigen::Isometry3d& T) {
   if (!T.matrix().allFinite()) return false;
@@ -553,9 +556,16 @@ FusedState StateEstimator::predict(Seconds t) const {
   // The filter cannot run backwards: for a time it has already passed, the state it holds is the
   // best there is, and it is stamped with its own time so no caller takes it for the pose at t.
   if (!(t > m.core.time())) return m.make_state(m.core, m.core.time());
+  // Nor can the motion model alone carry it far: without navdata (a link down, a drone not yet
+  // connected, an empty replay) each call would integrate the whole gap since the last packet in
+  // 10 ms steps - an hour without a drone made every control tick 360 000 steps, and stalled the
+  // server's flight thread. Past kMaxExtrapolationS beyond the newest navdata (or the filter's
+  // time, when newer) the state is the one extrapolated that far, stamped with that time.
+  const Seconds newest = std::max(m.core.time(), m.last_navdata_t - m.config.navdata_delay_s);
+  const Seconds target = std::min(t, newest + kMaxExtrapolationS);
   FilterCore copy = m.core;
-  m.run(copy, t, false, t);
-  return m.make_state(copy, t);
+  m.run(copy, target, false, target);
+  return m.make_state(copy, target);
 }
 
 FusedState StateEstimator::predict_for_control(Seconds now) const {

@@ -14,7 +14,8 @@
 // drone at t - navdata_delay; a frame received at t shows it at t - video_delay; a command sent at t
 // acts from t + control_delay. The persistent filter advances to each vision result's time, fuses it,
 // and otherwise trails the newest navdata by video_delay + vision_latency_allowance. predict(t) runs
-// a copy through the queued navdata and commands to any later t; a controller asks for
+// a copy through the queued navdata and commands to any later t (at most 2 s past the newest navdata:
+// the returned state is stamped with the time it reached); a controller asks for
 // predict_for_control(now) = predict(now + control_delay), the pose when its command takes effect.
 //
 // Bad input (non-finite values, timestamps out of order or far in the future, vision poses that jump

@@ -174,6 +174,36 @@ TEST_CASE("estimation: a prediction for a time the filter has passed is the filt
   CHECK(est.predict(filter_t + 0.2).t == Approx(filter_t + 0.2));
 }
 
+TEST_CASE("estimation: without navdata a prediction reaches at most 2 s past the newest packet, stamped where it stopped") {
+  // A server whose drone is not connected (or whose link went down) asks for the control pose every
+  // tick: the model alone must not integrate the whole gap each time (an hour = 360 000 steps).
+  SyntheticFlight truth(4);
+  StateEstimator est(no_delays());
+  est.reset(truth.T_world_body(), 0.0);
+  SECTION("no navdata at all: 2 s past the reset") {
+    const FusedState f = est.predict(3600.0);
+    CHECK(f.t == Approx(2.0));
+    CHECK(f.position_world.allFinite());
+  }
+  SECTION("navdata until 1 s: 2 s past the last packet, a commanded push carried that far and no further") {
+    DelayedLink link{truth, 0.0, 0.0, 1.0 / 200.0, {}, {}, 0.0};
+    const MoveCommand c{0.0, -0.3, 0.0, 0.0};
+    link.send(c, truth.t);
+    est.add_command(c, truth.t);
+    Seconds last = 0;
+    link.run_until(1.0, [&](const NavdataSample& n) {
+      est.add_navdata(n);
+      last = n.t;
+    });
+    const FusedState at_limit = est.predict(last + 2.0);
+    const FusedState far = est.predict(last + 3600.0);
+    CHECK(at_limit.t == Approx(last + 2.0));
+    CHECK(far.t == Approx(last + 2.0));
+    CHECK(far.position_world.isApprox(at_limit.position_world));
+    CHECK(est.predict(last + 1.0).t == Approx(last + 1.0));  // within reach: the time asked for
+  }
+}
+
 TEST_CASE("estimation: a start pose without a time is taken at the first navdata, however late it comes") {
   // A server's clock has run for seconds (loading models, connecting) before the first navdata; the
   // filter must start there, not judge every sample "from the future" against time 0.
