@@ -194,8 +194,12 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, const std
   // it is no sign of one (real vision, teacher at 0.4 m/s, seed 7: the face lost 0.1 s after a 5 cm
   // move fed the route's speed forward, 1.1 s before the route's time; taken for a teacher walking the
   // leg, the meeting backed off along it at once while they stood, and they were found again 1.7 m away).
+  // And a velocity counts only with the face's place on the leg: a head turning at the corner moves the
+  // face along it too, by up to its ~0.1 m from the turning axis, far enough to start and confirm a
+  // feed-forward (real vision, 0.4 m/s, seed 14: confirmed, the face lost 4 cm short of the leg's
+  // start, the meeting walked the leg 1.3 s before the teacher; a teacher who has set off is on it).
   const bool velocity_seen = !(set_off_unconfirmed() && leg->index == meet_leg_.index);
-  const bool set_off = on_leg > kSetOffM || (velocity_seen && on_leg > -kOnLegLateralM && v.dot(leg->along) > kSetOffMps);
+  const bool set_off = on_leg > kSetOffM || (velocity_seen && on_leg > 0.0 && v.dot(leg->along) > kSetOffMps);
   const Seconds seen_at = last_face_t_ >= 0 ? last_face_t_ : ctx.t;
   const TeacherTrack::WalkSpell& walked = track_.last_walk();
   const bool walked_in = !set_off && walked.seen && seen_at - walked.to < ctx.lab.teacher.pause_s &&

@@ -462,19 +462,23 @@ struct SetOffFlown {
 // Followed standing at the start of the next long leg, 1.5 s before the route's set-off (the pause is
 // 3 s), the face's place moves 7 cm along the leg and stays there (a head turning at the corner: the
 // face sits in front of the turning axis); 0.3 s later the face is lost until 1 s into the leg, or
-// stays in view.
-SetOffFlown fly_face_moved_at_corner(bool then_lost) {
+// stays in view. `moves_m`: the face's place along the leg after each step (0.3 s apart), from
+// `before_m` (where it stands, along the leg from the head, while the teacher waits).
+SetOffFlown fly_face_moved_at_corner(bool then_lost, std::initializer_list<double> moves_m = {0.07}, double before_m = 0.0) {
   RouteFlight r;
   SetOffFlown out;
   REQUIRE(r.find_and_settle());
   REQUIRE(r.until_end_of_short_leg());
   const std::optional<RouteLeg> leg = next_long_leg(r.lab.teacher, r.motion.pose(r.f.t).T_world_head.translation().head<2>(), 0.6);
   REQUIRE(leg);
+  r.face_shift.head<2>() = before_m * leg->along;
   for (const double end = r.f.t + 1.5; r.f.t < end;) r.tick();
   REQUIRE(r.f.stack->status().stage == "3 face-follow");
   REQUIRE_FALSE(r.motion.pose(r.f.t).walking);
-  r.face_shift.head<2>() = 0.07 * leg->along;
-  for (const double end = r.f.t + 0.3; r.f.t < end;) r.tick();
+  for (const double m : moves_m) {
+    r.face_shift.head<2>() = (before_m + m) * leg->along;
+    for (const double end = r.f.t + 0.3; r.f.t < end;) r.tick();
+  }
   r.f.world->face_visible = !then_lost;
   double sum = 0;
   int n = 0;
@@ -526,6 +530,20 @@ TEST_CASE("control: a face that moves a few cm along the next leg and stops is n
   // Without the change: 0.50 m, RMS 0.186 m (the feed-forward ran from the 5 cm to the set-off).
   CHECK(flown.depth_error_at_set_off_m < 0.42);  // 0.36 m: the meeting's 0.2 m, and 0.5 s fed forward
   CHECK(flown.depth_error_rms_m < 0.15);         // 0.111 m
+}
+
+TEST_CASE("control: a head turning at the corner, its face not yet on the next leg, is no set-off when lost") {
+  // Real vision, teacher at 0.4 m/s, seed 14 (2026-12-03): followed standing at the corner before leg
+  // C, the face's place moved 6.5 cm along the leg (the feed-forward started) and 5.6 cm more 0.47 s
+  // later (confirmed: the head turning on, not a step), and the face was lost 0.4 s after, its place
+  // still 4 cm short of the leg's start. The track's fed-forward 0.4 m/s was read as a teacher walking
+  // the leg; the meeting backed off at once, 1.3 s before the set-off. A velocity counts as a walk only
+  // with the face's place on the leg.
+  const SetOffFlown flown = fly_face_moved_at_corner(true, {0.065, 0.13}, -0.17);
+  INFO("depth error at the set-off " << flown.depth_error_at_set_off_m << " m, RMS over the leg's first 4 s "
+                                      << flown.depth_error_rms_m << " m");
+  CHECK(flown.depth_error_at_set_off_m < 0.45);
+  CHECK(flown.depth_error_rms_m < 0.2);
 }
 
 TEST_CASE("control: a face lost walking into a corner and seen again on the way times the set-off from the walk seen") {
