@@ -66,11 +66,7 @@ TEST_CASE("link: the driver takes off, flies, streams and lands a vehicle throug
   ArdroneEmulator emulator(vehicle, es, quiet());
   emulator.start();
 
-  ArdroneLinkSettings ls;
-  ls.host = "127.0.0.1";
-  ls.at_port = emulator.at_port();
-  ls.navdata_port = emulator.navdata_port();
-  ls.video_port = emulator.video_port();
+  ArdroneLinkSettings ls = test::link_settings_for(emulator);
   ArdroneLink link(ls, quiet());
   Recorder rec;
   link.set_listener(&rec);
@@ -143,11 +139,7 @@ TEST_CASE("link: supervision marks the link degraded, lost, and reconnects", "[l
   es.com_watchdog_s = 0.5;
   auto emulator = std::make_unique<ArdroneEmulator>(vehicle, es, quiet());
   emulator->start();
-  ArdroneLinkSettings ls;
-  ls.host = "127.0.0.1";
-  ls.at_port = emulator->at_port();
-  ls.navdata_port = emulator->navdata_port();
-  ls.video_port = emulator->video_port();
+  ArdroneLinkSettings ls = test::link_settings_for(*emulator);
   ls.video = false;
   ls.degraded_after_s = 0.3;
   ls.lost_after_s = 0.8;
@@ -182,11 +174,7 @@ TEST_CASE("link: the com-watchdog bit gets COMWDG answers and CALIB reaches the 
   es.com_watchdog_s = 0.01;  // shorter than the 30 ms AT period: the bit is set most of the time
   ArdroneEmulator emulator(vehicle, es, quiet());
   emulator.start();
-  ArdroneLinkSettings ls;
-  ls.host = "127.0.0.1";
-  ls.at_port = emulator.at_port();
-  ls.navdata_port = emulator.navdata_port();
-  ls.video_port = emulator.video_port();
+  ArdroneLinkSettings ls = test::link_settings_for(emulator);
   ls.video = false;
   struct OffsetClock final : Clock {  // a caller-provided clock stamps the events
     SteadyClock steady;
@@ -237,11 +225,7 @@ TEST_CASE("link: the driver sets the video bit rate at connect and the emulator'
   REQUIRE(emulator.video_bitrate_kbps() == 1000);  // the firmware's default until a client sets it
   emulator.start();
 
-  ArdroneLinkSettings ls;
-  ls.host = "127.0.0.1";
-  ls.at_port = emulator.at_port();
-  ls.navdata_port = emulator.navdata_port();
-  ls.video_port = emulator.video_port();
+  ArdroneLinkSettings ls = test::link_settings_for(emulator);
   ls.video_max_bitrate_kbps = 500;
   ArdroneLink link(ls, quiet());
   link.start();

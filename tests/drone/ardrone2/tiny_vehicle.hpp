@@ -6,6 +6,8 @@
 #include <mutex>
 #include <opencv2/core.hpp>
 
+#include "drone/ardrone2/ardrone_emulator.hpp"
+#include "drone/ardrone2/ardrone_link.hpp"
 #include "drone/emulated_vehicle.hpp"
 
 namespace labo::test {
@@ -89,5 +91,15 @@ class TinyVehicle : public EmulatedVehicle {
   double vx_ = 0, vy_ = 0, yaw_rate_ = 0, pitch_ = 0, roll_ = 0;
   CameraId camera_ = CameraId::Front;
 };
+
+// Driver settings that talk to `emulator` on loopback (its ports are chosen by the OS).
+inline ArdroneLinkSettings link_settings_for(const ArdroneEmulator& emulator) {
+  ArdroneLinkSettings ls;
+  ls.host = "127.0.0.1";
+  ls.at_port = emulator.at_port();
+  ls.navdata_port = emulator.navdata_port();
+  ls.video_port = emulator.video_port();
+  return ls;
+}
 
 }  // namespace labo::test

@@ -63,11 +63,7 @@ TEST_CASE("link: record then replay yields identical events", "[link][replay]") 
     es.com_watchdog_s = 0.5;
     ArdroneEmulator emulator(vehicle, es, Logger("test", LogLevel::Off));
     emulator.start();
-    ArdroneLinkSettings ls;
-    ls.host = "127.0.0.1";
-    ls.at_port = emulator.at_port();
-    ls.navdata_port = emulator.navdata_port();
-    ls.video_port = emulator.video_port();
+    ArdroneLinkSettings ls = test::link_settings_for(emulator);
     ls.recording = file;
     ArdroneLink link(ls, Logger("test", LogLevel::Off));
     link.set_listener(&live);
