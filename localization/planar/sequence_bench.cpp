@@ -187,7 +187,7 @@ std::vector<Sequence> make_sequences(const PlanarConfig& config, const PanelMode
       const double a = i / 149.0;
       return facing(0.1 * std::sin(2 * a), 0.0, 2.5 - 1.8 * a, 0, 0, 0.03 * std::sin(4 * a));
     }, nullptr, mv);
-    h264.frames = h264_roundtrip(h264.frames, kFps, h264_kbps * 1000);
+    h264.frames = h264_roundtrip(h264.frames, drone_stream_settings(cv::Size(front.width(), front.height()), static_cast<int>(kFps), h264_kbps));
     out.push_back(std::move(h264));
   }
   if (wanted("lighting_change_1.0m")) out.push_back(render_sequence("lighting_change_1.0m", front_renderer, panel, 150, [](int i) {
