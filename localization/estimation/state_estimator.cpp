@@ -42,6 +42,24 @@ Eigen::Isometry3d body_pose(const StateVector& s) {
 
 double position_var(const StateCovariance& P) { return P.block<3, 3>(X, X).trace() / 3.0; }
 
+// A vision fix's noise: its position covariance and yaw sigma, each sigma scaled by `scale` (the
+// frame's quality, an inactive source's factor).
+Eigen::Matrix<double, 4, 4> measurement_noise(const Eigen::Matrix3d& position_cov, double sigma_yaw, double scale) {
+  Eigen::Matrix<double, 4, 4> R = Eigen::Matrix<double, 4, 4>::Zero();
+  R.topLeftCorner<3, 3>() = position_cov * (scale * scale);
+  R(3, 3) = sigma_yaw * sigma_yaw * scale * scale;
+  return R;
+}
+
+Eigen::Matrix3d isotropic(double sigma) { return Eigen::Matrix3d::Identity() * (sigma * sigma); }
+
+// An orientation error of `rotation_var` (rad^2, about any axis) in a pose taken across `offset`
+// turns the far end about the near one: a covariance of |offset|^2 rotation_var across the line of
+// sight, none along it. At 2.5 m, 2 deg is 8.7 cm sideways.
+Eigen::Matrix3d sideways_cov(const Eigen::Vector3d& offset, double rotation_var) {
+  return rotation_var * (offset.squaredNorm() * Eigen::Matrix3d::Identity() - offset * offset.transpose());
+}
+
 // Variance of an object's measured orientation: the localizer's own sigma when it reports one, else
 // object_yaw_rad growing with the distance (a panel's tilt is worse determined the smaller it looks).
 double object_rotation_var(const EstimatorNoise& noise, const ObjectObservation& o, double distance_m) {
@@ -165,7 +183,8 @@ struct StateEstimator::Impl {
   // Vision: consistency (D, beta), settling, innovation gate, fusion of position and yaw. With
   // `may_fuse` false (SLAM before its scale is known) a consistent frame only counts as settling.
   VisionOutcome fuse_vision(LocalizationSource source, Seconds t_meas, const Eigen::Isometry3d& T_world_body,
-                            double sigma_pos, double sigma_yaw, double quality, bool may_fuse = true) {
+                            const Eigen::Matrix3d& position_cov, double sigma_yaw, double quality,
+                            bool may_fuse = true) {
     const int i = source_index(source);
     const VisionGate::Verdict verdict = gates[i].check(T_world_body, t_meas, thresholds.distance_jump_m,
                                                         thresholds.angle_jump_beta_rad);
@@ -186,7 +205,7 @@ struct StateEstimator::Impl {
     Eigen::Matrix<double, 4, N> H = Eigen::Matrix<double, 4, N>::Zero();
     H(0, X) = H(1, Y) = H(2, Z) = H(3, YAW) = 1.0;
     const double q = std::clamp(quality, 0.2, 1.0);
-    if (!was_established && !admit_reacquisition(source, t_meas, y, H, sigma_pos / q, sigma_yaw / q))
+    if (!was_established && !admit_reacquisition(source, t_meas, y, H, measurement_noise(position_cov, sigma_yaw, 1.0 / q)))
       return VisionOutcome::Gated;
     selector.on_consistent(source, t_meas, quality);
     if (selector.consecutive(source) < config.source_enter_count) {
@@ -194,8 +213,7 @@ struct StateEstimator::Impl {
       return VisionOutcome::Settling;
     }
     const double factor = selector.active(t_meas) == source ? 1.0 : config.inactive_source_noise_factor;
-    const double sp = sigma_pos * factor / q, sy = sigma_yaw * factor / q;
-    const Eigen::Matrix<double, 4, 4> R = Eigen::Vector4d(sp * sp, sp * sp, sp * sp, sy * sy).asDiagonal();
+    const Eigen::Matrix<double, 4, 4> R = measurement_noise(position_cov, sigma_yaw, factor / q);
     if (was_established && gated_in_row[i] < kForcedAcceptAfter &&
         core.ekf().mahalanobis<4>(y, H, R) > config.vision_gate_chi2) {
       ++gated_in_row[i];
@@ -213,10 +231,7 @@ struct StateEstimator::Impl {
   // refused frame also restarts the source's run of consistent frames, so it cannot become the
   // driving source without passing here.
   bool admit_reacquisition(LocalizationSource source, Seconds t_meas, const Eigen::Matrix<double, 4, 1>& y,
-                           const Eigen::Matrix<double, 4, N>& H, double sigma_pos, double sigma_yaw) {
-    const Eigen::Matrix<double, 4, 4> R =
-        Eigen::Vector4d(sigma_pos * sigma_pos, sigma_pos * sigma_pos, sigma_pos * sigma_pos, sigma_yaw * sigma_yaw)
-            .asDiagonal();
+                           const Eigen::Matrix<double, 4, N>& H, const Eigen::Matrix<double, 4, 4>& R) {
     const double d2 = core.ekf().mahalanobis<4>(y, H, R);
     switch (reacquisition[source_index(source)].check(y, d2, t_meas, config.source_timeout_s)) {
       case ReacquisitionGate::Verdict::Accepted: return true;
@@ -458,7 +473,7 @@ bool StateEstimator::add_slam_pose(const SlamObservation& o) {
   // Until a few displacement pairs fix the scale, SLAM poses are metric nonsense: they only feed the
   // scale estimator (the paper's stage 1), the drone flies on navdata.
   const bool scale_known = m.map_is_metric || m.scale.status().estimated;
-  const auto outcome = m.fuse_vision(LocalizationSource::Slam, t_meas, T_world_body, m.config.noise.slam_position_m,
+  const auto outcome = m.fuse_vision(LocalizationSource::Slam, t_meas, T_world_body, isotropic(m.config.noise.slam_position_m),
                                      m.config.noise.slam_yaw_rad, o.quality, scale_known);
   if (outcome == Impl::VisionOutcome::Inconsistent) return false;
   if (!m.map_is_metric) m.update_scale_pairs(o);
@@ -491,8 +506,14 @@ bool StateEstimator::add_object_pose(const ObjectObservation& o) {
   const double sigma_obs = m.config.noise.object_position_m * std::max(1.0, distance);
   PoseWithVariance cascade;
   cascade.T = body_pose(s) * T_bc * o.T_cam_object;
-  cascade.position_var = position_var(m.core.ekf().covariance()) + sigma_obs * sigma_obs;
-  cascade.rotation_var = m.core.ekf().covariance()(est::YAW, est::YAW) + object_rotation_var(m.config.noise, o, distance);
+  // The object's place inherits the drone's yaw error turned across the distance to it.
+  const StateCovariance& P = m.core.ekf().covariance();
+  const Eigen::Vector3d drone_to_object = cascade.T.translation() - s.segment<3>(X);
+  const Eigen::Vector3d drone_to_object_flat(drone_to_object.x(), drone_to_object.y(), 0.0);
+  cascade.position_var = position_var(P) + sigma_obs * sigma_obs +
+                         sideways_cov(drone_to_object_flat, P(est::YAW, est::YAW)).trace() / 3.0;
+  const double object_rot_var = object_rotation_var(m.config.noise, o, distance);
+  cascade.rotation_var = P(est::YAW, est::YAW) + object_rot_var;
   auto it = m.objects.find(o.object_index);
   if (it == m.objects.end()) {
     std::optional<PoseWithVariance> surveyed;
@@ -511,11 +532,17 @@ bool StateEstimator::add_object_pose(const ObjectObservation& o) {
   }
   it->second.last_seen = t_meas;
   const Eigen::Isometry3d T_world_body = it->second.T_world_landmark * o.T_cam_object.inverse() * T_bc.inverse();
-  const double sigma_pos = std::sqrt(sigma_obs * sigma_obs + it->second.position_var);
+  // The drone's place from the panel: the panel's position error, the object's own, and the panel's
+  // orientation error turning the drone about the panel (the weak part of a far panel's pose). The
+  // placed object's own rotation error is left out on purpose: it is one bias shared by every frame,
+  // which the relative hold in front of the panel does not see and no frame weighting can average.
+  const Eigen::Matrix3d position_cov =
+      isotropic(std::sqrt(sigma_obs * sigma_obs + it->second.position_var)) +
+      sideways_cov(T_world_body.translation() - it->second.T_world_landmark.translation(), object_rot_var);
   // The drone's yaw from the panel is as good as the panel's measured orientation (at range, or with
   // two IPPE branches in play, degrees), never better than object_yaw_rad.
   const double sigma_yaw = std::max(m.config.noise.object_yaw_rad, o.rotation_sigma_rad);
-  const auto outcome = m.fuse_vision(LocalizationSource::Homography, t_meas, T_world_body, sigma_pos, sigma_yaw, o.quality);
+  const auto outcome = m.fuse_vision(LocalizationSource::Homography, t_meas, T_world_body, position_cov, sigma_yaw, o.quality);
   if (outcome == Impl::VisionOutcome::Fused) m.count(kObject);
   return outcome == Impl::VisionOutcome::Fused || outcome == Impl::VisionOutcome::Settling;
 }
@@ -538,7 +565,7 @@ bool StateEstimator::add_face_pose(const FaceObservation& o) {
   }
   const Eigen::Isometry3d T_world_body = m.face->T_world_landmark * o.T_cam_face.inverse() * T_bc.inverse();
   const double sigma_pos = std::sqrt(sigma_obs * sigma_obs + m.face->position_var);
-  const bool fused = m.fuse_vision(LocalizationSource::Face, t_meas, T_world_body, sigma_pos,
+  const bool fused = m.fuse_vision(LocalizationSource::Face, t_meas, T_world_body, isotropic(sigma_pos),
                                    m.config.noise.face_yaw_rad, o.quality) == Impl::VisionOutcome::Fused;
   // The teacher moves: the face's world pose follows the cascade, fast while another source holds the
   // drone, with the face memory's time constant while the face itself is the reference.

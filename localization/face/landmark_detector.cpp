@@ -4,28 +4,21 @@
 #include <cmath>
 #include <Eigen/Geometry>
 #include <opencv2/imgproc.hpp>
-#include <dlib/image_processing/shape_predictor.h>
-#include <dlib/opencv/cv_image.h>
-#include <fstream>
 #include <stdexcept>
+
+#include "localization/face/landmark_cascade.hpp"
 
 namespace labo::face {
 
 struct LandmarkDetector::Impl {
-  dlib::shape_predictor predictor;
+  explicit Impl(const std::filesystem::path& file) : cascade(file) {}
+  LandmarkCascade cascade;
   cv::Mat work;
 };
 
-LandmarkDetector::LandmarkDetector(const std::filesystem::path& file) : impl_(std::make_unique<Impl>()) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open the 68-point shape predictor (package libdlib-data)");
-  try {
-    dlib::deserialize(impl_->predictor, in);
-  } catch (const std::exception& e) {
-    throw std::runtime_error(file.string() + ": not a dlib shape predictor: " + e.what());
-  }
-  if (impl_->predictor.num_parts() != 68) {
-    throw std::runtime_error(file.string() + ": predicts " + std::to_string(impl_->predictor.num_parts()) +
+LandmarkDetector::LandmarkDetector(const std::filesystem::path& file) : impl_(std::make_unique<Impl>(file)) {
+  if (impl_->cascade.landmark_count() != 68) {
+    throw std::runtime_error(file.string() + ": predicts " + std::to_string(impl_->cascade.landmark_count()) +
                              " landmarks, expected 68");
   }
 }
@@ -56,30 +49,20 @@ void LandmarkDetector::detect(const cv::Mat& gray, const cv::Rect2d& box, Eigen:
   const cv::Matx23d M(to_work(0, 0), to_work(0, 1), offset.x(), to_work(1, 0), to_work(1, 1), offset.y());
   // Pixels beyond the image repeat its border; a face cut by the border is refused from its landmarks.
   cv::warpAffine(gray, impl_->work, M, work_size, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-  const dlib::cv_image<unsigned char> image(impl_->work);
   const double half_w = box.width * scale * widen / 2, half_h = box.height * scale / 2;
-  const dlib::rectangle rect(std::lround(q_c.x() - half_w + 0.5), std::lround(q_c.y() - half_h + 0.5),
-                             std::lround(q_c.x() + half_w - 0.5), std::lround(q_c.y() + half_h - 0.5));
-  const dlib::full_object_detection shape = impl_->predictor(image, rect);
+  const PixelBox rect{std::lround(q_c.x() - half_w + 0.5), std::lround(q_c.y() - half_h + 0.5),
+                      std::lround(q_c.x() + half_w - 0.5), std::lround(q_c.y() + half_h - 0.5)};
+  impl_->cascade.fit(impl_->work, rect, landmarks);
   const Eigen::Matrix2d to_frame = to_work.inverse();
-  landmarks.resize(2, 68);
-  for (unsigned long i = 0; i < 68; ++i) {
-    const Eigen::Vector2d q(static_cast<double>(shape.part(i).x()), static_cast<double>(shape.part(i).y()));
-    landmarks.col(static_cast<Eigen::Index>(i)) = to_frame * (q - offset);
-  }
+  for (Eigen::Index i = 0; i < 68; ++i) landmarks.col(i) = to_frame * (landmarks.col(i) - offset);
 }
 
 void LandmarkDetector::detect_in(const cv::Mat& prepared, const cv::Rect2d& rect, Eigen::Matrix2Xd& landmarks) {
   if (prepared.empty() || prepared.type() != CV_8UC1) throw std::invalid_argument("landmark detector: expected an 8-bit grey image");
   if (!(rect.width > 0 && rect.height > 0)) throw std::invalid_argument("landmark detector: empty face box");
-  const dlib::cv_image<unsigned char> image(prepared);
-  const dlib::rectangle r(std::lround(rect.x), std::lround(rect.y), std::lround(rect.x + rect.width - 1),
-                          std::lround(rect.y + rect.height - 1));
-  const dlib::full_object_detection shape = impl_->predictor(image, r);
-  landmarks.resize(2, 68);
-  for (unsigned long i = 0; i < 68; ++i) {
-    landmarks.col(static_cast<Eigen::Index>(i)) << static_cast<double>(shape.part(i).x()), static_cast<double>(shape.part(i).y());
-  }
+  const PixelBox box{std::lround(rect.x), std::lround(rect.y), std::lround(rect.x + rect.width - 1),
+                     std::lround(rect.y + rect.height - 1)};
+  impl_->cascade.fit(prepared, box, landmarks);
 }
 
 }  // namespace labo::face

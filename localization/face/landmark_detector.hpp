@@ -1,6 +1,7 @@
 #pragma once
-// dlib's 68-point ensemble-of-regression-trees shape predictor (Kazemi & Sullivan), trained on iBUG
-// 300-W with HOG-detector boxes. dlib stays out of this header.
+// The 68 face landmarks: dlib's trained ensemble-of-regression-trees model (Kazemi & Sullivan; iBUG
+// 300-W, HOG-detector boxes), evaluated by LaboDrone's own allocation-free cascade
+// (landmark_cascade.hpp), landmark for landmark as dlib's shape_predictor. dlib stays out of this header.
 #include <Eigen/Core>
 #include <filesystem>
 #include <memory>
@@ -10,8 +11,8 @@ namespace labo::face {
 
 class LandmarkDetector {
  public:
-  // Throws std::runtime_error naming the file when it is missing or not a dlib shape predictor, or
-  // when the predictor does not give 68 points.
+  // Throws std::runtime_error naming the file and what is wrong when it is missing or not a usable
+  // dlib shape predictor (landmark_cascade.hpp), or when the predictor does not give 68 points.
   explicit LandmarkDetector(const std::filesystem::path& shape_predictor_file);
   ~LandmarkDetector();
   LandmarkDetector(LandmarkDetector&&) noexcept;
@@ -29,7 +30,7 @@ class LandmarkDetector {
               double widen = 1);
 
   // The predictor on an image already prepared for it (e.g. face/frontal_view.hpp's view), `rect`
-  // the face's box there; landmarks in that image's pixels (integers: dlib rounds).
+  // the face's box there; landmarks in that image's pixels (integers: the predictor rounds, as dlib's).
   void detect_in(const cv::Mat& prepared, const cv::Rect2d& rect, Eigen::Matrix2Xd& landmarks);
 
   static std::filesystem::path default_path() { return "/usr/share/dlib/shape_predictor_68_face_landmarks.dat"; }

@@ -45,6 +45,31 @@ void print_sweep(const std::vector<PerturbationRow>& rows) {
   }
 }
 
+nlohmann::json to_json(const RangeBinStats& b) {
+  return {{"tracker", b.tracker},
+          {"range_m", {b.min_m, b.max_m}},
+          {"poses", b.poses},
+          {"error_percent_of_range", {{"median", b.median_error_percent}, {"p95", b.p95_error_percent}}},
+          {"error_deg", {{"median", b.median_error_deg}, {"p95", b.p95_error_deg}}},
+          {"filtered_error_deg", {{"median", b.median_filtered_error_deg}, {"p95", b.p95_filtered_error_deg}}},
+          {"rotation_sigma_deg_median", b.median_rotation_sigma_deg},
+          {"rotation_error_within_2sigma_percent", b.rotation_within_2sigma_percent}};
+}
+
+nlohmann::json to_json(const std::vector<RangeBinStats>& bins) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& b : bins) j.push_back(to_json(b));
+  return j;
+}
+
+void print_bin(const char* label, const RangeBinStats& b) {
+  std::printf("%s%.1f-%.1f m %-4s poses %5d  error %% median %.2f p95 %.2f  deg median %.2f p95 %.2f  sigma deg %.2f "
+              "within 2 sigma %.0f %%  filtered deg median %.2f p95 %.2f\n",
+              label, b.min_m, b.max_m, b.tracker.c_str(), b.poses, b.median_error_percent, b.p95_error_percent,
+              b.median_error_deg, b.p95_error_deg, b.median_rotation_sigma_deg, b.rotation_within_2sigma_percent,
+              b.median_filtered_error_deg, b.p95_filtered_error_deg);
+}
+
 nlohmann::json sequences_json(const SequenceBenchResult& r) {
   nlohmann::json j;
   j["renderer"] = r.renderer;
@@ -74,18 +99,11 @@ nlohmann::json sequences_json(const SequenceBenchResult& r) {
                                             {"median_tracking", s.median_tracking_ms},
                                             {"median_tracking_cpu", s.median_tracking_cpu_ms},
                                             {"p95_tracking", s.p95_tracking_ms},
-                                            {"mean_detection", s.mean_detection_ms}}}});
+                                            {"mean_detection", s.mean_detection_ms}}},
+                              {"range_bins", to_json(s.range_bins)}});
   }
-  for (const auto& b : r.range_bins) {
-    j["range_bins"].push_back({{"tracker", b.tracker},
-                               {"range_m", {b.min_m, b.max_m}},
-                               {"poses", b.poses},
-                               {"error_percent_of_range", {{"median", b.median_error_percent}, {"p95", b.p95_error_percent}}},
-                               {"error_deg", {{"median", b.median_error_deg}, {"p95", b.p95_error_deg}}},
-                               {"filtered_error_deg", {{"median", b.median_filtered_error_deg}, {"p95", b.p95_filtered_error_deg}}},
-                               {"rotation_sigma_deg_median", b.median_rotation_sigma_deg},
-                               {"rotation_error_within_2sigma_percent", b.rotation_within_2sigma_percent}});
-  }
+  j["range_bins"] = to_json(r.range_bins);
+  j["h264_seeds"] = {{"seeds", r.h264_seeds}, {"pooled_range_bins", to_json(r.h264_seed_bins)}};
   return j;
 }
 
@@ -106,12 +124,15 @@ void print_sequences(const SequenceBenchResult& r) {
       std::printf("\n");
     }
   }
-  for (const auto& b : r.range_bins) {
-    std::printf("range %.1f-%.1f m %-4s poses %5d  error %% median %.2f p95 %.2f  deg median %.2f p95 %.2f  sigma deg %.2f "
-                "within 2 sigma %.0f %%  filtered deg median %.2f p95 %.2f\n",
-                b.min_m, b.max_m, b.tracker.c_str(), b.poses, b.median_error_percent, b.p95_error_percent,
-                b.median_error_deg, b.p95_error_deg, b.median_rotation_sigma_deg, b.rotation_within_2sigma_percent,
-                b.median_filtered_error_deg, b.p95_filtered_error_deg);
+  for (const auto& b : r.range_bins) print_bin("range ", b);
+  if (r.h264_seeds > 1) {
+    std::printf("\nH.264 approach, %d noise seeds\n", r.h264_seeds);
+    for (const auto& s : r.sequences) {
+      if (s.sequence.rfind(h264_sequence_name(0), 0) != 0) continue;
+      std::printf("%s\n", s.sequence.c_str());
+      for (const auto& b : s.range_bins) print_bin("  ", b);
+    }
+    for (const auto& b : r.h264_seed_bins) print_bin("pooled over seeds ", b);
   }
 }
 
@@ -147,6 +168,7 @@ const CommandSpec& bench_planar_command_spec() {
        {"--config", "FILE", "read the \"vision\" and \"planar\" sections of this config (default: built-in values)"},
        {"--noise", "G", "grey-level noise added to the sweep's scenes (default 2)"},
        {"--h264-kbps", "K", "bit rate of the H.264 sequence, 100-20000 (default 4000: what the driver configures; the firmware's default is 1000)"},
+       {"--h264-seeds", "N", "run the H.264 sequence with N sensor-noise seeds, 1-64 (default 1), each reported, then pooled"},
        {"--frames-csv", "FILE", "write every sequence frame's errors (camera frame, per axis) to FILE"}},
       0,
       0};
@@ -170,6 +192,10 @@ int run_bench_planar_command(const ParsedArgs& args) {
   settings.trials = args.integer_or("--trials", settings.trials, 1, 10000);
   settings.pixel_noise = args.number_or("--noise", settings.pixel_noise, 0.0, 50.0);
   const int h264_kbps = args.integer_or("--h264-kbps", kDefaultH264Kbps, 100, 20000);
+  const int h264_seeds = args.integer_or("--h264-seeds", 1, 1, kMaxH264Seeds);
+  if (h264_seeds > 1 && part == "sweep") {
+    throw UsageError("--h264-seeds needs the sequences (--part sequences or all): the sweep has no H.264 sequence");
+  }
   const std::string frames_csv = args.value_or("--frames-csv", "");
   if (!frames_csv.empty() && part == "sweep") {
     throw UsageError("--frames-csv needs the sequences (--part sequences or all): the sweep has no frames");
@@ -192,7 +218,8 @@ int run_bench_planar_command(const ParsedArgs& args) {
   }
   if (part != "sweep") {
     const SequenceBenchResult r =
-        run_sequence_bench(config, settings_from_file.vision, args.value_or("--sequence", ""), trackers, h264_kbps);
+        run_sequence_bench(config, settings_from_file.vision, args.value_or("--sequence", ""), trackers, h264_kbps,
+                           h264_seeds);
     if (frames_out.is_open()) write_frames_csv(frames_out, frames_csv, r.frames);
     if (json) {
       out["sequences"] = sequences_json(r);

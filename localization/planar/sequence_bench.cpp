@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <functional>
 #include <map>
+#include <string>
+#include <utility>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -39,6 +41,8 @@ struct Sequence {
   std::vector<cv::Mat> frames;
   std::vector<Eigen::Isometry3d> truth;  // T_cam_object
   std::vector<bool> in_view;
+  bool pooled = true;       // in the all-sequence range bins (false: the H.264 sequence's extra noise seeds)
+  bool h264_seed = false;   // one of the H.264 sequence's noise seeds
 };
 
 
@@ -77,15 +81,18 @@ double visible(const PinholeCamera& cam, const PanelModel& panel, const Eigen::I
 }
 
 // Renders a sequence from a camera path (camera position and look-at target in the object frame,
-// roll) and per-frame image effects.
+// roll) and per-frame image effects. The sensor noise is seeded by `noise_name`'s hash plus
+// `noise_seed` (by default the sequence's own name, seed 0).
 Sequence render_sequence(const std::string& name, const PlanarViewRenderer& renderer, const PanelModel& panel, int frames,
                          const std::function<Eigen::Isometry3d(int)>& pose_at,
-                         const std::function<void(int, cv::Mat&)>& effect, double min_visible, bool bottom = false) {
+                         const std::function<void(int, cv::Mat&)>& effect, double min_visible, bool bottom = false,
+                         const std::string& noise_name = "", int noise_seed = 0) {
   Sequence s;
   s.name = name;
   s.panel = panel;
   s.bottom_camera = bottom;
-  cv::RNG rng(static_cast<std::uint64_t>(std::hash<std::string>{}(name)));
+  cv::RNG rng(static_cast<std::uint64_t>(std::hash<std::string>{}(noise_name.empty() ? name : noise_name)) +
+              static_cast<std::uint64_t>(noise_seed));
   for (int i = 0; i < frames; ++i) {
     const Eigen::Isometry3d T = pose_at(i);
     cv::Mat frame = renderer.render(panel.image, panel.width_m, panel.height_m, T);
@@ -150,7 +157,7 @@ Sequence render_lab_approach(const std::string& name, double min_visible) {
 }
 
 std::vector<Sequence> make_sequences(const PlanarConfig& config, const PanelModel& panel, const PanelModel& platform,
-                                     const std::string& only, int h264_kbps) {
+                                     const std::string& only, int h264_kbps, int h264_seeds) {
   const PinholeCamera front = PinholeCamera::ardrone2_front();
   const PinholeCamera bottom = PinholeCamera::ardrone2_bottom();
   const PlanarViewRenderer front_renderer(front, make_clutter_background(cv::Size(1600, 1600), 21), 0.0025);
@@ -182,12 +189,16 @@ std::vector<Sequence> make_sequences(const PlanarConfig& config, const PanelMode
       cv::filter2D(f, f, -1, k);
     }
   }, mv));
-  if (wanted("h264_approach_2.5m_to_0.7m")) {
-    Sequence h264 = render_sequence("h264_approach_2.5m_to_0.7m", front_renderer, panel, 150, [](int i) {
+  for (int seed = 0; seed < h264_seeds; ++seed) {
+    const std::string name = h264_sequence_name(seed);
+    if (!wanted(name.c_str())) continue;
+    Sequence h264 = render_sequence(name, front_renderer, panel, 150, [](int i) {
       const double a = i / 149.0;
       return facing(0.1 * std::sin(2 * a), 0.0, 2.5 - 1.8 * a, 0, 0, 0.03 * std::sin(4 * a));
-    }, nullptr, mv);
-    h264.frames = h264_roundtrip(h264.frames, kFps, h264_kbps * 1000);
+    }, nullptr, mv, false, h264_sequence_name(0), seed);
+    h264.frames = h264_roundtrip(h264.frames, drone_stream_settings(cv::Size(front.width(), front.height()), static_cast<int>(kFps), h264_kbps));
+    h264.pooled = seed == 0;
+    h264.h264_seed = true;
     out.push_back(std::move(h264));
   }
   if (wanted("lighting_change_1.0m")) out.push_back(render_sequence("lighting_change_1.0m", front_renderer, panel, 150, [](int i) {
@@ -237,8 +248,31 @@ double percent_within_2sigma(const std::vector<double>& error_deg, const std::ve
   return error_deg.empty() ? 0.0 : 100.0 * within / static_cast<double>(error_deg.size());
 }
 
+constexpr std::pair<double, double> kRangeBins[] = {{0.4, 1.0}, {1.0, 2.0}, {2.0, 3.1}};
+
+RangeBinStats bin_stats(const std::string& tracker, double lo, double hi, const std::vector<ErrorSample>& samples) {
+  std::vector<double> pct, deg, sigma, filtered;
+  for (const auto& e : samples) {
+    if (e.range_m >= lo && e.range_m < hi) {
+      pct.push_back(e.error_percent);
+      deg.push_back(e.error_deg);
+      sigma.push_back(e.sigma_deg);
+      filtered.push_back(e.filtered_error_deg);
+    }
+  }
+  return {tracker, lo, hi, static_cast<int>(pct.size()), percentile(pct, 0.5), percentile(pct, 0.95),
+          percentile(deg, 0.5), percentile(deg, 0.95), percentile(sigma, 0.5), percent_within_2sigma(deg, sigma),
+          percentile(filtered, 0.5), percentile(filtered, 0.95)};
+}
+
+std::vector<RangeBinStats> all_bins(const std::string& tracker, const std::vector<ErrorSample>& samples) {
+  std::vector<RangeBinStats> bins;
+  for (const auto& [lo, hi] : kRangeBins) bins.push_back(bin_stats(tracker, lo, hi, samples));
+  return bins;
+}
+
 SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind kind, const PlanarConfig& base_config,
-                      const VisionThresholds& vision, std::vector<ErrorSample>& pooled,
+                      const VisionThresholds& vision, std::vector<ErrorSample>& samples,
                       std::vector<FrameRecord>& records) {
   PlanarConfig config = base_config;
   config.tracker = kind;
@@ -315,7 +349,7 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
       sigma_deg.push_back(r.rotation_sigma_rad * 180.0 / kPi);
       filtered_deg.push_back(rotation_angle(R_filtered, s.truth[i].linear()) * 180.0 / kPi);
       st.refined_poses += r.pose_refined ? 1 : 0;
-      pooled.push_back({range, 100 * e / range, deg, sigma_deg.back(), filtered_deg.back()});
+      samples.push_back({range, 100 * e / range, deg, sigma_deg.back(), filtered_deg.back()});
       if (100 * e / range > 10 || deg > 10) ++st.gross_errors;
     } else if (s.in_view[i]) {
       ++st.frames_in_view_without_pose;
@@ -343,37 +377,38 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
 
 }  // namespace
 
+std::string h264_sequence_name(int seed) {
+  const std::string name = "h264_approach_2.5m_to_0.7m";
+  return seed == 0 ? name : name + "_seed" + std::to_string(seed);
+}
+
 SequenceBenchResult run_sequence_bench(const PlanarConfig& config, const VisionThresholds& vision,
                                        const std::string& only, const std::vector<TrackerKind>& trackers,
-                                       int h264_kbps) {
+                                       int h264_kbps, int h264_seeds) {
   if (h264_kbps <= 0) throw std::invalid_argument("run_sequence_bench: h264_kbps must be positive");
+  if (h264_seeds < 1 || h264_seeds > kMaxH264Seeds) {
+    throw std::invalid_argument("run_sequence_bench: h264_seeds must be in [1, " + std::to_string(kMaxH264Seeds) + "]");
+  }
   SequenceBenchResult result;
   result.renderer = "planar synthetic renderer (localization/planar/synthetic_scene): panel on a textured wall, "
                     "AR.Drone 2.0 front camera with distortion / bottom camera, 2 grey-level noise; lab_renderer_*: "
                     "the simulated lab's LabRenderer (config/lab.json, motion blur, sensor noise)";
   const PanelModel panel{make_procedural_panel(cv::Size(320, 240), 11), 0.40, 0.30};
   const PanelModel platform{make_procedural_panel(cv::Size(256, 256), 12), 0.60, 0.60};
-  std::vector<Sequence> sequences = make_sequences(config, panel, platform, only, h264_kbps);
+  result.h264_seeds = h264_seeds;
+  std::vector<Sequence> sequences = make_sequences(config, panel, platform, only, h264_kbps, h264_seeds);
   for (TrackerKind kind : trackers) {
-    std::vector<ErrorSample> pooled;
+    const std::string tracker = to_string(kind);
+    std::vector<ErrorSample> pooled, h264_pooled;
     for (const auto& s : sequences) {
-      result.sequences.push_back(run_one(s, s.panel, kind, config, vision, pooled, result.frames));
+      std::vector<ErrorSample> samples;
+      SequenceStats& st = result.sequences.emplace_back(run_one(s, s.panel, kind, config, vision, samples, result.frames));
+      st.range_bins = all_bins(tracker, samples);
+      if (s.pooled) pooled.insert(pooled.end(), samples.begin(), samples.end());
+      if (s.h264_seed) h264_pooled.insert(h264_pooled.end(), samples.begin(), samples.end());
     }
-    for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{0.4, 1.0}, {1.0, 2.0}, {2.0, 3.1}}) {
-      std::vector<double> pct, deg, sigma, filtered;
-      for (const auto& e : pooled) {
-        if (e.range_m >= lo && e.range_m < hi) {
-          pct.push_back(e.error_percent);
-          deg.push_back(e.error_deg);
-          sigma.push_back(e.sigma_deg);
-          filtered.push_back(e.filtered_error_deg);
-        }
-      }
-      result.range_bins.push_back({to_string(kind), lo, hi, static_cast<int>(pct.size()), percentile(pct, 0.5),
-                                   percentile(pct, 0.95), percentile(deg, 0.5), percentile(deg, 0.95),
-                                   percentile(sigma, 0.5), percent_within_2sigma(deg, sigma),
-                                   percentile(filtered, 0.5), percentile(filtered, 0.95)});
-    }
+    for (const RangeBinStats& b : all_bins(tracker, pooled)) result.range_bins.push_back(b);
+    for (const RangeBinStats& b : all_bins(tracker, h264_pooled)) result.h264_seed_bins.push_back(b);
   }
   return result;
 }

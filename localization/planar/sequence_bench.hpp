@@ -16,6 +16,15 @@
 
 namespace labo {
 
+struct RangeBinStats {
+  std::string tracker;
+  double min_m = 0, max_m = 0;
+  int poses = 0;
+  double median_error_percent = 0, p95_error_percent = 0, median_error_deg = 0, p95_error_deg = 0;
+  double median_rotation_sigma_deg = 0, rotation_within_2sigma_percent = 0;
+  double median_filtered_error_deg = 0, p95_filtered_error_deg = 0;
+};
+
 struct SequenceStats {
   std::string sequence, tracker;
   int frames = 0, frames_in_view = 0, frames_with_pose = 0, frames_in_view_without_pose = 0;
@@ -36,15 +45,7 @@ struct SequenceStats {
   double median_tracking_cpu_ms = 0;  // this thread's CPU time (wall time includes the neighbours' load)
   // SE(3) refinement Gauss-Newton iterations per tracked frame (PlanarResult::refinement_iterations).
   double mean_refinement_iterations = 0;
-};
-
-struct RangeBinStats {
-  std::string tracker;
-  double min_m = 0, max_m = 0;
-  int poses = 0;
-  double median_error_percent = 0, p95_error_percent = 0, median_error_deg = 0, p95_error_deg = 0;
-  double median_rotation_sigma_deg = 0, rotation_within_2sigma_percent = 0;
-  double median_filtered_error_deg = 0, p95_filtered_error_deg = 0;
+  std::vector<RangeBinStats> range_bins;  // this sequence's poses by range (0.4-1, 1-2, 2-3.1 m)
 };
 
 // One frame of one sequence, for `bench planar --frames-csv`: where the error is, not only how big.
@@ -66,19 +67,28 @@ struct SequenceBenchResult {
   std::string renderer;  // which renderer produced the frames
   std::vector<SequenceStats> sequences;
   std::vector<FrameRecord> frames;  // every frame of every sequence and tracker
-  std::vector<RangeBinStats> range_bins;  // all sequences pooled, per tracker
+  std::vector<RangeBinStats> range_bins;  // all sequences pooled (the H.264 sequence's noise seed 0 only), per tracker
+  int h264_seeds = 1;
+  std::vector<RangeBinStats> h264_seed_bins;  // the H.264 sequence's poses pooled over its noise seeds, per tracker
 };
 
 // The H.264 sequence's bit rate: what LaboDrone's driver configures (link.video_max_bitrate_kbps,
 // docs/ardrone2.md); the firmware's own default is 1000 (--h264-kbps 1000).
 inline constexpr int kDefaultH264Kbps = 4000;
+// At most this many noise seeds of the H.264 sequence (`h264_seeds`).
+inline constexpr int kMaxH264Seeds = 64;
+
+// The H.264 sequence's name for noise seed `seed` (0: the sequence as it always was; k > 0: "_seedk").
+std::string h264_sequence_name(int seed);
 
 // `only` (when not empty) keeps the sequences whose name contains it; `trackers` run in turn;
-// `h264_kbps` is the bit rate the H.264 sequence is encoded at.
+// `h264_kbps` is the bit rate the H.264 sequence is encoded at. The H.264 sequence's one random
+// input is its sensor noise (the path and the scene are fixed): `h264_seeds` (1-kMaxH264Seeds) runs
+// it with that many noise seeds, each its own sequence (h264_sequence_name), pooled in h264_seed_bins.
 SequenceBenchResult run_sequence_bench(const PlanarConfig& config, const VisionThresholds& vision,
                                        const std::string& only = "",
                                        const std::vector<TrackerKind>& trackers = {TrackerKind::InverseCompositional,
                                                                                    TrackerKind::Ecc},
-                                       int h264_kbps = kDefaultH264Kbps);
+                                       int h264_kbps = kDefaultH264Kbps, int h264_seeds = 1);
 
 }  // namespace labo

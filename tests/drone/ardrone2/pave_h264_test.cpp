@@ -289,3 +289,22 @@ TEST_CASE("link: the H.264 encoder changes its bit rate at run time", "[link]") 
   CHECK(mean_p_frame_bytes(enc, 150, 30, keyframes) < 1.3 * at_1000);
   CHECK_THROWS(enc.set_bitrate_kbps(0));
 }
+
+TEST_CASE("link: the simulated drone's encoder moves blocks by quarter pixels and deblocks", "[link]") {
+  // x264's ultrafast copies blocks by whole pixels and skips the in-loop filter; a hardware baseline
+  // encoder does neither, and whole-pixel copies shift a far panel's detail by up to half a pixel per
+  // macroblock (docs/ardrone2.md "The simulated drone's encoder"). libx264 states its options in an
+  // SEI message of the first access unit.
+  H264Encoder enc(H264EncoderSettings{});
+  EncodedFrame ef;
+  REQUIRE(enc.encode(busy_image(0), ef));
+  const std::string unit(ef.data.begin(), ef.data.end());
+  const auto options = unit.find("options:");
+  REQUIRE(options != std::string::npos);
+  const std::string stated = unit.substr(options, 1000);
+  INFO(stated);
+  CHECK(stated.find(" subme=1 ") != std::string::npos);      // quarter-pel refinement (0: whole pixels)
+  CHECK(stated.find(" deblock=1:") != std::string::npos);    // the in-loop deblocking filter
+  CHECK(stated.find(" bframes=0 ") != std::string::npos);    // baseline, low delay, as the drone
+  CHECK(stated.find(" keyint=15 ") != std::string::npos);
+}

@@ -248,3 +248,50 @@ TEST_CASE("estimation: an object's placement weighs orientations by their rotati
     CHECK(est.statistics().count("rejected_nonfinite") == 1);
   }
 }
+
+namespace {
+// Hovers 2.5 m before a surveyed panel, seen exactly at 30 Hz for 1.5 s, then shows one frame whose
+// orientation is turned by 2 deg about the panel's vertical axis (the weak direction of a far panel's
+// pose), reporting `reported_sigma_rad`. Returns how far that frame moved the estimate sideways.
+double sideways_jump_from_a_turned_far_panel(double reported_sigma_rad) {
+  constexpr double kDeg = M_PI / 180.0;
+  SyntheticFlight truth(13);
+  StateEstimator est(no_delays());
+  est.reset(truth.T_world_body(), 0.0);
+  const Eigen::Isometry3d T_world_object = panel_ahead(2.5);
+  DelayedLink link{truth, 0.0, 0.0, 1.0 / 200.0, {}, {}, 0.0};
+  Seconds next_frame = 0.0;
+  double jump_m = -1.0;
+  link.run_until(1.6, [&](const NavdataSample& nav) {
+    est.add_navdata(nav);
+    if (truth.t < next_frame || jump_m >= 0.0) return;
+    next_frame += 1.0 / 30.0;
+    const bool turned = truth.t > 1.5;
+    ObjectObservation o;
+    o.t = truth.t;
+    o.object_index = 1;
+    o.T_cam_object = (truth.T_world_body() * T_body_cam_front()).inverse() * T_world_object *
+                     Eigen::Isometry3d(Eigen::AngleAxisd(turned ? 2.0 * kDeg : 0.0, Eigen::Vector3d::UnitY()));
+    o.T_world_object_surveyed = T_world_object;
+    o.rotation_sigma_rad = turned ? reported_sigma_rad : 0.05 * kDeg;
+    const Eigen::Vector3d before = est.predict(truth.t).position_world;
+    REQUIRE(est.add_object_pose(o));
+    if (turned) jump_m = std::abs((est.predict(truth.t).position_world - before).y());  // panel ahead along +x
+  });
+  REQUIRE(est.source() == LocalizationSource::Homography);
+  REQUIRE(jump_m >= 0.0);
+  return jump_m;
+}
+}  // namespace
+
+TEST_CASE("estimation: a far panel's orientation error weighs on the position it gives the drone") {
+  // A panel's pose turned by 2 deg swings the drone 8.7 cm sideways at 2.5 m: a frame that reports
+  // its 2 deg must move the position less than one that claims to be exact, or the estimate follows
+  // every swing of a far panel's weak orientation.
+  constexpr double kDeg = M_PI / 180.0;
+  const double told = sideways_jump_from_a_turned_far_panel(2.0 * kDeg);
+  const double claimed_exact = sideways_jump_from_a_turned_far_panel(0.05 * kDeg);
+  INFO("sideways jump with 2 deg reported " << told << " m, with 0.05 deg " << claimed_exact << " m");
+  CHECK(claimed_exact > 0.002);
+  CHECK(told < 0.5 * claimed_exact);
+}

@@ -36,3 +36,13 @@ TEST_CASE("bench planar: --h264-kbps outside 100-20000 or not a number is refuse
     CHECK(reason.find("--h264-kbps") != std::string::npos);
   }
 }
+
+TEST_CASE("bench planar: --h264-seeds outside 1-64, not a number, or without the sequences is refused, naming the option") {
+  for (const std::string bad : {"0", "65", "two", "-3"}) {
+    const std::string reason = usage_error({"--part", "sequences", "--h264-seeds", bad});
+    INFO(bad << ": " << reason);
+    CHECK(reason.find("--h264-seeds: '" + bad + "' is not an integer in [1, 64]") != std::string::npos);
+  }
+  const std::string sweep_only = usage_error({"--part", "sweep", "--h264-seeds", "4"});
+  CHECK(sweep_only.find("--h264-seeds needs the sequences") != std::string::npos);
+}

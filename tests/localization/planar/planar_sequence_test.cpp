@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -144,4 +145,30 @@ TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree at the 95t
     }
     CHECK(binned);
   }
+}
+
+TEST_CASE("planar: the H.264 approach runs over several noise seeds, each reported and pooled apart from the other sequences") {
+  const SequenceBenchResult result = run_sequence_bench(PlanarConfig{}, VisionThresholds{}, "h264",
+                                                        {TrackerKind::InverseCompositional}, kDefaultH264Kbps, 2);
+  REQUIRE(result.sequences.size() == 2);
+  CHECK(result.h264_seeds == 2);
+  CHECK(result.sequences[0].sequence == h264_sequence_name(0));
+  CHECK(result.sequences[1].sequence == "h264_approach_2.5m_to_0.7m_seed1");
+  // The same path with another noise: the poses differ.
+  std::vector<double> errors[2];
+  for (const FrameRecord& f : result.frames) errors[f.sequence == h264_sequence_name(0) ? 0 : 1].push_back(f.rotation_error_deg.norm());
+  REQUIRE(errors[0].size() == 150);
+  REQUIRE(errors[1].size() == 150);
+  CHECK(errors[0] != errors[1]);
+  REQUIRE(result.range_bins.size() == 3);
+  REQUIRE(result.h264_seed_bins.size() == 3);
+  for (std::size_t b = 0; b < 3; ++b) {
+    const int seed0 = result.sequences[0].range_bins.at(b).poses, seed1 = result.sequences[1].range_bins.at(b).poses;
+    CHECK(result.range_bins[b].poses == seed0);  // the all-sequence bins keep seed 0 only
+    CHECK(result.h264_seed_bins[b].poses == seed0 + seed1);
+  }
+  CHECK(result.h264_seed_bins[2].poses > 0);  // 2-3.1 m
+  CHECK_THROWS_AS(run_sequence_bench(PlanarConfig{}, VisionThresholds{}, "h264", {TrackerKind::InverseCompositional},
+                                     kDefaultH264Kbps, 0),
+                  std::invalid_argument);
 }
