@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <opencv2/imgproc.hpp>
 #include <stdexcept>
+
+#include "localization/face/face_image_warp.hpp"
 
 namespace labo::face {
 
@@ -75,17 +76,22 @@ bool FrontalView::render(const cv::Mat& gray, const PinholeCamera& camera, const
   A.col(2).setOnes();
   fallback_map_ = A.colPivHouseholderQr().solve(image_vertices_.transpose()).transpose();
   rasterise(size);
-  cv::remap(gray, view_, map_x_, map_y_, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  // As cv::remap (linear, border replicated) computes it, without its per-call allocations.
+  remap_8u(gray, map_x_, map_y_, sized_view(view_storage_, size, CV_8UC1, view_));
   return true;
 }
 
 void FrontalView::rasterise(cv::Size size) {
-  triangle_id_.create(size, CV_32SC1);
-  triangle_id_.setTo(-1);
-  depth_.create(size, CV_32FC1);
-  depth_.setTo(std::numeric_limits<float>::infinity());
-  map_x_.create(size, CV_32FC1);
-  map_y_.create(size, CV_32FC1);
+  // The view's size follows the face's from frame to frame: views of buffers that only grow.
+  // Filled row by row: cv::Mat::setTo allocates on such a view (a region, not continuous).
+  sized_view(triangle_id_storage_, size, CV_32SC1, triangle_id_);
+  sized_view(depth_storage_, size, CV_32FC1, depth_);
+  sized_view(map_x_storage_, size, CV_32FC1, map_x_);
+  sized_view(map_y_storage_, size, CV_32FC1, map_y_);
+  for (int y = 0; y < size.height; ++y) {
+    std::fill_n(triangle_id_.ptr<int>(y), size.width, -1);
+    std::fill_n(depth_.ptr<float>(y), size.width, std::numeric_limits<float>::infinity());
+  }
   // Off the mesh: the fallback affine map; the triangles overwrite it where they cover the view.
   const Eigen::Matrix<double, 2, 3>& F = fallback_map_;
   for (int y = 0; y < size.height; ++y) {

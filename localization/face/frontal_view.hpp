@@ -49,7 +49,8 @@ class FrontalView {
   Eigen::Matrix2Xd view_vertices_, image_vertices_;
   std::vector<Eigen::Matrix<double, 2, 3>> triangle_maps_;  // view pixel (homogeneous) -> image pixel
   Eigen::Matrix<double, 2, 3> fallback_map_ = Eigen::Matrix<double, 2, 3>::Zero();
-  cv::Mat triangle_id_, depth_, map_x_, map_y_, view_;
+  cv::Mat triangle_id_, depth_, map_x_, map_y_, view_;  // views of the storages below (face_image_warp.hpp)
+  cv::Mat triangle_id_storage_, depth_storage_, map_x_storage_, map_y_storage_, view_storage_;
 };
 
 }  // namespace labo::face

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "localization/face/face_image_warp.hpp"
 #include "localization/face/landmark_cascade.hpp"
 
 namespace labo::face {
@@ -13,7 +14,7 @@ namespace labo::face {
 struct LandmarkDetector::Impl {
   explicit Impl(const std::filesystem::path& file) : cascade(file) {}
   LandmarkCascade cascade;
-  cv::Mat work;
+  cv::Mat work_storage, work;  // the crop: a view of the storage, which only grows
 };
 
 LandmarkDetector::LandmarkDetector(const std::filesystem::path& file) : impl_(std::make_unique<Impl>(file)) {
@@ -48,7 +49,8 @@ void LandmarkDetector::detect(const cv::Mat& gray, const cv::Rect2d& box, Eigen:
   const Eigen::Vector2d offset = q_c - to_work * c;
   const cv::Matx23d M(to_work(0, 0), to_work(0, 1), offset.x(), to_work(1, 0), to_work(1, 1), offset.y());
   // Pixels beyond the image repeat its border; a face cut by the border is refused from its landmarks.
-  cv::warpAffine(gray, impl_->work, M, work_size, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  // As cv::warpAffine (linear, border replicated) computes it, without its per-call allocations.
+  warp_affine_8u(gray, M, work_size, sized_view(impl_->work_storage, work_size, CV_8UC1, impl_->work));
   const double half_w = box.width * scale * widen / 2, half_h = box.height * scale / 2;
   const PixelBox rect{std::lround(q_c.x() - half_w + 0.5), std::lround(q_c.y() - half_h + 0.5),
                       std::lround(q_c.x() + half_w - 0.5), std::lround(q_c.y() + half_h - 0.5)};

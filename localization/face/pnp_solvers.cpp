@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
@@ -33,29 +32,23 @@ Eigen::Isometry3d pose_from_cv(const cv::Mat& rvec, const cv::Mat& tvec) {
 
 cv::Matx33d camera_matrix(const IdealPinhole& c) { return {c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1}; }
 
-// Per-point squared reprojection errors (infinity behind the camera).
-void squared_errors(const PnpProblem& p, const Eigen::Isometry3d& T, std::vector<double>& out) {
-  out.resize(static_cast<std::size_t>(p.points_face.cols()));
-  for (Eigen::Index i = 0; i < p.points_face.cols(); ++i) {
-    const Eigen::Vector3d x = T * p.points_face.col(i).eval();
-    out[static_cast<std::size_t>(i)] = x.z() <= 1e-3 ? std::numeric_limits<double>::infinity()
-                                                     : (p.camera.project(x) - p.pixels.col(i)).squaredNorm();
-  }
+// A point's squared reprojection error (infinity behind the camera).
+double squared_error(const PnpProblem& p, const Eigen::Isometry3d& T, Eigen::Index i) {
+  const Eigen::Vector3d x = T * p.points_face.col(i).eval();
+  return x.z() <= 1e-3 ? std::numeric_limits<double>::infinity() : (p.camera.project(x) - p.pixels.col(i)).squaredNorm();
 }
 
+// Computed point by point, no per-point buffer: this runs on every tracked frame.
 PnpSolution make_solution(const PnpProblem& p, const Eigen::Isometry3d& T, double threshold_px, int iterations) {
   PnpSolution s;
   s.T_cam_face = T;
   s.iterations = iterations;
-  std::vector<double> e2;
-  squared_errors(p, T, e2);
-  s.inlier_mask.assign(e2.size(), false);
   double sum = 0;
-  for (std::size_t i = 0; i < e2.size(); ++i) {
-    if (e2[i] <= threshold_px * threshold_px) {
-      s.inlier_mask[i] = true;
+  for (Eigen::Index i = 0; i < p.points_face.cols(); ++i) {
+    const double e2 = squared_error(p, T, i);
+    if (e2 <= threshold_px * threshold_px) {
       ++s.inliers;
-      sum += e2[i];
+      sum += e2;
     }
   }
   s.rms_px = s.inliers > 0 ? std::sqrt(sum / s.inliers) : std::numeric_limits<double>::infinity();
@@ -71,10 +64,11 @@ Eigen::Matrix3d so3_exp(const Eigen::Vector3d& w) {
 }  // namespace
 
 double reprojection_rms(const PnpProblem& problem, const Eigen::Isometry3d& T_cam_face) {
-  std::vector<double> e2;
-  squared_errors(problem, T_cam_face, e2);
-  if (e2.empty()) return std::numeric_limits<double>::infinity();
-  return std::sqrt(std::accumulate(e2.begin(), e2.end(), 0.0) / static_cast<double>(e2.size()));
+  const Eigen::Index n = problem.points_face.cols();
+  if (n == 0) return std::numeric_limits<double>::infinity();
+  double sum = 0;
+  for (Eigen::Index i = 0; i < n; ++i) sum += squared_error(problem, T_cam_face, i);
+  return std::sqrt(sum / static_cast<double>(n));
 }
 
 std::optional<PnpSolution> solve_epnp(const PnpProblem& problem) {
@@ -216,10 +210,7 @@ std::optional<PnpSolution> refine_lm(const PnpProblem& problem, const Eigen::Iso
   T.translation() = t;
   if (!in_front(problem, T)) return std::nullopt;
   PnpSolution s = make_solution(problem, T, std::numeric_limits<double>::infinity(), std::min(iteration, options.max_iterations));
-  if (!mask.empty()) {
-    s.inlier_mask = mask;
-    s.inliers = static_cast<int>(std::count(mask.begin(), mask.end(), true));
-  }
+  if (!mask.empty()) s.inliers = static_cast<int>(std::count(mask.begin(), mask.end(), true));
   return s;
 }
 

@@ -33,10 +33,9 @@ struct PnpSolution {
   double rms_px = 0;       // over the inliers
   int inliers = 0;
   int iterations = 0;      // RANSAC hypotheses or LM iterations
-  std::vector<bool> inlier_mask;
 };
 
-// RMS reprojection error of all points, and the inlier mask at `threshold_px`; infinity when a point
+// RMS reprojection error of all points; infinity when a point
 // lies behind the camera.
 double reprojection_rms(const PnpProblem& problem, const Eigen::Isometry3d& T_cam_face);
 

@@ -140,14 +140,16 @@ void print_sequences(const SequenceBenchResult& r) {
 // growing with range) or noise.
 void write_frames_csv(std::ofstream& out, const std::string& path, const std::vector<FrameRecord>& frames) {
   out << "sequence,tracker,frame,range_m,in_view,state,has_pose,refined,ex_m,ey_m,ez_m,"
-         "rx_deg,ry_deg,rz_deg,rotation_sigma_deg,cpu_ms,filtered_rx_deg,filtered_ry_deg,filtered_rz_deg\n";
+         "rx_deg,ry_deg,rz_deg,rotation_sigma_deg,cpu_ms,filtered_rx_deg,filtered_ry_deg,filtered_rz_deg,"
+         "panel_rx_deg,panel_ry_deg,panel_rz_deg\n";
   for (const auto& f : frames) {
     out << f.sequence << ',' << f.tracker << ',' << f.frame << ',' << f.range_m << ',' << f.in_view << ',' << f.state
         << ',' << f.has_pose << ',' << f.refined << ',' << f.position_error_m.x() << ',' << f.position_error_m.y() << ','
         << f.position_error_m.z() << ',' << f.rotation_error_deg.x() << ',' << f.rotation_error_deg.y() << ','
         << f.rotation_error_deg.z() << ',' << f.rotation_sigma_deg << ',' << f.cpu_ms << ','
         << f.filtered_rotation_error_deg.x() << ',' << f.filtered_rotation_error_deg.y() << ','
-        << f.filtered_rotation_error_deg.z() << '\n';
+        << f.filtered_rotation_error_deg.z() << ',' << f.panel_rotation_error_deg.x() << ','
+        << f.panel_rotation_error_deg.y() << ',' << f.panel_rotation_error_deg.z() << '\n';
   }
   out.flush();
   if (!out) throw std::runtime_error("--frames-csv: writing '" + path + "' failed");

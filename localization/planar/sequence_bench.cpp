@@ -326,6 +326,7 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
       rec.position_error_m = r.T_cam_object.translation() - s.truth[i].translation();
       const Eigen::AngleAxisd error(r.T_cam_object.linear() * s.truth[i].linear().transpose());
       rec.rotation_error_deg = error.axis() * error.angle() * 180.0 / kPi;
+      rec.panel_rotation_error_deg = s.truth[i].linear().transpose() * rec.rotation_error_deg;
       rec.rotation_sigma_deg = r.rotation_sigma_rad * 180.0 / kPi;
     }
     if (r.state == PlanarState::Lost && had_pose) {

@@ -59,6 +59,9 @@ struct FrameRecord {
   std::string state;
   Eigen::Vector3d position_error_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d rotation_error_deg = Eigen::Vector3d::Zero();
+  // The same rotation error in the panel's frame (about its horizontal in-plane axis x, its vertical
+  // in-plane axis y, its normal z): R_trueᵀ times the camera-frame vector.
+  Eigen::Vector3d panel_rotation_error_deg = Eigen::Vector3d::Zero();
   double rotation_sigma_deg = 0, cpu_ms = 0;
   Eigen::Vector3d filtered_rotation_error_deg = Eigen::Vector3d::Zero();  // PlanarPoseFilter's
 };

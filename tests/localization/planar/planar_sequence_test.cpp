@@ -160,6 +160,16 @@ TEST_CASE("planar: the H.264 approach runs over several noise seeds, each report
   REQUIRE(errors[0].size() == 150);
   REQUIRE(errors[1].size() == 150);
   CHECK(errors[0] != errors[1]);
+  // The panel-frame error is the camera-frame one turned into the panel's axes: the same length; the
+  // approach looks at the panel nearly face-on, so nearly the same vector, but not exactly.
+  int turned = 0;
+  for (const FrameRecord& f : result.frames) {
+    REQUIRE(f.has_pose);
+    CHECK(f.panel_rotation_error_deg.norm() == Approx(f.rotation_error_deg.norm()).margin(1e-12));
+    CHECK(f.panel_rotation_error_deg.dot(f.rotation_error_deg) >= 0.9 * f.rotation_error_deg.squaredNorm());
+    turned += (f.panel_rotation_error_deg - f.rotation_error_deg).norm() > 1e-6 ? 1 : 0;
+  }
+  CHECK(turned > 0);
   REQUIRE(result.range_bins.size() == 3);
   REQUIRE(result.h264_seed_bins.size() == 3);
   for (std::size_t b = 0; b < 3; ++b) {
