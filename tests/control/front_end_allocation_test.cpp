@@ -1,8 +1,8 @@
 // Steady-state allocations of the hot paths: counted by replacing the global operator new in this
 // test executable (test_control; an executable may do so once), on the calling thread only. The
 // planar localizer's tracking allocates nothing, nor do the front-ends that wrap it; a navdata packet
-// allocates nothing from the datagram to the estimator's prediction; the face front end's remaining
-// allocations are named and bounded.
+// allocates nothing from the datagram to the estimator's prediction; a face frame tracked from the
+// last landmarks allocates nothing, and a frame where the face detector runs no more than the detector.
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
