@@ -73,7 +73,7 @@ void LabRenderer::render(CameraId id, const SceneState& scene, cv::Mat& bgr) {
   p.stats.blur_px = 0;
   if (options_.motion_blur && options_.shutter_s > 0) {
     p.stats.blur_px = p.blur.plan(scene, p.T_body_cam, options_.shutter_s, p.tracer.tile_depth());
-    if (p.stats.blur_px >= 1.f) {
+    if (p.stats.blur_px >= MotionBlur::kMinMotion_px) {
       p.blur.apply(p.colour.data(), p.blurred.data());
       out = p.blurred.data();
     }
