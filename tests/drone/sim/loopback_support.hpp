@@ -1,11 +1,12 @@
 #pragma once
 // For tests that fly over loopback in real time: wait for a condition, and point a driver at an
-// emulator's ephemeral ports.
+// emulator's ephemeral ports (test::link_settings_for, shared with the link's own loopback tests).
 #include <chrono>
 #include <thread>
 
 #include "drone/ardrone2/ardrone_emulator.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
+#include "tests/drone/ardrone2/tiny_vehicle.hpp"
 
 namespace labo::test {
 
@@ -18,15 +19,6 @@ bool eventually(Pred pred, double timeout_s) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return pred();
-}
-
-inline ArdroneLinkSettings driver_for(const ArdroneEmulator& emulator) {
-  ArdroneLinkSettings s;
-  s.host = "127.0.0.1";
-  s.at_port = emulator.at_port();
-  s.navdata_port = emulator.navdata_port();
-  s.video_port = emulator.video_port();
-  return s;
 }
 
 }  // namespace labo::test

@@ -73,7 +73,7 @@ TEST_CASE("sim loopback: ArdroneLink takes off, flies, streams and lands the sim
   const Logger quiet("test", LogLevel::Off);
   ArdroneEmulator emulator(vehicle, es, quiet);
   emulator.start();
-  ArdroneLink link(test::driver_for(emulator), quiet);
+  ArdroneLink link(test::link_settings_for(emulator), quiet);
   Recorder rec;
   link.set_listener(&rec);
   link.start();
