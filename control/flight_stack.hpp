@@ -4,7 +4,7 @@
 // takes requests from users (missions and manual commands), accepting or refusing each with a reason.
 // It owns the localization pipelines, the missions (stage machines of the paper's §6.2 and §6.4),
 // the autopilot with its PID controllers, and the safety monitor. It never reads the wall clock: the
-// real-time runtime (server/) and the lockstep experiments (control/experiments/) both drive it with
+// real-time runtime (server/) and the lockstep experiments (bench/experiments/) both drive it with
 // the timestamps of their own clock, so the same inputs give the same flight.
 //
 // Usage, from one thread:

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Per-leg breakdown of a `labodrone sim face-follow --out DIR` CSV (the issue's face-follow metric).
+"""Per-leg breakdown of a `labodrone-bench sim face-follow --out DIR` CSV (the face-follow metric).
 
 Re-computes the followable walking ticks as sim_commands.cpp does (the true face moves more than
 0.1 m/s; the place face_distance_m in front of it inside the geofence), from the measured window

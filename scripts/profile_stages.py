@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Per-stage CPU breakdown of a lockstep simulation run from a perf call-graph profile.
 
-    perf record --call-graph dwarf,16384 -F 149 -o run.perf.data labodrone sim inspect --vision real --seed 1
+    perf record --call-graph dwarf,16384 -F 149 -o run.perf.data labodrone-bench sim inspect --vision real --seed 1
     perf script -i run.perf.data -F period,ip,sym | scripts/profile_stages.py --cpu-s CPU --frames N
 
 Each sample goes to the stage of the innermost frame on its stack that names one (the rules below,

@@ -1,5 +1,5 @@
 #pragma once
-// The process's CPU time, for the simulated lab's stage profile and `labodrone bench sim`: on a
+// The process's CPU time, for the simulated lab's stage profile and `labodrone-bench bench sim`: on a
 // machine shared with other jobs, wall time measures the neighbours; CPU time measures our work.
 #include <ctime>
 

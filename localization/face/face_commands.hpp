@@ -1,12 +1,20 @@
 #pragma once
-// `labodrone bench face` (Table 1 on rendered head-pose sequences) and `labodrone face register`
-// (fit a person's CANDIDE-3 shape from a frontal picture and store it).
+// `labodrone face register`: fit a person's CANDIDE-3 shape from frontal pictures and store it.
+#include "core/camera_config.hpp"
+#include "core/camera_model.hpp"
 #include "core/cli_args.hpp"
+#include "localization/face/face_config.hpp"
 
 namespace labo {
 
-const CommandSpec& face_bench_command_spec();
-int run_face_bench_command(const ParsedArgs& args);
+// The configuration's "face" section and front camera (`--config FILE`, default
+// config/default.json; built-in defaults for a missing section). Throws ConfigError naming the key.
+struct FaceSetup {
+  face::FaceConfig face;
+  PinholeCamera camera;
+  CamerasConfig cameras;
+};
+FaceSetup load_face_setup(const ParsedArgs& args);
 
 const CommandSpec& face_register_command_spec();
 int run_face_register_command(const ParsedArgs& args);

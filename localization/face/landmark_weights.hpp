@@ -13,7 +13,7 @@
 namespace labo::face {
 
 // Typical error of iBUG-68 landmark `id` (17-59) as a fraction of the interocular distance, by group;
-// measured on `labodrone bench face` (seed 1, frames within 15° of frontal, RMS of each landmark's
+// measured on `labodrone-bench bench face` (seed 1, frames within 15° of frontal, RMS of each landmark's
 // error against the rendered head's true landmarks), rounded per semantic group. Throws
 // std::invalid_argument for ids outside 17-59.
 double landmark_noise_iod(int ibug_id);

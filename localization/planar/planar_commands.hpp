@@ -1,7 +1,6 @@
 #pragma once
-// The planar subcommands of `labodrone`:
-//   labodrone homography TEMPLATE IMAGE [--method auto|template|sift]   (exit 0 found, 3 not found, 2 bad input)
-//   labodrone bench planar [--json] [--trials N] [--part sweep|sequences|all]
+// `labodrone homography TEMPLATE IMAGE [--method auto|template|sift]` (exit 0 found, 3 not found,
+// 2 bad input), and the planar settings it shares with `labodrone-bench bench planar`.
 #include "core/cli_args.hpp"
 #include "localization/planar/planar_config.hpp"
 #include "localization/vision_thresholds.hpp"
@@ -17,8 +16,5 @@ PlanarCommandSettings read_planar_command_settings(const ParsedArgs& args);
 
 const CommandSpec& homography_command_spec();
 int run_homography_command(const ParsedArgs& args);
-
-const CommandSpec& bench_planar_command_spec();
-int run_bench_planar_command(const ParsedArgs& args);
 
 }  // namespace labo

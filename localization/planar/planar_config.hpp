@@ -14,7 +14,7 @@ const char* to_string(PoseRefinement refinement);
 
 struct PlanarConfig {
   // Which frame-to-frame homography tracker runs: OpenCV's findTransformECC or LaboDrone's own
-  // pyramidal inverse-compositional tracker (faster and wider basin in `labodrone bench planar`).
+  // pyramidal inverse-compositional tracker (faster and wider basin in `labodrone-bench bench planar`).
   TrackerKind tracker = TrackerKind::InverseCompositional;
 
   // Own tracker.

@@ -27,7 +27,7 @@
 #include "core/config_reader.hpp"
 #include "core/frames.hpp"
 #include "drone/lab/lab_description.hpp"
-#include "localization/planar/synthetic_scene.hpp"
+#include "bench/planar/synthetic_scene.hpp"
 
 namespace {
 thread_local std::size_t g_allocations = 0;

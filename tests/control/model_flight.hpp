@@ -6,8 +6,8 @@
 #include <memory>
 
 #include "control/flight_stack.hpp"
-#include "control/experiments/model_lab.hpp"
-#include "control/experiments/quadrotor_model.hpp"
+#include "bench/experiments/model_lab.hpp"
+#include "bench/experiments/quadrotor_model.hpp"
 
 namespace labo::test {
 

@@ -13,10 +13,10 @@
 #include "core/source_tree.hpp"
 #include "drone/lab/lab_description.hpp"
 #include "localization/face/textured_head_renderer.hpp"
-#include "localization/planar/synthetic_scene.hpp"
-#include "localization/slam/bench/bench_flights.hpp"
-#include "localization/slam/bench/synthetic_room.hpp"
-#include "localization/slam/bench/trajectory_metrics.hpp"
+#include "bench/planar/synthetic_scene.hpp"
+#include "bench/slam/bench_flights.hpp"
+#include "bench/slam/synthetic_room.hpp"
+#include "bench/slam/trajectory_metrics.hpp"
 
 using namespace labo;
 

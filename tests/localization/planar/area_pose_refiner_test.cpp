@@ -7,7 +7,7 @@
 
 #include "localization/planar/area_pose_refiner.hpp"
 #include "localization/planar/planar_pose.hpp"
-#include "localization/planar/synthetic_scene.hpp"
+#include "bench/planar/synthetic_scene.hpp"
 #include "tests/localization/planar/supersampled_pixel.hpp"
 
 using namespace labo;

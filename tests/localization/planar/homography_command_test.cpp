@@ -11,7 +11,7 @@
 
 #include "localization/planar/planar_commands.hpp"
 #include "localization/planar/planar_template.hpp"
-#include "localization/planar/synthetic_scene.hpp"
+#include "bench/planar/synthetic_scene.hpp"
 #include "tests/support/cout_capture.hpp"
 
 using namespace labo;

@@ -10,7 +10,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "localization/planar/ippe.hpp"
-#include "localization/planar/synthetic_scene.hpp"
+#include "bench/planar/synthetic_scene.hpp"
 
 using namespace labo;
 

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "localization/planar/planar_localizer.hpp"
-#include "localization/planar/synthetic_scene.hpp"
+#include "bench/planar/synthetic_scene.hpp"
 
 using namespace labo;
 

@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include "localization/planar/planar_pose.hpp"
-#include "localization/planar/synthetic_scene.hpp"
+#include "bench/planar/synthetic_scene.hpp"
 
 using namespace labo;
 

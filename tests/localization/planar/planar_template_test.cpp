@@ -7,7 +7,7 @@
 
 #include "core/config_reader.hpp"
 #include "localization/planar/planar_template.hpp"
-#include "localization/planar/synthetic_scene.hpp"
+#include "bench/planar/synthetic_scene.hpp"
 #include "tests/support/scratch_dir.hpp"
 
 using namespace labo;

@@ -5,7 +5,7 @@
 #include "localization/planar/ecc_tracker.hpp"
 #include "localization/planar/ic_tracker.hpp"
 #include "localization/planar/planar_template.hpp"
-#include "localization/planar/synthetic_scene.hpp"
+#include "bench/planar/synthetic_scene.hpp"
 
 using namespace labo;
 

@@ -6,7 +6,7 @@
 
 #include "localization/planar/planar_pose.hpp"
 #include "localization/planar/se3_pose_refiner.hpp"
-#include "localization/planar/synthetic_scene.hpp"
+#include "bench/planar/synthetic_scene.hpp"
 
 using namespace labo;
 

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "core/frames.hpp"
-#include "localization/slam/bench/synthetic_room.hpp"
+#include "bench/slam/synthetic_room.hpp"
 #include "localization/slam/camera/ideal_camera.hpp"
 #include "localization/slam/feature/feature_extractor.hpp"
 

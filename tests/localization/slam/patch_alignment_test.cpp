@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "core/frames.hpp"
-#include "localization/slam/bench/synthetic_room.hpp"
+#include "bench/slam/synthetic_room.hpp"
 #include "localization/slam/feature/feature_extractor.hpp"
 #include "localization/slam/match/patch_aligner.hpp"
 #include "localization/slam/module/frame_tracker.hpp"

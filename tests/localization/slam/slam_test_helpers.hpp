@@ -5,9 +5,9 @@
 #include <cmath>
 #include <vector>
 
-#include "localization/slam/bench/bench_flights.hpp"
-#include "localization/slam/bench/synthetic_room.hpp"
-#include "localization/slam/bench/trajectory_metrics.hpp"
+#include "bench/slam/bench_flights.hpp"
+#include "bench/slam/synthetic_room.hpp"
+#include "bench/slam/trajectory_metrics.hpp"
 #include "localization/slam/feature/feature_extractor.hpp"
 #include "localization/slam/module/local_mapper.hpp"
 #include "localization/slam/slam_system.hpp"

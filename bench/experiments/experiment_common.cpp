@@ -1,0 +1,161 @@
+#include "bench/experiments/experiment_common.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+
+#include "bench/experiments/flight_plot.hpp"
+#include "bench/experiments/lockstep_flight.hpp"
+#include "bench/experiments/model_lab.hpp"
+#include "bench/experiments/sim_lab_flight.hpp"
+#include "control/front_end_settings.hpp"
+#include "core/camera_config.hpp"
+#include "core/config_reader.hpp"
+#include "localization/face/teacher_head.hpp"
+#include "core/source_tree.hpp"
+
+namespace labo {
+
+std::vector<OptionSpec> experiment_option_specs() {
+  return {{"--seed", "N", "first random seed (default 1); run i uses seed + i"},
+          {"--runs", "N", "number of seeded runs (default 1)"},
+          {"--json", "", "print the summary as JSON"},
+          {"--out", "DIR", "write CSV per run, an SVG plot of the first run and summary.json"},
+          {"--config", "FILE", "configuration: its control, estimation and vision sections; with --route its lab; with --vision real its lab, cameras, front ends (planar, slam, face) and sim (default config/default.json)"}};
+}
+
+std::vector<OptionSpec> real_vision_option_specs() {
+  return {{"--vision", "model|real",
+           "model (default): quadrotor and perception models; real: the simulated lab with rendered cameras and the "
+           "real vision pipelines"},
+          {"--fps", "N", "with --vision real: frames rendered and processed per second (default 30)"}};
+}
+
+OptionSpec jobs_option_spec() {
+  return {"--jobs", "N", "fly N runs at once on N threads (default 1); each run's result is the same as alone"};
+}
+
+ExperimentOptions read_experiment_options(const ParsedArgs& args) {
+  ExperimentOptions o;
+  const std::string vision = args.value_or("--vision", "model");
+  if (vision != "model" && vision != "real") throw UsageError("--vision must be model or real (got '" + vision + "')");
+  o.real_vision = vision == "real";
+  if (args.value("--fps")) {
+    if (!o.real_vision) throw UsageError("--fps needs --vision real");
+    o.video_fps = args.number_or("--fps", 30.0, 1.0, 60.0);
+  }
+  o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
+  o.runs = args.integer_or("--runs", 1, 1, 10000);
+  if (args.value("--jobs")) o.jobs = args.integer_or("--jobs", 1, 1, 64);
+  o.json = args.flag("--json");
+  o.config = args.value_or("--config", (labo::source_root() / "config" / "default.json").string());
+  if (!std::filesystem::exists(o.config)) throw UsageError("--config " + o.config.string() + ": no such file");
+  if (auto dir = args.value("--out")) {
+    o.out = *dir;
+    std::error_code ec;
+    std::filesystem::create_directories(*o.out, ec);
+    if (ec) throw UsageError("--out " + *dir + ": cannot create the folder: " + ec.message());
+  }
+  return o;
+}
+
+namespace {
+LabDescription load_lab_file(const std::filesystem::path& config, const ConfigReader& root) {
+  return load_lab_description((config.parent_path() / root.string_or("lab", "lab.json")).lexically_normal());
+}
+}  // namespace
+
+Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
+  Experiment e;
+  FlightStackSetup& setup = e.setup;
+  const ConfigDocument doc = ConfigDocument::load(options.config);
+  const ConfigReader root = doc.root();
+  if (root.has("control")) setup.control = read_control_config(root.object("control"));
+  if (root.has("estimation")) setup.estimation = read_estimation_config(root.object("estimation"));
+  if (root.has("vision")) setup.vision = read_vision_thresholds(root.object("vision"));
+  if (!options.real_vision) {
+    // The models deliver navdata and vision results without latency and act on commands at once:
+    // the estimator's delay compensation must not shift them.
+    setup.estimation.video_delay_s = 0;
+    setup.estimation.navdata_delay_s = 0;
+    setup.estimation.control_delay_s = 0;
+    setup.lab = model_lab();
+    if (options.model_route) {
+      LabDescription lab = load_lab_file(options.config, root);
+      if (options.teacher_speed_mps) lab.teacher.speed_mps = *options.teacher_speed_mps;
+      setup.lab = lab_geometry_from(lab);
+      e.model_route = lab.teacher;
+    }
+    return e;
+  }
+  // SimDroneLink has the link's delays: the estimator keeps the configured ones.
+  const std::filesystem::path base_dir = options.config.parent_path();
+  e.lab = load_lab_file(options.config, root);
+  if (options.teacher_speed_mps) e.lab->teacher.speed_mps = *options.teacher_speed_mps;
+  setup.lab = lab_geometry_from(*e.lab);
+  if (root.has("cameras")) setup.cameras = read_cameras_config(root.object("cameras"));
+  FrontEndSettings front_ends = read_front_end_settings(root, base_dir);
+  front_ends.slam.mapping_mode = slam::MappingMode::Synchronous;  // lockstep: the same flight every time
+  front_ends.with_face = with_face;
+  setup.front_ends = front_ends;
+  e.sim = read_sim_config_of(root);
+  if (options.video_fps) e.sim.link.video_fps = *options.video_fps;
+  if (with_face) e.head = face::load_lab_teacher_head(*e.lab, front_ends.face);
+  return e;
+}
+
+std::unique_ptr<ExperimentFlight> make_flight(const Experiment& experiment, unsigned seed) {
+  if (!experiment.lab) {
+    auto flight = std::make_unique<LockstepFlight>(experiment.setup, PerceptionModelConfig{}, seed);
+    if (experiment.model_route) flight->walk_route(*experiment.model_route);
+    return flight;
+  }
+  SimConfig sim = experiment.sim;
+  sim.lab.seed = seed;
+  sim.link.seed = seed;
+  return std::make_unique<SimLabFlight>(experiment.setup, *experiment.lab, sim, experiment.head);
+}
+
+void write_run_outputs(const ExperimentOptions& options, const std::string& name, int index, const ExperimentFlight& flight) {
+  if (!options.out) return;
+  const std::string stem = name + "_seed" + std::to_string(options.seed + static_cast<unsigned>(index));
+  write_flight_csv(*options.out / (stem + ".csv"), flight.samples());
+  if (index == 0)
+    write_flight_svg(*options.out / (stem + ".svg"), flight.samples(),
+                     "labodrone sim " + name + " (seed " + std::to_string(options.seed) + "; " + flight.description() + ")");
+}
+
+void report(const ExperimentOptions& options, const std::string& name, const nlohmann::json& summary,
+            const std::vector<std::string>& text_lines) {
+  if (options.out) {
+    std::ofstream f(*options.out / (name + "_summary.json"));
+    f << summary.dump(2) << "\n";
+  }
+  if (options.json) {
+    std::cout << summary.dump(2) << "\n";
+    return;
+  }
+  for (const auto& line : text_lines) std::cout << line << "\n";
+}
+
+double rms(const std::vector<double>& v) {
+  if (v.empty()) return 0;
+  double s = 0;
+  for (double x : v) s += x * x;
+  return std::sqrt(s / static_cast<double>(v.size()));
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t i = std::min(v.size() - 1, static_cast<std::size_t>(p / 100.0 * static_cast<double>(v.size() - 1) + 0.5));
+  return v[i];
+}
+
+double centre_offset_fraction(const Eigen::Vector3d& p_cam, const CameraIntrinsics& k) {
+  const double u = k.fx * p_cam.x() / p_cam.z() + k.cx, v = k.fy * p_cam.y() / p_cam.z() + k.cy;
+  return std::hypot(u - 0.5 * k.width, v - 0.5 * k.height) / k.width;
+}
+
+}  // namespace labo

@@ -1,0 +1,423 @@
+#include "bench/experiments/sim_commands.hpp"
+
+#include "control/geofence.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "bench/experiments/experiment_common.hpp"
+#include "bench/experiments/seed_runner.hpp"
+#include "core/frames.hpp"
+
+namespace labo {
+
+namespace {
+
+constexpr const char* kVehicleNote =
+    "vehicle: quadrotor model (bench/experiments/quadrotor_model.hpp); perception: model (no rendering); "
+    "estimator: StateEstimator";
+constexpr const char* kRealVisionNote =
+    "vehicle: simulated lab (drone/sim: firmware dynamics, sensor model, LabRenderer cameras) through SimDroneLink "
+    "(link timing and delays); perception: the real vision front-ends (planar, SLAM, face); estimator: StateEstimator";
+
+const char* note_of(const ExperimentOptions& o) { return o.real_vision ? kRealVisionNote : kVehicleNote; }
+
+std::string fmt(const char* f, double a, double b = 0, double c = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, f, a, b, c);
+  return buf;
+}
+
+MissionRequest inspect_request(const std::string& id, double hold_s) {
+  MissionRequest r;
+  r.kind = RequestKind::Inspect;
+  r.instrument_id = id;
+  r.hold_s = hold_s;
+  return r;
+}
+
+bool holding(ExperimentFlight& f) { return f.stack().status().stage.find("holding") != std::string::npos; }
+
+// ---- sim inspect -------------------------------------------------------------------------------
+
+struct InspectRun {
+  bool mission_succeeded = false;
+  double standoff_error_m = std::numeric_limits<double>::infinity();
+  double centre_offset = std::numeric_limits<double>::infinity();
+  double landing_error_m = std::numeric_limits<double>::infinity();
+  bool crashed = false;
+  double duration_s = 0;
+  std::string result;
+  bool success() const {
+    return mission_succeeded && standoff_error_m <= 0.05 && centre_offset <= 0.05 && landing_error_m <= 0.10 && !crashed;
+  }
+};
+
+InspectRun run_inspect(const FlightStackSetup& setup, const PlanarTarget& inst, double hold_s, ExperimentFlight& f) {
+  InspectRun r;
+  const CommandResult accepted = f.request(inspect_request(inst.id, hold_s));
+  if (!accepted.accepted) {
+    r.result = "refused: " + accepted.reason;
+    return r;
+  }
+  std::vector<double> standoff, centre;
+  f.run_until([&] {
+    if (holding(f)) {
+      const Eigen::Vector3d p = f.true_T_cam(inst.T_world_object).translation();
+      standoff.push_back(std::abs(p.z() - setup.control.mission.standoff_m));
+      centre.push_back(centre_offset_fraction(p, setup.cameras.front));
+    }
+    return f.stack().status().mission == "idle";
+  }, 240.0);
+  const std::string ev = f.stack().status().last_event;
+  r.result = ev;
+  r.mission_succeeded = ev.find("succeeded") != std::string::npos;
+  // The hold's last second: where the student sees the panel.
+  const std::size_t n = std::min<std::size_t>(30, standoff.size());
+  if (n > 0) {
+    r.standoff_error_m = rms({standoff.end() - static_cast<long>(n), standoff.end()});
+    r.centre_offset = rms({centre.end() - static_cast<long>(n), centre.end()});
+  }
+  if (f.stack().status().phase == FlightPhase::Landed)
+    r.landing_error_m = (f.true_pose().translation() - setup.lab.platform.T_world_object.translation()).head<2>().norm();
+  r.crashed = f.crashed();
+  r.duration_s = f.now();
+  return r;
+}
+
+// ---- sim perturb -------------------------------------------------------------------------------
+
+struct Impulse {
+  double t = 0;
+  double recovery_s = std::numeric_limits<double>::infinity();
+  double peak_error = 0;
+};
+
+int axis_index(const std::string& axis) {
+  if (axis == "x") return 0;
+  if (axis == "y") return 1;
+  if (axis == "z") return 2;
+  if (axis == "yaw") return 3;
+  throw UsageError("--axis must be x, y, z or yaw (got '" + axis + "')");
+}
+
+// Error to the set point, position (m) and yaw (rad). The set point is relative to the instrument
+// as the estimator placed it; the truth is compared relative to the instrument's true pose, so a
+// placement error (which shifts estimate and set point alike) is not counted as a control error.
+std::pair<double, double> set_point_error(ExperimentFlight& f, const PlanarTarget& instrument) {
+  const FlightStatus s = f.stack().status();
+  if (!s.desired) return {1e9, 1e9};
+  const Eigen::Isometry3d T_world_obj_est = s.instrument.placed_in_world ? s.instrument.T_world_target : instrument.T_world_object;
+  const Eigen::Isometry3d desired_in_obj = T_world_obj_est.inverse() * make_pose(s.desired->head<3>(), (*s.desired)[3]);
+  const Eigen::Isometry3d true_in_obj = instrument.T_world_object.inverse() * f.true_pose();
+  const Eigen::Matrix3d dR = desired_in_obj.linear().transpose() * true_in_obj.linear();
+  return {(true_in_obj.translation() - desired_in_obj.translation()).norm(), std::abs(ypr_from_rotation(dR)[0])};
+}
+
+std::vector<Impulse> run_perturb(int axis, int impulses, ExperimentFlight& f, const PlanarTarget& instrument, bool& reached) {
+  std::vector<Impulse> out;
+  f.request(inspect_request(instrument.id, 500.0));
+  reached = f.run_until([&] { return holding(f); }, 120.0);
+  if (!reached) return out;
+  f.run(3.0);
+  constexpr double kRecoveredM = 0.10, kRecoveredYaw = 0.087, kStayS = 1.0, kPeriodS = 10.0;
+  for (int i = 0; i < impulses; ++i) {
+    const double sign = i % 2 == 0 ? 1.0 : -1.0;
+    Impulse imp;
+    imp.t = f.now();
+    Eigen::Vector3d dv = Eigen::Vector3d::Zero();
+    double dyaw = 0;
+    if (axis < 2) dv[axis] = 0.8 * sign;
+    else if (axis == 2) dv.z() = 0.6 * sign;
+    else dyaw = 0.4 * sign;
+    f.push(dv, dyaw);
+    double within_since = -1;
+    const double end = f.now() + kPeriodS;
+    while (f.now() < end) {
+      f.tick();
+      const auto [e, ey] = set_point_error(f, instrument);
+      imp.peak_error = std::max(imp.peak_error, axis == 3 ? ey : e);
+      if (e < kRecoveredM && ey < kRecoveredYaw) {
+        if (within_since < 0) within_since = f.now();
+        if (f.now() - within_since >= kStayS && !std::isfinite(imp.recovery_s)) imp.recovery_s = within_since - imp.t;
+      } else {
+        within_since = -1;
+      }
+    }
+    out.push_back(imp);
+  }
+  return out;
+}
+
+// ---- sim face-follow ---------------------------------------------------------------------------
+
+struct FaceRun {
+  bool followed = false;
+  double found_at_s = -1;
+  int walking_ticks = 0, tracked_ticks = 0;  // followable walking ticks; of those, with the face tracked
+  int unfollowable_ticks = 0;                 // walking ticks with no standoff in front of the teacher
+  std::vector<double> distance_error, centre_error;                  // followable walking ticks (the metric)
+  std::vector<double> all_distance_error, all_centre_error;          // every walking tick
+  std::vector<double> tracked_distance_error, tracked_centre_error;  // followable walking ticks with the face tracked
+};
+
+FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, ExperimentFlight& f) {
+  FaceRun r;
+  MissionRequest req;
+  req.kind = RequestKind::FindTeacher;
+  f.request(req);
+  // Take-off, scale manoeuvre, then a search that may wait one round of the teacher's route per watch point.
+  r.followed = f.run_until([&] { return f.stack().status().stage == "3 face-follow"; }, 150.0);
+  if (!r.followed) return r;
+  r.found_at_s = f.now();
+  f.run(5.0);  // settle
+  f.start_teacher_walk();
+  const double end = f.now() + walk_s;
+  std::optional<Eigen::Vector3d> last_face;
+  const Geofence fence(setup.lab.room_min, setup.lab.room_max, setup.control.safety.geofence_margin_m);
+  while (f.now() < end) {
+    f.tick();
+    const std::optional<Eigen::Isometry3d> face = f.true_face();
+    if (!face) continue;
+    // Measured while the teacher walks (the head moves), not while they stand and turn at a waypoint.
+    const Eigen::Vector3d step = face->translation() - last_face.value_or(face->translation());
+    last_face = face->translation();
+    if (step.head<2>().norm() <= 0.1 * ExperimentFlight::kControlDt) continue;
+    const Eigen::Vector3d p = f.true_T_cam(*face).translation();
+    const double distance_error = p.z() - setup.control.mission.face_distance_m;
+    const double centre_error = p.z() > 0.1 ? centre_offset_fraction(p, setup.cameras.front) : 1.0;
+    r.all_distance_error.push_back(distance_error);
+    r.all_centre_error.push_back(centre_error);
+    // Followable: the place face_distance_m in front of the walking teacher is inside the geofence (a
+    // teacher walking at a wall cannot be watched from the front).
+    const Eigen::Vector3d ahead(step.x(), step.y(), 0.0);
+    if (!fence.contains(face->translation() + setup.control.mission.face_distance_m * ahead.normalized())) {
+      ++r.unfollowable_ticks;
+      continue;
+    }
+    ++r.walking_ticks;
+    const bool tracked = f.stack().status().face.state == TrackState::Tracking;
+    r.tracked_ticks += tracked;
+    r.distance_error.push_back(distance_error);
+    r.centre_error.push_back(centre_error);
+    if (tracked) {
+      r.tracked_distance_error.push_back(distance_error);
+      r.tracked_centre_error.push_back(centre_error);
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
+const CommandSpec& sim_inspect_command_spec() {
+  static const CommandSpec spec = [] {
+    CommandSpec s{"sim inspect", "", "lockstep inspect missions (paper 6.2): success rate over seeds", experiment_option_specs()};
+    s.options.push_back({"--hold", "S", "inspection hold time (default 5 s)"});
+    s.options.push_back({"--instrument", "ID", "the instrument to inspect (default: the lab's first)"});
+    for (auto& option : real_vision_option_specs()) s.options.push_back(option);
+    s.options.push_back(jobs_option_spec());
+    return s;
+  }();
+  return spec;
+}
+
+int run_sim_inspect_command(const ParsedArgs& args) {
+  const ExperimentOptions o = read_experiment_options(args);
+  const double hold = args.number_or("--hold", 5.0, 0.0, 600.0);
+  const Experiment experiment = make_experiment(o, false);
+  const FlightStackSetup& setup = experiment.setup;
+  const std::string id = args.value_or("--instrument", setup.lab.instruments.front().id);
+  const PlanarTarget* instrument = setup.lab.find_instrument(id);
+  if (!instrument) throw UsageError("--instrument " + id + ": no such instrument in the lab");
+  nlohmann::json runs = nlohmann::json::array();
+  int ok = 0;
+  std::vector<double> standoff, centre, landing;
+  const std::vector<InspectRun> results = run_seeded_flights<InspectRun>(o.runs, o.jobs, [&](int i) {
+    const auto f = make_flight(experiment, o.seed + static_cast<unsigned>(i));
+    const InspectRun r = run_inspect(setup, *instrument, hold, *f);
+    write_run_outputs(o, "inspect", i, *f);
+    return r;
+  });
+  for (int i = 0; i < o.runs; ++i) {
+    const unsigned seed = o.seed + static_cast<unsigned>(i);
+    const InspectRun& r = results[static_cast<std::size_t>(i)];
+    ok += r.success();
+    if (std::isfinite(r.standoff_error_m)) standoff.push_back(r.standoff_error_m);
+    if (std::isfinite(r.centre_offset)) centre.push_back(r.centre_offset);
+    if (std::isfinite(r.landing_error_m)) landing.push_back(r.landing_error_m);
+    runs.push_back({{"seed", seed}, {"success", r.success()}, {"mission_succeeded", r.mission_succeeded},
+                    {"standoff_error_m", std::isfinite(r.standoff_error_m) ? r.standoff_error_m : -1},
+                    {"centre_offset_fraction", std::isfinite(r.centre_offset) ? r.centre_offset : -1},
+                    {"landing_error_m", std::isfinite(r.landing_error_m) ? r.landing_error_m : -1},
+                    {"crashed", r.crashed}, {"duration_s", r.duration_s}, {"result", r.result}});
+  }
+  const double rate = double(ok) / o.runs;
+  nlohmann::json summary = {{"experiment", "sim inspect"}, {"note", note_of(o)}, {"instrument", id}, {"seed", o.seed}, {"runs", o.runs},
+                            {"success_rate", rate}, {"target_success_rate", 0.98},
+                            {"standoff_error_m_p95", percentile(standoff, 95)}, {"centre_offset_fraction_p95", percentile(centre, 95)},
+                            {"landing_error_m_p95", percentile(landing, 95)}, {"per_run", runs}};
+  std::vector<std::string> lines{
+      note_of(o), fmt("inspect: %.0f/%.0f runs succeeded (%.1f %%, target >= 98 %%)", ok, o.runs, 100 * rate),
+      fmt("standoff error p95 %.3f m (target <= 0.05); centre offset p95 %.3f of the width (target <= 0.05)",
+          percentile(standoff, 95), percentile(centre, 95)),
+      fmt("landing error p95 %.3f m (target <= 0.10)", percentile(landing, 95))};
+  // Why runs failed (the first ten).
+  int listed = 0;
+  for (const auto& run : runs) {
+    if (run["success"].get<bool>() || listed++ >= 10) continue;
+    lines.push_back("  seed " + std::to_string(run["seed"].get<unsigned>()) + " failed: " + run["result"].get<std::string>() +
+                    fmt(" (standoff error %.3f m, centre %.3f, landing error %.3f m)", run["standoff_error_m"].get<double>(),
+                        run["centre_offset_fraction"].get<double>(), run["landing_error_m"].get<double>()));
+  }
+  report(o, "inspect", summary, lines);
+  return 0;
+}
+
+const CommandSpec& sim_perturb_command_spec() {
+  static const CommandSpec spec = [] {
+    CommandSpec s{"sim perturb", "", "impulses on one axis while holding in front of the instrument (paper 6.1)",
+                  experiment_option_specs()};
+    s.options.push_back({"--axis", "x|y|z|yaw", "the perturbed axis (required)"});
+    s.options.push_back({"--impulses", "N", "impulses per run, alternating sign (default 4)"});
+    for (auto& option : real_vision_option_specs()) s.options.push_back(option);
+    s.options.push_back(jobs_option_spec());
+    return s;
+  }();
+  return spec;
+}
+
+int run_sim_perturb_command(const ParsedArgs& args) {
+  const ExperimentOptions o = read_experiment_options(args);
+  const auto axis_name = args.value("--axis");
+  if (!axis_name) throw UsageError("--axis x|y|z|yaw is required");
+  const int axis = axis_index(*axis_name);
+  const int impulses = args.integer_or("--impulses", 4, 1, 100);
+  const Experiment experiment = make_experiment(o, false);
+  const FlightStackSetup& setup = experiment.setup;
+  std::vector<double> recovery;
+  int recovered = 0, total = 0, not_reached = 0;
+  nlohmann::json runs = nlohmann::json::array();
+  struct PerturbRun {
+    bool reached = false;
+    std::vector<Impulse> impulses;
+  };
+  const std::vector<PerturbRun> results = run_seeded_flights<PerturbRun>(o.runs, o.jobs, [&](int i) {
+    const auto f = make_flight(experiment, o.seed + static_cast<unsigned>(i));
+    PerturbRun r;
+    r.impulses = run_perturb(axis, impulses, *f, setup.lab.instruments.front(), r.reached);
+    write_run_outputs(o, "perturb_" + *axis_name, i, *f);
+    return r;
+  });
+  for (int i = 0; i < o.runs; ++i) {
+    const unsigned seed = o.seed + static_cast<unsigned>(i);
+    const bool reached = results[static_cast<std::size_t>(i)].reached;
+    const std::vector<Impulse>& imps = results[static_cast<std::size_t>(i)].impulses;
+    not_reached += !reached;
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& imp : imps) {
+      ++total;
+      const bool ok = std::isfinite(imp.recovery_s) && imp.recovery_s <= 5.0;
+      recovered += ok;
+      recovery.push_back(std::isfinite(imp.recovery_s) ? imp.recovery_s : 99.0);
+      list.push_back({{"t", imp.t}, {"recovery_s", std::isfinite(imp.recovery_s) ? imp.recovery_s : -1}, {"peak_error", imp.peak_error}});
+    }
+    runs.push_back({{"seed", seed}, {"reached_hold", reached}, {"impulses", list}});
+  }
+  nlohmann::json summary = {{"experiment", "sim perturb"}, {"axis", *axis_name}, {"note", note_of(o)}, {"seed", o.seed},
+                            {"runs", o.runs}, {"impulses", total}, {"recovered_within_5s", recovered},
+                            {"runs_not_reaching_hold", not_reached},
+                            {"recovery_s_median", percentile(recovery, 50)}, {"recovery_s_p95", percentile(recovery, 95)},
+                            {"target", "within 0.1 m (and 5 deg) of the set point in <= 5 s"}, {"per_run", runs}};
+  report(o, "perturb_" + *axis_name, summary,
+         {note_of(o),
+          "perturb " + *axis_name + fmt(": %.0f/%.0f impulses recovered within 5 s", recovered, total),
+          fmt("recovery time median %.2f s, p95 %.2f s (target <= 5 s; 99 = never)", percentile(recovery, 50), percentile(recovery, 95)),
+          fmt("runs that never reached the hold: %.0f", not_reached)});
+  return 0;
+}
+
+const CommandSpec& sim_face_follow_command_spec() {
+  static const CommandSpec spec = [] {
+    CommandSpec s{"sim face-follow", "",
+                  "find the teacher and follow the face while they walk at 0.5 m/s (paper 6.4; the issue's target speed)",
+                  experiment_option_specs()};
+    s.options.push_back({"--walk", "S", "seconds of walking measured (default 30)"});
+    s.options.push_back({"--teacher-speed", "MPS",
+                         "with --route or --vision real: the teacher walks the lab's route at this speed, replacing the lab "
+                         "file's (default 0.5; the model lab's back-and-forth is always 0.5)"});
+    s.options.push_back({"--route", "",
+                         "with the model vision: fly in the config's lab file, the teacher walking its route (as with --vision real)"});
+    for (auto& option : real_vision_option_specs()) s.options.push_back(option);
+    s.options.push_back(jobs_option_spec());
+    return s;
+  }();
+  return spec;
+}
+
+int run_sim_face_follow_command(const ParsedArgs& args) {
+  ExperimentOptions o = read_experiment_options(args);
+  const double walk = args.number_or("--walk", 30.0, 1.0, 600.0);
+  o.model_route = args.flag("--route");
+  if (o.model_route && o.real_vision) throw UsageError("--route is for the model vision (--vision real always walks the route)");
+  if (args.flag("--teacher-speed") && !o.model_route && !o.real_vision)
+    throw UsageError("--teacher-speed is for --route or --vision real (the model lab's teacher walks at 0.5 m/s)");
+  if (o.model_route || o.real_vision) o.teacher_speed_mps = args.number_or("--teacher-speed", 0.5, 0.05, 2.0);
+  const Experiment experiment = make_experiment(o, true);
+  const FlightStackSetup& setup = experiment.setup;
+  std::vector<double> dist, centre, all_dist, all_centre, tracked_dist, tracked_centre;
+  int found = 0, walking = 0, tracked = 0, unfollowable = 0;
+  nlohmann::json runs = nlohmann::json::array();
+  const std::vector<FaceRun> results = run_seeded_flights<FaceRun>(o.runs, o.jobs, [&](int i) {
+    const auto f = make_flight(experiment, o.seed + static_cast<unsigned>(i));
+    FaceRun r = run_face_follow(setup, walk, *f);
+    write_run_outputs(o, "face_follow", i, *f);
+    return r;
+  });
+  for (int i = 0; i < o.runs; ++i) {
+    const unsigned seed = o.seed + static_cast<unsigned>(i);
+    const FaceRun& r = results[static_cast<std::size_t>(i)];
+    found += r.followed;
+    walking += r.walking_ticks;
+    tracked += r.tracked_ticks;
+    unfollowable += r.unfollowable_ticks;
+    all_dist.insert(all_dist.end(), r.all_distance_error.begin(), r.all_distance_error.end());
+    all_centre.insert(all_centre.end(), r.all_centre_error.begin(), r.all_centre_error.end());
+    dist.insert(dist.end(), r.distance_error.begin(), r.distance_error.end());
+    centre.insert(centre.end(), r.centre_error.begin(), r.centre_error.end());
+    tracked_dist.insert(tracked_dist.end(), r.tracked_distance_error.begin(), r.tracked_distance_error.end());
+    tracked_centre.insert(tracked_centre.end(), r.tracked_centre_error.begin(), r.tracked_centre_error.end());
+    runs.push_back({{"seed", seed}, {"followed", r.followed}, {"face_found_at_s", r.found_at_s},
+                    {"tracked_fraction_walking", r.walking_ticks > 0 ? double(r.tracked_ticks) / r.walking_ticks : 0.0},
+                    {"distance_error_rms_m", rms(r.distance_error)}, {"centre_error_rms", rms(r.centre_error)},
+                    {"unfollowable_walking_s", r.unfollowable_ticks * ExperimentFlight::kControlDt},
+                    {"tracked_distance_error_rms_m", rms(r.tracked_distance_error)},
+                    {"tracked_centre_error_rms", rms(r.tracked_centre_error)}});
+  }
+  nlohmann::json summary = {{"experiment", "sim face-follow"}, {"note", note_of(o)}, {"seed", o.seed}, {"runs", o.runs},
+                            {"runs_face_found", found}, {"walking_s", walking * ExperimentFlight::kControlDt},
+                            {"tracked_fraction_walking", walking > 0 ? double(tracked) / walking : 0.0},
+                            {"distance_error_rms_m", rms(dist)}, {"target_distance_error_rms_m", 0.10},
+                            {"centre_error_rms", rms(centre)}, {"centre_error_p95", percentile(centre, 95)},
+                            {"target_centre_error", 0.10},
+                            {"unfollowable_walking_s", unfollowable * ExperimentFlight::kControlDt},
+                            {"all_walking_distance_error_rms_m", rms(all_dist)}, {"all_walking_centre_error_rms", rms(all_centre)},
+                            {"tracked_distance_error_rms_m", rms(tracked_dist)}, {"tracked_centre_error_rms", rms(tracked_centre)},
+                            {"tracked_centre_error_p95", percentile(tracked_centre, 95)}, {"per_run", runs}};
+  report(o, "face_follow", summary,
+         {note_of(o), fmt("face found and followed in %.0f/%.0f runs", found, o.runs),
+          fmt("teacher walking %.1f s with the place in front of them inside the geofence (followable), %.1f s not; "
+              "face tracked %.1f %% of the followable time (errors below are over all of it)",
+              walking * ExperimentFlight::kControlDt, unfollowable * ExperimentFlight::kControlDt,
+              walking > 0 ? 100.0 * tracked / walking : 0.0),
+          fmt("distance error RMS %.3f m (target <= 0.10); face-centre error RMS %.3f, p95 %.3f of the width (target <= 0.10)",
+              rms(dist), rms(centre), percentile(centre, 95)),
+          fmt("over all walking ticks (followable or not): distance error RMS %.3f m, face-centre error RMS %.3f",
+              rms(all_dist), rms(all_centre)),
+          fmt("over the followable walking ticks with the face tracked only: distance error RMS %.3f m, face-centre error RMS %.3f, p95 %.3f",
+              rms(tracked_dist), rms(tracked_centre), percentile(tracked_centre, 95))});
+  return 0;
+}
+
+}  // namespace labo

@@ -1,0 +1,76 @@
+#include "bench/experiments/sim_lab_flight.hpp"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "control/lab_pipelines_factory.hpp"
+#include "drone/sim/sim_setup.hpp"
+
+namespace labo {
+
+// The link's events go straight to the flight stack (a frame's pixels are valid during on_video only;
+// the stack processes them there).
+struct SimLabFlight::Listener final : DroneLinkListener {
+  explicit Listener(FlightStack& s) : stack(s) {}
+  void on_navdata(const NavdataSample& sample) override { stack.on_navdata(sample); }
+  void on_video(const VideoFrame& frame) override { stack.on_video(frame); }
+  void on_link_state(LinkState state, Seconds t) override { stack.on_link_state(state, t); }
+  FlightStack& stack;
+};
+
+SimLabFlight::SimLabFlight(const FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
+                           std::optional<TexturedHeadModel> head)
+    : geometry_(setup.lab), link_settings_(sim.link) {
+  if (!setup.front_ends) throw std::invalid_argument("SimLabFlight: the setup has no vision front-ends");
+  lab_ = make_simulated_lab(lab, setup.cameras, sim.lab, std::move(head));
+  auto pipelines = make_lab_pipelines(setup, *setup.front_ends);
+  pipelines_ = pipelines.get();
+  stack_ = std::make_unique<FlightStack>(setup, std::move(pipelines));
+  listener_ = std::make_unique<Listener>(*stack_);
+  link_ = std::make_unique<SimDroneLink>(*lab_, sim.link);
+  link_->set_listener(listener_.get());
+  samples_.reserve(20000);
+}
+
+SimLabFlight::~SimLabFlight() = default;
+
+std::optional<Eigen::Isometry3d> SimLabFlight::true_face() const {
+  const SceneState scene = lab_->scene();
+  if (!scene.teacher_present) return std::nullopt;
+  return scene.T_world_head;
+}
+
+std::string SimLabFlight::description() const {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "sim lab, %.0f fps, %.0f Hz navdata, real vision", link_settings_.video_fps,
+                link_settings_.full_navdata ? link_settings_.full_rate_hz : link_settings_.demo_rate_hz);
+  return buf;
+}
+
+void SimLabFlight::apply(const FlightOutput& out) {
+  if (out.select_camera) link_->select_camera(*out.select_camera);
+  switch (out.action) {
+    case FlightOutput::Action::Move: link_->move(out.move); break;
+    case FlightOutput::Action::Hover: link_->hover(); break;
+    case FlightOutput::Action::Takeoff:
+      // The IMU's roll/pitch calibrated on the ground first (as on the real drone: FlightRuntime).
+      link_->flat_trim();
+      link_->takeoff();
+      break;
+    case FlightOutput::Action::Land: link_->land(); break;
+    case FlightOutput::Action::Emergency: link_->emergency(); break;
+    case FlightOutput::Action::None: break;
+  }
+}
+
+void SimLabFlight::tick() {
+  link_->advance_to(t_);
+  const Eigen::Isometry3d truth = true_pose();
+  stack_->set_ground_truth(truth, t_);
+  const FlightOutput out = stack_->tick(t_);
+  apply(out);
+  samples_.push_back(sample_of(stack_->status(), out, pipelines_->estimator(), truth, t_, true_face()));
+  t_ += kControlDt;
+}
+
+}  // namespace labo

@@ -1,0 +1,60 @@
+#pragma once
+// One lockstep flight in the simulated lab with FlightStack running the real vision front-ends on the
+// rendered frames (`labodrone sim ... --vision real`): SimulatedLab (drone/sim/: the firmware's
+// dynamics, the sensor model, the walking teacher, LabRenderer's cameras) behind SimDroneLink, the
+// lockstep DroneLink with the real link's timing (15 Hz demo navdata, 30 fps video, delays, jitter,
+// the driver's 30 ms AT loop, the camera switch delay; docs/sim.md). Each control period the link
+// advances to now, delivering navdata and frames to the stack; the stack ticks and its action goes to
+// the link, exactly as the server's runtime does with the real driver.
+#include <memory>
+#include <optional>
+
+#include "bench/experiments/experiment_flight.hpp"
+#include "control/lab_pipelines.hpp"
+#include "drone/lab/lab_description.hpp"
+#include "drone/sim/head_model.hpp"
+#include "drone/sim/sim_config.hpp"
+#include "drone/sim/sim_drone_link.hpp"
+#include "drone/sim/simulated_lab.hpp"
+
+namespace labo {
+
+class SimLabFlight final : public ExperimentFlight {
+ public:
+  // `setup.front_ends` must be set: this flight has no other perception than the rendered frames.
+  // `sim` is the lab's and the link's settings (their seeds included); `head` textures the teacher's face.
+  SimLabFlight(const FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
+               std::optional<TexturedHeadModel> head);
+  ~SimLabFlight() override;
+
+  void tick() override;
+  FlightStack& stack() override { return *stack_; }
+  Seconds now() const override { return t_; }
+  Eigen::Isometry3d true_pose() const override { return lab_->truth().T_world_body(); }
+  std::optional<Eigen::Isometry3d> true_face() const override;
+  void start_teacher_walk() override {}  // the lab's teacher walks the lab file's path all along
+  void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) override { lab_->dynamics().push(dv_world_mps, dyaw_rad); }
+  bool crashed() const override { return lab_->truth().crashes > 0; }
+  const LabGeometry& lab() const override { return geometry_; }
+  const std::vector<FlightSample>& samples() const override { return samples_; }
+  std::string description() const override;
+
+  SimulatedLab& simulated_lab() { return *lab_; }
+  const SimDroneLink& link() const { return *link_; }
+
+ private:
+  struct Listener;
+  void apply(const FlightOutput& out);
+
+  LabGeometry geometry_;
+  SimLinkSettings link_settings_;
+  std::unique_ptr<SimulatedLab> lab_;
+  std::unique_ptr<FlightStack> stack_;
+  const LabPipelines* pipelines_ = nullptr;  // owned by stack_
+  std::unique_ptr<Listener> listener_;
+  std::unique_ptr<SimDroneLink> link_;
+  Seconds t_ = 0;
+  std::vector<FlightSample> samples_;
+};
+
+}  // namespace labo

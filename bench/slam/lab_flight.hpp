@@ -1,0 +1,39 @@
+#pragma once
+// SLAM benchmark flights in the simulated lab (drone/sim's LabRenderer, config/lab.json): the images
+// the inspect mission's SLAM sees (the room's real textures, motion blur over the shutter, sensor
+// noise), on a scripted ground-truth path shaped like that mission's: take-off from the platform,
+// a vertical scale manoeuvre, a turn towards the instrument and an approach at up to ~1.4 m/s with
+// the body pitching to accelerate and brake, down to the 0.8 m standoff.
+#include <memory>
+#include <opencv2/core.hpp>
+
+#include "core/camera_config.hpp"
+#include "drone/lab/lab_description.hpp"
+#include "bench/slam/bench_flights.hpp"
+
+namespace labo {
+class LabRenderer;
+}
+
+namespace labo::slam {
+
+// The inspect mission's path towards `instrument`, front-camera poses at `fps`.
+Flight lab_inspect_flight(const LabDescription& lab, const InstrumentSpec& instrument, double fps = 30.0);
+
+// Renders a flight's front-camera frames in the simulated lab, 8-bit grey.
+class SimulatedLabFrames {
+ public:
+  SimulatedLabFrames(const LabDescription& lab, const CamerasConfig& cameras, bool noise);
+  ~SimulatedLabFrames();
+  SimulatedLabFrames(const SimulatedLabFrames&) = delete;
+  SimulatedLabFrames& operator=(const SimulatedLabFrames&) = delete;
+
+  // Frame i of the flight; the body's velocities for the motion blur come from the neighbouring frames.
+  cv::Mat render(const Flight& flight, std::size_t i);
+
+ private:
+  std::unique_ptr<LabRenderer> renderer_;
+  cv::Mat bgr_;
+};
+
+}  // namespace labo::slam

@@ -1,0 +1,184 @@
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bench/planar/sequence_bench.hpp"
+
+using namespace labo;
+
+namespace {
+
+// The refinement of the template samples in the undistorted, smoothed frame (the default before
+// 2026-12-03; still used when a motion blur is modelled).
+PlanarConfig sampled_model() {
+  PlanarConfig c;
+  c.se3_footprint_model = false;
+  return c;
+}
+
+// One bench sequence through the IC tracker with the default configuration.
+SequenceStats run_ic(const std::string& sequence) {
+  const SequenceBenchResult result =
+      run_sequence_bench(PlanarConfig{}, VisionThresholds{}, sequence, {TrackerKind::InverseCompositional});
+  REQUIRE(result.sequences.size() == 1);
+  return result.sequences.front();
+}
+
+}  // namespace
+
+// The simulated lab's oscilloscope approached from 3 m to 0.6 m, rendered by the lab's own renderer
+// (the `bench planar` sequence). At 2.3-2.4 m the panel (~97 px wide) is tracked on the 80 px
+// template level, coarser than the frame, and IC's full Gauss-Newton steps used to cycle across the
+// minimum until the iteration limit: 5 losses for no convergence, each restarting the pose filter.
+TEST_CASE("planar: the lab's oscilloscope is tracked from 3 m to 0.6 m without a loss") {
+  const SequenceStats s = run_ic("lab_renderer");
+  CHECK(s.losses == 0);
+  CHECK(s.detections == 1);
+  CHECK(s.frames_with_pose == s.frames_in_view);
+}
+
+// The motion-blur sequence (a panel swept sideways at 1.2 m, up to 9 px of blur): the pose refinement
+// searches the exposure (a fraction of the frame's motion). Starting at the previous frame's exposure,
+// from the best pose so far, it needs half the Gauss-Newton iterations of a search from "no blur"
+// upward from the IPPE pose every time (25.6 per tracked frame before, 12.4 after), for the same poses.
+TEST_CASE("planar: the motion-blur search starts at the last exposure: half the refinement work, same accuracy") {
+  const SequenceStats s = run_ic("motion_blur");
+  CHECK(s.losses == 0);
+  CHECK(s.gross_errors == 0);
+  CHECK(s.median_error_deg < 0.35);
+  CHECK(s.p95_error_deg < 0.7);
+  CHECK(s.mean_refinement_iterations > 0);
+  CHECK(s.mean_refinement_iterations < 18);
+}
+
+// The lab's oscilloscope (0.40 x 0.20 m, ~75-110 px wide) at 2-3 m: seen nearly face-on, the two IPPE
+// branches refine to two mirror minima of the photometric fit, 5-11 deg apart with residuals within a
+// few %, on either side of the truth; the lower residual picked one of them at random (2.6-3.1 m:
+// 2.91 deg median, 2-3 m 1.89 deg). The pose midway between them: 1.73 and 1.33 deg. A rule of the
+// sampled model (since 2026-12-03 the lab renders its panels area filtered: 2-3 m 0.93 deg median).
+TEST_CASE("planar: two refined IPPE branches the fit cannot tell apart give the pose midway between them") {
+  const SequenceBenchResult result = run_sequence_bench(sampled_model(), VisionThresholds{}, "lab_renderer",
+                                                        {TrackerKind::InverseCompositional});
+  std::vector<double> far;
+  for (const FrameRecord& f : result.frames) {
+    if (f.has_pose && f.range_m >= 2.6) far.push_back(f.rotation_error_deg.norm());
+  }
+  REQUIRE(far.size() >= 20);
+  std::nth_element(far.begin(), far.begin() + static_cast<std::ptrdiff_t>(far.size() / 2), far.end());
+  CHECK(far[far.size() / 2] < 2.2);
+  bool binned = false;
+  for (const RangeBinStats& bin : result.range_bins) {
+    if (bin.min_m != 2.0) continue;
+    binned = true;
+    CHECK(bin.median_error_deg < 1.6);
+    CHECK(bin.rotation_within_2sigma_percent >= 85);  // 86 % before and after
+  }
+  CHECK(binned);
+}
+
+// On other frames of that approach both IPPE branches refined into the same one of the two mirror
+// minima (3-4 deg off); the refined pose mirrored about the line of sight is refined as well and
+// the midway rule applies to it. Lab 2-3 m before: p95 3.69 deg, filtered median 1.58 deg; after
+// 3.17 and 1.09. A rule of the sampled model (the footprint model's cost has no split minimum).
+TEST_CASE("planar: the mirror of the refined pose finds the other minimum both IPPE branches missed") {
+  const SequenceBenchResult result = run_sequence_bench(sampled_model(), VisionThresholds{}, "lab_renderer",
+                                                        {TrackerKind::InverseCompositional});
+  bool binned = false;
+  for (const RangeBinStats& bin : result.range_bins) {
+    if (bin.min_m != 2.0) continue;
+    binned = true;
+    CHECK(bin.p95_error_deg < 3.4);
+    CHECK(bin.median_filtered_error_deg < 1.3);
+  }
+  CHECK(binned);
+}
+
+// The SE(3) refinement estimates the frame's blur relative to the template level (`se3_estimate_blur`,
+// the default): the lab's 2-3 m error 0.91 / 2.91 deg (median / p95; target <= 1 deg), against 1.28 /
+// 3.14 with the blur fixed at the level's. With `se3_template_resolution: frame` (the template resampled
+// to 1.3x the panel's apparent size) and the blur fixed it was 0.83 / 2.25; with the blur estimated the
+// frame option gives 1.11 / 2.49, so the pyramid level stays the default (docs/planar.md). The sampled
+// model's test (on the area-filtered lab since 2026-12-03: 0.93 / 2.03).
+TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree with the frame's blur estimated") {
+  PlanarConfig config = sampled_model();
+  REQUIRE(config.se3_estimate_blur);
+  REQUIRE_FALSE(config.se3_template_at_frame_resolution);
+  const SequenceBenchResult result =
+      run_sequence_bench(config, VisionThresholds{}, "lab_renderer", {TrackerKind::InverseCompositional});
+  bool binned = false;
+  for (const RangeBinStats& bin : result.range_bins) {
+    if (bin.min_m != 2.0) continue;
+    binned = true;
+    CHECK(bin.median_error_deg < 1.0);
+    CHECK(bin.p95_error_deg < 3.1);
+  }
+  CHECK(binned);
+}
+
+// The pixel's footprint modelled (`se3_pixel_model: footprint`, the default since 2026-12-03): each raw
+// frame pixel predicted as the template's mean over its footprint. On the lab's oscilloscope, rendered
+// as a camera integrates each pixel (area-filtered panels), 2-3 m: 0.13 / 0.47 deg (median / p95),
+// against 0.93 / 2.03 with the sampled model on the same frames; target <= 1 deg.
+TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree at the 95th percentile with the pixel's footprint modelled") {
+  const PlanarConfig config;
+  REQUIRE(config.se3_footprint_model);
+  for (const bool footprint : {true, false}) {
+    const SequenceBenchResult result = run_sequence_bench(footprint ? config : sampled_model(), VisionThresholds{},
+                                                          "lab_renderer", {TrackerKind::InverseCompositional});
+    REQUIRE(result.sequences.size() == 1);
+    CHECK(result.sequences.front().losses == 0);
+    bool binned = false;
+    for (const RangeBinStats& bin : result.range_bins) {
+      if (bin.min_m != 2.0) continue;
+      binned = true;
+      INFO((footprint ? "footprint" : "sampled") << ": 2-3 m " << bin.median_error_deg << " / " << bin.p95_error_deg << " deg");
+      if (footprint) {
+        CHECK(bin.median_error_deg < 0.3);
+        CHECK(bin.p95_error_deg < 1.0);
+        CHECK(bin.rotation_within_2sigma_percent >= 90);
+      } else {
+        CHECK(bin.p95_error_deg > 1.5);  // what the footprint model fixes
+      }
+    }
+    CHECK(binned);
+  }
+}
+
+TEST_CASE("planar: the H.264 approach runs over several noise seeds, each reported and pooled apart from the other sequences") {
+  const SequenceBenchResult result = run_sequence_bench(PlanarConfig{}, VisionThresholds{}, "h264",
+                                                        {TrackerKind::InverseCompositional}, kDefaultH264Kbps, 2);
+  REQUIRE(result.sequences.size() == 2);
+  CHECK(result.h264_seeds == 2);
+  CHECK(result.sequences[0].sequence == h264_sequence_name(0));
+  CHECK(result.sequences[1].sequence == "h264_approach_2.5m_to_0.7m_seed1");
+  // The same path with another noise: the poses differ.
+  std::vector<double> errors[2];
+  for (const FrameRecord& f : result.frames) errors[f.sequence == h264_sequence_name(0) ? 0 : 1].push_back(f.rotation_error_deg.norm());
+  REQUIRE(errors[0].size() == 150);
+  REQUIRE(errors[1].size() == 150);
+  CHECK(errors[0] != errors[1]);
+  // The panel-frame error is the camera-frame one turned into the panel's axes: the same length; the
+  // approach looks at the panel nearly face-on, so nearly the same vector, but not exactly.
+  int turned = 0;
+  for (const FrameRecord& f : result.frames) {
+    REQUIRE(f.has_pose);
+    CHECK(f.panel_rotation_error_deg.norm() == Approx(f.rotation_error_deg.norm()).margin(1e-12));
+    CHECK(f.panel_rotation_error_deg.dot(f.rotation_error_deg) >= 0.9 * f.rotation_error_deg.squaredNorm());
+    turned += (f.panel_rotation_error_deg - f.rotation_error_deg).norm() > 1e-6 ? 1 : 0;
+  }
+  CHECK(turned > 0);
+  REQUIRE(result.range_bins.size() == 3);
+  REQUIRE(result.h264_seed_bins.size() == 3);
+  for (std::size_t b = 0; b < 3; ++b) {
+    const int seed0 = result.sequences[0].range_bins.at(b).poses, seed1 = result.sequences[1].range_bins.at(b).poses;
+    CHECK(result.range_bins[b].poses == seed0);  // the all-sequence bins keep seed 0 only
+    CHECK(result.h264_seed_bins[b].poses == seed0 + seed1);
+  }
+  CHECK(result.h264_seed_bins[2].poses > 0);  // 2-3.1 m
+  CHECK_THROWS_AS(run_sequence_bench(PlanarConfig{}, VisionThresholds{}, "h264", {TrackerKind::InverseCompositional},
+                                     kDefaultH264Kbps, 0),
+                  std::invalid_argument);
+}
