@@ -58,12 +58,12 @@ MissionParameters read_mission(const ConfigReader& node, MissionParameters m) {
   m.face_search_yaw_rate = node.number_or("face_search_yaw_rate", m.face_search_yaw_rate, Range::closed(0.05, 2.0));
   m.face_as_feedback = node.boolean_or("face_as_feedback", m.face_as_feedback);
   m.face_search_timeout_s = node.number_or("face_search_timeout_s", m.face_search_timeout_s, Range::positive());
-  m.far_to_near_m = node.number_or("far_to_near_m", m.far_to_near_m, Range::positive());
-  m.near_to_far_m = node.number_or("near_to_far_m", m.near_to_far_m, Range::positive());
-  m.source_hold_s = node.number_or("source_hold_s", m.source_hold_s, Range::non_negative());
+  m.source_switch.far_to_near_m = node.number_or("far_to_near_m", m.source_switch.far_to_near_m, Range::positive());
+  m.source_switch.near_to_far_m = node.number_or("near_to_far_m", m.source_switch.near_to_far_m, Range::positive());
+  m.source_switch.source_hold_s = node.number_or("source_hold_s", m.source_switch.source_hold_s, Range::non_negative());
   node.finish();
   if (m.standoff_m < m.min_standoff_m) node.fail("standoff_m", "must be >= min_standoff_m");
-  if (m.near_to_far_m <= m.far_to_near_m) node.fail("near_to_far_m", "must be > far_to_near_m (hysteresis)");
+  if (m.source_switch.near_to_far_m <= m.source_switch.far_to_near_m) node.fail("near_to_far_m", "must be > far_to_near_m (hysteresis)");
   if (m.default_hold_s > m.max_hold_s) node.fail("default_hold_s", "must be <= max_hold_s");
   return m;
 }

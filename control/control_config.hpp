@@ -4,6 +4,7 @@
 // Defaults follow tum_ardrone's controller (notes/tum_ardrone.md §4-5) and were then tuned on the
 // simulated lab (docs/control.md says how).
 #include "core/config_reader.hpp"
+#include "localization/fusion/localization_switch.hpp"
 
 namespace labo {
 
@@ -62,9 +63,7 @@ struct MissionParameters {
   // Off: SLAM drives the pose and the face is the target; the face drives it only when SLAM is lost.
   bool face_as_feedback = false;
   double face_search_timeout_s = 120.0;  // a watch at the teacher's route lasts one round of it (~35 s)
-  double far_to_near_m = 1.6;          // localization switch: homography below this distance ...
-  double near_to_far_m = 2.0;          // ... SLAM again above this one (hysteresis)
-  double source_hold_s = 0.5;          // a source must stay good this long before it is used
+  SourceSwitchParameters source_switch;  // the localization switch's hysteresis
 };
 
 struct SafetyLimits {

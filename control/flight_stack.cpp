@@ -3,12 +3,12 @@
 #include <stdexcept>
 
 #include "control/autopilot.hpp"
-#include "control/lab_pipelines.hpp"
-#include "control/lab_pipelines_factory.hpp"
+#include "localization/fusion/lab_pipelines.hpp"
+#include "localization/fusion/lab_pipelines_factory.hpp"
 #include "control/level_hold.hpp"
 #include "control/find_teacher_mission.hpp"
 #include "control/inspect_mission.hpp"
-#include "control/localization_switch.hpp"
+#include "localization/fusion/localization_switch.hpp"
 #include "control/request_policy.hpp"
 #include "control/safety_monitor.hpp"
 #include "core/frames.hpp"
@@ -20,7 +20,7 @@ struct FlightStack::Impl {
       : setup(std::move(s)),
         pipelines(std::move(p)),
         autopilot(setup.control, Geofence(setup.lab.room_min, setup.lab.room_max, setup.control.safety.geofence_margin_m)),
-        source_switch(setup.control.mission),
+        source_switch(setup.control.mission.source_switch),
         safety(setup.control.safety) {
     if (!pipelines) throw std::invalid_argument("FlightStack: no localization pipelines");
     // On the platform at the base; the time is the first navdata's (a server's clock has run for
@@ -271,7 +271,7 @@ struct FlightStack::Impl {
 
 namespace {
 std::unique_ptr<LabPipelines> pipelines_for(const FlightStackSetup& setup) {
-  if (setup.front_ends) return make_lab_pipelines(setup, *setup.front_ends);
+  if (setup.front_ends) return make_lab_pipelines(setup.lab, setup.cameras, setup.vision, setup.estimation, *setup.front_ends);
   return std::make_unique<LabPipelines>(setup.lab, setup.estimation, setup.vision);
 }
 }  // namespace

@@ -17,10 +17,10 @@
 #include <optional>
 
 #include "control/control_config.hpp"
-#include "control/front_end_settings.hpp"
+#include "localization/fusion/front_end_settings.hpp"
 #include "control/flight_types.hpp"
-#include "control/lab_geometry.hpp"
-#include "control/localization_pipelines.hpp"
+#include "localization/fusion/lab_geometry.hpp"
+#include "localization/fusion/localization_pipelines.hpp"
 #include "core/camera_config.hpp"
 #include "localization/estimation/estimation_config.hpp"
 #include "localization/vision_thresholds.hpp"
@@ -30,7 +30,7 @@ namespace labo {
 struct FlightStackSetup {
   ControlConfig control;
   LabGeometry lab;
-  CamerasConfig cameras{PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()};
+  CamerasConfig cameras = ardrone2_cameras();
   VisionThresholds vision;
   EstimatorConfig estimation;
   // Set: LabPipelines runs the real vision front-ends on the frames (make_lab_pipelines()). Unset:

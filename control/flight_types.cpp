@@ -1,6 +1,6 @@
 #include "control/flight_types.hpp"
 
-#include "control/lab_geometry.hpp"
+#include "localization/fusion/lab_geometry.hpp"
 
 namespace labo {
 

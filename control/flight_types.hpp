@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "control/localization_pipelines.hpp"
+#include "localization/fusion/localization_pipelines.hpp"
 #include "core/time.hpp"
 #include "drone/drone_link.hpp"
 

@@ -202,7 +202,7 @@ void InspectMission::step_inspect(MissionContext& ctx) {
     case Step::Leave:
       // Back away on the homography until the panel no longer fills the view, so SLAM can take over.
       if (fresh_) {
-        const double away = ctx.config.mission.near_to_far_m + 0.2;
+        const double away = ctx.config.mission.source_switch.near_to_far_m + 0.2;
         ctx.autopilot.go_to(standoff_target(T_world_instrument_, away, ctx.centre_ray_front), ctx.t);
         fresh_ = false;
       }

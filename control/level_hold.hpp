@@ -8,7 +8,7 @@
 //  - level_hold_command: brake horizontally, hold the altitude and yaw given;
 //  - climb_command: brake horizontally, climb (too close to the surface below), yaw held still.
 #include "control/control_config.hpp"
-#include "control/localization_pipelines.hpp"
+#include "localization/fusion/localization_pipelines.hpp"
 #include "drone/drone_link.hpp"
 
 namespace labo {

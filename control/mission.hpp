@@ -7,8 +7,8 @@
 
 #include "control/autopilot.hpp"
 #include "control/control_config.hpp"
-#include "control/lab_geometry.hpp"
-#include "control/localization_pipelines.hpp"
+#include "localization/fusion/lab_geometry.hpp"
+#include "localization/fusion/localization_pipelines.hpp"
 
 namespace labo {
 

@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 
 #include "control/control_config.hpp"
-#include "control/localization_pipelines.hpp"
+#include "localization/fusion/localization_pipelines.hpp"
 #include "drone/drone_link.hpp"
 
 namespace labo {

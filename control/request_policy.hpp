@@ -6,7 +6,7 @@
 #include "control/control_config.hpp"
 #include "control/flight_types.hpp"
 #include "control/geofence.hpp"
-#include "control/lab_geometry.hpp"
+#include "localization/fusion/lab_geometry.hpp"
 
 namespace labo {
 

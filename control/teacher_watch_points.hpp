@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "control/geofence.hpp"
-#include "control/lab_geometry.hpp"
+#include "localization/fusion/lab_geometry.hpp"
 
 namespace labo {
 

@@ -30,4 +30,12 @@ CamerasConfig read_cameras_config(const ConfigReader& node) {
   return c;
 }
 
+CamerasConfig ardrone2_cameras() {
+  return {PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()};
+}
+
+CamerasConfig read_cameras_config_or_stock(const ConfigReader& root) {
+  return root.has("cameras") ? read_cameras_config(root.object("cameras")) : ardrone2_cameras();
+}
+
 }  // namespace labo

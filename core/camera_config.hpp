@@ -15,4 +15,10 @@ struct CamerasConfig {
 // Reads {"front": {...}, "bottom": {...}}.
 CamerasConfig read_cameras_config(const ConfigReader& node);
 
+// The AR.Drone 2.0's stock calibration of both cameras (PinholeCamera::ardrone2_front/bottom).
+CamerasConfig ardrone2_cameras();
+
+// The "cameras" section of a configuration's root, or the AR.Drone 2.0's stock calibration without it.
+CamerasConfig read_cameras_config_or_stock(const ConfigReader& root);
+
 }  // namespace labo

@@ -18,9 +18,7 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
   AppConfig c;
   const std::string level = root.choice_or("log_level", "info", {"debug", "info", "warn", "error", "off"});
   c.log_level = parse_log_level(level);
-  c.cameras = root.has("cameras") ? read_cameras_config(root.object("cameras"))
-                                   : CamerasConfig{PinholeCamera::ardrone2_front().intrinsics(),
-                                                   PinholeCamera::ardrone2_bottom().intrinsics()};
+  c.cameras = read_cameras_config_or_stock(root);
   c.control = root.has("control") ? read_control_config(root.object("control")) : ControlConfig{};
   c.vision = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
   c.estimation = root.has("estimation") ? read_estimation_config(root.object("estimation")) : EstimatorConfig{};

@@ -4,9 +4,9 @@
 #include <stdexcept>
 
 #include "bench/experiments/experiment_common.hpp"
-#include "control/lab_pipelines.hpp"
-#include "control/planar_front_end.hpp"
-#include "control/slam_front_end.hpp"
+#include "localization/fusion/lab_pipelines.hpp"
+#include "localization/fusion/planar_front_end.hpp"
+#include "localization/fusion/slam_front_end.hpp"
 
 namespace labo {
 

@@ -10,11 +10,11 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "control/face_front_end.hpp"
-#include "control/front_end_settings.hpp"
-#include "control/lab_geometry.hpp"
-#include "control/planar_front_end.hpp"
-#include "control/slam_front_end.hpp"
+#include "localization/fusion/face_front_end.hpp"
+#include "localization/fusion/front_end_settings.hpp"
+#include "localization/fusion/lab_geometry.hpp"
+#include "localization/fusion/planar_front_end.hpp"
+#include "localization/fusion/slam_front_end.hpp"
 #include "core/candide3.hpp"
 #include "core/config_reader.hpp"
 #include "core/source_tree.hpp"

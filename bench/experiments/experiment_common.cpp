@@ -9,7 +9,7 @@
 #include "bench/experiments/lockstep_flight.hpp"
 #include "bench/experiments/model_lab.hpp"
 #include "bench/experiments/sim_lab_flight.hpp"
-#include "control/front_end_settings.hpp"
+#include "localization/fusion/front_end_settings.hpp"
 #include "core/camera_config.hpp"
 #include "core/config_reader.hpp"
 #include "localization/face/teacher_head.hpp"

@@ -2,7 +2,7 @@
 // The lab the lockstep experiments and control tests fly in until the sim's LabDescription
 // (config/lab.json) is wired in: a 6 m x 6 m x 2.6 m room, the base and platform at the origin, an
 // oscilloscope panel 3.5 m ahead facing the base at 1.0 m height.
-#include "control/lab_geometry.hpp"
+#include "localization/fusion/lab_geometry.hpp"
 
 namespace labo {
 

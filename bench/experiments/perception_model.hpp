@@ -9,7 +9,7 @@
 #include <random>
 
 #include "bench/experiments/quadrotor_model.hpp"
-#include "control/lab_pipelines.hpp"
+#include "localization/fusion/lab_pipelines.hpp"
 
 namespace labo {
 

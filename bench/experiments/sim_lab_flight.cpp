@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "control/lab_pipelines_factory.hpp"
+#include "localization/fusion/lab_pipelines_factory.hpp"
 #include "drone/sim/sim_setup.hpp"
 
 namespace labo {
@@ -23,7 +23,7 @@ SimLabFlight::SimLabFlight(const FlightStackSetup& setup, const LabDescription& 
     : geometry_(setup.lab), link_settings_(sim.link) {
   if (!setup.front_ends) throw std::invalid_argument("SimLabFlight: the setup has no vision front-ends");
   lab_ = make_simulated_lab(lab, setup.cameras, sim.lab, std::move(head));
-  auto pipelines = make_lab_pipelines(setup, *setup.front_ends);
+  auto pipelines = make_lab_pipelines(setup.lab, setup.cameras, setup.vision, setup.estimation, *setup.front_ends);
   pipelines_ = pipelines.get();
   stack_ = std::make_unique<FlightStack>(setup, std::move(pipelines));
   listener_ = std::make_unique<Listener>(*stack_);

@@ -10,7 +10,7 @@
 #include <optional>
 
 #include "bench/experiments/experiment_flight.hpp"
-#include "control/lab_pipelines.hpp"
+#include "localization/fusion/lab_pipelines.hpp"
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/head_model.hpp"
 #include "drone/sim/sim_config.hpp"

@@ -117,7 +117,7 @@ Sequence render_lab_approach(const std::string& name, double min_visible) {
   const LabDescription lab = load_lab_description(default_lab_path());
   const InstrumentSpec* scope = lab.find_instrument("oscilloscope");
   if (scope == nullptr) throw std::runtime_error(lab.source.string() + ": no instrument 'oscilloscope'");
-  const CamerasConfig cameras{PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()};
+  const CamerasConfig cameras = ardrone2_cameras();
   LabRenderer renderer(lab, cameras, std::nullopt, 7);
   Sequence s;
   s.name = name;

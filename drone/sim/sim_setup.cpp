@@ -20,9 +20,7 @@ SimInputs load_sim_inputs(const std::filesystem::path& config_file, const std::o
   const ConfigDocument doc = ConfigDocument::load(config_file);
   const ConfigReader root = doc.root();
   SimInputs in;
-  in.cameras = root.has("cameras") ? read_cameras_config(root.object("cameras"))
-                                   : CamerasConfig{PinholeCamera::ardrone2_front().intrinsics(),
-                                                   PinholeCamera::ardrone2_bottom().intrinsics()};
+  in.cameras = read_cameras_config_or_stock(root);
   in.emulator = root.has("emulator") ? read_ardrone_emulator_settings(root.object("emulator")) : ArdroneEmulatorSettings{};
   in.sim = read_sim_config_of(root);
   in.lab = load_lab_description(lab_file ? *lab_file

@@ -23,9 +23,7 @@ FaceSetup load_face_setup(const ParsedArgs& args) {
       args.value_or("--config", (labo::source_root() / "config" / "default.json").string());
   const ConfigDocument doc = ConfigDocument::load(file);
   const ConfigReader root = doc.root();
-  const CamerasConfig cameras =
-      root.has("cameras") ? read_cameras_config(root.object("cameras"))
-                          : CamerasConfig{PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()};
+  const CamerasConfig cameras = read_cameras_config_or_stock(root);
   face::FaceConfig face = root.has("face") ? face::read_face_config(root.object("face"), file.parent_path())
                                            : face::default_face_config();
   return {face, PinholeCamera(cameras.front), cameras};

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "control/lab_pipelines.hpp"
+#include "localization/fusion/lab_pipelines.hpp"
 #include "control/teacher_watch_points.hpp"
 #include "model_flight.hpp"
 #include "teacher_routes.hpp"

@@ -5,7 +5,7 @@
 
 #include "control/face_standoff.hpp"
 #include "control/teacher_watch_points.hpp"
-#include "control/lab_pipelines.hpp"
+#include "localization/fusion/lab_pipelines.hpp"
 #include "drone/sim/teacher_motion.hpp"
 #include "model_flight.hpp"
 #include "teacher_routes.hpp"

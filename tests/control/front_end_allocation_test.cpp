@@ -14,8 +14,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "control/face_front_end.hpp"
-#include "control/lab_pipelines_factory.hpp"
+#include "localization/fusion/face_front_end.hpp"
+#include "localization/fusion/lab_pipelines_factory.hpp"
 #include "core/candide3.hpp"
 #include "core/source_tree.hpp"
 #include "drone/ardrone2/link_receiver.hpp"
@@ -23,7 +23,7 @@
 #include "drone/ardrone2/wire_signs.hpp"
 #include "localization/estimation/state_estimator.hpp"
 #include "localization/face/textured_head_renderer.hpp"
-#include "control/planar_front_end.hpp"
+#include "localization/fusion/planar_front_end.hpp"
 #include "core/config_reader.hpp"
 #include "core/frames.hpp"
 #include "drone/lab/lab_description.hpp"
@@ -181,11 +181,9 @@ TEST_CASE("vision front-ends: tracking a panel allocates nothing") {
                              PlanarObjectThresholds::from(VisionThresholds{}, osc.sift_switch_distance_m, osc.sift_min_inliers),
                              PlanarConfig{});
   PlanarFrontEnd front_end(osc, camera, VisionThresholds{}, PlanarConfig{});
-  FlightStackSetup setup;
-  setup.lab = lab;
   FrontEndSettings settings;
   settings.with_face = false;
-  const auto pipelines = make_lab_pipelines(setup, settings);
+  const auto pipelines = make_lab_pipelines(lab, ardrone2_cameras(), VisionThresholds{}, EstimatorConfig{}, settings);
   pipelines->reset(make_pose(body, 0.0), 0.0);
   PerceptionFocus focus;
   focus.slam = false;

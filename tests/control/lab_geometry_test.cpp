@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include "control/flight_stack.hpp"
-#include "control/lab_geometry.hpp"
+#include "localization/fusion/lab_geometry.hpp"
 #include "drone/lab/lab_description.hpp"
 #include "teacher_routes.hpp"
 

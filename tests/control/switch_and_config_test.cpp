@@ -2,14 +2,14 @@
 
 #include "control/control_config.hpp"
 #include "control/geofence.hpp"
-#include "control/localization_switch.hpp"
+#include "localization/fusion/localization_switch.hpp"
 #include "control/safety_monitor.hpp"
 #include "core/config_reader.hpp"
 
 using namespace labo;
 
 TEST_CASE("control: localization switch uses homography near, SLAM far, with hysteresis") {
-  MissionParameters p;  // far_to_near 1.6 m, near_to_far 2.0 m, hold 0.5 s
+  SourceSwitchParameters p;  // far_to_near 1.6 m, near_to_far 2.0 m, hold 0.5 s
   LocalizationSwitch sw(p);
   SwitchInputs in;
   in.slam = SlamState::Good;
@@ -49,7 +49,7 @@ TEST_CASE("control: localization switch uses homography near, SLAM far, with hys
 }
 
 TEST_CASE("control: SLAM without a metric scale is no source: a far target is taken instead") {
-  MissionParameters p;
+  SourceSwitchParameters p;
   LocalizationSwitch sw(p);
   SwitchInputs in;
   in.slam = SlamState::Good;
@@ -70,7 +70,7 @@ TEST_CASE("control: SLAM without a metric scale is no source: a far target is ta
 }
 
 TEST_CASE("control: a dodgy SLAM (not fused) is no source: a tracked target is taken instead") {
-  MissionParameters p;
+  SourceSwitchParameters p;
   LocalizationSwitch sw(p);
   SwitchInputs in;
   in.slam = SlamState::Good;

@@ -1,6 +1,6 @@
 #pragma once
 // Teacher routes and the simulated teacher walking them, shared by the find-teacher tests.
-#include "control/lab_geometry.hpp"
+#include "localization/fusion/lab_geometry.hpp"
 #include "drone/sim/teacher_motion.hpp"
 #include "drone/lab/lab_description.hpp"
 

@@ -14,7 +14,7 @@
 namespace labo::test {
 
 inline CamerasConfig ardrone_cameras() {
-  return {PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()};
+  return ardrone2_cameras();
 }
 
 inline LabRenderOptions sharp_options() {

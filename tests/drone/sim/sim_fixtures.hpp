@@ -15,7 +15,7 @@ inline const LabDescription& shipped_lab() {
 }
 
 inline CamerasConfig stock_cameras() {
-  return {PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()};
+  return ardrone2_cameras();
 }
 
 class GreyRenderer final : public SceneRenderer {

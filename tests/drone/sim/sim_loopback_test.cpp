@@ -64,7 +64,7 @@ struct Recorder : DroneLinkListener {
 
 TEST_CASE("sim loopback: ArdroneLink takes off, flies, streams and lands the simulated lab through the emulator", "[sim][loopback]") {
   const LabDescription lab = load_lab_description(default_lab_path());
-  auto sim = make_simulated_lab(lab, {PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()},
+  auto sim = make_simulated_lab(lab, ardrone2_cameras(),
                                 SimulatedLabSettings{});
   LockedVehicle vehicle(*sim);
   ArdroneEmulatorSettings es;

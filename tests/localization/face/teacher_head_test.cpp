@@ -43,7 +43,7 @@ TEST_CASE("teacher head: the rendered teacher's face is found by dlib and its po
   LabRenderOptions sharp;
   sharp.motion_blur = false;
   sharp.noise = false;
-  const CamerasConfig cameras{PinholeCamera::ardrone2_front().intrinsics(), PinholeCamera::ardrone2_bottom().intrinsics()};
+  const CamerasConfig cameras = ardrone2_cameras();
   LabRenderer renderer(lab, cameras, head, 1, sharp);
   FacePoseEstimator estimator(default_face_config(), renderer.camera(CameraId::Front));
 

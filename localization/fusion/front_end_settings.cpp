@@ -1,4 +1,4 @@
-#include "control/front_end_settings.hpp"
+#include "localization/fusion/front_end_settings.hpp"
 
 #include "localization/slam/slam_config.hpp"
 

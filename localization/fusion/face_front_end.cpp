@@ -1,8 +1,8 @@
-#include "control/face_front_end.hpp"
+#include "localization/fusion/face_front_end.hpp"
 
 #include <stdexcept>
 
-#include "control/lab_pipelines.hpp"
+#include "localization/fusion/lab_pipelines.hpp"
 
 namespace labo {
 

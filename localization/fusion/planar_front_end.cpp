@@ -1,4 +1,4 @@
-#include "control/planar_front_end.hpp"
+#include "localization/fusion/planar_front_end.hpp"
 
 #include <stdexcept>
 

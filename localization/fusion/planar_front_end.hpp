@@ -9,8 +9,8 @@
 #include <filesystem>
 #include <optional>
 
-#include "control/lab_geometry.hpp"
-#include "control/vision_front_end.hpp"
+#include "localization/fusion/lab_geometry.hpp"
+#include "localization/fusion/vision_front_end.hpp"
 #include "core/camera_model.hpp"
 #include "localization/planar/planar_localizer.hpp"
 

@@ -1,4 +1,4 @@
-#include "control/slam_front_end.hpp"
+#include "localization/fusion/slam_front_end.hpp"
 
 #include <stdexcept>
 

@@ -6,7 +6,7 @@
 #include <memory>
 #include <optional>
 
-#include "control/vision_front_end.hpp"
+#include "localization/fusion/vision_front_end.hpp"
 #include "localization/face/face_pose_estimator.hpp"
 
 namespace labo {

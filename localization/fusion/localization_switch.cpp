@@ -1,4 +1,4 @@
-#include "control/localization_switch.hpp"
+#include "localization/fusion/localization_switch.hpp"
 
 namespace labo {
 

@@ -1,4 +1,4 @@
-#include "control/lab_geometry.hpp"
+#include "localization/fusion/lab_geometry.hpp"
 
 #include "core/frames.hpp"
 #include "drone/lab/lab_description.hpp"

@@ -5,13 +5,15 @@
 // vision (the server, `labodrone sim ... --vision real`).
 #include <memory>
 
-#include "control/flight_stack.hpp"
-#include "control/lab_pipelines.hpp"
+#include "core/camera_config.hpp"
+#include "localization/fusion/front_end_settings.hpp"
+#include "localization/fusion/lab_pipelines.hpp"
 
 namespace labo {
 
 // Throws std::invalid_argument (a template that cannot be used, naming the target) or
 // std::runtime_error (a face model file that cannot be read, naming it).
-std::unique_ptr<LabPipelines> make_lab_pipelines(const FlightStackSetup& setup, const FrontEndSettings& settings);
+std::unique_ptr<LabPipelines> make_lab_pipelines(const LabGeometry& lab, const CamerasConfig& cameras, const VisionThresholds& vision,
+                                                 const EstimatorConfig& estimation, const FrontEndSettings& settings);
 
 }  // namespace labo

@@ -1,4 +1,4 @@
-#include "control/attitude_history.hpp"
+#include "localization/fusion/attitude_history.hpp"
 
 #include <cmath>
 

@@ -7,17 +7,17 @@
 // front-ends (control/vision_front_end.hpp) run by on_video() on each frame, as the current focus
 // selects - SLAM on front frames, the focused instrument's panel in the front camera, the platform in
 // the bottom camera, the face in face-follow - or from a perception model in the lockstep experiments.
-// make_lab_pipelines() (control/lab_pipelines_factory.hpp) attaches the real front-ends.
+// make_lab_pipelines() (lab_pipelines_factory.hpp) attaches the real front-ends.
 // Convention: every TargetObservation's T_cam_target has z pointing into the target (away from a viewer
 // in front of it), for panels and faces alike; faces are converted at this edge.
 #include <memory>
 #include <optional>
 #include <vector>
 
-#include "control/attitude_history.hpp"
-#include "control/lab_geometry.hpp"
-#include "control/localization_pipelines.hpp"
-#include "control/vision_front_end.hpp"
+#include "localization/fusion/attitude_history.hpp"
+#include "localization/fusion/lab_geometry.hpp"
+#include "localization/fusion/localization_pipelines.hpp"
+#include "localization/fusion/vision_front_end.hpp"
 #include "localization/estimation/state_estimator.hpp"
 
 namespace labo {

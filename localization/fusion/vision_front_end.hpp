@@ -10,7 +10,7 @@
 #include <opencv2/core.hpp>
 #include <optional>
 
-#include "control/localization_pipelines.hpp"
+#include "localization/fusion/localization_pipelines.hpp"
 #include "core/time.hpp"
 
 namespace labo {

@@ -4,10 +4,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "control/face_front_end.hpp"
-#include "control/lab_pipelines_factory.hpp"
-#include "control/planar_front_end.hpp"
-#include "control/slam_front_end.hpp"
+#include "localization/fusion/face_front_end.hpp"
+#include "localization/fusion/lab_pipelines_factory.hpp"
+#include "localization/fusion/planar_front_end.hpp"
+#include "localization/fusion/slam_front_end.hpp"
 #include "core/candide3.hpp"
 #include "core/frames.hpp"
 #include "core/source_tree.hpp"
@@ -183,12 +183,10 @@ TEST_CASE("vision front-ends: a target without a template is refused by name") {
 }
 
 TEST_CASE("vision front-ends: LabPipelines runs the focused instrument on front frames and the platform on bottom frames") {
-  FlightStackSetup setup;
-  setup.lab = lab();
   FrontEndSettings settings;
   settings.with_face = false;
   settings.slam.mapping_mode = slam::MappingMode::Synchronous;
-  const auto pipelines = make_lab_pipelines(setup, settings);
+  const auto pipelines = make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, EstimatorConfig{}, settings);
   const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   // Hovering 1.3 m in front of the oscilloscope (the camera sits 0.2 m ahead of the body centre).
   const Eigen::Vector3d body = osc.T_world_object.translation() - Eigen::Vector3d(1.5, 0.05, 0.0);

@@ -9,10 +9,16 @@
 // (what LabPipelines fuses); a Dodgy SLAM does not correct the filter, so it is no source.
 #include <optional>
 
-#include "control/control_config.hpp"
-#include "control/localization_pipelines.hpp"
+#include "localization/fusion/localization_pipelines.hpp"
 
 namespace labo {
+
+// The switch's hysteresis (config "control.mission": far_to_near_m, near_to_far_m, source_hold_s).
+struct SourceSwitchParameters {
+  double far_to_near_m = 1.6;  // homography below this distance ...
+  double near_to_far_m = 2.0;  // ... SLAM again above this one
+  double source_hold_s = 0.5;  // a source must stay good (or lost) this long before it is taken (dropped)
+};
 
 struct SwitchInputs {
   Seconds t = 0;
@@ -28,7 +34,7 @@ struct SwitchInputs {
 
 class LocalizationSwitch {
  public:
-  explicit LocalizationSwitch(const MissionParameters& params) : params_(params) {}
+  explicit LocalizationSwitch(const SourceSwitchParameters& params) : params_(params) {}
   FeedbackSource update(const SwitchInputs& in);
   FeedbackSource current() const { return current_; }
   void reset(FeedbackSource source = FeedbackSource::DeadReckoning);
@@ -36,7 +42,7 @@ class LocalizationSwitch {
  private:
   bool held(bool condition, Seconds& since, Seconds t) const;
 
-  MissionParameters params_;
+  SourceSwitchParameters params_;
   FeedbackSource current_ = FeedbackSource::DeadReckoning;
   Seconds target_good_since_ = -1;
   Seconds target_seen_since_ = -1;

@@ -1,4 +1,4 @@
-#include "control/lab_pipelines.hpp"
+#include "localization/fusion/lab_pipelines.hpp"
 
 #include <numbers>
 #include <opencv2/imgproc.hpp>

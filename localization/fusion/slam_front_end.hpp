@@ -6,7 +6,7 @@
 // frames.
 #include <memory>
 
-#include "control/vision_front_end.hpp"
+#include "localization/fusion/vision_front_end.hpp"
 #include "localization/slam/slam_system.hpp"
 
 namespace labo {

@@ -1,7 +1,7 @@
 // AttitudeHistory: the navdata's roll and pitch at a video frame's capture time (SLAM's gravity prior).
 #include <catch2/catch.hpp>
 
-#include "control/attitude_history.hpp"
+#include "localization/fusion/attitude_history.hpp"
 
 using namespace labo;
 
@@ -40,7 +40,7 @@ TEST_CASE("attitude history: keeps the last 64 samples") {
   CHECK(h.at(0.005 * 140 + 0.0025)->pitch_rad == Approx(0.1405));
 }
 
-#include "control/lab_pipelines.hpp"
+#include "localization/fusion/lab_pipelines.hpp"
 #include "core/frames.hpp"
 #include "localization/slam/slam_system.hpp"
 
