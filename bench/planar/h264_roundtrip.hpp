@@ -2,7 +2,7 @@
 // Passes grey frames through H.264 exactly as the simulated drone streams them: drone/ardrone2's
 // H264Encoder (the settings of SimDroneLink and ArdroneEmulator: libx264 ultrafast, Baseline,
 // zerolatency, no scene-cut keyframes, an IDR every 15 frames) and H264Decoder, the grey frame fed as
-// BGR and the decoded BGR turned back to grey as the flight path does (control/lab_pipelines.cpp).
+// BGR and the decoded BGR turned back to grey as the flight path does (localization/fusion/lab_pipelines.cpp).
 // Benchmark-only; in flight drone/ardrone2 decodes the stream itself.
 #include <vector>
 

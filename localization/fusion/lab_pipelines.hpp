@@ -4,7 +4,7 @@
 // (SLAM far, the instrument's or platform's homography near, the face in face-follow).
 //
 // Vision results come in through add_*_result(), stamped with their frame time: from the vision
-// front-ends (control/vision_front_end.hpp) run by on_video() on each frame, as the current focus
+// front-ends (localization/fusion/vision_front_end.hpp) run by on_video() on each frame, as the current focus
 // selects - SLAM on front frames, the focused instrument's panel in the front camera, the platform in
 // the bottom camera, the face in face-follow - or from a perception model in the lockstep experiments.
 // make_lab_pipelines() (lab_pipelines_factory.hpp) attaches the real front-ends.

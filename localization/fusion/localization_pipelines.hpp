@@ -3,7 +3,7 @@
 // commands it sends) and what it reads back (the filter's predicted pose, the instrument, landing
 // platform and face observations, the SLAM summary). FlightStack owns one LocalizationPipelines; the
 // lab implementation wires StateEstimator, PlanarObjectLocalizer, SlamSystem and FacePoseEstimator
-// (control/lab_pipelines.hpp); tests substitute a model with known perception.
+// (localization/fusion/lab_pipelines.hpp); tests substitute a model with known perception.
 //
 // Control decides which visual source feeds the filter (SLAM far, homography near, face in
 // face-follow; LocalizationSwitch) and tells the pipelines through set_focus().

@@ -28,7 +28,7 @@ FlightStackSetup flight_setup(const AppConfig& config) {
   setup.cameras = config.cameras;
   setup.vision = config.vision;
   setup.estimation = config.estimation;
-  // The real vision pipelines on the drone's frames (control/lab_pipelines_factory.hpp).
+  // The real vision pipelines on the drone's frames (localization/fusion/lab_pipelines_factory.hpp).
   setup.front_ends = FrontEndSettings{config.planar, config.slam, config.face, true};
   return setup;
 }
