@@ -113,14 +113,9 @@ FlightOutput Autopilot::step(const PoseEstimate& pose, Seconds t) {
   FlightOutput out;
   if (phase_ != FlightPhase::Flying) {
     out.action = FlightOutput::Action::None;
-    override_.reset();
     return out;
   }
-  if (override_) {
-    out.action = FlightOutput::Action::Move;
-    out.move = *override_;
-    override_.reset();
-  } else if (target_ && pose.valid) {
+  if (target_ && pose.valid) {
     update_criteria(pose, t);
     out.action = FlightOutput::Action::Move;
     out.move = controller_.update(pose, dt);

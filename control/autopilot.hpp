@@ -28,8 +28,6 @@ class Autopilot {
   void go_to(const PoseTarget& target, Seconds t, bool new_waypoint = true);
   void hold_here(const PoseEstimate& pose, Seconds t);  // target = current pose
   void clear_target() { target_.reset(); }
-  // An open-loop command for this tick (scale manoeuvre, search sweep); cleared after each step().
-  void override_command(const MoveCommand& command) { override_ = command; }
 
   FlightOutput step(const PoseEstimate& pose, Seconds t);
 
@@ -51,7 +49,6 @@ class Autopilot {
   FlightPhase phase_ = FlightPhase::Landed;
   Seconds phase_since_ = 0;
   std::optional<PoseTarget> target_;
-  std::optional<MoveCommand> override_;
   Seconds last_step_t_ = -1;
   bool reached_ = false;
   bool done_ = false;

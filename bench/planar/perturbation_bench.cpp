@@ -19,7 +19,7 @@ struct Accumulator {
   double rms_sum = 0, iterations = 0;
   std::vector<double> ms, rms;
 
-  void add(const TrackOutcome& o, double error, double elapsed_ms, double threshold) {
+  void add(const HomographyTrackOutcome& o, double error, double elapsed_ms, double threshold) {
     ++trials;
     ms.push_back(elapsed_ms);
     iterations += o.iterations;
@@ -44,7 +44,7 @@ struct Accumulator {
   }
 };
 
-double time_ms(HomographyTracker& tracker, const cv::Mat& scene, const cv::Matx33d& H0, TrackOutcome& out) {
+double time_ms(HomographyTracker& tracker, const cv::Mat& scene, const cv::Matx33d& H0, HomographyTrackOutcome& out) {
   const auto start = std::chrono::steady_clock::now();
   out = tracker.track(scene, H0);
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -91,7 +91,7 @@ std::vector<PerturbationRow> run_perturbation_sweep(const PerturbationSettings& 
       wide += noise;
       wide.convertTo(scene, CV_8U);
 
-      TrackOutcome o;
+      HomographyTrackOutcome o;
       double ms = time_ms(*ecc, scene, H0, o);
       a_ecc.add(o, corner_rms(map_corners(o.H, tc), truth), ms, settings.converged_rms_px);
       ms = time_ms(*ic, scene, H0, o);

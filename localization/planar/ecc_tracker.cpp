@@ -47,8 +47,8 @@ EccTracker::EccTracker(const cv::Mat& template_gray, const PlanarConfig& config)
   }
 }
 
-TrackOutcome EccTracker::track(const cv::Mat& image, const cv::Matx33d& H_prior) {
-  TrackOutcome out;
+HomographyTrackOutcome EccTracker::track(const cv::Mat& image, const cv::Matx33d& H_prior) {
+  HomographyTrackOutcome out;
   out.H = H_prior;
   const int level = matching_template_level(H_prior, template_levels_[0].size(),
                                             static_cast<int>(template_levels_.size()) - 1);

@@ -12,7 +12,7 @@ namespace labo {
 class EccTracker final : public HomographyTracker {
  public:
   EccTracker(const cv::Mat& template_gray, const PlanarConfig& config);
-  TrackOutcome track(const cv::Mat& image, const cv::Matx33d& H_prior) override;
+  HomographyTrackOutcome track(const cv::Mat& image, const cv::Matx33d& H_prior) override;
   TrackerKind kind() const override { return TrackerKind::Ecc; }
 
  private:

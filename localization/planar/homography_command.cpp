@@ -78,7 +78,7 @@ int run_homography_command(const ParsedArgs& args) {
       out["attempts"].push_back(attempt);
       continue;
     }
-    const TrackOutcome o = tracker->track(image, d.H);
+    const HomographyTrackOutcome o = tracker->track(image, d.H);
     attempt["refined"] = o.converged;
     attempt["correlation"] = o.correlation;
     if (!o.converged) attempt["refinement_failure"] = o.failure;

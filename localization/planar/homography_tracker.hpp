@@ -10,7 +10,7 @@
 
 namespace labo {
 
-struct TrackOutcome {
+struct HomographyTrackOutcome {
   bool converged = false;
   cv::Matx33d H = cv::Matx33d::eye();  // working template px -> image px
   double correlation = 0;              // zero-mean normalized correlation after alignment, [-1, 1]
@@ -22,7 +22,7 @@ class HomographyTracker {
  public:
   virtual ~HomographyTracker() = default;
   // `image` is CV_8UC1. Never throws on bad convergence: the outcome says so.
-  virtual TrackOutcome track(const cv::Mat& image, const cv::Matx33d& H_prior) = 0;
+  virtual HomographyTrackOutcome track(const cv::Mat& image, const cv::Matx33d& H_prior) = 0;
   virtual TrackerKind kind() const = 0;
 };
 

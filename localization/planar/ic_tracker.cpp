@@ -303,8 +303,8 @@ void InverseCompositionalTracker::polish_with_esm(const Level& level, const cv::
   if (correlation_of(after.valid, after.i, after.ii, after.t, after.tt, after.it) > rho_before) M = polished;
 }
 
-TrackOutcome InverseCompositionalTracker::track(const cv::Mat& image, const cv::Matx33d& H_prior) {
-  TrackOutcome out;
+HomographyTrackOutcome InverseCompositionalTracker::track(const cv::Mat& image, const cv::Matx33d& H_prior) {
+  HomographyTrackOutcome out;
   out.H = H_prior;
   if (image.empty() || image.type() != CV_8UC1) {
     out.failure = "frame is not a non-empty CV_8UC1 image";

@@ -29,7 +29,7 @@ namespace labo {
 class InverseCompositionalTracker final : public HomographyTracker {
  public:
   InverseCompositionalTracker(const cv::Mat& template_gray, const PlanarConfig& config);
-  TrackOutcome track(const cv::Mat& image, const cv::Matx33d& H_prior) override;
+  HomographyTrackOutcome track(const cv::Mat& image, const cv::Matx33d& H_prior) override;
   TrackerKind kind() const override { return TrackerKind::InverseCompositional; }
 
   int template_levels() const { return static_cast<int>(levels_.size()); }

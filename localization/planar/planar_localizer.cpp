@@ -223,7 +223,7 @@ PlanarResult PlanarObjectLocalizer::process(const cv::Mat& gray, Seconds t, std:
 
 PlanarResult PlanarObjectLocalizer::track(const cv::Mat& image, PlanarResult r) {
   r.method = tracker_->kind() == TrackerKind::Ecc ? PlanarMethod::Ecc : PlanarMethod::InverseCompositional;
-  const TrackOutcome o = tracker_->track(image, H_working_);
+  const HomographyTrackOutcome o = tracker_->track(image, H_working_);
   r.correlation = o.correlation;
   PlanarLoss loss = PlanarLoss::NoConvergence;
   if (!o.converged) {
@@ -270,7 +270,7 @@ PlanarResult PlanarObjectLocalizer::detect(const cv::Mat& image, PlanarResult r,
     r.method = order[static_cast<std::size_t>(i)];
     // The detector's homography is coarse: the tracker refines it, and the same checks as in
     // tracking (without the jump test: the drone may have moved anywhere while lost) decide.
-    const TrackOutcome o = tracker_->track(image, d.H);
+    const HomographyTrackOutcome o = tracker_->track(image, d.H);
     r.correlation = o.correlation;
     if (!o.converged) {
       r.reason = PlanarLoss::NoConvergence;

@@ -58,7 +58,7 @@ struct FlightTelemetry {
 };
 
 // An encoded frame ready for the wire: a 24-byte header then the JPEG (see video/frame_header.hpp).
-struct EncodedFrame {
+struct WireFrame {
   std::uint32_t frame_number = 0;
   double capture_unix_ms = 0;
   CameraId camera = CameraId::Front;
@@ -76,7 +76,7 @@ class FlightEventSink {
  public:
   virtual ~FlightEventSink() = default;
   // Called from the runtime's threads: implementations hand off quickly (post, never block).
-  virtual void on_frame(const EncodedFrame& frame) = 0;
+  virtual void on_frame(const WireFrame& frame) = 0;
   virtual void on_flight_event(const FlightEvent& event) = 0;
 };
 

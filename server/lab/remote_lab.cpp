@@ -278,7 +278,7 @@ void RemoteLab::tick() {
   broadcast(shared_json(telemetry_json(flight_.telemetry())));
 }
 
-void RemoteLab::on_frame(const EncodedFrame& frame) {
+void RemoteLab::on_frame(const WireFrame& frame) {
   metrics_.frames_published++;
   std::vector<std::shared_ptr<LabClient>> targets;
   {

@@ -36,7 +36,7 @@ class RemoteLab final : public FlightEventSink {
   // Called periodically (telemetry_hz): the control queue's clock and the telemetry broadcast.
   void tick();
 
-  void on_frame(const EncodedFrame& frame) override;
+  void on_frame(const WireFrame& frame) override;
   void on_flight_event(const FlightEvent& event) override;
 
   // JSON for REST: the queue and the connected clients.

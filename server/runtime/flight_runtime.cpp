@@ -207,7 +207,7 @@ void FlightRuntime::video_loop() {
     }
     frame.bgr.copyTo(annotated_);
     draw_overlays(annotated_, overlay, telemetry);
-    const EncodedFrame encoded = encoder_.encode(annotated_, frame.frame_number, unix_ms_of(frame.t), frame.camera);
+    const WireFrame encoded = encoder_.encode(annotated_, frame.frame_number, unix_ms_of(frame.t), frame.camera);
     std::lock_guard lock(sink_mutex_);
     if (sink_) sink_->on_frame(encoded);
   }

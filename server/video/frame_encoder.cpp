@@ -22,7 +22,7 @@ std::shared_ptr<std::string> FrameEncoder::free_buffer() {
   return pool_.back();
 }
 
-EncodedFrame FrameEncoder::encode(const cv::Mat& bgr, std::uint32_t frame_number, double capture_unix_ms, CameraId camera) {
+WireFrame FrameEncoder::encode(const cv::Mat& bgr, std::uint32_t frame_number, double capture_unix_ms, CameraId camera) {
   const auto start = std::chrono::steady_clock::now();
   cv::imencode(".jpg", bgr, jpeg_, params_);
   FrameHeader header{frame_number, capture_unix_ms, static_cast<std::uint8_t>(camera), static_cast<std::uint32_t>(jpeg_.size())};
@@ -31,7 +31,7 @@ EncodedFrame FrameEncoder::encode(const cv::Mat& bgr, std::uint32_t frame_number
   header.write(buffer->data());
   std::memcpy(buffer->data() + FrameHeader::kSize, jpeg_.data(), jpeg_.size());
   last_encode_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return EncodedFrame{frame_number, capture_unix_ms, camera, buffer};
+  return WireFrame{frame_number, capture_unix_ms, camera, buffer};
 }
 
 }  // namespace labo

@@ -14,7 +14,7 @@ namespace labo {
 class FrameEncoder {
  public:
   explicit FrameEncoder(int jpeg_quality, std::size_t pool_size = 8);
-  EncodedFrame encode(const cv::Mat& bgr, std::uint32_t frame_number, double capture_unix_ms, CameraId camera);
+  WireFrame encode(const cv::Mat& bgr, std::uint32_t frame_number, double capture_unix_ms, CameraId camera);
   double last_encode_ms() const { return last_encode_ms_; }
 
  private:

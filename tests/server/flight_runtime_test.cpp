@@ -12,7 +12,7 @@ using namespace labo::test;
 
 namespace {
 struct CapturingSink final : FlightEventSink {
-  void on_frame(const EncodedFrame& f) override {
+  void on_frame(const WireFrame& f) override {
     std::lock_guard lock(mutex);
     frames.push_back(f);
   }
@@ -21,7 +21,7 @@ struct CapturingSink final : FlightEventSink {
     events.push_back(e);
   }
   std::mutex mutex;
-  std::vector<EncodedFrame> frames;
+  std::vector<WireFrame> frames;
   std::vector<FlightEvent> events;
 };
 }  // namespace
@@ -43,7 +43,7 @@ TEST_CASE("web: the flight runtime annotates and encodes frames, and passes stag
   runtime.land_and_stop(1.0);
   std::lock_guard lock(sink.mutex);
   REQUIRE(sink.frames.size() >= 10);
-  const EncodedFrame& last = sink.frames.back();
+  const WireFrame& last = sink.frames.back();
   const auto header = FrameHeader::read(*last.wire);
   REQUIRE(header);
   CHECK(header->frame_number == last.frame_number);
@@ -52,7 +52,7 @@ TEST_CASE("web: the flight runtime annotates and encodes frames, and passes stag
   // machine lags), so look for a frame drawn while the panel was tracked: the homography source's
   // border is blue (BGR ~ (255, 96, 16)) and the panel outline cyan.
   int annotated = 0;
-  for (const EncodedFrame& f : sink.frames) {
+  for (const WireFrame& f : sink.frames) {
     const std::vector<std::uint8_t> jpeg(f.wire->begin() + FrameHeader::kSize, f.wire->end());
     const cv::Mat decoded = cv::imdecode(jpeg, cv::IMREAD_COLOR);
     REQUIRE(decoded.cols == 640);

@@ -45,7 +45,7 @@ TEST_CASE("planar: LaboDrone's tracker recovers a known homography to a tenth of
   int converged = 0;
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
     const PerturbedScene p = perturbed_scene(templ, 8.0, seed);
-    const TrackOutcome o = tracker.track(p.scene, p.H0);
+    const HomographyTrackOutcome o = tracker.track(p.scene, p.H0);
     const double rms = corner_rms(map_corners(o.H, kCorners), p.truth);
     if (o.converged && rms < 0.15) ++converged;
     CHECK(o.correlation > 0.95);
@@ -57,7 +57,7 @@ TEST_CASE("planar: OpenCV's ECC wrapper recovers a known homography") {
   const cv::Mat templ = make_procedural_panel(cv::Size(200, 200), 7);
   EccTracker tracker(templ, PlanarConfig{});
   const PerturbedScene p = perturbed_scene(templ, 5.0, 3);
-  const TrackOutcome o = tracker.track(p.scene, p.H0);
+  const HomographyTrackOutcome o = tracker.track(p.scene, p.H0);
   REQUIRE(o.converged);
   CHECK(corner_rms(map_corners(o.H, kCorners), p.truth) < 0.5);
   CHECK(o.correlation > 0.95);
@@ -69,7 +69,7 @@ TEST_CASE("planar: the tracker ignores brightness and contrast changes") {
   PerturbedScene p = perturbed_scene(templ, 6.0, 4);
   cv::Mat dim;
   p.scene.convertTo(dim, CV_8U, 0.45, 60);  // gain 0.45, bias +60 grey levels
-  const TrackOutcome o = tracker.track(dim, p.H0);
+  const HomographyTrackOutcome o = tracker.track(dim, p.H0);
   REQUIRE(o.converged);
   CHECK(corner_rms(map_corners(o.H, kCorners), p.truth) < 0.2);
   CHECK(o.correlation > 0.9);
@@ -82,13 +82,13 @@ TEST_CASE("planar: trackers report failure instead of throwing on an unrelated i
   const cv::Matx33d H0(1, 0, 220, 0, 1, 140, 0, 0, 1);
   for (TrackerKind kind : {TrackerKind::Ecc, TrackerKind::InverseCompositional}) {
     auto tracker = make_homography_tracker(kind, templ, PlanarConfig{});
-    TrackOutcome o;
+    HomographyTrackOutcome o;
     REQUIRE_NOTHROW(o = tracker->track(noise, H0));
     CHECK((!o.converged || o.correlation < 0.5));
   }
   // A prior entirely outside the frame.
   auto ic = make_homography_tracker(TrackerKind::InverseCompositional, templ, PlanarConfig{});
-  const TrackOutcome out = ic->track(noise, cv::Matx33d(1, 0, 5000, 0, 1, 5000, 0, 0, 1));
+  const HomographyTrackOutcome out = ic->track(noise, cv::Matx33d(1, 0, 5000, 0, 1, 5000, 0, 0, 1));
   CHECK_FALSE(out.converged);
   CHECK(std::string(out.failure) == "object out of view");
 }

@@ -35,7 +35,7 @@ class ScriptedFlight final : public FlightService {
   void publish_frame(std::uint32_t number, int bytes_of_noise = 0) {
     cv::Mat img(360, 640, CV_8UC3, cv::Scalar(40, 80, 120));
     if (bytes_of_noise > 0) cv::randu(img, 0, 255);
-    const EncodedFrame f = encoder_.encode(img, number, 1.0e12, CameraId::Front);
+    const WireFrame f = encoder_.encode(img, number, 1.0e12, CameraId::Front);
     std::lock_guard lock(mutex_);
     if (sink_) sink_->on_frame(f);
   }
