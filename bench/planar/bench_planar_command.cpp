@@ -1,5 +1,6 @@
 #include "bench/planar/bench_planar_command.hpp"
 
+#include <fstream>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
