@@ -84,12 +84,11 @@ EstimatorConfig read_estimation_config(const ConfigReader& node) {
   if (node.has("reacquisition")) read_reacquisition(node.object("reacquisition"), c.reacquisition);
   c.inactive_source_noise_factor =
       node.number_or("inactive_source_noise_factor", c.inactive_source_noise_factor, Range{1.0, 100.0});
-  c.scale_sigma_map_m = node.number_or("scale_sigma_map_m", c.scale_sigma_map_m, Range::positive());
-  c.scale_sigma_metric_m = node.number_or("scale_sigma_metric_m", c.scale_sigma_metric_m, Range::positive());
-  c.scale_min_displacement_m =
-      node.number_or("scale_min_displacement_m", c.scale_min_displacement_m, Range::positive());
-  c.scale_memory_pairs = node.number_or("scale_memory_pairs", c.scale_memory_pairs, Range{2.0, 1000.0});
-  c.scale_outlier_chi2 = node.number_or("scale_outlier_chi2", c.scale_outlier_chi2, Range::positive());
+  c.scale.sigma_map_m = node.number_or("scale_sigma_map_m", c.scale.sigma_map_m, Range::positive());
+  c.scale.sigma_metric_m = node.number_or("scale_sigma_metric_m", c.scale.sigma_metric_m, Range::positive());
+  c.scale.min_displacement_m = node.number_or("scale_min_displacement_m", c.scale.min_displacement_m, Range::positive());
+  c.scale.memory_pairs = node.number_or("scale_memory_pairs", c.scale.memory_pairs, Range{2.0, 1000.0});
+  c.scale.outlier_chi2 = node.number_or("scale_outlier_chi2", c.scale.outlier_chi2, Range::positive());
   c.scale_interval_min_s = node.number_or("scale_interval_min_s", c.scale_interval_min_s, Range{0.1, 30.0});
   c.scale_interval_max_s = node.number_or("scale_interval_max_s", c.scale_interval_max_s, Range{0.1, 60.0});
   if (c.scale_interval_max_s <= c.scale_interval_min_s) {
@@ -97,7 +96,7 @@ EstimatorConfig read_estimation_config(const ConfigReader& node) {
   }
   c.scale_weight_xy = node.number_or("scale_weight_xy", c.scale_weight_xy, Range::non_negative());
   c.scale_weight_z = node.number_or("scale_weight_z", c.scale_weight_z, Range::non_negative());
-  c.initial_scale = node.number_or("initial_scale", c.initial_scale, Range::positive());
+  c.scale.initial_scale = node.number_or("initial_scale", c.scale.initial_scale, Range::positive());
   c.object_placement_frames = node.integer_or("object_placement_frames", c.object_placement_frames, 0, 10000);
   c.face_memory_s = node.number_or("face_memory_s", c.face_memory_s, Range::positive());
   node.finish();

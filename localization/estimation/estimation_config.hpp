@@ -6,6 +6,7 @@
 #include "core/config_reader.hpp"
 #include "core/time.hpp"
 #include "localization/estimation/reacquisition_gate.hpp"
+#include "localization/estimation/scale_estimator.hpp"
 
 namespace labo {
 
@@ -96,13 +97,11 @@ struct EstimatorConfig {
   // comparison in the experiments; true tells pushes from floor steps (altitude_tracker.hpp).
   bool altitude_step_discrimination = true;
   VelocityDropoutSettings velocity_dropout;
-  // Scale estimation (tum_ardrone's ML estimator, notes §3; ScaleSettings in scale_estimator.hpp for
-  // what differs). Noises are per pair and in metres after the axis weights.
-  double scale_sigma_map_m = 0.02;
-  double scale_sigma_metric_m = 0.02;
-  double scale_min_displacement_m = 0.2;   // weighted: 7 cm of climb, or 20 cm sideways
-  double scale_memory_pairs = 10.0;        // the map's scale drifts: older pairs are forgotten
-  double scale_outlier_chi2 = 11.34;
+  // Scale estimation (tum_ardrone's ML estimator; ScaleSettings in scale_estimator.hpp for what
+  // differs). Noises are per pair and in metres after the axis weights; config keys scale_sigma_map_m,
+  // scale_sigma_metric_m, scale_min_displacement_m, scale_memory_pairs, scale_outlier_chi2 and
+  // initial_scale.
+  ScaleSettings scale;
   Seconds scale_interval_min_s = 1.0;
   Seconds scale_interval_max_s = 3.0;
   // Axis weights (world axes) of the pairs. tum_ardrone weighs xy 0.05 (its pairs come from the
@@ -110,7 +109,6 @@ struct EstimatorConfig {
   // ultrasound.
   double scale_weight_xy = 1.0;
   double scale_weight_z = 3.0;
-  double initial_scale = 1.0;
   // An object's world pose is refined over its first sightings while SLAM localizes the drone.
   int object_placement_frames = 30;
   // The face's world pose follows the teacher with this time constant.

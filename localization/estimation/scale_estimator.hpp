@@ -38,8 +38,9 @@ struct ScaleStatus {
 struct ScaleSettings {
   double sigma_map_m = 0.02;           // noise of one (weighted) map displacement, metres at the current scale
   double sigma_metric_m = 0.02;        // noise of one (weighted) metric displacement
-  double min_displacement_m = 0.2;     // (weighted) metric displacement a pair must reach to carry information
-  double memory_pairs = 10.0;          // forgetting: a pair's weight is (1 - 1/memory_pairs)^age
+  double min_displacement_m = 0.2;     // (weighted) metric displacement a pair must reach to carry information:
+                                       // with the default axis weights, 7 cm of climb or 20 cm sideways
+  double memory_pairs = 10.0;          // forgetting: a pair's weight is (1 - 1/memory_pairs)^age (the map's scale drifts)
   double outlier_chi2 = 11.34;         // residual gate (3 dof, 99 %)
   double initial_scale = 1.0;
 };

@@ -82,17 +82,6 @@ constexpr const char* kCounterNames[kCounterCount] = {
 
 int source_index(LocalizationSource s) { return static_cast<int>(s); }
 
-ScaleSettings scale_settings(const EstimatorConfig& c) {
-  ScaleSettings s;
-  s.sigma_map_m = c.scale_sigma_map_m;
-  s.sigma_metric_m = c.scale_sigma_metric_m;
-  s.min_displacement_m = c.scale_min_displacement_m;
-  s.memory_pairs = c.scale_memory_pairs;
-  s.outlier_chi2 = c.scale_outlier_chi2;
-  s.initial_scale = c.initial_scale;
-  return s;
-}
-
 Eigen::Vector3d scale_weights(const EstimatorConfig& c) {
   return {c.scale_weight_xy, c.scale_weight_xy, c.scale_weight_z};
 }
@@ -104,8 +93,8 @@ struct StateEstimator::Impl {
         commands(kCommandCapacity), selector(c.source_enter_count, c.source_timeout_s),
         reacquisition{ReacquisitionGate(c.reacquisition), ReacquisitionGate(c.reacquisition),
                       ReacquisitionGate(c.reacquisition)},
-        scale(scale_settings(c)), pair_sampler(c.scale_interval_min_s, c.scale_interval_max_s, scale_weights(c),
-                                               c.scale_min_displacement_m) {}
+        scale(c.scale), pair_sampler(c.scale_interval_min_s, c.scale_interval_max_s, scale_weights(c),
+                                               c.scale.min_displacement_m) {}
 
   EstimatorConfig config;
   VisionThresholds thresholds;
@@ -340,7 +329,7 @@ void StateEstimator::reset(const Eigen::Isometry3d& T_world_body, Seconds t) {
   m.navdata.clear();
   m.commands.clear();
   m.selector.reset();
-  m.scale.reset(m.config.initial_scale);
+  m.scale.reset(m.config.scale.initial_scale);
   m.map.reset();
   m.pair_sampler.reset();
   m.objects.clear();
@@ -456,7 +445,7 @@ bool StateEstimator::add_slam_pose(const SlamObservation& o) {
   if (!m.map.initialized() || o.map_id != m.map_id) {
     // A new map: place it where the filter says the camera is; its scale starts from scratch.
     m.map_id = o.map_id;
-    m.scale.reset(o.map_is_metric ? 1.0 : m.config.initial_scale);
+    m.scale.reset(o.map_is_metric ? 1.0 : m.config.scale.initial_scale);
     m.map_is_metric = o.map_is_metric;
     m.map.initialize(o.T_map_cam, T_world_cam_est, m.scale.scale());
     m.map_frames = 1;

@@ -12,14 +12,14 @@ PlanarConfig read_planar_config(const ConfigReader& node) {
                                                                      : TrackerKind::InverseCompositional;
   c.pose_refinement = node.choice_or("pose_refinement", "se3", {"se3", "none"}) == "se3" ? PoseRefinement::Se3
                                                                                       : PoseRefinement::None;
-  c.se3_iterations = node.integer_or("se3_iterations", c.se3_iterations, 1, 100);
-  c.se3_max_samples = node.integer_or("se3_max_samples", c.se3_max_samples, 100, 100000);
-  c.se3_covariance_inflation =
-      node.number_or("se3_covariance_inflation", c.se3_covariance_inflation, Range{0.0, 100.0, true});
-  c.se3_smoothing_sigma_px = node.number_or("se3_smoothing_sigma_px", c.se3_smoothing_sigma_px, Range::closed(0.0, 3.0));
-  c.se3_template_at_frame_resolution =
+  c.se3.max_iterations = node.integer_or("se3_iterations", c.se3.max_iterations, 1, 100);
+  c.se3.max_samples = node.integer_or("se3_max_samples", c.se3.max_samples, 100, 100000);
+  c.se3.covariance_inflation =
+      node.number_or("se3_covariance_inflation", c.se3.covariance_inflation, Range{0.0, 100.0, true});
+  c.se3.smoothing_sigma_px = node.number_or("se3_smoothing_sigma_px", c.se3.smoothing_sigma_px, Range::closed(0.0, 3.0));
+  c.se3.resample_to_frame =
       node.choice_or("se3_template_resolution", "pyramid", {"frame", "pyramid"}) == "frame";
-  c.se3_estimate_blur = node.boolean_or("se3_estimate_blur", c.se3_estimate_blur);
+  c.se3.estimate_blur = node.boolean_or("se3_estimate_blur", c.se3.estimate_blur);
   c.se3_footprint_model = node.choice_or("se3_pixel_model", "footprint", {"footprint", "sampled"}) == "footprint";
   c.se3_footprint_max_width_px =
       node.number_or("se3_footprint_max_width_px", c.se3_footprint_max_width_px, Range::positive());

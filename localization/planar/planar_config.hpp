@@ -2,6 +2,7 @@
 // Settings of the planar-object pipeline (config section "planar"). The paper's thresholds α, β, D,
 // λ and N are not here: they live in the "vision" section (localization/vision_thresholds.hpp).
 #include "core/config_reader.hpp"
+#include "localization/planar/se3_pose_refiner.hpp"
 
 namespace labo {
 
@@ -28,15 +29,10 @@ struct PlanarConfig {
   // Pose: IPPE on the tracker's corners, then (se3) the photometric refinement in SE(3), which fixes
   // the tilt of a panel seen face-on at range (docs/planar.md).
   PoseRefinement pose_refinement = PoseRefinement::Se3;
-  int se3_iterations = 8;
-  int se3_max_samples = 1200;             // per template level
-  double se3_covariance_inflation = 3.0;  // on the Gauss-Newton standard deviations
-  double se3_smoothing_sigma_px = 0.5;    // Gaussian on frame and template before the fit, 0 = none
-  // The template the refinement fits at range: resampled to the frame's resolution ("frame", true) or
-  // the pyramid level matching the panel's apparent size ("pyramid", false, the default: "frame" is
-  // better on the simulated lab's renderer, worse on the planar bench's own; docs/planar.md).
-  bool se3_template_at_frame_resolution = false;
-  bool se3_estimate_blur = true;   // the refinement also fits the frame's blur relative to the template
+  // The refinement's own settings (config keys se3_iterations, se3_max_samples,
+  // se3_covariance_inflation, se3_smoothing_sigma_px, se3_template_resolution "frame"|"pyramid",
+  // se3_estimate_blur); its min_correlation is the vision section's alpha.
+  Se3RefinerSettings se3{.max_samples = 1200};
   // How the refinement predicts the frame ("se3_pixel_model"): "footprint" (true) fits the raw frame's
   // pixels, each predicted as the template's mean over its footprint (AreaPoseRefiner), while the
   // panel's image is at most `se3_footprint_max_width_px` wide and no motion blur is modelled;

@@ -32,14 +32,8 @@ constexpr Seconds kMaxBlurIntervalS = 0.1;
 constexpr std::array<double, 4> kExposureFractions{1.0 / 3.0, 2.0 / 3.0, 1.0, 4.0 / 3.0};
 
 Se3RefinerSettings se3_settings(const PlanarConfig& config, double min_correlation) {
-  Se3RefinerSettings s;
+  Se3RefinerSettings s = config.se3;
   s.min_correlation = min_correlation;
-  s.max_iterations = config.se3_iterations;
-  s.max_samples = config.se3_max_samples;
-  s.covariance_inflation = config.se3_covariance_inflation;
-  s.smoothing_sigma_px = config.se3_smoothing_sigma_px;
-  s.resample_to_frame = config.se3_template_at_frame_resolution;
-  s.estimate_blur = config.se3_estimate_blur;
   return s;
 }
 

@@ -104,8 +104,8 @@ TEST_CASE("planar: the mirror of the refined pose finds the other minimum both I
 // model's test (on the area-filtered lab since 2026-12-03: 0.93 / 2.03).
 TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree with the frame's blur estimated") {
   PlanarConfig config = sampled_model();
-  REQUIRE(config.se3_estimate_blur);
-  REQUIRE_FALSE(config.se3_template_at_frame_resolution);
+  REQUIRE(config.se3.estimate_blur);
+  REQUIRE_FALSE(config.se3.resample_to_frame);
   const SequenceBenchResult result =
       run_sequence_bench(config, VisionThresholds{}, "lab_renderer", {TrackerKind::InverseCompositional});
   bool binned = false;

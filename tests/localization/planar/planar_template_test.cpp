@@ -90,9 +90,9 @@ TEST_CASE("planar: the planar config section is validated") {
   CHECK(error_of(R"({"se3_template_resolution": "native"})").find("se3_template_resolution") != std::string::npos);
   const ConfigDocument doc = ConfigDocument::parse(R"({"tracker": "ecc"})", "p.json");
   CHECK(read_planar_config(doc.root()).tracker == TrackerKind::Ecc);
-  CHECK_FALSE(read_planar_config(doc.root()).se3_template_at_frame_resolution);
+  CHECK_FALSE(read_planar_config(doc.root()).se3.resample_to_frame);
   const ConfigDocument frame = ConfigDocument::parse(R"({"se3_template_resolution": "frame"})", "p.json");
-  CHECK(read_planar_config(frame.root()).se3_template_at_frame_resolution);
+  CHECK(read_planar_config(frame.root()).se3.resample_to_frame);
   CHECK(error_of(R"({"se3_pixel_model": "box"})").find("se3_pixel_model") != std::string::npos);
   CHECK(error_of(R"({"se3_footprint_max_width_px": 0})").find("se3_footprint_max_width_px") != std::string::npos);
   CHECK(read_planar_config(doc.root()).se3_footprint_model);
