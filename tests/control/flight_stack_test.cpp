@@ -270,7 +270,7 @@ TEST_CASE("control: link loss: hover, then land after the configured time") {
   CHECK(f.run_until([&] { return f.stack->status().phase == FlightPhase::Landed; }, 10.0));
 }
 
-TEST_CASE("control: low battery returns home and lands; critical battery lands at once") {
+TEST_CASE("control: low battery returns home and lands, critical battery lands at once") {
   ModelFlight f;
   take_off(f);
   REQUIRE(f.request(go(2.0, 1.0, 1.2)).accepted);

@@ -52,7 +52,7 @@ TEST_CASE("control: a teacher turning on the spot is followed by where the face 
   CHECK((track.position() - p).norm() < 1e-6);
 }
 
-TEST_CASE("control: a lost teacher coasts along the last motion; a route prediction places them") {
+TEST_CASE("control: a lost teacher coasts along the last motion, a route prediction places them") {
   TeacherTrack track;
   const Eigen::Vector3d v(0.5, 0.0, 0.0);
   for (int k = 0; k <= 90; ++k) {
@@ -71,7 +71,7 @@ TEST_CASE("control: a lost teacher coasts along the last motion; a route predict
   CHECK(std::abs(std::abs(track.heading()) - std::numbers::pi) < 1e-9);
 }
 
-TEST_CASE("control: a sustained walk is remembered after the teacher stops; the pose's jitter is no walk") {
+TEST_CASE("control: a sustained walk is remembered after the teacher stops, the pose's jitter is no walk") {
   TeacherTrack track;
   const Eigen::Vector3d start(4.2, -2.4, 1.65);
   track.reset(face_at(start, std::numbers::pi / 2), 0.0);

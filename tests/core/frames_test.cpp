@@ -51,7 +51,7 @@ TEST_CASE("frames: yaw-pitch-roll round trip") {
   }
 }
 
-TEST_CASE("frames: angles wrap to [-pi, pi)") {
+TEST_CASE("frames: angles wrap to the half-open range from -pi to pi") {
   CHECK(wrap_angle(3 * std::numbers::pi) == Approx(-std::numbers::pi));
   CHECK(wrap_angle(-0.5) == Approx(-0.5));
   CHECK(wrap_angle(2 * std::numbers::pi + 0.25) == Approx(0.25));

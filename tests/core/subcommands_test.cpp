@@ -74,7 +74,7 @@ TEST_CASE("subcommands: bad arguments, unknown and moved commands exit 2 with th
   CHECK(greeted.empty());
 }
 
-TEST_CASE("subcommands: --help lists the commands; no arguments prints it and exits 2") {
+TEST_CASE("subcommands: --help lists the commands, no arguments prints it and exits 2") {
   std::string greeted;
   const Program p = test_program(&greeted);
   {

@@ -100,7 +100,7 @@ TEST_CASE("web: a command flood is rate limited, but not the emergency stop") {
   CHECK((*ack)["accepted"]);
 }
 
-TEST_CASE("web: a teacher takes over, the student is told and queued first; turns end on the time limit") {
+TEST_CASE("web: a teacher takes over, the student is told and queued first, turns end on the time limit") {
   ServerFixture f([](ServerSettings& s) {
     s.control.time_limit_s = 10;
     s.control.warnings_s = {9.5};
@@ -140,7 +140,7 @@ TEST_CASE("web: video frames reach every viewer as binary messages with the fram
   CHECK(a.wait_for("event", field_is("stage", "2 approach")));
 }
 
-TEST_CASE("web: a viewer that reads nothing costs bounded memory and is disconnected; others keep their video") {
+TEST_CASE("web: a viewer that reads nothing costs bounded memory and is disconnected, others keep their video") {
   ServerFixture f([](ServerSettings& s) {
     s.clients.event_queue_messages = 8;
     s.clients.backlog_timeout_s = 1.0;

@@ -39,7 +39,7 @@ void fly(QuadrotorDynamics& d, const MoveCommand& c, Seconds duration) {
 
 }  // namespace
 
-TEST_CASE("sim dynamics: take-off climbs to about 1 m above the platform and hovers; landing touches down on it", "[sim][dynamics]") {
+TEST_CASE("sim dynamics: take-off climbs to about 1 m above the platform and hovers, landing touches down on it", "[sim][dynamics]") {
   auto d = make();
   CHECK(d.state().position_m.z() == Approx(0.10));  // on the platform top
   d.takeoff();
@@ -194,7 +194,7 @@ TEST_CASE("sim dynamics: an emergency cuts the motors in flight", "[sim][dynamic
   CHECK(d.state().position_m.z() == Approx(0.10));  // fell back onto the platform
 }
 
-TEST_CASE("sim dynamics: the battery drains faster in flight; empty, the firmware lands", "[sim][dynamics]") {
+TEST_CASE("sim dynamics: the battery drains faster in flight, empty, the firmware lands", "[sim][dynamics]") {
   QuadrotorParams p;
   p.battery_start_percent = 1.0;
   auto d = make(p);
@@ -206,7 +206,7 @@ TEST_CASE("sim dynamics: the battery drains faster in flight; empty, the firmwar
   CHECK((d.state().phase == FirmwarePhase::Landing || d.state().phase == FirmwarePhase::Landed));
 }
 
-TEST_CASE("sim dynamics: a push and a wind move the hovering drone; the firmware brings it back to rest", "[sim][dynamics]") {
+TEST_CASE("sim dynamics: a push and a wind move the hovering drone, the firmware brings it back to rest", "[sim][dynamics]") {
   auto d = make();
   take_off(d);
   d.push({0.0, 1.0, 0.0}, 0.5);

@@ -103,7 +103,7 @@ TEST_CASE("sim sensors: the bottom camera's velocity fails over bare floor and b
   CHECK(m.velocity_valid());
 }
 
-TEST_CASE("sim sensors: the yaw drifts slowly; flat trim removes the roll/pitch offset on the ground", "[sim][sensors]") {
+TEST_CASE("sim sensors: the yaw drifts slowly, flat trim removes the roll/pitch offset on the ground", "[sim][sensors]") {
   SensorNoise noise;
   noise.attitude_offset_rad = 0.02;
   SensorModel m(noise, test::shipped_lab(), 6);

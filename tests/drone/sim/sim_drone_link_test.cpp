@@ -113,7 +113,7 @@ TEST_CASE("sim link: the link connects on the first navdata, degrades and is los
   CHECK(rig.link->statistics().counters.at("navdata_packets") == rig.rec.navdata.size());
 }
 
-TEST_CASE("sim link: commands reach the drone through the AT loop; lost datagrams lose them", "[sim][link]") {
+TEST_CASE("sim link: commands reach the drone through the AT loop, lost datagrams lose them", "[sim][link]") {
   Rig rig;
   rig.run_to(0.5);
   rig.link->takeoff();

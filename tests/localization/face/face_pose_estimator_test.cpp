@@ -181,7 +181,7 @@ TEST_CASE("face: registration fits a frontal picture and refuses none or several
   CHECK_THROWS_WITH(register_person(f.estimator, std::vector<cv::Mat>{}, "teacher", 0.063), Catch::Contains("none given"));
 }
 
-TEST_CASE("face: a head turn refines the registered landmarks; too little turn is refused") {
+TEST_CASE("face: a head turn refines the registered landmarks, too little turn is refused") {
   RenderedHeadFixture f;
   const PersonShape p = register_person(f.estimator, f.render({pose(0, 0, 0, {0, -0.02, 0.8})}), "teacher", 0.063);
   // Left, right (first half), then up, down (second half), as a person asked to turn slowly would.

@@ -54,7 +54,7 @@ class HeadPictures {
 
 }  // namespace
 
-TEST_CASE("face register: a head turn refines the person; bad --turns folders are refused") {
+TEST_CASE("face register: a head turn refines the person, bad --turns folders are refused") {
   const ScratchDir dir("face_register");
   HeadPictures pictures;
   cv::imwrite((dir / "frontal.png").string(), pictures.render(0, 0));

@@ -126,7 +126,7 @@ TEST_CASE("ippe: the two poses and their errors equal OpenCV's SOLVEPNP_IPPE to 
   CHECK(compared == 2 * 20 * static_cast<int>(views.size()));
 }
 
-TEST_CASE("ippe: exact corners give the true pose; collinear corners give none") {
+TEST_CASE("ippe: exact corners give the true pose, collinear corners give none") {
   const IppeIntrinsics intrinsics{570, 570, 320, 180};
   const std::array<Eigen::Vector2d, 4> object{Eigen::Vector2d(-0.2, -0.1), Eigen::Vector2d(0.2, -0.1), Eigen::Vector2d(0.2, 0.1),
                                               Eigen::Vector2d(-0.2, 0.1)};

@@ -58,7 +58,7 @@ void tiny_map(SlamMap& map) {
 
 }  // namespace
 
-TEST_CASE("slam: map file keeps the loop edges; a file of another version is refused with the reason") {
+TEST_CASE("slam: map file keeps the loop edges, a file of another version is refused with the reason") {
   const CameraIntrinsics camera = PinholeCamera::ardrone2_front().intrinsics();
   SlamMap map;
   tiny_map(map);
@@ -97,7 +97,7 @@ TEST_CASE("slam: map file keeps the loop edges; a file of another version is ref
   std::filesystem::remove(old_file);
 }
 
-TEST_CASE("slam: map file keeps the gravity directions; a version 2 file (without them) still loads") {
+TEST_CASE("slam: map file keeps the gravity directions, a version 2 file (without them) still loads") {
   const CameraIntrinsics camera = PinholeCamera::ardrone2_front().intrinsics();
   SlamMap map;
   tiny_map(map);
