@@ -292,6 +292,10 @@ void FlightStack::on_navdata(const NavdataSample& sample) {
 
 void FlightStack::on_video(const VideoFrame& frame) { impl_->pipelines->on_video(frame); }
 
+bool FlightStack::prepare_vision(const VideoFrame& frame, VisionJob& job) { return impl_->pipelines->prepare_vision(frame, job); }
+
+void FlightStack::apply_vision(const VisionResults& results) { impl_->pipelines->apply_vision(results); }
+
 void FlightStack::on_link_state(LinkState state, Seconds) { impl_->link = state; }
 
 void FlightStack::set_ground_truth(const Eigen::Isometry3d& T_world_body, Seconds) { impl_->ground_truth = T_world_body; }

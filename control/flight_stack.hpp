@@ -51,6 +51,9 @@ class FlightStack {
 
   void on_navdata(const NavdataSample& sample);
   void on_video(const VideoFrame& frame);
+  // on_video in steps, for a runtime that runs the vision on a worker (localization/fusion/vision_job.hpp).
+  bool prepare_vision(const VideoFrame& frame, VisionJob& job);
+  void apply_vision(const VisionResults& results);
   void on_link_state(LinkState state, Seconds t);
   // Simulated runs only: the true pose, reported in status() for plots and the UI.
   void set_ground_truth(const Eigen::Isometry3d& T_world_body, Seconds t);

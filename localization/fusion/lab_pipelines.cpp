@@ -71,9 +71,9 @@ std::optional<Eigen::Vector3d> LabPipelines::gravity_in_front_camera(Seconds fra
 void LabPipelines::on_command(const MoveCommand& command, Seconds t) { estimator_.add_command(command, t); }
 
 void LabPipelines::on_video(const VideoFrame& frame) {
-  if (frame.bgr.empty()) return;
-  if (frame.camera == CameraId::Front) run_front_camera(frame);
-  else run_bottom_camera(frame);
+  if (!prepare_vision(frame, job_)) return;
+  run_vision_job(job_, results_);
+  apply_vision(results_);
 }
 
 std::optional<double> LabPipelines::expected_distance(const Eigen::Isometry3d& T_world_target, CameraId camera,
@@ -86,7 +86,7 @@ std::optional<double> LabPipelines::expected_distance(const Eigen::Isometry3d& T
 
 std::optional<Eigen::Isometry3d> LabPipelines::slam_prior(Seconds t) const {
   const MapToWorld& map = estimator_.map_to_world();
-  if (!map.initialized() || !estimator_.scale_status().estimated || slam_map_id_ != slam_fe_->map_id()) return std::nullopt;
+  if (!map.initialized() || !estimator_.scale_status().estimated || slam_map_id_ != slam_fe_map_id_) return std::nullopt;
   const FusedState f = estimator_.predict(t);
   if (!f.initialized || f.position_sigma_m > kMaxSigmaForSlamPriorM) return std::nullopt;
   // p_world = R * scale * p_map + t, inverted for the camera.
@@ -97,54 +97,67 @@ std::optional<Eigen::Isometry3d> LabPipelines::slam_prior(Seconds t) const {
   return T_map_cam.inverse();
 }
 
-const cv::Mat* LabPipelines::grey_of(const cv::Mat& image) {
+bool LabPipelines::prepare_vision(const VideoFrame& frame, VisionJob& job) {
+  job.clear();
   // BGR as decoded; grey passes through; anything else is no camera frame (the front-ends refuse
   // wrong sizes themselves).
-  if (image.type() == CV_8UC1) return &image;
-  if (image.type() != CV_8UC3) return nullptr;
-  cv::cvtColor(image, gray_, cv::COLOR_BGR2GRAY);  // reuses gray_ at a steady frame size
-  return &gray_;
+  if (frame.bgr.empty() || (frame.bgr.type() != CV_8UC3 && frame.bgr.type() != CV_8UC1)) return false;
+  job.t = frame.t;
+  job.camera = frame.camera;
+  if (frame.camera == CameraId::Front) prepare_front_camera(job);
+  else prepare_bottom_camera(job);
+  if (!job.has_work()) return false;
+  // Into the job's own buffer (reused at a steady frame size): the frame's may be reused meanwhile.
+  if (frame.bgr.type() == CV_8UC1) frame.bgr.copyTo(job.gray);
+  else cv::cvtColor(frame.bgr, job.gray, cv::COLOR_BGR2GRAY);
+  return true;
 }
 
-void LabPipelines::run_front_camera(const VideoFrame& frame) {
-  const bool instrument = !focus_.instrument_id.empty();
-  const bool want = (slam_fe_ && focus_.slam) || (face_fe_ && focus_.face) || instrument;
-  if (!want) return;
-  const cv::Mat* gray = grey_of(frame.bgr);
-  if (!gray) return;
+void LabPipelines::prepare_front_camera(VisionJob& job) {
   if (slam_fe_ && focus_.slam) {
-    const SlamFrame& s = slam_fe_->process(*gray, frame.t, slam_prior(frame.t), gravity_in_front_camera(frame.t));
-    add_slam_result(s.T_map_cam, s.summary, s.map_id, frame.t);
+    job.slam = slam_fe_.get();
+    job.slam_prior_T_cam_map = slam_prior(job.t);
+    job.gravity_down_cam = gravity_in_front_camera(job.t);
   }
-  if (instrument) {
-    const int index = instrument_index(focus_.instrument_id);
-    if (index > 0) {
-      if (auto& fe = instrument_fes_[static_cast<std::size_t>(index - 1)]) {
-        const Eigen::Isometry3d T_world_object = estimator_.T_world_object(index).value_or(
-            lab_.instruments[static_cast<std::size_t>(index - 1)].T_world_object);
-        add_instrument_result(fe->process(*gray, frame.t, expected_distance(T_world_object, CameraId::Front, frame.t)));
-      }
+  if (const int index = focus_.instrument_id.empty() ? -1 : instrument_index(focus_.instrument_id); index > 0) {
+    if (auto& fe = instrument_fes_[static_cast<std::size_t>(index - 1)]) {
+      const Eigen::Isometry3d T_world_object = estimator_.T_world_object(index).value_or(
+          lab_.instruments[static_cast<std::size_t>(index - 1)].T_world_object);
+      job.instrument = fe.get();
+      job.instrument_id = focus_.instrument_id;
+      job.instrument_distance_m = expected_distance(T_world_object, CameraId::Front, job.t);
     }
   }
-  if (face_fe_ && focus_.face) add_face_result(face_fe_->process(*gray, frame.t, std::nullopt));
+  if (face_fe_ && focus_.face) job.face = face_fe_.get();
 }
 
-void LabPipelines::run_bottom_camera(const VideoFrame& frame) {
+void LabPipelines::prepare_bottom_camera(VisionJob& job) {
   // SLAM sees nothing while the bottom camera streams: reported off, not as its last state.
   if (slam_fe_) {
-    const SlamFrame& s = slam_fe_->pause();
-    add_slam_result(s.T_map_cam, s.summary, s.map_id, frame.t);
+    job.slam = slam_fe_.get();
+    job.slam_pause = true;
   }
   if (!platform_fe_ || !focus_.platform) return;
-  const cv::Mat* gray = grey_of(frame.bgr);
-  if (!gray) return;
   const Eigen::Isometry3d T_world_platform = estimator_.T_world_object(kPlatformIndex).value_or(lab_.platform.T_world_object);
-  add_platform_result(platform_fe_->process(*gray, frame.t, expected_distance(T_world_platform, CameraId::Bottom, frame.t)));
+  job.platform = platform_fe_.get();
+  job.platform_distance_m = expected_distance(T_world_platform, CameraId::Bottom, job.t);
 }
 
-void LabPipelines::add_instrument_result(const TargetObservation& obs) {
+void LabPipelines::apply_vision(const VisionResults& r) {
+  if (r.has_slam) {
+    slam_fe_map_id_ = r.slam.map_id;
+    add_slam_result(r.slam.T_map_cam, r.slam.summary, r.slam.map_id, r.t);
+  }
+  if (r.has_instrument) apply_instrument(r.instrument_id, r.instrument);
+  if (r.has_platform) add_platform_result(r.platform);
+  if (r.has_face) add_face_result(r.face);
+}
+
+void LabPipelines::add_instrument_result(const TargetObservation& obs) { apply_instrument(focus_.instrument_id, obs); }
+
+void LabPipelines::apply_instrument(const std::string& id, const TargetObservation& obs) {
   instrument_ = obs;
-  const int index = instrument_index(focus_.instrument_id);
+  const int index = instrument_index(id);
   if (index < 0) return;
   if (obs.state == TrackState::Tracking && focus_.feedback == FeedbackSource::Homography) {
     ObjectObservation o;

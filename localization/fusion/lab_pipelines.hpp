@@ -3,11 +3,13 @@
 // fed with navdata, the commands sent, and the vision results of the source LocalizationSwitch chose
 // (SLAM far, the instrument's or platform's homography near, the face in face-follow).
 //
-// Vision results come in through add_*_result(), stamped with their frame time: from the vision
-// front-ends (localization/fusion/vision_front_end.hpp) run by on_video() on each frame, as the current focus
-// selects - SLAM on front frames, the focused instrument's panel in the front camera, the platform in
-// the bottom camera, the face in face-follow - or from a perception model in the lockstep experiments.
-// make_lab_pipelines() (lab_pipelines_factory.hpp) attaches the real front-ends.
+// Vision results come in stamped with their frame time: from the vision front-ends
+// (vision_front_end.hpp) on each frame, as the current focus selects - SLAM on front frames, the
+// focused instrument's panel in the front camera, the platform in the bottom camera, the face in
+// face-follow - or through add_*_result() from a perception model in the lockstep experiments.
+// on_video() runs the front-ends inline; prepare_vision() / run_vision_job() / apply_vision() let a
+// real-time runtime run them on a worker thread (vision_job.hpp). make_lab_pipelines()
+// (lab_pipelines_factory.hpp) attaches the real front-ends.
 // Convention: every TargetObservation's T_cam_target has z pointing into the target (away from a viewer
 // in front of it), for panels and faces alike; faces are converted at this edge.
 #include <memory>
@@ -18,6 +20,7 @@
 #include "localization/fusion/lab_geometry.hpp"
 #include "localization/fusion/localization_pipelines.hpp"
 #include "localization/fusion/vision_front_end.hpp"
+#include "localization/fusion/vision_job.hpp"
 #include "localization/estimation/state_estimator.hpp"
 
 namespace labo {
@@ -42,6 +45,8 @@ class LabPipelines final : public LocalizationPipelines {
   void on_navdata(const NavdataSample& sample) override;
   void on_command(const MoveCommand& command, Seconds t) override;
   void on_video(const VideoFrame& frame) override;
+  bool prepare_vision(const VideoFrame& frame, VisionJob& job) override;
+  void apply_vision(const VisionResults& results) override;
   void set_focus(const PerceptionFocus& focus) override { focus_ = focus; }
   void reset(const Eigen::Isometry3d& T_world_body, Seconds t) override;
   void start_at_first_navdata(const Eigen::Isometry3d& T_world_body) override;
@@ -66,9 +71,9 @@ class LabPipelines final : public LocalizationPipelines {
   // The IMU's attitude at a front frame's capture time as gravity's direction in the front camera
   // (navdata and video delays from the estimator's configuration); empty without navdata around it.
   std::optional<Eigen::Vector3d> gravity_in_front_camera(Seconds frame_t) const;
-  const cv::Mat* grey_of(const cv::Mat& image);
-  void run_front_camera(const VideoFrame& frame);
-  void run_bottom_camera(const VideoFrame& frame);
+  void prepare_front_camera(VisionJob& job);
+  void prepare_bottom_camera(VisionJob& job);
+  void apply_instrument(const std::string& id, const TargetObservation& obs);
 
   LabGeometry lab_;
   StateEstimator estimator_;
@@ -76,11 +81,13 @@ class LabPipelines final : public LocalizationPipelines {
   TargetObservation instrument_, platform_, face_;
   SlamSummary slam_;
   int slam_map_id_ = -1;  // the map of the last SLAM result given to the estimator
+  int slam_fe_map_id_ = SlamFrame{}.map_id;  // the map of the last SLAM result applied, good or not
   std::vector<std::unique_ptr<TargetFrontEnd>> instrument_fes_;  // parallel to lab_.instruments
   std::unique_ptr<TargetFrontEnd> platform_fe_, face_fe_;
   std::unique_ptr<SlamFrontEnd> slam_fe_;
   AttitudeHistory attitude_;  // navdata roll/pitch at their measurement times
-  cv::Mat gray_;  // the frame in grey, reused
+  VisionJob job_;              // on_video's, reused
+  VisionResults results_;
 };
 
 // Rotation by pi about y: between "z into the face" (control) and "z out of the face" (face/).

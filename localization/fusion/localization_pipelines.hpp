@@ -17,6 +17,9 @@
 
 namespace labo {
 
+struct VisionJob;
+struct VisionResults;
+
 // Which visual source drives the pose (the paper's colour code, docs/control.md).
 enum class FeedbackSource { Slam, Homography, Face, DeadReckoning };
 std::string to_string(FeedbackSource source);
@@ -77,7 +80,12 @@ class LocalizationPipelines {
   virtual ~LocalizationPipelines() = default;
   virtual void on_navdata(const NavdataSample& sample) = 0;
   virtual void on_command(const MoveCommand& command, Seconds t) = 0;
+  // One frame's vision, inline.
   virtual void on_video(const VideoFrame& frame) = 0;
+  // The same in three steps for a worker thread (vision_job.hpp): prepare here, run_vision_job()
+  // there, apply back here. Pipelines without front-ends have no vision to prepare.
+  virtual bool prepare_vision(const VideoFrame&, VisionJob&) { return false; }
+  virtual void apply_vision(const VisionResults&) {}
   virtual void set_focus(const PerceptionFocus& focus) = 0;
   // Re-anchors the filter (on the platform before take-off): world pose known.
   virtual void reset(const Eigen::Isometry3d& T_world_body, Seconds t) = 0;

@@ -10,6 +10,9 @@
 
 namespace labo {
 
+struct VisionJob;
+struct VisionResults;
+
 // What the flight software wants sent to the drone after a tick.
 struct FlightAction {
   enum class Kind { None, Move, Hover, Takeoff, Land, Emergency };
@@ -29,6 +32,14 @@ class FlightCore {
   virtual ~FlightCore() = default;
   virtual void on_navdata(const NavdataSample& sample) = 0;
   virtual void on_video(const VideoFrame& frame) = 0;
+  // A frame's vision in steps, so that the runtime runs it on its worker (VisionWorker): prepare
+  // here, run_vision_job() there, apply back here. False: the frame needs no worker (a core without
+  // that split handles the frame inline, as on_video).
+  virtual bool prepare_vision(const VideoFrame& frame, VisionJob&) {
+    on_video(frame);
+    return false;
+  }
+  virtual void apply_vision(const VisionResults&) {}
   virtual void on_link_state(LinkState state, Seconds t) = 0;
   virtual FlightAction tick(Seconds t) = 0;
   virtual CommandVerdict request(const MissionCommand& command, Seconds t) = 0;

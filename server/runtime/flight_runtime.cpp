@@ -20,7 +20,14 @@ FlightRuntime::FlightRuntime(DroneLink& link, FlightCore& core, const Clock& clo
       log_(std::move(log)),
       clock_to_unix_s_(unix_now_s() - clock.now()),
       instruments_(core.instruments()),
-      encoder_(options.jpeg_quality) {}
+      encoder_(options.jpeg_quality),
+      vision_([this] {
+        {
+          std::lock_guard lock(input_mutex_);
+          vision_ready_ = true;
+        }
+        input_cv_.notify_one();
+      }) {}
 
 FlightRuntime::~FlightRuntime() {
   stop_threads();
@@ -54,8 +61,10 @@ void FlightRuntime::on_navdata(const NavdataSample& sample) {
 
 void FlightRuntime::on_video(const VideoFrame& frame) {
   frames_in_++;
+  timing_.count_frame_in();
   {
     std::lock_guard lock(input_mutex_);
+    if (core_slot_.fresh) timing_.count_frame_skipped();  // the flight thread had not taken the last one
     for (FrameSlot* slot : {&core_slot_, &video_slot_}) {
       slot->frame.t = frame.t;
       slot->frame.camera = frame.camera;
@@ -135,18 +144,22 @@ void FlightRuntime::flight_loop() {
   Seconds last_fps_t = clock_.now();
   double fps = 0;
   LinkState told_state = LinkState::Disconnected;
+  bool have_frame = false;  // `frame` holds a frame the vision has not seen yet
+  auto last_tick = clock::time_point{};
   while (running_) {
-    bool have_frame = false;
     {
       std::unique_lock lock(input_mutex_);
-      input_cv_.wait_until(lock, next_tick, [&] { return !running_ || !requests_.empty() || core_slot_.fresh; });
+      input_cv_.wait_until(lock, next_tick,
+                           [&] { return !running_ || !requests_.empty() || core_slot_.fresh || vision_ready_; });
       samples.assign(navdata_.begin(), navdata_.end());
       navdata_.clear();
       if (core_slot_.fresh) {
+        if (have_frame) timing_.count_frame_skipped();  // the worker was busy for the whole frame
         std::swap(frame, core_slot_.frame);
         core_slot_.fresh = false;
         have_frame = true;
       }
+      vision_ready_ = false;
       requests.swap(requests_);
     }
     if (!running_) break;
@@ -157,8 +170,11 @@ void FlightRuntime::flight_loop() {
     for (const auto& s : samples) core_.on_navdata(s);
     for (auto& r : requests) r->verdict.set_value(core_.request(r->command, clock_.now()));
     requests.clear();
-    if (have_frame) core_.on_video(frame);
-    if (clock::now() >= next_tick) {
+    step_vision(frame, have_frame);
+    if (const auto tick_time = clock::now(); tick_time >= next_tick) {
+      if (last_tick != clock::time_point{})
+        timing_.add_tick_interval(std::chrono::duration<double, std::milli>(tick_time - last_tick).count());
+      last_tick = tick_time;
       const Seconds now = clock_.now();
       apply(core_.tick(now));
       FlightSnapshot snap = core_.status();
@@ -184,6 +200,27 @@ void FlightRuntime::flight_loop() {
       if (next_tick < clock::now()) next_tick = clock::now() + period;  // overran: don't try to catch up
     }
   }
+}
+
+void FlightRuntime::step_vision(VideoFrame& newest, bool& have_newest) {
+  double run_ms = 0;
+  if (vision_.take(vision_results_, run_ms)) {
+    if (!vision_results_.failure.empty()) {
+      timing_.count_vision_failure();
+      std::size_t suppressed = 0;
+      if (vision_log_limit_.allow("vision-failure", clock_.now(), &suppressed))
+        log_.warn(clock_.now(), "vision: a front-end failed on a frame")
+            .kv("error", vision_results_.failure)
+            .kv("suppressed", suppressed);
+    }
+    core_.apply_vision(vision_results_);
+    timing_.add_vision((clock_.now() - vision_results_.t) * 1000.0, run_ms);
+  }
+  if (!have_newest || !vision_.idle()) return;
+  have_newest = false;
+  if (!core_.prepare_vision(newest, vision_job_)) return;
+  timing_.count_frame_to_vision();
+  vision_.submit(vision_job_);
 }
 
 // --- video thread -----------------------------------------------------------------------------------

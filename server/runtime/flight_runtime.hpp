@@ -2,8 +2,11 @@
 // The real-time side of `labodrone serve`: threads around a DroneLink and a FlightCore.
 //  - the link's own threads deliver navdata and frames (DroneLinkListener): they only copy into a
 //    bounded navdata ring and two latest-frame slots, and return;
-//  - the flight thread owns the FlightCore: it feeds it navdata and the newest frame, runs queued
-//    mission requests, ticks at control_hz and sends the action to the link;
+//  - the flight thread owns the FlightCore: it feeds it navdata, runs queued mission requests,
+//    ticks at control_hz and sends the action to the link. It never waits for vision: the newest
+//    frame's vision is prepared here, run on the vision worker's thread (VisionWorker) and its
+//    results applied here with their capture time; frames that come while the worker is busy are
+//    skipped, the newest kept;
 //  - the video thread takes the newest frame, draws the overlays from the latest snapshot, encodes
 //    JPEG and publishes it to the sink (a slow encoder drops frames, never queues them).
 // Emergency stop goes to the link from the caller's thread at once, then to the core.
@@ -19,6 +22,8 @@
 #include "core/time.hpp"
 #include "server/lab/flight_service.hpp"
 #include "server/runtime/flight_core.hpp"
+#include "server/runtime/runtime_timing.hpp"
+#include "server/runtime/vision_worker.hpp"
 #include "server/video/frame_encoder.hpp"
 
 namespace labo {
@@ -44,12 +49,16 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
   void land_and_stop(double timeout_s) override;
 
   double unix_ms_of(Seconds t) const { return (t + clock_to_unix_s_) * 1000.0; }
+  // Tick intervals, vision latency and frame counts of the flight thread so far.
+  RuntimeTimingSummary timing() const { return timing_.summary(); }
 
  private:
   void on_navdata(const NavdataSample& sample) override;
   void on_video(const VideoFrame& frame) override;
   void on_link_state(LinkState state, Seconds t) override;
   void flight_loop();
+  // The vision worker's results, applied; then the newest frame handed to it when it is free.
+  void step_vision(VideoFrame& newest, bool& have_newest);
   void video_loop();
   void apply(const FlightAction& action);
   void stop_threads();
@@ -83,6 +92,12 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
   std::atomic<LinkState> link_state_{LinkState::Disconnected};
   std::atomic<bool> running_{false};
   std::atomic<std::uint64_t> frames_in_{0};
+  bool vision_ready_ = false;  // under input_mutex_: the worker finished a job
+
+  RuntimeTiming timing_;
+  RateLimiter vision_log_limit_{5.0};
+  VisionJob vision_job_;          // the flight thread's, swapped with the worker's
+  VisionResults vision_results_;  // likewise
 
   mutable std::mutex snapshot_mutex_;
   FlightSnapshot snapshot_;
@@ -95,6 +110,7 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
   cv::Mat annotated_;
   std::thread flight_thread_;
   std::thread video_thread_;
+  VisionWorker vision_;  // last: its thread calls back into input_cv_
 };
 
 }  // namespace labo

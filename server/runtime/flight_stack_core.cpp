@@ -63,6 +63,11 @@ void FlightStackCore::on_video(const VideoFrame& frame) {
   stack_->on_video(frame);
 }
 
+bool FlightStackCore::prepare_vision(const VideoFrame& frame, VisionJob& job) {
+  camera_ = frame.camera;
+  return stack_->prepare_vision(frame, job);
+}
+
 FlightAction FlightStackCore::tick(Seconds t) {
   if (truth_) {
     if (const auto T_world_body = truth_()) stack_->set_ground_truth(*T_world_body, t);

@@ -305,3 +305,63 @@ TEST_CASE("vision front-ends: the teacher's face gives a pose with z into the fa
   CHECK(lost.state == TrackState::Lost);
   CHECK_FALSE(lost.reason.empty());
 }
+
+TEST_CASE("vision front-ends: vision prepared, run and applied in steps gives what on_video gives, and the focus may change meanwhile") {
+  FrontEndSettings settings;
+  settings.with_face = false;
+  settings.slam.mapping_mode = slam::MappingMode::Synchronous;
+  const auto inline_run = make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, EstimatorConfig{}, settings);
+  const auto stepped = make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, EstimatorConfig{}, settings);
+  const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const Eigen::Vector3d body = osc.T_world_object.translation() - Eigen::Vector3d(1.5, 0.05, 0.0);
+  const PanelScene panel{osc, PinholeCamera::ardrone2_front()};
+  PerceptionFocus focus;
+  focus.instrument_id = "oscilloscope";
+  focus.feedback = FeedbackSource::Homography;
+  for (LabPipelines* p : {inline_run.get(), stepped.get()}) {
+    p->reset(make_pose(body, 0.0), 0.0);
+    p->set_focus(focus);
+  }
+  VisionJob job;
+  VisionResults results;
+  for (int i = 0; i < 6; ++i) {
+    const Seconds t = 0.1 + 0.033 * i;
+    const Eigen::Vector3d at = body + Eigen::Vector3d(0.01 * i, 0.0, 0.0);
+    const VideoFrame frame = bgr_frame(panel.view(front_camera_at(at, 0.0).inverse() * osc.T_world_object), t, CameraId::Front);
+    inline_run->on_video(frame);
+    REQUIRE(stepped->prepare_vision(frame, job));
+    CHECK(job.instrument_id == "oscilloscope");
+    CHECK(job.slam != nullptr);
+    run_vision_job(job, results);
+    if (i == 5) {
+      // The mission moved on before the worker finished: the result still counts for the instrument
+      // it was prepared for.
+      PerceptionFocus other = focus;
+      other.instrument_id.clear();
+      stepped->set_focus(other);
+    }
+    stepped->apply_vision(results);
+  }
+  const TargetObservation a = inline_run->instrument(), b = stepped->instrument();
+  REQUIRE(a.state == TrackState::Tracking);
+  CHECK(b.state == a.state);
+  CHECK(b.method == a.method);
+  CHECK((b.T_cam_target.translation() - a.T_cam_target.translation()).norm() < 1e-9);
+  CHECK(b.placed_in_world == a.placed_in_world);
+  const PoseEstimate pa = inline_run->predict(0.4), pb = stepped->predict(0.4);
+  CHECK((pa.T_world_body.translation() - pb.T_world_body.translation()).norm() < 1e-9);
+  CHECK(stepped->slam().state == inline_run->slam().state);
+
+  // A frame nothing is asked of needs no job.
+  PerceptionFocus nothing;
+  nothing.slam = false;
+  stepped->set_focus(nothing);
+  CHECK_FALSE(stepped->prepare_vision(bgr_frame(panel.view(front_camera_at(body, 0.0).inverse() * osc.T_world_object), 1.0,
+                                                CameraId::Front),
+                                      job));
+  // Nor does a frame that is no camera image.
+  stepped->set_focus(focus);
+  VideoFrame odd = bgr_frame(panel.view(front_camera_at(body, 0.0).inverse() * osc.T_world_object), 1.1, CameraId::Front);
+  odd.bgr = cv::Mat(360, 640, CV_32FC1, cv::Scalar(0.5));
+  CHECK_FALSE(stepped->prepare_vision(odd, job));
+}
