@@ -29,7 +29,11 @@ std::vector<OptionSpec> real_vision_option_specs() {
   return {{"--vision", "model|real",
            "model (default): quadrotor and perception models; real: the simulated lab with rendered cameras and the "
            "real vision pipelines"},
-          {"--fps", "N", "with --vision real: frames rendered and processed per second (default 30)"}};
+          {"--fps", "N", "with --vision real: frames rendered and processed per second (default 30)"},
+          {"--vision-latency", "inline|worker",
+           "with --vision real: inline (default): each frame's vision is done before the next control tick; worker: as "
+           "labodrone serve runs it, a frame's results reach the estimator after the worker's modelled time and frames "
+           "that come while it is busy are skipped"}};
 }
 
 OptionSpec jobs_option_spec() {
@@ -44,6 +48,12 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args) {
   if (args.value("--fps")) {
     if (!o.real_vision) throw UsageError("--fps needs --vision real");
     o.video_fps = args.number_or("--fps", 30.0, 1.0, 60.0);
+  }
+  if (const auto latency = args.value("--vision-latency")) {
+    if (*latency != "inline" && *latency != "worker")
+      throw UsageError("--vision-latency must be inline or worker (got '" + *latency + "')");
+    if (!o.real_vision) throw UsageError("--vision-latency needs --vision real");
+    if (*latency == "worker") o.vision_latency = VisionLatencyModel{};
   }
   o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
   o.runs = args.integer_or("--runs", 1, 1, 10000);
@@ -101,6 +111,7 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   setup.front_ends = front_ends;
   e.sim = read_sim_config_of(root);
   if (options.video_fps) e.sim.link.video_fps = *options.video_fps;
+  e.vision_latency = options.vision_latency;
   if (with_face) e.head = face::load_lab_teacher_head(*e.lab, front_ends.face);
   return e;
 }
@@ -114,7 +125,7 @@ std::unique_ptr<ExperimentFlight> make_flight(const Experiment& experiment, unsi
   SimConfig sim = experiment.sim;
   sim.lab.seed = seed;
   sim.link.seed = seed;
-  return std::make_unique<SimLabFlight>(experiment.setup, *experiment.lab, sim, experiment.head);
+  return std::make_unique<SimLabFlight>(experiment.setup, *experiment.lab, sim, experiment.head, experiment.vision_latency);
 }
 
 void write_run_outputs(const ExperimentOptions& options, const std::string& name, int index, const ExperimentFlight& flight) {

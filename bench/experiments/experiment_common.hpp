@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "bench/experiments/experiment_flight.hpp"
+#include "bench/experiments/lockstep_vision_worker.hpp"
 #include "core/cli_args.hpp"
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/head_model.hpp"
@@ -24,6 +25,8 @@ struct ExperimentOptions {
   std::filesystem::path config;  // --config, default config/default.json
   bool real_vision = false;      // --vision real: the simulated lab, rendered cameras, real front-ends
   std::optional<double> video_fps;  // --fps, with --vision real (default: the sim section's 30)
+  // --vision-latency worker: the server's vision worker modelled (lockstep_vision_worker.hpp).
+  std::optional<VisionLatencyModel> vision_latency;
   // --route (sim face-follow, model vision): fly in the config's lab file with its teacher walking
   // the lab's route, as with --vision real, instead of the model lab's 2 m back-and-forth.
   bool model_route = false;
@@ -34,7 +37,7 @@ struct ExperimentOptions {
 };
 
 std::vector<OptionSpec> experiment_option_specs();
-// --vision model|real and --fps, for the experiments that can fly the simulated lab.
+// --vision model|real, --fps and --vision-latency, for the experiments that can fly the simulated lab.
 std::vector<OptionSpec> real_vision_option_specs();
 // --jobs N, for the experiments whose runs fly in parallel (inspect, perturb, face-follow).
 OptionSpec jobs_option_spec();
@@ -49,6 +52,7 @@ struct Experiment {
   SimConfig sim;                           // its "sim" section (lab and link settings)
   std::optional<TexturedHeadModel> head;   // the teacher's face, when the experiment looks for it
   std::optional<TeacherSpec> model_route;  // --route: the model flight's teacher walks this
+  std::optional<VisionLatencyModel> vision_latency;  // --vision-latency worker
 };
 // `with_face`: load the face front-end (find teacher) with --vision real.
 Experiment make_experiment(const ExperimentOptions& options, bool with_face);

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/experiments/lockstep_vision_worker.hpp"
 #include "control/flight_stack.hpp"
 #include "localization/estimation/state_estimator.hpp"
 
@@ -76,6 +77,8 @@ class ExperimentFlight {
   virtual const std::vector<FlightSample>& samples() const = 0;
   // What flew and what saw, for plot titles and summaries.
   virtual std::string description() const = 0;
+  // The modelled vision worker's frame counts (--vision-latency worker), when the flight has one.
+  virtual std::optional<LockstepVisionStats> vision_stats() const { return std::nullopt; }
 
   bool run_until(const std::function<bool()>& done, double timeout_s);
   void run(double seconds);

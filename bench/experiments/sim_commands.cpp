@@ -49,6 +49,7 @@ struct InspectRun {
   bool crashed = false;
   double duration_s = 0;
   std::string result;
+  std::optional<LockstepVisionStats> vision;  // --vision-latency worker
   bool success() const {
     return mission_succeeded && standoff_error_m <= 0.05 && centre_offset <= 0.05 && landing_error_m <= 0.10 && !crashed;
   }
@@ -236,7 +237,8 @@ int run_sim_inspect_command(const ParsedArgs& args) {
   std::vector<double> standoff, centre, landing;
   const std::vector<InspectRun> results = run_seeded_flights<InspectRun>(o.runs, o.jobs, [&](int i) {
     const auto f = make_flight(experiment, o.seed + static_cast<unsigned>(i));
-    const InspectRun r = run_inspect(setup, *instrument, hold, *f);
+    InspectRun r = run_inspect(setup, *instrument, hold, *f);
+    r.vision = f->vision_stats();
     write_run_outputs(o, "inspect", i, *f);
     return r;
   });
@@ -252,9 +254,14 @@ int run_sim_inspect_command(const ParsedArgs& args) {
                     {"centre_offset_fraction", std::isfinite(r.centre_offset) ? r.centre_offset : -1},
                     {"landing_error_m", std::isfinite(r.landing_error_m) ? r.landing_error_m : -1},
                     {"crashed", r.crashed}, {"duration_s", r.duration_s}, {"result", r.result}});
+    if (r.vision)
+      runs.back()["vision_worker"] = {{"frames_in", r.vision->frames_in},
+                                      {"frames_to_vision", r.vision->frames_to_vision},
+                                      {"frames_skipped", r.vision->frames_skipped}};
   }
   const double rate = double(ok) / o.runs;
-  nlohmann::json summary = {{"experiment", "sim inspect"}, {"note", note_of(o)}, {"instrument", id}, {"seed", o.seed}, {"runs", o.runs},
+  nlohmann::json summary = {{"experiment", "sim inspect"}, {"note", note_of(o)},
+                            {"vision_latency", o.vision_latency ? "worker" : "inline"}, {"instrument", id}, {"seed", o.seed}, {"runs", o.runs},
                             {"success_rate", rate}, {"target_success_rate", 0.98},
                             {"standoff_error_m_p95", percentile(standoff, 95)}, {"centre_offset_fraction_p95", percentile(centre, 95)},
                             {"landing_error_m_p95", percentile(landing, 95)}, {"per_run", runs}};

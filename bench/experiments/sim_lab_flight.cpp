@@ -8,31 +8,42 @@
 
 namespace labo {
 
-// The link's events go straight to the flight stack (a frame's pixels are valid during on_video only;
-// the stack processes them there).
+// The link's events go straight to the flight stack, frames through the modelled worker when there
+// is one (a frame's pixels are valid during on_video only: the stack or the worker takes them there).
 struct SimLabFlight::Listener final : DroneLinkListener {
-  explicit Listener(FlightStack& s) : stack(s) {}
+  Listener(FlightStack& s, LockstepVisionWorker* w, const Seconds& t) : stack(s), worker(w), now(t) {}
   void on_navdata(const NavdataSample& sample) override { stack.on_navdata(sample); }
-  void on_video(const VideoFrame& frame) override { stack.on_video(frame); }
+  void on_video(const VideoFrame& frame) override {
+    if (worker) worker->on_frame(frame, now);
+    else stack.on_video(frame);
+  }
   void on_link_state(LinkState state, Seconds t) override { stack.on_link_state(state, t); }
   FlightStack& stack;
+  LockstepVisionWorker* worker;
+  const Seconds& now;
 };
 
 SimLabFlight::SimLabFlight(const FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
-                           std::optional<TexturedHeadModel> head)
+                           std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency)
     : geometry_(setup.lab), link_settings_(sim.link) {
   if (!setup.front_ends) throw std::invalid_argument("SimLabFlight: the setup has no vision front-ends");
   lab_ = make_simulated_lab(lab, setup.cameras, sim.lab, std::move(head));
   auto pipelines = make_lab_pipelines(setup.lab, setup.cameras, setup.vision, setup.estimation, *setup.front_ends);
   pipelines_ = pipelines.get();
   stack_ = std::make_unique<FlightStack>(setup, std::move(pipelines));
-  listener_ = std::make_unique<Listener>(*stack_);
+  if (vision_latency) vision_worker_ = std::make_unique<LockstepVisionWorker>(*stack_, *vision_latency);
+  listener_ = std::make_unique<Listener>(*stack_, vision_worker_.get(), t_);
   link_ = std::make_unique<SimDroneLink>(*lab_, sim.link);
   link_->set_listener(listener_.get());
   samples_.reserve(20000);
 }
 
 SimLabFlight::~SimLabFlight() = default;
+
+std::optional<LockstepVisionStats> SimLabFlight::vision_stats() const {
+  if (!vision_worker_) return std::nullopt;
+  return vision_worker_->stats();
+}
 
 std::optional<Eigen::Isometry3d> SimLabFlight::true_face() const {
   const SceneState scene = lab_->scene();
@@ -42,8 +53,9 @@ std::optional<Eigen::Isometry3d> SimLabFlight::true_face() const {
 
 std::string SimLabFlight::description() const {
   char buf[160];
-  std::snprintf(buf, sizeof buf, "sim lab, %.0f fps, %.0f Hz navdata, real vision", link_settings_.video_fps,
-                link_settings_.full_navdata ? link_settings_.full_rate_hz : link_settings_.demo_rate_hz);
+  std::snprintf(buf, sizeof buf, "sim lab, %.0f fps, %.0f Hz navdata, real vision%s", link_settings_.video_fps,
+                link_settings_.full_navdata ? link_settings_.full_rate_hz : link_settings_.demo_rate_hz,
+                vision_worker_ ? " on a modelled worker" : "");
   return buf;
 }
 
@@ -65,6 +77,7 @@ void SimLabFlight::apply(const FlightOutput& out) {
 
 void SimLabFlight::tick() {
   link_->advance_to(t_);
+  if (vision_worker_) vision_worker_->advance(t_);
   const Eigen::Isometry3d truth = true_pose();
   stack_->set_ground_truth(truth, t_);
   const FlightOutput out = stack_->tick(t_);

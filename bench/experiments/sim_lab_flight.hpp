@@ -5,11 +5,14 @@
 // lockstep DroneLink with the real link's timing (15 Hz demo navdata, 30 fps video, delays, jitter,
 // the driver's 30 ms AT loop, the camera switch delay; docs/sim.md). Each control period the link
 // advances to now, delivering navdata and frames to the stack; the stack ticks and its action goes to
-// the link, exactly as the server's runtime does with the real driver.
+// the link, exactly as the server's runtime does with the real driver. Each frame's vision runs before
+// the next tick, or, given a latency model, as the server's vision worker runs it: its results applied
+// after the worker's modelled time, frames skipped while it is busy (lockstep_vision_worker.hpp).
 #include <memory>
 #include <optional>
 
 #include "bench/experiments/experiment_flight.hpp"
+#include "bench/experiments/lockstep_vision_worker.hpp"
 #include "localization/fusion/lab_pipelines.hpp"
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/head_model.hpp"
@@ -24,7 +27,7 @@ class SimLabFlight final : public ExperimentFlight {
   // `setup.front_ends` must be set: this flight has no other perception than the rendered frames.
   // `sim` is the lab's and the link's settings (their seeds included); `head` textures the teacher's face.
   SimLabFlight(const FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
-               std::optional<TexturedHeadModel> head);
+               std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency = std::nullopt);
   ~SimLabFlight() override;
 
   void tick() override;
@@ -41,6 +44,8 @@ class SimLabFlight final : public ExperimentFlight {
 
   SimulatedLab& simulated_lab() { return *lab_; }
   const SimDroneLink& link() const { return *link_; }
+  // With a latency model: the modelled worker's frame counts.
+  std::optional<LockstepVisionStats> vision_stats() const override;
 
  private:
   struct Listener;
@@ -51,6 +56,7 @@ class SimLabFlight final : public ExperimentFlight {
   std::unique_ptr<SimulatedLab> lab_;
   std::unique_ptr<FlightStack> stack_;
   const LabPipelines* pipelines_ = nullptr;  // owned by stack_
+  std::unique_ptr<LockstepVisionWorker> vision_worker_;  // with a latency model
   std::unique_ptr<Listener> listener_;
   std::unique_ptr<SimDroneLink> link_;
   Seconds t_ = 0;

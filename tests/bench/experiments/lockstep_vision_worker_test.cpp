@@ -1,0 +1,108 @@
+#include "bench/experiments/lockstep_vision_worker.hpp"
+
+#include <catch2/catch.hpp>
+#include <vector>
+
+using namespace labo;
+
+namespace {
+
+// A front-end that reports the method it was built with.
+class MethodFrontEnd final : public TargetFrontEnd {
+ public:
+  explicit MethodFrontEnd(std::string method) { o_.method = std::move(method); }
+  const TargetObservation& process(const cv::Mat&, Seconds t, std::optional<double>) override {
+    o_.state = TrackState::Tracking;
+    o_.t = t;
+    return o_;
+  }
+  void reset() override {}
+  TargetObservation o_;
+};
+
+// Pipelines that run one instrument front-end per frame and record the frame times applied.
+class RecordingPipelines final : public LocalizationPipelines {
+ public:
+  explicit RecordingPipelines(TargetFrontEnd& fe) : fe_(fe) {}
+  void on_navdata(const NavdataSample&) override {}
+  void on_command(const MoveCommand&, Seconds) override {}
+  void on_video(const VideoFrame&) override {}
+  bool prepare_vision(const VideoFrame& frame, VisionJob& job) override {
+    job.clear();
+    job.t = frame.t;
+    frame.bgr.copyTo(job.gray);
+    job.instrument = &fe_;
+    job.instrument_id = "oscilloscope";
+    return true;
+  }
+  void apply_vision(const VisionResults& r) override { applied->push_back(r.t); }
+  void set_focus(const PerceptionFocus&) override {}
+  void reset(const Eigen::Isometry3d&, Seconds) override {}
+  void start_at_first_navdata(const Eigen::Isometry3d&) override {}
+  PoseEstimate predict(Seconds t) const override { return {.t = t}; }
+  TargetObservation instrument() const override { return {}; }
+  TargetObservation platform() const override { return {}; }
+  TargetObservation face() const override { return {}; }
+  SlamSummary slam() const override { return {}; }
+
+  std::shared_ptr<std::vector<Seconds>> applied = std::make_shared<std::vector<Seconds>>();
+
+ private:
+  TargetFrontEnd& fe_;
+};
+
+VideoFrame frame_at(Seconds t) {
+  VideoFrame f;
+  f.t = t;
+  f.bgr = cv::Mat(36, 64, CV_8UC1, cv::Scalar(7));
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("lockstep vision worker: results wait for the modelled time, and a busy worker keeps only the newest frame") {
+  MethodFrontEnd detector("template");
+  auto pipelines = std::make_unique<RecordingPipelines>(detector);
+  const auto applied = pipelines->applied;
+  FlightStack stack(FlightStackSetup{}, std::move(pipelines));
+  const VisionLatencyModel model;
+  LockstepVisionWorker worker(stack, model);
+
+  worker.on_frame(frame_at(0.00), 0.00);  // a template search: 18.3 + 0.2 ms
+  worker.advance(0.0180);
+  CHECK(applied->empty());
+  worker.on_frame(frame_at(0.01), 0.010);  // busy: waits
+  worker.on_frame(frame_at(0.02), 0.015);  // replaces it
+  worker.advance(0.0186);
+  REQUIRE(applied->size() == 1);
+  CHECK(applied->front() == 0.00);
+  worker.advance(0.0186 + 0.0184);  // the newest frame started at 0.0186
+  CHECK(applied->size() == 1);
+  worker.advance(0.0186 + 0.0186);
+  REQUIRE(applied->size() == 2);
+  CHECK(applied->back() == 0.02);
+  CHECK(worker.stats().frames_in == 3);
+  CHECK(worker.stats().frames_to_vision == 2);
+  CHECK(worker.stats().frames_skipped == 1);
+}
+
+TEST_CASE("lockstep vision worker: a frame's modelled time is the sum of what its vision did") {
+  const VisionLatencyModel m;
+  VisionResults r;
+  CHECK(m.latency_of(r) == Approx(m.handoff_ms / 1000.0));
+  r.has_slam = true;
+  r.slam.summary.state = SlamState::Good;
+  r.has_instrument = true;
+  r.instrument.method = "ic";
+  CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.slam_ms + m.planar_tracking_ms) / 1000.0));
+  r.instrument.method = "sift";
+  CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.slam_ms + m.sift_detection_ms) / 1000.0));
+  r.instrument.method = "none";  // a search that found nothing costs a search
+  CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.slam_ms + m.sift_detection_ms) / 1000.0));
+  r.slam.summary.state = SlamState::Off;  // paused on a bottom frame: nothing to run
+  r.has_instrument = false;
+  r.has_platform = true;
+  r.platform.method = "ic";
+  r.has_face = true;
+  CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.platform_tracking_ms + m.face_ms) / 1000.0));
+}
