@@ -10,6 +10,7 @@
 #include "bench/face/bench_face_command.hpp"
 #include "bench/link/bench_link_command.hpp"
 #include "bench/planar/bench_planar_command.hpp"
+#include "bench/realtime/sim_realtime_command.hpp"
 #include "bench/sim/bench_render_command.hpp"
 #include "bench/sim/bench_sim_command.hpp"
 #include "bench/slam/slam_bench_command.hpp"
@@ -37,6 +38,7 @@ labo::Program program() {
               {sim_perturb_command_spec(), run_sim_perturb_command},
               {sim_face_follow_command_spec(), run_sim_face_follow_command},
               {sim_compare_slam_command_spec(), run_sim_compare_slam_command},
+              {sim_realtime_command_spec(), run_sim_realtime_command},
           },
       .moved = {},
   };

@@ -44,7 +44,8 @@ labo::Program program() {
                 {"sim perturb", "labodrone-bench"},
                 {"sim face-follow", "labodrone-bench"},
                 {"sim compare-slam", "labodrone-bench"},
-                {"sim estimate", "labodrone-bench"}},
+                {"sim estimate", "labodrone-bench"},
+                {"sim realtime", "labodrone-bench"}},
   };
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "drone/drone_link.hpp"
+#include "server/runtime/runtime_timing.hpp"
 
 namespace labo {
 
@@ -96,6 +97,8 @@ class FlightService {
   virtual std::vector<InstrumentSummary> instruments() const = 0;
   // Graceful shutdown: land (waiting up to timeout_s for touchdown), then stop the threads.
   virtual void land_and_stop(double timeout_s) = 0;
+  // How the flight thread has kept time (control ticks, vision latency, frames); empty without one.
+  virtual RuntimeTimingSummary timing() const { return {}; }
 };
 
 }  // namespace labo

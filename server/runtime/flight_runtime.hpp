@@ -50,7 +50,7 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
 
   double unix_ms_of(Seconds t) const { return (t + clock_to_unix_s_) * 1000.0; }
   // Tick intervals, vision latency and frame counts of the flight thread so far.
-  RuntimeTimingSummary timing() const { return timing_.summary(); }
+  RuntimeTimingSummary timing() const override { return timing_.summary(); }
 
  private:
   void on_navdata(const NavdataSample& sample) override;

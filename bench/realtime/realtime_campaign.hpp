@@ -1,0 +1,42 @@
+#pragma once
+// Missions flown in real time through the same threads as `labodrone serve --drone sim`: the
+// simulated lab under the AR.Drone 2.0 emulator on loopback, the real driver, FlightRuntime with its
+// vision worker, on the wall clock. Where the lockstep campaigns measure the flight software with
+// time stopped, these measure what the server does with it: whether the mission succeeds while the
+// front-ends compete with rendering, encoding and the link for two cores, and how the control loop
+// keeps time (tick interval, capture-to-estimate latency, frames skipped).
+#include <string>
+#include <vector>
+
+#include "server/runtime/runtime_timing.hpp"
+
+namespace labo {
+
+enum class RealtimeMission { Inspect, FindTeacher };
+
+struct RealtimeCampaignOptions {
+  RealtimeMission mission = RealtimeMission::Inspect;
+  std::string config_file;      // the app's configuration (config/default.json)
+  unsigned seed = 1;            // run i flies the simulated lab with seed + i
+  int runs = 1;
+  std::string instrument;       // inspect: empty = the lab's first
+  double hold_s = 5.0;          // inspect: the hold in front of the panel
+  double follow_s = 20.0;       // find teacher: how long to follow once found
+  double timeout_s = 180.0;     // a run that has not ended by then fails
+};
+
+struct RealtimeRun {
+  unsigned seed = 0;
+  bool success = false;
+  std::string result;            // the mission's last word, or why the run failed
+  double duration_s = 0;         // wall time from the request to the end
+  double landing_error_m = -1;   // inspect: true distance to the platform's centre after landing
+  bool landed = false;
+  RuntimeTimingSummary timing;
+};
+
+// Flies the runs one after another. Throws ConfigError / std::runtime_error for a configuration or
+// lab that cannot be flown.
+std::vector<RealtimeRun> run_realtime_campaign(const RealtimeCampaignOptions& options);
+
+}  // namespace labo
