@@ -27,7 +27,7 @@ struct AppConfig {
   VisionThresholds vision;
   EstimatorConfig estimation;
   ControlConfig control;
-  PlanarConfig planar;
+  planar::PlanarConfig planar;
   slam::SlamSettings slam;
   ServerSettings server;
   ArdroneLinkSettings link;          // the AR.Drone 2.0 driver (docs/ardrone2.md)

@@ -32,7 +32,7 @@ labo::Program program() {
               {emulate_command_spec(), [](const ParsedArgs& a) { return run_emulate_command(a, teacher_head); }},
               {navdata_command_spec(), run_navdata_command},
               {video_command_spec(), run_video_command},
-              {homography_command_spec(), run_homography_command},
+              {planar::homography_command_spec(), planar::run_homography_command},
               {face_register_command_spec(), run_face_register_command},
               {hash_password_command_spec(), run_hash_password_command},
               {sim_lab_command_spec(), run_sim_lab_command},

@@ -189,9 +189,9 @@ int run_bench_planar_command(const ParsedArgs& args) {
   if (tracker != "both" && tracker != "ic" && tracker != "ecc") {
     throw UsageError("--tracker must be ic, ecc or both, not '" + tracker + "'");
   }
-  std::vector<TrackerKind> trackers;
-  if (tracker != "ecc") trackers.push_back(TrackerKind::InverseCompositional);
-  if (tracker != "ic") trackers.push_back(TrackerKind::Ecc);
+  std::vector<planar::TrackerKind> trackers;
+  if (tracker != "ecc") trackers.push_back(planar::TrackerKind::InverseCompositional);
+  if (tracker != "ic") trackers.push_back(planar::TrackerKind::Ecc);
   PerturbationSettings settings;
   settings.trials = args.integer_or("--trials", settings.trials, 1, 10000);
   settings.pixel_noise = args.number_or("--noise", settings.pixel_noise, 0.0, 50.0);
@@ -209,8 +209,8 @@ int run_bench_planar_command(const ParsedArgs& args) {
     frames_out.open(frames_csv);
     if (!frames_out) throw UsageError("--frames-csv: cannot write '" + frames_csv + "'");
   }
-  const PlanarCommandSettings settings_from_file = read_planar_command_settings(args);
-  const PlanarConfig& config = settings_from_file.planar;
+  const planar::PlanarCommandSettings settings_from_file = planar::read_planar_command_settings(args);
+  const planar::PlanarConfig& config = settings_from_file.planar;
   nlohmann::json out;
   if (part != "sequences") {
     const auto rows = run_perturbation_sweep(settings, config);

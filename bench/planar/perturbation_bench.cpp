@@ -6,7 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "localization/planar/homography_tracker.hpp"
+#include "localization/planar/track/homography_tracker.hpp"
 #include "localization/planar/planar_template.hpp"
 #include "bench/planar/synthetic_scene.hpp"
 
@@ -19,7 +19,7 @@ struct Accumulator {
   double rms_sum = 0, iterations = 0;
   std::vector<double> ms, rms;
 
-  void add(const HomographyTrackOutcome& o, double error, double elapsed_ms, double threshold) {
+  void add(const planar::HomographyTrackOutcome& o, double error, double elapsed_ms, double threshold) {
     ++trials;
     ms.push_back(elapsed_ms);
     iterations += o.iterations;
@@ -44,7 +44,7 @@ struct Accumulator {
   }
 };
 
-double time_ms(HomographyTracker& tracker, const cv::Mat& scene, const cv::Matx33d& H0, HomographyTrackOutcome& out) {
+double time_ms(planar::HomographyTracker& tracker, const cv::Mat& scene, const cv::Matx33d& H0, planar::HomographyTrackOutcome& out) {
   const auto start = std::chrono::steady_clock::now();
   out = tracker.track(scene, H0);
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -52,7 +52,7 @@ double time_ms(HomographyTracker& tracker, const cv::Mat& scene, const cv::Matx3
 
 }  // namespace
 
-std::vector<PerturbationRow> run_perturbation_sweep(const PerturbationSettings& settings, const PlanarConfig& config) {
+std::vector<PerturbationRow> run_perturbation_sweep(const PerturbationSettings& settings, const planar::PlanarConfig& config) {
   std::vector<double> sigmas = settings.sigmas_px;
   if (sigmas.empty()) {
     for (int s = 1; s <= 20; ++s) sigmas.push_back(s);
@@ -61,15 +61,15 @@ std::vector<PerturbationRow> run_perturbation_sweep(const PerturbationSettings& 
   const cv::Mat templ = make_procedural_panel(cv::Size(side, side), settings.seed);
   const cv::Mat background =
       make_clutter_background(cv::Size(settings.scene_width_px, settings.scene_height_px), settings.seed + 1);
-  PlanarConfig ecc_config = config, ic_config = config;
-  auto ecc = make_homography_tracker(TrackerKind::Ecc, templ, ecc_config);
-  auto ic = make_homography_tracker(TrackerKind::InverseCompositional, templ, ic_config);
+  planar::PlanarConfig ecc_config = config, ic_config = config;
+  auto ecc = make_homography_tracker(planar::TrackerKind::Ecc, templ, ecc_config);
+  auto ic = make_homography_tracker(planar::TrackerKind::InverseCompositional, templ, ic_config);
 
   const double x0 = (settings.scene_width_px - side) / 2.0, y0 = (settings.scene_height_px - side) / 2.0;
   const cv::Matx33d H0(1, 0, x0, 0, 1, y0, 0, 0, 1);
   const std::array<cv::Point2d, 4> tc{cv::Point2d(-0.5, -0.5), cv::Point2d(side - 0.5, -0.5),
                                       cv::Point2d(side - 0.5, side - 0.5), cv::Point2d(-0.5, side - 0.5)};
-  const auto base = map_corners(H0, tc);
+  const auto base = planar::map_corners(H0, tc);
   cv::RNG rng(settings.seed + 2);
   std::vector<PerturbationRow> rows;
   cv::Mat scene, noise(background.size(), CV_16SC1), wide;
@@ -91,11 +91,11 @@ std::vector<PerturbationRow> run_perturbation_sweep(const PerturbationSettings& 
       wide += noise;
       wide.convertTo(scene, CV_8U);
 
-      HomographyTrackOutcome o;
+      planar::HomographyTrackOutcome o;
       double ms = time_ms(*ecc, scene, H0, o);
-      a_ecc.add(o, corner_rms(map_corners(o.H, tc), truth), ms, settings.converged_rms_px);
+      a_ecc.add(o, planar::corner_rms(planar::map_corners(o.H, tc), truth), ms, settings.converged_rms_px);
       ms = time_ms(*ic, scene, H0, o);
-      a_ic.add(o, corner_rms(map_corners(o.H, tc), truth), ms, settings.converged_rms_px);
+      a_ic.add(o, planar::corner_rms(planar::map_corners(o.H, tc), truth), ms, settings.converged_rms_px);
     }
     rows.push_back({sigma, a_ecc.stats(), a_ic.stats()});
   }

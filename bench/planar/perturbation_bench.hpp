@@ -34,6 +34,6 @@ struct PerturbationRow {
   TrackerSweepStats ecc, ic;
 };
 
-std::vector<PerturbationRow> run_perturbation_sweep(const PerturbationSettings& settings, const PlanarConfig& config);
+std::vector<PerturbationRow> run_perturbation_sweep(const PerturbationSettings& settings, const planar::PlanarConfig& config);
 
 }  // namespace labo

@@ -19,7 +19,7 @@
 
 #include "bench/planar/h264_roundtrip.hpp"
 #include "localization/planar/planar_localizer.hpp"
-#include "localization/planar/planar_pose_filter.hpp"
+#include "localization/planar/pose/planar_pose_filter.hpp"
 #include "bench/planar/synthetic_scene.hpp"
 
 namespace labo {
@@ -156,7 +156,7 @@ Sequence render_lab_approach(const std::string& name, double min_visible) {
   return s;
 }
 
-std::vector<Sequence> make_sequences(const PlanarConfig& config, const PanelModel& panel, const PanelModel& platform,
+std::vector<Sequence> make_sequences(const planar::PlanarConfig& config, const PanelModel& panel, const PanelModel& platform,
                                      const std::string& only, int h264_kbps, int h264_seeds) {
   const PinholeCamera front = PinholeCamera::ardrone2_front();
   const PinholeCamera bottom = PinholeCamera::ardrone2_bottom();
@@ -271,27 +271,27 @@ std::vector<RangeBinStats> all_bins(const std::string& tracker, const std::vecto
   return bins;
 }
 
-SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind kind, const PlanarConfig& base_config,
+SequenceStats run_one(const Sequence& s, const PanelModel& panel, planar::TrackerKind kind, const planar::PlanarConfig& base_config,
                       const VisionThresholds& vision, std::vector<ErrorSample>& samples,
                       std::vector<FrameRecord>& records) {
-  PlanarConfig config = base_config;
+  planar::PlanarConfig config = base_config;
   config.tracker = kind;
   const PinholeCamera camera = s.bottom_camera ? PinholeCamera::ardrone2_bottom() : PinholeCamera::ardrone2_front();
-  PlanarObjectLocalizer localizer(PlanarTemplate::create(panel.image, panel.width_m, panel.height_m, s.name, config),
-                                  camera, PlanarObjectThresholds::from(vision), config);
+  planar::PlanarObjectLocalizer localizer(planar::PlanarTemplate::create(panel.image, panel.width_m, panel.height_m, s.name, config),
+                                  camera, planar::PlanarObjectThresholds::from(vision), config);
   SequenceStats st;
   st.sequence = s.name;
   st.tracker = to_string(kind);
   st.min_range_m = 1e9;
   std::vector<double> err_mm, err_pct, err_deg, sigma_deg, filtered_deg, all_ms, tracking_ms, tracking_cpu_ms, detection_ms;
   std::vector<double> refinement_iterations;
-  PlanarPoseFilter filter;
+  planar::PlanarPoseFilter filter;
   bool had_pose = false;
   int loss_wait = -1;  // frames in view since the last loss, -1 when not recovering
   for (std::size_t i = 0; i < s.frames.size(); ++i) {
     const auto start = std::chrono::steady_clock::now();
     const double start_cpu_ms = thread_cpu_ms();
-    const PlanarResult r = localizer.process(s.frames[i], static_cast<double>(i) / kFps);
+    const planar::PlanarResult r = localizer.process(s.frames[i], static_cast<double>(i) / kFps);
     const double cpu_ms = thread_cpu_ms() - start_cpu_ms;
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     all_ms.push_back(ms);
@@ -300,13 +300,13 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
     st.min_range_m = std::min(st.min_range_m, range);
     st.max_range_m = std::max(st.max_range_m, range);
     if (s.in_view[i]) ++st.frames_in_view;
-    if (r.state == PlanarState::Tracking) tracking_ms.push_back(ms);
-    if (r.state == PlanarState::Tracking) {
+    if (r.state == planar::PlanarState::Tracking) tracking_ms.push_back(ms);
+    if (r.state == planar::PlanarState::Tracking) {
       tracking_cpu_ms.push_back(cpu_ms);
       refinement_iterations.push_back(r.refinement_iterations);
     }
-    if (r.state != PlanarState::Tracking) detection_ms.push_back(ms);
-    if (r.state == PlanarState::Detected) ++st.detections;
+    if (r.state != planar::PlanarState::Tracking) detection_ms.push_back(ms);
+    if (r.state == planar::PlanarState::Detected) ++st.detections;
     FrameRecord& rec = records.emplace_back();
     rec.sequence = s.name;
     rec.tracker = st.tracker;
@@ -318,7 +318,7 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
     rec.state = to_string(r.state);
     rec.cpu_ms = cpu_ms;
     Eigen::Matrix3d R_filtered = r.T_cam_object.linear();
-    if (r.state == PlanarState::Detected) filter.reset();  // a new detection may be the other IPPE branch
+    if (r.state == planar::PlanarState::Detected) filter.reset();  // a new detection may be the other IPPE branch
     if (r.has_pose) R_filtered = filter.update(r.T_cam_object.linear(), r.rotation_sigma_rad, static_cast<double>(i) / kFps).R_cam_object;
     if (r.has_pose) {
       const Eigen::AngleAxisd filtered_error(R_filtered * s.truth[i].linear().transpose());
@@ -329,7 +329,7 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
       rec.panel_rotation_error_deg = s.truth[i].linear().transpose() * rec.rotation_error_deg;
       rec.rotation_sigma_deg = r.rotation_sigma_rad * 180.0 / kPi;
     }
-    if (r.state == PlanarState::Lost && had_pose) {
+    if (r.state == planar::PlanarState::Lost && had_pose) {
       ++st.losses;
       ++st.loss_reasons[to_string(r.reason)];
       loss_wait = 0;
@@ -343,12 +343,12 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, TrackerKind ki
         loss_wait = -1;
       }
       const double e = (r.T_cam_object.translation() - s.truth[i].translation()).norm();
-      const double deg = rotation_angle(r.T_cam_object.linear(), s.truth[i].linear()) * 180.0 / kPi;
+      const double deg = planar::rotation_angle(r.T_cam_object.linear(), s.truth[i].linear()) * 180.0 / kPi;
       err_mm.push_back(1000 * e);
       err_pct.push_back(100 * e / range);
       err_deg.push_back(deg);
       sigma_deg.push_back(r.rotation_sigma_rad * 180.0 / kPi);
-      filtered_deg.push_back(rotation_angle(R_filtered, s.truth[i].linear()) * 180.0 / kPi);
+      filtered_deg.push_back(planar::rotation_angle(R_filtered, s.truth[i].linear()) * 180.0 / kPi);
       st.refined_poses += r.pose_refined ? 1 : 0;
       samples.push_back({range, 100 * e / range, deg, sigma_deg.back(), filtered_deg.back()});
       if (100 * e / range > 10 || deg > 10) ++st.gross_errors;
@@ -383,8 +383,8 @@ std::string h264_sequence_name(int seed) {
   return seed == 0 ? name : name + "_seed" + std::to_string(seed);
 }
 
-SequenceBenchResult run_sequence_bench(const PlanarConfig& config, const VisionThresholds& vision,
-                                       const std::string& only, const std::vector<TrackerKind>& trackers,
+SequenceBenchResult run_sequence_bench(const planar::PlanarConfig& config, const VisionThresholds& vision,
+                                       const std::string& only, const std::vector<planar::TrackerKind>& trackers,
                                        int h264_kbps, int h264_seeds) {
   if (h264_kbps <= 0) throw std::invalid_argument("run_sequence_bench: h264_kbps must be positive");
   if (h264_seeds < 1 || h264_seeds > kMaxH264Seeds) {
@@ -398,7 +398,7 @@ SequenceBenchResult run_sequence_bench(const PlanarConfig& config, const VisionT
   const PanelModel platform{make_procedural_panel(cv::Size(256, 256), 12), 0.60, 0.60};
   result.h264_seeds = h264_seeds;
   std::vector<Sequence> sequences = make_sequences(config, panel, platform, only, h264_kbps, h264_seeds);
-  for (TrackerKind kind : trackers) {
+  for (planar::TrackerKind kind : trackers) {
     const std::string tracker = to_string(kind);
     std::vector<ErrorSample> pooled, h264_pooled;
     for (const auto& s : sequences) {

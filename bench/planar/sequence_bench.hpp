@@ -88,10 +88,10 @@ std::string h264_sequence_name(int seed);
 // `h264_kbps` is the bit rate the H.264 sequence is encoded at. The H.264 sequence's one random
 // input is its sensor noise (the path and the scene are fixed): `h264_seeds` (1-kMaxH264Seeds) runs
 // it with that many noise seeds, each its own sequence (h264_sequence_name), pooled in h264_seed_bins.
-SequenceBenchResult run_sequence_bench(const PlanarConfig& config, const VisionThresholds& vision,
+SequenceBenchResult run_sequence_bench(const planar::PlanarConfig& config, const VisionThresholds& vision,
                                        const std::string& only = "",
-                                       const std::vector<TrackerKind>& trackers = {TrackerKind::InverseCompositional,
-                                                                                   TrackerKind::Ecc},
+                                       const std::vector<planar::TrackerKind>& trackers = {planar::TrackerKind::InverseCompositional,
+                                                                                   planar::TrackerKind::Ecc},
                                        int h264_kbps = kDefaultH264Kbps, int h264_seeds = 1);
 
 }  // namespace labo

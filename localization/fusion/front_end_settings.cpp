@@ -6,7 +6,7 @@ namespace labo {
 
 FrontEndSettings read_front_end_settings(const ConfigReader& root, const std::filesystem::path& base_dir) {
   FrontEndSettings s;
-  if (root.has("planar")) s.planar = read_planar_config(root.object("planar"));
+  if (root.has("planar")) s.planar = planar::read_planar_config(root.object("planar"));
   if (root.has("slam")) s.slam = slam::read_slam_settings(root.object("slam"));
   if (root.has("face")) s.face = face::read_face_config(root.object("face"), base_dir);
   return s;

@@ -12,7 +12,7 @@
 namespace labo {
 
 struct FrontEndSettings {
-  PlanarConfig planar;
+  planar::PlanarConfig planar;
   slam::SlamSettings slam;
   face::FaceConfig face = face::default_face_config();
   // The face front-end loads dlib's landmark model (about 100 MB); runs that never look for the

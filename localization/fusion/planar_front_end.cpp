@@ -19,42 +19,42 @@ constexpr Seconds kMaxTrackingGapS = 0.5;
 constexpr double kRetryScaleFactor = 1.6;
 constexpr int kConfirmFrames = 15;
 
-bool implausible_retry(const PlanarResult& r, bool retried, std::optional<double> expected_m) {
-  if (!retried || !expected_m || !(*expected_m > 0) || !r.has_pose || r.state != PlanarState::Detected) return false;
-  if (r.method != PlanarMethod::TemplateMatching) return false;  // SIFT's inliers identify the panel at any scale
+bool implausible_retry(const planar::PlanarResult& r, bool retried, std::optional<double> expected_m) {
+  if (!retried || !expected_m || !(*expected_m > 0) || !r.has_pose || r.state != planar::PlanarState::Detected) return false;
+  if (r.method != planar::PlanarMethod::TemplateMatching) return false;  // SIFT's inliers identify the panel at any scale
   const double ratio = r.distance_m / *expected_m;
   return ratio > kRetryScaleFactor || ratio < 1.0 / kRetryScaleFactor;
 }
 
-bool lost_track(const PlanarResult& r) {
-  return r.method == PlanarMethod::Ecc || r.method == PlanarMethod::InverseCompositional;
+bool lost_track(const planar::PlanarResult& r) {
+  return r.method == planar::PlanarMethod::Ecc || r.method == planar::PlanarMethod::InverseCompositional;
 }
 
-TrackState track_state_of(PlanarState s) {
+TrackState track_state_of(planar::PlanarState s) {
   switch (s) {
-    case PlanarState::Searching: return TrackState::Searching;
-    case PlanarState::Detected:
-    case PlanarState::Tracking: return TrackState::Tracking;
-    case PlanarState::Lost: return TrackState::Lost;
+    case planar::PlanarState::Searching: return TrackState::Searching;
+    case planar::PlanarState::Detected:
+    case planar::PlanarState::Tracking: return TrackState::Tracking;
+    case planar::PlanarState::Lost: return TrackState::Lost;
   }
   return TrackState::Lost;
 }
 }  // namespace
 
-PlanarTemplate load_target_template(const PlanarTarget& target, const PlanarConfig& config) {
+planar::PlanarTemplate load_target_template(const PlanarTarget& target, const planar::PlanarConfig& config) {
   if (target.template_path.empty())
     throw std::invalid_argument("planar target '" + target.id + "': no template image (the lab file's \"template\")");
   try {
-    return PlanarTemplate::load(target.template_path, target.width_m, target.height_m, config);
+    return planar::PlanarTemplate::load(target.template_path, target.width_m, target.height_m, config);
   } catch (const std::exception& e) {
     throw std::invalid_argument("planar target '" + target.id + "': " + e.what());
   }
 }
 
 PlanarFrontEnd::PlanarFrontEnd(const PlanarTarget& target, const PinholeCamera& camera, const VisionThresholds& vision,
-                               const PlanarConfig& config)
+                               const planar::PlanarConfig& config)
     : localizer_(load_target_template(target, config), camera,
-                 PlanarObjectThresholds::from(vision, target.sift_switch_distance_m, target.sift_min_inliers), config) {
+                 planar::PlanarObjectThresholds::from(vision, target.sift_switch_distance_m, target.sift_min_inliers), config) {
   observation_.image_points.reserve(4);
 }
 
@@ -86,7 +86,7 @@ const TargetObservation& PlanarFrontEnd::process(const cv::Mat& gray, Seconds t,
   if (implausible_retry(result_, retried, expected_distance_m)) {
     confirming_ = 0;
   } else if (confirming_ >= 0) {
-    const bool followed = result_.has_pose && result_.state == PlanarState::Tracking;
+    const bool followed = result_.has_pose && result_.state == planar::PlanarState::Tracking;
     confirming_ = followed && confirming_ + 1 < kConfirmFrames ? confirming_ + 1 : -1;
   }
   const bool unconfirmed = confirming_ >= 0;

@@ -21,17 +21,17 @@ class PlanarFrontEnd final : public TargetFrontEnd {
   // Throws std::invalid_argument naming the target when it has no template or the template is
   // unusable (missing file, too little texture; PlanarTemplate's reasons).
   PlanarFrontEnd(const PlanarTarget& target, const PinholeCamera& camera, const VisionThresholds& vision,
-                 const PlanarConfig& config);
+                 const planar::PlanarConfig& config);
 
   const TargetObservation& process(const cv::Mat& gray, Seconds t, std::optional<double> expected_distance_m) override;
   void reset() override;
 
-  const PlanarResult& last_result() const { return result_; }
-  const PlanarObjectLocalizer& localizer() const { return localizer_; }
+  const planar::PlanarResult& last_result() const { return result_; }
+  const planar::PlanarObjectLocalizer& localizer() const { return localizer_; }
 
  private:
-  PlanarObjectLocalizer localizer_;
-  PlanarResult result_;
+  planar::PlanarObjectLocalizer localizer_;
+  planar::PlanarResult result_;
   TargetObservation observation_;
   std::optional<Seconds> last_t_;
   bool retry_without_distance_ = false;
@@ -39,6 +39,6 @@ class PlanarFrontEnd final : public TargetFrontEnd {
 };
 
 // Reads a target's template, refusing a target without one with its id in the message.
-PlanarTemplate load_target_template(const PlanarTarget& target, const PlanarConfig& config);
+planar::PlanarTemplate load_target_template(const PlanarTarget& target, const planar::PlanarConfig& config);
 
 }  // namespace labo

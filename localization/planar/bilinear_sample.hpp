@@ -3,7 +3,7 @@
 // trackers and the pose refinement (no bounds check: the caller keeps (x, y) in [0, size - 1)).
 #include <opencv2/core.hpp>
 
-namespace labo {
+namespace labo::planar {
 
 inline double bilinear_grey(const cv::Mat& image, double x, double y) {
   const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
@@ -15,4 +15,4 @@ inline double bilinear_grey(const cv::Mat& image, double x, double y) {
   return top + fy * (bottom - top);
 }
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -7,13 +7,13 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/config_reader.hpp"
-#include "localization/planar/homography_tracker.hpp"
+#include "localization/planar/track/homography_tracker.hpp"
 #include "localization/planar/planar_commands.hpp"
-#include "localization/planar/planar_detectors.hpp"
+#include "localization/planar/detect/planar_detectors.hpp"
 #include "localization/planar/planar_template.hpp"
 #include "localization/vision_thresholds.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 PlanarCommandSettings read_planar_command_settings(const ParsedArgs& args) {
   PlanarCommandSettings s;
@@ -101,4 +101,4 @@ int run_homography_command(const ParsedArgs& args) {
   return out["found"].get<bool>() ? 0 : 3;
 }
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -7,7 +7,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-namespace labo {
+namespace labo::planar {
 
 namespace {
 
@@ -176,4 +176,4 @@ void GaussianBlur8u::apply(const cv::Mat& image, cv::Rect roi, cv::Mat& dst, std
   }
 }
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -9,7 +9,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace labo {
+namespace labo::planar {
 
 // cv::pyrDown(src, dst) for CV_8UC1 with the default border (reflect-101): the 5x5 binomial
 // [1 4 6 4 1]^2 / 256 at every other pixel, rounded half up; dst is ((cols + 1) / 2, (rows + 1) / 2).
@@ -62,4 +62,4 @@ class GaussianBlur8u {
   std::vector<float> kernel_;  // 2 r + 1 taps
 };
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -5,7 +5,7 @@
 #include "localization/planar/planar_config.hpp"
 #include "localization/vision_thresholds.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 // The "vision" and "planar" sections of `--config FILE` (built-in defaults without it).
 struct PlanarCommandSettings {
@@ -17,4 +17,4 @@ PlanarCommandSettings read_planar_command_settings(const ParsedArgs& args);
 const CommandSpec& homography_command_spec();
 int run_homography_command(const ParsedArgs& args);
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -1,6 +1,6 @@
 #include "localization/planar/planar_config.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 const char* to_string(TrackerKind kind) { return kind == TrackerKind::Ecc ? "ecc" : "ic"; }
 
@@ -54,4 +54,4 @@ PlanarConfig read_planar_config(const ConfigReader& node) {
   return c;
 }
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -2,9 +2,9 @@
 // Settings of the planar-object pipeline (config section "planar"). The paper's thresholds α, β, D,
 // λ and N are not here: they live in the "vision" section (localization/vision_thresholds.hpp).
 #include "core/config_reader.hpp"
-#include "localization/planar/se3_pose_refiner.hpp"
+#include "localization/planar/pose/se3_pose_refiner.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 enum class TrackerKind { Ecc, InverseCompositional };
 // What follows IPPE: nothing, or the photometric 6-DoF refinement of se3_pose_refiner.hpp.
@@ -77,4 +77,4 @@ struct PlanarConfig {
 // "min_intensity_stddev", "min_edge_fraction", "min_gradient_isotropy"}; every key optional.
 PlanarConfig read_planar_config(const ConfigReader& node);
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -9,7 +9,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
-namespace labo {
+namespace labo::planar {
 
 namespace {
 
@@ -509,4 +509,4 @@ bool PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
   return true;
 }
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -17,18 +17,18 @@
 #include <optional>
 
 #include "core/camera_model.hpp"
-#include "localization/planar/area_pose_refiner.hpp"
-#include "localization/planar/homography_tracker.hpp"
+#include "localization/planar/pose/area_pose_refiner.hpp"
+#include "localization/planar/track/homography_tracker.hpp"
 #include "localization/planar/image_ops.hpp"
 #include "localization/planar/planar_config.hpp"
-#include "localization/planar/planar_detectors.hpp"
-#include "localization/planar/planar_pose.hpp"
+#include "localization/planar/detect/planar_detectors.hpp"
+#include "localization/planar/pose/planar_pose.hpp"
 #include "localization/planar/planar_result.hpp"
 #include "localization/planar/planar_template.hpp"
-#include "localization/planar/se3_pose_refiner.hpp"
+#include "localization/planar/pose/se3_pose_refiner.hpp"
 #include "localization/vision_thresholds.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 struct PlanarObjectThresholds {
   double min_correlation = 0.8;           // alpha
@@ -110,4 +110,4 @@ class PlanarObjectLocalizer {
   Seconds unverified_pose_t_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::planar

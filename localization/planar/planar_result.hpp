@@ -7,7 +7,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 enum class PlanarState { Searching, Detected, Tracking, Lost };
 enum class PlanarMethod { None, TemplateMatching, Sift, Ecc, InverseCompositional };
@@ -60,4 +60,4 @@ struct PlanarResult {
   int refinement_iterations = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -7,7 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-namespace labo {
+namespace labo::planar {
 
 namespace {
 
@@ -163,4 +163,4 @@ double corner_rms(const std::array<cv::Point2d, 4>& a, const std::array<cv::Poin
   return std::sqrt(sum / 4);
 }
 
-}  // namespace labo
+}  // namespace labo::planar

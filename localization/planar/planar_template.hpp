@@ -14,7 +14,7 @@
 
 #include "localization/planar/planar_config.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 class PlanarTemplate {
  public:
@@ -66,4 +66,4 @@ double corner_rms(const std::array<cv::Point2d, 4>& a, const std::array<cv::Poin
 // The four points through H.
 std::array<cv::Point2d, 4> map_corners(const cv::Matx33d& H, const std::array<cv::Point2d, 4>& corners);
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -177,10 +177,10 @@ TEST_CASE("vision front-ends: tracking a panel allocates nothing") {
     cv::cvtColor(frames.back(), f.bgr, cv::COLOR_GRAY2BGR);
     video.push_back(f);
   }
-  PlanarObjectLocalizer bare(load_target_template(osc, PlanarConfig{}), camera,
-                             PlanarObjectThresholds::from(VisionThresholds{}, osc.sift_switch_distance_m, osc.sift_min_inliers),
-                             PlanarConfig{});
-  PlanarFrontEnd front_end(osc, camera, VisionThresholds{}, PlanarConfig{});
+  planar::PlanarObjectLocalizer bare(load_target_template(osc, planar::PlanarConfig{}), camera,
+                             planar::PlanarObjectThresholds::from(VisionThresholds{}, osc.sift_switch_distance_m, osc.sift_min_inliers),
+                             planar::PlanarConfig{});
+  PlanarFrontEnd front_end(osc, camera, VisionThresholds{}, planar::PlanarConfig{});
   FrontEndSettings settings;
   settings.with_face = false;
   const auto pipelines = make_lab_pipelines(lab, ardrone2_cameras(), VisionThresholds{}, EstimatorConfig{}, settings);
@@ -199,13 +199,13 @@ TEST_CASE("vision front-ends: tracking a panel allocates nothing") {
   }
   int footprint_frames = 0, sampled_frames = 0;
   for (std::size_t i = kWarmUp; i < frames.size(); ++i) {
-    PlanarResult r;
+    planar::PlanarResult r;
     const std::size_t by_localizer = allocations_of([&] { r = bare.process(frames[i], video[i].t, 1.4); });
-    REQUIRE(r.state == PlanarState::Tracking);
+    REQUIRE(r.state == planar::PlanarState::Tracking);
     REQUIRE(r.pose_refined);
     ++(r.footprint_model ? footprint_frames : sampled_frames);
     const std::size_t by_front_end = allocations_of([&] { front_end.process(frames[i], video[i].t, 1.4); });
-    REQUIRE(front_end.last_result().state == PlanarState::Tracking);
+    REQUIRE(front_end.last_result().state == planar::PlanarState::Tracking);
     const std::size_t by_pipelines = allocations_of([&] { pipelines->on_video(video[i]); });
     INFO("frame " << i << ": localizer " << by_localizer << ", front-end " << by_front_end << ", LabPipelines "
                   << by_pipelines);

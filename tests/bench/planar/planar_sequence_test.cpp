@@ -13,8 +13,8 @@ namespace {
 
 // The refinement of the template samples in the undistorted, smoothed frame (the default before
 // 2026-12-03; still used when a motion blur is modelled).
-PlanarConfig sampled_model() {
-  PlanarConfig c;
+planar::PlanarConfig sampled_model() {
+  planar::PlanarConfig c;
   c.se3_footprint_model = false;
   return c;
 }
@@ -22,7 +22,7 @@ PlanarConfig sampled_model() {
 // One bench sequence through the IC tracker with the default configuration.
 SequenceStats run_ic(const std::string& sequence) {
   const SequenceBenchResult result =
-      run_sequence_bench(PlanarConfig{}, VisionThresholds{}, sequence, {TrackerKind::InverseCompositional});
+      run_sequence_bench(planar::PlanarConfig{}, VisionThresholds{}, sequence, {planar::TrackerKind::InverseCompositional});
   REQUIRE(result.sequences.size() == 1);
   return result.sequences.front();
 }
@@ -61,7 +61,7 @@ TEST_CASE("planar: the motion-blur search starts at the last exposure: half the 
 // sampled model (since 2026-12-03 the lab renders its panels area filtered: 2-3 m 0.93 deg median).
 TEST_CASE("planar: two refined IPPE branches the fit cannot tell apart give the pose midway between them") {
   const SequenceBenchResult result = run_sequence_bench(sampled_model(), VisionThresholds{}, "lab_renderer",
-                                                        {TrackerKind::InverseCompositional});
+                                                        {planar::TrackerKind::InverseCompositional});
   std::vector<double> far;
   for (const FrameRecord& f : result.frames) {
     if (f.has_pose && f.range_m >= 2.6) far.push_back(f.rotation_error_deg.norm());
@@ -85,7 +85,7 @@ TEST_CASE("planar: two refined IPPE branches the fit cannot tell apart give the 
 // 3.17 and 1.09. A rule of the sampled model (the footprint model's cost has no split minimum).
 TEST_CASE("planar: the mirror of the refined pose finds the other minimum both IPPE branches missed") {
   const SequenceBenchResult result = run_sequence_bench(sampled_model(), VisionThresholds{}, "lab_renderer",
-                                                        {TrackerKind::InverseCompositional});
+                                                        {planar::TrackerKind::InverseCompositional});
   bool binned = false;
   for (const RangeBinStats& bin : result.range_bins) {
     if (bin.min_m != 2.0) continue;
@@ -103,11 +103,11 @@ TEST_CASE("planar: the mirror of the refined pose finds the other minimum both I
 // frame option gives 1.11 / 2.49, so the pyramid level stays the default (docs/planar.md). The sampled
 // model's test (on the area-filtered lab since 2026-12-03: 0.93 / 2.03).
 TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree with the frame's blur estimated") {
-  PlanarConfig config = sampled_model();
+  planar::PlanarConfig config = sampled_model();
   REQUIRE(config.se3.estimate_blur);
   REQUIRE_FALSE(config.se3.resample_to_frame);
   const SequenceBenchResult result =
-      run_sequence_bench(config, VisionThresholds{}, "lab_renderer", {TrackerKind::InverseCompositional});
+      run_sequence_bench(config, VisionThresholds{}, "lab_renderer", {planar::TrackerKind::InverseCompositional});
   bool binned = false;
   for (const RangeBinStats& bin : result.range_bins) {
     if (bin.min_m != 2.0) continue;
@@ -123,11 +123,11 @@ TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree with the f
 // as a camera integrates each pixel (area-filtered panels), 2-3 m: 0.13 / 0.47 deg (median / p95),
 // against 0.93 / 2.03 with the sampled model on the same frames; target <= 1 deg.
 TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree at the 95th percentile with the pixel's footprint modelled") {
-  const PlanarConfig config;
+  const planar::PlanarConfig config;
   REQUIRE(config.se3_footprint_model);
   for (const bool footprint : {true, false}) {
     const SequenceBenchResult result = run_sequence_bench(footprint ? config : sampled_model(), VisionThresholds{},
-                                                          "lab_renderer", {TrackerKind::InverseCompositional});
+                                                          "lab_renderer", {planar::TrackerKind::InverseCompositional});
     REQUIRE(result.sequences.size() == 1);
     CHECK(result.sequences.front().losses == 0);
     bool binned = false;
@@ -148,8 +148,8 @@ TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree at the 95t
 }
 
 TEST_CASE("planar: the H.264 approach runs over several noise seeds, each reported and pooled apart from the other sequences") {
-  const SequenceBenchResult result = run_sequence_bench(PlanarConfig{}, VisionThresholds{}, "h264",
-                                                        {TrackerKind::InverseCompositional}, kDefaultH264Kbps, 2);
+  const SequenceBenchResult result = run_sequence_bench(planar::PlanarConfig{}, VisionThresholds{}, "h264",
+                                                        {planar::TrackerKind::InverseCompositional}, kDefaultH264Kbps, 2);
   REQUIRE(result.sequences.size() == 2);
   CHECK(result.h264_seeds == 2);
   CHECK(result.sequences[0].sequence == h264_sequence_name(0));
@@ -178,7 +178,7 @@ TEST_CASE("planar: the H.264 approach runs over several noise seeds, each report
     CHECK(result.h264_seed_bins[b].poses == seed0 + seed1);
   }
   CHECK(result.h264_seed_bins[2].poses > 0);  // 2-3.1 m
-  CHECK_THROWS_AS(run_sequence_bench(PlanarConfig{}, VisionThresholds{}, "h264", {TrackerKind::InverseCompositional},
+  CHECK_THROWS_AS(run_sequence_bench(planar::PlanarConfig{}, VisionThresholds{}, "h264", {planar::TrackerKind::InverseCompositional},
                                      kDefaultH264Kbps, 0),
                   std::invalid_argument);
 }

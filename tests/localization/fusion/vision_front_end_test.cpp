@@ -64,7 +64,7 @@ TEST_CASE("vision front-ends: the instrument panel is detected near with SIFT, f
   const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
   for (const double distance : {1.2, 2.8}) {
-    PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, PlanarConfig{});
+    PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
     INFO("distance " << distance);
     for (int i = 0; i < 4; ++i) {
       // A slow drift to the right and forward, as the drone approaches.
@@ -91,7 +91,7 @@ TEST_CASE("vision front-ends: the instrument panel is detected near with SIFT, f
 TEST_CASE("vision front-ends: a panel out of view is lost with the reason, then found again") {
   const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
-  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, PlanarConfig{});
+  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
   const Eigen::Isometry3d seen = look_at_object(Eigen::Vector3d(0, 0, -1.0), Eigen::Vector3d::Zero());
   REQUIRE(fe.process(scene.view(seen), 0.0, 1.0).state == TrackState::Tracking);
   cv::Mat wall = scene.view(look_at_object(Eigen::Vector3d(2.0, 0, -1.0), Eigen::Vector3d(2.0, 0, 0)));  // beside it
@@ -107,7 +107,7 @@ TEST_CASE("vision front-ends: a panel out of view is lost with the reason, then 
 TEST_CASE("vision front-ends: a wrong predicted distance costs the confirmation frames, not the target") {
   const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
-  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, PlanarConfig{});
+  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
   const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d::Zero());
   const cv::Mat view = scene.view(truth);
   // Predicted at 1 m: SIFT runs, and the 70 px panel gives it too few inliers.
@@ -135,7 +135,7 @@ TEST_CASE("vision front-ends: a retried detection far from the predicted distanc
   // Here: the panel at 3.2 m with a 1 m prediction, found by the retry, then gone from the view.
   const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
-  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, PlanarConfig{});
+  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
   const cv::Mat view = scene.view(look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d::Zero()));
   const cv::Mat empty = scene.view(look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d(6.0, 0.0, 0.0)));
   CHECK(fe.process(view, 0.0, 1.0).state != TrackState::Tracking);
@@ -153,7 +153,7 @@ TEST_CASE("vision front-ends: after a lost track the predicted detector runs fir
   // predicted standoff distance) never ran. Here: a candidate 3.2 m away with a 1 m prediction.
   const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
-  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, PlanarConfig{});
+  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
   const cv::Mat far = scene.view(look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d::Zero()));
   const cv::Mat empty = scene.view(look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d(6.0, 0.0, 0.0)));
   CHECK(fe.process(far, 0.0, 1.0).reason == "not_found");                   // SIFT, predicted
@@ -175,10 +175,10 @@ TEST_CASE("vision front-ends: a target without a template is refused by name") {
   t.id = "modelled";
   t.width_m = 0.4;
   t.height_m = 0.2;
-  CHECK_THROWS_WITH(PlanarFrontEnd(t, PinholeCamera::ardrone2_front(), VisionThresholds{}, PlanarConfig{}),
+  CHECK_THROWS_WITH(PlanarFrontEnd(t, PinholeCamera::ardrone2_front(), VisionThresholds{}, planar::PlanarConfig{}),
                     Catch::Contains("'modelled'") && Catch::Contains("no template"));
   t.template_path = "/nonexistent/panel.png";
-  CHECK_THROWS_WITH(PlanarFrontEnd(t, PinholeCamera::ardrone2_front(), VisionThresholds{}, PlanarConfig{}),
+  CHECK_THROWS_WITH(PlanarFrontEnd(t, PinholeCamera::ardrone2_front(), VisionThresholds{}, planar::PlanarConfig{}),
                     Catch::Contains("'modelled'"));
 }
 

@@ -10,6 +10,7 @@
 #include "localization/planar/image_ops.hpp"
 
 using namespace labo;
+using namespace labo::planar;
 
 namespace {
 
@@ -64,7 +65,7 @@ TEST_CASE("image ops: LinearRemap8u equals cv::remap (linear, constant border) p
   }
   int seed = 11;
   for (const auto& maps : {std::pair{undistort_x, undistort_y}, std::pair{wide_x, wide_y}}) {
-    const LinearRemap8u remap(maps.first, maps.second, size);
+    const planar::LinearRemap8u remap(maps.first, maps.second, size);
     for (int k = 0; k < 3; ++k) {
       const cv::Mat src = random_image(size, seed++);
       cv::Mat reference, ours;
@@ -81,7 +82,7 @@ TEST_CASE("image ops: GaussianBlur8u equals cv::GaussianBlur on a region of inte
   std::vector<float> scratch;
   int seed = 21;
   for (const double sigma : {0.5, 0.7, 1.0, 1.5}) {
-    const GaussianBlur8u blur(sigma);
+    const planar::GaussianBlur8u blur(sigma);
     for (const cv::Rect roi : {cv::Rect(0, 0, 640, 359), cv::Rect(100, 50, 200, 120), cv::Rect(0, 7, 33, 300), cv::Rect(601, 300, 39, 60),
                                cv::Rect(1, 1, 17, 5), cv::Rect(250, 0, 129, 1)}) {
       const cv::Mat image = random_image(size, seed++);

@@ -6,6 +6,7 @@
 #include "bench/planar/synthetic_scene.hpp"
 
 using namespace labo;
+using namespace labo::planar;
 
 namespace {
 
@@ -15,11 +16,11 @@ struct Rig {
   PinholeCamera camera = PinholeCamera::ardrone2_front();
   cv::Mat panel = make_procedural_panel(cv::Size(320, 240), 11);
   PlanarViewRenderer renderer{camera, make_clutter_background(cv::Size(1200, 1200), 21), 0.0025};
-  PlanarConfig config;
+  planar::PlanarConfig config;
 
-  PlanarObjectLocalizer localizer() const {
-    return PlanarObjectLocalizer(PlanarTemplate::create(panel, kW, kH, "panel", config), camera,
-                                 PlanarObjectThresholds::from(VisionThresholds{}), config);
+  planar::PlanarObjectLocalizer localizer() const {
+    return PlanarObjectLocalizer(planar::PlanarTemplate::create(panel, kW, kH, "panel", config), camera,
+                                 planar::PlanarObjectThresholds::from(VisionThresholds{}), config);
   }
   cv::Mat view(const Eigen::Isometry3d& T) const { return renderer.render(panel, kW, kH, T); }
 };
@@ -28,11 +29,11 @@ Eigen::Isometry3d at(double x, double y, double distance) {
   return look_at_object(Eigen::Vector3d(x, y, -distance), Eigen::Vector3d(0.5 * x, 0.5 * y, 0));
 }
 
-double percent_error(const PlanarResult& r, const Eigen::Isometry3d& truth) {
+double percent_error(const planar::PlanarResult& r, const Eigen::Isometry3d& truth) {
   return 100 * (r.T_cam_object.translation() - truth.translation()).norm() / truth.translation().norm();
 }
 
-double deg_error(const PlanarResult& r, const Eigen::Isometry3d& truth) {
+double deg_error(const planar::PlanarResult& r, const Eigen::Isometry3d& truth) {
   return rotation_angle(r.T_cam_object.linear(), truth.linear()) * 180 / 3.14159265358979;
 }
 
@@ -41,17 +42,17 @@ double deg_error(const PlanarResult& r, const Eigen::Isometry3d& truth) {
 TEST_CASE("planar: detection and tracking give the pose of synthetic views (distorted front camera)") {
   const Rig rig;
   for (const double distance : {0.8, 1.6}) {
-    PlanarObjectLocalizer loc = rig.localizer();
+    planar::PlanarObjectLocalizer loc = rig.localizer();
     const Eigen::Isometry3d T0 = at(0.1, -0.05, distance);
-    const PlanarResult first = loc.process(rig.view(T0), 0.0);
-    REQUIRE(first.state == PlanarState::Detected);
+    const planar::PlanarResult first = loc.process(rig.view(T0), 0.0);
+    REQUIRE(first.state == planar::PlanarState::Detected);
     CHECK(percent_error(first, T0) < 1.0);
     CHECK(deg_error(first, T0) < 3.0);
     // A few frames of slow motion are tracked.
     for (int i = 1; i <= 4; ++i) {
       const Eigen::Isometry3d T = at(0.1 + 0.01 * i, -0.05, distance - 0.01 * i);
-      const PlanarResult r = loc.process(rig.view(T), i / 30.0);
-      REQUIRE(r.state == PlanarState::Tracking);
+      const planar::PlanarResult r = loc.process(rig.view(T), i / 30.0);
+      REQUIRE(r.state == planar::PlanarState::Tracking);
       CHECK(r.has_pose);
       CHECK(percent_error(r, T) < 1.0);
       CHECK(deg_error(r, T) < 3.0);
@@ -67,54 +68,54 @@ TEST_CASE("planar: detection and tracking give the pose of synthetic views (dist
 
 TEST_CASE("planar: near detection uses SIFT, far detection template matching") {
   const Rig rig;
-  PlanarObjectLocalizer near = rig.localizer();
-  const PlanarResult a = near.process(rig.view(at(0.0, 0.0, 0.9)), 0.0, 0.9);  // below lambda = 2 m
-  REQUIRE(a.state == PlanarState::Detected);
-  CHECK(a.method == PlanarMethod::Sift);
+  planar::PlanarObjectLocalizer near = rig.localizer();
+  const planar::PlanarResult a = near.process(rig.view(at(0.0, 0.0, 0.9)), 0.0, 0.9);  // below lambda = 2 m
+  REQUIRE(a.state == planar::PlanarState::Detected);
+  CHECK(a.method == planar::PlanarMethod::Sift);
   CHECK(a.inliers >= 20);
-  PlanarObjectLocalizer far = rig.localizer();
-  const PlanarResult b = far.process(rig.view(at(0.0, 0.0, 2.6)), 0.0, 2.6);
-  REQUIRE(b.state == PlanarState::Detected);
-  CHECK(b.method == PlanarMethod::TemplateMatching);
+  planar::PlanarObjectLocalizer far = rig.localizer();
+  const planar::PlanarResult b = far.process(rig.view(at(0.0, 0.0, 2.6)), 0.0, 2.6);
+  REQUIRE(b.state == planar::PlanarState::Detected);
+  CHECK(b.method == planar::PlanarMethod::TemplateMatching);
   CHECK(percent_error(b, at(0.0, 0.0, 2.6)) < 1.5);
 }
 
 TEST_CASE("planar: a loss is declared on a garbage frame and recovered at once when the panel is back") {
   const Rig rig;
-  PlanarObjectLocalizer loc = rig.localizer();
+  planar::PlanarObjectLocalizer loc = rig.localizer();
   const Eigen::Isometry3d T = at(0.05, 0.0, 1.2);
-  REQUIRE(loc.process(rig.view(T), 0.0).state == PlanarState::Detected);
-  REQUIRE(loc.process(rig.view(T), 1 / 30.0).state == PlanarState::Tracking);
+  REQUIRE(loc.process(rig.view(T), 0.0).state == planar::PlanarState::Detected);
+  REQUIRE(loc.process(rig.view(T), 1 / 30.0).state == planar::PlanarState::Tracking);
   cv::Mat garbage(360, 640, CV_8UC1);
   cv::RNG(3).fill(garbage, cv::RNG::UNIFORM, 0, 256);
-  const PlanarResult lost = loc.process(garbage, 2 / 30.0);
-  CHECK(lost.state == PlanarState::Lost);
+  const planar::PlanarResult lost = loc.process(garbage, 2 / 30.0);
+  CHECK(lost.state == planar::PlanarState::Lost);
   CHECK_FALSE(lost.has_pose);
-  CHECK((lost.reason == PlanarLoss::LowCorrelation || lost.reason == PlanarLoss::NoConvergence));
+  CHECK((lost.reason == planar::PlanarLoss::LowCorrelation || lost.reason == planar::PlanarLoss::NoConvergence));
   // Fig. 3: the next frame runs detection again (SIFT here: the last pose is near and recent).
-  const PlanarResult back = loc.process(rig.view(T), 3 / 30.0);
-  REQUIRE(back.state == PlanarState::Detected);
-  CHECK(back.method == PlanarMethod::Sift);
+  const planar::PlanarResult back = loc.process(rig.view(T), 3 / 30.0);
+  REQUIRE(back.state == planar::PlanarState::Detected);
+  CHECK(back.method == planar::PlanarMethod::Sift);
   CHECK(percent_error(back, T) < 1.0);
 }
 
 TEST_CASE("planar: a jump of more than D between frames is a loss") {
   const Rig rig;
-  PlanarObjectLocalizer loc = rig.localizer();
+  planar::PlanarObjectLocalizer loc = rig.localizer();
   REQUIRE(loc.process(rig.view(at(0.0, 0.0, 2.4)), 0.0).has_pose);
   // 0.35 m closer in one frame: the tracker follows the scale change, the jump test refuses it.
-  const PlanarResult r = loc.process(rig.view(at(0.0, 0.0, 2.05)), 1 / 30.0);
-  CHECK(r.state == PlanarState::Lost);
-  CHECK(r.reason == PlanarLoss::PoseJump);
+  const planar::PlanarResult r = loc.process(rig.view(at(0.0, 0.0, 2.05)), 1 / 30.0);
+  CHECK(r.state == planar::PlanarState::Lost);
+  CHECK(r.reason == planar::PlanarLoss::PoseJump);
   // A move of 0.1 m is accepted.
-  PlanarObjectLocalizer slow = rig.localizer();
+  planar::PlanarObjectLocalizer slow = rig.localizer();
   REQUIRE(slow.process(rig.view(at(0.0, 0.0, 2.4)), 0.0).has_pose);
-  CHECK(slow.process(rig.view(at(0.0, 0.0, 2.3)), 1 / 30.0).state == PlanarState::Tracking);
+  CHECK(slow.process(rig.view(at(0.0, 0.0, 2.3)), 1 / 30.0).state == planar::PlanarState::Tracking);
 }
 
 TEST_CASE("planar: a panel half out of view gives a loss or a degraded quality, never a wrong pose") {
   const Rig rig;
-  PlanarObjectLocalizer loc = rig.localizer();
+  planar::PlanarObjectLocalizer loc = rig.localizer();
   double x = 0.0;
   REQUIRE(loc.process(rig.view(at(x, 0, 1.0)), 0.0).has_pose);
   // Slide sideways until the panel leaves the image.
@@ -123,7 +124,7 @@ TEST_CASE("planar: a panel half out of view gives a loss or a degraded quality, 
     const Eigen::Isometry3d T = look_at_object(Eigen::Vector3d(x, 0, -1.0), Eigen::Vector3d(x, 0, 0));
     const Eigen::Isometry3d T_view = look_at_object(Eigen::Vector3d(x, 0, -1.0), Eigen::Vector3d(x + 0.0, 0, 0));
     (void)T_view;
-    const PlanarResult r = loc.process(rig.view(T), i / 30.0);
+    const planar::PlanarResult r = loc.process(rig.view(T), i / 30.0);
     if (r.has_pose) {
       CHECK(percent_error(r, T) < 2.0);
       CHECK(deg_error(r, T) < 5.0);
@@ -138,10 +139,10 @@ TEST_CASE("planar: the landing platform is localized in the bottom camera") {
   const PinholeCamera bottom = PinholeCamera::ardrone2_bottom();
   const cv::Mat pattern = make_procedural_panel(cv::Size(256, 256), 12);
   const PlanarViewRenderer renderer(bottom, make_clutter_background(cv::Size(1200, 1200), 22), 0.0025, 0.02);
-  PlanarObjectLocalizer loc(PlanarTemplate::create(pattern, 0.6, 0.6, "platform", PlanarConfig{}), bottom,
-                            PlanarObjectThresholds::from(VisionThresholds{}), PlanarConfig{});
+  planar::PlanarObjectLocalizer loc(planar::PlanarTemplate::create(pattern, 0.6, 0.6, "platform", planar::PlanarConfig{}), bottom,
+                            planar::PlanarObjectThresholds::from(VisionThresholds{}), planar::PlanarConfig{});
   const Eigen::Isometry3d T = look_at_object(Eigen::Vector3d(0.1, 0.05, -1.2), Eigen::Vector3d(0.1, 0.05, 0), 0.3);
-  const PlanarResult r = loc.process(renderer.render(pattern, 0.6, 0.6, T), 0.0);
+  const planar::PlanarResult r = loc.process(renderer.render(pattern, 0.6, 0.6, T), 0.0);
   REQUIRE(r.has_pose);
   CHECK(percent_error(r, T) < 1.0);
   CHECK(deg_error(r, T) < 2.0);
@@ -149,27 +150,27 @@ TEST_CASE("planar: the landing platform is localized in the bottom camera") {
 
 TEST_CASE("planar: bad frames are refused without disturbing the track") {
   const Rig rig;
-  PlanarObjectLocalizer loc = rig.localizer();
+  planar::PlanarObjectLocalizer loc = rig.localizer();
   const Eigen::Isometry3d T = at(0.0, 0.0, 1.0);
   REQUIRE(loc.process(rig.view(T), 0.0).has_pose);
-  const PlanarResult small = loc.process(cv::Mat(240, 320, CV_8UC1, cv::Scalar(0)), 0.01);
-  CHECK(small.reason == PlanarLoss::BadFrame);
+  const planar::PlanarResult small = loc.process(cv::Mat(240, 320, CV_8UC1, cv::Scalar(0)), 0.01);
+  CHECK(small.reason == planar::PlanarLoss::BadFrame);
   CHECK(std::string(small.detail) == "frame size differs from the camera's");
   CHECK_FALSE(small.has_pose);
-  CHECK(loc.process(cv::Mat(), 0.02).reason == PlanarLoss::BadFrame);
-  CHECK(loc.process(cv::Mat(360, 640, CV_8UC3, cv::Scalar(0, 0, 0)), 0.03).reason == PlanarLoss::BadFrame);
-  CHECK(loc.process(rig.view(T), 0.04).state == PlanarState::Tracking);
+  CHECK(loc.process(cv::Mat(), 0.02).reason == planar::PlanarLoss::BadFrame);
+  CHECK(loc.process(cv::Mat(360, 640, CV_8UC3, cv::Scalar(0, 0, 0)), 0.03).reason == planar::PlanarLoss::BadFrame);
+  CHECK(loc.process(rig.view(T), 0.04).state == planar::PlanarState::Tracking);
 }
 
 TEST_CASE("planar: the pose carries a rotation uncertainty that grows with the distance") {
   Rig rig;
   double previous = 0;
   for (const double distance : {0.9, 1.8, 2.7}) {
-    PlanarObjectLocalizer loc = rig.localizer();
+    planar::PlanarObjectLocalizer loc = rig.localizer();
     const Eigen::Isometry3d T = at(0.05, 0.02, distance);
     REQUIRE(loc.process(rig.view(T), 0.0).has_pose);
-    const PlanarResult r = loc.process(rig.view(T), 1 / 30.0);
-    REQUIRE(r.state == PlanarState::Tracking);
+    const planar::PlanarResult r = loc.process(rig.view(T), 1 / 30.0);
+    REQUIRE(r.state == planar::PlanarState::Tracking);
     CHECK(r.pose_refined);
     CHECK(deg_error(r, T) < 1.0);
     CHECK(r.rotation_sigma_rad > previous);
@@ -177,11 +178,11 @@ TEST_CASE("planar: the pose carries a rotation uncertainty that grows with the d
     previous = r.rotation_sigma_rad;
   }
   // Without the refinement the pose is IPPE's and the uncertainty the corners' (larger).
-  rig.config.pose_refinement = PoseRefinement::None;
-  PlanarObjectLocalizer ippe = rig.localizer();
+  rig.config.pose_refinement = planar::PoseRefinement::None;
+  planar::PlanarObjectLocalizer ippe = rig.localizer();
   const Eigen::Isometry3d T = at(0.05, 0.02, 2.7);
   REQUIRE(ippe.process(rig.view(T), 0.0).has_pose);
-  const PlanarResult r = ippe.process(rig.view(T), 1 / 30.0);
+  const planar::PlanarResult r = ippe.process(rig.view(T), 1 / 30.0);
   REQUIRE(r.has_pose);
   CHECK_FALSE(r.pose_refined);
   CHECK(r.rotation_sigma_rad > previous);
@@ -194,10 +195,10 @@ TEST_CASE("planar: the footprint model refines the pose unless the panel is too 
   Rig rig;
   const Eigen::Isometry3d T0 = at(0.05, 0.02, 2.2);  // ~100 px wide
   {
-    PlanarObjectLocalizer loc = rig.localizer();
-    REQUIRE(loc.process(rig.view(T0), 0.0).state == PlanarState::Detected);
-    const PlanarResult still = loc.process(rig.view(T0), 1 / 30.0);
-    REQUIRE(still.state == PlanarState::Tracking);
+    planar::PlanarObjectLocalizer loc = rig.localizer();
+    REQUIRE(loc.process(rig.view(T0), 0.0).state == planar::PlanarState::Detected);
+    const planar::PlanarResult still = loc.process(rig.view(T0), 1 / 30.0);
+    REQUIRE(still.state == planar::PlanarState::Tracking);
     CHECK(still.pose_refined);
     CHECK(still.footprint_model);
     // 1.2 deg: this renderer samples a shrunk template bilinearly, not each pixel's area, so the
@@ -205,20 +206,20 @@ TEST_CASE("planar: the footprint model refines the pose unless the panel is too 
     CHECK(deg_error(still, T0) < 2.0);
     // Sideways at 0.9 m/s: ~4 px per frame, the motion-blur search runs on the sampled model.
     const Eigen::Isometry3d T1 = at(0.08, 0.02, 2.2);
-    const PlanarResult moving = loc.process(rig.view(T1), 2 / 30.0);
-    REQUIRE(moving.state == PlanarState::Tracking);
+    const planar::PlanarResult moving = loc.process(rig.view(T1), 2 / 30.0);
+    REQUIRE(moving.state == planar::PlanarState::Tracking);
     CHECK(moving.pose_refined);
     CHECK_FALSE(moving.footprint_model);
   }
   rig.config.se3_footprint_max_width_px = 60;
-  PlanarObjectLocalizer narrow = rig.localizer();
-  REQUIRE(narrow.process(rig.view(T0), 0.0).state == PlanarState::Detected);
-  const PlanarResult wide = narrow.process(rig.view(T0), 1 / 30.0);
-  REQUIRE(wide.state == PlanarState::Tracking);
+  planar::PlanarObjectLocalizer narrow = rig.localizer();
+  REQUIRE(narrow.process(rig.view(T0), 0.0).state == planar::PlanarState::Detected);
+  const planar::PlanarResult wide = narrow.process(rig.view(T0), 1 / 30.0);
+  REQUIRE(wide.state == planar::PlanarState::Tracking);
   CHECK(wide.pose_refined);
   CHECK_FALSE(wide.footprint_model);
   rig.config.se3_footprint_model = false;
-  PlanarObjectLocalizer sampled = rig.localizer();
+  planar::PlanarObjectLocalizer sampled = rig.localizer();
   sampled.process(rig.view(T0), 0.0);
   CHECK_FALSE(sampled.process(rig.view(T0), 1 / 30.0).footprint_model);
 }
@@ -236,7 +237,7 @@ TEST_CASE("planar: a panel sliding slowly across the image's edge is fitted by t
   };
   for (const Pass pass : {Pass{1.0, true, true}, Pass{2.5, false, false}}) {
     CAPTURE(pass.distance, pass.sideways, pass.leaving);
-    PlanarObjectLocalizer loc = rig.localizer();
+    planar::PlanarObjectLocalizer loc = rig.localizer();
     const double step = 1.6 * pass.distance / rig.camera.intrinsics().fx;  // metres per frame
     // Offsets of the panel's centre from the optical axis (m): fully in view, and 45 % in view.
     const double half = pass.sideways ? 0.5 * kW : 0.5 * kH;
@@ -250,8 +251,8 @@ TEST_CASE("planar: a panel sliding slowly across the image's edge is fitted by t
       const Eigen::Vector3d camera = pass.sideways ? Eigen::Vector3d(offset, 0, -pass.distance)
                                                    : Eigen::Vector3d(0, -offset, -pass.distance);
       const Eigen::Isometry3d T = look_at_object(camera, Eigen::Vector3d(camera.x(), camera.y(), 0));
-      const PlanarResult r = loc.process(rig.view(T), i / 30.0);
-      if (r.reason == PlanarLoss::OutOfView) ++lost_out_of_view;
+      const planar::PlanarResult r = loc.process(rig.view(T), i / 30.0);
+      if (r.reason == planar::PlanarLoss::OutOfView) ++lost_out_of_view;
       if (!r.has_pose) continue;
       CAPTURE(i, r.visible_fraction, r.footprint_model);
       CHECK(r.visible_fraction >= rig.config.min_visible_fraction);

@@ -11,13 +11,14 @@
 #include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using namespace labo::planar;
 using labo::test::ScratchDir;
 
 namespace {
 
 std::string refusal(const cv::Mat& image, double w = 0.4, double h = 0.3) {
   try {
-    PlanarTemplate::create(image, w, h, "t", PlanarConfig{});
+    planar::PlanarTemplate::create(image, w, h, "t", planar::PlanarConfig{});
   } catch (const std::invalid_argument& e) {
     return e.what();
   }
@@ -46,7 +47,7 @@ TEST_CASE("planar: unreadable template files are refused") {
   std::ofstream(dir / "junk.png") << "not a png";
   auto message = [](const std::filesystem::path& p) {
     try {
-      PlanarTemplate::load(p, 0.4, 0.3, PlanarConfig{});
+      planar::PlanarTemplate::load(p, 0.4, 0.3, planar::PlanarConfig{});
     } catch (const std::invalid_argument& e) {
       return std::string(e.what());
     }
@@ -58,7 +59,7 @@ TEST_CASE("planar: unreadable template files are refused") {
 
 TEST_CASE("planar: large photos are downscaled with an exact pixel map") {
   const cv::Mat big = make_procedural_panel(cv::Size(960, 640), 2);
-  const PlanarTemplate t = PlanarTemplate::create(big, 0.6, 0.4, "big", PlanarConfig{});
+  const planar::PlanarTemplate t = planar::PlanarTemplate::create(big, 0.6, 0.4, "big", planar::PlanarConfig{});
   CHECK(t.working().cols == 320);
   CHECK(t.original_size() == cv::Size(960, 640));
   // The original's outer corner maps to the working image's outer corner.
@@ -89,7 +90,7 @@ TEST_CASE("planar: the planar config section is validated") {
   CHECK(error_of(R"({"pose_refinement": "none", "se3_iterations": 4})").empty());
   CHECK(error_of(R"({"se3_template_resolution": "native"})").find("se3_template_resolution") != std::string::npos);
   const ConfigDocument doc = ConfigDocument::parse(R"({"tracker": "ecc"})", "p.json");
-  CHECK(read_planar_config(doc.root()).tracker == TrackerKind::Ecc);
+  CHECK(read_planar_config(doc.root()).tracker == planar::TrackerKind::Ecc);
   CHECK_FALSE(read_planar_config(doc.root()).se3.resample_to_frame);
   const ConfigDocument frame = ConfigDocument::parse(R"({"se3_template_resolution": "frame"})", "p.json");
   CHECK(read_planar_config(frame.root()).se3.resample_to_frame);

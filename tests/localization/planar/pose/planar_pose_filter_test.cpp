@@ -4,9 +4,10 @@
 #include <random>
 #include <vector>
 
-#include "localization/planar/planar_pose_filter.hpp"
+#include "localization/planar/pose/planar_pose_filter.hpp"
 
 using namespace labo;
+using namespace labo::planar;
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
@@ -30,11 +31,11 @@ double median(std::vector<double> v) {
 TEST_CASE("planar: the pose filter averages a still panel's orientation below one frame's error") {
   std::mt19937 rng(5);
   const Eigen::Matrix3d truth = Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).toRotationMatrix();
-  PlanarPoseFilter filter;
+  planar::PlanarPoseFilter filter;
   std::vector<double> raw, fused;
   for (int i = 0; i < 120; ++i) {
     const Eigen::Matrix3d measured = noisy(truth, 2.0 * kDeg, rng);
-    const FilteredOrientation f = filter.update(measured, 2.0 * kDeg, i / 30.0);
+    const planar::FilteredOrientation f = filter.update(measured, 2.0 * kDeg, i / 30.0);
     if (i < 30) continue;  // settled
     raw.push_back(angle_deg(measured, truth));
     fused.push_back(angle_deg(f.R_cam_object, truth));
@@ -46,7 +47,7 @@ TEST_CASE("planar: the pose filter averages a still panel's orientation below on
 
 TEST_CASE("planar: the pose filter follows a steady turn without a steady lag") {
   std::mt19937 rng(6);
-  PlanarPoseFilter filter;
+  planar::PlanarPoseFilter filter;
   const double rate = 20 * kDeg;  // rad/s about the camera's y axis (the drone yawing)
   double lag_sum_deg = 0;
   int late = 0;
@@ -55,7 +56,7 @@ TEST_CASE("planar: the pose filter follows a steady turn without a steady lag") 
     const double t = i / 30.0;
     const Eigen::Matrix3d truth = Eigen::AngleAxisd(rate * t, Eigen::Vector3d::UnitY()).toRotationMatrix();
     const Eigen::Matrix3d measured = noisy(truth, 1.0 * kDeg, rng);
-    const FilteredOrientation f = filter.update(measured, 1.0 * kDeg, t);
+    const planar::FilteredOrientation f = filter.update(measured, 1.0 * kDeg, t);
     if (t <= 1.5) continue;  // the rate is being learnt
     const Eigen::AngleAxisd e(f.R_cam_object * truth.transpose());
     lag_sum_deg += (e.axis() * e.angle()).y() / kDeg;
@@ -69,18 +70,18 @@ TEST_CASE("planar: the pose filter follows a steady turn without a steady lag") 
 }
 
 TEST_CASE("planar: the pose filter restarts on a gap, skips an outlier, and restarts on a lasting jump") {
-  PlanarPoseFilter filter;
+  planar::PlanarPoseFilter filter;
   const Eigen::Matrix3d a = Eigen::Matrix3d::Identity();
   const Eigen::Matrix3d b = Eigen::AngleAxisd(30 * kDeg, Eigen::Vector3d::UnitX()).toRotationMatrix();
   CHECK(filter.update(a, 1 * kDeg, 0.0).restarted);
   for (int i = 1; i < 10; ++i) CHECK_FALSE(filter.update(a, 1 * kDeg, i / 30.0).restarted);
   // One frame 30 deg off at 1 deg sigma: skipped, the prediction stands.
-  const FilteredOrientation skipped = filter.update(b, 1 * kDeg, 10 / 30.0);
+  const planar::FilteredOrientation skipped = filter.update(b, 1 * kDeg, 10 / 30.0);
   CHECK(skipped.skipped);
   CHECK(angle_deg(skipped.R_cam_object, a) < 0.5);
   // The same jump persisting: the filter restarts on it (after max_skipped in a row).
   CHECK(filter.update(b, 1 * kDeg, 11 / 30.0).skipped);
-  const FilteredOrientation restarted = filter.update(b, 1 * kDeg, 12 / 30.0);
+  const planar::FilteredOrientation restarted = filter.update(b, 1 * kDeg, 12 / 30.0);
   CHECK(restarted.restarted);
   CHECK(angle_deg(restarted.R_cam_object, b) < 1e-9);
   // A gap longer than max_gap_s restarts; so does a measurement without a usable sigma.
@@ -89,7 +90,7 @@ TEST_CASE("planar: the pose filter restarts on a gap, skips an outlier, and rest
   CHECK(filter.update(a, std::nan(""), 1.06).restarted);
   // A measurement whose own sigma is large barely moves a settled estimate.
   for (int i = 0; i < 30; ++i) filter.update(a, 1 * kDeg, 1.1 + i / 30.0);
-  const FilteredOrientation weak = filter.update(Eigen::AngleAxisd(10 * kDeg, Eigen::Vector3d::UnitX()).toRotationMatrix(),
+  const planar::FilteredOrientation weak = filter.update(Eigen::AngleAxisd(10 * kDeg, Eigen::Vector3d::UnitX()).toRotationMatrix(),
                                                  15 * kDeg, 1.1 + 30 / 30.0);
   CHECK_FALSE(weak.skipped);
   CHECK(angle_deg(weak.R_cam_object, a) < 0.5);

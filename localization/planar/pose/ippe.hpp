@@ -3,7 +3,7 @@
 // Estimation", IJCV 2014) for the four corners of a planar object, written from the paper's maths
 // with fixed-size Eigen types: nothing is allocated, so the planar localizer can run it per frame
 // (it replaces cv::solvePnPGeneric(SOLVEPNP_IPPE), which made ~80 heap allocations per call;
-// tests/localization/planar/ippe_test.cpp holds the two to 1e-9 on fronto-parallel and oblique views).
+// tests/localization/planar/pose/ippe_test.cpp holds the two to 1e-9 on fronto-parallel and oblique views).
 //
 // The method: the homography H from the plane (object points centred on their centroid) to the
 // normalized image is exact for four points. Its Jacobian J at the centroid, with v the centroid's
@@ -20,7 +20,7 @@
 
 #include <Eigen/Core>
 
-namespace labo {
+namespace labo::planar {
 
 struct IppeSolution {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // camera from object
@@ -42,4 +42,4 @@ std::optional<std::array<IppeSolution, 2>> ippe_four_points(const std::array<Eig
                                                             const std::array<Eigen::Vector2d, 4>& image_px,
                                                             const IppeIntrinsics& intrinsics);
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -1,10 +1,10 @@
-#include "localization/planar/photometric_gauss_newton.hpp"
+#include "localization/planar/pose/photometric_gauss_newton.hpp"
 
 #include <algorithm>
 
 #include <Eigen/Eigenvalues>
 
-namespace labo {
+namespace labo::planar {
 
 double max_corner_shift_px(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double width_m, double height_m,
                            double fx, double fy) {
@@ -95,4 +95,4 @@ bool finish_refinement(const GaussNewtonRun& run, const Eigen::Isometry3d& T_sta
   return true;
 }
 
-}  // namespace labo
+}  // namespace labo::planar

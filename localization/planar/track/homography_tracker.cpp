@@ -1,9 +1,9 @@
-#include "localization/planar/homography_tracker.hpp"
+#include "localization/planar/track/homography_tracker.hpp"
 
-#include "localization/planar/ecc_tracker.hpp"
-#include "localization/planar/ic_tracker.hpp"
+#include "localization/planar/track/ecc_tracker.hpp"
+#include "localization/planar/track/ic_tracker.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 std::unique_ptr<HomographyTracker> make_homography_tracker(TrackerKind kind, const cv::Mat& template_gray,
                                                            const PlanarConfig& config) {
@@ -11,4 +11,4 @@ std::unique_ptr<HomographyTracker> make_homography_tracker(TrackerKind kind, con
   return std::make_unique<InverseCompositionalTracker>(template_gray, config);
 }
 
-}  // namespace labo
+}  // namespace labo::planar

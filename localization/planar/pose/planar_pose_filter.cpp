@@ -1,8 +1,8 @@
-#include "localization/planar/planar_pose_filter.hpp"
+#include "localization/planar/pose/planar_pose_filter.hpp"
 
 #include <cmath>
 
-namespace labo {
+namespace labo::planar {
 
 namespace {
 // A measurement without a usable sigma restarts the filter as barely informative.
@@ -72,4 +72,4 @@ FilteredOrientation PlanarPoseFilter::update(const Eigen::Matrix3d& R_cam_object
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::planar

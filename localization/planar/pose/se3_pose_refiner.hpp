@@ -42,7 +42,7 @@
 
 #include "localization/planar/image_ops.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 struct PhotometricNormal;
 struct PanelAppearance;
@@ -186,4 +186,4 @@ class Se3PoseRefiner {
   GaussianBlur8u frame_blur_;  // smooth()'s Gaussian (cv::GaussianBlur's pixels, no allocation per call)
 };
 
-}  // namespace labo
+}  // namespace labo::planar

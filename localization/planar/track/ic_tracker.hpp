@@ -22,9 +22,9 @@
 
 #include <Eigen/Core>
 
-#include "localization/planar/homography_tracker.hpp"
+#include "localization/planar/track/homography_tracker.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 class InverseCompositionalTracker final : public HomographyTracker {
  public:
@@ -75,4 +75,4 @@ class InverseCompositionalTracker final : public HomographyTracker {
   PlanarConfig config_;
 };
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -4,11 +4,12 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "localization/planar/planar_pose.hpp"
-#include "localization/planar/se3_pose_refiner.hpp"
+#include "localization/planar/pose/planar_pose.hpp"
+#include "localization/planar/pose/se3_pose_refiner.hpp"
 #include "bench/planar/synthetic_scene.hpp"
 
 using namespace labo;
+using namespace labo::planar;
 
 namespace {
 
@@ -18,7 +19,7 @@ struct Scene {
   PinholeCamera camera = PinholeCamera::ardrone2_front().without_distortion();
   cv::Mat panel = make_procedural_panel(cv::Size(320, 240), 11);
   PlanarViewRenderer renderer{camera, make_clutter_background(cv::Size(1600, 1600), 21), 0.0025};
-  Se3PoseRefiner refiner{panel, kW, kH, camera.K()};
+  planar::Se3PoseRefiner refiner{panel, kW, kH, camera.K()};
 
   cv::Mat view(const Eigen::Isometry3d& T, double noise = 2.0, std::uint64_t seed = 1) const {
     cv::Mat frame = renderer.render(panel, kW, kH, T), noisy;
@@ -47,7 +48,7 @@ TEST_CASE("planar: the SE(3) refinement fixes the tilt of a panel seen face-on a
   for (const double start_deg : {-3.0, 3.0}) {
     const Eigen::Isometry3d start = tilted(truth, start_deg * kDeg);
     REQUIRE(rotation_angle(start.linear(), truth.linear()) > 2.9 * kDeg);
-    const Se3Refinement r = scene.refiner.refine(scene.view(truth), start);
+    const planar::Se3Refinement r = scene.refiner.refine(scene.view(truth), start);
     REQUIRE(r.refined);
     CHECK(rotation_angle(r.T_cam_object.linear(), truth.linear()) < 0.6 * kDeg);
     CHECK((r.T_cam_object.translation() - truth.translation()).norm() < 0.01);
@@ -66,7 +67,7 @@ TEST_CASE("planar: the SE(3) refinement ignores brightness, contrast and a light
   frame.convertTo(lit, CV_32F);
   lit = lit.mul(gain) + 15.0;
   lit.convertTo(frame, CV_8U);
-  const Se3Refinement r = scene.refiner.refine(frame, tilted(truth, 2.0 * kDeg));
+  const planar::Se3Refinement r = scene.refiner.refine(frame, tilted(truth, 2.0 * kDeg));
   REQUIRE(r.refined);
   CHECK(rotation_angle(r.T_cam_object.linear(), truth.linear()) < 0.6 * kDeg);
 }
@@ -76,7 +77,7 @@ TEST_CASE("planar: the SE(3) refinement's rotation uncertainty grows with the di
   double previous = 0;
   for (const double d : {0.8, 1.6, 3.0}) {
     const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.05, 0.05, -d), Eigen::Vector3d::Zero());
-    const Se3Refinement r = scene.refiner.refine(scene.view(truth), truth);
+    const planar::Se3Refinement r = scene.refiner.refine(scene.view(truth), truth);
     REQUIRE(r.refined);
     CHECK(r.rotation_sigma_rad > 1.3 * previous);
     CHECK(r.position_sigma_m > 0.0);
@@ -87,13 +88,13 @@ TEST_CASE("planar: the SE(3) refinement's rotation uncertainty grows with the di
 TEST_CASE("planar: the SE(3) refinement says why it keeps the starting pose") {
   const Scene scene;
   const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.0, 0.0, -1.5), Eigen::Vector3d::Zero());
-  const Se3Refinement empty = scene.refiner.refine(cv::Mat(), truth);
+  const planar::Se3Refinement empty = scene.refiner.refine(cv::Mat(), truth);
   CHECK_FALSE(empty.refined);
   CHECK(std::string(empty.failure).find("CV_8UC1") != std::string::npos);
   CHECK(empty.T_cam_object.isApprox(truth));
   // The panel far out of the image.
   const Eigen::Isometry3d away = look_at_object(Eigen::Vector3d(3.0, 0.0, -1.5), Eigen::Vector3d(3.0, 0, 0));
-  const Se3Refinement outside = scene.refiner.refine(scene.view(truth), away);
+  const planar::Se3Refinement outside = scene.refiner.refine(scene.view(truth), away);
   CHECK_FALSE(outside.refined);
   CHECK(std::string(outside.failure) == "too little of the panel in view");
   CHECK_THROWS_AS(Se3PoseRefiner(scene.panel, 0.0, kH, scene.camera.K()), std::invalid_argument);
@@ -104,14 +105,14 @@ TEST_CASE("planar: the SE(3) refinement smooths only where the panel is, with th
   const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.3, 0.05, -2.2), Eigen::Vector3d(0.1, 0, 0), 0.03);
   const Eigen::Isometry3d start = tilted(truth, 2.0 * kDeg);
   const cv::Mat frame = scene.view(truth);
-  Se3PoseRefiner::SmoothedFrame roi;
+  planar::Se3PoseRefiner::SmoothedFrame roi;
   scene.refiner.smooth(frame, {start}, roi);
   REQUIRE(roi.valid.area() > 0);
   CHECK(roi.valid.area() < frame.size().area() / 4);  // a 0.40 m panel at 2.2 m: a small region
-  Se3PoseRefiner::SmoothedFrame whole;
-  cv::GaussianBlur(frame, whole.image, cv::Size(0, 0), Se3RefinerSettings{}.smoothing_sigma_px);
+  planar::Se3PoseRefiner::SmoothedFrame whole;
+  cv::GaussianBlur(frame, whole.image, cv::Size(0, 0), planar::Se3RefinerSettings{}.smoothing_sigma_px);
   whole.valid = cv::Rect(0, 0, frame.cols, frame.rows);
-  const Se3Refinement a = scene.refiner.refine(roi, start), b = scene.refiner.refine(whole, start);
+  const planar::Se3Refinement a = scene.refiner.refine(roi, start), b = scene.refiner.refine(whole, start);
   REQUIRE(a.refined);
   REQUIRE(b.refined);
   // Equal up to the rounding of OpenCV's 8-bit blur (its vector and scalar paths split a region
@@ -124,10 +125,10 @@ TEST_CASE("planar: the SE(3) refinement smooths only where the panel is, with th
 TEST_CASE("planar: the SE(3) refinement never reads outside the smoothed region") {
   const Scene scene;
   const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.0, 0.0, -1.5), Eigen::Vector3d::Zero());
-  Se3PoseRefiner::SmoothedFrame frame;
+  planar::Se3PoseRefiner::SmoothedFrame frame;
   scene.refiner.smooth(scene.view(truth), {truth}, frame);
   frame.valid = cv::Rect(0, 0, 40, 40);  // a corner of the frame, far from the panel
-  const Se3Refinement r = scene.refiner.refine(frame, truth);
+  const planar::Se3Refinement r = scene.refiner.refine(frame, truth);
   CHECK_FALSE(r.refined);
   CHECK(std::string(r.failure) == "too little of the panel in view");
 }
@@ -140,10 +141,10 @@ TEST_CASE("planar: the SE(3) refinement models a motion blur it is told about") 
   const int blur_px = 9;
   cv::filter2D(frame, frame, -1, cv::Mat::ones(1, blur_px, CV_32F) / blur_px);
   const Eigen::Isometry3d start = tilted(truth, 1.5 * kDeg);
-  Se3PoseRefiner::SmoothedFrame smoothed;
+  planar::Se3PoseRefiner::SmoothedFrame smoothed;
   scene.refiner.smooth(frame, {start}, smoothed);
-  const Se3Refinement modelled = scene.refiner.refine(smoothed, start, Eigen::Vector2d(blur_px, 0));
-  const Se3Refinement sharp = scene.refiner.refine(smoothed, start);
+  const planar::Se3Refinement modelled = scene.refiner.refine(smoothed, start, Eigen::Vector2d(blur_px, 0));
+  const planar::Se3Refinement sharp = scene.refiner.refine(smoothed, start);
   REQUIRE(modelled.refined);
   const double modelled_error = rotation_angle(modelled.T_cam_object.linear(), truth.linear());
   CHECK(modelled_error < 0.5 * kDeg);
@@ -156,12 +157,12 @@ TEST_CASE("planar: the SE(3) refinement models a motion blur it is told about") 
 
 TEST_CASE("planar: at range the SE(3) refinement can fit the template resampled to 1.3x the panel's apparent size") {
   const Scene scene;
-  Se3RefinerSettings settings;
+  planar::Se3RefinerSettings settings;
   settings.resample_to_frame = true;
-  const Se3PoseRefiner refiner{scene.panel, kW, kH, scene.camera.K(), settings};
+  const planar::Se3PoseRefiner refiner{scene.panel, kW, kH, scene.camera.K(), settings};
   const double fx = scene.camera.K()(0, 0);
   const Eigen::Isometry3d far = look_at_object(Eigen::Vector3d(0.0, 0.0, -2.5), Eigen::Vector3d::Zero());
-  const Se3Refinement a = refiner.refine(scene.view(far), tilted(far, 2.0 * kDeg));
+  const planar::Se3Refinement a = refiner.refine(scene.view(far), tilted(far, 2.0 * kDeg));
   REQUIRE(a.refined);
   CHECK(rotation_angle(a.T_cam_object.linear(), far.linear()) < 1.0 * kDeg);
   CHECK(std::abs(refiner.last_template_size().width - 1.3 * fx * kW / 2.5) <= 1.0);
@@ -191,10 +192,10 @@ TEST_CASE("planar: at range the SE(3) refinement can fit the template resampled 
 // to first order) instead of reading it as a change of the panel's shape, i.e. a tilt.
 TEST_CASE("planar: the SE(3) refinement estimates the frame's blur relative to the template") {
   const Scene scene;
-  Se3RefinerSettings fixed_settings;
+  planar::Se3RefinerSettings fixed_settings;
   fixed_settings.estimate_blur = false;
-  const Se3PoseRefiner fixed{scene.panel, kW, kH, scene.camera.K(), fixed_settings};
-  REQUIRE(Se3RefinerSettings{}.estimate_blur);  // the default
+  const planar::Se3PoseRefiner fixed{scene.panel, kW, kH, scene.camera.K(), fixed_settings};
+  REQUIRE(planar::Se3RefinerSettings{}.estimate_blur);  // the default
   // 2.3 m: the 160 px level is finer than the panel's ~112 px image, and the camera is a little softer
   // than a pixel's box (an extra Gaussian of sigma 0.5 px), so the frame is blurrier than the level; with
   // the blur fixed the fit tilts the panel by more than a degree. (Since the renderer integrates each
@@ -205,7 +206,7 @@ TEST_CASE("planar: the SE(3) refinement estimates the frame's blur relative to t
   cv::GaussianBlur(scene.view(near), near_frame, cv::Size(0, 0), 0.5);
   for (const double start_deg : {-2.0, 2.0}) {
     const Eigen::Isometry3d start = tilted(near, start_deg * kDeg);
-    const Se3Refinement estimated = scene.refiner.refine(near_frame, start), kept = fixed.refine(near_frame, start);
+    const planar::Se3Refinement estimated = scene.refiner.refine(near_frame, start), kept = fixed.refine(near_frame, start);
     REQUIRE(estimated.refined);
     REQUIRE(kept.refined);
     CHECK(rotation_angle(estimated.T_cam_object.linear(), near.linear()) < 0.5 * kDeg);
@@ -221,7 +222,7 @@ TEST_CASE("planar: the SE(3) refinement estimates the frame's blur relative to t
     cv::Mat soft;
     cv::GaussianBlur(frame, soft, cv::Size(0, 0), 0.7);
     const Eigen::Isometry3d start = tilted(truth, 2.0 * kDeg);
-    const Se3Refinement sharp = scene.refiner.refine(frame, start), blurred = scene.refiner.refine(soft, start);
+    const planar::Se3Refinement sharp = scene.refiner.refine(frame, start), blurred = scene.refiner.refine(soft, start);
     REQUIRE(sharp.refined);
     REQUIRE(blurred.refined);
     CHECK(blurred.blur_variance_px2 - sharp.blur_variance_px2 == Approx(0.49).margin(0.15));

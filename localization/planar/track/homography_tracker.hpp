@@ -8,7 +8,7 @@
 
 #include "localization/planar/planar_config.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 struct HomographyTrackOutcome {
   bool converged = false;
@@ -35,4 +35,4 @@ std::unique_ptr<HomographyTracker> make_homography_tracker(TrackerKind kind, con
 // template size, 1 at half size, ...; at most `max_level`.
 int matching_template_level(const cv::Matx33d& H, cv::Size template_size, int max_level);
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -1,10 +1,10 @@
-#include "localization/planar/planar_pose.hpp"
+#include "localization/planar/pose/planar_pose.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-namespace labo {
+namespace labo::planar {
 
 double rotation_angle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return Eigen::AngleAxisd(a.transpose() * b).angle();
@@ -69,4 +69,4 @@ std::optional<PlanarPose> PlanarPoseSolver::solve(const std::array<cv::Point2d, 
   return pose;
 }
 
-}  // namespace labo
+}  // namespace labo::planar

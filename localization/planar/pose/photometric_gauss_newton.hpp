@@ -14,9 +14,9 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
-#include "localization/planar/se3_pose_refiner.hpp"
+#include "localization/planar/pose/se3_pose_refiner.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 // Pose (rotation vector, translation), gain, its gradients across the panel (x, y), bias, blur.
 constexpr int kPhotometricParams = 11;
@@ -123,4 +123,4 @@ bool finish_refinement(const GaussNewtonRun& run, const Eigen::Isometry3d& T_sta
                        double height_m, double fx, double fy, double cx, double cy, cv::Size image,
                        const Se3RefinerSettings& settings, Se3Refinement& out);
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -16,7 +16,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 struct PlanarPoseFilterSettings {
   double angular_accel_radps2 = 0.3;  // rad/s^2 per sqrt(s): a hovering drone's slow sway, not its kicks
@@ -56,4 +56,4 @@ class PlanarPoseFilter {
   std::optional<State> state_;
 };
 
-}  // namespace labo
+}  // namespace labo::planar

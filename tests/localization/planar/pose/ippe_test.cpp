@@ -1,4 +1,4 @@
-// LaboDrone's IPPE (localization/planar/ippe.hpp) against OpenCV's cv::solvePnPGeneric(SOLVEPNP_IPPE),
+// LaboDrone's IPPE (localization/planar/pose/ippe.hpp) against OpenCV's cv::solvePnPGeneric(SOLVEPNP_IPPE),
 // which it replaces in the planar localizer: the same two poses and reprojection errors to 1e-9 on
 // near-fronto-parallel and oblique views, exact and noisy corners.
 #include <catch2/catch.hpp>
@@ -9,10 +9,11 @@
 
 #include <opencv2/calib3d.hpp>
 
-#include "localization/planar/ippe.hpp"
+#include "localization/planar/pose/ippe.hpp"
 #include "bench/planar/synthetic_scene.hpp"
 
 using namespace labo;
+using namespace labo::planar;
 
 namespace {
 
@@ -59,7 +60,7 @@ struct View {
 
 TEST_CASE("ippe: the two poses and their errors equal OpenCV's SOLVEPNP_IPPE to 1e-9") {
   const cv::Matx33d K(569.8, 0, 318.4, 0, 566.1, 183.7, 0, 0, 1);
-  const IppeIntrinsics intrinsics{K(0, 0), K(1, 1), K(0, 2), K(1, 2)};
+  const planar::IppeIntrinsics intrinsics{K(0, 0), K(1, 1), K(0, 2), K(1, 2)};
   std::mt19937 rng(20261203);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   std::normal_distribution<double> gauss(0.0, 1.0);
@@ -95,7 +96,7 @@ TEST_CASE("ippe: the two poses and their errors equal OpenCV's SOLVEPNP_IPPE to 
         // rounding errors (the third column's entries are sqrt(1 - |row|^2), 1e-16 under the root):
         // both implementations are within sqrt(eps) ~ 1e-8 of the truth, and OpenCV 4.6 returns NaN
         // when the rounding makes the root's argument negative (LaboDrone's clamps it to zero).
-        for (const IppeSolution& s : *ours) {
+        for (const planar::IppeSolution& s : *ours) {
           CHECK((s.R - T.linear()).cwiseAbs().maxCoeff() < 1e-7);
           CHECK((s.t - T.translation()).cwiseAbs().maxCoeff() < 1e-7);
         }
@@ -107,9 +108,9 @@ TEST_CASE("ippe: the two poses and their errors equal OpenCV's SOLVEPNP_IPPE to 
       }
       // Matched by pose (two solutions with nearly equal errors may come in either order).
       for (const Reference& ref : reference) {
-        const IppeSolution* nearest = nullptr;
+        const planar::IppeSolution* nearest = nullptr;
         double nearest_difference = 1e300;
-        for (const IppeSolution& s : *ours) {
+        for (const planar::IppeSolution& s : *ours) {
           const double difference = (s.R - ref.R).cwiseAbs().maxCoeff() + (s.t - ref.t).cwiseAbs().maxCoeff();
           if (difference < nearest_difference) nearest_difference = difference, nearest = &s;
         }
@@ -127,7 +128,7 @@ TEST_CASE("ippe: the two poses and their errors equal OpenCV's SOLVEPNP_IPPE to 
 }
 
 TEST_CASE("ippe: exact corners give the true pose, collinear corners give none") {
-  const IppeIntrinsics intrinsics{570, 570, 320, 180};
+  const planar::IppeIntrinsics intrinsics{570, 570, 320, 180};
   const std::array<Eigen::Vector2d, 4> object{Eigen::Vector2d(-0.2, -0.1), Eigen::Vector2d(0.2, -0.1), Eigen::Vector2d(0.2, 0.1),
                                               Eigen::Vector2d(-0.2, 0.1)};
   const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.5, -0.3, -1.1), Eigen::Vector3d(0.03, 0.01, 0), 0.2);

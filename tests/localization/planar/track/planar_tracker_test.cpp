@@ -2,12 +2,13 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "localization/planar/ecc_tracker.hpp"
-#include "localization/planar/ic_tracker.hpp"
+#include "localization/planar/track/ecc_tracker.hpp"
+#include "localization/planar/track/ic_tracker.hpp"
 #include "localization/planar/planar_template.hpp"
 #include "bench/planar/synthetic_scene.hpp"
 
 using namespace labo;
+using namespace labo::planar;
 
 namespace {
 
@@ -41,11 +42,11 @@ PerturbedScene perturbed_scene(const cv::Mat& templ, double sigma, std::uint64_t
 
 TEST_CASE("planar: LaboDrone's tracker recovers a known homography to a tenth of a pixel") {
   const cv::Mat templ = make_procedural_panel(cv::Size(200, 200), 7);
-  InverseCompositionalTracker tracker(templ, PlanarConfig{});
+  planar::InverseCompositionalTracker tracker(templ, planar::PlanarConfig{});
   int converged = 0;
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
     const PerturbedScene p = perturbed_scene(templ, 8.0, seed);
-    const HomographyTrackOutcome o = tracker.track(p.scene, p.H0);
+    const planar::HomographyTrackOutcome o = tracker.track(p.scene, p.H0);
     const double rms = corner_rms(map_corners(o.H, kCorners), p.truth);
     if (o.converged && rms < 0.15) ++converged;
     CHECK(o.correlation > 0.95);
@@ -55,9 +56,9 @@ TEST_CASE("planar: LaboDrone's tracker recovers a known homography to a tenth of
 
 TEST_CASE("planar: OpenCV's ECC wrapper recovers a known homography") {
   const cv::Mat templ = make_procedural_panel(cv::Size(200, 200), 7);
-  EccTracker tracker(templ, PlanarConfig{});
+  planar::EccTracker tracker(templ, planar::PlanarConfig{});
   const PerturbedScene p = perturbed_scene(templ, 5.0, 3);
-  const HomographyTrackOutcome o = tracker.track(p.scene, p.H0);
+  const planar::HomographyTrackOutcome o = tracker.track(p.scene, p.H0);
   REQUIRE(o.converged);
   CHECK(corner_rms(map_corners(o.H, kCorners), p.truth) < 0.5);
   CHECK(o.correlation > 0.95);
@@ -65,11 +66,11 @@ TEST_CASE("planar: OpenCV's ECC wrapper recovers a known homography") {
 
 TEST_CASE("planar: the tracker ignores brightness and contrast changes") {
   const cv::Mat templ = make_procedural_panel(cv::Size(200, 200), 7);
-  InverseCompositionalTracker tracker(templ, PlanarConfig{});
+  planar::InverseCompositionalTracker tracker(templ, planar::PlanarConfig{});
   PerturbedScene p = perturbed_scene(templ, 6.0, 4);
   cv::Mat dim;
   p.scene.convertTo(dim, CV_8U, 0.45, 60);  // gain 0.45, bias +60 grey levels
-  const HomographyTrackOutcome o = tracker.track(dim, p.H0);
+  const planar::HomographyTrackOutcome o = tracker.track(dim, p.H0);
   REQUIRE(o.converged);
   CHECK(corner_rms(map_corners(o.H, kCorners), p.truth) < 0.2);
   CHECK(o.correlation > 0.9);
@@ -80,15 +81,15 @@ TEST_CASE("planar: trackers report failure instead of throwing on an unrelated i
   cv::Mat noise(480, 640, CV_8UC1);
   cv::RNG(9).fill(noise, cv::RNG::UNIFORM, 0, 256);
   const cv::Matx33d H0(1, 0, 220, 0, 1, 140, 0, 0, 1);
-  for (TrackerKind kind : {TrackerKind::Ecc, TrackerKind::InverseCompositional}) {
-    auto tracker = make_homography_tracker(kind, templ, PlanarConfig{});
-    HomographyTrackOutcome o;
+  for (planar::TrackerKind kind : {planar::TrackerKind::Ecc, planar::TrackerKind::InverseCompositional}) {
+    auto tracker = make_homography_tracker(kind, templ, planar::PlanarConfig{});
+    planar::HomographyTrackOutcome o;
     REQUIRE_NOTHROW(o = tracker->track(noise, H0));
     CHECK((!o.converged || o.correlation < 0.5));
   }
   // A prior entirely outside the frame.
-  auto ic = make_homography_tracker(TrackerKind::InverseCompositional, templ, PlanarConfig{});
-  const HomographyTrackOutcome out = ic->track(noise, cv::Matx33d(1, 0, 5000, 0, 1, 5000, 0, 0, 1));
+  auto ic = make_homography_tracker(planar::TrackerKind::InverseCompositional, templ, planar::PlanarConfig{});
+  const planar::HomographyTrackOutcome out = ic->track(noise, cv::Matx33d(1, 0, 5000, 0, 1, 5000, 0, 0, 1));
   CHECK_FALSE(out.converged);
   CHECK(std::string(out.failure) == "object out of view");
 }

@@ -14,7 +14,7 @@
 
 #include "localization/planar/planar_config.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 struct Detection {
   bool found = false;
@@ -56,4 +56,4 @@ class SiftDetector {
   int min_inliers_;
 };
 
-}  // namespace labo
+}  // namespace labo::planar

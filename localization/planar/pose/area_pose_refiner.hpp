@@ -30,9 +30,9 @@
 #include <opencv2/core.hpp>
 
 #include "core/camera_model.hpp"
-#include "localization/planar/se3_pose_refiner.hpp"
+#include "localization/planar/pose/se3_pose_refiner.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 class AreaPoseRefiner {
  public:
@@ -86,4 +86,4 @@ class AreaPoseRefiner {
   mutable std::vector<float> cell_strengths_;
 };
 
-}  // namespace labo
+}  // namespace labo::planar

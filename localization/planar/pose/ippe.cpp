@@ -1,4 +1,4 @@
-#include "localization/planar/ippe.hpp"
+#include "localization/planar/pose/ippe.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
-namespace labo {
+namespace labo::planar {
 
 namespace {
 
@@ -123,4 +123,4 @@ std::optional<std::array<IppeSolution, 2>> ippe_four_points(const std::array<Eig
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -1,4 +1,4 @@
-#include "localization/planar/ic_tracker.hpp"
+#include "localization/planar/track/ic_tracker.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 #include "localization/planar/bilinear_sample.hpp"
 #include "localization/planar/planar_template.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 namespace {
 
@@ -407,4 +407,4 @@ HomographyTrackOutcome InverseCompositionalTracker::track(const cv::Mat& image, 
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -1,9 +1,10 @@
 #include <catch2/catch.hpp>
 
-#include "localization/planar/planar_pose.hpp"
+#include "localization/planar/pose/planar_pose.hpp"
 #include "bench/planar/synthetic_scene.hpp"
 
 using namespace labo;
+using namespace labo::planar;
 
 namespace {
 
@@ -25,7 +26,7 @@ std::array<cv::Point2d, 4> project(const cv::Matx33d& K, const Eigen::Isometry3d
 
 TEST_CASE("planar: IPPE pose of exact corners matches the truth") {
   const cv::Matx33d K(570, 0, 320, 0, 570, 180, 0, 0, 1);
-  const PlanarPoseSolver solver(K, square(0.4));
+  const planar::PlanarPoseSolver solver(K, square(0.4));
   const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.4, -0.2, -1.2), Eigen::Vector3d::Zero(), 0.1);
   const auto pose = solver.solve(project(K, truth, square(0.4)), std::nullopt);
   REQUIRE(pose);
@@ -36,7 +37,7 @@ TEST_CASE("planar: IPPE pose of exact corners matches the truth") {
 
 TEST_CASE("planar: the IPPE two-fold ambiguity is resolved by continuity") {
   const cv::Matx33d K(570, 0, 320, 0, 570, 180, 0, 0, 1);
-  const PlanarPoseSolver solver(K, square(0.2));
+  const planar::PlanarPoseSolver solver(K, square(0.2));
   // Far and nearly frontal: both IPPE solutions reproject within noise.
   const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.25, 0.0, -3.0), Eigen::Vector3d(0, 0, 0));
   auto corners = project(K, truth, square(0.2));
@@ -61,7 +62,7 @@ TEST_CASE("planar: the IPPE two-fold ambiguity is resolved by continuity") {
 
 TEST_CASE("planar: a pose behind the camera or seen from the back is refused") {
   const cv::Matx33d K(570, 0, 320, 0, 570, 180, 0, 0, 1);
-  const PlanarPoseSolver solver(K, square(0.4));
+  const planar::PlanarPoseSolver solver(K, square(0.4));
   // The panel seen from behind: its corners appear mirrored (clockwise order becomes anticlockwise).
   const Eigen::Isometry3d front = look_at_object(Eigen::Vector3d(0, 0, -1.0), Eigen::Vector3d::Zero());
   auto corners = project(K, front, square(0.4));

@@ -5,9 +5,9 @@
 // outcome. ECC allocates inside OpenCV on every call; that cannot be avoided from outside.
 #include <vector>
 
-#include "localization/planar/homography_tracker.hpp"
+#include "localization/planar/track/homography_tracker.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 class EccTracker final : public HomographyTracker {
  public:
@@ -21,4 +21,4 @@ class EccTracker final : public HomographyTracker {
   PlanarConfig config_;
 };
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -5,12 +5,13 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "localization/planar/area_pose_refiner.hpp"
-#include "localization/planar/planar_pose.hpp"
+#include "localization/planar/pose/area_pose_refiner.hpp"
+#include "localization/planar/pose/planar_pose.hpp"
 #include "bench/planar/synthetic_scene.hpp"
 #include "tests/localization/planar/supersampled_pixel.hpp"
 
 using namespace labo;
+using namespace labo::planar;
 
 namespace {
 
@@ -58,7 +59,7 @@ TEST_CASE("planar: the footprint refinement finds the tilt of a panel at 2.5 m i
   const PinholeCamera camera = PinholeCamera::ardrone2_front();
   REQUIRE(camera.has_distortion());
   const cv::Mat panel = make_procedural_panel(cv::Size(640, 480), 11);
-  const AreaPoseRefiner refiner(panel, kW, kH, camera);
+  const planar::AreaPoseRefiner refiner(panel, kW, kH, camera);
   const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.12, 0.05, -2.5), Eigen::Vector3d::Zero(), 0.03);
   const cv::Mat ideal = integrated_view(camera, panel, truth);
   cv::Mat frame;
@@ -70,7 +71,7 @@ TEST_CASE("planar: the footprint refinement finds the tilt of a panel at 2.5 m i
   wide.convertTo(frame, CV_8U);
   for (const auto& [ry, rx] : {std::pair{2.0, 0.0}, std::pair{-2.0, 1.0}, std::pair{0.5, -2.0}}) {
     const Eigen::Isometry3d start = tilted(truth, ry * kDeg, rx * kDeg);
-    const Se3Refinement r = refiner.refine(frame, start);
+    const planar::Se3Refinement r = refiner.refine(frame, start);
     INFO("start " << ry << ", " << rx << " deg: " << (r.refined ? "refined" : r.failure) << ", error "
                   << rotation_angle(r.T_cam_object.linear(), truth.linear()) / kDeg << " deg, residual " << r.residual_grey);
     REQUIRE(r.refined);
@@ -86,15 +87,15 @@ TEST_CASE("planar: the footprint refinement finds the tilt of a panel at 2.5 m i
 TEST_CASE("planar: the footprint refinement says why it keeps the starting pose") {
   const PinholeCamera camera = PinholeCamera::ardrone2_front();
   const cv::Mat panel = make_procedural_panel(cv::Size(320, 240), 11);
-  const AreaPoseRefiner refiner(panel, kW, kH, camera);
+  const planar::AreaPoseRefiner refiner(panel, kW, kH, camera);
   const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.0, 0.0, -2.0), Eigen::Vector3d::Zero(), 0.0);
-  const Se3Refinement small = refiner.refine(cv::Mat(100, 100, CV_8UC1, cv::Scalar(0)), truth);
+  const planar::Se3Refinement small = refiner.refine(cv::Mat(100, 100, CV_8UC1, cv::Scalar(0)), truth);
   CHECK_FALSE(small.refined);
   CHECK(std::string(small.failure).find("camera's size") != std::string::npos);
   CHECK(small.T_cam_object.isApprox(truth));
   // The panel far outside the image.
   const Eigen::Isometry3d aside = look_at_object(Eigen::Vector3d(6.0, 0.0, -2.0), Eigen::Vector3d(6.0, 0.0, 0.0), 0.0);
-  const Se3Refinement out = refiner.refine(cv::Mat(camera.height(), camera.width(), CV_8UC1, cv::Scalar(0)), aside);
+  const planar::Se3Refinement out = refiner.refine(cv::Mat(camera.height(), camera.width(), CV_8UC1, cv::Scalar(0)), aside);
   CHECK_FALSE(out.refined);
   CHECK(std::string(out.failure).find("too little") != std::string::npos);
   CHECK_THROWS_AS(AreaPoseRefiner(cv::Mat(), kW, kH, camera), std::invalid_argument);

@@ -1,4 +1,4 @@
-#include "localization/planar/ecc_tracker.hpp"
+#include "localization/planar/track/ecc_tracker.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "localization/planar/planar_template.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 namespace {
 
@@ -105,4 +105,4 @@ HomographyTrackOutcome EccTracker::track(const cv::Mat& image, const cv::Matx33d
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::planar

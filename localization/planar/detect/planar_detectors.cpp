@@ -1,4 +1,4 @@
-#include "localization/planar/planar_detectors.hpp"
+#include "localization/planar/detect/planar_detectors.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "localization/planar/planar_template.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 namespace {
 
@@ -114,4 +114,4 @@ Detection SiftDetector::detect(const cv::Mat& image) {
   return d;
 }
 
-}  // namespace labo
+}  // namespace labo::planar

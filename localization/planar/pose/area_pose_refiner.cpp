@@ -1,4 +1,4 @@
-#include "localization/planar/area_pose_refiner.hpp"
+#include "localization/planar/pose/area_pose_refiner.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,9 +8,9 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "localization/planar/photometric_gauss_newton.hpp"
+#include "localization/planar/pose/photometric_gauss_newton.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 namespace {
 
@@ -282,4 +282,4 @@ Se3Refinement AreaPoseRefiner::refine(const Eigen::Isometry3d& T_start, const Ei
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::planar

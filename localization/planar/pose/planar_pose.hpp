@@ -15,9 +15,9 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
-#include "localization/planar/ippe.hpp"
+#include "localization/planar/pose/ippe.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 struct PlanarPose {
   Eigen::Isometry3d T_cam_object = Eigen::Isometry3d::Identity();
@@ -50,4 +50,4 @@ class PlanarPoseSolver {
 // Rotation angle between two orientations, radians.
 double rotation_angle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);
 
-}  // namespace labo
+}  // namespace labo::planar

@@ -1,4 +1,4 @@
-#include "localization/planar/se3_pose_refiner.hpp"
+#include "localization/planar/pose/se3_pose_refiner.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,10 +8,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "localization/planar/bilinear_sample.hpp"
-#include "localization/planar/homography_tracker.hpp"
-#include "localization/planar/photometric_gauss_newton.hpp"
+#include "localization/planar/track/homography_tracker.hpp"
+#include "localization/planar/pose/photometric_gauss_newton.hpp"
 
-namespace labo {
+namespace labo::planar {
 
 namespace {
 
@@ -400,5 +400,5 @@ Se3Refinement Se3PoseRefiner::refine(const SmoothedFrame& frame, const Eigen::Is
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::planar
 
