@@ -32,7 +32,7 @@ struct FlightStackSetup {
   LabGeometry lab;
   CamerasConfig cameras = ardrone2_cameras();
   VisionThresholds vision;
-  EstimatorConfig estimation;
+  estimation::EstimatorConfig estimation;
   // Set: LabPipelines runs the real vision front-ends on the frames (make_lab_pipelines()). Unset:
   // vision results come only through LabPipelines::add_*_result() (tests, the perception model).
   std::optional<FrontEndSettings> front_ends;

@@ -25,7 +25,7 @@ struct AppConfig {
   LogLevel log_level = LogLevel::Info;
   CamerasConfig cameras;
   VisionThresholds vision;
-  EstimatorConfig estimation;
+  estimation::EstimatorConfig estimation;
   ControlConfig control;
   planar::PlanarConfig planar;
   slam::SlamSettings slam;

@@ -31,7 +31,7 @@ void accumulate(FlightRun& run, Seconds duration, Rms& position, Rms& yaw, Rms& 
   while (run.plant().now() < end - 1e-9) {
     run.tick();
     const GroundTruth g = run.plant().truth();
-    const FusedState f = run.estimate_now();
+    const estimation::FusedState f = run.estimate_now();
     position.add((f.position_world - g.T_world_body.translation()).norm());
     yaw.add(wrap_angle(f.yaw - yaw_of(g.T_world_body)));
     control.add((g.T_world_body.translation() - run.setpoint).norm());
@@ -186,7 +186,7 @@ BareFloorCrossing cross_bare_floor(FlightRun& run) {
   move_along_x(run, kToX, kSpeed, 2.0, track);
   out.final_error_m = (error() - start_error).norm();
   out.overshoot_m = std::max(0.0, furthest_x - kToX);
-  const EstimatorStatistics st = run.estimator().statistics();
+  const estimation::EstimatorStatistics st = run.estimator().statistics();
   out.dropouts = st.count("velocity_dropouts");
   out.dropout_packets = st.count("velocity_dropout_packets");
   out.crash = run.plant().crash();
@@ -195,7 +195,7 @@ BareFloorCrossing cross_bare_floor(FlightRun& run) {
 }  // namespace
 
 EstimationResults run_estimation_experiments(const PlantFactory& make_plant, const PipelineKind& vision, unsigned seed,
-                                             const EstimatorConfig& config, ExperimentPhases phases) {
+                                             const estimation::EstimatorConfig& config, ExperimentPhases phases) {
   EstimationResults out;
   std::uint64_t rejected = 0;
   const auto count_rejections = [&](const FlightRun& run) {
@@ -216,7 +216,7 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
     run.setpoint = plant->truth().T_world_body.translation();
     const Seconds slam_start = plant->now();
     const Seconds up_down = scale_manoeuvre(run);
-    const ScaleStatus s = run.estimator().scale_status();
+    const estimation::ScaleStatus s = run.estimator().scale_status();
     out.scale_estimated = s.estimated;
     out.scale_estimated_m_per_unit = s.scale;
     out.scale_true_m_per_unit = true_map_scale(run, up_down);
@@ -225,7 +225,7 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
                                   : 100.0;
     out.scale_accuracy = s.accuracy;
     out.scale_pairs = s.pairs;
-    const EstimatorStatistics stage1 = run.estimator().statistics();
+    const estimation::EstimatorStatistics stage1 = run.estimator().statistics();
     out.scale_outliers = static_cast<int>(stage1.count("scale_pairs_outliers_at_arrival"));
     out.scale_changes = static_cast<int>(stage1.count("scale_changes"));
     run.setpoint = Eigen::Vector3d(0.5, 0.0, 1.2);
@@ -275,7 +275,7 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
   }
   for (const bool paper_rule : {false, true}) {  // z push with navdata only
     auto plant = make_plant(request(seed + 2000, kDemoNavdata, false));
-    EstimatorConfig c = config;
+    estimation::EstimatorConfig c = config;
     c.altitude_step_discrimination = !paper_rule;
     c.use_navdata_vz = !paper_rule;  // tum_ardrone, and so the paper, did not use the navdata vz
     FlightRun run(*plant, c, make_pipeline, seed, true);
@@ -289,7 +289,7 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
     PlantRequest r = request(seed + 4000, kDemoNavdata, false);
     r.flat_trim = false;
     auto plant = make_plant(r);
-    EstimatorConfig c = config;
+    estimation::EstimatorConfig c = config;
     c.velocity_dropout.enabled = detect;
     FlightRun run(*plant, c, make_pipeline, seed, true);
     (detect ? out.bare_floor : out.bare_floor_fusing_every_velocity) = cross_bare_floor(run);
@@ -300,7 +300,7 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
   // the configured navdata delay).
   enum class Delays { Configured, None, Measured };
   for (const Delays delays : {Delays::Configured, Delays::None, Delays::Measured}) {
-    EstimatorConfig c = config;
+    estimation::EstimatorConfig c = config;
     if (delays == Delays::Measured) {
       if (out.round_trip_measured_s <= 0) break;  // nothing measured: no third run
       c.control_delay_s = std::max(0.0, out.round_trip_measured_s - config.navdata_delay_s);

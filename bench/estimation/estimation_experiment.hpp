@@ -109,7 +109,7 @@ using PlantFactory = std::function<std::unique_ptr<EstimationPlant>(const PlantR
 enum class ExperimentPhases { All, SlamOnly };
 
 EstimationResults run_estimation_experiments(const PlantFactory& make_plant, const PipelineKind& vision, unsigned seed,
-                                             const EstimatorConfig& config,
+                                             const estimation::EstimatorConfig& config,
                                              ExperimentPhases phases = ExperimentPhases::All);
 
 }  // namespace labo

@@ -33,7 +33,7 @@ class RecordingSlamFrontEnd final : public SlamFrontEnd {
 
 class RealVisionPipeline final : public EstimationPipeline {
  public:
-  RealVisionPipeline(const FlightStackSetup& setup, const EstimatorConfig& config, const std::string& instrument_id)
+  RealVisionPipeline(const FlightStackSetup& setup, const estimation::EstimatorConfig& config, const std::string& instrument_id)
       : pipelines_(setup.lab, config, setup.vision), instrument_id_(instrument_id) {
     const PlanarTarget* target = setup.lab.find_instrument(instrument_id);
     if (!target) throw std::invalid_argument("sim estimate: the lab has no instrument '" + instrument_id + "'");
@@ -64,7 +64,7 @@ class RealVisionPipeline final : public EstimationPipeline {
                                        : (wanted.slam ? FeedbackSource::Slam : FeedbackSource::DeadReckoning);
     pipelines_.set_focus(focus);
   }
-  const StateEstimator& estimator() const override { return pipelines_.estimator(); }
+  const estimation::StateEstimator& estimator() const override { return pipelines_.estimator(); }
   const std::vector<SlamTrackPoint>& slam_track() const override { return track_; }
 
  private:
@@ -81,7 +81,7 @@ PipelineKind real_vision_pipelines(const std::filesystem::path& config_file) {
   options.real_vision = true;
   auto experiment = std::make_shared<const Experiment>(make_experiment(options, /*with_face=*/false));
   return {"real", true,
-          [experiment](const EstimatorConfig& config, const EstimationPlant& plant, unsigned) -> std::unique_ptr<EstimationPipeline> {
+          [experiment](const estimation::EstimatorConfig& config, const EstimationPlant& plant, unsigned) -> std::unique_ptr<EstimationPipeline> {
             return std::make_unique<RealVisionPipeline>(experiment->setup, config, plant.instrument().id);
           }};
 }

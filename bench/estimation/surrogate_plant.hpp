@@ -37,7 +37,7 @@ class SurrogatePlant final : public EstimationPlant {
   void push(const Eigen::Vector3d& delta_v_world) override { v_ += delta_v_world; }
   // Its vertical loop (4 /s behind a 12 /s lag) under the experiments' z loop: 2.6 m/s lifts 0.5 m.
   double vertical_push_for(double metres) const override { return 5.2 * metres; }
-  SurfaceMap surfaces() const override { return surfaces_; }
+  estimation::SurfaceMap surfaces() const override { return surfaces_; }
   // A panel at (3, 0, 1.2) facing the base, over a bench.
   PlantInstrument instrument() const override;
   Seconds command_latency() const override { return options_.command_delay; }
@@ -60,7 +60,7 @@ class SurrogatePlant final : public EstimationPlant {
   MoveCommand active_;
   std::deque<std::pair<Seconds, MoveCommand>> commands_in_flight_;
   std::deque<NavdataSample> navdata_in_flight_;
-  SurfaceMap surfaces_;
+  estimation::SurfaceMap surfaces_;
   std::vector<VideoFrame> no_frames_;
 };
 

@@ -82,7 +82,7 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   const ConfigDocument doc = ConfigDocument::load(options.config);
   const ConfigReader root = doc.root();
   if (root.has("control")) setup.control = read_control_config(root.object("control"));
-  if (root.has("estimation")) setup.estimation = read_estimation_config(root.object("estimation"));
+  if (root.has("estimation")) setup.estimation = estimation::read_estimation_config(root.object("estimation"));
   if (root.has("vision")) setup.vision = read_vision_thresholds(root.object("vision"));
   if (!options.real_vision) {
     // The models deliver navdata and vision results without latency and act on commands at once:

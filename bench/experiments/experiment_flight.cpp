@@ -11,8 +11,8 @@ Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T) {
   return {p.x(), p.y(), p.z(), ypr_from_rotation(T.linear())[0]};
 }
 
-EstimatorCounts estimator_counts(const StateEstimator& estimator) {
-  const EstimatorStatistics stats = estimator.statistics();
+EstimatorCounts estimator_counts(const estimation::StateEstimator& estimator) {
+  const estimation::EstimatorStatistics stats = estimator.statistics();
   EstimatorCounts c;
   c.object_fused = stats.count("object_fused");
   c.slam_fused = stats.count("slam_fused");
@@ -25,7 +25,7 @@ EstimatorCounts estimator_counts(const StateEstimator& estimator) {
   return c;
 }
 
-FlightSample sample_of(const FlightStatus& s, const FlightOutput& out, const StateEstimator& estimator,
+FlightSample sample_of(const FlightStatus& s, const FlightOutput& out, const estimation::StateEstimator& estimator,
                        const Eigen::Isometry3d& truth, Seconds t, const std::optional<Eigen::Isometry3d>& true_face) {
   FlightSample sample;
   sample.t = t;

@@ -27,7 +27,7 @@ struct EstimatorCounts {
   std::uint64_t velocity_dropouts = 0;         // bottom-camera velocity dropouts detected (onsets)
   std::uint64_t velocity_dropout_packets = 0;  // navdata packets whose velocity was not fused
 };
-EstimatorCounts estimator_counts(const StateEstimator& estimator);
+EstimatorCounts estimator_counts(const estimation::StateEstimator& estimator);
 
 struct FlightSample {
   Seconds t = 0;
@@ -90,7 +90,7 @@ class ExperimentFlight {
 Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T);
 // The sample of this tick, from the stack's status, the action it decided, the estimator and the
 // truth (the teacher's face: T_world_face).
-FlightSample sample_of(const FlightStatus& status, const FlightOutput& out, const StateEstimator& estimator,
+FlightSample sample_of(const FlightStatus& status, const FlightOutput& out, const estimation::StateEstimator& estimator,
                        const Eigen::Isometry3d& truth, Seconds t, const std::optional<Eigen::Isometry3d>& true_face);
 
 }  // namespace labo

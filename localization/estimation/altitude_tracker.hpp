@@ -21,7 +21,7 @@
 #include "core/time.hpp"
 #include "localization/estimation/surface_map.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 struct AltitudeDecision {
   // FusedAsMotion: an increment above gamma explained by vertical speed or a flat surface map.
@@ -72,4 +72,4 @@ class AltitudeTracker {
   std::optional<Seconds> echo_since_;  // a short echo is being dropped since then
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -8,7 +8,7 @@
 #include "localization/estimation/reacquisition_gate.hpp"
 #include "localization/estimation/scale_estimator.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 // First-order responses of the AR.Drone's onboard controllers to the normalized PCMD (MoveCommand):
 //   roll'    = attitude_rate_hz * (tilt_max_rad * u_roll  - roll)      (pitch alike)
@@ -118,4 +118,4 @@ struct EstimatorConfig {
 // Reads the "estimation" section; every key optional, defaults above, delays in ms at this edge.
 EstimatorConfig read_estimation_config(const ConfigReader& node);
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -6,7 +6,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 using namespace est;
 
@@ -207,4 +207,4 @@ void FilterCore::observe_landed() {
   ekf_.update<3>(y, H, Eigen::Vector3d::Constant(0.01 * 0.01).asDiagonal());
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

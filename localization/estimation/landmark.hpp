@@ -10,7 +10,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 // A pose measurement with its isotropic variances (m^2 for the position, rad^2 for the rotation).
 struct PoseWithVariance {
@@ -36,4 +36,4 @@ struct Landmark {
 // Combines a cascade with a survey (each with its variances) into a first placement.
 Landmark place_landmark(const PoseWithVariance& cascade, const PoseWithVariance* surveyed, Seconds t);
 
-}  // namespace labo
+}  // namespace labo::estimation

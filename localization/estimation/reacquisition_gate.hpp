@@ -18,7 +18,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 struct ReacquisitionSettings {
   double chi2 = 16.0;              // 4 dof: about the 99.7 % quantile
@@ -55,4 +55,4 @@ class ReacquisitionGate {
   Eigen::Vector4d previous_innovation_ = Eigen::Vector4d::Zero();
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

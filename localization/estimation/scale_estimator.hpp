@@ -24,7 +24,7 @@
 #include <utility>
 #include <vector>
 
-namespace labo {
+namespace labo::estimation {
 
 struct ScaleStatus {
   double scale = 1.0;
@@ -116,4 +116,4 @@ class MapToWorld {
   Eigen::Vector3d fixpoint_map_ = Eigen::Vector3d::Zero();
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -12,7 +12,7 @@
 #include "localization/estimation/timed_queue.hpp"
 #include "localization/estimation/vision_gate.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 using namespace est;
 
@@ -622,4 +622,4 @@ EstimatorStatistics StateEstimator::statistics() const {
   return st;
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

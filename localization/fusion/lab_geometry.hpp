@@ -50,7 +50,7 @@ struct LabGeometry {
   PlanarTarget platform;
   // The tops the ultrasound sees (benches, the platform, instrument housings) over the floor, for the
   // altitude tracker to tell a floor step from a climb; empty: floor only, steps told by gamma alone.
-  SurfaceMap surfaces;
+  estimation::SurfaceMap surfaces;
   TeacherRoute teacher;
 
   const PlanarTarget* find_instrument(const std::string& id) const;

@@ -7,7 +7,7 @@
 namespace labo {
 
 std::unique_ptr<LabPipelines> make_lab_pipelines(const LabGeometry& lab, const CamerasConfig& cameras, const VisionThresholds& vision,
-                                                 const EstimatorConfig& estimation, const FrontEndSettings& settings) {
+                                                 const estimation::EstimatorConfig& estimation, const FrontEndSettings& settings) {
   auto pipelines = std::make_unique<LabPipelines>(lab, estimation, vision);
   const PinholeCamera front(cameras.front), bottom(cameras.bottom);
   for (const PlanarTarget& instrument : lab.instruments) {

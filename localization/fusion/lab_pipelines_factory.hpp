@@ -14,6 +14,6 @@ namespace labo {
 // Throws std::invalid_argument (a template that cannot be used, naming the target) or
 // std::runtime_error (a face model file that cannot be read, naming it).
 std::unique_ptr<LabPipelines> make_lab_pipelines(const LabGeometry& lab, const CamerasConfig& cameras, const VisionThresholds& vision,
-                                                 const EstimatorConfig& estimation, const FrontEndSettings& settings);
+                                                 const estimation::EstimatorConfig& estimation, const FrontEndSettings& settings);
 
 }  // namespace labo

@@ -183,7 +183,7 @@ TEST_CASE("vision front-ends: tracking a panel allocates nothing") {
   PlanarFrontEnd front_end(osc, camera, VisionThresholds{}, planar::PlanarConfig{});
   FrontEndSettings settings;
   settings.with_face = false;
-  const auto pipelines = make_lab_pipelines(lab, ardrone2_cameras(), VisionThresholds{}, EstimatorConfig{}, settings);
+  const auto pipelines = make_lab_pipelines(lab, ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
   pipelines->reset(make_pose(body, 0.0), 0.0);
   PerceptionFocus focus;
   focus.slam = false;
@@ -253,10 +253,10 @@ TEST_CASE("navdata path: a datagram through NavdataReceiver into the StateEstima
     NavdataBuilder().build(packet, datagrams.back());
     times.push_back(t);
   }
-  StateEstimator estimator;
+  estimation::StateEstimator estimator;
   estimator.reset(make_pose(Eigen::Vector3d(0, 0, 1), 0.0), 0.5);
   LinkCounters counters(Logger("test", LogLevel::Warn, [](const std::string&) {}));
-  FusedState predicted;
+  estimation::FusedState predicted;
   NavdataReceiver receiver(counters, [&](const NavdataSample& sample, const NavdataPacket&) {
     REQUIRE(estimator.add_navdata(sample));
     predicted = estimator.predict_for_control(sample.t);

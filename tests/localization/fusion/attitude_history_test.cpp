@@ -66,7 +66,7 @@ class RecordingSlam final : public SlamFrontEnd {
 }  // namespace
 
 TEST_CASE("lab pipelines: each front frame goes to SLAM with the IMU's attitude at its capture time") {
-  LabPipelines pipelines(LabGeometry{}, EstimatorConfig{}, VisionThresholds{});
+  LabPipelines pipelines(LabGeometry{}, estimation::EstimatorConfig{}, VisionThresholds{});
   std::vector<std::optional<Eigen::Vector3d>> seen;
   pipelines.set_slam_front_end(std::make_unique<RecordingSlam>(seen));
   PerceptionFocus focus;
@@ -78,7 +78,7 @@ TEST_CASE("lab pipelines: each front frame goes to SLAM with the IMU's attitude 
   frame.t = 0.05;
   pipelines.on_video(frame);  // no navdata yet: no attitude
   // 15 Hz navdata (received at t, measured navdata_delay_s earlier), the nose going down 0.1 rad/s.
-  const EstimatorConfig config;
+  const estimation::EstimatorConfig config;
   for (int i = 0; i <= 15; ++i) {
     NavdataSample n;
     n.t = 0.1 + i / 15.0;

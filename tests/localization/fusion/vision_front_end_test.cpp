@@ -186,7 +186,7 @@ TEST_CASE("vision front-ends: LabPipelines runs the focused instrument on front 
   FrontEndSettings settings;
   settings.with_face = false;
   settings.slam.mapping_mode = slam::MappingMode::Synchronous;
-  const auto pipelines = make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, EstimatorConfig{}, settings);
+  const auto pipelines = make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
   const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   // Hovering 1.3 m in front of the oscilloscope (the camera sits 0.2 m ahead of the body centre).
   const Eigen::Vector3d body = osc.T_world_object.translation() - Eigen::Vector3d(1.5, 0.05, 0.0);
@@ -310,8 +310,8 @@ TEST_CASE("vision front-ends: vision prepared, run and applied in steps gives wh
   FrontEndSettings settings;
   settings.with_face = false;
   settings.slam.mapping_mode = slam::MappingMode::Synchronous;
-  const auto inline_run = make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, EstimatorConfig{}, settings);
-  const auto stepped = make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, EstimatorConfig{}, settings);
+  const auto inline_run = make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
+  const auto stepped = make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
   const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   const Eigen::Vector3d body = osc.T_world_object.translation() - Eigen::Vector3d(1.5, 0.05, 0.0);
   const PanelScene panel{osc, PinholeCamera::ardrone2_front()};
