@@ -63,7 +63,7 @@ struct MissionParameters {
   // Off: SLAM drives the pose and the face is the target; the face drives it only when SLAM is lost.
   bool face_as_feedback = false;
   double face_search_timeout_s = 120.0;  // a watch at the teacher's route lasts one round of it (~35 s)
-  SourceSwitchParameters source_switch;  // the localization switch's hysteresis
+  fusion::SourceSwitchParameters source_switch;  // the localization switch's hysteresis
 };
 
 struct SafetyLimits {

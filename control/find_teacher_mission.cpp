@@ -75,7 +75,7 @@ constexpr double kBriefLossS = 0.25;
 double bearing(const Eigen::Vector3d& from, const Eigen::Vector3d& to) { return std::atan2(to.y() - from.y(), to.x() - from.x()); }
 
 // Does the straight flight from a to b pass within `clearance` of the teacher's route (floor plane)?
-bool crosses_route(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const TeacherRoute& route, double clearance) {
+bool crosses_route(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const fusion::TeacherRoute& route, double clearance) {
   const int samples = 1 + static_cast<int>((b - a).head<2>().norm() / 0.05);
   for (int k = 0; k <= samples; ++k)
     if (distance_to_route((a + (b - a) * (static_cast<double>(k) / samples)).head<2>(), route) < clearance) return true;
@@ -110,8 +110,8 @@ std::string FindTeacherMission::describe(Seconds t) const {
 }
 
 bool FindTeacherMission::face_seen(const MissionContext& ctx) const {
-  const TargetObservation f = ctx.perception.face();
-  return f.state == TrackState::Tracking && ctx.t - f.t < kFreshObservationS;
+  const fusion::TargetObservation f = ctx.perception.face();
+  return f.state == fusion::TrackState::Tracking && ctx.t - f.t < kFreshObservationS;
 }
 
 std::vector<Eigen::Vector3d> FindTeacherMission::viewpoints(const MissionContext& ctx) const {
@@ -318,7 +318,7 @@ void FindTeacherMission::start_search(MissionContext& ctx) {
 }
 
 void FindTeacherMission::follow(MissionContext& ctx) {
-  const TargetObservation f = ctx.perception.face();
+  const fusion::TargetObservation f = ctx.perception.face();
   if (f.t == last_face_t_ && !fresh_) return;  // no new face result: keep the moving set point
   const Eigen::Isometry3d T_world_face = world_pose_of(f, ctx.pose, CameraId::Front);
   const double d = ctx.config.mission.face_distance_m;

@@ -19,7 +19,7 @@ constexpr double kRealignS = 3.0;
 constexpr double kFreshObservationS = 0.3;
 }  // namespace
 
-InspectMission::InspectMission(PlanarTarget instrument, double hold_s, double standoff_m, Seconds t)
+InspectMission::InspectMission(fusion::PlanarTarget instrument, double hold_s, double standoff_m, Seconds t)
     : instrument_(std::move(instrument)), hold_s_(hold_s), standoff_m_(standoff_m), since_(t) {
   T_world_instrument_ = instrument_.T_world_object;  // the lab's nominal pose until it is seen
 }
@@ -49,8 +49,8 @@ bool InspectMission::tolerates_dead_reckoning() const {
 }
 
 bool InspectMission::instrument_seen(const MissionContext& ctx) const {
-  const TargetObservation obs = ctx.perception.instrument();
-  return obs.state == TrackState::Tracking && ctx.t - obs.t < kFreshObservationS;
+  const fusion::TargetObservation obs = ctx.perception.instrument();
+  return obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < kFreshObservationS;
 }
 
 std::string InspectMission::describe(Seconds t) const {
@@ -101,7 +101,7 @@ bool InspectMission::lost_vertically(const MissionContext& ctx, const PoseTarget
 }
 
 bool InspectMission::on_dead_reckoning_too_long(const MissionContext& ctx) {
-  if (ctx.pose.source != FeedbackSource::DeadReckoning) {
+  if (ctx.pose.source != fusion::FeedbackSource::DeadReckoning) {
     dead_reckoning_since_ = -1;
     return false;
   }
@@ -129,7 +129,7 @@ void InspectMission::step_inspect(MissionContext& ctx) {
   // Once the estimator has placed the instrument (when its homography feeds the filter), the pose
   // estimate is relative to that placement: the set point must be too, or any placement error becomes
   // a standoff and centring error.
-  const TargetObservation obs = ctx.perception.instrument();
+  const fusion::TargetObservation obs = ctx.perception.instrument();
   const bool replaced = obs.placed_in_world && !obs.T_world_target.isApprox(T_world_instrument_, 1e-9);
   if (obs.placed_in_world) T_world_instrument_ = obs.T_world_target;
   const PoseTarget standoff = standoff_target(T_world_instrument_, standoff_m_, ctx.centre_ray_front);
@@ -191,7 +191,7 @@ void InspectMission::step_inspect(MissionContext& ctx) {
       // Resume once the panel drives the estimate again (the switch takes it after source_hold_s of
       // tracking): resuming when it was merely seen left the estimate on dead reckoning, which the
       // approach does not tolerate, and safety held the drone level until the switch caught up.
-      if (seen && ctx.pose.source != FeedbackSource::DeadReckoning) enter(Step::Approach, ctx.t);
+      if (seen && ctx.pose.source != fusion::FeedbackSource::DeadReckoning) enter(Step::Approach, ctx.t);
       else if (ctx.t - since_ > ctx.config.mission.detect_timeout_s) {
         result_ = "instrument '" + instrument_.id + "' lost during inspection and not found again; returning home";
         home_.start(ctx.t);

@@ -13,8 +13,8 @@
 
 namespace labo {
 
-MoveCommand level_hold_command(const PoseEstimate& pose, double target_z_m, double target_yaw_rad,
+MoveCommand level_hold_command(const fusion::PoseEstimate& pose, double target_z_m, double target_yaw_rad,
                                const PoseControlGains& gains);
-MoveCommand climb_command(const PoseEstimate& pose, const PoseControlGains& gains);
+MoveCommand climb_command(const fusion::PoseEstimate& pose, const PoseControlGains& gains);
 
 }  // namespace labo

@@ -50,7 +50,7 @@ class PoseController {
   void set_target(const PoseTarget& target, bool keep_state = false);
   const PoseTarget& target() const { return target_; }
   // The command that drives `pose` towards the target; dt is the time since the last call.
-  MoveCommand update(const PoseEstimate& pose, double dt);
+  MoveCommand update(const fusion::PoseEstimate& pose, double dt);
   void reset();
 
   const PidAxis& axis_x() const { return x_; }

@@ -48,7 +48,7 @@ double quantile(std::vector<double> v, double q) {
 }
 
 // Views of a lab target from `distance` m, drifting slowly (as a hovering drone does).
-std::vector<cv::Mat> panel_views(const PlanarTarget& target, const PinholeCamera& camera, double distance, int n) {
+std::vector<cv::Mat> panel_views(const fusion::PlanarTarget& target, const PinholeCamera& camera, double distance, int n) {
   const cv::Mat templ = cv::imread(target.template_path.string(), cv::IMREAD_GRAYSCALE);
   if (templ.empty()) throw std::runtime_error("bench vision: cannot read " + target.template_path.string());
   const PlanarViewRenderer renderer(camera, make_clutter_background(cv::Size(1200, 1200), 5), 0.0025);
@@ -61,40 +61,40 @@ std::vector<cv::Mat> panel_views(const PlanarTarget& target, const PinholeCamera
   return out;
 }
 
-Timing planar_timing(const std::string& name, const std::string& what, const PlanarTarget& target, const PinholeCamera& camera,
-                     const FlightStackSetup& setup, const FrontEndSettings& s, double distance, int n, bool detect_every_frame) {
+Timing planar_timing(const std::string& name, const std::string& what, const fusion::PlanarTarget& target, const PinholeCamera& camera,
+                     const FlightStackSetup& setup, const fusion::FrontEndSettings& s, double distance, int n, bool detect_every_frame) {
   Timing t{name, what, {}, 0};
-  PlanarFrontEnd fe(target, camera, setup.vision, s.planar);
+  fusion::PlanarFrontEnd fe(target, camera, setup.vision, s.planar);
   const auto frames = panel_views(target, camera, distance, n + 2);
   for (int i = 0; i < 2 && !detect_every_frame; ++i) fe.process(frames[static_cast<std::size_t>(i)], i / 30.0, distance);  // warm up
   for (int i = 2; i < n + 2; ++i) {
     if (detect_every_frame) fe.reset();
-    const TargetObservation* o = nullptr;
+    const fusion::TargetObservation* o = nullptr;
     t.ms.push_back(ms_of([&] { o = &fe.process(frames[static_cast<std::size_t>(i)], i / 30.0, distance); }));
-    t.ok += o->state == TrackState::Tracking ? 1 : 0;
+    t.ok += o->state == fusion::TrackState::Tracking ? 1 : 0;
   }
   return t;
 }
 
-Timing slam_timing(const FrontEndSettings& s, const PinholeCamera& camera, int n) {
+Timing slam_timing(const fusion::FrontEndSettings& s, const PinholeCamera& camera, int n) {
   Timing t{"slam_track", "SLAM front-end, synthetic room approach flight, frames after initialization", {}, 0};
   slam::SlamSettings settings = s.slam;
   settings.mapping_mode = slam::MappingMode::Threaded;  // as the server runs it: mapping off the frame path
-  SlamSystemFrontEnd fe(std::make_unique<slam::SlamSystem>(camera, settings));
+  fusion::SlamSystemFrontEnd fe(std::make_unique<slam::SlamSystem>(camera, settings));
   const slam::SyntheticRoom room(camera);
   const slam::Flight flight = slam::approach_flight(room.panel_center());
   for (std::size_t i = 0; i < flight.frames.size() && static_cast<int>(t.ms.size()) < n; ++i) {
     const cv::Mat img = room.render(flight.frames[i].T_world_cam, static_cast<unsigned>(i));
-    const SlamFrame* f = nullptr;
+    const fusion::SlamFrame* f = nullptr;
     const double ms = ms_of([&] { f = &fe.process(img, flight.frames[i].t, std::nullopt); });
-    if (f->summary.state == SlamState::Initializing) continue;
+    if (f->summary.state == fusion::SlamState::Initializing) continue;
     t.ms.push_back(ms);
     t.ok += f->has_pose ? 1 : 0;
   }
   return t;
 }
 
-Timing face_timing(const FrontEndSettings& s, int n) {
+Timing face_timing(const fusion::FrontEndSettings& s, int n) {
   Timing t{"face_track", "face front-end, textured head at 1.0-1.2 m turning slowly", {}, 0};
   const PinholeCamera camera = PinholeCamera::ardrone2_front().without_distortion();
   auto estimator = std::make_unique<face::FacePoseEstimator>(s.face, camera);
@@ -103,18 +103,18 @@ Timing face_timing(const FrontEndSettings& s, int n) {
   if (photo.empty()) throw std::runtime_error("bench vision: assets/astronaut.png missing (run scripts/setup.sh)");
   face::TexturedHead head = face::texture_head_from_photo(*estimator, candide, photo, 0.063);
   face::TexturedHeadRenderer renderer(candide, head, camera);
-  FaceFrontEnd fe(std::move(estimator));
+  fusion::FaceFrontEnd fe(std::move(estimator));
   for (int i = 0; i < n + 3; ++i) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.linear() = face::head_rotation({0.3 * std::sin(0.05 * i), 0.1 * std::sin(0.07 * i), 0.0});
     T.translation() = Eigen::Vector3d(0.05 * std::sin(0.03 * i), -0.02, 1.1 + 0.1 * std::sin(0.04 * i));
     cv::Mat img(camera.height(), camera.width(), CV_8UC1, cv::Scalar(120));
     renderer.render(T, img);
-    const TargetObservation* o = nullptr;
+    const fusion::TargetObservation* o = nullptr;
     const double ms = ms_of([&] { o = &fe.process(img, i / 30.0, std::nullopt); });
     if (i < 3) continue;  // first detection
     t.ms.push_back(ms);
-    t.ok += o->state == TrackState::Tracking ? 1 : 0;
+    t.ok += o->state == fusion::TrackState::Tracking ? 1 : 0;
   }
   return t;
 }
@@ -139,11 +139,11 @@ int run_bench_vision_command(const ParsedArgs& args) {
   const std::filesystem::path config = args.value_or("--config", (source_root() / "config" / "default.json").string());
   if (!std::filesystem::exists(config)) throw UsageError("--config " + config.string() + ": no such file");
   const ConfigDocument doc = ConfigDocument::load(config);
-  const FrontEndSettings s = read_front_end_settings(doc.root(), config.parent_path());
+  const fusion::FrontEndSettings s = fusion::read_front_end_settings(doc.root(), config.parent_path());
   FlightStackSetup setup;
   if (doc.root().has("vision")) setup.vision = read_vision_thresholds(doc.root().object("vision"));
-  setup.lab = lab_geometry_from(load_lab_description(default_lab_path()));
-  const PlanarTarget& osc = *setup.lab.find_instrument("oscilloscope");
+  setup.lab = fusion::lab_geometry_from(load_lab_description(default_lab_path()));
+  const fusion::PlanarTarget& osc = *setup.lab.find_instrument("oscilloscope");
   const PinholeCamera front = PinholeCamera::ardrone2_front(), bottom = PinholeCamera::ardrone2_bottom();
 
   std::vector<Timing> timings;

@@ -94,7 +94,7 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
     if (options.model_route) {
       LabDescription lab = load_lab_file(options.config, root);
       if (options.teacher_speed_mps) lab.teacher.speed_mps = *options.teacher_speed_mps;
-      setup.lab = lab_geometry_from(lab);
+      setup.lab = fusion::lab_geometry_from(lab);
       e.model_route = lab.teacher;
     }
     return e;
@@ -103,9 +103,9 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   const std::filesystem::path base_dir = options.config.parent_path();
   e.lab = load_lab_file(options.config, root);
   if (options.teacher_speed_mps) e.lab->teacher.speed_mps = *options.teacher_speed_mps;
-  setup.lab = lab_geometry_from(*e.lab);
+  setup.lab = fusion::lab_geometry_from(*e.lab);
   if (root.has("cameras")) setup.cameras = read_cameras_config(root.object("cameras"));
-  FrontEndSettings front_ends = read_front_end_settings(root, base_dir);
+  fusion::FrontEndSettings front_ends = fusion::read_front_end_settings(root, base_dir);
   front_ends.slam.mapping_mode = slam::MappingMode::Synchronous;  // lockstep: the same flight every time
   front_ends.with_face = with_face;
   setup.front_ends = front_ends;

@@ -35,9 +35,9 @@ FlightSample sample_of(const FlightStatus& s, const FlightOutput& out, const est
   sample.desired = s.desired;
   sample.source = s.source;
   sample.slam = s.slam.state;
-  const TargetObservation& target = s.stage_index == 5 ? s.platform : s.mission == "find_teacher" ? s.face : s.instrument;
+  const fusion::TargetObservation& target = s.stage_index == 5 ? s.platform : s.mission == "find_teacher" ? s.face : s.instrument;
   sample.target = target.state;
-  if (target.state == TrackState::Lost) sample.target_reason = target.reason;
+  if (target.state == fusion::TrackState::Lost) sample.target_reason = target.reason;
   sample.stage_index = s.stage_index;
   sample.stage = s.stage;
   if (true_face) {
@@ -45,7 +45,7 @@ FlightSample sample_of(const FlightStatus& s, const FlightOutput& out, const est
     sample.face_true_world = Eigen::Vector4d(p.x(), p.y(), p.z(), std::atan2(z.y(), z.x()));
     sample.face_true_cam = ((truth * T_body_cam_front()).inverse() * *true_face).translation();
   }
-  if (s.face.state == TrackState::Tracking) sample.face_measured_cam = s.face.T_cam_target.translation();
+  if (s.face.state == fusion::TrackState::Tracking) sample.face_measured_cam = s.face.T_cam_target.translation();
   if (out.action == FlightOutput::Action::Move) sample.command = {out.move.roll, out.move.pitch, out.move.gaz, out.move.yaw_rate};
   sample.action = to_string(out.action);
   for (const std::string& alert : s.safety_alerts) sample.alerts += (sample.alerts.empty() ? "" : "; ") + alert;

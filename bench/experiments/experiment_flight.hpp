@@ -34,9 +34,9 @@ struct FlightSample {
   Eigen::Vector4d estimated = Eigen::Vector4d::Zero();  // x, y, z, yaw
   Eigen::Vector4d truth = Eigen::Vector4d::Zero();
   std::optional<Eigen::Vector4d> desired;
-  FeedbackSource source = FeedbackSource::DeadReckoning;
-  SlamState slam = SlamState::Off;
-  TrackState target = TrackState::Off;  // the platform in stage 5, else the instrument (or the face)
+  fusion::FeedbackSource source = fusion::FeedbackSource::DeadReckoning;
+  fusion::SlamState slam = fusion::SlamState::Off;
+  fusion::TrackState target = fusion::TrackState::Off;  // the platform in stage 5, else the instrument (or the face)
   std::string target_reason;            // why the target is lost, as its front-end says
   int stage_index = 0;
   std::string stage;
@@ -73,7 +73,7 @@ class ExperimentFlight {
   // kick that turns the drone by about dyaw_rad, at once.
   virtual void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) = 0;
   virtual bool crashed() const = 0;
-  virtual const LabGeometry& lab() const = 0;
+  virtual const fusion::LabGeometry& lab() const = 0;
   virtual const std::vector<FlightSample>& samples() const = 0;
   // What flew and what saw, for plot titles and summaries.
   virtual std::string description() const = 0;

@@ -14,7 +14,7 @@ LockstepFlight::LockstepFlight(const FlightStackSetup& setup, const PerceptionMo
     : lab_(setup.lab), perception_(perception, setup.lab, seed) {
   drone_.p = setup.lab.base;
   drone_.yaw = setup.lab.base_yaw_rad;
-  auto pipelines = std::make_unique<LabPipelines>(setup.lab, setup.estimation, setup.vision);
+  auto pipelines = std::make_unique<fusion::LabPipelines>(setup.lab, setup.estimation, setup.vision);
   pipelines_ = pipelines.get();
   stack_ = std::make_unique<FlightStack>(setup, std::move(pipelines));
   samples_.reserve(20000);
@@ -36,10 +36,10 @@ void LockstepFlight::walk_teacher() {
   y += walk_direction_ * walk_speed_ * kControlDt;
 }
 
-std::optional<Eigen::Isometry3d> LockstepFlight::true_face() const { return T_world_face_ * flip_about_y(); }
+std::optional<Eigen::Isometry3d> LockstepFlight::true_face() const { return T_world_face_ * fusion::flip_about_y(); }
 
 void LockstepFlight::tick() {
-  if (route_) T_world_face_ = route_->pose(t_).T_world_head * flip_about_y();
+  if (route_) T_world_face_ = route_->pose(t_).T_world_head * fusion::flip_about_y();
   else if (walking_) walk_teacher();
   TickRecord record;
   record.navdata = perception_.navdata(drone_, t_);

@@ -16,7 +16,7 @@ namespace labo {
 // Everything the localization saw in one tick, for offline replays.
 struct TickRecord {
   NavdataSample navdata;
-  PerceptionFocus focus;  // what the live system asked for (its source choice included)
+  fusion::PerceptionFocus focus;  // what the live system asked for (its source choice included)
   PerceptionFrame frame;
   std::optional<MoveCommand> command;
   Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
@@ -40,7 +40,7 @@ class LockstepFlight final : public ExperimentFlight {
   void walk_route(const TeacherSpec& route) { route_.emplace(route); }
   void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) override { drone_.push(dv_world_mps, dyaw_rad); }
   bool crashed() const override { return drone_.crashed; }
-  const LabGeometry& lab() const override { return lab_; }
+  const fusion::LabGeometry& lab() const override { return lab_; }
   const std::vector<FlightSample>& samples() const override { return samples_; }
   std::string description() const override { return "quadrotor model, perception model"; }
 
@@ -50,10 +50,10 @@ class LockstepFlight final : public ExperimentFlight {
   const std::vector<TickRecord>& records() const { return records_; }
 
  private:
-  LabGeometry lab_;
+  fusion::LabGeometry lab_;
   QuadrotorModel drone_;
   PerceptionModel perception_;
-  LabPipelines* pipelines_ = nullptr;  // owned by stack_
+  fusion::LabPipelines* pipelines_ = nullptr;  // owned by stack_
   std::unique_ptr<FlightStack> stack_;
   void walk_teacher();
 

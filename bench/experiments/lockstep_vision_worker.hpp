@@ -22,7 +22,7 @@ struct VisionLatencyModel {
   double handoff_ms = 0.2;              // waking the worker and the flight thread
 
   // How long the worker takes over a frame whose vision gave `results`.
-  Seconds latency_of(const VisionResults& results) const;
+  Seconds latency_of(const fusion::VisionResults& results) const;
 };
 
 struct LockstepVisionStats {
@@ -45,8 +45,8 @@ class LockstepVisionWorker {
 
   FlightStack& stack_;
   VisionLatencyModel model_;
-  VisionJob job_;
-  VisionResults results_;
+  fusion::VisionJob job_;
+  fusion::VisionResults results_;
   bool busy_ = false;
   Seconds ready_at_ = 0;
   VideoFrame waiting_;  // the newest frame that came while busy

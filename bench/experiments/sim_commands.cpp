@@ -55,7 +55,7 @@ struct InspectRun {
   }
 };
 
-InspectRun run_inspect(const FlightStackSetup& setup, const PlanarTarget& inst, double hold_s, ExperimentFlight& f) {
+InspectRun run_inspect(const FlightStackSetup& setup, const fusion::PlanarTarget& inst, double hold_s, ExperimentFlight& f) {
   InspectRun r;
   const CommandResult accepted = f.request(inspect_request(inst.id, hold_s));
   if (!accepted.accepted) {
@@ -106,7 +106,7 @@ int axis_index(const std::string& axis) {
 // Error to the set point, position (m) and yaw (rad). The set point is relative to the instrument
 // as the estimator placed it; the truth is compared relative to the instrument's true pose, so a
 // placement error (which shifts estimate and set point alike) is not counted as a control error.
-std::pair<double, double> set_point_error(ExperimentFlight& f, const PlanarTarget& instrument) {
+std::pair<double, double> set_point_error(ExperimentFlight& f, const fusion::PlanarTarget& instrument) {
   const FlightStatus s = f.stack().status();
   if (!s.desired) return {1e9, 1e9};
   const Eigen::Isometry3d T_world_obj_est = s.instrument.placed_in_world ? s.instrument.T_world_target : instrument.T_world_object;
@@ -116,7 +116,7 @@ std::pair<double, double> set_point_error(ExperimentFlight& f, const PlanarTarge
   return {(true_in_obj.translation() - desired_in_obj.translation()).norm(), std::abs(ypr_from_rotation(dR)[0])};
 }
 
-std::vector<Impulse> run_perturb(int axis, int impulses, ExperimentFlight& f, const PlanarTarget& instrument, bool& reached) {
+std::vector<Impulse> run_perturb(int axis, int impulses, ExperimentFlight& f, const fusion::PlanarTarget& instrument, bool& reached) {
   std::vector<Impulse> out;
   f.request(inspect_request(instrument.id, 500.0));
   reached = f.run_until([&] { return holding(f); }, 120.0);
@@ -198,7 +198,7 @@ FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, Experiment
       continue;
     }
     ++r.walking_ticks;
-    const bool tracked = f.stack().status().face.state == TrackState::Tracking;
+    const bool tracked = f.stack().status().face.state == fusion::TrackState::Tracking;
     r.tracked_ticks += tracked;
     r.distance_error.push_back(distance_error);
     r.centre_error.push_back(centre_error);
@@ -230,7 +230,7 @@ int run_sim_inspect_command(const ParsedArgs& args) {
   const Experiment experiment = make_experiment(o, false);
   const FlightStackSetup& setup = experiment.setup;
   const std::string id = args.value_or("--instrument", setup.lab.instruments.front().id);
-  const PlanarTarget* instrument = setup.lab.find_instrument(id);
+  const fusion::PlanarTarget* instrument = setup.lab.find_instrument(id);
   if (!instrument) throw UsageError("--instrument " + id + ": no such instrument in the lab");
   nlohmann::json runs = nlohmann::json::array();
   int ok = 0;

@@ -28,7 +28,7 @@ SimLabFlight::SimLabFlight(const FlightStackSetup& setup, const LabDescription& 
     : geometry_(setup.lab), link_settings_(sim.link) {
   if (!setup.front_ends) throw std::invalid_argument("SimLabFlight: the setup has no vision front-ends");
   lab_ = make_simulated_lab(lab, setup.cameras, sim.lab, std::move(head));
-  auto pipelines = make_lab_pipelines(setup.lab, setup.cameras, setup.vision, setup.estimation, *setup.front_ends);
+  auto pipelines = fusion::make_lab_pipelines(setup.lab, setup.cameras, setup.vision, setup.estimation, *setup.front_ends);
   pipelines_ = pipelines.get();
   stack_ = std::make_unique<FlightStack>(setup, std::move(pipelines));
   if (vision_latency) vision_worker_ = std::make_unique<LockstepVisionWorker>(*stack_, *vision_latency);

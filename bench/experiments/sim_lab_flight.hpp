@@ -38,7 +38,7 @@ class SimLabFlight final : public ExperimentFlight {
   void start_teacher_walk() override {}  // the lab's teacher walks the lab file's path all along
   void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) override { lab_->dynamics().push(dv_world_mps, dyaw_rad); }
   bool crashed() const override { return lab_->truth().crashes > 0; }
-  const LabGeometry& lab() const override { return geometry_; }
+  const fusion::LabGeometry& lab() const override { return geometry_; }
   const std::vector<FlightSample>& samples() const override { return samples_; }
   std::string description() const override;
 
@@ -51,11 +51,11 @@ class SimLabFlight final : public ExperimentFlight {
   struct Listener;
   void apply(const FlightOutput& out);
 
-  LabGeometry geometry_;
+  fusion::LabGeometry geometry_;
   SimLinkSettings link_settings_;
   std::unique_ptr<SimulatedLab> lab_;
   std::unique_ptr<FlightStack> stack_;
-  const LabPipelines* pipelines_ = nullptr;  // owned by stack_
+  const fusion::LabPipelines* pipelines_ = nullptr;  // owned by stack_
   std::unique_ptr<LockstepVisionWorker> vision_worker_;  // with a latency model
   std::unique_ptr<Listener> listener_;
   std::unique_ptr<SimDroneLink> link_;

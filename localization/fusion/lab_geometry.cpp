@@ -3,7 +3,7 @@
 #include "core/frames.hpp"
 #include "drone/lab/lab_description.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 namespace {
 PlanarTarget planar_target_of(const InstrumentSpec& spec) {
@@ -49,4 +49,4 @@ LabGeometry lab_geometry_from(const LabDescription& lab) {
   return g;
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

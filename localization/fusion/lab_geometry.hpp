@@ -13,8 +13,10 @@
 #include "localization/estimation/surface_map.hpp"
 
 namespace labo {
-
 struct LabDescription;
+}  // namespace labo
+
+namespace labo::fusion {
 
 // A planar target: object frame at the panel's centre, x right, y down, z into the panel.
 struct PlanarTarget {
@@ -61,4 +63,4 @@ struct LabGeometry {
 // surfaces under the drone (bench, platform and housing tops).
 LabGeometry lab_geometry_from(const LabDescription& lab);
 
-}  // namespace labo
+}  // namespace labo::fusion

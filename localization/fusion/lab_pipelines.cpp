@@ -7,7 +7,7 @@
 #include "core/frames.hpp"
 #include "localization/slam/slam_system.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 namespace {
 constexpr int kPlatformIndex = 0;  // object indices: platform 0, instruments 1..n in lab order
@@ -242,4 +242,4 @@ PoseEstimate LabPipelines::predict(Seconds t) const {
   return e;
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

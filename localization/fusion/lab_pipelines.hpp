@@ -23,7 +23,7 @@
 #include "localization/fusion/vision_job.hpp"
 #include "localization/estimation/state_estimator.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 class LabPipelines final : public LocalizationPipelines {
  public:
@@ -93,4 +93,4 @@ class LabPipelines final : public LocalizationPipelines {
 // Rotation by pi about y: between "z into the face" (control) and "z out of the face" (face/).
 Eigen::Isometry3d flip_about_y();
 
-}  // namespace labo
+}  // namespace labo::fusion

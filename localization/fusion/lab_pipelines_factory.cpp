@@ -4,7 +4,7 @@
 #include "localization/fusion/planar_front_end.hpp"
 #include "localization/fusion/slam_front_end.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 std::unique_ptr<LabPipelines> make_lab_pipelines(const LabGeometry& lab, const CamerasConfig& cameras, const VisionThresholds& vision,
                                                  const estimation::EstimatorConfig& estimation, const FrontEndSettings& settings) {
@@ -23,4 +23,4 @@ std::unique_ptr<LabPipelines> make_lab_pipelines(const LabGeometry& lab, const C
   return pipelines;
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

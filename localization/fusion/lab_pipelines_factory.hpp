@@ -9,11 +9,11 @@
 #include "localization/fusion/front_end_settings.hpp"
 #include "localization/fusion/lab_pipelines.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 // Throws std::invalid_argument (a template that cannot be used, naming the target) or
 // std::runtime_error (a face model file that cannot be read, naming it).
 std::unique_ptr<LabPipelines> make_lab_pipelines(const LabGeometry& lab, const CamerasConfig& cameras, const VisionThresholds& vision,
                                                  const estimation::EstimatorConfig& estimation, const FrontEndSettings& settings);
 
-}  // namespace labo
+}  // namespace labo::fusion

@@ -15,7 +15,7 @@
 #include "core/time.hpp"
 #include "drone/drone_link.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 struct VisionJob;
 struct VisionResults;
@@ -100,4 +100,4 @@ class LocalizationPipelines {
   virtual SlamSummary slam() const = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::fusion

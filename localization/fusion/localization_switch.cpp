@@ -1,6 +1,6 @@
 #include "localization/fusion/localization_switch.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 bool LocalizationSwitch::held(bool condition, Seconds& since, Seconds t) const {
   if (!condition) {
@@ -56,4 +56,4 @@ FeedbackSource LocalizationSwitch::update(const SwitchInputs& in) {
   return current_;
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace labo {
+namespace labo::fusion {
 
 namespace {
 // Frames further apart than this: the last homography is no prior any more (the front-end was not
@@ -108,4 +108,4 @@ const TargetObservation& PlanarFrontEnd::process(const cv::Mat& gray, Seconds t,
   return o;
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

@@ -1,6 +1,6 @@
 #include "localization/fusion/vision_job.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 void VisionJob::clear() {
   instrument = nullptr;
@@ -40,4 +40,4 @@ void run_vision_job(const VisionJob& job, VisionResults& out) {
   if (job.face) out.face = job.face->process(job.gray, job.t, std::nullopt);
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

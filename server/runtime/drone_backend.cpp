@@ -23,13 +23,13 @@ FlightStackSetup flight_setup(const AppConfig& config) {
   // The lab's geometry (room, base, instruments, platform) from the lab description the config
   // names (validated when the config was loaded).
   FlightStackSetup setup;
-  setup.lab = lab_geometry_from(config.lab);
+  setup.lab = fusion::lab_geometry_from(config.lab);
   setup.control = config.control;
   setup.cameras = config.cameras;
   setup.vision = config.vision;
   setup.estimation = config.estimation;
   // The real vision pipelines on the drone's frames (localization/fusion/lab_pipelines_factory.hpp).
-  setup.front_ends = FrontEndSettings{config.planar, config.slam, config.face, true};
+  setup.front_ends = fusion::FrontEndSettings{config.planar, config.slam, config.face, true};
   return setup;
 }
 

@@ -96,8 +96,8 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
 
   RuntimeTiming timing_;
   RateLimiter vision_log_limit_{5.0};
-  VisionJob vision_job_;          // the flight thread's, swapped with the worker's
-  VisionResults vision_results_;  // likewise
+  fusion::VisionJob vision_job_;          // the flight thread's, swapped with the worker's
+  fusion::VisionResults vision_results_;  // likewise
 
   mutable std::mutex snapshot_mutex_;
   FlightSnapshot snapshot_;

@@ -9,13 +9,13 @@ PoseXyzYaw xyz_yaw(const Eigen::Isometry3d& T) {
   return {T.translation().x(), T.translation().y(), T.translation().z(), std::atan2(R(1, 0), R(0, 0))};
 }
 
-PoseSource source_of(FeedbackSource s, const FlightStatus& status) {
+PoseSource source_of(fusion::FeedbackSource s, const FlightStatus& status) {
   switch (s) {
-    case FeedbackSource::Slam: return PoseSource::Slam;
-    case FeedbackSource::Homography:
-      return status.instrument.state == TrackState::Lost ? PoseSource::VisionLost : PoseSource::Homography;
-    case FeedbackSource::Face: return PoseSource::Face;
-    case FeedbackSource::DeadReckoning: return PoseSource::DeadReckoning;
+    case fusion::FeedbackSource::Slam: return PoseSource::Slam;
+    case fusion::FeedbackSource::Homography:
+      return status.instrument.state == fusion::TrackState::Lost ? PoseSource::VisionLost : PoseSource::Homography;
+    case fusion::FeedbackSource::Face: return PoseSource::Face;
+    case fusion::FeedbackSource::DeadReckoning: return PoseSource::DeadReckoning;
   }
   return PoseSource::DeadReckoning;
 }
@@ -63,7 +63,7 @@ void FlightStackCore::on_video(const VideoFrame& frame) {
   stack_->on_video(frame);
 }
 
-bool FlightStackCore::prepare_vision(const VideoFrame& frame, VisionJob& job) {
+bool FlightStackCore::prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) {
   camera_ = frame.camera;
   return stack_->prepare_vision(frame, job);
 }
@@ -124,14 +124,14 @@ FlightSnapshot FlightStackCore::status() {
   if (s.face.placed_in_world) t.teacher_xy = std::pair{s.face.T_world_target.translation().x(), s.face.T_world_target.translation().y()};
 
   const PinholeCamera& camera = camera_ == CameraId::Front ? front_ : bottom_;
-  if (s.instrument.state == TrackState::Tracking && s.instrument.image_points.size() == 4) {
+  if (s.instrument.state == fusion::TrackState::Tracking && s.instrument.image_points.size() == 4) {
     snap.overlay.panel_corners = s.instrument.image_points;
     snap.overlay.panel_axes = project_axes(camera, s.instrument.T_cam_target, 0.15);
-  } else if (s.platform.state == TrackState::Tracking && s.platform.image_points.size() == 4) {
+  } else if (s.platform.state == fusion::TrackState::Tracking && s.platform.image_points.size() == 4) {
     snap.overlay.panel_corners = s.platform.image_points;
     snap.overlay.panel_axes = project_axes(camera, s.platform.T_cam_target, 0.15);
   }
-  if (s.face.state == TrackState::Tracking && !s.face.image_points.empty()) {
+  if (s.face.state == fusion::TrackState::Tracking && !s.face.image_points.empty()) {
     snap.overlay.face_points = s.face.image_points;
     if (s.face.image_points.size() == 68) snap.overlay.face_edges = face_landmark_edges();
     snap.overlay.face_axes = project_axes(camera, s.face.T_cam_target, 0.10);
@@ -151,7 +151,7 @@ FlightSnapshot FlightStackCore::status() {
 
 std::vector<InstrumentSummary> FlightStackCore::instruments() const {
   std::vector<InstrumentSummary> out;
-  for (const PlanarTarget& p : stack_->setup().lab.instruments) out.push_back({p.id, p.name, p.width_m, p.height_m, p.T_world_object.translation().x(), p.T_world_object.translation().y()});
+  for (const fusion::PlanarTarget& p : stack_->setup().lab.instruments) out.push_back({p.id, p.name, p.width_m, p.height_m, p.T_world_object.translation().x(), p.T_world_object.translation().y()});
   return out;
 }
 

@@ -18,8 +18,8 @@ class FlightStackCore final : public FlightCore {
 
   void on_navdata(const NavdataSample& sample) override;
   void on_video(const VideoFrame& frame) override;
-  bool prepare_vision(const VideoFrame& frame, VisionJob& job) override;
-  void apply_vision(const VisionResults& results) override { stack_->apply_vision(results); }
+  bool prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) override;
+  void apply_vision(const fusion::VisionResults& results) override { stack_->apply_vision(results); }
   void on_link_state(LinkState state, Seconds t) override { stack_->on_link_state(state, t); }
   FlightAction tick(Seconds t) override;
   CommandVerdict request(const MissionCommand& command, Seconds t) override;

@@ -13,8 +13,8 @@ using namespace labo;
 
 namespace {
 
-LabGeometry lab_of_config() {
-  LabGeometry lab = model_lab();
+fusion::LabGeometry lab_of_config() {
+  fusion::LabGeometry lab = model_lab();
   lab.room_min = {-1.5, -3.0, 0.0};
   lab.room_max = {6.5, 3.0, 3.0};
   lab.teacher = test::lab_route();
@@ -22,14 +22,14 @@ LabGeometry lab_of_config() {
 }
 
 struct RouteFlight {
-  explicit RouteFlight(LabGeometry l = lab_of_config(), ControlConfig config = {}) : lab(std::move(l)), f(std::move(config), lab) {}
-  LabGeometry lab;
+  explicit RouteFlight(fusion::LabGeometry l = lab_of_config(), ControlConfig config = {}) : lab(std::move(l)), f(std::move(config), lab) {}
+  fusion::LabGeometry lab;
   TeacherMotion motion{test::walking(lab.teacher)};
   test::ModelFlight f;
   Eigen::Vector3d face_shift = Eigen::Vector3d::Zero();  // the face seen this far from the head's place
 
   void tick() {
-    f.world->T_world_face = Eigen::Translation3d(face_shift) * motion.pose(f.t).T_world_head * flip_about_y();
+    f.world->T_world_face = Eigen::Translation3d(face_shift) * motion.pose(f.t).T_world_head * fusion::flip_about_y();
     f.run(1.0 / 30.0);
   }
   bool find_and_settle() {
@@ -131,7 +131,7 @@ TEST_CASE("control: next_long_leg is the route's own leg, not one drawn in from 
 }
 
 TEST_CASE("control: metres_short_of_waypoint measures along the leg into a waypoint, only on it") {
-  const TeacherRoute route = test::lab_route();
+  const fusion::TeacherRoute route = test::lab_route();
   // Leg C runs (4.2, -1.9) -> (1.2, -1.9), into waypoint 3.
   CHECK(metres_short_of_waypoint(route, {1.65, -1.9}, 3, 0.25) == Approx(0.45));
   CHECK(metres_short_of_waypoint(route, {1.65, -1.75}, 3, 0.25) == Approx(0.45));  // off the line, within tolerance
@@ -184,7 +184,7 @@ TEST_CASE("control: a face lost at a corner waits for the teacher pausing there,
   // (4.2, -1.9) and stood there 3 s turning; the prediction walked the next leg from that moment, and
   // the drone, 1.2 m ahead of a teacher who was not there, was 2.4 m from the face when they set off.
   // Here a square of 3 m legs (90 degree turns, no turn back: the drone follows into the corner).
-  LabGeometry lab = model_lab();  // fence x -0.7..4.7, y -2.7..2.7
+  fusion::LabGeometry lab = model_lab();  // fence x -0.7..4.7, y -2.7..2.7
   lab.teacher = test::lab_route();
   lab.teacher.waypoints = {{0.5, -1.5}, {3.5, -1.5}, {3.5, 1.5}, {0.5, 1.5}};
   RouteFlight r{lab};
@@ -337,7 +337,7 @@ TEST_CASE("control: a face first seen for a moment at the end of a leg waits out
 }
 
 TEST_CASE("control: waypoint_walked_into is the end of the leg walked along, only while walking it") {
-  const TeacherRoute route = test::lab_route();
+  const fusion::TeacherRoute route = test::lab_route();
   // Mid-leg A (+x into waypoint 1), walking along it.
   const std::optional<std::size_t> k = waypoint_walked_into(route, {2.7, -2.35}, {0.4, 0.0}, 0.25, 0.1);
   REQUIRE(k);
@@ -360,7 +360,7 @@ TEST_CASE("control: a face lost in the middle of a leg is followed on along the 
   // 0.5 m/s: leg A, 1.1 m short of its end). Holding there, the drone was walked into; now it backs
   // off ahead of where the route has them and meets them at the corner.
   for (const double speed : {0.4, 0.5}) {
-    LabGeometry lab = lab_of_config();
+    fusion::LabGeometry lab = lab_of_config();
     lab.teacher.speed_mps = speed;
     RouteFlight r(lab);
     REQUIRE(r.find_and_settle());

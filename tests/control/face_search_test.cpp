@@ -35,7 +35,7 @@ TEST_CASE("control: watch points lie beyond each long leg of the teacher's route
 }
 
 TEST_CASE("control: a watch point clamped into the fence too close to the route is dropped") {
-  TeacherRoute r;
+  fusion::TeacherRoute r;
   r.waypoints = {{0.0, 0.0}, {3.0, 0.0}};
   r.eye_height_m = 1.6;
   const Geofence fence({-3.0, -3.0, 0.0}, {4.0, 3.0, 3.0}, 0.3);  // x <= 3.7: (4.5, 0) clamps to 0.7 m from the route
@@ -43,7 +43,7 @@ TEST_CASE("control: a watch point clamped into the fence too close to the route 
   REQUIRE(w.size() == 1);
   CHECK((w[0].position - Eigen::Vector3d(-1.5, 0.0, 1.6)).norm() < 1e-9);
   CHECK(distance_to_route({1.0, 0.5}, r) == Approx(0.5));
-  CHECK(teacher_watch_points(TeacherRoute{}, fence, 1.5, 0.8).empty());
+  CHECK(teacher_watch_points(fusion::TeacherRoute{}, fence, 1.5, 0.8).empty());
 }
 
 TEST_CASE("control: the face standoff is turned into the fence and reached around the teacher") {
@@ -66,7 +66,7 @@ TEST_CASE("control: the face standoff is turned into the fence and reached aroun
 }
 
 TEST_CASE("control: find teacher with a known route waits at a watch point instead of sweeping the room") {
-  LabGeometry lab = model_lab();
+  fusion::LabGeometry lab = model_lab();
   lab.teacher.waypoints = {{1.0, -2.0}, {3.0, -2.0}, {3.0, -1.5}, {1.0, -1.5}};
   lab.teacher.eye_height_m = 1.6;
   test::ModelFlight f({}, lab);
@@ -116,14 +116,14 @@ TEST_CASE("control: the meeting point starts from the nearest corner when two ar
 }
 
 TEST_CASE("control: a teacher turning back at a corner is met in front of the next leg and followed along it") {
-  LabGeometry lab = model_lab();  // room x -1..5, y -3..3: fence y >= -2.7, x <= 4.7
+  fusion::LabGeometry lab = model_lab();  // room x -1..5, y -3..3: fence y >= -2.7, x <= 4.7
   lab.teacher = turn_back_route();
   const TeacherSpec spec = walking(lab.teacher);
   const TeacherMotion motion(spec);
   test::ModelFlight f({}, lab);
   const auto walk = [&](double seconds) {
     for (const double end = f.t + seconds; f.t < end;) {
-      f.world->T_world_face = motion.pose(f.t).T_world_head * flip_about_y();
+      f.world->T_world_face = motion.pose(f.t).T_world_head * fusion::flip_about_y();
       f.run(1.0 / 30.0);
     }
   };
@@ -175,13 +175,13 @@ TEST_CASE("control: a face lost at a corner: the drone waiting on the next leg k
   // Real vision, seed 1 (2026-12-02): the face was lost just as the teacher set off on the next leg
   // towards the drone, which then held, and met them at the leg's start, for a face that stayed out of
   // the detector's reach (head sway) while the teacher walked into it.
-  LabGeometry lab = model_lab();  // room x -1..5, y -3..3
+  fusion::LabGeometry lab = model_lab();  // room x -1..5, y -3..3
   lab.teacher = turn_back_route();
   const TeacherSpec spec = walking(lab.teacher);
   const TeacherMotion motion(spec);
   test::ModelFlight f({}, lab);
   const auto tick = [&] {
-    f.world->T_world_face = motion.pose(f.t).T_world_head * flip_about_y();
+    f.world->T_world_face = motion.pose(f.t).T_world_head * fusion::flip_about_y();
     f.run(1.0 / 30.0);
   };
   REQUIRE(f.request(find_teacher()).accepted);

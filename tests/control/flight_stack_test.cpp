@@ -54,7 +54,7 @@ TEST_CASE("control: inspect runs stages 1-6 in order and ends on the platform") 
   const bool ended = f.run_until([&] {
     const FlightStatus s = f.stack->status();
     if (s.stage_index > 0 && (stages.empty() || stages.back() != s.stage_index)) stages.push_back(s.stage_index);
-    if (s.source == FeedbackSource::Homography) saw_homography = true;
+    if (s.source == fusion::FeedbackSource::Homography) saw_homography = true;
     if (s.stage.find("holding") != std::string::npos) {
       const Eigen::Isometry3d T_cam_obj =
           (f.world->drone.pose() * T_body_cam_front()).inverse() * f.lab.instruments[0].T_world_object;
@@ -95,7 +95,7 @@ TEST_CASE("control: an approach left on dead reckoning re-detects before the saf
   ModelFlight f;
   REQUIRE(f.request(inspect("oscilloscope", 5.0)).accepted);
   REQUIRE(f.run_until([&] { return f.stack->status().stage.find("approaching") != std::string::npos; }, 90.0));
-  REQUIRE(f.stack->status().source == FeedbackSource::Slam);
+  REQUIRE(f.stack->status().source == fusion::FeedbackSource::Slam);
   // SLAM lost, the panel tracked one frame in two: the loss timer never runs 0.5 s, the switch never
   // sees the 0.5 s of unbroken tracking it needs, so the estimate is left on dead reckoning. Staying in
   // the approach meant the safety hover after 1 s, which pauses the mission: stuck until it lands.
@@ -117,7 +117,7 @@ TEST_CASE("control: an approach left on dead reckoning re-detects before the saf
 TEST_CASE("control: a vertical push out of the panel's view is undone at the standoff's altitude, not by backing off") {
   ModelFlight f;
   hold_at_standoff_without_slam(f);
-  REQUIRE(f.stack->status().source == FeedbackSource::Homography);
+  REQUIRE(f.stack->status().source == fusion::FeedbackSource::Homography);
   const Eigen::Vector4d hold = *f.stack->status().desired;
   const Eigen::Vector3d hold_position = f.world->drone.p;
   // Held 0.35 m up (the model's climb response is 0.3 s, the firmware's 1.25 s: the model would be back
@@ -163,15 +163,15 @@ TEST_CASE("control: a re-detected panel turns the back-off into the approach bef
 TEST_CASE("control: the localization source switches with hysteresis near the instrument") {
   ModelFlight f;
   REQUIRE(f.request(inspect("oscilloscope", 2.0)).accepted);
-  std::vector<FeedbackSource> seq;
+  std::vector<fusion::FeedbackSource> seq;
   f.run_until([&] {
-    const FeedbackSource s = f.stack->status().source;
+    const fusion::FeedbackSource s = f.stack->status().source;
     if (seq.empty() || seq.back() != s) seq.push_back(s);
     return f.stack->status().stage_index >= 5;
   }, 90.0);
   // dead reckoning before SLAM, SLAM far, homography near, SLAM again on the way home, no chattering.
   REQUIRE(seq.size() >= 3);
-  CHECK(std::count(seq.begin(), seq.end(), FeedbackSource::Homography) == 1);
+  CHECK(std::count(seq.begin(), seq.end(), fusion::FeedbackSource::Homography) == 1);
   CHECK(seq.size() <= 5);
 }
 
@@ -340,7 +340,7 @@ TEST_CASE("control: a bad altitude estimate cannot fly the drone into the floor:
 
 TEST_CASE("control: a level hold keeps the altitude and yaw of the set point, braking on the velocity") {
   const PoseControlGains g;
-  PoseEstimate pose;
+  fusion::PoseEstimate pose;
   pose.valid = true;
   pose.T_world_body = make_pose({1.0, 0.0, 1.5}, 0.3);  // 0.5 m above the hold, 0.3 rad off its yaw
   pose.velocity_world = Eigen::Vector3d(0.6, 0.0, 0.0);  // drifting along +x

@@ -158,8 +158,8 @@ TEST_CASE("vision front-ends: tracking a panel allocates nothing") {
   // made on this thread: counted single-threaded, they repeat exactly.
   const int threads = cv::getNumThreads();
   cv::setNumThreads(0);
-  const LabGeometry lab = lab_geometry_from(load_lab_description(default_lab_path()));
-  const PlanarTarget& osc = lab.instruments.front();
+  const fusion::LabGeometry lab = fusion::lab_geometry_from(load_lab_description(default_lab_path()));
+  const fusion::PlanarTarget& osc = lab.instruments.front();
   const PinholeCamera camera = PinholeCamera::ardrone2_front();
   const cv::Mat templ = cv::imread(osc.template_path.string(), cv::IMREAD_GRAYSCALE);
   const PlanarViewRenderer renderer(camera, make_clutter_background(cv::Size(1200, 1200), 5), 0.0025);
@@ -177,15 +177,15 @@ TEST_CASE("vision front-ends: tracking a panel allocates nothing") {
     cv::cvtColor(frames.back(), f.bgr, cv::COLOR_GRAY2BGR);
     video.push_back(f);
   }
-  planar::PlanarObjectLocalizer bare(load_target_template(osc, planar::PlanarConfig{}), camera,
+  planar::PlanarObjectLocalizer bare(fusion::load_target_template(osc, planar::PlanarConfig{}), camera,
                              planar::PlanarObjectThresholds::from(VisionThresholds{}, osc.sift_switch_distance_m, osc.sift_min_inliers),
                              planar::PlanarConfig{});
-  PlanarFrontEnd front_end(osc, camera, VisionThresholds{}, planar::PlanarConfig{});
-  FrontEndSettings settings;
+  fusion::PlanarFrontEnd front_end(osc, camera, VisionThresholds{}, planar::PlanarConfig{});
+  fusion::FrontEndSettings settings;
   settings.with_face = false;
-  const auto pipelines = make_lab_pipelines(lab, ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
+  const auto pipelines = fusion::make_lab_pipelines(lab, ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
   pipelines->reset(make_pose(body, 0.0), 0.0);
-  PerceptionFocus focus;
+  fusion::PerceptionFocus focus;
   focus.slam = false;
   focus.instrument_id = osc.id;
   pipelines->set_focus(focus);
@@ -216,7 +216,7 @@ TEST_CASE("vision front-ends: tracking a panel allocates nothing") {
   // Both refinement models ran (the sampled one smooths the frame; the footprint one reads it raw).
   CHECK(footprint_frames > 0);
   CHECK(sampled_frames > 0);
-  CHECK(pipelines->instrument().state == TrackState::Tracking);
+  CHECK(pipelines->instrument().state == fusion::TrackState::Tracking);
   cv::setNumThreads(threads);
 }
 
@@ -307,7 +307,7 @@ FaceFrameCounts count_face_frames(const face::FaceConfig& config) {
   face::TexturedHead head = face::texture_head_from_photo(*estimator, candide, photo, 0.063);
   estimator->set_person({"astronaut", 0.063, head.shape_params, 0, {}}, false);
   face::TexturedHeadRenderer renderer(candide, head, camera);
-  FaceFrontEnd front_end(std::move(estimator));
+  fusion::FaceFrontEnd front_end(std::move(estimator));
   std::vector<cv::Mat> frames;
   for (int i = 0; i < 24; ++i) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

@@ -8,8 +8,8 @@
 using namespace labo;
 
 namespace {
-PoseEstimate at(const Eigen::Vector3d& p, double yaw, const Eigen::Vector3d& v = Eigen::Vector3d::Zero()) {
-  PoseEstimate e;
+fusion::PoseEstimate at(const Eigen::Vector3d& p, double yaw, const Eigen::Vector3d& v = Eigen::Vector3d::Zero()) {
+  fusion::PoseEstimate e;
   e.valid = true;
   e.T_world_body = make_pose(p, yaw);
   e.velocity_world = v;
@@ -115,7 +115,7 @@ TEST_CASE("control: a turning set point's yaw rate is fed forward, so the yaw do
   PoseTarget target{{0, 0, 1}, 0.5};
   target.yaw_rate = 0.5;  // rad/s
   c.set_target(target);
-  PoseEstimate turning = at({0, 0, 1}, 0.5);
+  fusion::PoseEstimate turning = at({0, 0, 1}, 0.5);
   turning.yaw_rate = 0.5;
   // On the set point and turning with it: keep turning (before: 0, the drone stopped and fell behind).
   CHECK(c.update(turning, 0.03).yaw_rate == Approx(g.yaw_rate_feedforward * 0.5));

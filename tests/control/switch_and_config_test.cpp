@@ -9,83 +9,83 @@
 using namespace labo;
 
 TEST_CASE("control: localization switch uses homography near, SLAM far, with hysteresis") {
-  SourceSwitchParameters p;  // far_to_near 1.6 m, near_to_far 2.0 m, hold 0.5 s
-  LocalizationSwitch sw(p);
-  SwitchInputs in;
-  in.slam = SlamState::Good;
-  in.target_state = TrackState::Tracking;
+  fusion::SourceSwitchParameters p;  // far_to_near 1.6 m, near_to_far 2.0 m, hold 0.5 s
+  fusion::LocalizationSwitch sw(p);
+  fusion::SwitchInputs in;
+  in.slam = fusion::SlamState::Good;
+  in.target_state = fusion::TrackState::Tracking;
   in.target_distance_m = 2.5;
   for (in.t = 0; in.t < 1.0; in.t += 0.1) sw.update(in);
-  CHECK(sw.current() == FeedbackSource::Slam);
+  CHECK(sw.current() == fusion::FeedbackSource::Slam);
   in.target_distance_m = 1.5;  // near, but must hold 0.5 s first
   in.t = 1.0;
-  CHECK(sw.update(in) == FeedbackSource::Slam);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Slam);
   in.t = 1.6;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
   in.target_distance_m = 1.9;  // inside the hysteresis band: stays
   in.t = 2.0;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
-  in.target_state = TrackState::Lost;  // a short drop-out is bridged
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
+  in.target_state = fusion::TrackState::Lost;  // a short drop-out is bridged
   in.t = 2.2;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
   in.t = 2.8;  // lost for 0.6 s: back to SLAM
-  CHECK(sw.update(in) == FeedbackSource::Slam);
-  in.slam = SlamState::Lost;
+  CHECK(sw.update(in) == fusion::FeedbackSource::Slam);
+  in.slam = fusion::SlamState::Lost;
   in.t = 3.0;
   sw.update(in);
   in.t = 3.6;
-  CHECK(sw.update(in) == FeedbackSource::DeadReckoning);
-  in.target_state = TrackState::Tracking;
+  CHECK(sw.update(in) == fusion::FeedbackSource::DeadReckoning);
+  in.target_state = fusion::TrackState::Tracking;
   in.target_distance_m = 3.5;  // far, but better than dead reckoning once held 0.5 s
   in.t = 5.0;
-  CHECK(sw.update(in) == FeedbackSource::DeadReckoning);
+  CHECK(sw.update(in) == fusion::FeedbackSource::DeadReckoning);
   in.t = 5.6;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
-  in.slam = SlamState::Good;  // SLAM back: far, so SLAM once it has been good for 0.5 s
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
+  in.slam = fusion::SlamState::Good;  // SLAM back: far, so SLAM once it has been good for 0.5 s
   in.t = 6.0;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
   in.t = 6.6;
-  CHECK(sw.update(in) == FeedbackSource::Slam);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Slam);
 }
 
 TEST_CASE("control: SLAM without a metric scale is no source: a far target is taken instead") {
-  SourceSwitchParameters p;
-  LocalizationSwitch sw(p);
-  SwitchInputs in;
-  in.slam = SlamState::Good;
+  fusion::SourceSwitchParameters p;
+  fusion::LocalizationSwitch sw(p);
+  fusion::SwitchInputs in;
+  in.slam = fusion::SlamState::Good;
   in.slam_scaled = false;  // the estimator does not fuse it yet
   for (in.t = 0; in.t < 1.0; in.t += 0.1) sw.update(in);
-  CHECK(sw.current() == FeedbackSource::DeadReckoning);
-  in.target_state = TrackState::Tracking;
+  CHECK(sw.current() == fusion::FeedbackSource::DeadReckoning);
+  in.target_state = fusion::TrackState::Tracking;
   in.target_distance_m = 5.0;
   in.t = 1.0;
   sw.update(in);
   in.t = 1.6;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
   in.slam_scaled = true;  // scale fixed: far, so SLAM after 0.5 s
   in.t = 2.0;
   sw.update(in);
   in.t = 2.6;
-  CHECK(sw.update(in) == FeedbackSource::Slam);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Slam);
 }
 
 TEST_CASE("control: a dodgy SLAM (not fused) is no source: a tracked target is taken instead") {
-  SourceSwitchParameters p;
-  LocalizationSwitch sw(p);
-  SwitchInputs in;
-  in.slam = SlamState::Good;
+  fusion::SourceSwitchParameters p;
+  fusion::LocalizationSwitch sw(p);
+  fusion::SwitchInputs in;
+  in.slam = fusion::SlamState::Good;
   for (in.t = 0; in.t < 1.0; in.t += 0.1) sw.update(in);
-  REQUIRE(sw.current() == FeedbackSource::Slam);
-  in.slam = SlamState::Dodgy;
-  in.target_state = TrackState::Tracking;
+  REQUIRE(sw.current() == fusion::FeedbackSource::Slam);
+  in.slam = fusion::SlamState::Dodgy;
+  in.target_state = fusion::TrackState::Tracking;
   in.target_distance_m = 1.9;  // inside the hysteresis band, not near
   in.t = 1.0;
-  CHECK(sw.update(in) == FeedbackSource::Slam);  // a short dodgy spell is bridged
+  CHECK(sw.update(in) == fusion::FeedbackSource::Slam);  // a short dodgy spell is bridged
   in.t = 1.6;
-  const FeedbackSource after = sw.update(in);
-  CHECK(after != FeedbackSource::Slam);
+  const fusion::FeedbackSource after = sw.update(in);
+  CHECK(after != fusion::FeedbackSource::Slam);
   in.t = 2.2;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
 }
 
 TEST_CASE("control: on the way home dead reckoning is tolerated for the grace, then escalates") {

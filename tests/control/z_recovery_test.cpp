@@ -38,7 +38,7 @@ struct ZFlight {
   // 30 ms control periods with the truth as the estimate.
   void fly(Seconds duration, const std::function<void()>& each = [] {}) {
     for (Seconds t = 0; t < duration - 1e-9; t += 0.03) {
-      PoseEstimate pose;
+      fusion::PoseEstimate pose;
       pose.valid = true;
       pose.T_world_body = drone.state().T_world_body();
       pose.velocity_world = drone.state().velocity_mps;
@@ -112,7 +112,7 @@ TEST_CASE("control: a descent at the z gains' limit is stopped by the clearance 
   }
   REQUIRE(f.drone.state().velocity_mps.z() < -0.3);
   const double z_at_climb = f.drone.state().position_m.z();
-  PoseEstimate pose;
+  fusion::PoseEstimate pose;
   pose.valid = true;
   double lowest = z_at_climb;
   for (int i = 0; i < 100; ++i) {

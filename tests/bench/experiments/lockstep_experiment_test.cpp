@@ -50,9 +50,9 @@ TEST_CASE("control: lockstep inspect with the StateEstimator in the loop ends on
   // Every source of the paper's Fig. 9 appeared: dead reckoning, SLAM, homography.
   bool slam = false, homography = false, dead = false;
   for (const auto& s : f.samples()) {
-    slam |= s.source == FeedbackSource::Slam;
-    homography |= s.source == FeedbackSource::Homography;
-    dead |= s.source == FeedbackSource::DeadReckoning;
+    slam |= s.source == fusion::FeedbackSource::Slam;
+    homography |= s.source == fusion::FeedbackSource::Homography;
+    dead |= s.source == fusion::FeedbackSource::DeadReckoning;
   }
   CHECK((slam && homography && dead));
 }
@@ -82,7 +82,7 @@ TEST_CASE("control: lockstep push up out of the panel's view: re-detected, recov
   double highest = before.z();
   for (int i = 0; i < 150; ++i) {  // 5 s
     f.tick();
-    lost |= f.stack().status().instrument.state != TrackState::Tracking;
+    lost |= f.stack().status().instrument.state != fusion::TrackState::Tracking;
     highest = std::max(highest, f.drone().p.z());
   }
   INFO("highest " << highest - before.z() << " m above the hold");
