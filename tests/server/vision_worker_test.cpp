@@ -9,6 +9,7 @@
 
 #include "server/runtime/flight_runtime.hpp"
 #include "tests/server/support/fake_drone.hpp"
+#include "tests/support/instrument_job.hpp"
 
 using namespace labo;
 using namespace labo::test;
@@ -66,14 +67,7 @@ class GatedVisionCore final : public FlightCore {
   explicit GatedVisionCore(GatedFrontEnd& fe) : fe_(fe) {}
   void on_navdata(const NavdataSample&) override {}
   void on_video(const VideoFrame&) override {}
-  bool prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) override {
-    job.clear();
-    job.t = frame.t;
-    frame.bgr.copyTo(job.gray);
-    job.instrument = &fe_;
-    job.instrument_id = "oscilloscope";
-    return true;
-  }
+  bool prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) override { return test::instrument_job(frame, fe_, job); }
   void apply_vision(const fusion::VisionResults& r) override {
     if (r.has_instrument && r.instrument.state == fusion::TrackState::Tracking) ++applied;
   }

@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 #include <vector>
+#include "tests/support/instrument_job.hpp"
 
 using namespace labo;
 
@@ -27,14 +28,7 @@ class RecordingPipelines final : public fusion::LocalizationPipelines {
   void on_navdata(const NavdataSample&) override {}
   void on_command(const MoveCommand&, Seconds) override {}
   void on_video(const VideoFrame&) override {}
-  bool prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) override {
-    job.clear();
-    job.t = frame.t;
-    frame.bgr.copyTo(job.gray);
-    job.instrument = &fe_;
-    job.instrument_id = "oscilloscope";
-    return true;
-  }
+  bool prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) override { return test::instrument_job(frame, fe_, job); }
   void apply_vision(const fusion::VisionResults& r) override { applied->push_back(r.t); }
   void set_focus(const fusion::PerceptionFocus&) override {}
   void reset(const Eigen::Isometry3d&, Seconds) override {}
