@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr int kControlLanded = 2;
@@ -126,4 +126,4 @@ FlightOutput Autopilot::step(const fusion::PoseEstimate& pose, Seconds t) {
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -11,7 +11,7 @@
 #include "control/geofence.hpp"
 #include "control/pid_controller.hpp"
 
-namespace labo {
+namespace labo::control {
 
 class Autopilot {
  public:
@@ -57,4 +57,4 @@ class Autopilot {
   MoveCommand last_command_;
 };
 
-}  // namespace labo
+}  // namespace labo::control

@@ -6,7 +6,7 @@
 #include "core/config_reader.hpp"
 #include "localization/fusion/localization_switch.hpp"
 
-namespace labo {
+namespace labo::control {
 
 // One PID axis. Output = clip(kp*e + ki*I + kd*de, out_min, out_max); the integral I is capped at
 // |I| <= integral_limit (in units of error*s) and decays faster when the error opposes it.
@@ -98,4 +98,4 @@ struct ControlConfig {
 // the defaults above; refuses unknown keys and values out of range.
 ControlConfig read_control_config(const ConfigReader& node);
 
-}  // namespace labo
+}  // namespace labo::control

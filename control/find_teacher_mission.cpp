@@ -8,7 +8,7 @@
 #include "control/face_standoff.hpp"
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr double kFaceHeightM = 1.6;       // climb to about a standing teacher's face height
@@ -625,4 +625,4 @@ MissionOutcome ReturnHomeMission::step(MissionContext& ctx) {
   return MissionOutcome::Succeeded;
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -13,7 +13,7 @@
 #include "control/safety_monitor.hpp"
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 struct FlightStack::Impl {
   Impl(FlightStackSetup s, std::unique_ptr<fusion::LocalizationPipelines> p)
@@ -333,4 +333,4 @@ FlightStatus FlightStack::status() const {
   return s;
 }
 
-}  // namespace labo
+}  // namespace labo::control

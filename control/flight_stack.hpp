@@ -25,7 +25,7 @@
 #include "localization/estimation/estimation_config.hpp"
 #include "localization/vision_thresholds.hpp"
 
-namespace labo {
+namespace labo::control {
 
 struct FlightStackSetup {
   ControlConfig control;
@@ -71,4 +71,4 @@ class FlightStack {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace labo
+}  // namespace labo::control

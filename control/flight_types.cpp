@@ -2,7 +2,7 @@
 
 #include "localization/fusion/lab_geometry.hpp"
 
-namespace labo {
+namespace labo::control {
 
 std::string to_string(RequestKind kind) {
   switch (kind) {
@@ -43,4 +43,4 @@ std::string to_string(FlightPhase phase) {
   return "unknown";
 }
 
-}  // namespace labo
+}  // namespace labo::control

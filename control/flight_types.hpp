@@ -10,7 +10,7 @@
 #include "core/time.hpp"
 #include "drone/drone_link.hpp"
 
-namespace labo {
+namespace labo::control {
 
 enum class RequestKind {
   Takeoff,
@@ -80,4 +80,4 @@ struct FlightStatus {
   std::optional<Eigen::Isometry3d> ground_truth_T_world_body;  // simulated runs only
 };
 
-}  // namespace labo
+}  // namespace labo::control

@@ -2,7 +2,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr double kPlatformSettleS = 0.5;  // platform seen this long before centring on it
@@ -113,4 +113,4 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
   }
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -4,7 +4,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr int kPlacementsToAverage = 10;    // detections averaged to place the instrument
@@ -242,4 +242,4 @@ MissionOutcome InspectMission::step(MissionContext& ctx) {
   return MissionOutcome::Succeeded;
 }
 
-}  // namespace labo
+}  // namespace labo::control

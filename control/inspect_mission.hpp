@@ -10,7 +10,7 @@
 #include "control/home_landing.hpp"
 #include "control/take_off_and_scale.hpp"
 
-namespace labo {
+namespace labo::control {
 
 class InspectMission final : public Mission {
  public:
@@ -62,4 +62,4 @@ class InspectMission final : public Mission {
   std::string stage_text_ = "1 init: taking off";
 };
 
-}  // namespace labo
+}  // namespace labo::control

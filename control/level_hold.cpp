@@ -5,7 +5,7 @@
 #include "control/pid_controller.hpp"
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr double kClimbGaz = 0.5;  // about 0.35 m/s on the AR.Drone
@@ -39,4 +39,4 @@ MoveCommand climb_command(const fusion::PoseEstimate& pose, const PoseControlGai
   return cmd;
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -11,10 +11,10 @@
 #include "localization/fusion/localization_pipelines.hpp"
 #include "drone/drone_link.hpp"
 
-namespace labo {
+namespace labo::control {
 
 MoveCommand level_hold_command(const fusion::PoseEstimate& pose, double target_z_m, double target_yaw_rad,
                                const PoseControlGains& gains);
 MoveCommand climb_command(const fusion::PoseEstimate& pose, const PoseControlGains& gains);
 
-}  // namespace labo
+}  // namespace labo::control

@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 PoseTarget standoff_target(const Eigen::Isometry3d& T_world_target, double distance_m, const Eigen::Vector3d& centre_ray) {
   const Eigen::Vector3d centre = T_world_target.translation();
@@ -45,4 +45,4 @@ std::string format_seconds(double s) {
   return buf;
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -10,7 +10,7 @@
 #include "localization/fusion/lab_geometry.hpp"
 #include "localization/fusion/localization_pipelines.hpp"
 
-namespace labo {
+namespace labo::control {
 
 struct MissionContext {
   Seconds t = 0;
@@ -67,4 +67,4 @@ Eigen::Isometry3d world_pose_of(const fusion::TargetObservation& obs, const fusi
 double camera_distance(const fusion::TargetObservation& obs);
 std::string format_seconds(double s);
 
-}  // namespace labo
+}  // namespace labo::control

@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr double kOpposingUnwindFactor = 2.5;
@@ -85,4 +85,4 @@ MoveCommand PoseController::update(const fusion::PoseEstimate& pose, double dt) 
   return cmd;
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -12,7 +12,7 @@
 #include "localization/fusion/localization_pipelines.hpp"
 #include "drone/drone_link.hpp"
 
-namespace labo {
+namespace labo::control {
 
 class PidAxis {
  public:
@@ -65,4 +65,4 @@ class PoseController {
 // Rotates a world-frame horizontal vector into the body frame for a given yaw: (forward, left).
 Eigen::Vector2d world_to_body_xy(const Eigen::Vector2d& v_world, double yaw);
 
-}  // namespace labo
+}  // namespace labo::control

@@ -5,7 +5,7 @@
 
 #include "control/mission.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 
@@ -108,4 +108,4 @@ CommandResult check_request(const MissionRequest& r, const RequestContext& ctx, 
   return CommandResult::refused(what + ": not understood");
 }
 
-}  // namespace labo
+}  // namespace labo::control

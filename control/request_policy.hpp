@@ -8,7 +8,7 @@
 #include "control/geofence.hpp"
 #include "localization/fusion/lab_geometry.hpp"
 
-namespace labo {
+namespace labo::control {
 
 struct RequestContext {
   FlightPhase phase = FlightPhase::Landed;
@@ -26,4 +26,4 @@ struct RequestContext {
 CommandResult check_request(const MissionRequest& request, const RequestContext& ctx, const fusion::LabGeometry& lab,
                             const Geofence& fence, const ControlConfig& config);
 
-}  // namespace labo
+}  // namespace labo::control

@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr double kClimbTimeoutS = 8.0;
@@ -93,4 +93,4 @@ bool TakeOffAndScale::step(MissionContext& ctx, double altitude_m) {
   return step_ == Step::Done;
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -13,7 +13,7 @@
 
 #include "control/mission.hpp"
 
-namespace labo {
+namespace labo::control {
 
 class TakeOffAndScale {
  public:
@@ -42,4 +42,4 @@ class TakeOffAndScale {
   int round_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::control

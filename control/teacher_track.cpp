@@ -6,7 +6,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 // Time constants of the low-passes (s). The face's place follows quickly (the standoff must not
@@ -121,4 +121,4 @@ Eigen::Isometry3d TeacherTrack::T_world_upright_face(double heading_rad) const {
   return T;
 }
 
-}  // namespace labo
+}  // namespace labo::control

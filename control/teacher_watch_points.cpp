@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -145,4 +145,4 @@ std::optional<WatchPoint> next_leg_meeting_point(const fusion::TeacherRoute& rou
   return WatchPoint{fence.clamp({p.x(), p.y(), route.eye_height_m}), std::atan2(-leg->along.y(), -leg->along.x())};
 }
 
-}  // namespace labo
+}  // namespace labo::control

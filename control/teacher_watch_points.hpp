@@ -11,7 +11,7 @@
 #include "control/geofence.hpp"
 #include "localization/fusion/lab_geometry.hpp"
 
-namespace labo {
+namespace labo::control {
 
 struct WatchPoint {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // body, world frame
@@ -76,4 +76,4 @@ double metres_short_of_waypoint(const fusion::TeacherRoute& route, const Eigen::
 // Distance from p to the nearest leg of the route, loop included (floor plane); infinite without legs.
 double distance_to_route(const Eigen::Vector2d& p, const fusion::TeacherRoute& route);
 
-}  // namespace labo
+}  // namespace labo::control

@@ -26,7 +26,7 @@ struct AppConfig {
   CamerasConfig cameras;
   VisionThresholds vision;
   estimation::EstimatorConfig estimation;
-  ControlConfig control;
+  control::ControlConfig control;
   planar::PlanarConfig planar;
   slam::SlamSettings slam;
   ServerSettings server;

@@ -33,7 +33,7 @@ class RecordingSlamFrontEnd final : public fusion::SlamFrontEnd {
 
 class RealVisionPipeline final : public EstimationPipeline {
  public:
-  RealVisionPipeline(const FlightStackSetup& setup, const estimation::EstimatorConfig& config, const std::string& instrument_id)
+  RealVisionPipeline(const control::FlightStackSetup& setup, const estimation::EstimatorConfig& config, const std::string& instrument_id)
       : pipelines_(setup.lab, config, setup.vision), instrument_id_(instrument_id) {
     const fusion::PlanarTarget* target = setup.lab.find_instrument(instrument_id);
     if (!target) throw std::invalid_argument("sim estimate: the lab has no instrument '" + instrument_id + "'");

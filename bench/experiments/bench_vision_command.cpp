@@ -62,7 +62,7 @@ std::vector<cv::Mat> panel_views(const fusion::PlanarTarget& target, const Pinho
 }
 
 Timing planar_timing(const std::string& name, const std::string& what, const fusion::PlanarTarget& target, const PinholeCamera& camera,
-                     const FlightStackSetup& setup, const fusion::FrontEndSettings& s, double distance, int n, bool detect_every_frame) {
+                     const control::FlightStackSetup& setup, const fusion::FrontEndSettings& s, double distance, int n, bool detect_every_frame) {
   Timing t{name, what, {}, 0};
   fusion::PlanarFrontEnd fe(target, camera, setup.vision, s.planar);
   const auto frames = panel_views(target, camera, distance, n + 2);
@@ -140,7 +140,7 @@ int run_bench_vision_command(const ParsedArgs& args) {
   if (!std::filesystem::exists(config)) throw UsageError("--config " + config.string() + ": no such file");
   const ConfigDocument doc = ConfigDocument::load(config);
   const fusion::FrontEndSettings s = fusion::read_front_end_settings(doc.root(), config.parent_path());
-  FlightStackSetup setup;
+  control::FlightStackSetup setup;
   if (doc.root().has("vision")) setup.vision = read_vision_thresholds(doc.root().object("vision"));
   setup.lab = fusion::lab_geometry_from(load_lab_description(default_lab_path()));
   const fusion::PlanarTarget& osc = *setup.lab.find_instrument("oscilloscope");

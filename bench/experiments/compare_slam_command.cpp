@@ -23,7 +23,7 @@ struct Replay {
   std::vector<Eigen::Vector3d> in_instrument;  // the estimate relative to the instrument as the estimator placed it
 };
 
-Replay replay(const FlightStackSetup& setup, const std::vector<TickRecord>& records, bool slam_only) {
+Replay replay(const control::FlightStackSetup& setup, const std::vector<TickRecord>& records, bool slam_only) {
   fusion::LabPipelines p(setup.lab, setup.estimation, setup.vision);
   p.reset(make_pose(setup.lab.base, setup.lab.base_yaw_rad), 0.0);
   Replay r;
@@ -81,7 +81,7 @@ const CommandSpec& sim_compare_slam_command_spec() {
 
 int run_sim_compare_slam_command(const ParsedArgs& args) {
   const ExperimentOptions o = read_experiment_options(args);
-  const FlightStackSetup setup = make_experiment(o, false).setup;
+  const control::FlightStackSetup setup = make_experiment(o, false).setup;
   const fusion::PlanarTarget& inst = setup.lab.instruments.front();
   std::vector<double> slam_err, prop_err, slam_rel, prop_rel;
   double slam_visual = 0, prop_visual = 0, hold_ticks = 0;
@@ -90,8 +90,8 @@ int run_sim_compare_slam_command(const ParsedArgs& args) {
     const unsigned seed = o.seed + static_cast<unsigned>(i);
     LockstepFlight f(setup, {}, seed);
     f.set_recording(true);
-    MissionRequest r;
-    r.kind = RequestKind::Inspect;
+    control::MissionRequest r;
+    r.kind = control::RequestKind::Inspect;
     r.instrument_id = inst.id;
     r.hold_s = 8;
     f.request(r);
@@ -117,7 +117,7 @@ int run_sim_compare_slam_command(const ParsedArgs& args) {
     runs.push_back({{"seed", seed}, {"slam_only_error_rms_m", rms(se)}, {"proposed_error_rms_m", rms(pe)},
                     {"slam_only_final_error_m", se.empty() ? -1 : se.back()}, {"proposed_final_error_m", pe.empty() ? -1 : pe.back()}});
     if (o.out && i == 0) {
-      const Eigen::Vector2d desired = standoff_target(inst.T_world_object, setup.control.mission.standoff_m).position.head<2>();
+      const Eigen::Vector2d desired = control::standoff_target(inst.T_world_object, setup.control.mission.standoff_m).position.head<2>();
       write_xy_svg(*o.out / "compare_slam_xy.svg", recs, slam, proposed, desired);
       std::ofstream csv(*o.out / ("compare_slam_seed" + std::to_string(seed) + ".csv"));
       csv << "t_s,true_x_m,true_y_m,slam_x_m,slam_y_m,slam_source,proposed_x_m,proposed_y_m,proposed_source,stage\n";

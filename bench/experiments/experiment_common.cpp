@@ -78,10 +78,10 @@ LabDescription load_lab_file(const std::filesystem::path& config, const ConfigRe
 
 Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   Experiment e;
-  FlightStackSetup& setup = e.setup;
+  control::FlightStackSetup& setup = e.setup;
   const ConfigDocument doc = ConfigDocument::load(options.config);
   const ConfigReader root = doc.root();
-  if (root.has("control")) setup.control = read_control_config(root.object("control"));
+  if (root.has("control")) setup.control = control::read_control_config(root.object("control"));
   if (root.has("estimation")) setup.estimation = estimation::read_estimation_config(root.object("estimation"));
   if (root.has("vision")) setup.vision = read_vision_thresholds(root.object("vision"));
   if (!options.real_vision) {

@@ -47,7 +47,7 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args);
 // or with --vision real the config's lab file, cameras and vision front-ends) and, with --vision
 // real, the lab description the simulated lab is built from.
 struct Experiment {
-  FlightStackSetup setup;
+  control::FlightStackSetup setup;
   std::optional<LabDescription> lab;       // --vision real: the lab the simulated lab is built from
   SimConfig sim;                           // its "sim" section (lab and link settings)
   std::optional<TexturedHeadModel> head;   // the teacher's face, when the experiment looks for it

@@ -25,7 +25,7 @@ EstimatorCounts estimator_counts(const estimation::StateEstimator& estimator) {
   return c;
 }
 
-FlightSample sample_of(const FlightStatus& s, const FlightOutput& out, const estimation::StateEstimator& estimator,
+FlightSample sample_of(const control::FlightStatus& s, const control::FlightOutput& out, const estimation::StateEstimator& estimator,
                        const Eigen::Isometry3d& truth, Seconds t, const std::optional<Eigen::Isometry3d>& true_face) {
   FlightSample sample;
   sample.t = t;
@@ -46,7 +46,7 @@ FlightSample sample_of(const FlightStatus& s, const FlightOutput& out, const est
     sample.face_true_cam = ((truth * T_body_cam_front()).inverse() * *true_face).translation();
   }
   if (s.face.state == fusion::TrackState::Tracking) sample.face_measured_cam = s.face.T_cam_target.translation();
-  if (out.action == FlightOutput::Action::Move) sample.command = {out.move.roll, out.move.pitch, out.move.gaz, out.move.yaw_rate};
+  if (out.action == control::FlightOutput::Action::Move) sample.command = {out.move.roll, out.move.pitch, out.move.gaz, out.move.yaw_rate};
   sample.action = to_string(out.action);
   for (const std::string& alert : s.safety_alerts) sample.alerts += (sample.alerts.empty() ? "" : "; ") + alert;
   sample.estimator = estimator_counts(estimator);

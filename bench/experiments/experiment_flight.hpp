@@ -61,7 +61,7 @@ class ExperimentFlight {
 
   virtual ~ExperimentFlight() = default;
   virtual void tick() = 0;  // one control period
-  virtual FlightStack& stack() = 0;
+  virtual control::FlightStack& stack() = 0;
   virtual Seconds now() const = 0;
   virtual Eigen::Isometry3d true_pose() const = 0;  // T_world_body
   // The teacher's face (face frame, z out of the face) when there is one to follow.
@@ -82,7 +82,7 @@ class ExperimentFlight {
 
   bool run_until(const std::function<bool()>& done, double timeout_s);
   void run(double seconds);
-  CommandResult request(const MissionRequest& r) { return stack().request(r, now()); }
+  control::CommandResult request(const control::MissionRequest& r) { return stack().request(r, now()); }
   // The true pose of the front camera relative to a target (z into it).
   Eigen::Isometry3d true_T_cam(const Eigen::Isometry3d& T_world_target) const;
 };
@@ -90,7 +90,7 @@ class ExperimentFlight {
 Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T);
 // The sample of this tick, from the stack's status, the action it decided, the estimator and the
 // truth (the teacher's face: T_world_face).
-FlightSample sample_of(const FlightStatus& status, const FlightOutput& out, const estimation::StateEstimator& estimator,
+FlightSample sample_of(const control::FlightStatus& status, const control::FlightOutput& out, const estimation::StateEstimator& estimator,
                        const Eigen::Isometry3d& truth, Seconds t, const std::optional<Eigen::Isometry3d>& true_face);
 
 }  // namespace labo

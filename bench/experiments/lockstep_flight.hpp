@@ -24,10 +24,10 @@ struct TickRecord {
 
 class LockstepFlight final : public ExperimentFlight {
  public:
-  LockstepFlight(const FlightStackSetup& setup, const PerceptionModelConfig& perception, unsigned seed);
+  LockstepFlight(const control::FlightStackSetup& setup, const PerceptionModelConfig& perception, unsigned seed);
 
   void tick() override;
-  FlightStack& stack() override { return *stack_; }
+  control::FlightStack& stack() override { return *stack_; }
   Seconds now() const override { return t_; }
   Eigen::Isometry3d true_pose() const override { return drone_.pose(); }
   // The face frame with z out of the face (T_world_face_ is control's convention, z into it).
@@ -54,7 +54,7 @@ class LockstepFlight final : public ExperimentFlight {
   QuadrotorModel drone_;
   PerceptionModel perception_;
   fusion::LabPipelines* pipelines_ = nullptr;  // owned by stack_
-  std::unique_ptr<FlightStack> stack_;
+  std::unique_ptr<control::FlightStack> stack_;
   void walk_teacher();
 
   Eigen::Isometry3d T_world_face_ = Eigen::Isometry3d::Identity();

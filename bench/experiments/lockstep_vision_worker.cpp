@@ -19,7 +19,7 @@ Seconds VisionLatencyModel::latency_of(const fusion::VisionResults& r) const {
   return ms / 1000.0;
 }
 
-LockstepVisionWorker::LockstepVisionWorker(FlightStack& stack, VisionLatencyModel model) : stack_(stack), model_(model) {}
+LockstepVisionWorker::LockstepVisionWorker(control::FlightStack& stack, VisionLatencyModel model) : stack_(stack), model_(model) {}
 
 void LockstepVisionWorker::on_frame(const VideoFrame& frame, Seconds now) {
   ++stats_.frames_in;

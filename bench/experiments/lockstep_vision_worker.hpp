@@ -31,7 +31,7 @@ struct LockstepVisionStats {
 
 class LockstepVisionWorker {
  public:
-  LockstepVisionWorker(FlightStack& stack, VisionLatencyModel model);
+  LockstepVisionWorker(control::FlightStack& stack, VisionLatencyModel model);
 
   // A frame delivered at simulated time `now` (its pixels are valid during the call only).
   void on_frame(const VideoFrame& frame, Seconds now);
@@ -43,7 +43,7 @@ class LockstepVisionWorker {
  private:
   void start(const VideoFrame& frame, Seconds now);
 
-  FlightStack& stack_;
+  control::FlightStack& stack_;
   VisionLatencyModel model_;
   fusion::VisionJob job_;
   fusion::VisionResults results_;

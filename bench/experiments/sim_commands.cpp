@@ -29,9 +29,9 @@ std::string fmt(const char* f, double a, double b = 0, double c = 0) {
   return buf;
 }
 
-MissionRequest inspect_request(const std::string& id, double hold_s) {
-  MissionRequest r;
-  r.kind = RequestKind::Inspect;
+control::MissionRequest inspect_request(const std::string& id, double hold_s) {
+  control::MissionRequest r;
+  r.kind = control::RequestKind::Inspect;
   r.instrument_id = id;
   r.hold_s = hold_s;
   return r;
@@ -55,9 +55,9 @@ struct InspectRun {
   }
 };
 
-InspectRun run_inspect(const FlightStackSetup& setup, const fusion::PlanarTarget& inst, double hold_s, ExperimentFlight& f) {
+InspectRun run_inspect(const control::FlightStackSetup& setup, const fusion::PlanarTarget& inst, double hold_s, ExperimentFlight& f) {
   InspectRun r;
-  const CommandResult accepted = f.request(inspect_request(inst.id, hold_s));
+  const control::CommandResult accepted = f.request(inspect_request(inst.id, hold_s));
   if (!accepted.accepted) {
     r.result = "refused: " + accepted.reason;
     return r;
@@ -80,7 +80,7 @@ InspectRun run_inspect(const FlightStackSetup& setup, const fusion::PlanarTarget
     r.standoff_error_m = rms({standoff.end() - static_cast<long>(n), standoff.end()});
     r.centre_offset = rms({centre.end() - static_cast<long>(n), centre.end()});
   }
-  if (f.stack().status().phase == FlightPhase::Landed)
+  if (f.stack().status().phase == control::FlightPhase::Landed)
     r.landing_error_m = (f.true_pose().translation() - setup.lab.platform.T_world_object.translation()).head<2>().norm();
   r.crashed = f.crashed();
   r.duration_s = f.now();
@@ -107,7 +107,7 @@ int axis_index(const std::string& axis) {
 // as the estimator placed it; the truth is compared relative to the instrument's true pose, so a
 // placement error (which shifts estimate and set point alike) is not counted as a control error.
 std::pair<double, double> set_point_error(ExperimentFlight& f, const fusion::PlanarTarget& instrument) {
-  const FlightStatus s = f.stack().status();
+  const control::FlightStatus s = f.stack().status();
   if (!s.desired) return {1e9, 1e9};
   const Eigen::Isometry3d T_world_obj_est = s.instrument.placed_in_world ? s.instrument.T_world_target : instrument.T_world_object;
   const Eigen::Isometry3d desired_in_obj = T_world_obj_est.inverse() * make_pose(s.desired->head<3>(), (*s.desired)[3]);
@@ -163,10 +163,10 @@ struct FaceRun {
   std::vector<double> tracked_distance_error, tracked_centre_error;  // followable walking ticks with the face tracked
 };
 
-FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, ExperimentFlight& f) {
+FaceRun run_face_follow(const control::FlightStackSetup& setup, double walk_s, ExperimentFlight& f) {
   FaceRun r;
-  MissionRequest req;
-  req.kind = RequestKind::FindTeacher;
+  control::MissionRequest req;
+  req.kind = control::RequestKind::FindTeacher;
   f.request(req);
   // Take-off, scale manoeuvre, then a search that may wait one round of the teacher's route per watch point.
   r.followed = f.run_until([&] { return f.stack().status().stage == "3 face-follow"; }, 150.0);
@@ -176,7 +176,7 @@ FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, Experiment
   f.start_teacher_walk();
   const double end = f.now() + walk_s;
   std::optional<Eigen::Vector3d> last_face;
-  const Geofence fence(setup.lab.room_min, setup.lab.room_max, setup.control.safety.geofence_margin_m);
+  const control::Geofence fence(setup.lab.room_min, setup.lab.room_max, setup.control.safety.geofence_margin_m);
   while (f.now() < end) {
     f.tick();
     const std::optional<Eigen::Isometry3d> face = f.true_face();
@@ -228,7 +228,7 @@ int run_sim_inspect_command(const ParsedArgs& args) {
   const ExperimentOptions o = read_experiment_options(args);
   const double hold = args.number_or("--hold", 5.0, 0.0, 600.0);
   const Experiment experiment = make_experiment(o, false);
-  const FlightStackSetup& setup = experiment.setup;
+  const control::FlightStackSetup& setup = experiment.setup;
   const std::string id = args.value_or("--instrument", setup.lab.instruments.front().id);
   const fusion::PlanarTarget* instrument = setup.lab.find_instrument(id);
   if (!instrument) throw UsageError("--instrument " + id + ": no such instrument in the lab");
@@ -302,7 +302,7 @@ int run_sim_perturb_command(const ParsedArgs& args) {
   const int axis = axis_index(*axis_name);
   const int impulses = args.integer_or("--impulses", 4, 1, 100);
   const Experiment experiment = make_experiment(o, false);
-  const FlightStackSetup& setup = experiment.setup;
+  const control::FlightStackSetup& setup = experiment.setup;
   std::vector<double> recovery;
   int recovered = 0, total = 0, not_reached = 0;
   nlohmann::json runs = nlohmann::json::array();
@@ -372,7 +372,7 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
     throw UsageError("--teacher-speed is for --route or --vision real (the model lab's teacher walks at 0.5 m/s)");
   if (o.model_route || o.real_vision) o.teacher_speed_mps = args.number_or("--teacher-speed", 0.5, 0.05, 2.0);
   const Experiment experiment = make_experiment(o, true);
-  const FlightStackSetup& setup = experiment.setup;
+  const control::FlightStackSetup& setup = experiment.setup;
   std::vector<double> dist, centre, all_dist, all_centre, tracked_dist, tracked_centre;
   int found = 0, walking = 0, tracked = 0, unfollowable = 0;
   nlohmann::json runs = nlohmann::json::array();

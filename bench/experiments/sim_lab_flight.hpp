@@ -26,12 +26,12 @@ class SimLabFlight final : public ExperimentFlight {
  public:
   // `setup.front_ends` must be set: this flight has no other perception than the rendered frames.
   // `sim` is the lab's and the link's settings (their seeds included); `head` textures the teacher's face.
-  SimLabFlight(const FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
+  SimLabFlight(const control::FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
                std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency = std::nullopt);
   ~SimLabFlight() override;
 
   void tick() override;
-  FlightStack& stack() override { return *stack_; }
+  control::FlightStack& stack() override { return *stack_; }
   Seconds now() const override { return t_; }
   Eigen::Isometry3d true_pose() const override { return lab_->truth().T_world_body(); }
   std::optional<Eigen::Isometry3d> true_face() const override;
@@ -49,12 +49,12 @@ class SimLabFlight final : public ExperimentFlight {
 
  private:
   struct Listener;
-  void apply(const FlightOutput& out);
+  void apply(const control::FlightOutput& out);
 
   fusion::LabGeometry geometry_;
   SimLinkSettings link_settings_;
   std::unique_ptr<SimulatedLab> lab_;
-  std::unique_ptr<FlightStack> stack_;
+  std::unique_ptr<control::FlightStack> stack_;
   const fusion::LabPipelines* pipelines_ = nullptr;  // owned by stack_
   std::unique_ptr<LockstepVisionWorker> vision_worker_;  // with a latency model
   std::unique_ptr<Listener> listener_;

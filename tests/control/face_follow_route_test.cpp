@@ -10,6 +10,7 @@
 #include "teacher_routes.hpp"
 
 using namespace labo;
+using namespace labo::control;
 
 namespace {
 
@@ -22,7 +23,7 @@ fusion::LabGeometry lab_of_config() {
 }
 
 struct RouteFlight {
-  explicit RouteFlight(fusion::LabGeometry l = lab_of_config(), ControlConfig config = {}) : lab(std::move(l)), f(std::move(config), lab) {}
+  explicit RouteFlight(fusion::LabGeometry l = lab_of_config(), control::ControlConfig config = {}) : lab(std::move(l)), f(std::move(config), lab) {}
   fusion::LabGeometry lab;
   TeacherMotion motion{test::walking(lab.teacher)};
   test::ModelFlight f;
@@ -33,8 +34,8 @@ struct RouteFlight {
     f.run(1.0 / 30.0);
   }
   bool find_and_settle() {
-    MissionRequest r;
-    r.kind = RequestKind::FindTeacher;
+    control::MissionRequest r;
+    r.kind = control::RequestKind::FindTeacher;
     if (!f.request(r).accepted) return false;
     for (const double end = f.t + 150; f.t < end;) {
       tick();
@@ -121,7 +122,7 @@ void check_leg_start_met(const RouteFlight::LegStart& leg) {
 TEST_CASE("control: next_long_leg is the route's own leg, not one drawn in from the walls") {
   // The meeting point drawn in 0.2 m from leg A's start (1.2, -2.4) lies within 0.6 m of the short
   // leg's start (1.2, -1.9) too: the leg walked next is still A, 3 m long.
-  const std::optional<RouteLeg> leg = next_long_leg(test::lab_route(), {1.2, -2.2}, 0.6);
+  const std::optional<control::RouteLeg> leg = next_long_leg(test::lab_route(), {1.2, -2.2}, 0.6);
   REQUIRE(leg);
   CHECK(leg->index == 0);
   CHECK(leg->length_m == Approx(3.0));
@@ -143,7 +144,7 @@ TEST_CASE("control: metres_short_of_waypoint measures along the leg into a waypo
 
 TEST_CASE("control: route_place_before walks the pauses and the short leg between a corner and the next long leg") {
   // Reached (4.2, -2.4) at 0: pause 3 s, the 0.5 m leg to (4.2, -1.9) in 1.25 s, pause 3 s, then leg C.
-  const std::optional<RouteLeg> leg = next_long_leg(test::lab_route(), {4.2, -2.4}, 0.25);
+  const std::optional<control::RouteLeg> leg = next_long_leg(test::lab_route(), {4.2, -2.4}, 0.25);
   REQUIRE(leg);
   CHECK(leg->index == 2);
   CHECK(seconds_to_set_off(test::lab_route(), {4.2, -2.4}, *leg) == Approx(7.25));
@@ -269,7 +270,7 @@ TEST_CASE("control: going round to the next leg, the camera turns with the beari
   // front of leg C (~0.5 rad/s round them), the yaw loop lagged the bearing by 0.15-0.3 rad and the
   // face of the teacher walking the 0.5 m leg sat 0.27 m off the centre ray at 0.9 m (face-centre
   // error RMS 0.27 on that leg). The bearing's rate is fed forward now.
-  const auto short_leg_aim_rms_rad = [](ControlConfig config) {
+  const auto short_leg_aim_rms_rad = [](control::ControlConfig config) {
     RouteFlight r{lab_of_config(), std::move(config)};
     REQUIRE(r.find_and_settle());
     double sum = 0;
@@ -289,10 +290,10 @@ TEST_CASE("control: going round to the next leg, the camera turns with the beari
     REQUIRE(n > 20);
     return std::sqrt(sum / n);
   };
-  ControlConfig without;
+  control::ControlConfig without;
   without.gains.yaw_rate_feedforward = 0;
   const double lagging = short_leg_aim_rms_rad(without);
-  const double fed_forward = short_leg_aim_rms_rad(ControlConfig{});
+  const double fed_forward = short_leg_aim_rms_rad(control::ControlConfig{});
   INFO("face off the optical axis on the short leg, RMS: " << lagging << " rad without the feed-forward, " << fed_forward << " rad with it");
   CHECK(fed_forward < 0.1);
   CHECK(fed_forward < 0.6 * lagging);
@@ -349,7 +350,7 @@ TEST_CASE("control: waypoint_walked_into is the end of the leg walked along, onl
   CHECK_FALSE(waypoint_walked_into(route, {2.7, -2.4}, {0.0, 0.0}, 0.25, 0.1));    // standing
   CHECK_FALSE(waypoint_walked_into(route, {2.7, -2.4}, {-0.4, 0.0}, 0.25, 0.1));   // against the leg
   CHECK_FALSE(waypoint_walked_into(route, {2.7, -2.9}, {0.4, 0.0}, 0.25, 0.1));    // off the route
-  const std::optional<RouteLeg> after = next_long_leg_from(route, 1);  // past the 0.5 m leg: leg C
+  const std::optional<control::RouteLeg> after = next_long_leg_from(route, 1);  // past the 0.5 m leg: leg C
   REQUIRE(after);
   CHECK(after->index == 2);
   CHECK(after->corner == 1);
@@ -462,7 +463,7 @@ SetOffFlown fly_face_moved_at_corner(bool then_lost, std::initializer_list<doubl
   SetOffFlown out;
   REQUIRE(r.find_and_settle());
   REQUIRE(r.until_end_of_short_leg());
-  const std::optional<RouteLeg> leg = next_long_leg(r.lab.teacher, r.motion.pose(r.f.t).T_world_head.translation().head<2>(), 0.6);
+  const std::optional<control::RouteLeg> leg = next_long_leg(r.lab.teacher, r.motion.pose(r.f.t).T_world_head.translation().head<2>(), 0.6);
   REQUIRE(leg);
   r.face_shift.head<2>() = before_m * leg->along;
   for (const double end = r.f.t + 1.5; r.f.t < end;) r.tick();

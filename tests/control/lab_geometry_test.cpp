@@ -6,6 +6,7 @@
 #include "teacher_routes.hpp"
 
 using namespace labo;
+using namespace labo::control;
 
 TEST_CASE("control: lab_geometry_from maps config/lab.json's room, base, instruments and platform") {
   const LabDescription lab = load_lab_description(default_lab_path());
@@ -48,18 +49,18 @@ TEST_CASE("control: lab_geometry_from maps config/lab.json's room, base, instrum
 }
 
 TEST_CASE("control: a FlightStack on the lab's geometry accepts its instruments and refuses others by name") {
-  FlightStackSetup setup;
+  control::FlightStackSetup setup;
   setup.lab = fusion::lab_geometry_from(load_lab_description(default_lab_path()));
-  FlightStack stack(setup);
-  MissionRequest r;
-  r.kind = RequestKind::Inspect;
+  control::FlightStack stack(setup);
+  control::MissionRequest r;
+  r.kind = control::RequestKind::Inspect;
   r.instrument_id = "multimeter";
-  const CommandResult refused = stack.request(r, 0.0);
+  const control::CommandResult refused = stack.request(r, 0.0);
   CHECK_FALSE(refused.accepted);
   CHECK_THAT(refused.reason, Catch::Contains("multimeter") && Catch::Contains("oscilloscope") &&
                                  Catch::Contains("signal_generator") && Catch::Contains("power_supply"));
   r.instrument_id = "power_supply";
-  const CommandResult accepted = stack.request(r, 0.0);
+  const control::CommandResult accepted = stack.request(r, 0.0);
   INFO(accepted.reason);
   CHECK(accepted.accepted);
 }

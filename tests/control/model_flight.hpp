@@ -113,12 +113,12 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
 
 class ModelFlight {
  public:
-  explicit ModelFlight(ControlConfig config = {}, fusion::LabGeometry lab_geometry = model_lab())
+  explicit ModelFlight(control::ControlConfig config = {}, fusion::LabGeometry lab_geometry = model_lab())
       : world(std::make_shared<ModelWorld>()), lab(std::move(lab_geometry)) {
-    FlightStackSetup setup;
+    control::FlightStackSetup setup;
     setup.control = config;
     setup.lab = lab;
-    stack = std::make_unique<FlightStack>(setup, std::make_unique<ModelPipelines>(world, lab));
+    stack = std::make_unique<control::FlightStack>(setup, std::make_unique<ModelPipelines>(world, lab));
   }
   // Advances `seconds` in 1/30 s control ticks, 5 physics sub-steps each.
   void run(double seconds) {
@@ -140,23 +140,23 @@ class ModelFlight {
     }
     return false;
   }
-  CommandResult request(MissionRequest r) { return stack->request(r, t); }
+  control::CommandResult request(control::MissionRequest r) { return stack->request(r, t); }
 
   std::shared_ptr<ModelWorld> world;
   fusion::LabGeometry lab;
-  std::unique_ptr<FlightStack> stack;
-  FlightOutput last;
+  std::unique_ptr<control::FlightStack> stack;
+  control::FlightOutput last;
   double t = 0;
 
  private:
-  void apply(const FlightOutput& out) {
+  void apply(const control::FlightOutput& out) {
     switch (out.action) {
-      case FlightOutput::Action::Move: world->drone.move(out.move); break;
-      case FlightOutput::Action::Hover: world->drone.hover(); break;
-      case FlightOutput::Action::Takeoff: world->drone.takeoff(); break;
-      case FlightOutput::Action::Land: world->drone.land(); break;
-      case FlightOutput::Action::Emergency: world->drone.emergency(); break;
-      case FlightOutput::Action::None: break;
+      case control::FlightOutput::Action::Move: world->drone.move(out.move); break;
+      case control::FlightOutput::Action::Hover: world->drone.hover(); break;
+      case control::FlightOutput::Action::Takeoff: world->drone.takeoff(); break;
+      case control::FlightOutput::Action::Land: world->drone.land(); break;
+      case control::FlightOutput::Action::Emergency: world->drone.emergency(); break;
+      case control::FlightOutput::Action::None: break;
     }
   }
 };

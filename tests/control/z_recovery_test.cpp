@@ -15,15 +15,16 @@
 #include "drone/sim/quadrotor_dynamics.hpp"
 
 using namespace labo;
+using namespace labo::control;
 
 namespace {
 
 struct ZFlight {
   LabDescription lab = load_lab_description(default_lab_path());
   QuadrotorDynamics drone{QuadrotorParams{}, CollisionModel(lab, QuadrotorParams{}.hull), lab.T_world_base};
-  PoseController controller{PoseControlGains{}};
+  control::PoseController controller{control::PoseControlGains{}};
   std::deque<MoveCommand> in_flight;  // the link's delay: a command acts 90 ms after the pose it came from
-  PoseTarget target;
+  control::PoseTarget target;
 
   ZFlight() {
     drone.takeoff();
@@ -100,7 +101,7 @@ TEST_CASE("control: a descent at the z gains' limit is stopped by the clearance 
   // The safety's net under a bad estimate: below min_clearance_m (0.35 m) the drone climbs (gaz 0.5,
   // level_hold.hpp). A descent at out_min must be stopped before the floor: within 0.15 m.
   ZFlight f;
-  const PoseControlGains gains;
+  const control::PoseControlGains gains;
   f.target.position.z() += 1.0;  // room below for a 3 s descent
   f.controller.set_target(f.target);
   f.fly(6.0);

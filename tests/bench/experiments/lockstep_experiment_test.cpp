@@ -8,8 +8,8 @@
 using namespace labo;
 
 namespace {
-FlightStackSetup lockstep_setup() {
-  FlightStackSetup setup;
+control::FlightStackSetup lockstep_setup() {
+  control::FlightStackSetup setup;
   setup.lab = model_lab();
   setup.estimation.video_delay_s = 0;
   setup.estimation.navdata_delay_s = 0;
@@ -19,8 +19,8 @@ FlightStackSetup lockstep_setup() {
 
 // An inspection with a long hold, flown until it has held for 3 s.
 void hold_in_front_of_the_oscilloscope(LockstepFlight& f) {
-  MissionRequest r;
-  r.kind = RequestKind::Inspect;
+  control::MissionRequest r;
+  r.kind = control::RequestKind::Inspect;
   r.instrument_id = "oscilloscope";
   r.hold_s = 300;
   REQUIRE(f.request(r).accepted);
@@ -30,10 +30,10 @@ void hold_in_front_of_the_oscilloscope(LockstepFlight& f) {
 }  // namespace
 
 TEST_CASE("control: lockstep inspect with the StateEstimator in the loop ends on the platform") {
-  const FlightStackSetup setup = lockstep_setup();
+  const control::FlightStackSetup setup = lockstep_setup();
   LockstepFlight f(setup, {}, 7);
-  MissionRequest r;
-  r.kind = RequestKind::Inspect;
+  control::MissionRequest r;
+  r.kind = control::RequestKind::Inspect;
   r.instrument_id = "oscilloscope";
   r.hold_s = 3;
   REQUIRE(f.request(r).accepted);
@@ -58,7 +58,7 @@ TEST_CASE("control: lockstep inspect with the StateEstimator in the loop ends on
 }
 
 TEST_CASE("control: lockstep impulse on z is recovered on the homography pose") {
-  const FlightStackSetup setup = lockstep_setup();
+  const control::FlightStackSetup setup = lockstep_setup();
   LockstepFlight f(setup, {}, 3);
   hold_in_front_of_the_oscilloscope(f);
   const Eigen::Vector3d before = f.drone().p;
@@ -73,7 +73,7 @@ TEST_CASE("control: lockstep push up out of the panel's view: re-detected, recov
   // 1.5 m/s up lifts the model drone ~0.27 m (with the z gains of 2026-12-02; 1.0 m/s lifted it 0.23 m
   // with the earlier ones and now too little to lose the panel): the panel leaves the view (SLAM is
   // lost next to it); the re-detection flies the standoff's altitude and brings it back.
-  const FlightStackSetup setup = lockstep_setup();
+  const control::FlightStackSetup setup = lockstep_setup();
   LockstepFlight f(setup, {}, 5);
   hold_in_front_of_the_oscilloscope(f);
   const Eigen::Vector3d before = f.drone().p;

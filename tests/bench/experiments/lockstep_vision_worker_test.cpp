@@ -58,7 +58,7 @@ TEST_CASE("lockstep vision worker: results wait for the modelled time, and a bus
   MethodFrontEnd detector("template");
   auto pipelines = std::make_unique<RecordingPipelines>(detector);
   const auto applied = pipelines->applied;
-  FlightStack stack(FlightStackSetup{}, std::move(pipelines));
+  control::FlightStack stack(control::FlightStackSetup{}, std::move(pipelines));
   const VisionLatencyModel model;
   LockstepVisionWorker worker(stack, model);
 
