@@ -17,6 +17,7 @@
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/lab_renderer.hpp"
 
+#include "bench/frame_timing.hpp"
 #include "bench/planar/h264_roundtrip.hpp"
 #include "localization/planar/planar_localizer.hpp"
 #include "localization/planar/pose/planar_pose_filter.hpp"
@@ -45,13 +46,6 @@ struct Sequence {
   bool h264_seed = false;   // one of the H.264 sequence's noise seeds
 };
 
-
-// This thread's CPU time: on a shared machine wall time also measures the neighbours.
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
-}
 
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;

@@ -125,7 +125,7 @@ const char* to_string(PlanarMethod m) {
   switch (m) {
     case PlanarMethod::None: return "none";
     case PlanarMethod::TemplateMatching: return "template";
-    case PlanarMethod::Sift: return "sift";
+    case PlanarMethod::Features: return "features";
     case PlanarMethod::Ecc: return "ecc";
     case PlanarMethod::InverseCompositional: return "ic";
   }
@@ -165,8 +165,8 @@ PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, con
       thresholds_(thresholds),
       config_(config),
       tracker_(make_homography_tracker(config.tracker, template_.working(), config)),
-      template_detector_(template_.working(), config, thresholds.min_correlation),
-      sift_detector_(template_.working(), config, thresholds.sift_min_inliers),
+      template_detector_(template_.working(), cv::Size(camera.width(), camera.height()), config, thresholds.min_correlation),
+      feature_detector_(template_.working(), cv::Size(camera.width(), camera.height()), config, thresholds.sift_min_inliers),
       pose_solver_(camera.K(), template_.object_corners()),
       pose_refiner_(template_.working(), template_.width_m(), template_.height_m(), camera.K(),
                     se3_settings(config, thresholds.min_correlation)) {
@@ -238,17 +238,17 @@ PlanarResult PlanarObjectLocalizer::track(const cv::Mat& image, PlanarResult r) 
 }
 
 PlanarResult PlanarObjectLocalizer::detect(const cv::Mat& image, PlanarResult r, std::optional<double> distance_m) {
-  std::array<PlanarMethod, 2> order{PlanarMethod::TemplateMatching, PlanarMethod::Sift};
+  std::array<PlanarMethod, 2> order{PlanarMethod::TemplateMatching, PlanarMethod::Features};
   int count = 2;
   if (distance_m) {
-    order[0] = *distance_m < thresholds_.sift_switch_distance_m ? PlanarMethod::Sift : PlanarMethod::TemplateMatching;
+    order[0] = *distance_m < thresholds_.sift_switch_distance_m ? PlanarMethod::Features : PlanarMethod::TemplateMatching;
     count = 1;
   }
   r.reason = PlanarLoss::NotFound;
   for (int i = 0; i < count; ++i) {
     Detection d;
-    if (order[static_cast<std::size_t>(i)] == PlanarMethod::Sift) {
-      d = sift_detector_.detect(image);
+    if (order[static_cast<std::size_t>(i)] == PlanarMethod::Features) {
+      d = feature_detector_.detect(image);
       r.inliers = d.inliers;
     } else {
       double lo = config_.detection_min_width_fraction * image.cols;

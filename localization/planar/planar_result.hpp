@@ -10,7 +10,9 @@
 namespace labo::planar {
 
 enum class PlanarState { Searching, Detected, Tracking, Lost };
-enum class PlanarMethod { None, TemplateMatching, Sift, Ecc, InverseCompositional };
+// How the pose was found: detection far (template matching) or near (features: PlanarConfig::near_detector,
+// the paper's SIFT or a binary detector), or tracking (ECC or LaboDrone's IC).
+enum class PlanarMethod { None, TemplateMatching, Features, Ecc, InverseCompositional };
 // Why there is no pose in this frame (None when there is one).
 enum class PlanarLoss {
   None,
@@ -54,7 +56,7 @@ struct PlanarResult {
   double correlation = 0;            // after alignment
   double visible_fraction = 0;       // of the panel's area inside the image
   bool pose_ambiguous = false;       // the two IPPE poses could not be told apart
-  int inliers = 0;                   // SIFT detections
+  int inliers = 0;                   // near detections (features): RANSAC inliers
   // Gauss-Newton iterations of this frame's SE(3) refinements (every blur hypothesis and IPPE branch
   // tried): the refinement's cost, independent of the machine's load.
   int refinement_iterations = 0;
