@@ -76,6 +76,7 @@ PlanarConfig read_planar_config(const ConfigReader& node) {
   c.ransac_threshold_px = node.number_or("ransac_threshold_px", c.ransac_threshold_px, Range{0.0, 20.0, true});
   c.near_max_frame_features = node.integer_or("near_max_frame_features", c.near_max_frame_features, 50, 20000);
   c.min_visible_fraction = node.number_or("min_visible_fraction", c.min_visible_fraction, Range{0.0, 1.0, true});
+  c.min_image_fraction = node.number_or("min_image_fraction", c.min_image_fraction, Range{0.0, 1.0, true});
   c.max_template_side_px = node.number_or("max_template_side_px", c.max_template_side_px, Range::closed(64, 2000));
   c.min_intensity_stddev = node.number_or("min_intensity_stddev", c.min_intensity_stddev, Range::non_negative());
   c.min_edge_fraction = node.number_or("min_edge_fraction", c.min_edge_fraction, Range::closed(0.0, 1.0));

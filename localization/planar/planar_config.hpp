@@ -74,7 +74,11 @@ struct PlanarConfig {
   double ransac_threshold_px = 3.0;
 
   // Loss and quality.
-  double min_visible_fraction = 0.6;  // of the panel's area inside the image; less is a loss
+  // A loss for too little in view (out_of_view) when less than min_visible_fraction of the panel's area
+  // is inside the image and the part inside covers less than min_image_fraction of the image: an object
+  // larger than the view (the platform below ~0.7 m) is tracked on the part that fills the image.
+  double min_visible_fraction = 0.6;
+  double min_image_fraction = 0.5;
   double max_template_side_px = 320;  // larger templates are downscaled for tracking
 
   // Texture test: a template is refused when its grey levels are nearly flat, when too few pixels
@@ -90,7 +94,7 @@ struct PlanarConfig {
 // "detection_max_width_fraction", "detection_scale_step", "template_search": "coarse_to_fine"|"per_scale",
 // "detection_coarse_width_px", "detection_candidates", "detection_match_width_px",
 // "near_detector": "sift"|"orb"|"brisk"|"akaze", "near_frame_scale", "near_ratio", "ransac_threshold_px",
-// "near_max_frame_features", "min_visible_fraction", "max_template_side_px",
+// "near_max_frame_features", "min_visible_fraction", "min_image_fraction", "max_template_side_px",
 // "min_intensity_stddev", "min_edge_fraction", "min_gradient_isotropy"}; every key optional.
 PlanarConfig read_planar_config(const ConfigReader& node);
 

@@ -79,6 +79,8 @@ class PlanarObjectLocalizer {
   Se3Refinement refine_with_blur_search(const Eigen::Isometry3d& T_start, Seconds t, bool use_footprint, Eigen::Vector2d& blur_px,
                                         int& iterations);
   const cv::Mat& undistort(const cv::Mat& gray);
+  // Object-frame x, y (m) of undistorted image points on the panel.
+  std::array<Eigen::Vector2d, 4> object_points(const cv::Matx33d& H_working, const std::array<cv::Point2d, 4>& image_points) const;
   // One refinement of T_start: the footprint model on the raw frame when configured, no motion blur is
   // modelled and the panel is narrow enough (`use_footprint`), else Se3PoseRefiner on smoothed_.
   Se3Refinement refine_once(const Eigen::Isometry3d& T_start, bool use_footprint, const Eigen::Vector2d& blur_px = Eigen::Vector2d::Zero(),

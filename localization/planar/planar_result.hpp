@@ -44,7 +44,7 @@ struct PlanarResult {
   std::array<cv::Point2d, 4> image_corners{};
   Eigen::Isometry3d T_cam_object = Eigen::Isometry3d::Identity();
   double distance_m = 0;
-  double quality = 0;                // [0, 1]: correlation margin x visible fraction x ambiguity
+  double quality = 0;                // [0, 1]: correlation margin x the larger in-view fraction x ambiguity
   // 1-sigma uncertainties of T_cam_object along its worst-determined direction: from the SE(3)
   // refinement's covariance when it ran (pose_refined), else from the corners' noise (approximate).
   // Both grow with the distance; the rotation's mostly as the tilt of the panel seen face-on.
@@ -55,6 +55,7 @@ struct PlanarResult {
   double reprojection_error_px = 0;  // IPPE, RMS over the corners
   double correlation = 0;            // after alignment
   double visible_fraction = 0;       // of the panel's area inside the image
+  double image_fraction = 0;         // of the image the panel covers
   bool pose_ambiguous = false;       // the two IPPE poses could not be told apart
   int inliers = 0;                   // near detections (features): RANSAC inliers
   // Gauss-Newton iterations of this frame's SE(3) refinements (every blur hypothesis and IPPE branch
