@@ -40,16 +40,20 @@ struct LabFixture {
   ServerMetrics metrics;
   SteadyClock clock;
   RemoteLab lab{flight, settings, metrics, clock, Logger("test", LogLevel::Warn)};
+
+  std::shared_ptr<RecordingClient> join(ClientId id, const std::string& user) {
+    auto client = std::make_shared<RecordingClient>(id, user, lab);
+    lab.join(client);
+    return client;
+  }
 };
 
 }  // namespace
 
 TEST_CASE("lab: a client whose last owner is a delivery leaves without a deadlock") {
   LabFixture f;
-  auto keeper = std::make_shared<RecordingClient>(1, "alice", f.lab);
-  auto closing = std::make_shared<RecordingClient>(2, "bob", f.lab);
-  f.lab.join(keeper);
-  f.lab.join(closing);
+  auto keeper = f.join(1, "alice");
+  auto closing = f.join(2, "bob");
   // Bob's session closes while the new control state is being delivered to him: the delivery's
   // reference is then his last, and his destructor leaves the lab (a WebSocket session closed on
   // another io thread meanwhile).
@@ -64,10 +68,8 @@ TEST_CASE("lab: a client whose last owner is a delivery leaves without a deadloc
 
 TEST_CASE("lab: control states carry a growing sequence number, messages are serialised once for all") {
   LabFixture f;
-  auto a = std::make_shared<RecordingClient>(1, "alice", f.lab);
-  auto b = std::make_shared<RecordingClient>(2, "bob", f.lab);
-  f.lab.join(a);
-  f.lab.join(b);
+  auto a = f.join(1, "alice");
+  auto b = f.join(2, "bob");
   f.lab.on_message(*a, R"({"type":"request_control"})");
   std::vector<std::uint64_t> seqs;
   for (const std::string& e : b->events)
