@@ -174,10 +174,10 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, const std
   if (watch_points_.empty() || !leg) return false;
   const Eigen::Vector2d corner = ctx.lab.teacher.waypoints[leg->corner];
   meet_centre_ = Eigen::Vector3d(0.5 * (corner.x() + leg->from.x()), 0.5 * (corner.y() + leg->from.y()), track_.position().z());
-  // When they set off along it (real vision, seed 1, 2026-12-02 at a08cc03, two ways to get it wrong:
-  // the face lost 0.3 s into leg A, the drone held at its start and the teacher walked into it; the
-  // face lost as the teacher arrived at the corner before leg C, the prediction walked leg C at once
-  // and the drone waited 1.2 m ahead of a teacher who stood there 3 s more, 2.4 m from the face):
+  // When they set off along it. Two ways to get it wrong (tests/control/face_follow_route_test.cpp):
+  // holding at the leg's start while the teacher, lost just after setting off, walks into the drone;
+  // or, with the teacher lost as they reach a corner, walking the next leg at once and waiting far
+  // ahead of a teacher who still stands there. So:
   //  - walking along the leg already (past its start, or moving along it): from when last seen;
   //  - walked into the corner from the leg before (a sustained spell of walking, not along this leg,
   //    ended less than a pause ago): after the route's pauses and short legs from where it ended;

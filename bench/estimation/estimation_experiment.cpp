@@ -13,7 +13,7 @@ namespace {
 constexpr double kRadToDeg = 180.0 / M_PI;
 constexpr Seconds kDemoNavdata = 1.0 / 15.0;   // the AR.Drone's default navdata_demo rate
 constexpr Seconds kFullNavdata = 1.0 / 200.0;
-constexpr double kImpulseM = 0.5;              // the z impulse
+constexpr double kImpulseM = 0.5;              // the z impulse the targets are stated for
 constexpr Seconds kScaleWindow = 2.5;          // windows of the scale diagnostic
 
 struct Rms {

@@ -77,10 +77,9 @@ const TargetObservation& PlanarFrontEnd::process(const cv::Mat& gray, Seconds t,
   // The predicted distance picks one detector (the paper's lambda switch); when that found nothing,
   // the next frame runs both, so a wrong prediction or a detector that fails at this range (template
   // matching on a target filling the view) cannot keep the target unseen. A lost *track* is no failed
-  // detection: the next frame detects with the prediction first. (Until 2026-12-02 a lost track also
-  // made the next frame a retry: with real vision, after a z push, the retry's template matching found
-  // the same false match every other frame, the tracker lost it the frame after, and SIFT, which finds
-  // the panel at the standoff, did not run for 2 s: sim perturb --axis z --vision real seed 3, 5.97 s.)
+  // detection: the next frame detects with the prediction first. Were a lost track a retry too, a
+  // template match that keeps finding the same false match (after a vertical push, at the standoff)
+  // would lose and re-find it every other frame and SIFT, which finds the panel there, would not run.
   const bool retried = retry_without_distance_;
   const std::optional<double> distance = retried ? std::nullopt : expected_distance_m;
   result_ = localizer_.process(gray, t, distance);

@@ -304,8 +304,8 @@ PlanarLoss PlanarObjectLocalizer::accept(const cv::Mat& image, const cv::Matx33d
   if (!refine_pose(image, *pose, size_px, margin, r)) {
     unverified_pose_ = pose->T_cam_object;
     unverified_pose_t_ = r.t;
-    // Measured (docs/planar.md, 2026-12-03): every such pose on the bench's sequences was 4-10 deg off
-    // (a panel partly out of view, a detection on a smeared frame): IC's homography had gone wrong.
+    // On the bench's sequences every such pose is 4-10 deg off (a panel partly out of view, a
+    // detection on a smeared frame; docs/planar.md): the tracker's homography has gone wrong.
     r.detail = "the photometric fit contradicts the tracker's homography";
     return PlanarLoss::NoPose;
   }

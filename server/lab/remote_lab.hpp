@@ -62,8 +62,9 @@ class RemoteLab final : public FlightEventSink {
   class Locked;
   // A weak link locked under mutex_ may be a session's last owner (it closed meanwhile on the server's
   // thread): destroyed there, its destructor leaves the lab, which takes mutex_ again, a deadlock
-  // (seen in CI, 2026-12-03: "a WebSocket needs a session"). deliver() and broadcast_control_state()
-  // park the links they locked here, and Locked releases them after unlocking.
+  // (test "web: a WebSocket needs a session, and commands need control except the emergency
+  // stop"). deliver() and broadcast_control_state() park the links they locked here, and Locked
+  // releases them after unlocking.
   std::vector<std::shared_ptr<LabClient>> release_after_unlock_;
 
   FlightService& flight_;

@@ -155,7 +155,7 @@ TEST_CASE("control: route_place_before walks the pauses and the short leg betwee
 }
 
 TEST_CASE("control: a face lost as the teacher sets off along the leg by the wall is predicted along the whole leg") {
-  // Real vision, seed 1 (2026-12-02, a08cc03): the face lost 0.3 s into leg A (the track still
+  // Real vision, seed 1: the face lost 0.3 s into leg A (the track still
   // standing: the face's jitter hides 0.1 m of walking), the predicted teacher stopped after 0.5 m
   // (the short leg's length, taken from the wrong corner), and the drone waited there while the
   // teacher walked on at it, 0.41 m from the face.
@@ -181,7 +181,7 @@ TEST_CASE("control: a face lost as the teacher sets off along the leg by the wal
 }
 
 TEST_CASE("control: a face lost at a corner waits for the teacher pausing there, not ahead of them") {
-  // Real vision, seed 1 (2026-12-02, a08cc03): the face lost as the teacher reached the corner
+  // Real vision, seed 1: the face lost as the teacher reached the corner
   // (4.2, -1.9) and stood there 3 s turning; the prediction walked the next leg from that moment, and
   // the drone, 1.2 m ahead of a teacher who was not there, was 2.4 m from the face when they set off.
   // Here a square of 3 m legs (90 degree turns, no turn back: the drone follows into the corner).
@@ -205,7 +205,7 @@ TEST_CASE("control: a face lost at a corner waits for the teacher pausing there,
 }
 
 TEST_CASE("control: a face taken up for a moment at the corner keeps the meeting's wait for the teacher to set off") {
-  // Real vision, seed 1 (2026-12-02): met in front of leg C, the drone took the face up 0.05 s before
+  // Real vision, seed 1: met in front of leg C, the drone took the face up 0.05 s before
   // the teacher stopped at its corner and lost it 0.4 s later; with nothing seen walking, the
   // prediction walked leg C at once, 3 s early, and the drone waited 1.2 m too far along it.
   RouteFlight r;
@@ -226,7 +226,7 @@ TEST_CASE("control: a face taken up for a moment at the corner keeps the meeting
 }
 
 TEST_CASE("control: a correction of the drone's pose estimate is not taken for the teacher's walk") {
-  // Real vision (2026-12-02, every seed): on dead reckoning over the lab's bare floor the estimator
+  // Real vision (every seed): on dead reckoning over the lab's bare floor the estimator
   // corrected the drone's estimate by 0.09-0.13 m within one tick; the faces placed from it moved as
   // much, the track read that as 0.27 m/s of walking, and its heading swung: the set point went 0.3 m
   // sideways (seed 4, leg C). Here the estimate jumps 0.12 m across a long leg while the teacher walks
@@ -266,7 +266,7 @@ TEST_CASE("control: a correction of the drone's pose estimate is not taken for t
 }
 
 TEST_CASE("control: going round to the next leg, the camera turns with the bearing to the teacher on the short leg") {
-  // Real vision, seed 1 (2026-12-02): while the drone went round the corner to meet the teacher in
+  // Real vision, seed 1: while the drone went round the corner to meet the teacher in
   // front of leg C (~0.5 rad/s round them), the yaw loop lagged the bearing by 0.15-0.3 rad and the
   // face of the teacher walking the 0.5 m leg sat 0.27 m off the centre ray at 0.9 m (face-centre
   // error RMS 0.27 on that leg). The bearing's rate is fed forward now.
@@ -304,7 +304,7 @@ TEST_CASE("control: a face first seen for a moment at the end of a leg waits out
   // start) and lost 0.4 s later: too short a look to see them walk in, so the prediction took them
   // for a teacher standing at a corner and walked leg A at once - 7 s early, while by the route they
   // still pause, walk the short leg and pause again. The drone waited far along leg A and met them
-  // late (found 2026-12-02 in variant configs: 1.2 m from the face).
+  // late (found in variant configs: 1.2 m from the face).
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   r.f.world->face_visible = false;
@@ -385,7 +385,7 @@ TEST_CASE("control: a face lost in the middle of a leg is followed on along the 
 }
 
 TEST_CASE("control: a teacher met in front of the next leg is followed from their set-off, not after the walk shows") {
-  // Real vision, teacher at 0.5 m/s (2026-12-03, seeds 1-8): the first 2 s of the long legs were 62 %
+  // Real vision, teacher at 0.5 m/s (seeds 1-8): the first 2 s of the long legs were 62 %
   // of the squared distance error: met in front of the leg, the drone waited for the face's velocity
   // (low-passed over 0.4 s, behind the perception delay) to show the walk, and the teacher came
   // 0.2 m too close 1.3 s into the leg. The set-off is now fed forward from the route's time or from
@@ -500,7 +500,7 @@ SetOffFlown fly_face_moved_at_corner(bool then_lost, std::initializer_list<doubl
 }  // namespace
 
 TEST_CASE("control: a face that moves a few cm along the next leg and is lost is no set-off for the meeting") {
-  // Real vision, teacher at 0.4 m/s, seed 7 (2026-12-03): met in front of leg C and followed standing
+  // Real vision, teacher at 0.4 m/s, seed 7: met in front of leg C and followed standing
   // at its start, the face's place moved 5 cm along the leg 1.2 s before the route's set-off and
   // stopped; that first 5 cm fed the route's walking speed forward, and the face, lost 0.1 s later,
   // was taken for a teacher walking the leg (the track's velocity was the feed-forward's): the meeting
@@ -527,7 +527,7 @@ TEST_CASE("control: a face that moves a few cm along the next leg and stops is n
 }
 
 TEST_CASE("control: a head turning at the corner, its face not yet on the next leg, is no set-off when lost") {
-  // Real vision, teacher at 0.4 m/s, seed 14 (2026-12-03): followed standing at the corner before leg
+  // Real vision, teacher at 0.4 m/s, seed 14: followed standing at the corner before leg
   // C, the face's place moved 6.5 cm along the leg (the feed-forward started) and 5.6 cm more 0.47 s
   // later (confirmed: the head turning on, not a step), and the face was lost 0.4 s after, its place
   // still 4 cm short of the leg's start. The track's fed-forward 0.4 m/s was read as a teacher walking
@@ -541,7 +541,7 @@ TEST_CASE("control: a head turning at the corner, its face not yet on the next l
 }
 
 TEST_CASE("control: a face lost walking into a corner and seen again on the way times the set-off from the walk seen") {
-  // Real vision, teacher at 0.5 m/s, seed 1 (2026-12-03): the face lost 0.54 m short of the end of
+  // Real vision, teacher at 0.5 m/s, seed 1: the face lost 0.54 m short of the end of
   // leg C, taken up again for 0.4 s on the way in (too short for a walk spell) and lost at the corner.
   // The set-off along leg A was timed from the end of the last walk spell plus the rest of the way from
   // where the face was *last* seen, at the corner: the way walked meanwhile was counted twice, the

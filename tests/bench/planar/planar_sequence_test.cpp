@@ -12,7 +12,7 @@ using namespace labo;
 namespace {
 
 // The refinement of the template samples in the undistorted, smoothed frame (the default before
-// 2026-12-03; still used when a motion blur is modelled).
+// still used when a motion blur is modelled).
 planar::PlanarConfig sampled_model() {
   planar::PlanarConfig c;
   c.se3_footprint_model = false;
@@ -58,7 +58,7 @@ TEST_CASE("planar: the motion-blur search starts at the last exposure: half the 
 // branches refine to two mirror minima of the photometric fit, 5-11 deg apart with residuals within a
 // few %, on either side of the truth; the lower residual picked one of them at random (2.6-3.1 m:
 // 2.91 deg median, 2-3 m 1.89 deg). The pose midway between them: 1.73 and 1.33 deg. A rule of the
-// sampled model (since 2026-12-03 the lab renders its panels area filtered: 2-3 m 0.93 deg median).
+// sampled model (the lab renders its panels area filtered: 2-3 m 0.93 deg median).
 TEST_CASE("planar: two refined IPPE branches the fit cannot tell apart give the pose midway between them") {
   const SequenceBenchResult result = run_sequence_bench(sampled_model(), VisionThresholds{}, "lab_renderer",
                                                         {planar::TrackerKind::InverseCompositional});
@@ -101,7 +101,7 @@ TEST_CASE("planar: the mirror of the refined pose finds the other minimum both I
 // 3.14 with the blur fixed at the level's. With `se3_template_resolution: frame` (the template resampled
 // to 1.3x the panel's apparent size) and the blur fixed it was 0.83 / 2.25; with the blur estimated the
 // frame option gives 1.11 / 2.49, so the pyramid level stays the default (docs/planar.md). The sampled
-// model's test (on the area-filtered lab since 2026-12-03: 0.93 / 2.03).
+// model's test (on the area-filtered lab: 0.93 / 2.03).
 TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree with the frame's blur estimated") {
   planar::PlanarConfig config = sampled_model();
   REQUIRE(config.se3.estimate_blur);
@@ -118,7 +118,7 @@ TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree with the f
   CHECK(binned);
 }
 
-// The pixel's footprint modelled (`se3_pixel_model: footprint`, the default since 2026-12-03): each raw
+// The pixel's footprint modelled (`se3_pixel_model: footprint`, the default): each raw
 // frame pixel predicted as the template's mean over its footprint. On the lab's oscilloscope, rendered
 // as a camera integrates each pixel (area-filtered panels), 2-3 m: 0.13 / 0.47 deg (median / p95),
 // against 0.93 / 2.03 with the sampled model on the same frames; target <= 1 deg.

@@ -82,7 +82,7 @@ TEST_CASE("face: config and person files are validated") {
       {R"({"depth_refinement": {"max_depth_change_mm": 50}})", "max_depth_change_mm"},
       {R"({"depth_refinement": {"huber_px": -1}})", "huber_px"},
       {R"({"depth_refinement": {"min_view": 10}})", "min_view"},
-      // A track's first-frame views (9147abb): 1-20 passes, a mirror yaw of 0-90 degrees.
+      // A track's first-frame views: 1-20 passes, a mirror yaw of 0-90 degrees.
       {R"({"start_view_passes": 0})", "start_view_passes"},
       {R"({"start_view_passes": 21})", "start_view_passes"},
       {R"({"start_mirror_yaw_deg": -5})", "start_mirror_yaw_deg"},

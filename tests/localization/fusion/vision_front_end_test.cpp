@@ -116,7 +116,7 @@ TEST_CASE("vision front-ends: a wrong predicted distance costs the confirmation 
   CHECK(first.state != fusion::TrackState::Tracking);
   CHECK(first.reason == "not_found");
   // The next frame runs both detectors: template matching finds it, 3.2 times farther than predicted,
-  // so it counts once the tracker has followed it for 15 frames (until 2026-12-02: at once).
+  // so it counts once the tracker has followed it for 15 frames.
   const fusion::TargetObservation& second = fe.process(view, 1 / 30.0, 1.0);
   CHECK(second.state == fusion::TrackState::Lost);
   CHECK(second.reason == "unconfirmed_detection");

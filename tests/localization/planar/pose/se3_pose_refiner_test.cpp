@@ -199,7 +199,7 @@ TEST_CASE("planar: the SE(3) refinement estimates the frame's blur relative to t
   // 2.3 m: the 160 px level is finer than the panel's ~112 px image, and the camera is a little softer
   // than a pixel's box (an extra Gaussian of sigma 0.5 px), so the frame is blurrier than the level; with
   // the blur fixed the fit tilts the panel by more than a degree. (Since the renderer integrates each
-  // pixel's footprint, 2026-12-03, the frame without the extra blur is close enough to the level's blur
+  // pixel's footprint, the frame without the extra blur is close enough to the level's blur
   // that the fixed fit is only 0.63 deg off; measured with it: fixed 1.33-1.37 deg, estimated 0.14 deg.)
   const Eigen::Isometry3d near = look_at_object(Eigen::Vector3d(0.05, 0.03, -2.3), Eigen::Vector3d::Zero(), 0.02);
   cv::Mat near_frame;
