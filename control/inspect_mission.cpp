@@ -170,9 +170,9 @@ void InspectMission::step_inspect(MissionContext& ctx) {
           ctx.autopilot.go_to(standoff_target(T_world_instrument_, standoff_m_ + kRedetectBackoffM, ctx.centre_ray_front), ctx.t);
         } else {
           // Pushed above or below the view: the standoff's altitude and line of sight, at the distance
-          // the drone is now or farther (never nearer the panel). Backing off at once would cost a 0.4 m
-          // round trip, about 2 s of a z recovery (test "control: a vertical push out of the panel's view
-          // is undone at the standoff's altitude, not by backing off").
+          // the drone is now or farther (never nearer the panel). Backing off at once would cost a
+          // 0.4 m round trip, about 2 s of a z recovery (test "control: a vertical push out of the
+          // panel's view is undone at the standoff's altitude, not by backing off").
           const double away_m = std::max(standoff_m_, distance_along_line_of_sight(ctx));
           ctx.autopilot.go_to(standoff_target(T_world_instrument_, away_m, ctx.centre_ray_front), ctx.t);
         }
@@ -194,7 +194,8 @@ void InspectMission::step_inspect(MissionContext& ctx) {
       }
       // Resume once the panel drives the estimate again (the switch takes it after source_hold_s of
       // tracking): resuming when it is merely seen would leave the estimate on dead reckoning, which
-      // the approach does not tolerate, and safety would hold the drone level until the switch caught up.
+      // the approach does not tolerate, and safety would hold the drone level until the switch
+      // caught up.
       if (seen && ctx.pose.source != fusion::FeedbackSource::DeadReckoning) enter(Step::Approach, ctx.t);
       else if (ctx.t - since_ > ctx.config.mission.detect_timeout_s) {
         result_ = "instrument '" + instrument_.id + "' lost during inspection and not found again; returning home";

@@ -467,7 +467,8 @@ bool PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
       // 2-3 m: both 3-4 deg off): the refined pose mirrored about the line of sight to the panel's
       // centre is refined too, and treated as the other branch above. Not with the footprint model,
       // whose cost has no such split minimum: on the bench's sequences the mirror does not change its
-      // pose (docs/planar.md, "the pixel's footprint"), and it would cost a third of the refinement work.
+      // pose (docs/planar.md, "the pixel's footprint"), and it would cost a third of the refinement
+      // work.
       // Test "planar: the mirror of the refined pose finds the other minimum both IPPE branches missed".
       if (refined.refined && !two_minima && !use_footprint) {
         const Eigen::Isometry3d T_mirror = mirrored_about_line_of_sight(refined.T_cam_object);

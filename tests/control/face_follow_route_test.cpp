@@ -229,7 +229,8 @@ TEST_CASE("control: a correction of the drone's pose estimate is not taken for t
   // within one tick; the faces placed from it move as much. Wrong: the track reads that as 0.27 m/s of
   // walking, its heading swings and the set point with it. Here the estimate jumps 0.12 m across a
   // long leg while the teacher walks it (leg C, y = -1.9: the standoff there is clear of the wall
-  // clearance, which is fixed in the estimate's frame): the drone, in truth, should stay in front of them.
+  // clearance, which is fixed in the estimate's frame): the drone, in truth, should stay in front of
+  // them.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   // Until the teacher has walked 3 s of leg C (along -x), followed (the drone settled in front).

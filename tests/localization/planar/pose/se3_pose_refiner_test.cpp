@@ -116,7 +116,8 @@ TEST_CASE("planar: the SE(3) refinement smooths only where the panel is, with th
   REQUIRE(a.refined);
   REQUIRE(b.refined);
   // Equal up to the rounding of OpenCV's 8-bit blur (its vector and scalar paths split a region
-  // differently from the whole frame): thousandths of a degree; stale or unsmoothed pixels would be far more.
+  // differently from the whole frame): thousandths of a degree; stale or unsmoothed pixels would be
+  // far more.
   CHECK(rotation_angle(a.T_cam_object.linear(), b.T_cam_object.linear()) < 0.01 * kDeg);
   CHECK((a.T_cam_object.translation() - b.T_cam_object.translation()).norm() < 1e-4);
   CHECK(rotation_angle(a.T_cam_object.linear(), truth.linear()) < 0.6 * kDeg);
