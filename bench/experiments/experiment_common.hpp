@@ -1,5 +1,5 @@
 #pragma once
-// What the `labodrone sim ...` experiments share: options, the setup, output files, statistics.
+// What the `labodrone-bench sim ...` experiments share: options, the setup, output files, statistics.
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>

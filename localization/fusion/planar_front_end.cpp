@@ -11,11 +11,13 @@ constexpr Seconds kMaxTrackingGapS = 0.5;
 // The retry without the predicted distance may change the detector; a template match it finds farther
 // from the prediction than this factor (the localizer's own template window around a predicted
 // distance, planar_localizer.cpp) is a candidate, reported once the tracker has followed it for
-// kConfirmFrames frames in a row: hysteresis on the detection. In the simulated lab, with the panel
-// below the view after a push up, the retry's template matching found other texture at 4.4-6.5 m
-// (correlation 0.88-0.93) while the panel was 1.3 m away; those tracks ended in a pose jump within
-// 1-13 frames, and each was reported as the panel (sim perturb --axis z --vision real). A prediction
-// that is wrong, with the panel really there, costs kConfirmFrames frames, not the panel.
+// kConfirmFrames frames in a row: hysteresis on the detection. With the panel below the view after a
+// push up, the retry's template matching finds other texture several metres beyond the panel with a
+// high correlation; such tracks end in a pose jump within a few frames, and without the hysteresis
+// each would be reported as the panel. A prediction that is wrong, with the panel really there, costs
+// kConfirmFrames frames, not the panel. Tests "vision front-ends: a retried detection far from the
+// predicted distance that the tracker loses never counts" and "vision front-ends: a wrong predicted
+// distance costs the confirmation frames, not the target".
 constexpr double kRetryScaleFactor = 1.6;
 constexpr int kConfirmFrames = 15;
 

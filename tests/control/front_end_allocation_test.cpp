@@ -272,17 +272,18 @@ TEST_CASE("navdata path: a datagram through NavdataReceiver into the StateEstima
   CHECK(predicted.T_world_body.translation().allFinite());
 }
 
-// The face front end: dlib's shape_predictor, cv::warpAffine and the PnP's vectors allocated on every
+// The face front end: dlib's shape_predictor, cv::warpAffine and the PnP's vectors allocate on every
 // tracked frame (hundreds of blocks; found with a backtrace on the counting operator new), so
 // LaboDrone has its own (landmark_cascade.hpp, face_image_warp.hpp also for the frontal view's
-// cv::remap, pnp_solvers.cpp) and a tracked frame allocates nothing through operator new. Left: the detector's own on its frames (every redetect_every_n_frames), and
-// EPnP (cv::solvePnP, ~23) on the frames where the tracking solver starts again from it because the
-// tracked pose no longer fits the landmarks.
+// cv::remap, pnp_solvers.cpp) and a tracked frame allocates nothing through operator new. Left: the
+// detector's own on its frames (every redetect_every_n_frames), and EPnP (cv::solvePnP, ~23) on the
+// frames where the tracking solver starts again from it because the tracked pose no longer fits the
+// landmarks.
 
-// Counting malloc too (not in sanitizer builds) shows 19 more per tracked face frame: Eigen's dynamic temporaries in the face code (centroid_and_spread, FacePoseEstimator's
-// ideal_pixels / choose_box / process, FrontalView::render's ColPivHouseholderQR), found with the
-// callers' return addresses. They are capped here, not yet removed; the planar and navdata paths
-// stay at 0 with malloc counted.
+// Counting malloc too (not in sanitizer builds) shows 19 more per tracked face frame: Eigen's dynamic
+// temporaries in the face code (centroid_and_spread, FacePoseEstimator's ideal_pixels / choose_box /
+// process, FrontalView::render's ColPivHouseholderQR), found with the callers' return addresses. They
+// are capped here, not yet removed; the planar and navdata paths stay at 0 with malloc counted.
 constexpr std::size_t kFaceTrackedFrame = LABO_COUNT_NEW ? 0 : 19;
 constexpr std::size_t kEpnpRestart = 30;
 
