@@ -88,9 +88,9 @@ struct FlightStack::Impl {
     in.slam = slam.state;
     in.slam_scaled = slam.scale_estimated;
     // The face is feedback only when configured so: fused as a landmark, a walking teacher's motion is
-    // taken for the drone's (with SLAM lost at a watch point, the simulated lab's real-vision
-    // face-follow drifted the estimate 0.35 m in 2 s that way, and the drone met the teacher). Without
-    // SLAM the drone follows on navdata odometry, the face as the target.
+    // taken for the drone's (with SLAM lost at a watch point, the estimate would drift with the
+    // teacher's walk and the drone fly into them). Without SLAM the drone follows on navdata odometry,
+    // the face as the target.
     in.face_mode = focus.face && setup.control.mission.face_as_feedback;
     in.face_state = pipelines->face().state;
     focus.feedback = source_switch.update(in);

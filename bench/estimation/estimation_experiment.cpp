@@ -13,7 +13,7 @@ namespace {
 constexpr double kRadToDeg = 180.0 / M_PI;
 constexpr Seconds kDemoNavdata = 1.0 / 15.0;   // the AR.Drone's default navdata_demo rate
 constexpr Seconds kFullNavdata = 1.0 / 200.0;
-constexpr double kImpulseM = 0.5;              // the z impulse
+constexpr double kImpulseM = 0.5;              // the z impulse the targets are stated for
 constexpr Seconds kScaleWindow = 2.5;          // windows of the scale diagnostic
 
 struct Rms {
@@ -49,9 +49,9 @@ TrackingErrors measure(FlightRun& run, Seconds duration) {
 // camera's axis and back, then descends and climbs slowly (open-loop gaz) while holding x, y. Why the
 // leg comes before the up/down: the real SLAM's map, made from vertical motion in front of a far wall,
 // confuses vertical translation with pitch (both shift the image alike), so its metres per unit over
-// vertical motion were 25-75 % off the value it settles to at its first motion along the optical axis
-// (~6 m/unit on every seed: the true median depth); a scale fixed over the up/down alone was wrong
-// afterwards. Returns the time the up/down starts: the map's true scale is measured from there on.
+// vertical motion are 25-75 % off the value it settles to at its first motion along the optical axis
+// (~6 m/unit: the true median depth); a scale fixed over the up/down alone would be wrong afterwards.
+// Returns the time the up/down starts: the map's true scale is measured from there on.
 Seconds scale_manoeuvre(FlightRun& run) {
   run.set_vision({.slam = true, .instrument = false});
   run.run_for(1.0);
@@ -284,7 +284,7 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
     count_rejections(run);
   }
   for (const bool detect : {true, false}) {  // across the bare floor on navdata (15 Hz, as in the missions)
-    // No flat trim before the take-off, as the missions fly today: the IMU's roll/pitch offset stays
+    // No flat trim before the take-off, as the missions fly: the IMU's roll/pitch offset stays
     // (SensorModel: 0.6 deg), which is what the model runs on while the velocity is out.
     PlantRequest r = request(seed + 4000, kDemoNavdata, false);
     r.flat_trim = false;

@@ -1,10 +1,11 @@
 #pragma once
-// SurrogatePlant: a stand-in AR.Drone for the estimation experiments, written before the simulated lab
-// existed and kept for comparison (`sim estimate --plant surrogate`). Its physics deliberately differ from the estimator's model (second-order attitude loops,
-// quadratic drag, wind gusts, a vertical-speed loop with lag) and its sensors have the AR.Drone's
-// flaws (noise, a bottom-camera velocity scale error, yaw drift, an ultrasound that sees benches), so
-// the filter and the model fit are not tested against their own equations. Link delays: navdata 40 ms,
-// commands 100 ms, video 75 ms (configurable). It renders no frames (truth-derived vision only).
+// SurrogatePlant: a stand-in AR.Drone for the estimation experiments, independent of the simulated
+// lab and kept for comparison (`sim estimate --plant surrogate`). Its physics deliberately differ from
+// the estimator's model (second-order attitude loops, quadratic drag, wind gusts, a vertical-speed
+// loop with lag) and its sensors have the AR.Drone's flaws (noise, a bottom-camera velocity scale
+// error, yaw drift, an ultrasound that sees benches), so the filter and the model fit are not tested
+// against their own equations. Link delays: navdata 40 ms, commands 100 ms, video 75 ms
+// (configurable). It renders no frames (truth-derived vision only).
 // Seeded and deterministic.
 #include <deque>
 #include <random>

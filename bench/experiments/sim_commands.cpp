@@ -158,7 +158,7 @@ struct FaceRun {
   double found_at_s = -1;
   int walking_ticks = 0, tracked_ticks = 0;  // followable walking ticks; of those, with the face tracked
   int unfollowable_ticks = 0;                 // walking ticks with no standoff in front of the teacher
-  std::vector<double> distance_error, centre_error;                  // followable walking ticks (the metric)
+  std::vector<double> distance_error, centre_error;                  // followable walking ticks (the face-follow metric)
   std::vector<double> all_distance_error, all_centre_error;          // every walking tick
   std::vector<double> tracked_distance_error, tracked_centre_error;  // followable walking ticks with the face tracked
 };
@@ -348,7 +348,7 @@ int run_sim_perturb_command(const ParsedArgs& args) {
 const CommandSpec& sim_face_follow_command_spec() {
   static const CommandSpec spec = [] {
     CommandSpec s{"sim face-follow", "",
-                  "find the teacher and follow the face while they walk at 0.5 m/s (paper 6.4; the issue's target speed)",
+                  "find the teacher and follow the face while they walk at 0.5 m/s (paper 6.4; the target's speed)",
                   experiment_option_specs()};
     s.options.push_back({"--walk", "S", "seconds of walking measured (default 30)"});
     s.options.push_back({"--teacher-speed", "MPS",

@@ -1,6 +1,6 @@
 #pragma once
 // One lockstep flight in the simulated lab with FlightStack running the real vision front-ends on the
-// rendered frames (`labodrone sim ... --vision real`): SimulatedLab (drone/sim/: the firmware's
+// rendered frames (`labodrone-bench sim ... --vision real`): SimulatedLab (drone/sim/: the firmware's
 // dynamics, the sensor model, the walking teacher, LabRenderer's cameras) behind SimDroneLink, the
 // lockstep DroneLink with the real link's timing (15 Hz demo navdata, 30 fps video, delays, jitter,
 // the driver's 30 ms AT loop, the camera switch delay; docs/sim.md). Each control period the link

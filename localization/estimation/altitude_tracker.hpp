@@ -13,8 +13,9 @@
 // estimate is pulled to its surveyed height, so an earlier misclassification does not persist.
 // A sudden shorter range that no motion explains over a surface where no step is possible is a
 // spurious short echo (the sonar hears something nearer than the floor for a ping): it is dropped, and
-// only accepted as motion if it persists for kEchoPersist (found on the simulated lab, whose sonar
-// has such echoes: fused as motion they put 0.1-0.5 m spikes into z and the scale's metric odometry).
+// only accepted as motion if it persists for kEchoPersist: fused as motion, such echoes (the simulated
+// lab's sonar has them) put 0.1-0.5 m spikes into z and the scale's metric odometry. Test
+// "estimation: a short sonar echo over a surveyed floor is dropped, a lasting lower range is motion".
 #include <Eigen/Core>
 #include <optional>
 

@@ -57,7 +57,7 @@ struct EstimatorNoise {
 // Detection of a failed bottom-camera velocity (velocity_dropout_detector.hpp; thresholds chosen on
 // the simulated lab, docs/state-estimation.md "Velocity dropout").
 struct VelocityDropoutSettings {
-  bool enabled = true;          // false fuses every navdata velocity (the behaviour before, for comparison)
+  bool enabled = true;          // false fuses every navdata velocity (no detection, for comparison)
   Seconds window_s = 0.4;       // the model-consistency window
   Seconds average_s = 0.1;      // the measured velocity is averaged over this span at both ends
   double onset_mps = 0.1;       // speed lost against the model over the window

@@ -2,7 +2,7 @@
 // LabPipelines with the real vision front-ends: a PlanarFrontEnd per instrument with a template
 // (front camera) and for the landing platform (bottom camera), the SLAM front-end on the front
 // camera, and the face front-end for the teacher. Used by FlightStack when its setup asks for real
-// vision (the server, `labodrone sim ... --vision real`).
+// vision (the server, and `labodrone-bench sim ... --vision real`).
 #include <memory>
 
 #include "core/camera_config.hpp"

@@ -20,10 +20,10 @@ constexpr Seconds kRecentPoseS = 2.0;
 // Two poses closer than this are one (the IPPE pair, refined poses).
 constexpr double kDistinctPosesRad = 2.0 * 3.14159265358979 / 180.0;
 // Two refined IPPE branches whose photometric residuals are within this ratio are not told apart
-// reliably: at 3.9-6 m in the simulated lab they were 10-25 deg apart with residuals 1-5 % apart, and
-// the lower residual picked the wrong branch (17.8 deg off at 3.9 m while the refinement's own sigma
-// said 2.8 deg). The pose is then the midway between the two (below), and its rotation sigma covers
-// both branches.
+// reliably: at 4-6 m the two lie 10-25 deg apart with residuals 1-5 % apart, and the lower residual
+// may pick the wrong one while the refinement's own sigma claims a few degrees. The pose is then the
+// midway between the two (below), and its rotation sigma covers both branches. Test "planar: two
+// refined IPPE branches the fit cannot tell apart give the pose midway between them".
 constexpr double kUnresolvedResidualRatio = 1.15;
 // Template-matching scale window around a predicted width.
 constexpr double kPredictedWidthFactor = 1.6;
@@ -348,8 +348,8 @@ PlanarLoss PlanarObjectLocalizer::accept(const cv::Mat& image, const cv::Matx33d
   if (!refine_pose(image, *pose, size_px, margin, r)) {
     unverified_pose_ = pose->T_cam_object;
     unverified_pose_t_ = r.t;
-    // Measured (docs/planar.md, 2026-12-03): every such pose on the bench's sequences was 4-10 deg off
-    // (a panel partly out of view, a detection on a smeared frame): IC's homography had gone wrong.
+    // On the bench's sequences every such pose is 4-10 deg off (a panel partly out of view, a
+    // detection on a smeared frame; docs/planar.md): the tracker's homography has gone wrong.
     r.detail = "the photometric fit contradicts the tracker's homography";
     return PlanarLoss::NoPose;
   }
@@ -523,8 +523,10 @@ bool PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
       // Both branches may also end in the same one of the two mirror minima (the lab's oscilloscope at
       // 2-3 m: both 3-4 deg off): the refined pose mirrored about the line of sight to the panel's
       // centre is refined too, and treated as the other branch above. Not with the footprint model,
-      // whose cost has no such split minimum: on the 9 bench sequences the mirror never changed its pose
-      // (docs/planar.md, "the pixel's footprint"), and it cost a third of the refinement work.
+      // whose cost has no such split minimum: on the bench's sequences the mirror does not change its
+      // pose (docs/planar.md, "the pixel's footprint"), and it would cost a third of the refinement
+      // work.
+      // Test "planar: the mirror of the refined pose finds the other minimum both IPPE branches missed".
       if (refined.refined && !two_minima && !use_footprint) {
         const Eigen::Isometry3d T_mirror = mirrored_about_line_of_sight(refined.T_cam_object);
         if (rotation_angle(T_mirror.linear(), refined.T_cam_object.linear()) > kDistinctPosesRad) {

@@ -3,6 +3,7 @@
 #include <boost/asio/dispatch.hpp>
 #include <boost/asio/post.hpp>
 
+#include "server/lab/lab_messages.hpp"
 #include "server/lab/remote_lab.hpp"
 
 namespace labo {
@@ -66,7 +67,7 @@ void WebSocketSession::on_read(beast::error_code ec, std::size_t) {
   }
   metrics_.ws_messages_in++;
   if (!ws_.got_text()) {
-    queue_event(RemoteLab::error_json(400, "binary messages are not accepted: send JSON text"));
+    queue_event(error_message(400, "binary messages are not accepted: send JSON text"));
   } else {
     lab_->on_message(*this, beast::buffers_to_string(read_buffer_.data()));
   }

@@ -155,10 +155,9 @@ TEST_CASE("control: route_place_before walks the pauses and the short leg betwee
 }
 
 TEST_CASE("control: a face lost as the teacher sets off along the leg by the wall is predicted along the whole leg") {
-  // Real vision, seed 1 (2026-12-02, a08cc03): the face lost 0.3 s into leg A (the track still
-  // standing: the face's jitter hides 0.1 m of walking), the predicted teacher stopped after 0.5 m
-  // (the short leg's length, taken from the wrong corner), and the drone waited there while the
-  // teacher walked on at it, 0.41 m from the face.
+  // The face lost 0.3 s into leg A, the track still standing (the face's jitter hides 0.1 m of
+  // walking). Wrong: the predicted teacher stops after 0.5 m (the short leg's length, taken from the
+  // wrong corner) and the drone waits there while the teacher walks on at it.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   REQUIRE(r.until_end_of_short_leg());
@@ -181,10 +180,10 @@ TEST_CASE("control: a face lost as the teacher sets off along the leg by the wal
 }
 
 TEST_CASE("control: a face lost at a corner waits for the teacher pausing there, not ahead of them") {
-  // Real vision, seed 1 (2026-12-02, a08cc03): the face lost as the teacher reached the corner
-  // (4.2, -1.9) and stood there 3 s turning; the prediction walked the next leg from that moment, and
-  // the drone, 1.2 m ahead of a teacher who was not there, was 2.4 m from the face when they set off.
-  // Here a square of 3 m legs (90 degree turns, no turn back: the drone follows into the corner).
+  // The face lost as the teacher reaches a corner and stands there 3 s turning. Wrong: the prediction
+  // walks the next leg from that moment, and the drone waits ahead of a teacher who is not there, far
+  // from the face when they set off. Here a square of 3 m legs (90 degree turns, no turn back: the
+  // drone follows into the corner).
   fusion::LabGeometry lab = model_lab();  // fence x -0.7..4.7, y -2.7..2.7
   lab.teacher = test::lab_route();
   lab.teacher.waypoints = {{0.5, -1.5}, {3.5, -1.5}, {3.5, 1.5}, {0.5, 1.5}};
@@ -205,9 +204,9 @@ TEST_CASE("control: a face lost at a corner waits for the teacher pausing there,
 }
 
 TEST_CASE("control: a face taken up for a moment at the corner keeps the meeting's wait for the teacher to set off") {
-  // Real vision, seed 1 (2026-12-02): met in front of leg C, the drone took the face up 0.05 s before
-  // the teacher stopped at its corner and lost it 0.4 s later; with nothing seen walking, the
-  // prediction walked leg C at once, 3 s early, and the drone waited 1.2 m too far along it.
+  // Met in front of leg C, the drone takes the face up just before the teacher stops at its corner and
+  // loses it 0.4 s later. Wrong: with nothing seen walking, the prediction walks leg C at once, 3 s
+  // early, and the drone waits too far along it.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   // Until the teacher stands at the corner before a long leg with the drone in front of it, hidden
@@ -226,12 +225,12 @@ TEST_CASE("control: a face taken up for a moment at the corner keeps the meeting
 }
 
 TEST_CASE("control: a correction of the drone's pose estimate is not taken for the teacher's walk") {
-  // Real vision (2026-12-02, every seed): on dead reckoning over the lab's bare floor the estimator
-  // corrected the drone's estimate by 0.09-0.13 m within one tick; the faces placed from it moved as
-  // much, the track read that as 0.27 m/s of walking, and its heading swung: the set point went 0.3 m
-  // sideways (seed 4, leg C). Here the estimate jumps 0.12 m across a long leg while the teacher walks
-  // it (leg C, y = -1.9: the standoff there is clear of the wall clearance, which is fixed in the
-  // estimate's frame): the drone, in truth, should stay in front of them.
+  // On dead reckoning over a bare floor the estimator corrects the drone's estimate by about 0.1 m
+  // within one tick; the faces placed from it move as much. Wrong: the track reads that as 0.27 m/s of
+  // walking, its heading swings and the set point with it. Here the estimate jumps 0.12 m across a
+  // long leg while the teacher walks it (leg C, y = -1.9: the standoff there is clear of the wall
+  // clearance, which is fixed in the estimate's frame): the drone, in truth, should stay in front of
+  // them.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   // Until the teacher has walked 3 s of leg C (along -x), followed (the drone settled in front).
@@ -266,10 +265,10 @@ TEST_CASE("control: a correction of the drone's pose estimate is not taken for t
 }
 
 TEST_CASE("control: going round to the next leg, the camera turns with the bearing to the teacher on the short leg") {
-  // Real vision, seed 1 (2026-12-02): while the drone went round the corner to meet the teacher in
-  // front of leg C (~0.5 rad/s round them), the yaw loop lagged the bearing by 0.15-0.3 rad and the
-  // face of the teacher walking the 0.5 m leg sat 0.27 m off the centre ray at 0.9 m (face-centre
-  // error RMS 0.27 on that leg). The bearing's rate is fed forward now.
+  // Going round the corner to meet the teacher in front of leg C (~0.5 rad/s round them), the yaw loop
+  // alone lags the bearing by 0.15-0.3 rad: the face of the teacher walking the 0.5 m leg sits a
+  // quarter of a metre off the centre ray. The bearing's rate is fed forward; without it (the
+  // feed-forward set to 0) the aim is worse.
   const auto short_leg_aim_rms_rad = [](control::ControlConfig config) {
     RouteFlight r{lab_of_config(), std::move(config)};
     REQUIRE(r.find_and_settle());
@@ -303,8 +302,8 @@ TEST_CASE("control: a face first seen for a moment at the end of a leg waits out
   // Found late on leg C (walking at (1.2, -1.9), the corner before the 0.5 m short leg to leg A's
   // start) and lost 0.4 s later: too short a look to see them walk in, so the prediction took them
   // for a teacher standing at a corner and walked leg A at once - 7 s early, while by the route they
-  // still pause, walk the short leg and pause again. The drone waited far along leg A and met them
-  // late (found 2026-12-02 in variant configs: 1.2 m from the face).
+  // still pause, walk the short leg and pause again. The drone would wait far along leg A and meet them
+  // late.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   r.f.world->face_visible = false;
@@ -357,9 +356,8 @@ TEST_CASE("control: waypoint_walked_into is the end of the leg walked along, onl
 }
 
 TEST_CASE("control: a face lost in the middle of a leg is followed on along the route, not held") {
-  // The head's sway takes the face past the detector in the middle of a leg (real vision, teacher at
-  // 0.5 m/s: leg A, 1.1 m short of its end). Holding there, the drone was walked into; now it backs
-  // off ahead of where the route has them and meets them at the corner.
+  // The head's sway takes the face past the detector in the middle of a leg. Holding there, the drone
+  // would be walked into; it backs off ahead of where the route has them and meets them at the corner.
   for (const double speed : {0.4, 0.5}) {
     fusion::LabGeometry lab = lab_of_config();
     lab.teacher.speed_mps = speed;
@@ -385,11 +383,10 @@ TEST_CASE("control: a face lost in the middle of a leg is followed on along the 
 }
 
 TEST_CASE("control: a teacher met in front of the next leg is followed from their set-off, not after the walk shows") {
-  // Real vision, teacher at 0.5 m/s (2026-12-03, seeds 1-8): the first 2 s of the long legs were 62 %
-  // of the squared distance error: met in front of the leg, the drone waited for the face's velocity
-  // (low-passed over 0.4 s, behind the perception delay) to show the walk, and the teacher came
-  // 0.2 m too close 1.3 s into the leg. The set-off is now fed forward from the route's time or from
-  // the first 5 cm the face walks along the leg.
+  // Met in front of the leg, a drone that waits for the face's velocity (low-passed over 0.4 s, behind
+  // the perception delay) to show the walk lets the teacher come too close in the leg's first seconds,
+  // where most of the follow's distance error would then lie. The set-off is fed forward from the
+  // route's time or from the first 5 cm the face walks along the leg.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   REQUIRE(r.until_end_of_short_leg());
@@ -415,9 +412,9 @@ TEST_CASE("control: a teacher met in front of the next leg is followed from thei
 }
 
 TEST_CASE("control: a face lost for a few frames mid-leg is bridged along the track, not taken for a loss") {
-  // At the tracker's limit (~35 degrees of head yaw) the face flickers. Each flicker used to send the
-  // mission through Lost and a meeting, resetting the controller; a loss shorter than 0.25 s while
-  // the teacher walks a leg is now flown along the coasted track.
+  // At the tracker's limit (~35 degrees of head yaw) the face flickers. Each flicker must not send the
+  // mission through Lost and a meeting, resetting the controller: a loss shorter than 0.25 s while
+  // the teacher walks a leg is flown along the coasted track.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   REQUIRE(r.until_walking_leg_a(2.2, 2.8));
@@ -500,11 +497,11 @@ SetOffFlown fly_face_moved_at_corner(bool then_lost, std::initializer_list<doubl
 }  // namespace
 
 TEST_CASE("control: a face that moves a few cm along the next leg and is lost is no set-off for the meeting") {
-  // Real vision, teacher at 0.4 m/s, seed 7 (2026-12-03): met in front of leg C and followed standing
-  // at its start, the face's place moved 5 cm along the leg 1.2 s before the route's set-off and
-  // stopped; that first 5 cm fed the route's walking speed forward, and the face, lost 0.1 s later,
-  // was taken for a teacher walking the leg (the track's velocity was the feed-forward's): the meeting
-  // backed off along it at once, and the drone was 1.6 m from the face when they came.
+  // Met in front of leg C and followed standing at its start, the face's place moves a few cm along
+  // the leg before the route's set-off and stops; that first move feeds the route's walking speed
+  // forward, and the face is lost just after. Wrong: taking it for a teacher walking the leg (the
+  // track's velocity is the feed-forward's), the meeting backs off along it at once, and the drone is
+  // far from the face when they come.
   const SetOffFlown flown = fly_face_moved_at_corner(true);
   INFO("depth error at the set-off " << flown.depth_error_at_set_off_m << " m, RMS over the leg's first 4 s "
                                       << flown.depth_error_rms_m << " m");
@@ -515,9 +512,9 @@ TEST_CASE("control: a face that moves a few cm along the next leg and is lost is
 }
 
 TEST_CASE("control: a face that moves a few cm along the next leg and stops is no set-off while followed") {
-  // The same 5 cm with the face still in view: the feed-forward it started is confirmed only by the
-  // face walking on; before, it ran until the face had walked 0.2 m, i.e. until the teacher really set
-  // off, and the drone backed off at the route's speed meanwhile.
+  // The same few cm with the face still in view: the feed-forward it started is confirmed only by the
+  // face walking on; run until the face had walked 0.2 m, i.e. until the teacher really set off, it
+  // would back the drone off at the route's speed meanwhile.
   const SetOffFlown flown = fly_face_moved_at_corner(false);
   INFO("depth error at the set-off " << flown.depth_error_at_set_off_m << " m, RMS over the leg's first 4 s "
                                       << flown.depth_error_rms_m << " m");
@@ -527,12 +524,11 @@ TEST_CASE("control: a face that moves a few cm along the next leg and stops is n
 }
 
 TEST_CASE("control: a head turning at the corner, its face not yet on the next leg, is no set-off when lost") {
-  // Real vision, teacher at 0.4 m/s, seed 14 (2026-12-03): followed standing at the corner before leg
-  // C, the face's place moved 6.5 cm along the leg (the feed-forward started) and 5.6 cm more 0.47 s
-  // later (confirmed: the head turning on, not a step), and the face was lost 0.4 s after, its place
-  // still 4 cm short of the leg's start. The track's fed-forward 0.4 m/s was read as a teacher walking
-  // the leg; the meeting backed off at once, 1.3 s before the set-off. A velocity counts as a walk only
-  // with the face's place on the leg.
+  // Followed standing at the corner before leg C, the face's place moves 6.5 cm along the leg (the
+  // feed-forward starts) and 6.5 cm more 0.3 s later (confirmed: the head turning on, not a step), and
+  // the face is lost, its place still short of the leg's start. Wrong: the track's fed-forward speed
+  // read as a teacher walking the leg, the meeting backing off at once, before the set-off. A velocity
+  // counts as a walk only with the face's place on the leg.
   const SetOffFlown flown = fly_face_moved_at_corner(true, {0.065, 0.13}, -0.17);
   INFO("depth error at the set-off " << flown.depth_error_at_set_off_m << " m, RMS over the leg's first 4 s "
                                       << flown.depth_error_rms_m << " m");
@@ -541,11 +537,11 @@ TEST_CASE("control: a head turning at the corner, its face not yet on the next l
 }
 
 TEST_CASE("control: a face lost walking into a corner and seen again on the way times the set-off from the walk seen") {
-  // Real vision, teacher at 0.5 m/s, seed 1 (2026-12-03): the face lost 0.54 m short of the end of
-  // leg C, taken up again for 0.4 s on the way in (too short for a walk spell) and lost at the corner.
-  // The set-off along leg A was timed from the end of the last walk spell plus the rest of the way from
-  // where the face was *last* seen, at the corner: the way walked meanwhile was counted twice, the
-  // set-off predicted 0.8 s early, and the drone backed off ahead of a teacher who still stood.
+  // The face lost half a metre short of the end of leg C, taken up again for 0.4 s on the way in (too
+  // short for a walk spell) and lost at the corner. Wrong: timing the set-off along leg A from the end
+  // of the last walk spell plus the rest of the way from where the face was *last* seen, at the
+  // corner, counts the way walked meanwhile twice: the set-off predicted early, the drone backs off
+  // ahead of a teacher who still stands.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   // Until the teacher walks leg C (-x, y = -1.9) 0.65 m short of its end (1.2, -1.9), followed.

@@ -140,9 +140,9 @@ TEST_CASE("control: a teacher turning back at a corner is met in front of the ne
   bool was_meeting = false;
   std::vector<double> error;
   double nearest = 10;
-  // Settled first: the face may be found 2 m away with the teacher walking off (with the z gains of
-  // 2026-12-02 the drone reaches eye height sooner and finds the face on a leg, not at its end), and
-  // closing that gap is the approach, not the follow.
+  // Settled first: the face may be found 2 m away with the teacher walking off (the drone reaches
+  // eye height early and may find the face on a leg, not at its end), and closing that gap is the
+  // approach, not the follow.
   const auto depth_error = [&] {
     const Eigen::Vector3d p =
         ((f.world->drone.pose() * T_body_cam_front()).inverse() * motion.pose(f.t).T_world_head).translation();
@@ -173,9 +173,8 @@ TEST_CASE("control: a teacher turning back at a corner is met in front of the ne
 }
 
 TEST_CASE("control: a face lost at a corner: the drone waiting on the next leg keeps ahead of a teacher who sets off unseen") {
-  // Real vision, seed 1 (2026-12-02): the face was lost just as the teacher set off on the next leg
-  // towards the drone, which then held, and met them at the leg's start, for a face that stayed out of
-  // the detector's reach (head sway) while the teacher walked into it.
+  // The face lost just as the teacher sets off on the next leg towards the drone, and out of the
+  // detector's reach (head sway) while they walk. Wrong: the drone holds and the teacher walks into it.
   fusion::LabGeometry lab = model_lab();  // room x -1..5, y -3..3
   lab.teacher = turn_back_route();
   const TeacherSpec spec = walking(lab.teacher);

@@ -5,6 +5,7 @@
 
 #include "control/flight_stack.hpp"
 #include "control/level_hold.hpp"
+#include "control/take_off_and_scale.hpp"
 #include "tests/control/model_flight.hpp"
 
 using namespace labo;
@@ -77,6 +78,28 @@ TEST_CASE("control: inspect runs stages 1-6 in order and ends on the platform") 
   CHECK(f.stack->status().phase == control::FlightPhase::Landed);
   CHECK(f.world->drone.p.head<2>().norm() < 0.10);
   CHECK_FALSE(f.world->drone.crashed);
+}
+
+TEST_CASE("control: a map still without a scale flies the vertical manoeuvre again, kMaxRounds times in all") {
+  // Counts the up legs of stage 1: one when SLAM fixes its scale, kMaxRounds when it never does.
+  const auto up_legs = [](bool slam_available) {
+    ModelFlight f;
+    f.world->slam_available = slam_available;
+    REQUIRE(f.request(inspect("oscilloscope", 3.0)).accepted);
+    int ups = 0;
+    bool was_up = false;
+    const bool stage_2 = f.run_until([&] {
+      const bool up = f.stack->status().stage.find("scale manoeuvre (up") != std::string::npos;
+      if (up && !was_up) ++ups;
+      was_up = up;
+      return f.stack->status().stage_index >= 2;
+    }, 120.0);
+    CHECK(stage_2);
+    return ups;
+  };
+  CHECK(up_legs(true) == 1);
+  REQUIRE(control::TakeOffAndScale::kMaxRounds > 1);
+  CHECK(up_legs(false) == control::TakeOffAndScale::kMaxRounds);
 }
 
 TEST_CASE("control: losing the instrument in stage 3 triggers re-detection, not a push forward") {

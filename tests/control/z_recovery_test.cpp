@@ -1,6 +1,6 @@
 // The default z gains against the simulated firmware's vertical dynamics (drone/sim's
 // QuadrotorDynamics: the vertical speed follows gaz x control_vz_max with tum_ardrone's 0.8 /s lag).
-// The target: after a z impulse of about 0.5 m the drone is back within 0.1 m of the set point
+// The target: after a z impulse of about 0.5 m the drone is back within 0.1 m of the set point
 // in 5 s. The gains alone must leave time for the vision to come back, so they must do it in 4 s.
 #include <catch2/catch.hpp>
 

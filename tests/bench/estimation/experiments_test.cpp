@@ -26,7 +26,7 @@ PipelineKind truth_vision() {
 }
 }  // namespace
 
-TEST_CASE("estimation: lockstep experiments on the surrogate plant meet the issue's targets (seed 3)") {
+TEST_CASE("estimation: lockstep experiments on the surrogate plant meet the estimation targets (seed 3)") {
   const EstimationResults r = run_estimation_experiments(surrogate(), truth_vision(), 3, estimation::EstimatorConfig{});
   INFO("scale " << r.scale_error_percent << " %, hover " << r.hover_slam.position_rmse_m << " m, servo "
                 << r.servo.position_rmse_m << " m, impulse return " << r.impulse_servo.return_time_s << " s");
@@ -86,7 +86,7 @@ TEST_CASE("estimation: the lab plant takes off, then delivers navdata at the lin
   CHECK_THROWS_AS(LabPlant(LabPlantInputs{}, PlantRequest{}), std::invalid_argument);  // no such instrument
 }
 
-TEST_CASE("estimation: lockstep experiments on the simulated lab meet the issue's targets (seed 3, truth-derived vision)") {
+TEST_CASE("estimation: lockstep experiments on the simulated lab meet the estimation targets (seed 3, truth-derived vision)") {
   const EstimationResults r = run_estimation_experiments(lab_plant(), truth_vision(), 3, estimation::EstimatorConfig{});
   INFO("scale " << r.scale_error_percent << " %, hover " << r.hover_slam.position_rmse_m << " m, servo "
                 << r.servo.position_rmse_m << " m, impulse return " << r.impulse_servo.return_time_s << " s");

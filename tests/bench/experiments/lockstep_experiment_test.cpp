@@ -70,9 +70,9 @@ TEST_CASE("control: lockstep impulse on z is recovered on the homography pose") 
 }
 
 TEST_CASE("control: lockstep push up out of the panel's view: re-detected, recovered in 5 s, no crash") {
-  // 1.5 m/s up lifts the model drone ~0.27 m (with the z gains of 2026-12-02; 1.0 m/s lifted it 0.23 m
-  // with the earlier ones and now too little to lose the panel): the panel leaves the view (SLAM is
-  // lost next to it); the re-detection flies the standoff's altitude and brings it back.
+  // 1.5 m/s up lifts the model drone ~0.27 m with the default z gains (1.0 m/s lifts it too little to
+  // lose the panel): the panel leaves the view (SLAM is lost next to it); the re-detection flies the
+  // standoff's altitude and brings it back.
   const control::FlightStackSetup setup = lockstep_setup();
   LockstepFlight f(setup, {}, 5);
   hold_in_front_of_the_oscilloscope(f);

@@ -71,8 +71,8 @@ TEST_CASE("estimation: the scale is found whatever the map's unit, from the thir
 }
 
 TEST_CASE("estimation: the scale follows a map whose scale drifts") {
-  // Measured in the simulated lab with the real SLAM: 10 m/unit during the manoeuvre, 6 m/unit after
-  // the map's first adjustments. Without forgetting, the estimate would stay near the mean.
+  // As a monocular map in the simulated lab does: 10 m/unit during the manoeuvre, 6 m/unit after the
+  // map's first adjustments. Without forgetting, the estimate would stay near the mean.
   std::mt19937 rng(9);
   estimation::ScaleEstimator est{estimation::ScaleSettings{}};
   add_manoeuvre_pairs(est, 10.0, 8, rng);

@@ -116,7 +116,7 @@ TEST_CASE("vision front-ends: a wrong predicted distance costs the confirmation 
   CHECK(first.state != fusion::TrackState::Tracking);
   CHECK(first.reason == "not_found");
   // The next frame runs both detectors: template matching finds it, 3.2 times farther than predicted,
-  // so it counts once the tracker has followed it for 15 frames (until 2026-12-02: at once).
+  // so it counts once the tracker has followed it for 15 frames.
   const fusion::TargetObservation& second = fe.process(view, 1 / 30.0, 1.0);
   CHECK(second.state == fusion::TrackState::Lost);
   CHECK(second.reason == "unconfirmed_detection");
@@ -131,9 +131,10 @@ TEST_CASE("vision front-ends: a wrong predicted distance costs the confirmation 
 }
 
 TEST_CASE("vision front-ends: a retried detection far from the predicted distance that the tracker loses never counts") {
-  // What the simulated lab showed: the panel below the view (predicted 1.3 m), the retry's template
-  // matching found other texture at 4-6 m, tracked it for a few frames and lost it in a pose jump.
-  // Here: the panel at 3.2 m with a 1 m prediction, found by the retry, then gone from the view.
+  // The case: the panel below the view (predicted 1.3 m), the retry's template matching finds other
+  // texture at 4-6 m, tracks it for a few frames and loses it in a pose jump; it must never be
+  // reported as the panel. Here: the panel at 3.2 m with a 1 m prediction, found by the retry, then
+  // gone from the view.
   const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
   fusion::PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});

@@ -258,7 +258,7 @@ TEST_CASE("planar: a panel sliding slowly across the image's edge is fitted by t
       CAPTURE(i, r.visible_fraction, r.footprint_model);
       CHECK(r.visible_fraction >= rig.config.min_visible_fraction);
       CHECK(percent_error(r, T) < 0.5);
-      CHECK(deg_error(r, T) < 1.0);  // measured: at most 0.27 deg (docs/planar.md)
+      CHECK(deg_error(r, T) < 1.0);  // a few tenths in practice (docs/planar.md)
       CHECK(r.quality <= r.visible_fraction + 1e-9);
       least_visible_with_pose = std::min(least_visible_with_pose, r.visible_fraction);
       if (r.visible_fraction < 0.95 && r.footprint_model) ++footprint_partial;
