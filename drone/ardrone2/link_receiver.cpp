@@ -9,8 +9,8 @@ namespace labo::ardrone2 {
 NavdataReceiver::NavdataReceiver(LinkCounters& counters, Handler handler)
     : counters_(counters), handler_(std::move(handler)) {}
 
-VideoReceiver::VideoReceiver(LinkCounters& counters, Handler handler)
-    : counters_(counters), handler_(std::move(handler)) {}
+VideoReceiver::VideoReceiver(LinkCounters& counters, Handler handler, EncodedHandler encoded)
+    : counters_(counters), handler_(std::move(handler)), encoded_(std::move(encoded)) {}
 
 bool NavdataReceiver::datagram(std::span<const std::uint8_t> bytes, Seconds t) {
   counters_.add("navdata_datagrams");
@@ -51,6 +51,7 @@ void VideoReceiver::bytes(std::span<const std::uint8_t> bytes, Seconds t) {
       counters_.bad_input("pave_not_h264", t, "codec " + std::to_string(pave.header.codec) + ", expected 4 (H.264)");
       continue;
     }
+    if (encoded_) forward(pave, t);
     // Reuse the picture buffer unless a listener kept a reference to the last frame.
     if (frame_.bgr.u && frame_.bgr.u->refcount > 1) frame_.bgr.release();
     const DecodeStatus decoded = decoder_.decode(pave.payload, frame_.bgr);
@@ -70,9 +71,33 @@ void VideoReceiver::bytes(std::span<const std::uint8_t> bytes, Seconds t) {
   }
 }
 
+void VideoReceiver::forward(const PaveFrame& pave, Seconds t) {
+  std::span<const std::uint8_t> unit = pave.payload;
+  const PaveHeader& h = pave.header;
+  if (h.total_slices > 1) {  // one access unit in several packets: joined before it goes on
+    if (h.slice_index == 0) {
+      slices_.clear();
+      slices_frame_ = h.frame_number;
+    } else if (slices_.empty() || h.frame_number != slices_frame_) {
+      counters_.add("video_slices_orphaned");
+      return;
+    }
+    slices_.insert(slices_.end(), unit.begin(), unit.end());
+    if (h.slice_index + 1 < h.total_slices) return;
+    unit = slices_;
+  }
+  const bool keyframe = contains_idr(unit);
+  forward_seen_idr_ = forward_seen_idr_ || keyframe;
+  if (forward_seen_idr_)
+    encoded_(EncodedVideo{t, camera_, h.frame_number, keyframe, h.display_width, h.display_height, unit});
+  slices_.clear();
+}
+
 void VideoReceiver::reset() {
   demuxer_.reset();
   decoder_.reset();
+  slices_.clear();
+  forward_seen_idr_ = false;
 }
 
 }  // namespace labo::ardrone2

@@ -34,7 +34,10 @@ class NavdataReceiver {
 class VideoReceiver {
  public:
   using Handler = std::function<void(const VideoFrame&)>;
-  VideoReceiver(LinkCounters& counters, Handler handler);
+  using EncodedHandler = std::function<void(const EncodedVideo&)>;
+  // `encoded`, when given, receives each access unit before it is decoded (PaVE slices of one frame
+  // joined), from the first IDR after a reset on.
+  VideoReceiver(LinkCounters& counters, Handler handler, EncodedHandler encoded = {});
   // Bytes from TCP 5555 as they came.
   void bytes(std::span<const std::uint8_t> bytes, Seconds t);
   // A new TCP connection or a camera switch: drop partial data, wait for the next IDR.
@@ -43,12 +46,18 @@ class VideoReceiver {
   void set_camera(CameraId camera) { camera_ = camera; }
 
  private:
+  void forward(const PaveFrame& pave, Seconds t);
+
   LinkCounters& counters_;
   Handler handler_;
+  EncodedHandler encoded_;
   PaveDemuxer demuxer_;
   H264Decoder decoder_;
   VideoFrame frame_;
   CameraId camera_ = CameraId::Front;
+  std::vector<std::uint8_t> slices_;  // the slices of a frame sent in several PaVE packets, so far
+  std::uint32_t slices_frame_ = 0;
+  bool forward_seen_idr_ = false;
 };
 
 }  // namespace labo::ardrone2
