@@ -59,7 +59,7 @@ TEST_CASE("link: bad input is counted by kind and logged at most once a second p
             counters.get("h264_decode_error") > 2);
 }
 
-TEST_CASE("link: each access unit goes on undecoded from the first IDR, a frame's PaVE slices joined", "[link]") {
+TEST_CASE("link: a frame's PaVE slices are joined, decoded, and passed on undecoded from the first IDR", "[link]") {
   Logger logger("test", LogLevel::Warn);
   LinkCounters counters(logger);
   std::vector<EncodedVideo> units;
@@ -108,6 +108,9 @@ TEST_CASE("link: each access unit goes on undecoded from the first IDR, a frame'
   CHECK(units[0].width == 320);
   CHECK(units[0].t == 5.0);
   for (std::size_t i = 0; i < units.size(); ++i) CHECK(bytes[i] == sent[units[i].frame_number]);
+  // The decoder got the joined units too: every frame from the IDR on, none refused.
+  CHECK(decoded == std::vector<std::uint32_t>{5, 6, 7, 8, 9, 10, 11});
+  CHECK(counters.get("h264_decode_error") == 0);
 
   // A slice whose first part never came is dropped and counted; a reset waits for the next IDR again.
   units.clear();
@@ -121,4 +124,17 @@ TEST_CASE("link: each access unit goes on undecoded from the first IDR, a frame'
   video.bytes(stream, 6.0);
   CHECK(units.empty());
   CHECK(counters.get("video_slices_orphaned") == 1);
+
+  // Slices 0 and 2 of 3 with slice 1 lost: the frame is dropped, not joined with a hole.
+  stream.clear();
+  for (std::uint8_t slice : {0, 2}) {
+    PaveHeader h;
+    h.frame_number = 41;
+    h.total_slices = 3;
+    h.slice_index = slice;
+    writer.write(h, sent[10], stream);
+  }
+  video.bytes(stream, 7.0);
+  CHECK(units.empty());
+  CHECK(counters.get("video_slices_orphaned") == 2);
 }
