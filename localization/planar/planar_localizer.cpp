@@ -262,8 +262,13 @@ PlanarResult PlanarObjectLocalizer::track(const cv::Mat& image, PlanarResult r) 
   }
   if (loss == PlanarLoss::None) {
     r.state = PlanarState::Tracking;
+    detection_confirmed_ = true;
     return r;
   }
+  // A detection that the very next frame could not follow may have been a look-alike: its distance
+  // must not narrow the searches that follow (tests/localization/planar/planar_localizer_test.cpp,
+  // "a detection lost at once does not steer the next searches").
+  if (!detection_confirmed_) last_pose_.reset();
   tracking_ = false;
   r.state = PlanarState::Lost;
   r.reason = loss;
@@ -309,6 +314,7 @@ PlanarResult PlanarObjectLocalizer::detect(const cv::Mat& image, PlanarResult r,
     if (r.reason == PlanarLoss::None) {
       r.state = PlanarState::Detected;
       tracking_ = true;
+      detection_confirmed_ = false;
       ever_found_ = true;
       return r;
     }

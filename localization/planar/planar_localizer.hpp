@@ -106,6 +106,7 @@ class PlanarObjectLocalizer {
   cv::Matx33d H_working_ = cv::Matx33d::eye();  // last accepted, working template px -> undistorted px
   std::optional<Eigen::Isometry3d> last_pose_;
   Seconds last_pose_t_ = 0;
+  bool detection_confirmed_ = false;  // the frame after the detection was tracked
   int last_exposure_ = -1;  // see refine_with_blur_search
   // The IPPE pose of the last frame whose photometric fit contradicted the tracker (a loss): not a
   // pose to report, but good enough to measure the panel's image motion from, so that the next frame

@@ -268,3 +268,20 @@ TEST_CASE("planar: a panel sliding slowly across the image's edge is fitted by t
     if (pass.leaving) CHECK(lost_out_of_view >= 1);  // and then the panel was lost, not mislocated
   }
 }
+
+// A detection that the next frame cannot follow may have been a look-alike (a part of the scene that
+// matches the template at another scale): its distance must not narrow the searches after it, or the
+// real panel, at another distance, is never searched for at its size.
+TEST_CASE("planar: a detection lost at once does not steer the next searches") {
+  const Rig rig;
+  planar::PlanarObjectLocalizer loc = rig.localizer();
+  REQUIRE(loc.process(rig.view(at(0.0, 0.0, 3.0)), 0.0).state == planar::PlanarState::Detected);
+  cv::Mat garbage(360, 640, CV_8UC1);
+  cv::RNG(4).fill(garbage, cv::RNG::UNIFORM, 0, 256);
+  REQUIRE(loc.process(garbage, 1 / 30.0).state == planar::PlanarState::Lost);
+  // Half the distance: twice the width, outside the window a 3 m prediction would search.
+  const Eigen::Isometry3d T = at(0.0, 0.0, 1.5);
+  const planar::PlanarResult back = loc.process(rig.view(T), 2 / 30.0);
+  REQUIRE(back.state == planar::PlanarState::Detected);
+  CHECK(percent_error(back, T) < 1.0);
+}
