@@ -59,7 +59,8 @@ TEST_CASE("lockstep vision worker: results wait for the modelled time, and a bus
   auto pipelines = std::make_unique<RecordingPipelines>(detector);
   const auto applied = pipelines->applied;
   control::FlightStack stack(control::FlightStackSetup{}, std::move(pipelines));
-  const VisionLatencyModel model;
+  VisionLatencyModel model;
+  model.template_detection_ms = 18.3;  // a slow search, longer than the frames' spacing below
   LockstepVisionWorker worker(stack, model);
 
   worker.on_frame(frame_at(0.00), 0.00);  // a template search: 18.3 + 0.2 ms
