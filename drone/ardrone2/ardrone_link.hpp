@@ -72,6 +72,9 @@ class ArdroneLink final : public DroneLink {
   // AR.Drone-specific: AT*CALIB for the magnetometer (only honoured in flight).
   void calibrate_magnetometer();
   LinkStatistics statistics() const override;
+  // The recording's bytes so far (RecordingWriter::bytes_written; 0 without link.recording). After
+  // stop() the file is flushed and holds exactly this many.
+  std::uint64_t recorded_bytes() const { return recorder_ ? recorder_->bytes_written() : 0; }
 
  private:
   void control_loop();

@@ -28,6 +28,7 @@ RecordingWriter::RecordingWriter(const std::filesystem::path& file) : out_(file,
   std::memcpy(header, kSignature, 8);
   put(header + 8, kVersion);
   out_.write(header, sizeof(header));
+  if (out_) bytes_written_ = sizeof(header);
 }
 
 void RecordingWriter::write(RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes) {
@@ -35,10 +36,11 @@ void RecordingWriter::write(RecordChannel channel, Seconds t, std::span<const st
   header[0] = static_cast<char>(channel);
   put(header + 4, t);
   put(header + 12, static_cast<std::uint32_t>(std::min(bytes.size(), kMaxRecordBytes)));
+  const std::size_t length = std::min(bytes.size(), kMaxRecordBytes);
   std::lock_guard lock(mutex_);
   out_.write(header, sizeof(header));
-  out_.write(reinterpret_cast<const char*>(bytes.data()),
-             static_cast<std::streamsize>(std::min(bytes.size(), kMaxRecordBytes)));
+  out_.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(length));
+  if (out_) bytes_written_ += sizeof(header) + length;
 }
 
 void RecordingWriter::note(Seconds t, const std::string& text) {
@@ -48,6 +50,11 @@ void RecordingWriter::note(Seconds t, const std::string& text) {
 void RecordingWriter::flush() {
   std::lock_guard lock(mutex_);
   out_.flush();
+}
+
+std::uint64_t RecordingWriter::bytes_written() const {
+  std::lock_guard lock(mutex_);
+  return bytes_written_;
 }
 
 RecordingReader::RecordingReader(const std::filesystem::path& file) : in_(file, std::ios::binary), path_(file) {

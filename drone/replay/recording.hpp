@@ -41,10 +41,14 @@ class RecordingWriter {
   void write(RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes);
   void note(Seconds t, const std::string& text);
   void flush();
+  // The bytes the file holds once flushed (signature and records): what a check of a recording's
+  // completeness compares the file's size with. A write the stream refused is not counted.
+  std::uint64_t bytes_written() const;
 
  private:
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::ofstream out_;
+  std::uint64_t bytes_written_ = 0;
   std::filesystem::path path_;
 };
 

@@ -8,36 +8,14 @@
 #include "control/flight_stack.hpp"
 #include "drone/ardrone2/ardrone_emulator.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
-#include "drone/lab/lab_description.hpp"
 #include "drone/replay/replay_link.hpp"
-#include "drone/sim/sim_setup.hpp"
-#include "localization/face/teacher_head.hpp"
+#include "server/runtime/backend_parts.hpp"
 #include "server/runtime/flight_runtime.hpp"
 #include "server/runtime/flight_stack_core.hpp"
 
 namespace labo {
 
 namespace {
-
-control::FlightStackSetup flight_setup(const AppConfig& config) {
-  // The lab's geometry (room, base, instruments, platform) from the lab description the config
-  // names (validated when the config was loaded).
-  control::FlightStackSetup setup;
-  setup.lab = fusion::lab_geometry_from(config.lab);
-  setup.control = config.control;
-  setup.cameras = config.cameras;
-  setup.vision = config.vision;
-  setup.estimation = config.estimation;
-  // The real vision pipelines on the drone's frames (localization/fusion/lab_pipelines_factory.hpp).
-  setup.front_ends = fusion::FrontEndSettings{config.planar, config.slam, config.face, true};
-  return setup;
-}
-
-FlightRuntimeOptions runtime_options(const AppConfig& config) {
-  FlightRuntimeOptions o;
-  o.jpeg_quality = config.server.video.jpeg_quality;
-  return o;
-}
 
 // A real AR.Drone 2.0 over Wi-Fi.
 class ArdroneBackend final : public DroneBackend {
@@ -48,8 +26,8 @@ class ArdroneBackend final : public DroneBackend {
           s.host = spec.host;
           return s;
         }(), log.child("link")),
-        core_(std::make_unique<control::FlightStack>(flight_setup(config)), config.cameras),
-        runtime_(link_, core_, clock_, runtime_options(config), log) {
+        core_(std::make_unique<control::FlightStack>(flight_stack_setup(config)), config.cameras),
+        runtime_(link_, core_, clock_, flight_runtime_options(config), log) {
     runtime_.start();
     link_.start();
   }
@@ -84,8 +62,8 @@ class ReplayBackend final : public DroneBackend {
   ReplayBackend(const DroneSpec& spec, const AppConfig& config, Logger log)
       : link_(spec.file, log.child("replay")),
         clock_(std::isfinite(link_.next_time()) ? link_.next_time() : 0.0),
-        core_(std::make_unique<control::FlightStack>(flight_setup(config)), config.cameras),
-        runtime_(link_, core_, clock_, runtime_options(config), log) {
+        core_(std::make_unique<control::FlightStack>(flight_stack_setup(config)), config.cameras),
+        runtime_(link_, core_, clock_, flight_runtime_options(config), log) {
     runtime_.start();
     player_ = std::thread([this] {
       while (running_ && link_.advance_to(clock_.now())) std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -113,11 +91,11 @@ class ReplayBackend final : public DroneBackend {
 class SimBackend final : public DroneBackend {
  public:
   SimBackend(const AppConfig& config, Logger log)
-      : lab_(make_lab(config)),
-        emulator_(*lab_, emulator_settings(config), log.child("emulator")),
+      : lab_(make_configured_lab(config)),
+        emulator_(*lab_, loopback_emulator_settings(config), log.child("emulator")),
         link_(link_settings(config, emulator_), log.child("link")),
-        core_(std::make_unique<control::FlightStack>(flight_setup(config)), config.cameras),
-        runtime_(link_, core_, clock_, runtime_options(config), log) {
+        core_(std::make_unique<control::FlightStack>(flight_stack_setup(config)), config.cameras),
+        runtime_(link_, core_, clock_, flight_runtime_options(config), log) {
     // The page shows the lab's truth beside the estimate (dashed grey), as the experiments' plots do.
     core_.set_truth_source([this]() -> std::optional<Eigen::Isometry3d> {
       Eigen::Isometry3d T_world_body;
@@ -135,26 +113,10 @@ class SimBackend final : public DroneBackend {
   FlightService& flight() override { return runtime_; }
 
  private:
-  // The lab's cameras show the teacher's face textured from their photograph, built here because
-  // drone/ cannot call localization/.
-  static std::unique_ptr<SimulatedLab> make_lab(const AppConfig& config) {
-    return make_simulated_lab(config.lab, config.cameras, config.sim.lab, face::load_lab_teacher_head(config.lab, config.face));
-  }
-  static ArdroneEmulatorSettings emulator_settings(const AppConfig& config) {
-    ArdroneEmulatorSettings s = config.emulator;
-    s.bind_host = "127.0.0.1";
-    s.at_port = s.navdata_port = s.video_port = 0;
-    return s;
-  }
   // Starts the emulator (its ports are known once bound) and points the driver at it.
   static ArdroneLinkSettings link_settings(const AppConfig& config, ArdroneEmulator& emulator) {
     emulator.start();
-    ArdroneLinkSettings s = config.link;
-    s.host = "127.0.0.1";
-    s.at_port = emulator.at_port();
-    s.navdata_port = emulator.navdata_port();
-    s.video_port = emulator.video_port();
-    return s;
+    return loopback_link_settings(config, emulator.at_port(), emulator.navdata_port(), emulator.video_port());
   }
 
   std::unique_ptr<SimulatedLab> lab_;

@@ -249,3 +249,16 @@ TEST_CASE("link: the driver sets the video bit rate at connect and the emulator'
   link.stop();
   emulator.stop();
 }
+
+TEST_CASE("link: an emulator restarted over the same vehicle continues its time", "[link][loopback]") {
+  test::TinyVehicle vehicle;
+  vehicle.advance_to(100.0);  // the vehicle has run for 100 s under an emulator now gone
+  ArdroneEmulatorSettings s;
+  s.at_port = s.navdata_port = s.video_port = 0;
+  ArdroneEmulator emulator(vehicle, s, quiet());
+  CHECK(emulator.now() >= 100.0);
+  emulator.start();
+  // Its navdata thread drives the vehicle on its own clock: from 100 s on, not from 0.
+  CHECK(wait_until([&] { return vehicle.now() > 100.2; }, 3.0));
+  emulator.stop();
+}

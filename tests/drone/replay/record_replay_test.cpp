@@ -77,6 +77,9 @@ TEST_CASE("link: record then replay yields identical events", "[link][replay]") 
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     link.stop();
     emulator.stop();
+    // Every byte the writer reported is on disk once the link has stopped.
+    CHECK(link.recorded_bytes() > 1000);
+    CHECK(std::filesystem::file_size(file) == link.recorded_bytes());
   }
   REQUIRE(live.navdata.size() > 10);
   REQUIRE(live.frames.size() > 10);
