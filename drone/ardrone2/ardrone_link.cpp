@@ -243,7 +243,11 @@ void ArdroneLink::send_commands(Seconds t) {
   {
     std::lock_guard lock(command_mutex_);
     at_buffer_.clear();
-    if (reset_sequence_) {
+    // While the drone reports that no command reached it (the com-watchdog bit), every datagram
+    // starts the sequence again at 1: the one datagram that carried the reset after a reconnect may
+    // have been lost with the link, and the drone then drops every later number as old (tested in
+    // "wifi relay: after a cut the link is lost, then the driver's commands reach the drone again").
+    if (reset_sequence_ || (state & state_mask(kStateComWatchdog))) {
       encoder_.reset_sequence();
       reset_sequence_ = false;
     }
