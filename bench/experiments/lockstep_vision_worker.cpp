@@ -11,7 +11,7 @@ Seconds VisionLatencyModel::latency_of(const fusion::VisionResults& r) const {
   if (r.has_slam && r.slam.summary.state != fusion::SlamState::Off) ms += slam_ms;
   const auto planar = [&](const fusion::TargetObservation& o, double tracking_ms) {
     if (tracked_by_tracker(o)) return tracking_ms;
-    return o.method == "template" ? template_detection_ms : sift_detection_ms;
+    return o.method == "template" ? template_detection_ms : feature_detection_ms;
   };
   if (r.has_instrument) ms += planar(r.instrument, planar_tracking_ms);
   if (r.has_platform) ms += planar(r.platform, platform_tracking_ms);

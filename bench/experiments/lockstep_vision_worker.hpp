@@ -13,8 +13,8 @@
 namespace labo {
 
 struct VisionLatencyModel {
-  double template_detection_ms = 18.3;  // planar_detect_far
-  double sift_detection_ms = 23.8;      // planar_detect_near (also a search that found nothing)
+  double template_detection_ms = 3.9;   // planar_detect_far
+  double feature_detection_ms = 8.3;    // planar_detect_near (also a search that found nothing)
   double planar_tracking_ms = 1.9;      // planar_track
   double platform_tracking_ms = 1.2;    // platform_track
   double slam_ms = 1.6;                 // slam_track

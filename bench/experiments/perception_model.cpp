@@ -62,7 +62,7 @@ PerceptionFrame PerceptionModel::observe(const QuadrotorModel& drone, const Eige
     const bool seen = in_view(T, config_.instrument_range_m, 0.5, 0.28) && T.linear().col(2).z() > 0.3;
     o.state = seen ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
     o.reason = seen ? "" : "out of view";
-    o.method = T.translation().z() > 2.0 ? "template" : "sift";
+    o.method = T.translation().z() > 2.0 ? "template" : "features";
     o.quality = seen ? 0.9 : 0;
     if (seen) o.T_cam_target = noisy(T, T.translation().z());
     out.instrument = o;

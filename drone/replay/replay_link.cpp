@@ -13,15 +13,23 @@ ReplayLink::ReplayLink(const std::filesystem::path& recording, Logger logger)
       counters_, [this](const NavdataSample& s, const ardrone2::NavdataPacket&) {
         if (listener_) listener_->on_navdata(s);
       });
-  video_ = std::make_unique<ardrone2::VideoReceiver>(counters_, [this](const VideoFrame& f) {
-    if (listener_) listener_->on_video(f);
-  });
+  video_ = std::make_unique<ardrone2::VideoReceiver>(
+      counters_, [this](const VideoFrame& f) {
+        if (listener_) listener_->on_video(f);
+      },
+      [this](const EncodedVideo& unit) {
+        if (listener_) listener_->on_encoded_video(unit);
+      });
   tello_state_ = std::make_unique<tello::TelloStateReceiver>(counters_, [this](const NavdataSample& s, const tello::TelloState&) {
     if (listener_) listener_->on_navdata(s);
   });
-  tello_video_ = std::make_unique<tello::TelloVideoReceiver>(counters_, [this](const VideoFrame& f) {
-    if (listener_) listener_->on_video(f);
-  });
+  tello_video_ = std::make_unique<tello::TelloVideoReceiver>(
+      counters_, [this](const VideoFrame& f) {
+        if (listener_) listener_->on_video(f);
+      },
+      [this](const EncodedVideo& unit) {
+        if (listener_) listener_->on_encoded_video(unit);
+      });
   load_next();
 }
 

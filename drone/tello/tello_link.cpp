@@ -59,10 +59,16 @@ TelloLink::TelloLink(TelloLinkSettings settings, Logger logger, const Clock* clo
     std::lock_guard lock(listener_mutex_);
     if (listener_) listener_->on_navdata(s);
   });
-  video_receiver_ = std::make_unique<TelloVideoReceiver>(counters_, [this](const VideoFrame& f) {
-    std::lock_guard lock(listener_mutex_);
-    if (listener_) listener_->on_video(f);
-  });
+  video_receiver_ = std::make_unique<TelloVideoReceiver>(
+      counters_,
+      [this](const VideoFrame& f) {
+        std::lock_guard lock(listener_mutex_);
+        if (listener_) listener_->on_video(f);
+      },
+      [this](const EncodedVideo& unit) {
+        std::lock_guard lock(listener_mutex_);
+        if (listener_) listener_->on_encoded_video(unit);
+      });
 }
 
 TelloLink::~TelloLink() { stop(); }

@@ -55,8 +55,8 @@ int TelloStateReceiver::unexpected_landings() const {
   return phase_.unexpected_landings();
 }
 
-TelloVideoReceiver::TelloVideoReceiver(LinkCounters& counters, Handler handler)
-    : counters_(counters), handler_(std::move(handler)),
+TelloVideoReceiver::TelloVideoReceiver(LinkCounters& counters, Handler handler, EncodedHandler encoded)
+    : counters_(counters), handler_(std::move(handler)), encoded_(std::move(encoded)),
       assembler_([this](std::span<const std::uint8_t> unit) { decode(unit); }) {}
 
 void TelloVideoReceiver::datagram(std::span<const std::uint8_t> bytes, Seconds t) {
@@ -74,10 +74,15 @@ void TelloVideoReceiver::datagram(std::span<const std::uint8_t> bytes, Seconds t
 
 void TelloVideoReceiver::decode(std::span<const std::uint8_t> unit) {
   counters_.add("video_frames");
-  if (ardrone2::contains_idr(unit)) counters_.add("video_keyframes");
+  const bool keyframe = ardrone2::contains_idr(unit);
+  if (keyframe) counters_.add("video_keyframes");
   // Reuse the picture buffer unless a listener kept a reference to the last frame.
   if (frame_.bgr.u && frame_.bgr.u->refcount > 1) frame_.bgr.release();
   const ardrone2::DecodeStatus decoded = decoder_.decode(unit, frame_.bgr);
+  const std::uint32_t number = frame_number_++;
+  forward_seen_idr_ = forward_seen_idr_ || keyframe;
+  if (encoded_ && forward_seen_idr_)
+    encoded_(EncodedVideo{t_, CameraId::Front, number, keyframe, decoder_.width(), decoder_.height(), unit});
   if (decoded == ardrone2::DecodeStatus::Error) {
     counters_.bad_input(to_string(decoded), t_, "access unit of " + std::to_string(unit.size()) + " bytes");
     return;
@@ -89,13 +94,14 @@ void TelloVideoReceiver::decode(std::span<const std::uint8_t> unit) {
   counters_.add("video_decoded");
   frame_.t = t_;
   frame_.camera = CameraId::Front;  // SDK mode streams the front camera only
-  frame_.frame_number = frame_number_++;
+  frame_.frame_number = number;
   if (handler_) handler_(frame_);
 }
 
 void TelloVideoReceiver::reset() {
   assembler_.reset();
   decoder_.reset();
+  forward_seen_idr_ = false;
 }
 
 }  // namespace labo::tello

@@ -52,7 +52,10 @@ class TelloStateReceiver {
 class TelloVideoReceiver {
  public:
   using Handler = std::function<void(const VideoFrame&)>;
-  TelloVideoReceiver(LinkCounters& counters, Handler handler);
+  using EncodedHandler = std::function<void(const EncodedVideo&)>;
+  // `encoded`, when given, receives each access unit (from the first IDR after a reset on), before
+  // the handler gets its decoded frame; its size is the decoder's (0 before a first decoded frame).
+  TelloVideoReceiver(LinkCounters& counters, Handler handler, EncodedHandler encoded = {});
   // One UDP 11111 datagram.
   void datagram(std::span<const std::uint8_t> bytes, Seconds t);
   // A new stream (streamon again, reconnection): drop partial data, wait for the next IDR.
@@ -63,6 +66,8 @@ class TelloVideoReceiver {
 
   LinkCounters& counters_;
   Handler handler_;
+  EncodedHandler encoded_;
+  bool forward_seen_idr_ = false;
   AnnexBAssembler assembler_;
   ardrone2::H264Decoder decoder_;
   VideoFrame frame_;

@@ -16,7 +16,7 @@ void VisionJob::clear() {
 }
 
 bool VisionResults::detected() const {
-  const auto by_detector = [](const TargetObservation& o) { return o.method == "template" || o.method == "sift"; };
+  const auto by_detector = [](const TargetObservation& o) { return o.method == "template" || o.method == "features"; };
   return (has_instrument && by_detector(instrument)) || (has_platform && by_detector(platform));
 }
 

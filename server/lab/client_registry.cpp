@@ -9,11 +9,26 @@ void ClientRegistry::join(const std::shared_ptr<LabClient>& client) {
   std::lock_guard lock(mutex_);
   members_.insert_or_assign(client->id(), Member{client, Participant{client->id(), s.user, s.role},
                                                  TokenBucket(messages_per_s_, burst_)});
+  count_viewers();
 }
 
 void ClientRegistry::leave(ClientId client) {
   std::lock_guard lock(mutex_);
   members_.erase(client);
+  count_viewers();
+}
+
+void ClientRegistry::set_video(ClientId client, VideoPath path) {
+  std::lock_guard lock(mutex_);
+  if (const auto it = members_.find(client); it != members_.end()) it->second.video = path;
+  count_viewers();
+}
+
+void ClientRegistry::count_viewers() {
+  std::size_t h264 = 0;
+  for (const auto& [id, m] : members_) h264 += m.video == VideoPath::H264;
+  h264_viewers_ = h264;
+  jpeg_viewers_ = members_.size() - h264;
 }
 
 ClientRegistry::Admission ClientRegistry::admit(ClientId client, double now_s) {
@@ -49,9 +64,27 @@ void ClientRegistry::send_each(const std::vector<std::pair<ClientId, Message>>& 
     if (const auto client = weak.lock()) client->send_event(*message);
 }
 
+void ClientRegistry::links_watching(VideoPath path, std::vector<std::weak_ptr<LabClient>>& out) const {
+  out.clear();
+  std::lock_guard lock(mutex_);
+  for (const auto& [id, m] : members_)
+    if (m.video == path) out.push_back(m.link);
+}
+
 void ClientRegistry::send_frame(const Message& wire) {
-  for (const auto& weak : links())
+  thread_local std::vector<std::weak_ptr<LabClient>> targets;
+  links_watching(VideoPath::Jpeg, targets);
+  for (const auto& weak : targets)
     if (const auto client = weak.lock()) client->send_frame(wire);
+  targets.clear();  // no client kept alive by the scratch vector
+}
+
+void ClientRegistry::send_access_unit(const WireAccessUnit& unit) {
+  thread_local std::vector<std::weak_ptr<LabClient>> targets;
+  links_watching(VideoPath::H264, targets);
+  for (const auto& weak : targets)
+    if (const auto client = weak.lock()) client->send_access_unit(unit);
+  targets.clear();
 }
 
 void ClientRegistry::disconnect_all(const std::string& reason) {

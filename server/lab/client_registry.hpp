@@ -5,6 +5,7 @@
 // delivery's reference may be a closing session's last, and its destructor leaves the registry,
 // which takes the lock again (test "lab: a client whose last owner is a delivery leaves without a
 // deadlock"). Thread-safe; nothing here blocks on a client (LabClient's sends only queue).
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -35,7 +36,12 @@ class ClientRegistry {
   void send(const Message& message);  // to every client
   void send_to(ClientId client, const Message& message);
   void send_each(const std::vector<std::pair<ClientId, Message>>& messages);  // each to its client
-  void send_frame(const Message& wire);  // to every client's video slot
+  // Video, to the clients that watch its path: a JPEG frame to their video slot, an access unit (and
+  // its geometry) to their H.264 queue.
+  void set_video(ClientId client, VideoPath path);
+  void send_frame(const Message& wire);
+  void send_access_unit(const WireAccessUnit& unit);
+  std::size_t watching(VideoPath path) const { return (path == VideoPath::H264 ? h264_viewers_ : jpeg_viewers_).load(); }
   void disconnect_all(const std::string& reason);
 
   std::vector<Participant> participants() const;
@@ -46,14 +52,20 @@ class ClientRegistry {
     std::weak_ptr<LabClient> link;
     Participant who;
     TokenBucket bucket;
+    VideoPath video = VideoPath::Jpeg;
   };
   // The clients' weak pointers, copied under the lock: the caller locks them once it is released.
   std::vector<std::weak_ptr<LabClient>> links() const;
+  // Those of the clients watching `path`, into `out` (a per-thread scratch vector: the per-frame
+  // fan-out does not allocate once it has grown).
+  void links_watching(VideoPath path, std::vector<std::weak_ptr<LabClient>>& out) const;
+  void count_viewers();  // under mutex_
 
   double messages_per_s_;
   int burst_;
   mutable std::mutex mutex_;
   std::unordered_map<ClientId, Member> members_;
+  std::atomic<std::size_t> jpeg_viewers_{0}, h264_viewers_{0};
 };
 
 }  // namespace labo

@@ -94,6 +94,8 @@ Message emergency_event_message(const std::string& user) {
   return shared({{"type", "event"}, {"kind", "emergency"}, {"message", "emergency stop by " + user}});
 }
 
+Message subscribed_message(VideoPath video) { return shared({{"type", "subscribed"}, {"video", to_string(video)}}); }
+
 Message control_message(const ControlSnapshot& snapshot, std::size_t spectators, std::uint64_t seq,
                         const ClientControlView& you) {
   json j = control_json(snapshot, spectators);

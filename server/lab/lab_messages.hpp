@@ -9,6 +9,7 @@
 #include "server/auth/session_store.hpp"
 #include "server/lab/control_queue.hpp"
 #include "server/lab/flight_service.hpp"
+#include "server/lab/lab_client.hpp"
 #include "server/server_settings.hpp"
 
 namespace labo {
@@ -27,6 +28,8 @@ Message notice_message(const ControlNotice& notice);
 Message telemetry_message(const FlightTelemetry& telemetry);
 Message flight_event_message(const FlightEvent& event);
 Message emergency_event_message(const std::string& user);
+// {"type":"subscribed","video":"h264|jpeg"}: the path this client's video now takes.
+Message subscribed_message(VideoPath video);
 
 // The control state as one client sees it: who controls, the queue, and where this client stands.
 struct ClientControlView {

@@ -10,7 +10,7 @@ using nlohmann::json;
 
 namespace {
 
-constexpr std::string_view kTypes = "command, heartbeat, request_control, release_control, take_over";
+constexpr std::string_view kTypes = "command, heartbeat, request_control, release_control, take_over, subscribe";
 constexpr std::string_view kCommands =
     "takeoff, inspect, find_teacher, stop_face_follow, return_home, land, emergency_stop";
 constexpr double kMaxHoldS = 600;
@@ -49,6 +49,16 @@ ParsedMessage parse_command(const json& msg) {
   return ClientRequest{std::move(r)};
 }
 
+ParsedMessage parse_subscribe(const json& msg) {
+  for (const auto& [key, value] : msg.items())
+    if (key != "type" && key != "video") return refuse("unknown field '" + key + "' in subscribe (expected 'video')");
+  if (!msg.contains("video") || !msg["video"].is_string()) return refuse("subscribe needs 'video' (string: h264 or jpeg)");
+  const std::string name = msg["video"].get<std::string>();
+  const auto path = parse_video_path(name);
+  if (!path) return refuse("unknown video path '" + name + "' (expected h264 or jpeg)");
+  return ClientRequest{SubscribeRequest{*path}};
+}
+
 // The messages that carry nothing but their type.
 struct BareMessage {
   std::string_view type;
@@ -70,6 +80,7 @@ ParsedMessage parse_client_message(std::string_view text) {
   if (!msg.contains("type") || !msg["type"].is_string()) return untyped("'type' (string) is required");
   const std::string type = msg["type"].get<std::string>();
   if (type == "command") return parse_command(msg);
+  if (type == "subscribe") return parse_subscribe(msg);
   for (const BareMessage& m : kBareMessages) {
     if (m.type != type) continue;
     if (msg.size() != 1) return refuse("'" + type + "' takes no other field");

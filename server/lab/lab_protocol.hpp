@@ -9,6 +9,7 @@
 #include <variant>
 
 #include "server/lab/flight_service.hpp"
+#include "server/lab/lab_client.hpp"
 
 namespace labo {
 
@@ -22,9 +23,12 @@ struct HeartbeatRequest {};        // {"type":"heartbeat"}
 struct RequestControlRequest {};   // {"type":"request_control"}
 struct ReleaseControlRequest {};   // {"type":"release_control"}
 struct TakeOverRequest {};         // {"type":"take_over"}
+struct SubscribeRequest {          // {"type":"subscribe","video":"h264"|"jpeg"}
+  VideoPath video = VideoPath::Jpeg;
+};
 
-using ClientRequest =
-    std::variant<CommandRequest, HeartbeatRequest, RequestControlRequest, ReleaseControlRequest, TakeOverRequest>;
+using ClientRequest = std::variant<CommandRequest, HeartbeatRequest, RequestControlRequest, ReleaseControlRequest,
+                                   TakeOverRequest, SubscribeRequest>;
 
 // A message the server refuses: the status of the `error` reply (400) and its text.
 struct Refusal {

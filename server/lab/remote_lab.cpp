@@ -99,6 +99,12 @@ void RemoteLab::execute(LabClient& client, const TakeOverRequest&) {
   change_control([&who](ControlQueue& q, double now) { return q.take_over(who, now); });
 }
 
+void RemoteLab::execute(LabClient& client, const SubscribeRequest& r) {
+  client.select_video(r.video);  // first: the client's H.264 queue restarts before units reach it
+  clients_.set_video(client.id(), r.video);
+  client.send_event(subscribed_message(r.video));
+}
+
 bool RemoteLab::has_control(ClientId client) const {
   std::lock_guard lock(control_mutex_);
   return control_.is_controller(client);
@@ -148,6 +154,11 @@ void RemoteLab::tick() {
 void RemoteLab::on_frame(const WireFrame& frame) {
   metrics_.frames_published++;
   clients_.send_frame(frame.wire);
+}
+
+void RemoteLab::on_access_unit(const WireAccessUnit& unit) {
+  metrics_.access_units_published++;
+  clients_.send_access_unit(unit);
 }
 
 void RemoteLab::on_flight_event(const FlightEvent& event) { clients_.send(flight_event_message(event)); }

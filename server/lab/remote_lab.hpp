@@ -37,7 +37,10 @@ class RemoteLab final : public FlightEventSink {
   void tick();
 
   void on_frame(const WireFrame& frame) override;
+  void on_access_unit(const WireAccessUnit& unit) override;
   void on_flight_event(const FlightEvent& event) override;
+  bool wants_jpeg() const override { return clients_.watching(VideoPath::Jpeg) > 0; }
+  bool wants_access_units() const override { return clients_.watching(VideoPath::H264) > 0; }
 
   // JSON for REST: the queue and the connected clients.
   std::string control_state_json() const;
@@ -51,6 +54,7 @@ class RemoteLab final : public FlightEventSink {
   void execute(LabClient& client, const RequestControlRequest& request);
   void execute(LabClient& client, const ReleaseControlRequest& request);
   void execute(LabClient& client, const TakeOverRequest& request);
+  void execute(LabClient& client, const SubscribeRequest& request);
   bool has_control(ClientId client) const;
   // A change of the control queue (its notices), made by `change` under control_mutex_; the notices
   // and everyone's view of the new state are sent once it is released.

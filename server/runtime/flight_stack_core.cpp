@@ -124,17 +124,18 @@ FlightSnapshot FlightStackCore::status() {
   if (s.face.placed_in_world) t.teacher_xy = std::pair{s.face.T_world_target.translation().x(), s.face.T_world_target.translation().y()};
 
   const PinholeCamera& camera = camera_ == CameraId::Front ? front_ : bottom_;
+  // The panel, else the platform (the camera that sees it is the one selected).
   if (s.instrument.state == fusion::TrackState::Tracking && s.instrument.image_points.size() == 4) {
-    snap.overlay.panel_corners = s.instrument.image_points;
-    snap.overlay.panel_axes = project_axes(camera, s.instrument.T_cam_target, 0.15);
+    snap.overlay.panel = {s.instrument.image_points, project_axes(camera, s.instrument.T_cam_target, 0.15), s.instrument.t};
   } else if (s.platform.state == fusion::TrackState::Tracking && s.platform.image_points.size() == 4) {
-    snap.overlay.panel_corners = s.platform.image_points;
-    snap.overlay.panel_axes = project_axes(camera, s.platform.T_cam_target, 0.15);
+    snap.overlay.platform = {s.platform.image_points, project_axes(camera, s.platform.T_cam_target, 0.15), s.platform.t};
   }
   if (s.face.state == fusion::TrackState::Tracking && !s.face.image_points.empty()) {
-    snap.overlay.face_points = s.face.image_points;
-    if (s.face.image_points.size() == 68) snap.overlay.face_edges = face_landmark_edges();
-    snap.overlay.face_axes = project_axes(camera, s.face.T_cam_target, 0.10);
+    FaceOverlay& face = snap.overlay.face;
+    face.points = s.face.image_points;
+    if (s.face.image_points.size() == 68) face.edges = face_landmark_edges();
+    face.axes = project_axes(camera, s.face.T_cam_target, 0.10);
+    face.measured_t = s.face.t;
   }
 
   if (s.mission != last_mission_ || s.stage != last_stage_) {

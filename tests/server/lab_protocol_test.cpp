@@ -42,6 +42,8 @@ TEST_CASE("lab: protocol: each message type becomes its typed request") {
   request_of<RequestControlRequest>(parse_client_message(R"({"type":"request_control"})"));
   request_of<ReleaseControlRequest>(parse_client_message(R"({"type":"release_control"})"));
   request_of<TakeOverRequest>(parse_client_message(R"({"type":"take_over"})"));
+  CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"h264"})")).video == VideoPath::H264);
+  CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"jpeg"})")).video == VideoPath::Jpeg);
 
   const ParsedMessage stop = parse_client_message(R"({"type":"command","id":1,"command":"emergency_stop"})");
   CHECK(is_emergency_stop(std::get<ClientRequest>(stop)));
@@ -60,7 +62,8 @@ TEST_CASE("lab: protocol: every refused input names what was wrong and what was 
   CHECK(verdict_of(R"({"command":"land"})") == "400 'type' (string) is required");
   CHECK(verdict_of(R"({"type":null})") == "400 'type' (string) is required");
   CHECK(verdict_of(R"({"type":"fly"})") ==
-        "400 unknown message type 'fly' (expected command, heartbeat, request_control, release_control, take_over)");
+        "400 unknown message type 'fly' (expected command, heartbeat, request_control, release_control, take_over, "
+        "subscribe)");
 
   // Commands.
   CHECK(verdict_of(R"({"type":"command"})") == "400 'command' (string) is required");
@@ -86,4 +89,12 @@ TEST_CASE("lab: protocol: every refused input names what was wrong and what was 
     CHECK(verdict_of(std::string(R"({"type":")") + type + R"(","extra":1})") == std::string("400 '") + type + "' takes no other field");
   const ParsedMessage typed = parse_client_message(R"({"type":"heartbeat","extra":1})");
   CHECK(std::get<Refusal>(typed).typed);
+
+  // Subscriptions: the video path, nothing else.
+  CHECK(verdict_of(R"({"type":"subscribe"})") == "400 subscribe needs 'video' (string: h264 or jpeg)");
+  CHECK(verdict_of(R"({"type":"subscribe","video":1})") == "400 subscribe needs 'video' (string: h264 or jpeg)");
+  CHECK(verdict_of(R"({"type":"subscribe","video":"H264"})") == "400 unknown video path 'H264' (expected h264 or jpeg)");
+  CHECK(verdict_of(R"({"type":"subscribe","video":"vp8"})") == "400 unknown video path 'vp8' (expected h264 or jpeg)");
+  CHECK(verdict_of(R"({"type":"subscribe","video":"h264","rate":3})") ==
+        "400 unknown field 'rate' in subscribe (expected 'video')");
 }

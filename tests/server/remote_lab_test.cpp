@@ -22,10 +22,13 @@ class RecordingClient final : public LabClient {
     if (on_send) on_send();
   }
   void send_frame(std::shared_ptr<const std::string>) override { ++frames; }
+  void send_access_unit(const WireAccessUnit&) override { ++units; }
+  void select_video(VideoPath path) override { video = path; }
   void disconnect(const std::string&) override {}
 
   std::vector<std::string> events;
-  int frames = 0;
+  int frames = 0, units = 0;
+  VideoPath video = VideoPath::Jpeg;
   std::function<void()> on_send;
 
  private:

@@ -59,7 +59,8 @@ TEST_CASE("lockstep vision worker: results wait for the modelled time, and a bus
   auto pipelines = std::make_unique<RecordingPipelines>(detector);
   const auto applied = pipelines->applied;
   control::FlightStack stack(control::FlightStackSetup{}, std::move(pipelines));
-  const VisionLatencyModel model;
+  VisionLatencyModel model;
+  model.template_detection_ms = 18.3;  // a slow search, longer than the frames' spacing below
   LockstepVisionWorker worker(stack, model);
 
   worker.on_frame(frame_at(0.00), 0.00);  // a template search: 18.3 + 0.2 ms
@@ -89,10 +90,10 @@ TEST_CASE("lockstep vision worker: a frame's modelled time is the sum of what it
   r.has_instrument = true;
   r.instrument.method = "ic";
   CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.slam_ms + m.planar_tracking_ms) / 1000.0));
-  r.instrument.method = "sift";
-  CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.slam_ms + m.sift_detection_ms) / 1000.0));
+  r.instrument.method = "features";
+  CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.slam_ms + m.feature_detection_ms) / 1000.0));
   r.instrument.method = "none";  // a search that found nothing costs a search
-  CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.slam_ms + m.sift_detection_ms) / 1000.0));
+  CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.slam_ms + m.feature_detection_ms) / 1000.0));
   r.slam.summary.state = fusion::SlamState::Off;  // paused on a bottom frame: nothing to run
   r.has_instrument = false;
   r.has_platform = true;

@@ -34,7 +34,7 @@ SequenceStats run_ic(const std::string& sequence) {
 // template level, coarser than the frame, where full Gauss-Newton steps of IC would cycle across the
 // minimum until the iteration limit: losses for no convergence, each restarting the pose filter.
 TEST_CASE("planar: the lab's oscilloscope is tracked from 3 m to 0.6 m without a loss") {
-  const SequenceStats s = run_ic("lab_renderer");
+  const SequenceStats s = run_ic("lab_renderer_oscilloscope");
   CHECK(s.losses == 0);
   CHECK(s.detections == 1);
   CHECK(s.frames_with_pose == s.frames_in_view);
@@ -59,7 +59,7 @@ TEST_CASE("planar: the motion-blur search starts at the last exposure: half the 
 // few %, on either side of the truth; the lower residual would pick one of them at random. The pose
 // midway between them is nearer the truth. A rule of the sampled model.
 TEST_CASE("planar: two refined IPPE branches the fit cannot tell apart give the pose midway between them") {
-  const SequenceBenchResult result = run_sequence_bench(sampled_model(), VisionThresholds{}, "lab_renderer",
+  const SequenceBenchResult result = run_sequence_bench(sampled_model(), VisionThresholds{}, "lab_renderer_oscilloscope",
                                                         {planar::TrackerKind::InverseCompositional});
   std::vector<double> far;
   for (const FrameRecord& f : result.frames) {
@@ -83,7 +83,7 @@ TEST_CASE("planar: two refined IPPE branches the fit cannot tell apart give the 
 // the midway rule applies to it. A rule of the sampled model (the footprint model's cost has no split
 // minimum).
 TEST_CASE("planar: the mirror of the refined pose finds the other minimum both IPPE branches missed") {
-  const SequenceBenchResult result = run_sequence_bench(sampled_model(), VisionThresholds{}, "lab_renderer",
+  const SequenceBenchResult result = run_sequence_bench(sampled_model(), VisionThresholds{}, "lab_renderer_oscilloscope",
                                                         {planar::TrackerKind::InverseCompositional});
   bool binned = false;
   for (const RangeBinStats& bin : result.range_bins) {
@@ -104,7 +104,7 @@ TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree with the f
   REQUIRE(config.se3.estimate_blur);
   REQUIRE_FALSE(config.se3.resample_to_frame);
   const SequenceBenchResult result =
-      run_sequence_bench(config, VisionThresholds{}, "lab_renderer", {planar::TrackerKind::InverseCompositional});
+      run_sequence_bench(config, VisionThresholds{}, "lab_renderer_oscilloscope", {planar::TrackerKind::InverseCompositional});
   bool binned = false;
   for (const RangeBinStats& bin : result.range_bins) {
     if (bin.min_m != 2.0) continue;
@@ -124,7 +124,7 @@ TEST_CASE("planar: the lab's oscilloscope at 2-3 m is within 1 degree at the 95t
   REQUIRE(config.se3_footprint_model);
   for (const bool footprint : {true, false}) {
     const SequenceBenchResult result = run_sequence_bench(footprint ? config : sampled_model(), VisionThresholds{},
-                                                          "lab_renderer", {planar::TrackerKind::InverseCompositional});
+                                                          "lab_renderer_oscilloscope", {planar::TrackerKind::InverseCompositional});
     REQUIRE(result.sequences.size() == 1);
     CHECK(result.sequences.front().losses == 0);
     bool binned = false;

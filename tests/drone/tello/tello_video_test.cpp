@@ -117,11 +117,19 @@ TEST_CASE("tello: junk on port 11111 is dropped and counted, the stream resynchr
 TEST_CASE("tello: the video receiver decodes the stream and counts what it refuses", "[tello][video]") {
   ardrone2::LinkCounters counters(Logger("test", LogLevel::Off));
   std::vector<VideoFrame> frames;
-  TelloVideoReceiver receiver(counters, [&](const VideoFrame& f) {
-    VideoFrame copy = f;
-    copy.bgr = f.bgr.clone();
-    frames.push_back(copy);
-  });
+  std::vector<EncodedVideo> encoded;  // spans dropped: only the fields are kept
+  TelloVideoReceiver receiver(
+      counters,
+      [&](const VideoFrame& f) {
+        VideoFrame copy = f;
+        copy.bgr = f.bgr.clone();
+        frames.push_back(copy);
+      },
+      [&](const EncodedVideo& e) {
+        CHECK(e.annexb.size() > 0);
+        encoded.push_back(e);
+        encoded.back().annexb = {};
+      });
   const auto units = encoded_units(20, 10);
   // Start mid-stream (a client joining late): frames before the first IDR are not decodable.
   for (std::size_t i = 3; i < units.size(); ++i)
@@ -135,6 +143,14 @@ TEST_CASE("tello: the video receiver decodes the stream and counts what it refus
   CHECK(frames.front().t == Approx(1.0));  // the receive time of the unit's last datagram
   CHECK(frames.back().frame_number == frames.front().frame_number + 9);
   CHECK(count(stats, "video_keyframes") == 1);  // unit 10
+  // The undecoded units go on from the first IDR, each before its frame, with the decoder's size.
+  REQUIRE(encoded.size() == 10);
+  CHECK(encoded.front().keyframe);
+  CHECK_FALSE(encoded[1].keyframe);
+  CHECK(encoded.front().width == 320);
+  CHECK(encoded.front().height == 240);
+  CHECK(encoded.front().frame_number == frames.front().frame_number);
+  CHECK(encoded.front().t == frames.front().t);
 
   // Junk datagrams of every size, with start codes in them: counted, no crash, decoding goes on.
   std::mt19937 rng(7);

@@ -83,7 +83,7 @@ TEST_CASE("vision front-ends: the instrument panel is detected near with SIFT, f
       const auto corner = scene.camera.project(truth * Eigen::Vector3d(-osc.width_m / 2, -osc.height_m / 2, 0));
       REQUIRE(corner);
       CHECK(std::hypot(o.image_points[0].x - corner->x(), o.image_points[0].y - corner->y()) < 2.0);
-      if (i == 0) CHECK(o.method == (distance < 2.0 ? "sift" : "template"));  // lambda = 2 m for the oscilloscope
+      if (i == 0) CHECK(o.method == (distance < 2.0 ? "features" : "template"));  // lambda = 2 m for the oscilloscope
       else CHECK(o.method == "ic");
     }
   }
@@ -126,7 +126,7 @@ TEST_CASE("vision front-ends: a wrong predicted distance costs the confirmation 
   CHECK(frame == 16);
   const fusion::TargetObservation& confirmed = fe.process(view, (frame + 1) / 30.0, 1.0);
   REQUIRE(confirmed.state == fusion::TrackState::Tracking);
-  CHECK(confirmed.method != "sift");
+  CHECK(confirmed.method != "features");
   CHECK((confirmed.T_cam_target.translation() - truth.translation()).norm() < 0.06);
 }
 
@@ -169,7 +169,7 @@ TEST_CASE("vision front-ends: after a lost track the predicted detector runs fir
   CHECK(fe.process(empty, 5 / 30.0, 1.0).state == fusion::TrackState::Lost);
   const fusion::TargetObservation& found = fe.process(scene.view(near), 6 / 30.0, 1.0);
   CHECK(found.state == fusion::TrackState::Tracking);
-  CHECK(found.method == "sift");
+  CHECK(found.method == "features");
 }
 
 TEST_CASE("vision front-ends: a target without a template is refused by name") {
@@ -207,7 +207,7 @@ TEST_CASE("vision front-ends: LabPipelines runs the focused instrument on front 
   pipelines->on_video(bgr_frame(panel.view(T_cam_osc), 0.2, CameraId::Front));
   const fusion::TargetObservation o = pipelines->instrument();
   REQUIRE(o.state == fusion::TrackState::Tracking);
-  CHECK(o.method == "sift");  // the estimator predicts 1.3 m, below the oscilloscope's lambda
+  CHECK(o.method == "features");  // the estimator predicts 1.3 m, below the oscilloscope's lambda
   CHECK((o.T_cam_target.translation() - T_cam_osc.translation()).norm() < 0.03);
   CHECK(angle_between(o.T_cam_target, T_cam_osc) < 2.0 * kDeg);
 
