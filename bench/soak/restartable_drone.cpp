@@ -40,10 +40,16 @@ void RestartableDrone::start() {
   ++starts_;
 }
 
-void RestartableDrone::replace_lab(const AppConfig& config) {
+void RestartableDrone::replace_lab(const AppConfig& config, const Eigen::Vector2d& xy, double yaw_rad) {
   std::lock_guard lock(mutex_);
   if (emulator_) throw std::logic_error("RestartableDrone::replace_lab: stop the emulator first");
-  lab_ = make_configured_lab(config);
+  // lab.T_world_base is where a simulated lab starts its drone; only the simulation reads it (the
+  // flight software keeps the lab's own base), so it sees nothing but a new battery.
+  AppConfig c = config;
+  const Eigen::Vector3d at(xy.x(), xy.y(), lab_->dynamics().collision().support_height({xy.x(), xy.y(), 10.0}));
+  c.lab.T_world_base = Eigen::Isometry3d(Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()));
+  c.lab.T_world_base.translation() = at;
+  lab_ = make_configured_lab(c);
 }
 
 template <typename F>
@@ -64,6 +70,7 @@ DroneTruth RestartableDrone::truth() const {
     t.phase = to_string(s.phase);
     t.battery_percent = s.battery_percent;
     t.position_m = s.position_m;
+    t.yaw_rad = s.yaw_rad;
     t.crashes = s.crashes;
     t.crash_reason = s.crash_reason;
   });

@@ -3,7 +3,8 @@
 // sim` flies, as a drone the soak can switch off and on: stop() ends the emulator (its sockets
 // close; the simulated physics wait), start() starts a new emulator on the same ports over the same
 // lab (its time continues the lab's), and replace_lab() swaps in a fresh lab while it is off: a
-// battery swap, after which the drone stands on its platform again with the new battery.
+// battery swap, the new lab's drone standing where the old one stood (lab.T_world_base is where a
+// simulated lab starts its drone), so the flight software sees nothing but the new battery.
 #include <Eigen/Geometry>
 #include <memory>
 #include <mutex>
@@ -20,7 +21,8 @@ struct DroneTruth {
   bool airborne = false;
   std::string phase;  // the firmware's: landed, taking_off, flying, hovering, landing, emergency
   double battery_percent = 0;
-  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  // the hull's underside
+  double yaw_rad = 0;
   int crashes = 0;
   std::string crash_reason;  // what the hull last hit
   bool emulator_running = false;
@@ -38,8 +40,9 @@ class RestartableDrone {
 
   void stop();
   void start();  // a new emulator on the same ports; no-op when running
-  // While stopped: a new lab from `config` (its sim section: the battery, the seed).
-  void replace_lab(const AppConfig& config);
+  // While stopped: a new lab from `config` (its sim section: the battery, the seed), its drone
+  // landed at (x, y) with `yaw_rad`, on whatever surface is there (floor, bench top, platform).
+  void replace_lab(const AppConfig& config, const Eigen::Vector2d& xy, double yaw_rad);
 
   DroneTruth truth() const;
   Eigen::Isometry3d T_world_body() const;

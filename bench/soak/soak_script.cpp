@@ -5,6 +5,7 @@
 #include <iostream>
 #include <thread>
 
+#include "core/frames.hpp"
 #include "localization/fusion/lab_geometry.hpp"
 
 namespace labo {
@@ -12,7 +13,6 @@ namespace labo {
 namespace {
 
 constexpr double kFlightBeforeFault_s = 10;  // a fault in flight: once the drone has really flown
-constexpr double kExtraTimeForFaults_s = 600;
 constexpr double kHeartbeatEvery_s = 2;  // as the page does
 
 const char* name_of(PlannedFault::Kind kind) {
@@ -61,7 +61,9 @@ SoakScript::SoakScript(SoakServer& server, SoakWatch& watch, boost::asio::io_con
 void SoakScript::run() {
   for (int r = 0;; ++r) {
     const bool faults_left = std::find(applied_.begin(), applied_.end(), false) != applied_.end();
-    if (now() >= options_.total_s && (!faults_left || now() >= options_.total_s + kExtraTimeForFaults_s)) break;
+    // Past the time, rounds go on for the faults not yet applied, for at most half the time more.
+    const double extra_s = std::min(600.0, 0.5 * options_.total_s);
+    if (now() >= options_.total_s && (!faults_left || now() >= options_.total_s + extra_s)) break;
     round(r);
   }
   if (queued_) queued_->close();
@@ -88,17 +90,24 @@ void SoakScript::round(int index) {
   }
   const double low_percent = config_.control.safety.low_battery_percent + 5;  // about 40 s of flight
   const DroneTruth truth = server_.drone().truth();
-  if (truth.phase == "emergency") {
-    // A crash leaves the motors cut until someone resets the drone: the lab's technician puts it
-    // back on its platform with a fresh battery. The crash itself fails the soak (SoakWatch).
-    say(now(), "the drone crashed (" + truth.crash_reason + "): put back on its platform");
-    swap_battery(low_battery ? low_percent : config_.sim.lab.dynamics.battery_start_percent);
+  const double full_percent = config_.sim.lab.dynamics.battery_start_percent;
+  if (!crash_ && truth.phase == "emergency") crash_ = truth;  // it crashed outside a mission
+  if (crash_) {
+    // What the lab does after a crash (which itself fails the soak): the drone back on its
+    // platform with a fresh battery, the flight software restarted (its pose is wherever the tumble
+    // left it, and nothing re-anchors it).
+    say(now(), "the drone hit " + crash_->crash_reason + ": back on its platform, the flight software restarted");
+    DroneTruth on_platform;
+    on_platform.position_m = config_.lab.T_world_base.translation();
+    on_platform.yaw_rad = ypr_from_rotation(config_.lab.T_world_base.linear())[0];
+    swap_battery(low_battery ? low_percent : full_percent, on_platform, true);
+    crash_.reset();
   } else if (truth.airborne) {
     // Never swapped in flight: the round after a drone that would not land tries again.
   } else if (low_battery) {
-    swap_battery(low_percent);
+    swap_battery(low_percent, truth);
   } else if (truth.battery_percent < options_.battery_swap_below_percent) {
-    swap_battery(config_.sim.lab.dynamics.battery_start_percent);
+    swap_battery(full_percent, truth);
   }
 
   auto client = queued_ ? queued_ : queue_for_control(students_[index % students_.size()]);
@@ -178,9 +187,13 @@ void SoakScript::fly(SoakClient& client, Mission mission, std::uint64_t ended_be
     }
     const DroneTruth truth = server_.drone().truth();
     if (truth.phase == "emergency") {
-      // The drone crashed (SoakWatch counts it): the student presses the emergency stop, as on the
-      // page, so the flight software knows the motors are off.
+      // The drone crashed (SoakWatch counts it): once it lies still the student presses the
+      // emergency stop, as on the page, so the flight software knows the motors are off (the toggle
+      // also clears the drone's emergency on the ground).
+      crash_ = truth;
+      pause(3);
       issue(client, {{"type", "command"}, {"command", "emergency_stop"}});
+      pause(1);  // the toggle is sent for a few cycles: not into the next drone
       result = "crashed into " + truth.crash_reason;
       break;
     }
@@ -266,11 +279,12 @@ void SoakScript::look_after_faults(bool now_all) {
   }
 }
 
-void SoakScript::swap_battery(double start_percent) {
+void SoakScript::swap_battery(double start_percent, const DroneTruth& where, bool restart_flight) {
   AppConfig c = config_;
   c.sim.lab.dynamics.battery_start_percent = start_percent;
   server_.drone().stop();
-  server_.drone().replace_lab(c);
+  server_.drone().replace_lab(c, where.position_m.head<2>(), where.yaw_rad);
+  if (restart_flight) server_.restart_flight();
   server_.drone().start();
   ++battery_swaps_;
   say(now(), "battery swapped: " + std::to_string(static_cast<int>(start_percent)) + " %");

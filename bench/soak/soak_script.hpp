@@ -7,6 +7,7 @@
 // before a round, and a fresh battery whenever the drone is down to 40 % between rounds.
 #include <boost/asio/io_context.hpp>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,7 +48,8 @@ class SoakScript {
   SoakScript(SoakServer& server, SoakWatch& watch, boost::asio::io_context& io, const AppConfig& config,
              std::vector<Student> students, ScriptOptions options);
 
-  // Rounds until the time is up and every planned fault has been applied (at most 10 minutes more).
+  // Rounds until the time is up and every planned fault has been applied (at most half the time
+  // more, ten minutes at most).
   void run();
   // Results, into the summary's rounds, missions, faults and battery swaps.
   void report(SoakSummary& summary) const;
@@ -67,7 +69,9 @@ class SoakScript {
   void tick(SoakClient& client);  // heartbeat, due faults, looks at the drone after faults
   void apply_in_flight_faults();
   void look_after_faults(bool now);
-  void swap_battery(double start_percent);
+  // A new lab (RestartableDrone::replace_lab) whose drone stands at `where`, its battery at
+  // start_percent, the flight software restarted too when asked; waits until it reads the battery.
+  void swap_battery(double start_percent, const DroneTruth& where, bool restart_flight = false);
   double now() const { return watch_.elapsed_s(); }
 
   SoakServer& server_;
@@ -82,6 +86,7 @@ class SoakScript {
   std::vector<FaultRecord> faults_;
   std::vector<PendingLook> looks_;
   std::shared_ptr<SoakClient> queued_;  // the next student, already waiting for control
+  std::optional<DroneTruth> crash_;     // where to set the drone down after a crash
   double flying_since_ = -1;            // in this round, per the truth
   double last_heartbeat_ = 0;
   int next_command_id_ = 1;

@@ -23,11 +23,9 @@ SoakServer::SoakServer(const AppConfig& config, const std::filesystem::path& con
     : drone_(config, log.child("drone")),
       relay_(drone_.at_port(), drone_.navdata_port(), drone_.video_port()),
       link_(recorded_link(config, relay_, recording), log.child("link")),
-      core_(std::make_unique<control::FlightStack>(flight_stack_setup(config)), config.cameras),
-      runtime_(link_, core_, clock_, flight_runtime_options(config), log.child("runtime")),
-      web_(loopback_server(config), config_file, runtime_, log.child("web")) {
-  core_.set_truth_source([this]() -> std::optional<Eigen::Isometry3d> { return drone_.T_world_body(); });
-  runtime_.start();
+      flight_(link_, clock_, config, [this]() -> std::optional<Eigen::Isometry3d> { return drone_.T_world_body(); },
+              log.child("runtime")),
+      web_(loopback_server(config), config_file, flight_, log.child("web")) {
   link_.start();
   port_ = web_.start();
 }
@@ -38,7 +36,7 @@ void SoakServer::shutdown(double land_timeout_s) {
   if (stopped_) return;
   stopped_ = true;
   web_.shutdown(land_timeout_s);
-  runtime_.land_and_stop(0);
+  flight_.land_and_stop(0);
   link_.stop();
   drone_.stop();
 }

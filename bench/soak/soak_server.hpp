@@ -8,11 +8,10 @@
 #include <memory>
 
 #include "bench/soak/restartable_drone.hpp"
+#include "bench/soak/restartable_flight.hpp"
 #include "bench/soak/wifi_relay.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
 #include "server/http/web_server.hpp"
-#include "server/runtime/flight_runtime.hpp"
-#include "server/runtime/flight_stack_core.hpp"
 
 namespace labo {
 
@@ -26,7 +25,10 @@ class SoakServer {
   unsigned short port() const { return port_; }
   RestartableDrone& drone() { return drone_; }
   WifiRelay& relay() { return relay_; }
-  FlightService& flight() { return runtime_; }
+  FlightService& flight() { return flight_; }
+  // After a crash: the flight software restarted behind the web server (RestartableFlight).
+  void restart_flight() { flight_.restart(); }
+  int flight_restarts() const { return flight_.restarts(); }
   ServerMetrics& metrics() { return web_.metrics(); }
   LinkStatistics link_statistics() const { return link_.statistics(); }
 
@@ -41,8 +43,7 @@ class SoakServer {
   WifiRelay relay_;
   SteadyClock clock_;
   ArdroneLink link_;
-  FlightStackCore core_;
-  FlightRuntime runtime_;
+  RestartableFlight flight_;
   WebServer web_;
   unsigned short port_ = 0;
   bool stopped_ = false;

