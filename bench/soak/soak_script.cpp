@@ -76,18 +76,9 @@ std::shared_ptr<SoakClient> SoakScript::queue_for_control(const Student& student
   return client;
 }
 
-void SoakScript::round(int index) {
-  ++rounds_;
-  const auto mission = static_cast<Mission>(index % 3);
-  // Between rounds, on the ground: the nearly empty battery when it is due, else a fresh one when
-  // the drone is down to the swap level.
-  bool low_battery = false;
-  for (std::size_t i = 0; i < plan_.size(); ++i) {
-    if (!applied_[i] && plan_[i].kind == PlannedFault::Kind::LowBattery && plan_[i].due_s <= now()) {
-      applied_[i] = low_battery = true;
-      break;
-    }
-  }
+// Between rounds, on the ground: after a crash what the lab would do; else the nearly empty battery
+// when it is due, or a fresh one when the drone is down to the swap level.
+void SoakScript::ready_the_drone(bool low_battery) {
   const double low_percent = config_.control.safety.low_battery_percent + 5;  // about 40 s of flight
   const DroneTruth truth = server_.drone().truth();
   const double full_percent = config_.sim.lab.dynamics.battery_start_percent;
@@ -109,6 +100,19 @@ void SoakScript::round(int index) {
   } else if (truth.battery_percent < options_.battery_swap_below_percent) {
     swap_battery(full_percent, truth);
   }
+}
+
+void SoakScript::round(int index) {
+  ++rounds_;
+  const auto mission = static_cast<Mission>(index % 3);
+  bool low_battery = false;
+  for (std::size_t i = 0; i < plan_.size(); ++i) {
+    if (!applied_[i] && plan_[i].kind == PlannedFault::Kind::LowBattery && plan_[i].due_s <= now()) {
+      applied_[i] = low_battery = true;
+      break;
+    }
+  }
+  ready_the_drone(low_battery);
 
   auto client = queued_ ? queued_ : queue_for_control(students_[index % students_.size()]);
   queued_.reset();

@@ -62,6 +62,7 @@ class SoakScript {
   };
 
   void round(int index);
+  void ready_the_drone(bool low_battery);
   std::shared_ptr<SoakClient> queue_for_control(const Student& student);
   bool issue(SoakClient& client, const nlohmann::json& command);
   void fly(SoakClient& client, Mission mission, std::uint64_t ended_before, std::uint64_t safety_before);
