@@ -73,12 +73,13 @@ void sample_from_state(const TelloState& s, Seconds t, std::uint32_t sequence, i
   out.control_state = control_state;
   out.battery_percent = s.bat_percent;
   out.roll_rad = s.roll_deg / kDegPerRad;
-  out.pitch_rad = -s.pitch_deg / kDegPerRad;  // nose up -> nose down
-  out.yaw_rad = -s.yaw_deg / kDegPerRad;      // clockwise -> counter-clockwise
+  // Negations written as 0 - x: a zero stays +0 (printed as 0, not -0, by `labodrone tello-state`).
+  out.pitch_rad = 0.0 - s.pitch_deg / kDegPerRad;  // nose up -> nose down
+  out.yaw_rad = 0.0 - s.yaw_deg / kDegPerRad;      // clockwise -> counter-clockwise
   out.altitude_m = (s.tof_cm <= kTofMaxCm ? s.tof_cm : s.h_cm) * 0.01;
   out.vx_mps = s.vgx_dmps * 0.1;
-  out.vy_mps = -s.vgy_dmps * 0.1;  // right -> left
-  out.vz_mps = -s.vgz_dmps * 0.1;  // down -> up
+  out.vy_mps = 0.0 - s.vgy_dmps * 0.1;  // right -> left
+  out.vz_mps = 0.0 - s.vgz_dmps * 0.1;  // down -> up
   out.has_drone_time = false;
   out.drone_time = 0;
 }

@@ -11,6 +11,7 @@
 #include "drone/lab/lab_description.hpp"
 #include "drone/replay/replay_link.hpp"
 #include "drone/sim/sim_setup.hpp"
+#include "drone/tello/tello_link.hpp"
 #include "localization/face/teacher_head.hpp"
 #include "server/runtime/flight_runtime.hpp"
 #include "server/runtime/flight_stack_core.hpp"
@@ -63,6 +64,45 @@ class ArdroneBackend final : public DroneBackend {
   // ArdroneLink stamps with its own SteadyClock, created a few microseconds after this one.
   SteadyClock clock_;
   ArdroneLink link_;
+  FlightStackCore core_;
+  FlightRuntime runtime_;
+};
+
+// A Tello (or Tello EDU) in SDK 2.0 mode over Wi-Fi, with its own camera in front. It has no
+// bottom camera: the link refuses the switch and the platform search lands at the estimated base when
+// it times out (docs/tello.md "Landing without a bottom camera"); said once at start.
+class TelloBackend final : public DroneBackend {
+ public:
+  TelloBackend(const DroneSpec& spec, const AppConfig& config, Logger log)
+      : cameras_(tello_cameras(config.tello, config.cameras)),
+        link_([&] {
+          TelloLinkSettings s = config.tello.link;
+          s.host = spec.host;
+          return s;
+        }(), log.child("link")),
+        core_(std::make_unique<control::FlightStack>(setup(config, cameras_)), cameras_),
+        runtime_(link_, core_, clock_, runtime_options(config), log) {
+    log.warn(clock_.now(), "a Tello has no bottom camera: the platform stage lands at the estimated base")
+        .kv("after_s", config.control.mission.detect_timeout_s);
+    runtime_.start();
+    link_.start();
+  }
+  ~TelloBackend() override {
+    runtime_.land_and_stop(0);
+    link_.stop();
+  }
+  FlightService& flight() override { return runtime_; }
+
+ private:
+  static control::FlightStackSetup setup(const AppConfig& config, const CamerasConfig& cameras) {
+    control::FlightStackSetup s = flight_setup(config);
+    s.cameras = cameras;
+    return s;
+  }
+
+  CamerasConfig cameras_;
+  SteadyClock clock_;
+  TelloLink link_;
   FlightStackCore core_;
   FlightRuntime runtime_;
 };
@@ -170,6 +210,7 @@ class SimBackend final : public DroneBackend {
 std::unique_ptr<DroneBackend> make_drone_backend(const DroneSpec& spec, const AppConfig& config, Logger log) {
   switch (spec.kind) {
     case DroneSpec::Kind::Ardrone: return std::make_unique<ArdroneBackend>(spec, config, std::move(log));
+    case DroneSpec::Kind::Tello: return std::make_unique<TelloBackend>(spec, config, std::move(log));
     case DroneSpec::Kind::Replay: return std::make_unique<ReplayBackend>(spec, config, std::move(log));
     case DroneSpec::Kind::Sim: return std::make_unique<SimBackend>(config, std::move(log));
   }
