@@ -8,7 +8,7 @@
 import {H264Player, h264Available, parseAccessUnit} from './h264_player.js';
 import {OVERLAY_GROUPS, paintOverlays} from './overlay_painter.js';
 
-const LATENCY_WINDOW = 300;
+const LATENCY_WINDOW = 1800;  // a minute at 30 frames/s
 
 export class VideoView {
   // send(obj): a message to the server; stats: the object tests read (window.labodrone).
@@ -30,7 +30,8 @@ export class VideoView {
     Object.assign(stats, {videoPath: null, videoPathReason: '', codec: null, framesDecoded: 0, lastFrameNumber: -1,
                           latencyMedianMs: null, latencyP95Ms: null, videoBytes: 0, overlaysDrawn: [], unitsDropped: 0,
                           // Restart the latency window (a measurement leaves the start-up out).
-                          resetLatencies: () => { this.latencies = []; }});
+                          resetLatencies: () => { this.latencies = []; },
+                          latencySummary: () => this.latencySummary()});
   }
 
   // On every (re)connection: the H.264 path when the browser has WebCodecs, else JPEG.
@@ -94,20 +95,28 @@ export class VideoView {
     const latency = Date.now() - captureMs;
     this.latencies.push(latency);
     if (this.latencies.length > LATENCY_WINDOW) this.latencies.shift();
-    const sorted = [...this.latencies].sort((a, b) => a - b);
-    const at = (p) => sorted[Math.min(sorted.length - 1, Math.floor(p * sorted.length))];
-    Object.assign(this.stats, {framesDecoded: this.stats.framesDecoded + 1, lastFrameNumber: frameNumber,
-                               latencyMedianMs: at(0.5), latencyP95Ms: at(0.95)});
+    Object.assign(this.stats, {framesDecoded: this.stats.framesDecoded + 1, lastFrameNumber: frameNumber});
     this.doc.getElementById('frame-number').textContent = frameNumber;
     this.doc.getElementById('latency').textContent = latency.toFixed(0);
-    this.doc.getElementById('latency-median').textContent = at(0.5).toFixed(0);
     this.frames++;
   }
 
-  // Frames drawn since the last call (for the fps display).
+  // Median and 95th percentile of the latencies in the window.
+  latencySummary() {
+    const sorted = [...this.latencies].sort((a, b) => a - b);
+    const at = (p) => sorted[Math.min(sorted.length - 1, Math.floor(p * sorted.length))];
+    return {median: at(0.5), p95: at(0.95), frames: sorted.length};
+  }
+
+  // Frames drawn since the last call (for the fps display, once a second); the latency shown.
   takeFrameCount() {
     const n = this.frames;
     this.frames = 0;
+    if (this.latencies.length) {
+      const {median, p95} = this.latencySummary();
+      Object.assign(this.stats, {latencyMedianMs: median, latencyP95Ms: p95});
+      this.doc.getElementById('latency-median').textContent = median.toFixed(0);
+    }
     return n;
   }
 }

@@ -3,7 +3,7 @@
 //     overlays from the geometry sent with each frame, and stops drawing a group switched off;
 //  2. WebCodecs removed (an init script deletes window.VideoDecoder): the page falls back to JPEG.
 // It prints frames/s and the glass-to-browser latency (median, p95) of each path, and saves a
-// screenshot of each. Usage: node video_paths.mjs BASE_URL OUT_DIR scripted|sim
+// screenshot of each. Usage: [MEASURE_S=5] node video_paths.mjs BASE_URL OUT_DIR scripted|sim
 //   scripted: labo_e2e_server, whose scripted flight always reports a panel at (220,100)-(420,220):
 //             the outline is checked in the canvas' pixels; sim: labodrone serve (no panel in view
 //             on the platform, so only the decoding, the border and the HUD are checked).
@@ -31,18 +31,20 @@ async function openLab(initScript) {
   return {context, page};
 }
 
-// Frames/s and latency over `ms`, once 30 frames were drawn (the start-up left out).
-async function measure(page, label, ms = 5000) {
+// Frames/s and latency over MEASURE_S seconds (default 5), once 30 frames were drawn (the start-up
+// left out).
+async function measure(page, label, ms = 1000 * Number(process.env.MEASURE_S || 5)) {
   await page.waitForFunction(() => window.labodrone.framesDecoded >= 30, null, {timeout: 20000});
   const t0 = await page.evaluate(() => {
     window.labodrone.resetLatencies();
     return {n: window.labodrone.framesDecoded, t: performance.now()};
   });
   await page.waitForTimeout(ms);
-  const s = await page.evaluate(() => ({n: window.labodrone.framesDecoded, t: performance.now(), ...window.labodrone}));
+  const s = await page.evaluate(() => ({n: window.labodrone.framesDecoded, t: performance.now(),
+                                         latency: window.labodrone.latencySummary(), ...window.labodrone}));
   const fps = (s.n - t0.n) * 1000 / (s.t - t0.t);
   console.log(`${label}: ${fps.toFixed(1)} frames/s in the page; glass-to-browser latency median ` +
-              `${s.latencyMedianMs.toFixed(0)} ms, p95 ${s.latencyP95Ms.toFixed(0)} ms (${s.n - t0.n} frames)`);
+              `${s.latency.median.toFixed(0)} ms, p95 ${s.latency.p95.toFixed(0)} ms (${s.latency.frames} frames)`);
   if (fps < 20) fail(`${label}: only ${fps.toFixed(1)} frames/s reached the page`);
   return s;
 }
