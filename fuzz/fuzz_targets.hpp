@@ -15,7 +15,7 @@
 #include "drone/tello/annexb_assembler.hpp"
 #include "drone/tello/tello_command.hpp"
 #include "drone/tello/tello_state.hpp"
-#include "drone/tello/tello_wire.hpp"
+#include "drone/tello/tello_rc.hpp"
 
 namespace labo::fuzz {
 

@@ -3,7 +3,7 @@
 #include <limits>
 #include <string_view>
 
-#include "drone/tello/tello_wire.hpp"
+#include "drone/tello/tello_rc.hpp"
 
 namespace labo {
 

@@ -1,10 +1,7 @@
 #include "drone/tello/tello_wire.hpp"
 
 #include <algorithm>
-#include <array>
-#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 
 namespace labo::tello {
@@ -13,11 +10,6 @@ namespace {
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 constexpr double kG = 9.80665;
 constexpr double kStandardPressurePa = 101325.0;
-
-bool parse_stick(std::string_view text, int& value) {
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  return !text.empty() && ec == std::errc() && end == text.data() + text.size() && std::abs(value) <= kMaxStick;
-}
 
 int stick(double v, int limit) {
   return static_cast<int>(std::lround(std::clamp(v, -1.0, 1.0) * limit));
@@ -45,24 +37,6 @@ RcSticks rc_from_move(const MoveCommand& c, int limit_percent) {
 MoveCommand move_from_rc(const RcSticks& s) {
   auto unit = [](int v) { return std::clamp(static_cast<double>(v) / kMaxStick, -1.0, 1.0); };
   return MoveCommand{unit(s.a), unit(s.b), unit(s.c), -unit(s.d)};
-}
-
-void format_rc(const RcSticks& s, std::string& out) {
-  char buf[48];
-  const int n = std::snprintf(buf, sizeof(buf), "rc %d %d %d %d", s.a, s.b, s.c, s.d);
-  out.assign(buf, static_cast<std::size_t>(n));
-}
-
-bool parse_rc_arguments(std::string_view text, RcSticks& sticks) {
-  std::array<int*, 4> values = {&sticks.a, &sticks.b, &sticks.c, &sticks.d};
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    while (text.starts_with(' ')) text.remove_prefix(1);
-    const std::size_t space = text.find(' ');
-    if (!parse_stick(text.substr(0, space), *values[i])) return false;
-    text = space == std::string_view::npos ? std::string_view() : text.substr(space);
-  }
-  while (text.starts_with(' ')) text.remove_prefix(1);
-  return text.empty();
 }
 
 void sample_from_state(const TelloState& s, Seconds t, std::uint32_t sequence, int control_state,
