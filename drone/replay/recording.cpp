@@ -93,4 +93,16 @@ bool RecordingReader::next(Record& record) {
   return true;
 }
 
+RecordedDrone recorded_drone(const std::filesystem::path& file) {
+  RecordingReader reader(file);
+  Record record;
+  while (reader.next(record)) {
+    if (record.channel == RecordChannel::Note) continue;
+    return static_cast<std::uint8_t>(record.channel) >= static_cast<std::uint8_t>(RecordChannel::TelloCommandOut)
+               ? RecordedDrone::Tello
+               : RecordedDrone::Ardrone;
+  }
+  return RecordedDrone::Unknown;
+}
+
 }  // namespace labo

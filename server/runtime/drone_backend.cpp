@@ -34,6 +34,13 @@ control::FlightStackSetup flight_setup(const AppConfig& config) {
   return setup;
 }
 
+// The same with other cameras (a Tello's in front).
+control::FlightStackSetup flight_setup(const AppConfig& config, const CamerasConfig& cameras) {
+  control::FlightStackSetup setup = flight_setup(config);
+  setup.cameras = cameras;
+  return setup;
+}
+
 FlightRuntimeOptions runtime_options(const AppConfig& config) {
   FlightRuntimeOptions o;
   o.jpeg_quality = config.server.video.jpeg_quality;
@@ -80,7 +87,7 @@ class TelloBackend final : public DroneBackend {
           s.host = spec.host;
           return s;
         }(), log.child("link")),
-        core_(std::make_unique<control::FlightStack>(setup(config, cameras_)), cameras_),
+        core_(std::make_unique<control::FlightStack>(flight_setup(config, cameras_)), cameras_),
         runtime_(link_, core_, clock_, runtime_options(config), log) {
     log.warn(clock_.now(), "a Tello has no bottom camera: the platform stage lands at the estimated base")
         .kv("after_s", config.control.mission.detect_timeout_s);
@@ -94,12 +101,6 @@ class TelloBackend final : public DroneBackend {
   FlightService& flight() override { return runtime_; }
 
  private:
-  static control::FlightStackSetup setup(const AppConfig& config, const CamerasConfig& cameras) {
-    control::FlightStackSetup s = flight_setup(config);
-    s.cameras = cameras;
-    return s;
-  }
-
   CamerasConfig cameras_;
   SteadyClock clock_;
   TelloLink link_;
@@ -118,13 +119,16 @@ class ReplayClock final : public Clock {
   SteadyClock wall_;
 };
 
-// A recorded flight, played back in real time; commands are ignored by the replay link.
+// A recorded flight, played back in real time; commands are ignored by the replay link. A Tello's
+// recording is seen through the Tello's camera.
 class ReplayBackend final : public DroneBackend {
  public:
   ReplayBackend(const DroneSpec& spec, const AppConfig& config, Logger log)
-      : link_(spec.file, log.child("replay")),
+      : cameras_(recorded_drone(spec.file) == RecordedDrone::Tello ? tello_cameras(config.tello, config.cameras)
+                                                                   : config.cameras),
+        link_(spec.file, log.child("replay")),
         clock_(std::isfinite(link_.next_time()) ? link_.next_time() : 0.0),
-        core_(std::make_unique<control::FlightStack>(flight_setup(config)), config.cameras),
+        core_(std::make_unique<control::FlightStack>(flight_setup(config, cameras_)), cameras_),
         runtime_(link_, core_, clock_, runtime_options(config), log) {
     runtime_.start();
     player_ = std::thread([this] {
@@ -139,6 +143,7 @@ class ReplayBackend final : public DroneBackend {
   FlightService& flight() override { return runtime_; }
 
  private:
+  CamerasConfig cameras_;
   ReplayLink link_;
   ReplayClock clock_;
   FlightStackCore core_;
