@@ -7,6 +7,7 @@
 // frame and its overlays are on the canvas (same machine or synchronized clocks).
 import {H264Player, h264Available, parseAccessUnit} from './h264_player.js';
 import {OVERLAY_GROUPS, paintOverlays} from './overlay_painter.js';
+import {ReadingView} from './reading_view.js';
 
 const LATENCY_WINDOW = 1800;  // a minute at 30 frames/s
 
@@ -21,6 +22,7 @@ export class VideoView {
     this.latencies = [];
     this.frames = 0;
     this.player = null;
+    this.reading = new ReadingView(doc, stats);
     this.enabled = {};
     for (const group of OVERLAY_GROUPS) {
       const box = doc.getElementById('overlay-' + group);
@@ -60,6 +62,7 @@ export class VideoView {
   }
 
   async onBinary(buffer) {
+    if (buffer.byteLength >= 24 && new DataView(buffer).getUint32(0, true) === 0x3152444c) return this.reading.show(buffer);  // "LDR1"
     this.stats.videoBytes += buffer.byteLength;
     if (this.stats.videoPath === 'h264') {
       const unit = parseAccessUnit(buffer);

@@ -2,6 +2,8 @@
 //  1. WebCodecs present: the page takes the H.264 path, decodes the drone's access units, draws the
 //     overlays from the geometry sent with each frame, and stops drawing a group switched off;
 //  2. WebCodecs removed (an init script deletes window.VideoDecoder): the page falls back to JPEG.
+// With the scripted flight it also waits for the instrument reading view (the panel rectified by the
+// server) and saves it as reading_view.png.
 // It prints frames/s and the glass-to-browser latency (median, p95) of each path, and saves a
 // screenshot of each. Usage: [MEASURE_S=5] node video_paths.mjs BASE_URL OUT_DIR scripted|sim
 //   scripted: labo_e2e_server, whose scripted flight always reports a panel at (220,100)-(420,220):
@@ -65,6 +67,13 @@ try {
     if (!h264.overlaysDrawn.includes(group)) fail(`overlay group ${group} not drawn (drawn: ${h264.overlaysDrawn})`);
   if (mode === 'scripted' && !isCyan(await pixel(page, 320, 100))) fail('no cyan panel outline at (320, 100)');
   await page.screenshot({path: `${outDir}/video_h264.png`, fullPage: true});
+  if (mode === 'scripted') {
+    // The scripted panel, rectified by the server to its 400x240 template resolution.
+    await page.waitForFunction(() => window.labodrone.readingViews >= 3, null, {timeout: 5000});
+    const size = await page.evaluate(() => [document.getElementById('reading-view').width, document.getElementById('reading-view').height]);
+    if (size[0] !== 400 || size[1] !== 240) fail(`the reading view is ${size}, expected the template's 400x240`);
+    await page.locator('#reading').screenshot({path: `${outDir}/reading_view.png`});
+  }
 
   // One group off: the next frames are drawn without it, the others still with.
   await page.uncheck('#overlay-border');
