@@ -331,9 +331,12 @@ void ArdroneLink::navdata_loop() {
   }
 }
 
-void ArdroneLink::on_navdata(const NavdataSample& sample, const NavdataPacket&) {
+void ArdroneLink::on_navdata(const NavdataSample& sample, const NavdataPacket& packet) {
   drone_state_ = sample.state;
   last_navdata_t_ = sample.t;
+  // A bootstrap packet (no demo option) keeps the link alive but has no values: its sample would
+  // say battery 0 and control state 0. Test "link conformance: the AR.Drone link ...".
+  if (!packet.has(kTagDemo)) return;
   std::lock_guard lock(listener_mutex_);
   if (listener_) listener_->on_navdata(sample);
 }

@@ -58,6 +58,8 @@ class ArdroneLink final : public DroneLink {
   // Starts the threads (the link then goes Connecting). Throws when sockets cannot be opened.
   void start();
   void stop();
+  // The local UDP port navdata arrives on (after start(); the drone streams to whoever kicks it).
+  int navdata_local_port() const { return navdata_socket_.local_port(); }
 
   void set_listener(DroneLinkListener* listener) override;
   void takeoff() override;

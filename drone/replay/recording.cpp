@@ -32,15 +32,21 @@ RecordingWriter::RecordingWriter(const std::filesystem::path& file) : out_(file,
 }
 
 void RecordingWriter::write(RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes) {
-  char header[kRecordHeaderBytes] = {};
-  header[0] = static_cast<char>(channel);
-  put(header + 4, t);
-  put(header + 12, static_cast<std::uint32_t>(std::min(bytes.size(), kMaxRecordBytes)));
-  const std::size_t length = std::min(bytes.size(), kMaxRecordBytes);
+  // A chunk longer than a record may be is written as consecutive records of the same channel and
+  // time, so that nothing is cut (the reader refuses longer records). The links' chunks are socket
+  // reads, far below the limit; the split is for what a caller might one day hand over.
   std::lock_guard lock(mutex_);
-  out_.write(header, sizeof(header));
-  out_.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(length));
-  if (out_) bytes_written_ += sizeof(header) + length;
+  do {
+    const std::span<const std::uint8_t> part = bytes.first(std::min(bytes.size(), kMaxRecordBytes));
+    char header[kRecordHeaderBytes] = {};
+    header[0] = static_cast<char>(channel);
+    put(header + 4, t);
+    put(header + 12, static_cast<std::uint32_t>(part.size()));
+    out_.write(header, sizeof(header));
+    out_.write(reinterpret_cast<const char*>(part.data()), static_cast<std::streamsize>(part.size()));
+    if (out_) bytes_written_ += sizeof(header) + part.size();
+    bytes = bytes.subspan(part.size());
+  } while (!bytes.empty());
 }
 
 void RecordingWriter::note(Seconds t, const std::string& text) {
@@ -98,6 +104,18 @@ bool RecordingReader::next(Record& record) {
   }
   ++index_;
   return true;
+}
+
+RecordedDrone recorded_drone(const std::filesystem::path& file) {
+  RecordingReader reader(file);
+  Record record;
+  while (reader.next(record)) {
+    if (record.channel == RecordChannel::Note) continue;
+    return static_cast<std::uint8_t>(record.channel) >= static_cast<std::uint8_t>(RecordChannel::TelloCommandOut)
+               ? RecordedDrone::Tello
+               : RecordedDrone::Ardrone;
+  }
+  return RecordedDrone::Unknown;
 }
 
 }  // namespace labo

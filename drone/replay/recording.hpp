@@ -92,4 +92,10 @@ class RecordingReader {
   bool truncated_ = false;
 };
 
+// Which drone a recording's link spoke to: the first record of a protocol channel says (AT, navdata
+// or PaVE video: an AR.Drone; channels 6-9: a Tello); Unknown when it holds none. Throws
+// RecordingError as RecordingReader does.
+enum class RecordedDrone { Unknown, Ardrone, Tello };
+RecordedDrone recorded_drone(const std::filesystem::path& file);
+
 }  // namespace labo

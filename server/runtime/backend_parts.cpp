@@ -20,6 +20,12 @@ control::FlightStackSetup flight_stack_setup(const AppConfig& config) {
   return setup;
 }
 
+control::FlightStackSetup flight_stack_setup(const AppConfig& config, const CamerasConfig& cameras) {
+  control::FlightStackSetup setup = flight_stack_setup(config);
+  setup.cameras = cameras;
+  return setup;
+}
+
 FlightRuntimeOptions flight_runtime_options(const AppConfig& config) {
   FlightRuntimeOptions o;
   o.jpeg_quality = config.server.video.jpeg_quality;

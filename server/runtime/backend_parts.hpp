@@ -17,6 +17,8 @@ namespace labo {
 // The lab's geometry, the control, camera, vision and estimation sections, and the real vision
 // front-ends on the drone's frames.
 control::FlightStackSetup flight_stack_setup(const AppConfig& config);
+// The same with other cameras (a Tello's in front).
+control::FlightStackSetup flight_stack_setup(const AppConfig& config, const CamerasConfig& cameras);
 FlightRuntimeOptions flight_runtime_options(const AppConfig& config);
 
 // The simulated lab of config.sim, its cameras showing the teacher's face textured from their

@@ -9,6 +9,7 @@
 #include "drone/ardrone2/ardrone_emulator.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
 #include "drone/replay/replay_link.hpp"
+#include "drone/tello/tello_link.hpp"
 #include "server/runtime/backend_parts.hpp"
 #include "server/runtime/flight_runtime.hpp"
 #include "server/runtime/flight_stack_core.hpp"
@@ -45,6 +46,39 @@ class ArdroneBackend final : public DroneBackend {
   FlightRuntime runtime_;
 };
 
+// A Tello (or Tello EDU) in SDK 2.0 mode over Wi-Fi, with its own camera in front. It has no
+// bottom camera: the link refuses the switch and the platform search lands at the estimated base when
+// it times out (docs/tello.md "Landing without a bottom camera"); said once at start.
+class TelloBackend final : public DroneBackend {
+ public:
+  TelloBackend(const DroneSpec& spec, const AppConfig& config, Logger log)
+      : cameras_(tello_cameras(config.tello, config.cameras)),
+        link_([&] {
+          TelloLinkSettings s = config.tello.link;
+          s.host = spec.host;
+          return s;
+        }(), log.child("link")),
+        core_(std::make_unique<control::FlightStack>(flight_stack_setup(config, cameras_)), cameras_),
+        runtime_(link_, core_, clock_, flight_runtime_options(config), log) {
+    log.warn(clock_.now(), "a Tello has no bottom camera: the platform stage lands at the estimated base")
+        .kv("after_s", config.control.mission.detect_timeout_s);
+    runtime_.start();
+    link_.start();
+  }
+  ~TelloBackend() override {
+    runtime_.land_and_stop(0);
+    link_.stop();
+  }
+  FlightService& flight() override { return runtime_; }
+
+ private:
+  CamerasConfig cameras_;
+  SteadyClock clock_;
+  TelloLink link_;
+  FlightStackCore core_;
+  FlightRuntime runtime_;
+};
+
 // Replay time: the recording's first timestamp plus the wall time since the start.
 class ReplayClock final : public Clock {
  public:
@@ -56,13 +90,16 @@ class ReplayClock final : public Clock {
   SteadyClock wall_;
 };
 
-// A recorded flight, played back in real time; commands are ignored by the replay link.
+// A recorded flight, played back in real time; commands are ignored by the replay link. A Tello's
+// recording is seen through the Tello's camera.
 class ReplayBackend final : public DroneBackend {
  public:
   ReplayBackend(const DroneSpec& spec, const AppConfig& config, Logger log)
-      : link_(spec.file, log.child("replay")),
+      : cameras_(recorded_drone(spec.file) == RecordedDrone::Tello ? tello_cameras(config.tello, config.cameras)
+                                                                   : config.cameras),
+        link_(spec.file, log.child("replay")),
         clock_(std::isfinite(link_.next_time()) ? link_.next_time() : 0.0),
-        core_(std::make_unique<control::FlightStack>(flight_stack_setup(config)), config.cameras),
+        core_(std::make_unique<control::FlightStack>(flight_stack_setup(config, cameras_)), cameras_),
         runtime_(link_, core_, clock_, flight_runtime_options(config), log) {
     runtime_.start();
     player_ = std::thread([this] {
@@ -77,6 +114,7 @@ class ReplayBackend final : public DroneBackend {
   FlightService& flight() override { return runtime_; }
 
  private:
+  CamerasConfig cameras_;
   ReplayLink link_;
   ReplayClock clock_;
   FlightStackCore core_;
@@ -132,6 +170,7 @@ class SimBackend final : public DroneBackend {
 std::unique_ptr<DroneBackend> make_drone_backend(const DroneSpec& spec, const AppConfig& config, Logger log) {
   switch (spec.kind) {
     case DroneSpec::Kind::Ardrone: return std::make_unique<ArdroneBackend>(spec, config, std::move(log));
+    case DroneSpec::Kind::Tello: return std::make_unique<TelloBackend>(spec, config, std::move(log));
     case DroneSpec::Kind::Replay: return std::make_unique<ReplayBackend>(spec, config, std::move(log));
     case DroneSpec::Kind::Sim: return std::make_unique<SimBackend>(config, std::move(log));
   }

@@ -185,6 +185,8 @@ TEST_CASE("link: the com-watchdog bit gets COMWDG answers and CALIB reaches the 
   link.set_listener(&rec);
   link.start();
   REQUIRE(wait_until([&] { return link.state() == LinkState::Connected; }, 5.0));
+  // Samples reach the listener once the demo option comes (bootstrap packets carry no values).
+  REQUIRE(wait_until([&] { return rec.last().t > 0.0; }, 5.0));
   CHECK(rec.last().t >= 1000.0);
   link.calibrate_magnetometer();
   auto count = [](const LinkStatistics& s, const char* k) { return s.counters.count(k) ? s.counters.at(k) : 0; };

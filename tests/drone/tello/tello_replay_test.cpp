@@ -125,6 +125,23 @@ TEST_CASE("tello: a recorded flight replays with the same events", "[tello][repl
     CHECK(cv::norm(replayed.frames[i].bgr, live.frames[i].bgr, cv::NORM_INF) == 0.0);
   }
   CHECK(replayed.states == live.states);
+  CHECK(recorded_drone(file) == RecordedDrone::Tello);  // serve --drone replay: sees it through the Tello's camera
+  std::filesystem::remove(file);
+}
+
+TEST_CASE("tello: a recording says which drone it holds", "[tello][replay]") {
+  const auto file = temp_file("labo_which_drone");
+  {
+    RecordingWriter w(file);
+    w.note(0.0, "link_state connecting");
+  }
+  CHECK(recorded_drone(file) == RecordedDrone::Unknown);
+  {
+    RecordingWriter w(file);
+    w.note(0.0, "link_state connecting");
+    write_text(w, RecordChannel::NavdataOut, 0.1, std::string("\x01\0\0\0", 4));
+  }
+  CHECK(recorded_drone(file) == RecordedDrone::Ardrone);
   std::filesystem::remove(file);
 }
 
@@ -157,6 +174,7 @@ TEST_CASE("tello: a recording's replies to nothing and malformed states are coun
   // landed; taking off; the take-off timed out but the motors' time grew: hovering; sticks off centre: flying
   CHECK(phases == std::vector<int>{2, 6, 6, 6, 4, 3});
   const auto stats = replay.statistics();
+  CHECK(recorded_drone(file) == RecordedDrone::Tello);
   CHECK(count(stats, "tello_reply_unsolicited") == 1);
   CHECK(count(stats, "tello_state_missing_field") == 1);
   CHECK(count(stats, "tello_reply_not_text") == 1);
