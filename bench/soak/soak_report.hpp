@@ -51,6 +51,7 @@ struct SoakSummary {
   double warmup_s = 0;
   double rss_warmup_peak_mib = 0, rss_after_peak_mib = 0, rss_final_mib = 0;
   double rss_growth_percent = 0;  // after-warm-up peak over the warm-up's peak
+  std::vector<double> rss_per_minute_mib;  // the last sample of each minute: where the growth went
   // The flight thread's timing over the whole soak.
   RuntimeTimingSummary timing;
 };

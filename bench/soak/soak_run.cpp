@@ -38,6 +38,9 @@ void summarise_memory(const std::vector<RssSample>& rss, double total_s, SoakSum
   s.rss_samples = static_cast<int>(rss.size());
   s.warmup_s = std::min(300.0, 0.25 * total_s);
   for (const auto& r : rss) {
+    const auto minute = static_cast<std::size_t>(r.t_s / 60.0);
+    if (s.rss_per_minute_mib.size() <= minute) s.rss_per_minute_mib.resize(minute + 1, 0.0);
+    s.rss_per_minute_mib[minute] = r.mib;
     double& peak = r.t_s <= s.warmup_s ? s.rss_warmup_peak_mib : s.rss_after_peak_mib;
     peak = std::max(peak, r.mib);
   }

@@ -117,7 +117,10 @@ void SoakScript::round(int index) {
   auto client = queued_ ? queued_ : queue_for_control(students_[index % students_.size()]);
   queued_.reset();
   const double asked = now();
-  while (!client->view().controlling && now() - asked < 30) pause(0.1);
+  while (!client->view().controlling && now() - asked < 30) {
+    heartbeats(client.get());
+    pause(0.1);
+  }
   if (!client->view().controlling) {
     results_.push_back("round " + std::to_string(index) + ": control was not granted in 30 s");
     client->close();
@@ -236,12 +239,16 @@ void SoakScript::land_if_flying(SoakClient& client) {
   }
 }
 
+void SoakScript::heartbeats(SoakClient* controlling) {
+  // The queued student may be granted control at any time and must then keep it alive too.
+  if (now() - last_heartbeat_ < kHeartbeatEvery_s) return;
+  if (controlling) controlling->send({{"type", "heartbeat"}});
+  if (queued_) queued_->send({{"type", "heartbeat"}});
+  last_heartbeat_ = now();
+}
+
 void SoakScript::tick(SoakClient& client) {
-  if (now() - last_heartbeat_ >= kHeartbeatEvery_s) {
-    client.send({{"type", "heartbeat"}});
-    if (queued_) queued_->send({{"type", "heartbeat"}});
-    last_heartbeat_ = now();
-  }
+  heartbeats(&client);
   const bool airborne = server_.drone().truth().airborne;
   if (!airborne) flying_since_ = -1;
   else if (flying_since_ < 0) flying_since_ = now();
@@ -286,9 +293,12 @@ void SoakScript::look_after_faults(bool now_all) {
 void SoakScript::swap_battery(double start_percent, const DroneTruth& where, bool restart_flight) {
   AppConfig c = config_;
   c.sim.lab.dynamics.battery_start_percent = start_percent;
+  heartbeats(nullptr);
   server_.drone().stop();
   server_.drone().replace_lab(c, where.position_m.head<2>(), where.yaw_rad);
+  heartbeats(nullptr);
   if (restart_flight) server_.restart_flight();
+  heartbeats(nullptr);
   server_.drone().start();
   ++battery_swaps_;
   say(now(), "battery swapped: " + std::to_string(static_cast<int>(start_percent)) + " %");
@@ -296,6 +306,7 @@ void SoakScript::swap_battery(double start_percent, const DroneTruth& where, boo
   // software to read the new battery before asking for a mission.
   const double start = now();
   while (now() - start < 30) {
+    heartbeats(nullptr);  // the next student holds control already, between rounds
     const FlightTelemetry t = server_.flight().telemetry();
     if (t.link_state == "connected" && std::abs(t.battery_percent - start_percent) < 3) break;
     pause(0.2);

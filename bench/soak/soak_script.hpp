@@ -67,7 +67,8 @@ class SoakScript {
   bool issue(SoakClient& client, const nlohmann::json& command);
   void fly(SoakClient& client, Mission mission, std::uint64_t ended_before, std::uint64_t safety_before);
   void land_if_flying(SoakClient& client);
-  void tick(SoakClient& client);  // heartbeat, due faults, looks at the drone after faults
+  void heartbeats(SoakClient* controlling);
+  void tick(SoakClient& client);  // heartbeats, due faults, looks at the drone after faults
   void apply_in_flight_faults();
   void look_after_faults(bool now);
   // A new lab (RestartableDrone::replace_lab) whose drone stands at `where`, its battery at
