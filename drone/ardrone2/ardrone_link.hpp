@@ -18,6 +18,7 @@
 #include "drone/ardrone2/socket.hpp"
 #include "drone/ardrone2/video_bitrate.hpp"
 #include "drone/drone_link.hpp"
+#include "drone/link_status.hpp"
 #include "drone/replay/recording.hpp"
 
 namespace labo {
@@ -96,6 +97,7 @@ class ArdroneLink final : public DroneLink {
   SteadyClock own_clock_;
   const Clock* clock_;
   ardrone2::LinkCounters counters_;
+  LinkStatus status_;
   std::unique_ptr<RecordingWriter> recorder_;
   ardrone2::Endpoint at_endpoint_, navdata_endpoint_, video_endpoint_;
   ardrone2::Socket at_socket_, navdata_socket_;
@@ -119,8 +121,6 @@ class ArdroneLink final : public DroneLink {
   std::atomic<bool> reset_video_{false};          // reopen the TCP connection
   std::atomic<bool> reset_video_decoder_{false};  // camera switched: wait for the next IDR
   std::atomic<CameraId> active_camera_{CameraId::Front};
-  mutable std::mutex state_mutex_;
-  LinkState state_ = LinkState::Disconnected;
 
   ardrone2::AtCommandEncoder encoder_;  // control thread only
   std::string at_buffer_;

@@ -23,6 +23,7 @@
 #include "drone/tello/tello_emulator.hpp"
 #include "drone/tello/tello_link.hpp"
 #include "tests/drone/ardrone2/tiny_vehicle.hpp"
+#include "tests/drone/link_events.hpp"
 #include "tests/drone/sim/loopback_support.hpp"
 
 using namespace labo;
@@ -31,40 +32,7 @@ namespace {
 
 Logger quiet() { return Logger("test", LogLevel::Off); }
 
-struct FrameInfo {
-  Seconds t = 0;
-  std::uint32_t number = 0;
-  CameraId camera = CameraId::Front;
-  int width = 0, height = 0;
-};
-
-// Everything a link delivered, in order.
-struct FlightLog : DroneLinkListener {
-  std::mutex m;
-  std::vector<NavdataSample> navdata;
-  std::vector<FrameInfo> frames;
-  std::vector<std::pair<LinkState, Seconds>> states;
-  void on_navdata(const NavdataSample& s) override {
-    std::lock_guard l(m);
-    navdata.push_back(s);
-  }
-  void on_video(const VideoFrame& f) override {
-    std::lock_guard l(m);
-    frames.push_back({f.t, f.frame_number, f.camera, f.bgr.cols, f.bgr.rows});
-  }
-  void on_link_state(LinkState s, Seconds t) override {
-    std::lock_guard l(m);
-    states.emplace_back(s, t);
-  }
-  NavdataSample last() {
-    std::lock_guard l(m);
-    return navdata.empty() ? NavdataSample{} : navdata.back();
-  }
-  LinkState state() {
-    std::lock_guard l(m);
-    return states.empty() ? LinkState::Disconnected : states.back().first;
-  }
-};
+using FlightLog = test::LinkEvents;
 
 std::uint64_t count(const LinkStatistics& s, const std::string& kind) {
   const auto it = s.counters.find(kind);

@@ -16,6 +16,20 @@
 using namespace labo;
 using labo::test::ScratchDir;
 
+namespace {
+
+// Polls the flight's telemetry every 50 ms until `done` says so, for at most `timeout_s`.
+template <typename Done>
+bool telemetry_until(FlightService& flight, Done done, double timeout_s) {
+  for (int i = 0; i < timeout_s * 20; ++i) {
+    if (done(flight.telemetry())) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return false;
+}
+
+}  // namespace
+
 TEST_CASE("server: the flight software knows the instruments of the configured lab") {
   const ScratchDir scratch("backend_lab");
   const auto file = scratch / "flight.ldrec";
@@ -47,13 +61,7 @@ TEST_CASE("server: on the simulated lab the estimate follows the lab's truth thr
   const AppConfig config = load_app_config(default_config_path());
   const auto backend = make_drone_backend(DroneSpec{}, config, Logger("test", LogLevel::Off));
   FlightService& flight = backend->flight();
-  const auto wait_for = [&](auto done, double timeout_s) {
-    for (int i = 0; i < timeout_s * 20; ++i) {
-      if (done(flight.telemetry())) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    return false;
-  };
+  const auto wait_for = [&](auto done, double timeout_s) { return telemetry_until(flight, done, timeout_s); };
   REQUIRE(wait_for([](const FlightTelemetry& t) { return t.ground_truth && t.link_state == "connected" && t.battery_percent > 0; }, 20));
   const FlightTelemetry landed = flight.telemetry();
   // Landed on the charging platform at the base (the lab's origin, its top 0.10 m above the floor).
@@ -107,13 +115,7 @@ TEST_CASE("server: a Tello backend flies the flight software through the Tello l
   config.tello.link.video_port = es.client_video_port;
   const auto backend = make_drone_backend(parse_drone_spec("tello:127.0.0.1"), config, Logger("test", LogLevel::Off));
   FlightService& flight = backend->flight();
-  const auto wait_for = [&](auto done, double timeout_s) {
-    for (int i = 0; i < timeout_s * 20; ++i) {
-      if (done(flight.telemetry())) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    return false;
-  };
+  const auto wait_for = [&](auto done, double timeout_s) { return telemetry_until(flight, done, timeout_s); };
   REQUIRE(wait_for([](const FlightTelemetry& t) { return t.link_state == "connected" && t.battery_percent == 80; }, 10));
   MissionCommand takeoff;
   takeoff.kind = MissionCommandKind::Takeoff;

@@ -2,7 +2,6 @@
 // recordings: decoded as the link decodes them, exit 2 with one line of reason on junk.
 #include <catch2/catch.hpp>
 #include <filesystem>
-#include <iostream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -14,28 +13,14 @@
 #include "drone/tello/annexb_assembler.hpp"
 #include "drone/tello/tello_state_command.hpp"
 #include "tests/drone/ardrone2/fixtures.hpp"
+#include "tests/support/cli_run.hpp"
 
 using namespace labo;
 
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-CliRun run(int (*fn)(const ParsedArgs&), const CommandSpec& spec, std::vector<std::string> argv) {
-  std::ostringstream out, err;
-  auto* old_out = std::cout.rdbuf(out.rdbuf());
-  auto* old_err = std::cerr.rdbuf(err.rdbuf());
-  CliRun r;
-  r.code = fn(parse_args(spec, argv));
-  std::cout.rdbuf(old_out);
-  std::cerr.rdbuf(old_err);
-  r.out = out.str();
-  r.err = err.str();
-  return r;
-}
+using test::CliRun;
+constexpr auto run = &test::run_command;
 
 std::filesystem::path temp(const std::string& name) {
   return std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
