@@ -6,6 +6,7 @@
 #include <sstream>
 #include <variant>
 
+#include "server/api/video_routes.hpp"
 #include "server/app_config.hpp"
 #include "server/auth/permissions.hpp"
 
@@ -139,6 +140,7 @@ HttpReply RestApi::route(const HttpRequest& req, const std::string& path, const 
     if (m != http::verb::get) return method_not_allowed("GET");
     return status();
   }
+  if (auto video = video_route(req, path, session->role, lab_.flight(), settings_.video.low_rendition_kbps)) return *video;
   if (path == "/api/config") {
     if (!need(Permission::Administer)) return forbidden();
     if (m == http::verb::get) return get_config();

@@ -8,7 +8,7 @@
 namespace labo {
 
 namespace {
-constexpr std::array<std::pair<MissionCommandKind, const char*>, 7> kCommands{{
+constexpr std::array<std::pair<MissionCommandKind, const char*>, 8> kCommands{{
     {MissionCommandKind::Takeoff, "takeoff"},
     {MissionCommandKind::Inspect, "inspect"},
     {MissionCommandKind::FindTeacher, "find_teacher"},
@@ -16,6 +16,7 @@ constexpr std::array<std::pair<MissionCommandKind, const char*>, 7> kCommands{{
     {MissionCommandKind::ReturnHome, "return_home"},
     {MissionCommandKind::Land, "land"},
     {MissionCommandKind::EmergencyStop, "emergency_stop"},
+    {MissionCommandKind::SelectCamera, "select_camera"},
 }};
 }  // namespace
 

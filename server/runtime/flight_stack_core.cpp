@@ -113,7 +113,9 @@ CommandVerdict FlightStackCore::request(const MissionCommand& c, Seconds t) {
     case MissionCommandKind::ReturnHome: r.kind = control::RequestKind::ReturnHome; break;
     case MissionCommandKind::Land: r.kind = control::RequestKind::Land; break;
     case MissionCommandKind::EmergencyStop: r.kind = control::RequestKind::EmergencyStop; break;
+    case MissionCommandKind::SelectCamera: r.kind = control::RequestKind::SelectCamera; break;
   }
+  r.camera = c.camera;
   r.instrument_id = c.instrument;
   r.hold_s = c.hold_s;
   const control::CommandResult result = stack_->request(r, t);
