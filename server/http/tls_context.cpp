@@ -15,10 +15,10 @@ std::unique_ptr<ssl::context> make_tls_context(const TlsSettings& tls) {
   context->use_certificate_chain_file(tls.cert_file.string(), ec);
   if (ec) throw std::runtime_error("server.tls.cert_file " + tls.cert_file.string() + ": not a PEM certificate chain (" + ec.message() + ")");
   context->use_private_key_file(tls.key_file.string(), ssl::context::pem, ec);
-  if (ec) throw std::runtime_error("server.tls.key_file " + tls.key_file.string() + ": not a PEM private key (" + ec.message() + ")");
-  // A key that is not the certificate's fails here rather than at each client's handshake.
-  if (SSL_CTX_check_private_key(context->native_handle()) != 1)
-    throw std::runtime_error("server.tls.key_file " + tls.key_file.string() + " is not the key of " + tls.cert_file.string());
+  // A key that is not the certificate's fails here ("key values mismatch") rather than at each client's handshake.
+  if (ec || SSL_CTX_check_private_key(context->native_handle()) != 1)
+    throw std::runtime_error("server.tls.key_file " + tls.key_file.string() + ": not a PEM private key of " +
+                             tls.cert_file.string() + " (" + (ec ? ec.message() : std::string("key values mismatch")) + ")");
   return context;
 }
 
