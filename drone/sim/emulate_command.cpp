@@ -61,7 +61,7 @@ int run_emulate_command(const ParsedArgs& args, const TeacherHeadLoader& load_he
 
   const sigset_t stop_signals = block_stop_signals();
   Logger log("labodrone", LogLevel::Info);
-  auto vehicle = make_simulated_lab(lab, in.cameras, in.sim.lab, load_head(lab));
+  auto vehicle = make_simulated_lab(make_sim_world(lab, in.cameras, in.sim), load_head(lab));
   ArdroneEmulator emulator(*vehicle, settings, log.child("emulator"));
   emulator.start();  // throws naming the port when one is taken
   std::cout << "AR.Drone 2.0 emulator on " << settings.bind_host << ": AT UDP " << emulator.at_port()

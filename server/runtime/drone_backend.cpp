@@ -136,9 +136,11 @@ class SimBackend final : public DroneBackend {
 
  private:
   // The lab's cameras show the teacher's face textured from their photograph, built here because
-  // drone/ cannot call localization/.
+  // drone/ cannot call localization/. The world is the config's `sim.world` (the flight runtime is
+  // built from the config alone; a randomized world's delays are the loopback's, not drawn ones).
   static std::unique_ptr<SimulatedLab> make_lab(const AppConfig& config) {
-    return make_simulated_lab(config.lab, config.cameras, config.sim.lab, face::load_lab_teacher_head(config.lab, config.face));
+    return make_simulated_lab(make_sim_world(config.lab, config.cameras, config.sim),
+                              face::load_lab_teacher_head(config.lab, config.face));
   }
   static ArdroneEmulatorSettings emulator_settings(const AppConfig& config) {
     ArdroneEmulatorSettings s = config.emulator;
