@@ -27,15 +27,15 @@ struct FirmwareLoopParams {
   double attitude_loop_per_s = 7.5;       // roll/pitch error → rate set point
   double tilt_rate_max_radps = 3.5;       // about 200 deg/s
   double rate_loop_per_s = 20.0;          // roll/pitch rate error → angular acceleration
-  double rate_integral_per_s2 = 5.0; 
+  double rate_integral_per_s2 = 20.0;
   double yaw_rate_loop_per_s = 20.0;      // yaw-rate error → angular acceleration
   double yaw_rate_integral_per_s2 = 5.0;
   double rate_integral_limit_radps2 = 30.0;
-  double vz_reference_per_s = 1.0;        // the vertical-speed set point's shaping
-  double vz_loop_per_s = 3.0;             // vertical-speed error → vertical acceleration
-  double vz_integral_per_s2 = 3.0;
+  double vz_reference_per_s = 0.85;       // the vertical-speed set point's shaping
+  double vz_loop_per_s = 8.0;             // vertical-speed error → vertical acceleration
+  double vz_integral_per_s2 = 8.0;
   double vz_integral_limit_mps2 = 4.0;
-  double vz_sensing_lag_s = 0.08;         // the firmware's vertical speed behind the truth
+  double vz_sensing_lag_s = 0.03;         // the firmware's vertical speed behind the truth
 };
 
 // What the firmware is asked to hold: roll and pitch (rad), yaw rate (rad/s), vertical speed (m/s).

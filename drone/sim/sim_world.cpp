@@ -90,8 +90,9 @@ void draw_placements(WorldDraw& d, const WorldRanges& r, SimWorld& w) {
 }
 
 void draw_camera(WorldDraw& d, const WorldRanges& r, CameraIntrinsics& k, double k1_range) {
-  k.fx = d.around(k.fx, r.focal_fraction);
-  k.fy = d.around(k.fy, r.focal_fraction);
+  const double focal = d.around(1.0, r.focal_fraction), aspect = d.around(1.0, r.aspect_fraction);
+  k.fx *= focal * aspect;
+  k.fy *= focal;
   k.cx += d.plus_minus(r.principal_point_px);
   k.cy += d.plus_minus(r.principal_point_px);
   k.k1 += d.plus_minus(k1_range);

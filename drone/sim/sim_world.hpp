@@ -53,7 +53,8 @@ struct WorldRanges {
   double placement_m = 0.05;
   double placement_deg = 3.0;
   // Cameras.
-  double focal_fraction = 0.03;         // fx, fy, each
+  double focal_fraction = 0.03;         // fx and fy by one factor: the focal length
+  double aspect_fraction = 0.005;       // fx / fy: the pixels' aspect ratio, known far better
   double principal_point_px = 5.0;      // cx, cy, each
   double k1 = 0.03, k2 = 0.03, tangential = 0.002;        // front: residuals of its calibration
   double bottom_k1 = 0.05;              // bottom: configured without distortion, it has some
