@@ -4,9 +4,10 @@
 //
 // Why: OpenCV's SIFT allocates its scale-space pyramid (a dozen float images of 1280x720, 3.7 MB
 // each) on every call and frees it on return. With glibc's defaults those blocks come from mmap, or
-// from a heap top that free() trims back, so every SIFT call faulted ~50 MB of fresh zeroed pages in
-// again: 740 000 page faults and 7 s of the 44 s of CPU of a real-vision `sim inspect` (docs/sim.md,
-// "Where the time of a real-vision run goes"). Reusing the memory changes no computed value.
+// from a heap top that free() trims back, so every SIFT call would fault ~50 MB of fresh zeroed pages
+// in again, a sizeable share of a real-vision `sim inspect`'s CPU time (docs/sim.md, "Where the time
+// of a real-vision run goes"). Reusing the memory changes no computed value. Test "batch allocator:
+// large blocks come from the heap and stay there after free".
 // The price: the process keeps its peak heap until it exits, which a batch command can afford and a
 // long-running server should not, so `serve` keeps glibc's defaults.
 

@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr int kControlLanded = 2;
@@ -88,11 +88,11 @@ void Autopilot::go_to(const PoseTarget& target, Seconds t, bool new_waypoint) {
   target_ = clamped;
 }
 
-void Autopilot::hold_here(const PoseEstimate& pose, Seconds t) {
+void Autopilot::hold_here(const fusion::PoseEstimate& pose, Seconds t) {
   go_to({pose.T_world_body.translation(), ypr_from_rotation(pose.T_world_body.linear())[0]}, t);
 }
 
-void Autopilot::update_criteria(const PoseEstimate& pose, Seconds t) {
+void Autopilot::update_criteria(const fusion::PoseEstimate& pose, Seconds t) {
   const double yaw = ypr_from_rotation(pose.T_world_body.linear())[0];
   distance_ = (target_->position - pose.T_world_body.translation()).norm();
   const double yaw_error = std::abs(wrap_angle(target_->yaw - yaw));
@@ -107,7 +107,7 @@ void Autopilot::update_criteria(const PoseEstimate& pose, Seconds t) {
   }
 }
 
-FlightOutput Autopilot::step(const PoseEstimate& pose, Seconds t) {
+FlightOutput Autopilot::step(const fusion::PoseEstimate& pose, Seconds t) {
   const double dt = (last_step_t_ < 0) ? 0.0 : std::clamp(t - last_step_t_, 0.0, kMaxControlDt);
   last_step_t_ = t;
   FlightOutput out;
@@ -126,4 +126,4 @@ FlightOutput Autopilot::step(const PoseEstimate& pose, Seconds t) {
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -11,7 +11,7 @@
 #include "control/geofence.hpp"
 #include "control/pid_controller.hpp"
 
-namespace labo {
+namespace labo::control {
 
 class Autopilot {
  public:
@@ -26,10 +26,10 @@ class Autopilot {
   // Targets (world, clamped into the fence). `new_waypoint` false: a moving set point (trajectory),
   // the integrals and the reach/stay clocks are kept.
   void go_to(const PoseTarget& target, Seconds t, bool new_waypoint = true);
-  void hold_here(const PoseEstimate& pose, Seconds t);  // target = current pose
+  void hold_here(const fusion::PoseEstimate& pose, Seconds t);  // target = current pose
   void clear_target() { target_.reset(); }
 
-  FlightOutput step(const PoseEstimate& pose, Seconds t);
+  FlightOutput step(const fusion::PoseEstimate& pose, Seconds t);
 
   FlightPhase phase() const { return phase_; }
   bool flying() const { return phase_ == FlightPhase::Flying; }
@@ -41,7 +41,7 @@ class Autopilot {
   const MoveCommand& last_command() const { return last_command_; }
 
  private:
-  void update_criteria(const PoseEstimate& pose, Seconds t);
+  void update_criteria(const fusion::PoseEstimate& pose, Seconds t);
 
   ControlConfig config_;
   Geofence fence_;
@@ -57,4 +57,4 @@ class Autopilot {
   MoveCommand last_command_;
 };
 
-}  // namespace labo
+}  // namespace labo::control

@@ -2,7 +2,7 @@
 
 #include <numbers>
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 
@@ -104,4 +104,4 @@ ControlConfig read_control_config(const ConfigReader& node) {
   return c;
 }
 
-}  // namespace labo
+}  // namespace labo::control

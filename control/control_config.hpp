@@ -6,7 +6,7 @@
 #include "core/config_reader.hpp"
 #include "localization/fusion/localization_switch.hpp"
 
-namespace labo {
+namespace labo::control {
 
 // One PID axis. Output = clip(kp*e + ki*I + kd*de, out_min, out_max); the integral I is capped at
 // |I| <= integral_limit (in units of error*s) and decays faster when the error opposes it.
@@ -20,10 +20,12 @@ struct PidGains {
 };
 
 struct PoseControlGains {
-  // Tuned in lockstep (docs/control.md): tum_ardrone's xy 0.5/0.35 -> 0.7/0.4 (perturbation recovery
-  // 2.9 -> 2.4 s, face-centre error RMS 0.097 -> 0.056); yaw 2.0 per rad.
+  // Tuned in lockstep (docs/control.md): tum_ardrone's xy 0.5/0.35 -> 0.7/0.4, which recovers from a
+  // perturbation sooner and keeps a followed face nearer the image's centre; yaw 2.0 per rad.
   PidGains xy{0.7, 0.0, 0.4, 0.0, -1.0, 1.0};           // -> roll / pitch
-  // z: tum_ardrone's 0.6/0.001/0.1 clipped to [-0.25, 0.8] -> 1.5/0.001/0.5 in [-0.5, 0.8] (docs/control.md).
+  // z: tum_ardrone's 0.6/0.001/0.1 clipped to [-0.25, 0.8] -> 1.5/0.001/0.5 in [-0.5, 0.8]
+  // (docs/control.md; test "control: the default z gains recover a 0.6 m/s vertical push on the
+  // firmware's dynamics within 4 s").
   PidGains z{1.5, 0.001, 0.5, 200.0, -0.5, 0.8};         // -> gaz
   PidGains yaw{2.0, 0.0, 0.0, 0.0, -1.0, 1.0};           // -> yaw rate (rad error -> command)
   double max_tilt_command = 0.5;  // |roll|, |pitch| clip below the PCMD range, for a gentle flight
@@ -63,7 +65,7 @@ struct MissionParameters {
   // Off: SLAM drives the pose and the face is the target; the face drives it only when SLAM is lost.
   bool face_as_feedback = false;
   double face_search_timeout_s = 120.0;  // a watch at the teacher's route lasts one round of it (~35 s)
-  SourceSwitchParameters source_switch;  // the localization switch's hysteresis
+  fusion::SourceSwitchParameters source_switch;  // the localization switch's hysteresis
 };
 
 struct SafetyLimits {
@@ -98,4 +100,4 @@ struct ControlConfig {
 // the defaults above; refuses unknown keys and values out of range.
 ControlConfig read_control_config(const ConfigReader& node);
 
-}  // namespace labo
+}  // namespace labo::control

@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr double kFenceSearchStepRad = std::numbers::pi / 36;  // 5 degrees
@@ -43,4 +43,4 @@ PoseTarget follow_standoff(PoseTarget standoff, const Eigen::Vector3d& face, con
   return turned_about(standoff, face, std::copysign(max_orbit_step_rad, long_lead) - long_lead);
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -11,7 +11,7 @@
 #include "control/geofence.hpp"
 #include "control/pid_controller.hpp"
 
-namespace labo {
+namespace labo::control {
 
 PoseTarget follow_standoff(PoseTarget standoff, const Eigen::Vector3d& face, const Eigen::Vector3d& drone,
                            const Geofence& fence, double max_orbit_step_rad);
@@ -19,4 +19,4 @@ PoseTarget follow_standoff(PoseTarget standoff, const Eigen::Vector3d& face, con
 // The same pose turned by `angle` about the vertical through `centre` (position and yaw).
 PoseTarget turned_about(const PoseTarget& target, const Eigen::Vector3d& centre, double angle);
 
-}  // namespace labo
+}  // namespace labo::control

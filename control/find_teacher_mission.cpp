@@ -8,7 +8,7 @@
 #include "control/face_standoff.hpp"
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr double kFaceHeightM = 1.6;       // climb to about a standing teacher's face height
@@ -25,15 +25,15 @@ constexpr double kMeetBeyondFollowM = 0.2;
 // The follow standoff and the meeting points keep this much farther from the walls than the geofence
 // (its own margin 0.3 m: the hull touches a wall 0.04 m beyond it) where they can, turned about the
 // face: following and meeting run on dead reckoning, and over a bare floor the navdata velocity
-// drops out, the estimate stops while the drone drifts on, and the brake comes too late (real
-// vision, seeds 1 and 2: met at 0.34 m from the wall over the bare floor, hit the wall).
+// drops out, the estimate stops while the drone drifts on, and the brake comes too late: a meeting
+// point a third of a metre from the wall ends in the wall.
 constexpr double kWallClearanceM = 0.5;
 constexpr double kStandoffEaseMps = 0.2;
 // Going round to the meeting point, the drone circles the middle between the corner where the
 // teacher stands and the next leg's start (the teacher walks between the two), at the meeting
 // point's distance from it (~1.2 m): ~0.85 m from the teacher at least (hull 0.26 m + body 0.25 m
-// collide at 0.51 m). Circling the leg's start, the chords cut inside and the drone was hit as the
-// teacher stood at the corner (real vision, seed 1).
+// collide at 0.51 m). Circling the leg's start instead, the chords would cut inside, into a teacher
+// standing at the corner. Test "control: going round the teacher keeps to the side inside the fence".
 // A teacher walking within this of a corner after which their next long leg heads more than
 // kTurnBackRad away from their heading is about to turn round: the drone leaves for the meeting point
 // when they reach it.
@@ -62,10 +62,11 @@ constexpr double kMinAimDistanceM = 0.2;   // nearer than this the bearing to th
 constexpr double kRouteRateStepS = 0.1;    // the route's place differenced over this for its velocity
 // A teacher met in front of a leg and standing at its start sets off at once at the route's speed.
 // Fed forward from the first kSetOffSignM of their walk along the leg in the face's place, or from
-// kSetOffLeadS before the route's time (0.2 s started the drone back 0.4 s early on leg C, real
-// vision, seed 1); a route's time that the face does not confirm within kSetOffConfirmS was early
-// (the teacher still stands: real vision, seed 2, leg C, predicted 0.6 s early). Ends once the face
-// has walked kSetOffM (the track's own velocity has it then).
+// kSetOffLeadS before the route's time (a lead of 0.2 s would start the drone back before the teacher
+// sets off); a route's time that the face does not confirm within kSetOffConfirmS was early (the
+// teacher still stands). Ends once the face has walked kSetOffM (the track's own velocity has it
+// then). Test "control: a teacher met in front of the next leg is followed from their set-off, not
+// after the walk shows".
 constexpr double kSetOffLeadS = 0.0;
 constexpr double kSetOffConfirmS = 0.5;
 constexpr double kSetOffSignM = 0.05;
@@ -75,7 +76,7 @@ constexpr double kBriefLossS = 0.25;
 double bearing(const Eigen::Vector3d& from, const Eigen::Vector3d& to) { return std::atan2(to.y() - from.y(), to.x() - from.x()); }
 
 // Does the straight flight from a to b pass within `clearance` of the teacher's route (floor plane)?
-bool crosses_route(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const TeacherRoute& route, double clearance) {
+bool crosses_route(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const fusion::TeacherRoute& route, double clearance) {
   const int samples = 1 + static_cast<int>((b - a).head<2>().norm() / 0.05);
   for (int k = 0; k <= samples; ++k)
     if (distance_to_route((a + (b - a) * (static_cast<double>(k) / samples)).head<2>(), route) < clearance) return true;
@@ -110,8 +111,8 @@ std::string FindTeacherMission::describe(Seconds t) const {
 }
 
 bool FindTeacherMission::face_seen(const MissionContext& ctx) const {
-  const TargetObservation f = ctx.perception.face();
-  return f.state == TrackState::Tracking && ctx.t - f.t < kFreshObservationS;
+  const fusion::TargetObservation f = ctx.perception.face();
+  return f.state == fusion::TrackState::Tracking && ctx.t - f.t < kFreshObservationS;
 }
 
 std::vector<Eigen::Vector3d> FindTeacherMission::viewpoints(const MissionContext& ctx) const {
@@ -150,20 +151,22 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, double co
   if (watch_points_.empty()) return false;
   // The next long leg, on the route itself: the meeting point drawn in from the walls is where the
   // drone waits, not where the teacher walks (drawn in 0.2 m from leg A of config/lab.json, the leg's
-  // start lay within the corner radius of the short leg's too, and the prediction took that 0.5 m
-  // leg's length: real vision, seed 1, the predicted teacher stopped 0.5 m into leg A while the real
-  // one walked on at the drone).
+  // start lies within the corner radius of the short leg's too, and the prediction would take that
+  // 0.5 m leg's length: the predicted teacher would stop 0.5 m into leg A while the real one walks on
+  // at the drone). Tests "control: next_long_leg is the route's own leg, not one drawn in from the
+  // walls" and "control: a face lost as the teacher sets off along the leg by the wall is predicted
+  // along the whole leg".
   return predict_from_route(ctx, next_long_leg(ctx.lab.teacher, track_.position().head<2>(), corner_radius_m));
 }
 
 bool FindTeacherMission::predict_walk_along_leg(const MissionContext& ctx) {
   // A face lost in the middle of a leg while the teacher walks it (the head's sway takes it past the
-  // detector's ~30°: real vision, teacher at 0.5 m/s, seeds 1, 2, 8, leg A, 1.1 m short of its end):
-  // by the route they walk on into its end and turn there, so the drone keeps backing off ahead of
-  // them at the route's speed and then meets them as at a corner. Holding instead, the drone was
-  // walked into (seed 1), or the track, moved by the estimate's corrections, reached the corner and
-  // was taken for a teacher standing there for an unknown time (seeds 2, 5, 8: the meeting walked
-  // the next leg at once and the drone waited at its far end, 3-4 m away).
+  // detector's ~30°): by the route they walk on into its end and turn there, so the drone keeps
+  // backing off ahead of them at the route's speed and then meets them as at a corner. Holding
+  // instead, the drone would be walked into, or the track, moved by the estimate's corrections, would
+  // reach the corner and be taken for a teacher standing there for an unknown time (the meeting then
+  // walks the next leg at once and the drone waits at its far end, metres away). Test "control: a face
+  // lost in the middle of a leg is followed on along the route, not held".
   if (watch_points_.empty() || !track_.walking()) return false;
   const std::optional<std::size_t> corner = waypoint_walked_into(
       ctx.lab.teacher, track_.position().head<2>(), track_.velocity().head<2>(), kOnLegLateralM, kSetOffMps);
@@ -174,10 +177,12 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, const std
   if (watch_points_.empty() || !leg) return false;
   const Eigen::Vector2d corner = ctx.lab.teacher.waypoints[leg->corner];
   meet_centre_ = Eigen::Vector3d(0.5 * (corner.x() + leg->from.x()), 0.5 * (corner.y() + leg->from.y()), track_.position().z());
-  // When they set off along it (real vision, seed 1, 2026-12-02 at a08cc03, two ways to get it wrong:
-  // the face lost 0.3 s into leg A, the drone held at its start and the teacher walked into it; the
-  // face lost as the teacher arrived at the corner before leg C, the prediction walked leg C at once
-  // and the drone waited 1.2 m ahead of a teacher who stood there 3 s more, 2.4 m from the face):
+  // When they set off along it. Two ways to get it wrong: holding at the leg's start while the
+  // teacher, lost just after setting off, walks into the drone (test "control: a face lost as the
+  // teacher sets off along the leg by the wall is predicted along the whole leg"); or, with the
+  // teacher lost as they reach a corner, walking the next leg at once and waiting far ahead of a
+  // teacher who still stands there (test "control: a face lost at a corner waits for the teacher
+  // pausing there, not ahead of them"). So:
   //  - walking along the leg already (past its start, or moving along it): from when last seen;
   //  - walked into the corner from the leg before (a sustained spell of walking, not along this leg,
   //    ended less than a pause ago): after the route's pauses and short legs from where it ended;
@@ -191,13 +196,12 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, const std
   const double on_leg = lateral < kOnLegLateralM ? from_start.dot(leg->along) : -1.0;
   const Eigen::Vector2d v = track_.velocity().head<2>();
   // The velocity an unconfirmed set-off feed-forward gave the track is an expectation, not a walk seen:
-  // it is no sign of one (real vision, teacher at 0.4 m/s, seed 7: the face lost 0.1 s after a 5 cm
-  // move fed the route's speed forward, 1.1 s before the route's time; taken for a teacher walking the
-  // leg, the meeting backed off along it at once while they stood, and they were found again 1.7 m away).
-  // And a velocity counts only with the face's place on the leg: a head turning at the corner moves the
-  // face along it too, by up to its ~0.1 m from the turning axis, far enough to start and confirm a
-  // feed-forward (real vision, 0.4 m/s, seed 14: confirmed, the face lost 4 cm short of the leg's
-  // start, the meeting walked the leg 1.3 s before the teacher; a teacher who has set off is on it).
+  // it is no sign of one (taken for a teacher walking the leg, the meeting would back off along it at
+  // once while they still stand; test "control: a face that moves a few cm along the next leg and is
+  // lost is no set-off for the meeting"). And a velocity counts only with the face's place on the leg:
+  // a head turning at the corner moves the face along it too, by up to its ~0.1 m from the turning
+  // axis, far enough to start and confirm a feed-forward; a teacher who has set off is on it (test
+  // "control: a head turning at the corner, its face not yet on the next leg, is no set-off when lost").
   const bool velocity_seen = !(set_off_unconfirmed() && leg->index == meet_leg_.index);
   const bool set_off = on_leg > kSetOffM || (velocity_seen && on_leg > 0.0 && v.dot(leg->along) > kSetOffMps);
   const Seconds seen_at = last_face_t_ >= 0 ? last_face_t_ : ctx.t;
@@ -205,21 +209,22 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, const std
   const bool walked_in = !set_off && walked.seen && seen_at - walked.to < ctx.lab.teacher.pause_s &&
                          walked.direction.dot(leg->along) < std::cos(kOnMeetingLegRad);
   // Seen on the leg into the corner, short of it: walking in, however briefly the face was seen (a
-  // glimpse at the end of leg C, 0.4 s, too short for a sustained spell, was taken for a teacher
-  // standing at the corner, and leg A walked at once, 7 s early: the drone waited 2.4 m RMS too far
-  // along it; the face-follow model test "first seen for a moment").
+  // glimpse at the end of a leg, too short for a sustained spell, would otherwise be a teacher standing
+  // at the corner, and the next long leg walked at once, seconds early). Test "control: a face first
+  // seen for a moment at the end of a leg waits out the short leg before the next long one".
   const double short_of_corner = metres_short_of_waypoint(ctx.lab.teacher, xy, leg->corner, kOnLegLateralM);
   const bool seen_walking_in = !set_off && !walked_in && short_of_corner > kSetOffM;
   const bool arriving = walked_in || seen_walking_in;
   // Where and when they were last seen walking in: the rest of the way is timed from that place at that
   // time. (The place last seen may be later and nearer the corner: timed from the end of the walk, the
-  // way walked since was counted twice; real vision, 0.5 m/s, seed 1: the face lost 0.54 m short of
-  // the corner, taken up again for 0.4 s on the way in, too short for a walk spell, and lost at the
-  // corner: leg A's set-off predicted 0.8 s early, the drone backed off ahead of a teacher standing.)
+  // way walked since would be counted twice, the set-off predicted early, and the drone would back off
+  // ahead of a teacher still standing. Test "control: a face lost walking into a corner and seen again
+  // on the way times the set-off from the walk seen".)
   const Seconds walked_to = walked_in ? walked.to : seen_at;
   const Eigen::Vector2d walked_from_xy = walked_in ? walked.at : xy;
   // A meeting on this leg already expected them later (the face then taken up at the corner for too
-  // short a time to see them walk in: real vision, seed 1, leg C): that still holds.
+  // short a time to see them walk in): that still holds. Test "control: a face taken up for a moment at
+  // the corner keeps the meeting's wait for the teacher to set off".
   const bool expected_later = meet_leg_.index == leg->index && meet_walk_from_ > seen_at && meet_walk_from_ < ctx.t + kMeetWaitS;
   Seconds walk_from = seen_at, arrived_at = -1;
   if (arriving) {
@@ -233,8 +238,8 @@ bool FindTeacherMission::predict_from_route(const MissionContext& ctx, const std
   meet_on_leg_m_ = set_off ? std::clamp(on_leg, 0.0, leg->length_m) : 0.0;
   meet_walk_from_ = walk_from;
   meet_arrived_at_ = arrived_at;
-  // Walking into the corner still: followed there first (leaving at once, the drone swung off a
-  // teacher with up to 0.6 m, 1.5 s, still to walk towards it: real vision, seed 1, ends of legs A, C).
+  // Walking into the corner still: followed there first (leaving at once, the drone would swing off a
+  // teacher with up to 0.6 m still to walk towards it).
   walk_in_from_ = walked_from_xy;
   walk_in_t0_ = walked_to;
   walk_in_until_ = arriving ? arrived_at : -1.0;
@@ -277,12 +282,12 @@ bool FindTeacherMission::turning_back_ahead(const MissionContext& ctx) {
     return false;
   }
   // Only once they reach it: the walk into the corner is followed to its end. Leaving 0.25 m before
-  // it, the drone swung off a teacher still walking for 0.6-1.1 s (the face's place, measured a
-  // little short, runs ahead of them) and those ticks count: real vision, seed 1, the ends of legs A
-  // and C, distance error -0.2 to -0.33 m, the face 0.3-0.7 rad off the centre ray. The pause (3 s)
-  // and the short leg after it leave the time to go round. When they reach it is timed from where
-  // the track came within kCornerAheadM at the route's speed: the track's speed does not say when
-  // they stop (the face's jitter reads as 0.2-0.35 m/s standing, in the model at 1.3 m).
+  // it, the drone would swing off a teacher still walking for about a second (the face's place,
+  // measured a little short, runs ahead of them), too near and with the face off the centre ray, and
+  // those ticks count in the follow's error. The pause (3 s) and the short leg after it leave the time
+  // to go round. When they reach it is timed from where the track came within kCornerAheadM at the
+  // route's speed: the track's speed does not say when they stop (the face's jitter reads as
+  // 0.2-0.35 m/s standing, in the model at 1.3 m).
   if (corner_eta_ < 0) {
     const Eigen::Vector2d corner = ctx.lab.teacher.waypoints[next->corner];
     corner_eta_ = ctx.t + (corner - track_.position().head<2>()).norm() / std::max(ctx.lab.teacher.speed_mps, 0.1);
@@ -318,7 +323,7 @@ void FindTeacherMission::start_search(MissionContext& ctx) {
 }
 
 void FindTeacherMission::follow(MissionContext& ctx) {
-  const TargetObservation f = ctx.perception.face();
+  const fusion::TargetObservation f = ctx.perception.face();
   if (f.t == last_face_t_ && !fresh_) return;  // no new face result: keep the moving set point
   const Eigen::Isometry3d T_world_face = world_pose_of(f, ctx.pose, CameraId::Front);
   const double d = ctx.config.mission.face_distance_m;
@@ -332,9 +337,9 @@ void FindTeacherMission::follow(MissionContext& ctx) {
   expect_set_off(ctx);
   // Met in front of a leg, the drone waits farther out; it comes in to the follow distance only as
   // the teacher walks at it: from the follow distance the drone's lag (the walk noticed, then the
-  // drone accelerated backwards) let the teacher come within 0.55 m.
+  // drone accelerated backwards) would let the teacher come within 0.55 m.
   // (Per face result, not over a gap: after a meeting the last face was seconds ago, and the whole
-  // 0.2 m came at once.)
+  // 0.2 m would come at once.)
   if (standoff_m_ > d && track_.walking())
     standoff_m_ = std::max(d, standoff_m_ - kStandoffEaseMps * std::min(f.t - last_face_t_, kFreshObservationS));
   last_face_t_ = f.t;
@@ -345,9 +350,9 @@ void FindTeacherMission::follow(MissionContext& ctx) {
 void FindTeacherMission::expect_set_off(const MissionContext& ctx) {
   // After a meeting the teacher stands at the corner until the route's set-off time and then walks at
   // once at the route's speed; seen through the face alone, the walk shows only after the velocity's
-  // low-pass (~0.4 s) and the perception delay (real vision, teacher at 0.5 m/s: the first 2 s of legs
-  // A and C were 62 % of the squared distance error over seeds 1-8, the drone 0.2 m too close 1.3 s
-  // into the leg).
+  // low-pass (~0.4 s) and the perception delay, and the teacher would come too close in the first
+  // seconds of the leg. Test "control: a teacher met in front of the next leg is followed from their
+  // set-off, not after the walk shows".
   if (!set_off_armed_) return;
   const Eigen::Vector2d xy = track_.position().head<2>();
   if (!set_off_from_known_) {
@@ -368,9 +373,8 @@ void FindTeacherMission::expect_set_off(const MissionContext& ctx) {
   if (set_off_started_ < 0) return;
   // Confirmed only by the walk going on: the face's place moving another kSetOffSignM along the leg
   // since the feed-forward started. A face that moved 5 cm and stopped is a head turning at the corner
-  // (the face sits ~0.1 m in front of the turning axis) or the pose's jitter, not a walk (real vision,
-  // teacher at 0.4 m/s, seed 7, leg C: 5 cm 1.2 s before the route's time, fed forward until the face
-  // was lost, and the meeting then walked the leg at once).
+  // (the face sits ~0.1 m in front of the turning axis) or the pose's jitter, not a walk. Test
+  // "control: a face that moves a few cm along the next leg and stops is no set-off while followed".
   if (walked - set_off_walked_at_start_ >= kSetOffSignM) set_off_confirmed_ = true;
   if (!set_off_confirmed_ && ctx.t - set_off_started_ > kSetOffConfirmS) {
     // Early: they still stand. A route's time is not used again; the next sign is measured from here.
@@ -402,8 +406,9 @@ void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, co
   // through the image centre rather than the principal point.
   next.yaw = wrap_angle(bearing(here, look_at) + std::atan(ctx.centre_ray_front.x()));
   // ... and turn with that bearing as the drone and the face move, fed forward: going round the
-  // teacher to a meeting point at ~0.5 rad/s, the yaw loop alone lagged 0.15-0.3 rad and the face of
-  // a teacher walking the short leg sat 0.27 m off the centre ray at 0.9 m (real vision, seed 1).
+  // teacher to a meeting point at ~0.5 rad/s, the yaw loop alone lags 0.15-0.3 rad, a quarter of a
+  // metre off the centre ray at 0.9 m. Test "control: going round to the next leg, the camera turns
+  // with the bearing to the teacher on the short leg".
   const Eigen::Vector2d r = (look_at - here).head<2>();
   const Eigen::Vector2d v = (look_at_velocity - ctx.pose.velocity_world).head<2>();
   if (r.norm() > kMinAimDistanceM) next.yaw_rate = (r.x() * v.y() - r.y() * v.x()) / r.squaredNorm();
@@ -421,8 +426,9 @@ void FindTeacherMission::lost(MissionContext& ctx) {
   fresh_ = false;
   if (just_lost && (predict_from_route(ctx, kCornerRadiusM) || predict_walk_along_leg(ctx))) {
     // Lost at a corner of a known route: the route says where they go, at once. Coasting first along
-    // the track's lagging velocity (0.2 m/s, a teacher 0.3 s into a leg walking at 0.4 m/s) kept the
-    // drone closing on them for 0.5 s (real vision, seed 1: 0.41 m from the face).
+    // the track's lagging velocity (0.2 m/s, a teacher 0.3 s into a leg walking at 0.4 m/s) would keep
+    // the drone closing on them. Test "control: a face lost at a corner: the drone waiting on the next
+    // leg keeps ahead of a teacher who sets off unseen".
     enter(Step::Meet, ctx.t);
     return;
   }
@@ -452,7 +458,7 @@ void FindTeacherMission::meet(MissionContext& ctx) {
   place_on_meeting_leg(ctx);
   // Round the middle between the corner and the leg's start, then in to the meeting point, the camera
   // on where the route has them meanwhile (pausing, walking the short leg: looking at the leg's start
-  // instead put their face 0.3-0.5 rad off the centre ray on the short leg, in the model).
+  // instead would put their face 0.3-0.5 rad off the centre ray on the short leg, in the model).
   Eigen::Vector3d look_at = track_.position();
   Eigen::Vector3d look_at_velocity = track_.velocity();
   if (meet_arrived_at_ >= 0 && ctx.t < meet_walk_from_) {
@@ -467,8 +473,8 @@ void FindTeacherMission::meet(MissionContext& ctx) {
     resume_track_ = true;
     // Standing at the leg's start; the set-off is timed only for a teacher seen walking into the
     // corner (else it is "any moment"), and only while that time is still ahead: a face taken up
-    // standing there after it shows the time was early (real vision, seed 2: predicted 0.7 s early,
-    // fed forward at once, the drone backed off 0.56 m too far).
+    // standing there after it shows the time was early (fed forward at once, the drone would back off
+    // too far from a teacher who still stands).
     set_off_armed_ = meet_on_leg_m_ <= 0;
     set_off_timed_ = meet_arrived_at_ >= 0 && ctx.t < meet_walk_from_;
     set_off_from_known_ = false;
@@ -483,14 +489,13 @@ void FindTeacherMission::meet(MissionContext& ctx) {
 
 void FindTeacherMission::follow_estimate_corrections(const MissionContext& ctx) {
   // Faces are placed in the world from the drone's pose estimate, so when the estimator corrects that
-  // estimate (on dead reckoning over the lab's bare floor the velocity-dropout handling moved it
-  // 0.09-0.13 m within one tick, in every real-vision seed, near the start of leg C), every face after
-  // it is placed that much farther: differenced into the track's velocity, a 0.12 m correction read
-  // as 0.27 m/s of walking: a teacher standing at the corner seemed to walk and their heading was let
-  // go (seed 1, a 0.09 m correction at 45.07 s: the standoff swung round with the turning face, the
-  // drone 0.5 m off the leg as they set off), a walking teacher's heading turned by 12 degrees for a
-  // second (seed 4, 0.13 m at 48.87 s: the set point swung 0.3 m sideways, the tilt saturated). The
-  // part of the estimate's displacement that its velocity does not explain moves the track with it.
+  // estimate (on dead reckoning over a bare floor the velocity-dropout handling moves it by a tenth of
+  // a metre within one tick), every face after it is placed that much farther: differenced into the
+  // track's velocity, a 0.12 m correction reads as 0.27 m/s of walking: a teacher standing at a corner
+  // would seem to walk and their heading be let go, a walking teacher's heading would swing and the
+  // set point with it. The part of the estimate's displacement that its velocity does not explain
+  // moves the track with it. Test "control: a correction of the drone's pose estimate is not taken for
+  // the teacher's walk".
   const Eigen::Vector3d p = ctx.pose.T_world_body.translation();
   if (!ctx.pose.valid) {
     have_last_pose_ = false;
@@ -569,16 +574,17 @@ MissionOutcome FindTeacherMission::step(MissionContext& ctx) {
       if (!face_seen(ctx)) {
         // A face lost for a frame or a few (at the tracker's limit, ~35 degrees of head yaw, it
         // flickers: tracked, lost, tracked every other frame) is bridged along the track: each
-        // flicker sent the mission through Lost and a meeting and back, reset the controller and let
-        // the set point jump (real vision, seed 5, leg C: 0.25 m too close after it).
+        // flicker would send the mission through Lost and a meeting and back, reset the controller and
+        // let the set point jump. Test "control: a face lost for a few frames mid-leg is bridged along
+        // the track, not taken for a loss".
         // Not near a corner of a known route: a face lost there is a teacher turning away, and the
         // route says at once where they go.
         if (last_face_t_ >= 0 && ctx.t - last_face_t_ < kBriefLossS && track_.walking() &&
             !next_long_leg(ctx.lab.teacher, track_.position().head<2>(), kCornerRadiusM)) {
           // The set point flies the coasted place; the track itself stays where the face was last
-          // seen, when: coasted, it reached a corner's radius and a teacher still walking into it was
-          // taken for one standing there, whose set-off is "any moment" (the meeting then left
-          // ahead of them 1 s early).
+          // seen, when: coasted, it would reach a corner's radius and a teacher still walking into it
+          // be taken for one standing there, whose set-off is "any moment" (the meeting would then
+          // leave ahead of them early).
           const TeacherTrack seen = track_;
           track_.coast(ctx.t - last_face_t_);
           fly_standoff(ctx, false, track_.position());
@@ -625,4 +631,4 @@ MissionOutcome ReturnHomeMission::step(MissionContext& ctx) {
   return MissionOutcome::Succeeded;
 }
 
-}  // namespace labo
+}  // namespace labo::control

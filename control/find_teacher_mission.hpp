@@ -24,7 +24,7 @@
 #include "control/teacher_track.hpp"
 #include "control/teacher_watch_points.hpp"
 
-namespace labo {
+namespace labo::control {
 
 class FindTeacherMission final : public Mission {
  public:
@@ -143,4 +143,4 @@ class ReturnHomeMission final : public Mission {
   std::string stage_text_ = "4 return";
 };
 
-}  // namespace labo
+}  // namespace labo::control

@@ -13,10 +13,10 @@
 #include "control/safety_monitor.hpp"
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 struct FlightStack::Impl {
-  Impl(FlightStackSetup s, std::unique_ptr<LocalizationPipelines> p)
+  Impl(FlightStackSetup s, std::unique_ptr<fusion::LocalizationPipelines> p)
       : setup(std::move(s)),
         pipelines(std::move(p)),
         autopilot(setup.control, Geofence(setup.lab.room_min, setup.lab.room_max, setup.control.safety.geofence_margin_m)),
@@ -29,12 +29,12 @@ struct FlightStack::Impl {
   }
 
   FlightStackSetup setup;
-  std::unique_ptr<LocalizationPipelines> pipelines;
+  std::unique_ptr<fusion::LocalizationPipelines> pipelines;
   Autopilot autopilot;
-  LocalizationSwitch source_switch;
+  fusion::LocalizationSwitch source_switch;
   SafetyMonitor safety;
   std::unique_ptr<Mission> mission;
-  PerceptionFocus focus;
+  fusion::PerceptionFocus focus;
   CameraId camera = CameraId::Front;
   std::optional<CameraId> camera_sent;
   LinkState link = LinkState::Connected;
@@ -63,7 +63,7 @@ struct FlightStack::Impl {
     }
     c.link = link;
     c.battery_percent = have_nav ? nav.battery_percent : 100.0;
-    const PoseEstimate pose = pipelines->predict(t);
+    const fusion::PoseEstimate pose = pipelines->predict(t);
     c.position = pose.T_world_body.translation();
     c.yaw = ypr_from_rotation(pose.T_world_body.linear())[0];
     if (const auto& tg = autopilot.target()) {
@@ -73,31 +73,31 @@ struct FlightStack::Impl {
     return c;
   }
 
-  std::optional<double> near_target_distance(const TargetObservation& obs) const {
-    if (obs.state != TrackState::Tracking) return std::nullopt;
+  std::optional<double> near_target_distance(const fusion::TargetObservation& obs) const {
+    if (obs.state != fusion::TrackState::Tracking) return std::nullopt;
     return camera_distance(obs);
   }
 
   void update_source(Seconds t) {
-    SwitchInputs in;
+    fusion::SwitchInputs in;
     in.t = t;
-    const TargetObservation near = focus.platform ? pipelines->platform() : pipelines->instrument();
+    const fusion::TargetObservation near = focus.platform ? pipelines->platform() : pipelines->instrument();
     in.target_state = near.state;
     in.target_distance_m = near_target_distance(near);
-    const SlamSummary slam = pipelines->slam();
+    const fusion::SlamSummary slam = pipelines->slam();
     in.slam = slam.state;
     in.slam_scaled = slam.scale_estimated;
     // The face is feedback only when configured so: fused as a landmark, a walking teacher's motion is
-    // taken for the drone's (with SLAM lost at a watch point, the simulated lab's real-vision
-    // face-follow drifted the estimate 0.35 m in 2 s that way, and the drone met the teacher). Without
-    // SLAM the drone follows on navdata odometry, the face as the target.
+    // taken for the drone's (with SLAM lost at a watch point, the estimate would drift with the
+    // teacher's walk and the drone fly into them). Without SLAM the drone follows on navdata odometry,
+    // the face as the target.
     in.face_mode = focus.face && setup.control.mission.face_as_feedback;
     in.face_state = pipelines->face().state;
     focus.feedback = source_switch.update(in);
     pipelines->set_focus(focus);
   }
 
-  FlightOutput apply_safety(const PoseEstimate& pose, Seconds t, bool& paused) {
+  FlightOutput apply_safety(const fusion::PoseEstimate& pose, Seconds t, bool& paused) {
     SafetyInputs in;
     in.t = t;
     in.landing = autopilot.phase() == FlightPhase::Landing;
@@ -105,7 +105,7 @@ struct FlightStack::Impl {
     in.link = link;
     in.battery_percent = have_nav ? nav.battery_percent : 100.0;
     in.localization_required = mission && mission->needs_visual_localization();
-    in.localization_ok = pose.valid && pose.source != FeedbackSource::DeadReckoning;
+    in.localization_ok = pose.valid && pose.source != fusion::FeedbackSource::DeadReckoning;
     if (mission && mission->tolerates_dead_reckoning()) in.localization_grace_s = setup.control.safety.return_dead_reckoning_s;
     in.returning_home = mission && mission->name() == "return_home";
     in.flying = autopilot.phase() == FlightPhase::Flying;
@@ -152,7 +152,7 @@ struct FlightStack::Impl {
   // The safety's level hold: the altitude and yaw of the target being flown (the mission's set point:
   // a push away from it is corrected even while the mission waits), else of the pose when it began.
   // Outside normal flight (taking off, landing) the firmware's hover, as before.
-  FlightOutput hold_level(const PoseEstimate& pose) {
+  FlightOutput hold_level(const fusion::PoseEstimate& pose) {
     FlightOutput out;
     if (autopilot.phase() != FlightPhase::Flying || !pose.valid) {
       out.action = FlightOutput::Action::Hover;
@@ -169,7 +169,7 @@ struct FlightStack::Impl {
 
   FlightOutput tick(Seconds t) {
     last_tick = t;
-    const PoseEstimate pose = pipelines->predict(t);
+    const fusion::PoseEstimate pose = pipelines->predict(t);
     if (pending) {
       FlightOutput out = *pending;
       pending.reset();
@@ -218,7 +218,7 @@ struct FlightStack::Impl {
       return verdict;
     }
     last_event = verdict.reason;
-    const PoseEstimate pose = pipelines->predict(t);
+    const fusion::PoseEstimate pose = pipelines->predict(t);
     switch (r.kind) {
       case RequestKind::EmergencyStop:
         finish_mission("emergency stop");
@@ -248,7 +248,7 @@ struct FlightStack::Impl {
         break;
       }
       case RequestKind::Inspect: {
-        const PlanarTarget& inst = *setup.lab.find_instrument(r.instrument_id);
+        const fusion::PlanarTarget& inst = *setup.lab.find_instrument(r.instrument_id);
         const double hold = r.hold_s > 0 ? r.hold_s : setup.control.mission.default_hold_s;
         const double standoff = r.standoff_m > 0 ? r.standoff_m : setup.control.mission.standoff_m;
         mission = std::make_unique<InspectMission>(inst, hold, standoff, t);
@@ -270,15 +270,15 @@ struct FlightStack::Impl {
 };
 
 namespace {
-std::unique_ptr<LabPipelines> pipelines_for(const FlightStackSetup& setup) {
-  if (setup.front_ends) return make_lab_pipelines(setup.lab, setup.cameras, setup.vision, setup.estimation, *setup.front_ends);
-  return std::make_unique<LabPipelines>(setup.lab, setup.estimation, setup.vision);
+std::unique_ptr<fusion::LabPipelines> pipelines_for(const FlightStackSetup& setup) {
+  if (setup.front_ends) return fusion::make_lab_pipelines(setup.lab, setup.cameras, setup.vision, setup.estimation, *setup.front_ends);
+  return std::make_unique<fusion::LabPipelines>(setup.lab, setup.estimation, setup.vision);
 }
 }  // namespace
 
 FlightStack::FlightStack(FlightStackSetup setup) : FlightStack(setup, pipelines_for(setup)) {}
 
-FlightStack::FlightStack(FlightStackSetup setup, std::unique_ptr<LocalizationPipelines> pipelines)
+FlightStack::FlightStack(FlightStackSetup setup, std::unique_ptr<fusion::LocalizationPipelines> pipelines)
     : impl_(std::make_unique<Impl>(std::move(setup), std::move(pipelines))) {}
 
 FlightStack::~FlightStack() = default;
@@ -292,9 +292,9 @@ void FlightStack::on_navdata(const NavdataSample& sample) {
 
 void FlightStack::on_video(const VideoFrame& frame) { impl_->pipelines->on_video(frame); }
 
-bool FlightStack::prepare_vision(const VideoFrame& frame, VisionJob& job) { return impl_->pipelines->prepare_vision(frame, job); }
+bool FlightStack::prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) { return impl_->pipelines->prepare_vision(frame, job); }
 
-void FlightStack::apply_vision(const VisionResults& results) { impl_->pipelines->apply_vision(results); }
+void FlightStack::apply_vision(const fusion::VisionResults& results) { impl_->pipelines->apply_vision(results); }
 
 void FlightStack::on_link_state(LinkState state, Seconds) { impl_->link = state; }
 
@@ -319,7 +319,7 @@ FlightStatus FlightStack::status() const {
   s.pose = m.pipelines->predict(m.last_tick);
   if (const auto& tg = m.autopilot.target()) s.desired = Eigen::Vector4d(tg->position.x(), tg->position.y(), tg->position.z(), tg->yaw);
   s.source = s.pose.source;
-  s.source_colour = colour_of(s.source);
+  s.source_colour = fusion::colour_of(s.source);
   s.last_command = m.autopilot.last_command();
   s.battery_percent = m.nav.battery_percent;
   s.altitude_m = m.nav.altitude_m;
@@ -333,4 +333,4 @@ FlightStatus FlightStack::status() const {
   return s;
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -25,17 +25,17 @@
 #include "localization/estimation/estimation_config.hpp"
 #include "localization/vision_thresholds.hpp"
 
-namespace labo {
+namespace labo::control {
 
 struct FlightStackSetup {
   ControlConfig control;
-  LabGeometry lab;
+  fusion::LabGeometry lab;
   CamerasConfig cameras = ardrone2_cameras();
   VisionThresholds vision;
-  EstimatorConfig estimation;
-  // Set: LabPipelines runs the real vision front-ends on the frames (make_lab_pipelines()). Unset:
+  estimation::EstimatorConfig estimation;
+  // Set: LabPipelines runs the real vision front-ends on the frames (fusion::make_lab_pipelines()). Unset:
   // vision results come only through LabPipelines::add_*_result() (tests, the perception model).
-  std::optional<FrontEndSettings> front_ends;
+  std::optional<fusion::FrontEndSettings> front_ends;
 };
 
 class FlightStack {
@@ -44,7 +44,7 @@ class FlightStack {
   // when setup.front_ends is set.
   explicit FlightStack(FlightStackSetup setup);
   // With given pipelines (tests, replay).
-  FlightStack(FlightStackSetup setup, std::unique_ptr<LocalizationPipelines> pipelines);
+  FlightStack(FlightStackSetup setup, std::unique_ptr<fusion::LocalizationPipelines> pipelines);
   ~FlightStack();
   FlightStack(const FlightStack&) = delete;
   FlightStack& operator=(const FlightStack&) = delete;
@@ -52,8 +52,8 @@ class FlightStack {
   void on_navdata(const NavdataSample& sample);
   void on_video(const VideoFrame& frame);
   // on_video in steps, for a runtime that runs the vision on a worker (localization/fusion/vision_job.hpp).
-  bool prepare_vision(const VideoFrame& frame, VisionJob& job);
-  void apply_vision(const VisionResults& results);
+  bool prepare_vision(const VideoFrame& frame, fusion::VisionJob& job);
+  void apply_vision(const fusion::VisionResults& results);
   void on_link_state(LinkState state, Seconds t);
   // Simulated runs only: the true pose, reported in status() for plots and the UI.
   void set_ground_truth(const Eigen::Isometry3d& T_world_body, Seconds t);
@@ -71,4 +71,4 @@ class FlightStack {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace labo
+}  // namespace labo::control

@@ -10,7 +10,7 @@
 #include "core/time.hpp"
 #include "drone/drone_link.hpp"
 
-namespace labo {
+namespace labo::control {
 
 enum class RequestKind {
   Takeoff,
@@ -62,9 +62,9 @@ struct FlightStatus {
   int stage_count = 0;
   std::string last_event;   // latest transition, refusal or safety action, for the UI log
 
-  PoseEstimate pose;                       // fused, predicted to t
+  fusion::PoseEstimate pose;                       // fused, predicted to t
   std::optional<Eigen::Vector4d> desired;  // x, y, z, yaw the controller is driving to
-  FeedbackSource source = FeedbackSource::DeadReckoning;
+  fusion::FeedbackSource source = fusion::FeedbackSource::DeadReckoning;
   std::string source_colour;
   MoveCommand last_command;
 
@@ -73,11 +73,11 @@ struct FlightStatus {
   LinkState link = LinkState::Disconnected;
   std::vector<std::string> safety_alerts;  // active: "link lost 2.1 s", "battery 18 %", ...
 
-  SlamSummary slam;
-  TargetObservation instrument;  // panel corners for the overlay
-  TargetObservation platform;
-  TargetObservation face;        // landmarks for the overlay
+  fusion::SlamSummary slam;
+  fusion::TargetObservation instrument;  // panel corners for the overlay
+  fusion::TargetObservation platform;
+  fusion::TargetObservation face;        // landmarks for the overlay
   std::optional<Eigen::Isometry3d> ground_truth_T_world_body;  // simulated runs only
 };
 
-}  // namespace labo
+}  // namespace labo::control

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-namespace labo {
+namespace labo::control {
 
 Geofence::Geofence(const Eigen::Vector3d& room_min, const Eigen::Vector3d& room_max, double margin_m)
     : min_(room_min.array() + margin_m), max_(room_max.array() - margin_m) {
@@ -31,4 +31,4 @@ std::string Geofence::violation(const Eigen::Vector3d& p) const {
   return {};
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -5,7 +5,7 @@
 #include <Eigen/Core>
 #include <string>
 
-namespace labo {
+namespace labo::control {
 
 class Geofence {
  public:
@@ -22,4 +22,4 @@ class Geofence {
   Eigen::Vector3d max_;
 };
 
-}  // namespace labo
+}  // namespace labo::control

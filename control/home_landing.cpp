@@ -2,7 +2,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr double kPlatformSettleS = 0.5;  // platform seen this long before centring on it
@@ -66,8 +66,8 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
     case Step::FindPlatform: {
       ctx.camera = CameraId::Bottom;
       ctx.focus.platform = true;
-      const TargetObservation obs = ctx.perception.platform();
-      if (obs.state == TrackState::Tracking && ctx.t - obs.t < 0.5 && ctx.t - since_ > kPlatformSettleS) {
+      const fusion::TargetObservation obs = ctx.perception.platform();
+      if (obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < 0.5 && ctx.t - since_ > kPlatformSettleS) {
         platform_world_ = world_pose_of(obs, ctx.pose, CameraId::Bottom).translation();
         platform_placed_ = true;
         ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad}, ctx.t);
@@ -81,8 +81,8 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
       break;
     }
     case Step::Centre: {
-      const TargetObservation obs = ctx.perception.platform();
-      if (obs.state == TrackState::Tracking && ctx.t - obs.t < 0.5) {
+      const fusion::TargetObservation obs = ctx.perception.platform();
+      if (obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < 0.5) {
         // Refine the platform's place while it is in view, moving the set point without a reset.
         const Eigen::Vector3d seen = world_pose_of(obs, ctx.pose, CameraId::Bottom).translation();
         platform_world_ = 0.9 * platform_world_ + 0.1 * seen;
@@ -113,4 +113,4 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
   }
 }
 
-}  // namespace labo
+}  // namespace labo::control

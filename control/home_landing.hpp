@@ -4,7 +4,7 @@
 // feedback), switch to the bottom camera and find the platform, hover above its centre, land.
 #include "control/mission.hpp"
 
-namespace labo {
+namespace labo::control {
 
 class HomeLanding {
  public:
@@ -36,4 +36,4 @@ class HomeLanding {
   Eigen::Vector3d platform_world_ = Eigen::Vector3d::Zero();
 };
 
-}  // namespace labo
+}  // namespace labo::control

@@ -4,7 +4,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr int kPlacementsToAverage = 10;    // detections averaged to place the instrument
@@ -19,7 +19,7 @@ constexpr double kRealignS = 3.0;
 constexpr double kFreshObservationS = 0.3;
 }  // namespace
 
-InspectMission::InspectMission(PlanarTarget instrument, double hold_s, double standoff_m, Seconds t)
+InspectMission::InspectMission(fusion::PlanarTarget instrument, double hold_s, double standoff_m, Seconds t)
     : instrument_(std::move(instrument)), hold_s_(hold_s), standoff_m_(standoff_m), since_(t) {
   T_world_instrument_ = instrument_.T_world_object;  // the lab's nominal pose until it is seen
 }
@@ -43,14 +43,15 @@ bool InspectMission::needs_visual_localization() const {
 
 bool InspectMission::tolerates_dead_reckoning() const {
   // Re-detection backs off on dead reckoning by design (the panel is lost and SLAM, near it, too): a
-  // safety hover there froze the drone where the panel cannot be seen until safety landed it (a
-  // 0.6 m/s push up from the hold in the simulated lab, sim perturb --axis z --vision real).
+  // safety hover there would freeze the drone where the panel cannot be seen until safety lands it
+  // (after a push up from the hold). Test "control: a vertical push out of the panel's view is undone
+  // at the standoff's altitude, not by backing off".
   return step_ == Step::Redetect || (step_ == Step::Home && home_.paper_stage() != 6);
 }
 
 bool InspectMission::instrument_seen(const MissionContext& ctx) const {
-  const TargetObservation obs = ctx.perception.instrument();
-  return obs.state == TrackState::Tracking && ctx.t - obs.t < kFreshObservationS;
+  const fusion::TargetObservation obs = ctx.perception.instrument();
+  return obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < kFreshObservationS;
 }
 
 std::string InspectMission::describe(Seconds t) const {
@@ -101,17 +102,18 @@ bool InspectMission::lost_vertically(const MissionContext& ctx, const PoseTarget
 }
 
 bool InspectMission::on_dead_reckoning_too_long(const MissionContext& ctx) {
-  if (ctx.pose.source != FeedbackSource::DeadReckoning) {
+  if (ctx.pose.source != fusion::FeedbackSource::DeadReckoning) {
     dead_reckoning_since_ = -1;
     return false;
   }
   if (dead_reckoning_since_ < 0) dead_reckoning_since_ = ctx.t;
   // Leave before the safety monitor's hover, which pauses the mission until vision drives the estimate
-  // again: a panel flickering at the view's edge after a sideways push restarted the loss timer with
-  // each tracked frame, the drone hovered 0.2 m beside the standoff for 2.7 s on a good dead-reckoned
-  // estimate, and recovered in 5.3 s (sim perturb --axis y --vision real --seed 2). Re-detection
-  // tolerates dead reckoning and flies back to the standoff as soon as the panel is seen. (A safety
-  // hover configured at or below this delay still wins, as it does over the loss timer.)
+  // again: a panel flickering at the view's edge after a sideways push restarts the loss timer with
+  // each tracked frame, and the drone would hover beside the standoff on a good dead-reckoned estimate
+  // for seconds. Re-detection tolerates dead reckoning and flies back to the standoff as soon as the
+  // panel is seen. (A safety hover configured at or below this delay still wins, as it does over the
+  // loss timer.) Test "control: an approach left on dead reckoning re-detects before the safety hover
+  // pauses it".
   return ctx.t - dead_reckoning_since_ > kLostBeforeRedetectS;
 }
 
@@ -129,7 +131,7 @@ void InspectMission::step_inspect(MissionContext& ctx) {
   // Once the estimator has placed the instrument (when its homography feeds the filter), the pose
   // estimate is relative to that placement: the set point must be too, or any placement error becomes
   // a standoff and centring error.
-  const TargetObservation obs = ctx.perception.instrument();
+  const fusion::TargetObservation obs = ctx.perception.instrument();
   const bool replaced = obs.placed_in_world && !obs.T_world_target.isApprox(T_world_instrument_, 1e-9);
   if (obs.placed_in_world) T_world_instrument_ = obs.T_world_target;
   const PoseTarget standoff = standoff_target(T_world_instrument_, standoff_m_, ctx.centre_ray_front);
@@ -168,8 +170,9 @@ void InspectMission::step_inspect(MissionContext& ctx) {
           ctx.autopilot.go_to(standoff_target(T_world_instrument_, standoff_m_ + kRedetectBackoffM, ctx.centre_ray_front), ctx.t);
         } else {
           // Pushed above or below the view: the standoff's altitude and line of sight, at the distance
-          // the drone is now or farther (never nearer the panel). Backing off at once cost a 0.4 m round
-          // trip, about 2 s of a z recovery (sim perturb --axis z --vision real).
+          // the drone is now or farther (never nearer the panel). Backing off at once would cost a
+          // 0.4 m round trip, about 2 s of a z recovery (test "control: a vertical push out of the
+          // panel's view is undone at the standoff's altitude, not by backing off").
           const double away_m = std::max(standoff_m_, distance_along_line_of_sight(ctx));
           ctx.autopilot.go_to(standoff_target(T_world_instrument_, away_m, ctx.centre_ray_front), ctx.t);
         }
@@ -179,7 +182,8 @@ void InspectMission::step_inspect(MissionContext& ctx) {
         backed_off_ = true;
       }
       // Seen again: head for the standoff at once (the panel is in view, so this is no blind push;
-      // backing off until the switch took it cost 0.3 m of a y recovery with real vision). Lost
+      // backing off until the switch takes it would lengthen the recovery: test "control: a
+      // re-detected panel turns the back-off into the approach before the source switches"). Lost
       // again on the way: re-detection starts over.
       if (seen && !heading_back_) {
         ctx.autopilot.go_to(standoff, ctx.t);
@@ -189,9 +193,10 @@ void InspectMission::step_inspect(MissionContext& ctx) {
         break;
       }
       // Resume once the panel drives the estimate again (the switch takes it after source_hold_s of
-      // tracking): resuming when it was merely seen left the estimate on dead reckoning, which the
-      // approach does not tolerate, and safety held the drone level until the switch caught up.
-      if (seen && ctx.pose.source != FeedbackSource::DeadReckoning) enter(Step::Approach, ctx.t);
+      // tracking): resuming when it is merely seen would leave the estimate on dead reckoning, which
+      // the approach does not tolerate, and safety would hold the drone level until the switch
+      // caught up.
+      if (seen && ctx.pose.source != fusion::FeedbackSource::DeadReckoning) enter(Step::Approach, ctx.t);
       else if (ctx.t - since_ > ctx.config.mission.detect_timeout_s) {
         result_ = "instrument '" + instrument_.id + "' lost during inspection and not found again; returning home";
         home_.start(ctx.t);
@@ -242,4 +247,4 @@ MissionOutcome InspectMission::step(MissionContext& ctx) {
   return MissionOutcome::Succeeded;
 }
 
-}  // namespace labo
+}  // namespace labo::control

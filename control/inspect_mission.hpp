@@ -10,11 +10,11 @@
 #include "control/home_landing.hpp"
 #include "control/take_off_and_scale.hpp"
 
-namespace labo {
+namespace labo::control {
 
 class InspectMission final : public Mission {
  public:
-  InspectMission(PlanarTarget instrument, double hold_s, double standoff_m, Seconds t);
+  InspectMission(fusion::PlanarTarget instrument, double hold_s, double standoff_m, Seconds t);
   std::string name() const override { return "inspect"; }
   MissionOutcome step(MissionContext& ctx) override;
   int stage_index() const override;
@@ -43,7 +43,7 @@ class InspectMission final : public Mission {
   double distance_along_line_of_sight(const MissionContext& ctx) const;
   std::string describe(Seconds t) const;
 
-  PlanarTarget instrument_;
+  fusion::PlanarTarget instrument_;
   double hold_s_;
   double standoff_m_;
   Step step_ = Step::Init;
@@ -62,4 +62,4 @@ class InspectMission final : public Mission {
   std::string stage_text_ = "1 init: taking off";
 };
 
-}  // namespace labo
+}  // namespace labo::control

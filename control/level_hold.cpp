@@ -5,13 +5,13 @@
 #include "control/pid_controller.hpp"
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr double kClimbGaz = 0.5;  // about 0.35 m/s on the AR.Drone
 
 // Horizontal braking on the velocity: the position terms of the xy PID are left out on purpose.
-void brake(const PoseEstimate& pose, const PoseControlGains& gains, MoveCommand& cmd) {
+void brake(const fusion::PoseEstimate& pose, const PoseControlGains& gains, MoveCommand& cmd) {
   Eigen::Vector2d u = -gains.xy.kd * pose.velocity_world.head<2>();
   if (u.norm() > gains.max_tilt_command) u *= gains.max_tilt_command / u.norm();
   const Eigen::Vector2d u_body = world_to_body_xy(u, ypr_from_rotation(pose.T_world_body.linear())[0]);
@@ -20,7 +20,7 @@ void brake(const PoseEstimate& pose, const PoseControlGains& gains, MoveCommand&
 }
 }  // namespace
 
-MoveCommand level_hold_command(const PoseEstimate& pose, double target_z_m, double target_yaw_rad,
+MoveCommand level_hold_command(const fusion::PoseEstimate& pose, double target_z_m, double target_yaw_rad,
                                const PoseControlGains& gains) {
   MoveCommand cmd;
   brake(pose, gains, cmd);
@@ -31,7 +31,7 @@ MoveCommand level_hold_command(const PoseEstimate& pose, double target_z_m, doub
   return cmd;
 }
 
-MoveCommand climb_command(const PoseEstimate& pose, const PoseControlGains& gains) {
+MoveCommand climb_command(const fusion::PoseEstimate& pose, const PoseControlGains& gains) {
   MoveCommand cmd;
   brake(pose, gains, cmd);
   cmd.gaz = std::min(kClimbGaz, gains.z.out_max);
@@ -39,4 +39,4 @@ MoveCommand climb_command(const PoseEstimate& pose, const PoseControlGains& gain
   return cmd;
 }
 
-}  // namespace labo
+}  // namespace labo::control

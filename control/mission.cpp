@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 PoseTarget standoff_target(const Eigen::Isometry3d& T_world_target, double distance_m, const Eigen::Vector3d& centre_ray) {
   const Eigen::Vector3d centre = T_world_target.translation();
@@ -28,16 +28,16 @@ Eigen::Vector3d image_centre_ray(double fx, double fy, double cx, double cy, int
   return {(0.5 * width - cx) / fx, (0.5 * height - cy) / fy, 1.0};
 }
 
-Eigen::Isometry3d place_in_world(const PoseEstimate& pose, CameraId camera, const Eigen::Isometry3d& T_cam_target) {
+Eigen::Isometry3d place_in_world(const fusion::PoseEstimate& pose, CameraId camera, const Eigen::Isometry3d& T_cam_target) {
   const Eigen::Isometry3d T_body_cam = camera == CameraId::Front ? T_body_cam_front() : T_body_cam_bottom();
   return pose.T_world_body * T_body_cam * T_cam_target;
 }
 
-Eigen::Isometry3d world_pose_of(const TargetObservation& obs, const PoseEstimate& pose, CameraId camera) {
+Eigen::Isometry3d world_pose_of(const fusion::TargetObservation& obs, const fusion::PoseEstimate& pose, CameraId camera) {
   return obs.placed_in_world ? obs.T_world_target : place_in_world(pose, camera, obs.T_cam_target);
 }
 
-double camera_distance(const TargetObservation& obs) { return obs.T_cam_target.translation().norm(); }
+double camera_distance(const fusion::TargetObservation& obs) { return obs.T_cam_target.translation().norm(); }
 
 std::string format_seconds(double s) {
   char buf[32];
@@ -45,4 +45,4 @@ std::string format_seconds(double s) {
   return buf;
 }
 
-}  // namespace labo
+}  // namespace labo::control

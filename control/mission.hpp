@@ -10,16 +10,16 @@
 #include "localization/fusion/lab_geometry.hpp"
 #include "localization/fusion/localization_pipelines.hpp"
 
-namespace labo {
+namespace labo::control {
 
 struct MissionContext {
   Seconds t = 0;
-  const PoseEstimate& pose;
-  const LocalizationPipelines& perception;
+  const fusion::PoseEstimate& pose;
+  const fusion::LocalizationPipelines& perception;
   Autopilot& autopilot;
-  const LabGeometry& lab;
+  const fusion::LabGeometry& lab;
   const ControlConfig& config;
-  PerceptionFocus& focus;
+  fusion::PerceptionFocus& focus;
   CameraId& camera;
   Eigen::Vector3d centre_ray_front;  // front camera ray through the image centre (x/z, y/z, 1)
   std::optional<FlightOutput> phase_action;  // take-off / land issued this tick
@@ -60,11 +60,11 @@ PoseTarget standoff_target(const Eigen::Isometry3d& T_world_target, double dista
 // The front camera's ray through the image centre, (x/z, y/z, 1).
 Eigen::Vector3d image_centre_ray(double fx, double fy, double cx, double cy, int width, int height);
 // Places a target seen by a camera in the world: T_world_body * T_body_cam * T_cam_target.
-Eigen::Isometry3d place_in_world(const PoseEstimate& pose, CameraId camera, const Eigen::Isometry3d& T_cam_target);
+Eigen::Isometry3d place_in_world(const fusion::PoseEstimate& pose, CameraId camera, const Eigen::Isometry3d& T_cam_target);
 // The observation's world pose: the pipeline's placement when it made one, else place_in_world().
-Eigen::Isometry3d world_pose_of(const TargetObservation& obs, const PoseEstimate& pose, CameraId camera);
+Eigen::Isometry3d world_pose_of(const fusion::TargetObservation& obs, const fusion::PoseEstimate& pose, CameraId camera);
 // Camera-to-target distance, from the latest observation.
-double camera_distance(const TargetObservation& obs);
+double camera_distance(const fusion::TargetObservation& obs);
 std::string format_seconds(double s);
 
-}  // namespace labo
+}  // namespace labo::control

@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr double kOpposingUnwindFactor = 2.5;
@@ -57,7 +57,7 @@ void PoseController::reset() {
   yaw_.reset();
 }
 
-MoveCommand PoseController::update(const PoseEstimate& pose, double dt) {
+MoveCommand PoseController::update(const fusion::PoseEstimate& pose, double dt) {
   const Eigen::Vector3d p = pose.T_world_body.translation();
   const double yaw = ypr_from_rotation(pose.T_world_body.linear())[0];
   const Eigen::Vector3d e = target_.position - p;
@@ -85,4 +85,4 @@ MoveCommand PoseController::update(const PoseEstimate& pose, double dt) {
   return cmd;
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -12,7 +12,7 @@
 #include "localization/fusion/localization_pipelines.hpp"
 #include "drone/drone_link.hpp"
 
-namespace labo {
+namespace labo::control {
 
 class PidAxis {
  public:
@@ -50,7 +50,7 @@ class PoseController {
   void set_target(const PoseTarget& target, bool keep_state = false);
   const PoseTarget& target() const { return target_; }
   // The command that drives `pose` towards the target; dt is the time since the last call.
-  MoveCommand update(const PoseEstimate& pose, double dt);
+  MoveCommand update(const fusion::PoseEstimate& pose, double dt);
   void reset();
 
   const PidAxis& axis_x() const { return x_; }
@@ -65,4 +65,4 @@ class PoseController {
 // Rotates a world-frame horizontal vector into the body frame for a given yaw: (forward, left).
 Eigen::Vector2d world_to_body_xy(const Eigen::Vector2d& v_world, double yaw);
 
-}  // namespace labo
+}  // namespace labo::control

@@ -5,13 +5,13 @@
 
 #include "control/mission.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 
 bool airborne(FlightPhase p) { return p == FlightPhase::Flying || p == FlightPhase::TakingOff; }
 
-std::string known_instruments(const LabGeometry& lab) {
+std::string known_instruments(const fusion::LabGeometry& lab) {
   std::string s;
   for (const auto& i : lab.instruments) s += (s.empty() ? "" : ", ") + i.id;
   return s.empty() ? "none configured" : s;
@@ -36,7 +36,7 @@ Eigen::Vector3d destination(const MissionRequest& r, const RequestContext& ctx) 
 
 }  // namespace
 
-CommandResult check_request(const MissionRequest& r, const RequestContext& ctx, const LabGeometry& lab,
+CommandResult check_request(const MissionRequest& r, const RequestContext& ctx, const fusion::LabGeometry& lab,
                             const Geofence& fence, const ControlConfig& config) {
   const std::string what = to_string(r.kind);
   if (r.kind == RequestKind::EmergencyStop) return CommandResult::ok("emergency stop: motors cut");
@@ -108,4 +108,4 @@ CommandResult check_request(const MissionRequest& r, const RequestContext& ctx, 
   return CommandResult::refused(what + ": not understood");
 }
 
-}  // namespace labo
+}  // namespace labo::control

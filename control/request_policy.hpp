@@ -8,7 +8,7 @@
 #include "control/geofence.hpp"
 #include "localization/fusion/lab_geometry.hpp"
 
-namespace labo {
+namespace labo::control {
 
 struct RequestContext {
   FlightPhase phase = FlightPhase::Landed;
@@ -23,7 +23,7 @@ struct RequestContext {
   bool has_target = false;
 };
 
-CommandResult check_request(const MissionRequest& request, const RequestContext& ctx, const LabGeometry& lab,
+CommandResult check_request(const MissionRequest& request, const RequestContext& ctx, const fusion::LabGeometry& lab,
                             const Geofence& fence, const ControlConfig& config);
 
-}  // namespace labo
+}  // namespace labo::control

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
-namespace labo {
+namespace labo::control {
 
 std::string to_string(SafetyAction action) {
   switch (action) {
@@ -106,4 +106,4 @@ void SafetyMonitor::watch_estimate(const SafetyInputs& in) {
   last_t_ = in.t;
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -23,7 +23,7 @@
 #include "control/control_config.hpp"
 #include "control/flight_types.hpp"
 
-namespace labo {
+namespace labo::control {
 
 // Ordered by precedence: the highest raised in a tick wins. Hover: the firmware's (link lost: the
 // commands do not arrive anyway); HoldLevel: level_hold_command(); Climb: climb_command().
@@ -73,4 +73,4 @@ class SafetyMonitor {
   int jumps_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::control

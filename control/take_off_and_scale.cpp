@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 constexpr double kClimbTimeoutS = 8.0;
@@ -47,8 +47,8 @@ bool TakeOffAndScale::step(MissionContext& ctx, double altitude_m) {
       if (ctx.autopilot.reached() || ctx.t - since_ > kClimbTimeoutS) enter(Step::SlamInit, ctx.t);
       break;
     case Step::SlamInit: {
-      const SlamState s = ctx.perception.slam().state;
-      if (s == SlamState::Good || s == SlamState::Dodgy || ctx.t - since_ > kSlamInitTimeoutS) {
+      const fusion::SlamState s = ctx.perception.slam().state;
+      if (s == fusion::SlamState::Good || s == fusion::SlamState::Dodgy || ctx.t - since_ > kSlamInitTimeoutS) {
         leg_start_ = ctx.autopilot.target().value_or(PoseTarget{here, yaw});
         start_z_ = leg_start_.position.z();
         enter(m.scale_manoeuvre_m > 0 ? Step::Forward : Step::Done, ctx.t);
@@ -93,4 +93,4 @@ bool TakeOffAndScale::step(MissionContext& ctx, double altitude_m) {
   return step_ == Step::Done;
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -6,14 +6,16 @@
 // the estimator's ScaleEstimator compares with the ultrasound to fix the map's scale. Why the forward
 // leg first: a map made from the take-off's vertical motion in front of a far wall confuses vertical
 // translation with pitch, and its scale changes by 25-75 % at its first motion along the optical axis
-// (docs/state-estimation.md, "Scale"); flown first, that change is over before the scale is fixed. When the map still has no scale after a round (too few good displacement pairs; seen in
-// the simulated lab, where such a flight then ran the whole mission on dead reckoning and the
-// homography and missed the platform), the round is repeated, up to kMaxRounds in all.
+// (docs/state-estimation.md, "Scale"); flown first, that change is over before the scale is fixed.
+// When the map still has no scale after a round (too few good displacement pairs), the round is
+// repeated, up to kMaxRounds in all: without a scale the whole mission would fly on dead reckoning and
+// the homography and could miss the platform. Test "control: a map still without a scale flies the
+// vertical manoeuvre again, kMaxRounds times in all".
 #include <string>
 
 #include "control/mission.hpp"
 
-namespace labo {
+namespace labo::control {
 
 class TakeOffAndScale {
  public:
@@ -42,4 +44,4 @@ class TakeOffAndScale {
   int round_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::control

@@ -6,7 +6,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 // Time constants of the low-passes (s). The face's place follows quickly (the standoff must not
@@ -43,9 +43,10 @@ void TeacherTrack::reset(const Eigen::Isometry3d& T_world_face, Seconds t) {
 void TeacherTrack::resume(const Eigen::Isometry3d& T_world_face, Seconds t) {
   walk_ = last_walk_ = WalkSpell{};
   position_ = T_world_face.translation();
-  // The velocity stays the prediction's (place()): zeroed, the feed-forward dropped and the
-  // derivative, relative to it, braked the drone as the face of a teacher walking at it came back
-  // (real vision, seed 1, leg A: 0.18 m too close for 1 s after the face was found again).
+  // The velocity stays the prediction's (place()): zeroed, the feed-forward would drop and the
+  // derivative, relative to it, would brake the drone as the face of a teacher walking at it comes
+  // back, too close. Test "control: a face taken up again after a route prediction keeps the
+  // predicted walk".
   heading_rate_ = 0;
   hold_heading_ = true;
   t_ = t;
@@ -121,4 +122,4 @@ Eigen::Isometry3d TeacherTrack::T_world_upright_face(double heading_rad) const {
   return T;
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -11,7 +11,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::control {
 
 class TeacherTrack {
  public:
@@ -80,4 +80,4 @@ class TeacherTrack {
 // Where a face (control's convention, z into the face) looks, as a world heading.
 double facing_heading(const Eigen::Isometry3d& T_world_face);
 
-}  // namespace labo
+}  // namespace labo::control

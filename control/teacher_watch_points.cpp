@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-namespace labo {
+namespace labo::control {
 
 namespace {
 double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -22,7 +22,7 @@ struct PlaceOnLeg {
   double lateral_m = 0;  // off its line
 };
 
-std::optional<PlaceOnLeg> place_on_leg_into(const TeacherRoute& route, std::size_t k, const Eigen::Vector2d& p) {
+std::optional<PlaceOnLeg> place_on_leg_into(const fusion::TeacherRoute& route, std::size_t k, const Eigen::Vector2d& p) {
   const std::size_t n = route.waypoints.size();
   if (n < 2) return std::nullopt;
   const Eigen::Vector2d to = route.waypoints[k % n], from = route.waypoints[(k + n - 1) % n];
@@ -34,7 +34,7 @@ std::optional<PlaceOnLeg> place_on_leg_into(const TeacherRoute& route, std::size
 }
 }  // namespace
 
-double distance_to_route(const Eigen::Vector2d& p, const TeacherRoute& route) {
+double distance_to_route(const Eigen::Vector2d& p, const fusion::TeacherRoute& route) {
   const std::size_t n = route.waypoints.size();
   double nearest = n == 1 ? (p - route.waypoints[0]).norm() : std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; n > 1 && i < n; ++i)
@@ -42,7 +42,7 @@ double distance_to_route(const Eigen::Vector2d& p, const TeacherRoute& route) {
   return nearest;
 }
 
-std::vector<WatchPoint> teacher_watch_points(const TeacherRoute& route, const Geofence& fence, double beyond_m,
+std::vector<WatchPoint> teacher_watch_points(const fusion::TeacherRoute& route, const Geofence& fence, double beyond_m,
                                              double clearance_m, double min_leg_m) {
   std::vector<WatchPoint> out;
   const std::size_t n = route.waypoints.size();
@@ -61,7 +61,7 @@ std::vector<WatchPoint> teacher_watch_points(const TeacherRoute& route, const Ge
   return out;
 }
 
-std::optional<RouteLeg> next_long_leg(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy, double corner_radius_m,
+std::optional<RouteLeg> next_long_leg(const fusion::TeacherRoute& route, const Eigen::Vector2d& teacher_xy, double corner_radius_m,
                                       double min_leg_m) {
   const std::size_t n = route.waypoints.size();
   if (n < 2) return std::nullopt;
@@ -77,7 +77,7 @@ std::optional<RouteLeg> next_long_leg(const TeacherRoute& route, const Eigen::Ve
   return next_long_leg_from(route, corner, min_leg_m);
 }
 
-std::optional<RouteLeg> next_long_leg_from(const TeacherRoute& route, std::size_t corner, double min_leg_m) {
+std::optional<RouteLeg> next_long_leg_from(const fusion::TeacherRoute& route, std::size_t corner, double min_leg_m) {
   const std::size_t n = route.waypoints.size();
   if (n < 2 || corner >= n) return std::nullopt;
   for (std::size_t i = 0; i < n; ++i) {
@@ -89,7 +89,7 @@ std::optional<RouteLeg> next_long_leg_from(const TeacherRoute& route, std::size_
   return std::nullopt;
 }
 
-double seconds_to_set_off(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy, const RouteLeg& leg) {
+double seconds_to_set_off(const fusion::TeacherRoute& route, const Eigen::Vector2d& teacher_xy, const RouteLeg& leg) {
   const std::size_t n = route.waypoints.size();
   const double speed = std::max(route.speed_mps, 1e-3);
   const double pause = std::max(route.pause_s, 0.0);
@@ -99,14 +99,14 @@ double seconds_to_set_off(const TeacherRoute& route, const Eigen::Vector2d& teac
   return s;
 }
 
-double metres_short_of_waypoint(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy, std::size_t k,
+double metres_short_of_waypoint(const fusion::TeacherRoute& route, const Eigen::Vector2d& teacher_xy, std::size_t k,
                                 double lateral_m) {
   const std::optional<PlaceOnLeg> on = place_on_leg_into(route, k, teacher_xy);
   if (!on) return -1.0;
   return on->lateral_m <= lateral_m && on->s_m >= 0.0 && on->s_m <= on->length_m ? on->length_m - on->s_m : -1.0;
 }
 
-std::optional<std::size_t> waypoint_walked_into(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy,
+std::optional<std::size_t> waypoint_walked_into(const fusion::TeacherRoute& route, const Eigen::Vector2d& teacher_xy,
                                                 const Eigen::Vector2d& velocity, double lateral_m, double min_speed_mps) {
   std::optional<std::size_t> best;
   double best_lateral = lateral_m;
@@ -122,7 +122,7 @@ std::optional<std::size_t> waypoint_walked_into(const TeacherRoute& route, const
   return best;
 }
 
-Eigen::Vector2d route_place_before(const TeacherRoute& route, const RouteLeg& leg, double since_arrival_s) {
+Eigen::Vector2d route_place_before(const fusion::TeacherRoute& route, const RouteLeg& leg, double since_arrival_s) {
   const std::size_t n = route.waypoints.size();
   const double speed = std::max(route.speed_mps, 1e-3);
   double left = since_arrival_s - std::max(route.pause_s, 0.0);  // time left after the pause at k
@@ -136,7 +136,7 @@ Eigen::Vector2d route_place_before(const TeacherRoute& route, const RouteLeg& le
   return route.waypoints[k];
 }
 
-std::optional<WatchPoint> next_leg_meeting_point(const TeacherRoute& route, const Eigen::Vector2d& teacher_xy,
+std::optional<WatchPoint> next_leg_meeting_point(const fusion::TeacherRoute& route, const Eigen::Vector2d& teacher_xy,
                                                  const Geofence& fence, double ahead_m, double corner_radius_m,
                                                  double min_leg_m) {
   const std::optional<RouteLeg> leg = next_long_leg(route, teacher_xy, corner_radius_m, min_leg_m);
@@ -145,4 +145,4 @@ std::optional<WatchPoint> next_leg_meeting_point(const TeacherRoute& route, cons
   return WatchPoint{fence.clamp({p.x(), p.y(), route.eye_height_m}), std::atan2(-leg->along.y(), -leg->along.x())};
 }
 
-}  // namespace labo
+}  // namespace labo::control

@@ -23,7 +23,7 @@ class PinholeCamera {
  public:
   explicit PinholeCamera(const CameraIntrinsics& intrinsics);
 
-  // AR.Drone 2.0 defaults (issue #2): front 640x360 with distortion; bottom 640x360, none.
+  // AR.Drone 2.0 defaults: front 640x360 with distortion; bottom 640x360, none.
   static PinholeCamera ardrone2_front();
   static PinholeCamera ardrone2_bottom();
 

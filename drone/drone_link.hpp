@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <span>
 #include <string>
 
 #include "core/time.hpp"
@@ -44,6 +45,17 @@ struct VideoFrame {
   cv::Mat bgr;                 // CV_8UC3
 };
 
+// One H.264 access unit as the drone sent it: Annex-B, the PaVE header stripped, all its slices. For
+// passing the stream on without decoding it; `annexb` is valid only during the call.
+struct EncodedVideo {
+  Seconds t = 0;               // receive time of the unit's last byte (the decoded frame's t)
+  CameraId camera = CameraId::Front;
+  std::uint32_t frame_number = 0;
+  bool keyframe = false;       // an IDR (with SPS and PPS): a decoder can start here
+  int width = 0, height = 0;   // display size
+  std::span<const std::uint8_t> annexb;
+};
+
 enum class LinkState { Disconnected, Connecting, Connected, Degraded, Lost };
 std::string to_string(LinkState state);
 
@@ -70,6 +82,9 @@ class DroneLinkListener {
   virtual ~DroneLinkListener() = default;
   virtual void on_navdata(const NavdataSample& sample) = 0;
   virtual void on_video(const VideoFrame& frame) = 0;
+  // The frame's access unit before it is decoded (links that receive H.264), from an IDR on after
+  // every reset of the stream; called before on_video for the same frame.
+  virtual void on_encoded_video(const EncodedVideo&) {}
   virtual void on_link_state(LinkState state, Seconds t) = 0;
 };
 

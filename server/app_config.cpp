@@ -19,9 +19,9 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
   const std::string level = root.choice_or("log_level", "info", {"debug", "info", "warn", "error", "off"});
   c.log_level = parse_log_level(level);
   c.cameras = read_cameras_config_or_stock(root);
-  c.control = root.has("control") ? read_control_config(root.object("control")) : ControlConfig{};
+  c.control = root.has("control") ? control::read_control_config(root.object("control")) : control::ControlConfig{};
   c.vision = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
-  c.estimation = root.has("estimation") ? read_estimation_config(root.object("estimation")) : EstimatorConfig{};
+  c.estimation = root.has("estimation") ? estimation::read_estimation_config(root.object("estimation")) : estimation::EstimatorConfig{};
   c.face = root.has("face") ? face::read_face_config(root.object("face"), base_dir) : face::default_face_config();
   c.server = root.has("server") ? read_server_settings(root.object("server"), base_dir) : default_server_settings(base_dir);
   c.link = root.has("link") ? read_ardrone_link_settings(root.object("link")) : ArdroneLinkSettings{};

@@ -25,8 +25,8 @@ struct AppConfig {
   LogLevel log_level = LogLevel::Info;
   CamerasConfig cameras;
   VisionThresholds vision;
-  EstimatorConfig estimation;
-  ControlConfig control;
+  estimation::EstimatorConfig estimation;
+  control::ControlConfig control;
   planar::PlanarConfig planar;
   slam::SlamSettings slam;
   ServerSettings server;

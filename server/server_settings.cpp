@@ -63,6 +63,7 @@ ControlRules read_control_rules(const ConfigReader& c) {
 ClientLimits read_client_limits(const ConfigReader& c) {
   ClientLimits l;
   l.event_queue_messages = c.integer_or("event_queue_messages", l.event_queue_messages, 4, 4096);
+  l.video_queue_frames = c.integer_or("video_queue_frames", l.video_queue_frames, 2, 120);
   l.backlog_timeout_s = c.number_or("backlog_timeout_s", l.backlog_timeout_s, Range::closed(0.5, 600));
   l.write_timeout_s = c.number_or("write_timeout_s", l.write_timeout_s, Range::closed(0.5, 600));
   l.commands_per_s = c.number_or("commands_per_s", l.commands_per_s, Range::closed(0.1, 1000));

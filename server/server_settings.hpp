@@ -29,6 +29,7 @@ struct ControlRules {
 struct ClientLimits {
   int event_queue_messages = 64;   // queued JSON events per WebSocket client
   double backlog_timeout_s = 5;    // a queue full for this long disconnects the client
+  int video_queue_frames = 10;     // H.264 access units queued per client before it drops to the next IDR
   double write_timeout_s = 10;     // one write pending this long disconnects the client
   double commands_per_s = 5;       // token bucket for WebSocket messages
   int command_burst = 10;

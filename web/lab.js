@@ -5,7 +5,7 @@ import {TelemetryView} from './telemetry_view.js';
 
 const $ = (id) => document.getElementById(id);
 const view = new TelemetryView(document);
-const state = {ws: null, role: null, nextId: 1, latencies: [], frames: 0, lastFpsT: performance.now(), heartbeat: null};
+const state = {ws: null, role: null, nextId: 1, latencies: [], frames: 0, lastFpsT: performance.now(), heartbeat: null, controlSeq: -1};
 // Exposed for tests and curious users: what the page has seen.
 window.labodrone = {framesDecoded: 0, lastFrameNumber: -1, stages: [], acks: [], latencyMedianMs: null, connected: false};
 
@@ -50,6 +50,9 @@ async function onFrame(buffer) {
 }
 
 function onControl(msg) {
+  // States are sent after the server's lock is released and may arrive out of order: keep the newest.
+  if (msg.seq <= state.controlSeq) return;
+  state.controlSeq = msg.seq;
   const c = msg.controller;
   $('control-state').textContent = c ? `${c.user} (${c.role}) has control` : 'nobody controls the drone';
   $('turn').textContent = msg.you && msg.you.controlling
@@ -107,6 +110,7 @@ function connect() {
   ws.binaryType = 'arraybuffer';
   state.ws = ws;
   ws.onopen = () => {
+    state.controlSeq = -1;
     $('connection').textContent = 'connected'; $('connection').className = 'badge ok';
     window.labodrone.connected = true;
     state.heartbeat = setInterval(() => send({type: 'heartbeat'}), 2000);

@@ -13,7 +13,7 @@ namespace {
 constexpr double kRadToDeg = 180.0 / M_PI;
 constexpr Seconds kDemoNavdata = 1.0 / 15.0;   // the AR.Drone's default navdata_demo rate
 constexpr Seconds kFullNavdata = 1.0 / 200.0;
-constexpr double kImpulseM = 0.5;              // the z impulse
+constexpr double kImpulseM = 0.5;              // the z impulse the targets are stated for
 constexpr Seconds kScaleWindow = 2.5;          // windows of the scale diagnostic
 
 struct Rms {
@@ -31,7 +31,7 @@ void accumulate(FlightRun& run, Seconds duration, Rms& position, Rms& yaw, Rms& 
   while (run.plant().now() < end - 1e-9) {
     run.tick();
     const GroundTruth g = run.plant().truth();
-    const FusedState f = run.estimate_now();
+    const estimation::FusedState f = run.estimate_now();
     position.add((f.position_world - g.T_world_body.translation()).norm());
     yaw.add(wrap_angle(f.yaw - yaw_of(g.T_world_body)));
     control.add((g.T_world_body.translation() - run.setpoint).norm());
@@ -49,9 +49,9 @@ TrackingErrors measure(FlightRun& run, Seconds duration) {
 // camera's axis and back, then descends and climbs slowly (open-loop gaz) while holding x, y. Why the
 // leg comes before the up/down: the real SLAM's map, made from vertical motion in front of a far wall,
 // confuses vertical translation with pitch (both shift the image alike), so its metres per unit over
-// vertical motion were 25-75 % off the value it settles to at its first motion along the optical axis
-// (~6 m/unit on every seed: the true median depth); a scale fixed over the up/down alone was wrong
-// afterwards. Returns the time the up/down starts: the map's true scale is measured from there on.
+// vertical motion are 25-75 % off the value it settles to at its first motion along the optical axis
+// (~6 m/unit: the true median depth); a scale fixed over the up/down alone would be wrong afterwards.
+// Returns the time the up/down starts: the map's true scale is measured from there on.
 Seconds scale_manoeuvre(FlightRun& run) {
   run.set_vision({.slam = true, .instrument = false});
   run.run_for(1.0);
@@ -186,7 +186,7 @@ BareFloorCrossing cross_bare_floor(FlightRun& run) {
   move_along_x(run, kToX, kSpeed, 2.0, track);
   out.final_error_m = (error() - start_error).norm();
   out.overshoot_m = std::max(0.0, furthest_x - kToX);
-  const EstimatorStatistics st = run.estimator().statistics();
+  const estimation::EstimatorStatistics st = run.estimator().statistics();
   out.dropouts = st.count("velocity_dropouts");
   out.dropout_packets = st.count("velocity_dropout_packets");
   out.crash = run.plant().crash();
@@ -195,7 +195,7 @@ BareFloorCrossing cross_bare_floor(FlightRun& run) {
 }  // namespace
 
 EstimationResults run_estimation_experiments(const PlantFactory& make_plant, const PipelineKind& vision, unsigned seed,
-                                             const EstimatorConfig& config, ExperimentPhases phases) {
+                                             const estimation::EstimatorConfig& config, ExperimentPhases phases) {
   EstimationResults out;
   std::uint64_t rejected = 0;
   const auto count_rejections = [&](const FlightRun& run) {
@@ -216,7 +216,7 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
     run.setpoint = plant->truth().T_world_body.translation();
     const Seconds slam_start = plant->now();
     const Seconds up_down = scale_manoeuvre(run);
-    const ScaleStatus s = run.estimator().scale_status();
+    const estimation::ScaleStatus s = run.estimator().scale_status();
     out.scale_estimated = s.estimated;
     out.scale_estimated_m_per_unit = s.scale;
     out.scale_true_m_per_unit = true_map_scale(run, up_down);
@@ -225,7 +225,7 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
                                   : 100.0;
     out.scale_accuracy = s.accuracy;
     out.scale_pairs = s.pairs;
-    const EstimatorStatistics stage1 = run.estimator().statistics();
+    const estimation::EstimatorStatistics stage1 = run.estimator().statistics();
     out.scale_outliers = static_cast<int>(stage1.count("scale_pairs_outliers_at_arrival"));
     out.scale_changes = static_cast<int>(stage1.count("scale_changes"));
     run.setpoint = Eigen::Vector3d(0.5, 0.0, 1.2);
@@ -275,7 +275,7 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
   }
   for (const bool paper_rule : {false, true}) {  // z push with navdata only
     auto plant = make_plant(request(seed + 2000, kDemoNavdata, false));
-    EstimatorConfig c = config;
+    estimation::EstimatorConfig c = config;
     c.altitude_step_discrimination = !paper_rule;
     c.use_navdata_vz = !paper_rule;  // tum_ardrone, and so the paper, did not use the navdata vz
     FlightRun run(*plant, c, make_pipeline, seed, true);
@@ -284,12 +284,12 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
     count_rejections(run);
   }
   for (const bool detect : {true, false}) {  // across the bare floor on navdata (15 Hz, as in the missions)
-    // No flat trim before the take-off, as the missions fly today: the IMU's roll/pitch offset stays
+    // No flat trim before the take-off, as the missions fly: the IMU's roll/pitch offset stays
     // (SensorModel: 0.6 deg), which is what the model runs on while the velocity is out.
     PlantRequest r = request(seed + 4000, kDemoNavdata, false);
     r.flat_trim = false;
     auto plant = make_plant(r);
-    EstimatorConfig c = config;
+    estimation::EstimatorConfig c = config;
     c.velocity_dropout.enabled = detect;
     FlightRun run(*plant, c, make_pipeline, seed, true);
     (detect ? out.bare_floor : out.bare_floor_fusing_every_velocity) = cross_bare_floor(run);
@@ -300,7 +300,7 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
   // the configured navdata delay).
   enum class Delays { Configured, None, Measured };
   for (const Delays delays : {Delays::Configured, Delays::None, Delays::Measured}) {
-    EstimatorConfig c = config;
+    estimation::EstimatorConfig c = config;
     if (delays == Delays::Measured) {
       if (out.round_trip_measured_s <= 0) break;  // nothing measured: no third run
       c.control_delay_s = std::max(0.0, out.round_trip_measured_s - config.navdata_delay_s);

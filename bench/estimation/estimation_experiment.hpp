@@ -74,7 +74,7 @@ struct EstimationResults {
   // Dead reckoning (vision lost) while flying a small square.
   double dead_reckoning_drift_m_per_s = 0;
   double dead_reckoning_yaw_drift_deg_per_s = 0;
-  // Across the bare floor, with the velocity dropout detected and fusing every velocity (as before).
+  // Across the bare floor, with the velocity dropout detected and fusing every velocity (no detection).
   BareFloorCrossing bare_floor;
   BareFloorCrossing bare_floor_fusing_every_velocity;
   // z impulses of +0.5 m.
@@ -109,7 +109,7 @@ using PlantFactory = std::function<std::unique_ptr<EstimationPlant>(const PlantR
 enum class ExperimentPhases { All, SlamOnly };
 
 EstimationResults run_estimation_experiments(const PlantFactory& make_plant, const PipelineKind& vision, unsigned seed,
-                                             const EstimatorConfig& config,
+                                             const estimation::EstimatorConfig& config,
                                              ExperimentPhases phases = ExperimentPhases::All);
 
 }  // namespace labo

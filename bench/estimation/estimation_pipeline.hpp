@@ -44,14 +44,14 @@ class EstimationPipeline {
   // The plant's truth, once per control tick at `now` (truth-derived vision only).
   virtual void on_truth(const GroundTruth& truth, Seconds now) = 0;
   virtual void set_vision(const VisionWanted& wanted) = 0;
-  virtual const StateEstimator& estimator() const = 0;
+  virtual const estimation::StateEstimator& estimator() const = 0;
   // Every good SLAM pose given to the estimator so far.
   virtual const std::vector<SlamTrackPoint>& slam_track() const = 0;
 };
 
 // Makes the pipeline of one run: the estimator's configuration, the plant it watches, the run's seed.
 using PipelineFactory =
-    std::function<std::unique_ptr<EstimationPipeline>(const EstimatorConfig& config, const EstimationPlant& plant, unsigned seed)>;
+    std::function<std::unique_ptr<EstimationPipeline>(const estimation::EstimatorConfig& config, const EstimationPlant& plant, unsigned seed)>;
 
 // A kind of pipeline for the experiments: its factory and whether its plants must render frames.
 struct PipelineKind {

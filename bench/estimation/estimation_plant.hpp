@@ -56,7 +56,7 @@ class EstimationPlant {
   // (its vertical response differs per plant; the results report the peak displacement reached).
   virtual double vertical_push_for(double metres) const = 0;
   // The surfaces below the flight area (floor, benches, platform), for the altitude tracker.
-  virtual SurfaceMap surfaces() const = 0;
+  virtual estimation::SurfaceMap surfaces() const = 0;
   virtual PlantInstrument instrument() const = 0;
   // The true link timing: from move() until the motors act (mean), from capture to a frame's arrival.
   virtual Seconds command_latency() const = 0;

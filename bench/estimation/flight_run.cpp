@@ -13,7 +13,7 @@ constexpr double kMaxRollPitch = 0.6;
 constexpr Seconds kHistory = 60.0;  // truth kept for truth_at()
 }  // namespace
 
-FlightRun::FlightRun(EstimationPlant& plant, EstimatorConfig config, const PipelineFactory& make, unsigned seed,
+FlightRun::FlightRun(EstimationPlant& plant, estimation::EstimatorConfig config, const PipelineFactory& make, unsigned seed,
                      bool compensate, const Eigen::Vector3d& initial_error)
     : plant_(plant), config_([&] {
         if (!compensate) config.video_delay_s = config.navdata_delay_s = config.control_delay_s = 0.0;
@@ -26,7 +26,7 @@ FlightRun::FlightRun(EstimationPlant& plant, EstimatorConfig config, const Pipel
   history_.push_back(plant_.truth());
 }
 
-MoveCommand FlightRun::control(const FusedState& f) const {
+MoveCommand FlightRun::control(const estimation::FusedState& f) const {
   const Eigen::Vector3d e = setpoint - f.position_world;
   const Eigen::Vector2d a = gains_.kp * e.head<2>() - gains_.kd * f.velocity_world.head<2>();
   const double tilt_max = config_.model.tilt_max_rad;
@@ -64,7 +64,7 @@ void FlightRun::tick() {
   const Seconds now = plant_.now();
   const GroundTruth truth = plant_.truth();
   pipeline_->on_truth(truth, now);
-  const ScaleStatus& scale = estimator().scale_status();
+  const estimation::ScaleStatus& scale = estimator().scale_status();
   const double scale_now = scale.estimated ? scale.scale : 0.0;
   if (scale_log_.empty() || scale_log_.back().second != scale_now) scale_log_.emplace_back(now, scale_now);
   history_.push_back(truth);
@@ -74,7 +74,7 @@ void FlightRun::tick() {
     ++input_error_n_;
     controller_inputs_.pop_front();
   }
-  const FusedState f = compensate_ ? estimator().predict_for_control(now) : estimator().predict(now);
+  const estimation::FusedState f = compensate_ ? estimator().predict_for_control(now) : estimator().predict(now);
   controller_inputs_.emplace_back(now + plant_.command_latency(), f.position_world);
   const MoveCommand c = control(f);
   plant_.move(c);

@@ -19,7 +19,7 @@ class FlightRun {
   // `compensate`: the controller acts on predict_for_control(now); otherwise on predict(now) of an
   // estimator that believes every input is current (all delays 0). The pipeline is made by `make`
   // with the run's configuration.
-  FlightRun(EstimationPlant& plant, EstimatorConfig config, const PipelineFactory& make, unsigned seed,
+  FlightRun(EstimationPlant& plant, estimation::EstimatorConfig config, const PipelineFactory& make, unsigned seed,
             bool compensate, const Eigen::Vector3d& initial_error = Eigen::Vector3d::Zero());
 
   struct Gains {
@@ -40,9 +40,9 @@ class FlightRun {
 
   EstimationPlant& plant() { return plant_; }
   const EstimationPlant& plant() const { return plant_; }
-  const StateEstimator& estimator() const { return pipeline_->estimator(); }
+  const estimation::StateEstimator& estimator() const { return pipeline_->estimator(); }
   const EstimationPipeline& pipeline() const { return *pipeline_; }
-  FusedState estimate_now() const { return estimator().predict(plant_.now()); }
+  estimation::FusedState estimate_now() const { return estimator().predict(plant_.now()); }
   // The true pose at a past time of this run (linear between ticks).
   Eigen::Isometry3d truth_at(Seconds t) const;
 
@@ -51,19 +51,19 @@ class FlightRun {
 
   // RMS of |position the controller acted on - true position when that command acted|.
   // The command round trip (control + navdata delay) measured from this run's commands and navdata.
-  const CommandLagEstimator& command_lag() const { return command_lag_; }
+  const estimation::CommandLagEstimator& command_lag() const { return command_lag_; }
 
   double controller_input_error_rms() const { return input_error_n_ > 0 ? std::sqrt(input_error_sum2_ / input_error_n_) : 0.0; }
 
  private:
-  MoveCommand control(const FusedState& f) const;
+  MoveCommand control(const estimation::FusedState& f) const;
 
   EstimationPlant& plant_;
   Gains gains_;
-  EstimatorConfig config_;
+  estimation::EstimatorConfig config_;
   std::unique_ptr<EstimationPipeline> pipeline_;
   bool compensate_;
-  CommandLagEstimator command_lag_;
+  estimation::CommandLagEstimator command_lag_;
   std::vector<NavdataSample> arrived_;
   std::deque<std::pair<Seconds, Eigen::Vector3d>> controller_inputs_;  // effect time, position used
   std::deque<GroundTruth> history_;  // the last seconds of truth, one per tick

@@ -23,7 +23,7 @@ LabPlant::LabPlant(const LabPlantInputs& inputs, const PlantRequest& request) : 
   lab_ = make_simulated_lab(inputs.lab, inputs.cameras, lab_settings, inputs.head);
   link_ = std::make_unique<SimDroneLink>(*lab_, link_settings_);
   link_->set_listener(this);
-  surfaces_ = surface_map_of(inputs.lab);
+  surfaces_ = estimation::surface_map_of(inputs.lab);
   frames_.reserve(8);
   pixels_.resize(8);
   // Flat trim on the platform (unless asked not to), take off, wait for the firmware's hover (navdata

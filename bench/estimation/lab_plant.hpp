@@ -43,7 +43,7 @@ class LabPlant final : public EstimationPlant, private DroneLinkListener {
   std::string crash() const override;
   void push(const Eigen::Vector3d& delta_v_world) override { lab_->dynamics().push(delta_v_world, 0.0); }
   double vertical_push_for(double metres) const override;
-  SurfaceMap surfaces() const override { return surfaces_; }
+  estimation::SurfaceMap surfaces() const override { return surfaces_; }
   PlantInstrument instrument() const override { return instrument_; }
   Seconds command_latency() const override;
   Seconds video_delay() const override { return link_settings_.video_delay_s; }
@@ -60,7 +60,7 @@ class LabPlant final : public EstimationPlant, private DroneLinkListener {
   SimLinkSettings link_settings_;
   std::unique_ptr<SimulatedLab> lab_;
   std::unique_ptr<SimDroneLink> link_;
-  SurfaceMap surfaces_;
+  estimation::SurfaceMap surfaces_;
   PlantInstrument instrument_;
   std::vector<NavdataSample>* arrived_ = nullptr;  // during step()
   std::vector<cv::Mat> pixels_;                     // copies of the frames' pixels, reused step to step

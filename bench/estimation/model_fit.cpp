@@ -45,7 +45,7 @@ struct Law {
 };
 }  // namespace
 
-ModelFitReport fit_motion_model(EstimationPlant& plant, const MotionModelConstants& before, Seconds duration,
+ModelFitReport fit_motion_model(EstimationPlant& plant, const estimation::MotionModelConstants& before, Seconds duration,
                                 unsigned seed) {
   const Seconds navdata_delay = plant.navdata_delay(), control_delay = plant.command_latency();
   std::mt19937 rng(seed);

@@ -25,14 +25,14 @@ struct ModelFitLaw {
 };
 
 struct ModelFitReport {
-  MotionModelConstants before;
-  MotionModelConstants fitted;
+  estimation::MotionModelConstants before;
+  estimation::MotionModelConstants fitted;
   std::vector<ModelFitLaw> laws;
   double flight_s = 0;
 };
 
 // The navdata and command delays are the plant's own (what a link measurement would give).
-ModelFitReport fit_motion_model(EstimationPlant& plant, const MotionModelConstants& before, Seconds duration = 120.0,
+ModelFitReport fit_motion_model(EstimationPlant& plant, const estimation::MotionModelConstants& before, Seconds duration = 120.0,
                                 unsigned seed = 1);
 
 }  // namespace labo

@@ -83,7 +83,7 @@ nlohmann::json run_json(const EstimationResults& r, unsigned seed) {
           {"rejections", r.rejections}};
 }
 
-nlohmann::json constants_json(const MotionModelConstants& m) {
+nlohmann::json constants_json(const estimation::MotionModelConstants& m) {
   return {{"attitude_rate_hz", m.attitude_rate_hz},
           {"tilt_max_deg", m.tilt_max_rad * 180.0 / M_PI},
           {"yaw_response_hz", m.yaw_response_hz},
@@ -176,8 +176,8 @@ int run_sim_estimate_command(const ParsedArgs& args) {
   if (!std::filesystem::exists(config_path)) throw UsageError("--config " + config_path.string() + ": no such file");
   const ConfigDocument doc = ConfigDocument::load(config_path);
   const ConfigReader root = doc.root();
-  const EstimatorConfig config =
-      root.has("estimation") ? read_estimation_config(root.object("estimation")) : EstimatorConfig{};
+  const estimation::EstimatorConfig config =
+      root.has("estimation") ? estimation::read_estimation_config(root.object("estimation")) : estimation::EstimatorConfig{};
   const VisionThresholds thresholds = root.has("vision") ? read_vision_thresholds(root.object("vision")) : VisionThresholds{};
   const PlantFactory make_plant = plant_factory(plant, config_path, vision == "real");
 
@@ -197,7 +197,7 @@ int run_sim_estimate_command(const ParsedArgs& args) {
   const PipelineKind pipelines =
       vision == "real" ? real_vision_pipelines(config_path)
                        : PipelineKind{"truth", false,
-                                      [thresholds](const EstimatorConfig& c, const EstimationPlant& p, unsigned seed)
+                                      [thresholds](const estimation::EstimatorConfig& c, const EstimationPlant& p, unsigned seed)
                                           -> std::unique_ptr<EstimationPipeline> {
                                         return std::make_unique<TruthVisionPipeline>(c, thresholds, p, seed);
                                       }};

@@ -25,8 +25,8 @@ double clip(double u) { return std::isfinite(u) ? std::clamp(u, -1.0, 1.0) : 0.0
 SurrogatePlant::SurrogatePlant(unsigned seed, const SurrogatePlantOptions& options)
     : options_(options), rng_(seed), p_(options.start) {
   // A bench under the instrument of the experiments, and the landing platform at the base.
-  surfaces_.add(SurfaceRect{Eigen::Vector2d(2.6, -1.0), Eigen::Vector2d(3.4, 1.0), 0.8});
-  surfaces_.add(SurfaceRect{Eigen::Vector2d(-0.3, -0.3), Eigen::Vector2d(0.3, 0.3), 0.05});
+  surfaces_.add(estimation::SurfaceRect{Eigen::Vector2d(2.6, -1.0), Eigen::Vector2d(3.4, 1.0), 0.8});
+  surfaces_.add(estimation::SurfaceRect{Eigen::Vector2d(-0.3, -0.3), Eigen::Vector2d(0.3, 0.3), 0.05});
   std::uniform_real_distribution<double> drift(-1.0, 1.0);
   yaw_drift_ = drift(rng_) * 0.5 * M_PI / 180.0 / 60.0;  // up to 0.5 deg/min
 }

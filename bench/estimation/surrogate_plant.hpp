@@ -1,10 +1,11 @@
 #pragma once
-// SurrogatePlant: a stand-in AR.Drone for the estimation experiments, written before the simulated lab
-// existed and kept for comparison (`sim estimate --plant surrogate`). Its physics deliberately differ from the estimator's model (second-order attitude loops,
-// quadratic drag, wind gusts, a vertical-speed loop with lag) and its sensors have the AR.Drone's
-// flaws (noise, a bottom-camera velocity scale error, yaw drift, an ultrasound that sees benches), so
-// the filter and the model fit are not tested against their own equations. Link delays: navdata 40 ms,
-// commands 100 ms, video 75 ms (configurable). It renders no frames (truth-derived vision only).
+// SurrogatePlant: a stand-in AR.Drone for the estimation experiments, independent of the simulated
+// lab and kept for comparison (`sim estimate --plant surrogate`). Its physics deliberately differ from
+// the estimator's model (second-order attitude loops, quadratic drag, wind gusts, a vertical-speed
+// loop with lag) and its sensors have the AR.Drone's flaws (noise, a bottom-camera velocity scale
+// error, yaw drift, an ultrasound that sees benches), so the filter and the model fit are not tested
+// against their own equations. Link delays: navdata 40 ms, commands 100 ms, video 75 ms
+// (configurable). It renders no frames (truth-derived vision only).
 // Seeded and deterministic.
 #include <deque>
 #include <random>
@@ -37,7 +38,7 @@ class SurrogatePlant final : public EstimationPlant {
   void push(const Eigen::Vector3d& delta_v_world) override { v_ += delta_v_world; }
   // Its vertical loop (4 /s behind a 12 /s lag) under the experiments' z loop: 2.6 m/s lifts 0.5 m.
   double vertical_push_for(double metres) const override { return 5.2 * metres; }
-  SurfaceMap surfaces() const override { return surfaces_; }
+  estimation::SurfaceMap surfaces() const override { return surfaces_; }
   // A panel at (3, 0, 1.2) facing the base, over a bench.
   PlantInstrument instrument() const override;
   Seconds command_latency() const override { return options_.command_delay; }
@@ -60,7 +61,7 @@ class SurrogatePlant final : public EstimationPlant {
   MoveCommand active_;
   std::deque<std::pair<Seconds, MoveCommand>> commands_in_flight_;
   std::deque<NavdataSample> navdata_in_flight_;
-  SurfaceMap surfaces_;
+  estimation::SurfaceMap surfaces_;
   std::vector<VideoFrame> no_frames_;
 };
 

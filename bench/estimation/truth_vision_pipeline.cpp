@@ -16,7 +16,7 @@ Eigen::Isometry3d perturbed(const Eigen::Isometry3d& T, double sigma_t, double s
 }
 }  // namespace
 
-TruthVisionPipeline::TruthVisionPipeline(const EstimatorConfig& config, const VisionThresholds& thresholds,
+TruthVisionPipeline::TruthVisionPipeline(const estimation::EstimatorConfig& config, const VisionThresholds& thresholds,
                                          const EstimationPlant& plant, unsigned seed)
     : estimator_(config, thresholds), instrument_(plant.instrument()), video_delay_(plant.video_delay()),
       rng_(seed * 7919u + 13u) {
@@ -45,7 +45,7 @@ void TruthVisionPipeline::on_truth(const GroundTruth& truth, Seconds now) {
 void TruthVisionPipeline::deliver(Seconds t_arrival, const Eigen::Isometry3d& T_world_body) {
   const Eigen::Isometry3d T_world_cam = T_world_body * T_body_cam_front();
   if (wanted_.slam) {
-    SlamObservation o;
+    estimation::SlamObservation o;
     o.t = t_arrival;
     Eigen::Isometry3d T = T_map_world_ * perturbed(T_world_cam, 0.015, 0.5 * M_PI / 180.0, rng_);
     T.translation() /= metres_per_unit_;
@@ -59,7 +59,7 @@ void TruthVisionPipeline::deliver(Seconds t_arrival, const Eigen::Isometry3d& T_
     const Eigen::Vector3d p = T_cam_object.translation();
     const double d = p.norm();
     if (p.z() > 0.2 && std::abs(p.x() / p.z()) < 0.8 && std::abs(p.y() / p.z()) < 0.45 && d < 4.0) {
-      ObjectObservation o;
+      estimation::ObjectObservation o;
       o.t = t_arrival;
       o.object_index = 0;
       o.T_cam_object = perturbed(T_cam_object, 0.003 + 0.004 * d * d, 0.7 * M_PI / 180.0, rng_);

@@ -12,7 +12,7 @@ namespace labo {
 
 class TruthVisionPipeline final : public EstimationPipeline {
  public:
-  TruthVisionPipeline(const EstimatorConfig& config, const VisionThresholds& thresholds, const EstimationPlant& plant,
+  TruthVisionPipeline(const estimation::EstimatorConfig& config, const VisionThresholds& thresholds, const EstimationPlant& plant,
                       unsigned seed);
 
   std::string vision_input() const override;
@@ -23,13 +23,13 @@ class TruthVisionPipeline final : public EstimationPipeline {
   void on_frame(const VideoFrame&) override {}
   void on_truth(const GroundTruth& truth, Seconds now) override;
   void set_vision(const VisionWanted& wanted) override { wanted_ = wanted; }
-  const StateEstimator& estimator() const override { return estimator_; }
+  const estimation::StateEstimator& estimator() const override { return estimator_; }
   const std::vector<SlamTrackPoint>& slam_track() const override { return slam_track_; }
 
  private:
   void deliver(Seconds t_arrival, const Eigen::Isometry3d& T_world_body);
 
-  StateEstimator estimator_;
+  estimation::StateEstimator estimator_;
   PlantInstrument instrument_;
   Seconds video_delay_;
   std::mt19937 rng_;

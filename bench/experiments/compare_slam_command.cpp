@@ -19,25 +19,25 @@ namespace {
 
 struct Replay {
   std::vector<Eigen::Vector3d> estimate;
-  std::vector<FeedbackSource> source;
+  std::vector<fusion::FeedbackSource> source;
   std::vector<Eigen::Vector3d> in_instrument;  // the estimate relative to the instrument as the estimator placed it
 };
 
-Replay replay(const FlightStackSetup& setup, const std::vector<TickRecord>& records, bool slam_only) {
-  LabPipelines p(setup.lab, setup.estimation, setup.vision);
+Replay replay(const control::FlightStackSetup& setup, const std::vector<TickRecord>& records, bool slam_only) {
+  fusion::LabPipelines p(setup.lab, setup.estimation, setup.vision);
   p.reset(make_pose(setup.lab.base, setup.lab.base_yaw_rad), 0.0);
   Replay r;
   for (const TickRecord& rec : records) {
-    PerceptionFocus focus = rec.focus;
-    if (slam_only) focus.feedback = FeedbackSource::Slam;
+    fusion::PerceptionFocus focus = rec.focus;
+    if (slam_only) focus.feedback = fusion::FeedbackSource::Slam;
     p.set_focus(focus);
     p.on_navdata(rec.navdata);
     rec.frame.deliver_to(p);
     if (rec.command) p.on_command(*rec.command, rec.navdata.t);
-    const PoseEstimate e = p.predict(rec.navdata.t);
+    const fusion::PoseEstimate e = p.predict(rec.navdata.t);
     r.estimate.push_back(e.T_world_body.translation());
     r.source.push_back(e.source);
-    const TargetObservation inst = p.instrument();
+    const fusion::TargetObservation inst = p.instrument();
     const Eigen::Isometry3d T_world_obj = inst.placed_in_world ? inst.T_world_target : setup.lab.instruments.front().T_world_object;
     r.in_instrument.push_back(T_world_obj.inverse() * e.T_world_body.translation());
   }
@@ -81,8 +81,8 @@ const CommandSpec& sim_compare_slam_command_spec() {
 
 int run_sim_compare_slam_command(const ParsedArgs& args) {
   const ExperimentOptions o = read_experiment_options(args);
-  const FlightStackSetup setup = make_experiment(o, false).setup;
-  const PlanarTarget& inst = setup.lab.instruments.front();
+  const control::FlightStackSetup setup = make_experiment(o, false).setup;
+  const fusion::PlanarTarget& inst = setup.lab.instruments.front();
   std::vector<double> slam_err, prop_err, slam_rel, prop_rel;
   double slam_visual = 0, prop_visual = 0, hold_ticks = 0;
   nlohmann::json runs = nlohmann::json::array();
@@ -90,8 +90,8 @@ int run_sim_compare_slam_command(const ParsedArgs& args) {
     const unsigned seed = o.seed + static_cast<unsigned>(i);
     LockstepFlight f(setup, {}, seed);
     f.set_recording(true);
-    MissionRequest r;
-    r.kind = RequestKind::Inspect;
+    control::MissionRequest r;
+    r.kind = control::RequestKind::Inspect;
     r.instrument_id = inst.id;
     r.hold_s = 8;
     f.request(r);
@@ -108,8 +108,8 @@ int run_sim_compare_slam_command(const ParsedArgs& args) {
       const Eigen::Vector3d truth_rel = inst.T_world_object.inverse() * truth;
       slam_rel.push_back((slam.in_instrument[k] - truth_rel).norm());
       prop_rel.push_back((proposed.in_instrument[k] - truth_rel).norm());
-      slam_visual += slam.source[k] != FeedbackSource::DeadReckoning;
-      prop_visual += proposed.source[k] != FeedbackSource::DeadReckoning;
+      slam_visual += slam.source[k] != fusion::FeedbackSource::DeadReckoning;
+      prop_visual += proposed.source[k] != fusion::FeedbackSource::DeadReckoning;
       hold_ticks += 1;
     }
     slam_err.insert(slam_err.end(), se.begin(), se.end());
@@ -117,7 +117,7 @@ int run_sim_compare_slam_command(const ParsedArgs& args) {
     runs.push_back({{"seed", seed}, {"slam_only_error_rms_m", rms(se)}, {"proposed_error_rms_m", rms(pe)},
                     {"slam_only_final_error_m", se.empty() ? -1 : se.back()}, {"proposed_final_error_m", pe.empty() ? -1 : pe.back()}});
     if (o.out && i == 0) {
-      const Eigen::Vector2d desired = standoff_target(inst.T_world_object, setup.control.mission.standoff_m).position.head<2>();
+      const Eigen::Vector2d desired = control::standoff_target(inst.T_world_object, setup.control.mission.standoff_m).position.head<2>();
       write_xy_svg(*o.out / "compare_slam_xy.svg", recs, slam, proposed, desired);
       std::ofstream csv(*o.out / ("compare_slam_seed" + std::to_string(seed) + ".csv"));
       csv << "t_s,true_x_m,true_y_m,slam_x_m,slam_y_m,slam_source,proposed_x_m,proposed_y_m,proposed_source,stage\n";

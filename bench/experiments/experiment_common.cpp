@@ -88,11 +88,11 @@ LabDescription load_lab_file(const std::filesystem::path& config, const ConfigRe
 
 Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   Experiment e;
-  FlightStackSetup& setup = e.setup;
+  control::FlightStackSetup& setup = e.setup;
   const ConfigDocument doc = ConfigDocument::load(options.config);
   const ConfigReader root = doc.root();
-  if (root.has("control")) setup.control = read_control_config(root.object("control"));
-  if (root.has("estimation")) setup.estimation = read_estimation_config(root.object("estimation"));
+  if (root.has("control")) setup.control = control::read_control_config(root.object("control"));
+  if (root.has("estimation")) setup.estimation = estimation::read_estimation_config(root.object("estimation"));
   if (root.has("vision")) setup.vision = read_vision_thresholds(root.object("vision"));
   if (!options.real_vision) {
     // The models deliver navdata and vision results without latency and act on commands at once:
@@ -104,7 +104,7 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
     if (options.model_route) {
       LabDescription lab = load_lab_file(options.config, root);
       if (options.teacher_speed_mps) lab.teacher.speed_mps = *options.teacher_speed_mps;
-      setup.lab = lab_geometry_from(lab);
+      setup.lab = fusion::lab_geometry_from(lab);
       e.model_route = lab.teacher;
     }
     return e;
@@ -113,9 +113,9 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   const std::filesystem::path base_dir = options.config.parent_path();
   e.lab = load_lab_file(options.config, root);
   if (options.teacher_speed_mps) e.lab->teacher.speed_mps = *options.teacher_speed_mps;
-  setup.lab = lab_geometry_from(*e.lab);
+  setup.lab = fusion::lab_geometry_from(*e.lab);
   if (root.has("cameras")) setup.cameras = read_cameras_config(root.object("cameras"));
-  FrontEndSettings front_ends = read_front_end_settings(root, base_dir);
+  fusion::FrontEndSettings front_ends = fusion::read_front_end_settings(root, base_dir);
   front_ends.slam.mapping_mode = slam::MappingMode::Synchronous;  // lockstep: the same flight every time
   front_ends.with_face = with_face;
   setup.front_ends = front_ends;

@@ -1,5 +1,5 @@
 #pragma once
-// What the `labodrone sim ...` experiments share: options, the setup, output files, statistics.
+// What the `labodrone-bench sim ...` experiments share: options, the setup, output files, statistics.
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -31,7 +31,7 @@ struct ExperimentOptions {
   // the lab's route, as with --vision real, instead of the model lab's 2 m back-and-forth.
   bool model_route = false;
   // --teacher-speed (sim face-follow): the route's walking speed, replacing the lab file's (the
-  // issue's face-follow target is stated at 0.5 m/s; config/lab.json walks at 0.4).
+  // face-follow target is stated at 0.5 m/s; config/lab.json walks at 0.4).
   std::optional<double> teacher_speed_mps;
   int jobs = 1;  // --jobs: seeded runs flown at once on that many threads (seed_runner.hpp)
   // --world (with --vision real): the simulated lab's world, replacing the config's sim.world.
@@ -49,7 +49,7 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args);
 // or with --vision real the config's lab file, cameras and vision front-ends) and, with --vision
 // real, the lab description the simulated lab is built from.
 struct Experiment {
-  FlightStackSetup setup;
+  control::FlightStackSetup setup;
   std::optional<LabDescription> lab;       // --vision real: the lab the simulated lab is built from
   SimConfig sim;                           // its "sim" section (lab and link settings)
   std::optional<TexturedHeadModel> head;   // the teacher's face, when the experiment looks for it

@@ -12,8 +12,8 @@ Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T) {
   return {p.x(), p.y(), p.z(), ypr_from_rotation(T.linear())[0]};
 }
 
-EstimatorCounts estimator_counts(const StateEstimator& estimator) {
-  const EstimatorStatistics stats = estimator.statistics();
+EstimatorCounts estimator_counts(const estimation::StateEstimator& estimator) {
+  const estimation::EstimatorStatistics stats = estimator.statistics();
   EstimatorCounts c;
   c.object_fused = stats.count("object_fused");
   c.slam_fused = stats.count("slam_fused");
@@ -26,7 +26,7 @@ EstimatorCounts estimator_counts(const StateEstimator& estimator) {
   return c;
 }
 
-FlightSample sample_of(const FlightStatus& s, const FlightOutput& out, const StateEstimator& estimator,
+FlightSample sample_of(const control::FlightStatus& s, const control::FlightOutput& out, const estimation::StateEstimator& estimator,
                        const Eigen::Isometry3d& truth, Seconds t, const std::optional<Eigen::Isometry3d>& true_face) {
   FlightSample sample;
   sample.t = t;
@@ -36,9 +36,9 @@ FlightSample sample_of(const FlightStatus& s, const FlightOutput& out, const Sta
   sample.desired = s.desired;
   sample.source = s.source;
   sample.slam = s.slam.state;
-  const TargetObservation& target = s.stage_index == 5 ? s.platform : s.mission == "find_teacher" ? s.face : s.instrument;
+  const fusion::TargetObservation& target = s.stage_index == 5 ? s.platform : s.mission == "find_teacher" ? s.face : s.instrument;
   sample.target = target.state;
-  if (target.state == TrackState::Lost) sample.target_reason = target.reason;
+  if (target.state == fusion::TrackState::Lost) sample.target_reason = target.reason;
   sample.stage_index = s.stage_index;
   sample.stage = s.stage;
   if (true_face) {
@@ -46,8 +46,8 @@ FlightSample sample_of(const FlightStatus& s, const FlightOutput& out, const Sta
     sample.face_true_world = Eigen::Vector4d(p.x(), p.y(), p.z(), std::atan2(z.y(), z.x()));
     sample.face_true_cam = ((truth * T_body_cam_front()).inverse() * *true_face).translation();
   }
-  if (s.face.state == TrackState::Tracking) sample.face_measured_cam = s.face.T_cam_target.translation();
-  if (out.action == FlightOutput::Action::Move) sample.command = {out.move.roll, out.move.pitch, out.move.gaz, out.move.yaw_rate};
+  if (s.face.state == fusion::TrackState::Tracking) sample.face_measured_cam = s.face.T_cam_target.translation();
+  if (out.action == control::FlightOutput::Action::Move) sample.command = {out.move.roll, out.move.pitch, out.move.gaz, out.move.yaw_rate};
   sample.action = to_string(out.action);
   for (const std::string& alert : s.safety_alerts) sample.alerts += (sample.alerts.empty() ? "" : "; ") + alert;
   sample.estimator = estimator_counts(estimator);

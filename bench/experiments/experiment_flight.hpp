@@ -29,16 +29,16 @@ struct EstimatorCounts {
   std::uint64_t velocity_dropouts = 0;         // bottom-camera velocity dropouts detected (onsets)
   std::uint64_t velocity_dropout_packets = 0;  // navdata packets whose velocity was not fused
 };
-EstimatorCounts estimator_counts(const StateEstimator& estimator);
+EstimatorCounts estimator_counts(const estimation::StateEstimator& estimator);
 
 struct FlightSample {
   Seconds t = 0;
   Eigen::Vector4d estimated = Eigen::Vector4d::Zero();  // x, y, z, yaw
   Eigen::Vector4d truth = Eigen::Vector4d::Zero();
   std::optional<Eigen::Vector4d> desired;
-  FeedbackSource source = FeedbackSource::DeadReckoning;
-  SlamState slam = SlamState::Off;
-  TrackState target = TrackState::Off;  // the platform in stage 5, else the instrument (or the face)
+  fusion::FeedbackSource source = fusion::FeedbackSource::DeadReckoning;
+  fusion::SlamState slam = fusion::SlamState::Off;
+  fusion::TrackState target = fusion::TrackState::Off;  // the platform in stage 5, else the instrument (or the face)
   std::string target_reason;            // why the target is lost, as its front-end says
   int stage_index = 0;
   std::string stage;
@@ -72,7 +72,7 @@ class ExperimentFlight {
 
   virtual ~ExperimentFlight() = default;
   virtual void tick() = 0;  // one control period
-  virtual FlightStack& stack() = 0;
+  virtual control::FlightStack& stack() = 0;
   virtual Seconds now() const = 0;
   virtual Eigen::Isometry3d true_pose() const = 0;  // T_world_body
   // The teacher's face (face frame, z out of the face) when there is one to follow.
@@ -84,7 +84,7 @@ class ExperimentFlight {
   // kick that turns the drone by about dyaw_rad, at once.
   virtual void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) = 0;
   virtual bool crashed() const = 0;
-  virtual const LabGeometry& lab() const = 0;  // the flight software's lab (the configuration's)
+  virtual const fusion::LabGeometry& lab() const = 0;  // the flight software's lab (the configuration's)
   virtual const TrueLab& true_lab() const = 0;
   // The simulated lab's world (drawn values included) for the run's output; none for the models.
   virtual const SimWorld* world() const { return nullptr; }
@@ -96,7 +96,7 @@ class ExperimentFlight {
 
   bool run_until(const std::function<bool()>& done, double timeout_s);
   void run(double seconds);
-  CommandResult request(const MissionRequest& r) { return stack().request(r, now()); }
+  control::CommandResult request(const control::MissionRequest& r) { return stack().request(r, now()); }
   // The true pose of the front camera (as it is mounted) relative to a target (z into it).
   Eigen::Isometry3d true_T_cam(const Eigen::Isometry3d& T_world_target) const;
   // The instrument `id` (or the platform) where it really is; throws std::invalid_argument when the
@@ -107,7 +107,7 @@ class ExperimentFlight {
 Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T);
 // The sample of this tick, from the stack's status, the action it decided, the estimator and the
 // truth (the teacher's face: T_world_face).
-FlightSample sample_of(const FlightStatus& status, const FlightOutput& out, const StateEstimator& estimator,
+FlightSample sample_of(const control::FlightStatus& status, const control::FlightOutput& out, const estimation::StateEstimator& estimator,
                        const Eigen::Isometry3d& truth, Seconds t, const std::optional<Eigen::Isometry3d>& true_face);
 
 }  // namespace labo

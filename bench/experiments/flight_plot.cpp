@@ -75,10 +75,10 @@ void write_flight_svg(const std::filesystem::path& file, const std::vector<Fligh
   const double H = top + 4 * (panel_h + 25) + 30;
   out << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H << "' font-family='sans-serif' font-size='11'>\n"
       << "<rect width='100%' height='100%' fill='white'/>\n<text x='" << left << "' y='20' font-size='14'>" << title << "</text>\n"
-      << "<text x='" << W - 420 << "' y='20'>estimate: <tspan fill='" << colour_of(FeedbackSource::Slam) << "'>SLAM</tspan> "
-      << "<tspan fill='" << colour_of(FeedbackSource::Homography) << "'>homography</tspan> "
-      << "<tspan fill='" << colour_of(FeedbackSource::Face) << "'>face</tspan> "
-      << "<tspan fill='" << colour_of(FeedbackSource::DeadReckoning) << "'>dead reckoning</tspan>; "
+      << "<text x='" << W - 420 << "' y='20'>estimate: <tspan fill='" << fusion::colour_of(fusion::FeedbackSource::Slam) << "'>SLAM</tspan> "
+      << "<tspan fill='" << fusion::colour_of(fusion::FeedbackSource::Homography) << "'>homography</tspan> "
+      << "<tspan fill='" << fusion::colour_of(fusion::FeedbackSource::Face) << "'>face</tspan> "
+      << "<tspan fill='" << fusion::colour_of(fusion::FeedbackSource::DeadReckoning) << "'>dead reckoning</tspan>; "
       << "<tspan fill='#888'>true</tspan>, <tspan fill='#00bcd4'>desired</tspan></text>\n";
   if (samples.empty()) return;
   const double t0 = samples.front().t, t1 = std::max(samples.back().t, t0 + 1e-3);
@@ -114,7 +114,7 @@ void write_flight_svg(const std::filesystem::path& file, const std::vector<Fligh
         ++j;
       }
       if (j < samples.size()) pts << X(samples[j].t) << ',' << Y(value(samples[j].estimated, axis));
-      out << "<polyline fill='none' stroke='" << colour_of(samples[i].source) << "' stroke-width='1.5' points='" << pts.str() << "'/>\n";
+      out << "<polyline fill='none' stroke='" << fusion::colour_of(samples[i].source) << "' stroke-width='1.5' points='" << pts.str() << "'/>\n";
       i = j;
     }
   }

@@ -10,13 +10,13 @@ namespace {
 constexpr int kPhysicsSubsteps = 5;
 }
 
-LockstepFlight::LockstepFlight(const FlightStackSetup& setup, const PerceptionModelConfig& perception, unsigned seed)
+LockstepFlight::LockstepFlight(const control::FlightStackSetup& setup, const PerceptionModelConfig& perception, unsigned seed)
     : lab_(setup.lab), true_lab_{setup.lab, setup.cameras.front, T_body_cam_front()}, perception_(perception, setup.lab, seed) {
   drone_.p = setup.lab.base;
   drone_.yaw = setup.lab.base_yaw_rad;
-  auto pipelines = std::make_unique<LabPipelines>(setup.lab, setup.estimation, setup.vision);
+  auto pipelines = std::make_unique<fusion::LabPipelines>(setup.lab, setup.estimation, setup.vision);
   pipelines_ = pipelines.get();
-  stack_ = std::make_unique<FlightStack>(setup, std::move(pipelines));
+  stack_ = std::make_unique<control::FlightStack>(setup, std::move(pipelines));
   samples_.reserve(20000);
   // The teacher stands 2.5 m out, looking at the base (z into the face, control's convention).
   T_world_face_.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
@@ -36,10 +36,10 @@ void LockstepFlight::walk_teacher() {
   y += walk_direction_ * walk_speed_ * kControlDt;
 }
 
-std::optional<Eigen::Isometry3d> LockstepFlight::true_face() const { return T_world_face_ * flip_about_y(); }
+std::optional<Eigen::Isometry3d> LockstepFlight::true_face() const { return T_world_face_ * fusion::flip_about_y(); }
 
 void LockstepFlight::tick() {
-  if (route_) T_world_face_ = route_->pose(t_).T_world_head * flip_about_y();
+  if (route_) T_world_face_ = route_->pose(t_).T_world_head * fusion::flip_about_y();
   else if (walking_) walk_teacher();
   TickRecord record;
   record.navdata = perception_.navdata(drone_, t_);
@@ -49,19 +49,19 @@ void LockstepFlight::tick() {
   stack_->on_navdata(record.navdata);
   record.frame.deliver_to(*pipelines_);
   stack_->set_ground_truth(drone_.pose(), t_);
-  const FlightOutput out = stack_->tick(t_);
+  const control::FlightOutput out = stack_->tick(t_);
   if (recording_) {
-    if (out.action == FlightOutput::Action::Move) record.command = out.move;
-    else if (out.action == FlightOutput::Action::Hover) record.command = MoveCommand{};
+    if (out.action == control::FlightOutput::Action::Move) record.command = out.move;
+    else if (out.action == control::FlightOutput::Action::Hover) record.command = MoveCommand{};
     records_.push_back(std::move(record));
   }
   switch (out.action) {
-    case FlightOutput::Action::Move: drone_.move(out.move); break;
-    case FlightOutput::Action::Hover: drone_.hover(); break;
-    case FlightOutput::Action::Takeoff: drone_.takeoff(); break;
-    case FlightOutput::Action::Land: drone_.land(); break;
-    case FlightOutput::Action::Emergency: drone_.emergency(); break;
-    case FlightOutput::Action::None: break;
+    case control::FlightOutput::Action::Move: drone_.move(out.move); break;
+    case control::FlightOutput::Action::Hover: drone_.hover(); break;
+    case control::FlightOutput::Action::Takeoff: drone_.takeoff(); break;
+    case control::FlightOutput::Action::Land: drone_.land(); break;
+    case control::FlightOutput::Action::Emergency: drone_.emergency(); break;
+    case control::FlightOutput::Action::None: break;
   }
   samples_.push_back(sample_of(stack_->status(), out, pipelines_->estimator(), drone_.pose(), t_, true_face()));
   for (int i = 0; i < kPhysicsSubsteps; ++i) drone_.step(kControlDt / kPhysicsSubsteps);

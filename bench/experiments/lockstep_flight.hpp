@@ -16,7 +16,7 @@ namespace labo {
 // Everything the localization saw in one tick, for offline replays.
 struct TickRecord {
   NavdataSample navdata;
-  PerceptionFocus focus;  // what the live system asked for (its source choice included)
+  fusion::PerceptionFocus focus;  // what the live system asked for (its source choice included)
   PerceptionFrame frame;
   std::optional<MoveCommand> command;
   Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
@@ -24,10 +24,10 @@ struct TickRecord {
 
 class LockstepFlight final : public ExperimentFlight {
  public:
-  LockstepFlight(const FlightStackSetup& setup, const PerceptionModelConfig& perception, unsigned seed);
+  LockstepFlight(const control::FlightStackSetup& setup, const PerceptionModelConfig& perception, unsigned seed);
 
   void tick() override;
-  FlightStack& stack() override { return *stack_; }
+  control::FlightStack& stack() override { return *stack_; }
   Seconds now() const override { return t_; }
   Eigen::Isometry3d true_pose() const override { return drone_.pose(); }
   // The face frame with z out of the face (T_world_face_ is control's convention, z into it).
@@ -40,7 +40,7 @@ class LockstepFlight final : public ExperimentFlight {
   void walk_route(const TeacherSpec& route) { route_.emplace(route); }
   void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) override { drone_.push(dv_world_mps, dyaw_rad); }
   bool crashed() const override { return drone_.crashed; }
-  const LabGeometry& lab() const override { return lab_; }
+  const fusion::LabGeometry& lab() const override { return lab_; }
   const TrueLab& true_lab() const override { return true_lab_; }  // the models' lab is the configuration
   const std::vector<FlightSample>& samples() const override { return samples_; }
   std::string description() const override { return "quadrotor model, perception model"; }
@@ -51,12 +51,12 @@ class LockstepFlight final : public ExperimentFlight {
   const std::vector<TickRecord>& records() const { return records_; }
 
  private:
-  LabGeometry lab_;
+  fusion::LabGeometry lab_;
   TrueLab true_lab_;
   QuadrotorModel drone_;
   PerceptionModel perception_;
-  LabPipelines* pipelines_ = nullptr;  // owned by stack_
-  std::unique_ptr<FlightStack> stack_;
+  fusion::LabPipelines* pipelines_ = nullptr;  // owned by stack_
+  std::unique_ptr<control::FlightStack> stack_;
   void walk_teacher();
 
   Eigen::Isometry3d T_world_face_ = Eigen::Isometry3d::Identity();

@@ -3,15 +3,15 @@
 namespace labo {
 
 namespace {
-bool tracked_by_tracker(const TargetObservation& o) { return o.method == "ic" || o.method == "ecc"; }
+bool tracked_by_tracker(const fusion::TargetObservation& o) { return o.method == "ic" || o.method == "ecc"; }
 }  // namespace
 
-Seconds VisionLatencyModel::latency_of(const VisionResults& r) const {
+Seconds VisionLatencyModel::latency_of(const fusion::VisionResults& r) const {
   double ms = handoff_ms;
-  if (r.has_slam && r.slam.summary.state != SlamState::Off) ms += slam_ms;
-  const auto planar = [&](const TargetObservation& o, double tracking_ms) {
+  if (r.has_slam && r.slam.summary.state != fusion::SlamState::Off) ms += slam_ms;
+  const auto planar = [&](const fusion::TargetObservation& o, double tracking_ms) {
     if (tracked_by_tracker(o)) return tracking_ms;
-    return o.method == "template" ? template_detection_ms : sift_detection_ms;
+    return o.method == "template" ? template_detection_ms : feature_detection_ms;
   };
   if (r.has_instrument) ms += planar(r.instrument, planar_tracking_ms);
   if (r.has_platform) ms += planar(r.platform, platform_tracking_ms);
@@ -19,7 +19,7 @@ Seconds VisionLatencyModel::latency_of(const VisionResults& r) const {
   return ms / 1000.0;
 }
 
-LockstepVisionWorker::LockstepVisionWorker(FlightStack& stack, VisionLatencyModel model) : stack_(stack), model_(model) {}
+LockstepVisionWorker::LockstepVisionWorker(control::FlightStack& stack, VisionLatencyModel model) : stack_(stack), model_(model) {}
 
 void LockstepVisionWorker::on_frame(const VideoFrame& frame, Seconds now) {
   ++stats_.frames_in;
@@ -46,7 +46,7 @@ void LockstepVisionWorker::advance(Seconds now) {
 void LockstepVisionWorker::start(const VideoFrame& frame, Seconds now) {
   if (!stack_.prepare_vision(frame, job_)) return;
   ++stats_.frames_to_vision;
-  run_vision_job(job_, results_);
+  fusion::run_vision_job(job_, results_);
   busy_ = true;
   ready_at_ = now + model_.latency_of(results_);
 }

@@ -13,8 +13,8 @@
 namespace labo {
 
 struct VisionLatencyModel {
-  double template_detection_ms = 18.3;  // planar_detect_far
-  double sift_detection_ms = 23.8;      // planar_detect_near (also a search that found nothing)
+  double template_detection_ms = 3.9;   // planar_detect_far
+  double feature_detection_ms = 8.3;    // planar_detect_near (also a search that found nothing)
   double planar_tracking_ms = 1.9;      // planar_track
   double platform_tracking_ms = 1.2;    // platform_track
   double slam_ms = 1.6;                 // slam_track
@@ -22,7 +22,7 @@ struct VisionLatencyModel {
   double handoff_ms = 0.2;              // waking the worker and the flight thread
 
   // How long the worker takes over a frame whose vision gave `results`.
-  Seconds latency_of(const VisionResults& results) const;
+  Seconds latency_of(const fusion::VisionResults& results) const;
 };
 
 struct LockstepVisionStats {
@@ -31,7 +31,7 @@ struct LockstepVisionStats {
 
 class LockstepVisionWorker {
  public:
-  LockstepVisionWorker(FlightStack& stack, VisionLatencyModel model);
+  LockstepVisionWorker(control::FlightStack& stack, VisionLatencyModel model);
 
   // A frame delivered at simulated time `now` (its pixels are valid during the call only).
   void on_frame(const VideoFrame& frame, Seconds now);
@@ -43,10 +43,10 @@ class LockstepVisionWorker {
  private:
   void start(const VideoFrame& frame, Seconds now);
 
-  FlightStack& stack_;
+  control::FlightStack& stack_;
   VisionLatencyModel model_;
-  VisionJob job_;
-  VisionResults results_;
+  fusion::VisionJob job_;
+  fusion::VisionResults results_;
   bool busy_ = false;
   Seconds ready_at_ = 0;
   VideoFrame waiting_;  // the newest frame that came while busy

@@ -9,12 +9,12 @@ Eigen::Isometry3d facing_base(const Eigen::Vector3d& at) {
   return T;
 }
 
-LabGeometry model_lab() {
-  LabGeometry lab;
+fusion::LabGeometry model_lab() {
+  fusion::LabGeometry lab;
   lab.room_min = {-1.0, -3.0, 0.0};
   lab.room_max = {5.0, 3.0, 2.6};
   lab.base = {0, 0, 0};
-  PlanarTarget osc;
+  fusion::PlanarTarget osc;
   osc.id = "oscilloscope";
   osc.name = "Oscilloscope";
   osc.T_world_object = facing_base({3.5, 0.3, 1.0});

@@ -8,6 +8,6 @@ namespace labo {
 
 // A pose whose z axis points along +x (away from a viewer at the base), x = -world y, y down.
 Eigen::Isometry3d facing_base(const Eigen::Vector3d& at);
-LabGeometry model_lab();
+fusion::LabGeometry model_lab();
 
 }  // namespace labo

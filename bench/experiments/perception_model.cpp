@@ -14,7 +14,7 @@ bool in_view(const Eigen::Isometry3d& T_cam_target, double max_range, double hal
 }
 }  // namespace
 
-PerceptionModel::PerceptionModel(PerceptionModelConfig config, LabGeometry lab, unsigned seed)
+PerceptionModel::PerceptionModel(PerceptionModelConfig config, fusion::LabGeometry lab, unsigned seed)
     : config_(config), lab_(std::move(lab)), rng_(seed) {
   // The map starts where SLAM initializes; an arbitrary rigid offset from the world.
   T_map_world_ = make_pose({0.3, -0.2, 0.1}, 0.2);
@@ -37,7 +37,7 @@ NavdataSample PerceptionModel::navdata(const QuadrotorModel& drone, Seconds t) {
   return s;
 }
 
-void PerceptionFrame::deliver_to(LabPipelines& pipelines) const {
+void PerceptionFrame::deliver_to(fusion::LabPipelines& pipelines) const {
   if (instrument) pipelines.add_instrument_result(*instrument);
   if (platform) pipelines.add_platform_result(*platform);
   if (face) pipelines.add_face_result(*face);
@@ -45,7 +45,7 @@ void PerceptionFrame::deliver_to(LabPipelines& pipelines) const {
 }
 
 PerceptionFrame PerceptionModel::observe(const QuadrotorModel& drone, const Eigen::Isometry3d& T_world_face, Seconds t,
-                                         const PerceptionFocus& focus) {
+                                         const fusion::PerceptionFocus& focus) {
   PerceptionFrame out;
   out.t = t;
   const bool airborne = drone.control_state == 3 || drone.control_state == 4;
@@ -55,14 +55,14 @@ PerceptionFrame PerceptionModel::observe(const QuadrotorModel& drone, const Eige
   const Eigen::Isometry3d T_world_bottom = drone.pose() * T_body_cam_bottom();
 
   double panel_distance = 1e9;
-  if (const PlanarTarget* inst = lab_.find_instrument(focus.instrument_id)) {
-    TargetObservation o;
+  if (const fusion::PlanarTarget* inst = lab_.find_instrument(focus.instrument_id)) {
+    fusion::TargetObservation o;
     o.t = t;
     const Eigen::Isometry3d T = T_world_front.inverse() * inst->T_world_object;
     const bool seen = in_view(T, config_.instrument_range_m, 0.5, 0.28) && T.linear().col(2).z() > 0.3;
-    o.state = seen ? TrackState::Tracking : TrackState::Lost;
+    o.state = seen ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
     o.reason = seen ? "" : "out of view";
-    o.method = T.translation().z() > 2.0 ? "template" : "sift";
+    o.method = T.translation().z() > 2.0 ? "template" : "features";
     o.quality = seen ? 0.9 : 0;
     if (seen) o.T_cam_target = noisy(T, T.translation().z());
     out.instrument = o;
@@ -72,34 +72,34 @@ PerceptionFrame PerceptionModel::observe(const QuadrotorModel& drone, const Eige
     if (in_view(T, 10.0, 0.6, 0.4)) panel_distance = std::min(panel_distance, T.translation().z());
   }
   if (focus.platform) {
-    TargetObservation o;
+    fusion::TargetObservation o;
     o.t = t;
     const Eigen::Isometry3d T = T_world_bottom.inverse() * lab_.platform.T_world_object;
     const bool seen = in_view(T, 3.0, 0.45, 0.25);
-    o.state = seen ? TrackState::Tracking : TrackState::Lost;
+    o.state = seen ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
     o.method = "template";
     o.quality = seen ? 0.9 : 0;
     if (seen) o.T_cam_target = noisy(T, T.translation().z());
     out.platform = o;
   }
   if (focus.face) {
-    TargetObservation o;
+    fusion::TargetObservation o;
     o.t = t;
     const Eigen::Isometry3d T = T_world_front.inverse() * T_world_face;
     const bool seen = in_view(T, config_.face_range_m, 0.45, 0.25) && T.linear().col(2).z() > 0.3;
-    o.state = seen ? TrackState::Tracking : TrackState::Lost;
+    o.state = seen ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
     o.method = "pnp-lm";
     o.quality = seen ? 0.8 : 0;
     if (seen) o.T_cam_target = noisy(T, 1.5 * T.translation().z());
     out.face = o;
   }
-  SlamSummary s;
+  fusion::SlamSummary s;
   if (focus.slam && airborne_since_ >= 0) {
     const bool initialized = t - airborne_since_ >= config_.slam_init_s;
     const bool panel_fills_view = panel_distance < config_.slam_lost_below_m;
-    s.state = !initialized ? SlamState::Initializing : panel_fills_view ? SlamState::Lost : SlamState::Good;
+    s.state = !initialized ? fusion::SlamState::Initializing : panel_fills_view ? fusion::SlamState::Lost : fusion::SlamState::Good;
     s.points_attempted = 300;
-    s.points_found = s.state == SlamState::Good ? 220 : 20;
+    s.points_found = s.state == fusion::SlamState::Good ? 220 : 20;
     s.keyframes = initialized ? 2 + static_cast<int>((t - airborne_since_) / 5.0) : 0;
     Eigen::Isometry3d T_map_cam = T_map_world_ * noisy(T_world_front, 1.0);
     T_map_cam.translation() += Eigen::Vector3d(gauss(config_.slam_noise_m), gauss(config_.slam_noise_m),

@@ -30,27 +30,27 @@ struct PerceptionModelConfig {
 // offline replays (sim compare-slam).
 struct PerceptionFrame {
   Seconds t = 0;
-  std::optional<TargetObservation> instrument, platform, face;
+  std::optional<fusion::TargetObservation> instrument, platform, face;
   Eigen::Isometry3d T_map_cam = Eigen::Isometry3d::Identity();
-  SlamSummary slam;
-  void deliver_to(LabPipelines& pipelines) const;
+  fusion::SlamSummary slam;
+  void deliver_to(fusion::LabPipelines& pipelines) const;
 };
 
 class PerceptionModel {
  public:
-  PerceptionModel(PerceptionModelConfig config, LabGeometry lab, unsigned seed);
+  PerceptionModel(PerceptionModelConfig config, fusion::LabGeometry lab, unsigned seed);
   // Navdata with noise from the model.
   NavdataSample navdata(const QuadrotorModel& drone, Seconds t);
   // One video frame's worth of vision results at time t for what `focus` asks for.
   PerceptionFrame observe(const QuadrotorModel& drone, const Eigen::Isometry3d& T_world_face, Seconds t,
-                          const PerceptionFocus& focus);
+                          const fusion::PerceptionFocus& focus);
 
  private:
   Eigen::Isometry3d noisy(const Eigen::Isometry3d& T, double distance);
   double gauss(double sigma) { return sigma * normal_(rng_); }
 
   PerceptionModelConfig config_;
-  LabGeometry lab_;
+  fusion::LabGeometry lab_;
   std::mt19937 rng_;
   std::normal_distribution<double> normal_{0.0, 1.0};
   Seconds airborne_since_ = -1;

@@ -3,8 +3,8 @@
 // `fly(i)`, and the results come back in run order whatever finished first. Every flight owns its
 // simulated lab, link, stack and front-ends, and a lockstep flight depends on nothing but its seed,
 // so run i gives the same result alone, in a batch, or beside other runs on other threads
-// (tests/bench/experiments/seed_runner_test.cpp; docs/control.md). The batch's wall time drops with free cores;
-// its CPU time does not.
+// (tests/bench/experiments/seed_runner_test.cpp; docs/control.md). The batch's wall time drops with
+// free cores; its CPU time does not.
 #include <algorithm>
 #include <atomic>
 #include <exception>

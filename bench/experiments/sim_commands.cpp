@@ -30,9 +30,9 @@ std::string fmt(const char* f, double a, double b = 0, double c = 0) {
   return buf;
 }
 
-MissionRequest inspect_request(const std::string& id, double hold_s) {
-  MissionRequest r;
-  r.kind = RequestKind::Inspect;
+control::MissionRequest inspect_request(const std::string& id, double hold_s) {
+  control::MissionRequest r;
+  r.kind = control::RequestKind::Inspect;
   r.instrument_id = id;
   r.hold_s = hold_s;
   return r;
@@ -79,10 +79,10 @@ constexpr double kWideTolerance = 0.10;
 
 // Measured against the lab as it is (ExperimentFlight::true_lab): the instrument and the platform
 // where they stand, the panel's centre in the front camera as it is.
-InspectRun run_inspect(const FlightStackSetup& setup, const std::string& id, double hold_s, ExperimentFlight& f) {
+InspectRun run_inspect(const control::FlightStackSetup& setup, const std::string& id, double hold_s, ExperimentFlight& f) {
   InspectRun r;
-  const PlanarTarget& inst = f.true_instrument(id);
-  const CommandResult accepted = f.request(inspect_request(id, hold_s));
+  const fusion::PlanarTarget& inst = f.true_instrument(id);
+  const control::CommandResult accepted = f.request(inspect_request(id, hold_s));
   if (!accepted.accepted) {
     r.result = "refused: " + accepted.reason;
     return r;
@@ -105,7 +105,7 @@ InspectRun run_inspect(const FlightStackSetup& setup, const std::string& id, dou
     r.standoff_error_m = rms({standoff.end() - static_cast<long>(n), standoff.end()});
     r.centre_offset = rms({centre.end() - static_cast<long>(n), centre.end()});
   }
-  if (f.stack().status().phase == FlightPhase::Landed)
+  if (f.stack().status().phase == control::FlightPhase::Landed)
     r.landing_error_m = (f.true_pose().translation() - f.true_lab().lab.platform.T_world_object.translation()).head<2>().norm();
   r.crashed = f.crashed();
   r.duration_s = f.now();
@@ -131,8 +131,8 @@ int axis_index(const std::string& axis) {
 // Error to the set point, position (m) and yaw (rad). The set point is relative to the instrument
 // as the estimator placed it; the truth is compared relative to the instrument's true pose, so a
 // placement error (which shifts estimate and set point alike) is not counted as a control error.
-std::pair<double, double> set_point_error(ExperimentFlight& f, const PlanarTarget& instrument) {
-  const FlightStatus s = f.stack().status();
+std::pair<double, double> set_point_error(ExperimentFlight& f, const fusion::PlanarTarget& instrument) {
+  const control::FlightStatus s = f.stack().status();
   if (!s.desired) return {1e9, 1e9};
   const Eigen::Isometry3d T_world_obj_est = s.instrument.placed_in_world ? s.instrument.T_world_target : instrument.T_world_object;
   const Eigen::Isometry3d desired_in_obj = T_world_obj_est.inverse() * make_pose(s.desired->head<3>(), (*s.desired)[3]);
@@ -141,7 +141,7 @@ std::pair<double, double> set_point_error(ExperimentFlight& f, const PlanarTarge
   return {(true_in_obj.translation() - desired_in_obj.translation()).norm(), std::abs(ypr_from_rotation(dR)[0])};
 }
 
-std::vector<Impulse> run_perturb(int axis, int impulses, ExperimentFlight& f, const PlanarTarget& instrument, bool& reached) {
+std::vector<Impulse> run_perturb(int axis, int impulses, ExperimentFlight& f, const fusion::PlanarTarget& instrument, bool& reached) {
   std::vector<Impulse> out;
   f.request(inspect_request(instrument.id, 500.0));
   reached = f.run_until([&] { return holding(f); }, 120.0);
@@ -184,15 +184,15 @@ struct FaceRun {
   double found_at_s = -1;
   int walking_ticks = 0, tracked_ticks = 0;  // followable walking ticks; of those, with the face tracked
   int unfollowable_ticks = 0;                 // walking ticks with no standoff in front of the teacher
-  std::vector<double> distance_error, centre_error;                  // followable walking ticks (the metric)
+  std::vector<double> distance_error, centre_error;                  // followable walking ticks (the face-follow metric)
   std::vector<double> all_distance_error, all_centre_error;          // every walking tick
   std::vector<double> tracked_distance_error, tracked_centre_error;  // followable walking ticks with the face tracked
 };
 
-FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, ExperimentFlight& f) {
+FaceRun run_face_follow(const control::FlightStackSetup& setup, double walk_s, ExperimentFlight& f) {
   FaceRun r;
-  MissionRequest req;
-  req.kind = RequestKind::FindTeacher;
+  control::MissionRequest req;
+  req.kind = control::RequestKind::FindTeacher;
   f.request(req);
   // Take-off, scale manoeuvre, then a search that may wait one round of the teacher's route per watch point.
   r.followed = f.run_until([&] { return f.stack().status().stage == "3 face-follow"; }, 150.0);
@@ -202,7 +202,7 @@ FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, Experiment
   f.start_teacher_walk();
   const double end = f.now() + walk_s;
   std::optional<Eigen::Vector3d> last_face;
-  const Geofence fence(setup.lab.room_min, setup.lab.room_max, setup.control.safety.geofence_margin_m);
+  const control::Geofence fence(setup.lab.room_min, setup.lab.room_max, setup.control.safety.geofence_margin_m);
   while (f.now() < end) {
     f.tick();
     const std::optional<Eigen::Isometry3d> face = f.true_face();
@@ -224,7 +224,7 @@ FaceRun run_face_follow(const FlightStackSetup& setup, double walk_s, Experiment
       continue;
     }
     ++r.walking_ticks;
-    const bool tracked = f.stack().status().face.state == TrackState::Tracking;
+    const bool tracked = f.stack().status().face.state == fusion::TrackState::Tracking;
     r.tracked_ticks += tracked;
     r.distance_error.push_back(distance_error);
     r.centre_error.push_back(centre_error);
@@ -254,7 +254,7 @@ int run_sim_inspect_command(const ParsedArgs& args) {
   const ExperimentOptions o = read_experiment_options(args);
   const double hold = args.number_or("--hold", 5.0, 0.0, 600.0);
   const Experiment experiment = make_experiment(o, false);
-  const FlightStackSetup& setup = experiment.setup;
+  const control::FlightStackSetup& setup = experiment.setup;
   const std::string id = args.value_or("--instrument", setup.lab.instruments.front().id);
   if (!setup.lab.find_instrument(id)) throw UsageError("--instrument " + id + ": no such instrument in the lab");
   nlohmann::json runs = nlohmann::json::array(), failed = nlohmann::json::array();
@@ -330,7 +330,7 @@ int run_sim_perturb_command(const ParsedArgs& args) {
   const int axis = axis_index(*axis_name);
   const int impulses = args.integer_or("--impulses", 4, 1, 100);
   const Experiment experiment = make_experiment(o, false);
-  const FlightStackSetup& setup = experiment.setup;
+  const control::FlightStackSetup& setup = experiment.setup;
   std::vector<double> recovery;
   int recovered = 0, total = 0, not_reached = 0;
   nlohmann::json runs = nlohmann::json::array(), failed = nlohmann::json::array();
@@ -390,7 +390,7 @@ int run_sim_perturb_command(const ParsedArgs& args) {
 const CommandSpec& sim_face_follow_command_spec() {
   static const CommandSpec spec = [] {
     CommandSpec s{"sim face-follow", "",
-                  "find the teacher and follow the face while they walk at 0.5 m/s (paper 6.4; the issue's target speed)",
+                  "find the teacher and follow the face while they walk at 0.5 m/s (paper 6.4; the target's speed)",
                   experiment_option_specs()};
     s.options.push_back({"--walk", "S", "seconds of walking measured (default 30)"});
     s.options.push_back({"--teacher-speed", "MPS",
@@ -414,7 +414,7 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
     throw UsageError("--teacher-speed is for --route or --vision real (the model lab's teacher walks at 0.5 m/s)");
   if (o.model_route || o.real_vision) o.teacher_speed_mps = args.number_or("--teacher-speed", 0.5, 0.05, 2.0);
   const Experiment experiment = make_experiment(o, true);
-  const FlightStackSetup& setup = experiment.setup;
+  const control::FlightStackSetup& setup = experiment.setup;
   std::vector<double> dist, centre, all_dist, all_centre, tracked_dist, tracked_centre;
   int found = 0, walking = 0, tracked = 0, unfollowable = 0;
   nlohmann::json runs = nlohmann::json::array();

@@ -1,7 +1,7 @@
 #pragma once
-// The lockstep experiments of the paper's §6 as `labodrone sim ...` subcommands. Each takes --seed,
-// --runs, --json and --out DIR (CSV of every run's samples and an SVG plot of the first run, plus a
-// summary), and prints its figures against the targets.
+// The lockstep experiments of the paper's §6 as `labodrone-bench sim ...` subcommands. Each takes
+// --seed, --runs, --json and --out DIR (CSV of every run's samples and an SVG plot of the first run,
+// plus a summary), and prints its figures against their targets.
 #include "core/cli_args.hpp"
 
 namespace labo {

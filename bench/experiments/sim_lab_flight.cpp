@@ -11,28 +11,28 @@ namespace labo {
 // The link's events go straight to the flight stack, frames through the modelled worker when there
 // is one (a frame's pixels are valid during on_video only: the stack or the worker takes them there).
 struct SimLabFlight::Listener final : DroneLinkListener {
-  Listener(FlightStack& s, LockstepVisionWorker* w, const Seconds& t) : stack(s), worker(w), now(t) {}
+  Listener(control::FlightStack& s, LockstepVisionWorker* w, const Seconds& t) : stack(s), worker(w), now(t) {}
   void on_navdata(const NavdataSample& sample) override { stack.on_navdata(sample); }
   void on_video(const VideoFrame& frame) override {
     if (worker) worker->on_frame(frame, now);
     else stack.on_video(frame);
   }
   void on_link_state(LinkState state, Seconds t) override { stack.on_link_state(state, t); }
-  FlightStack& stack;
+  control::FlightStack& stack;
   LockstepVisionWorker* worker;
   const Seconds& now;
 };
 
-SimLabFlight::SimLabFlight(const FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
+SimLabFlight::SimLabFlight(const control::FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
                            std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency)
     : geometry_(setup.lab),
       world_(make_sim_world(lab, setup.cameras, sim)),
       true_lab_{lab_geometry_from(world_.lab), world_.cameras.front, world_.mounts.front} {
   if (!setup.front_ends) throw std::invalid_argument("SimLabFlight: the setup has no vision front-ends");
   lab_ = make_simulated_lab(world_, std::move(head));
-  auto pipelines = make_lab_pipelines(setup.lab, setup.cameras, setup.vision, setup.estimation, *setup.front_ends);
+  auto pipelines = fusion::make_lab_pipelines(setup.lab, setup.cameras, setup.vision, setup.estimation, *setup.front_ends);
   pipelines_ = pipelines.get();
-  stack_ = std::make_unique<FlightStack>(setup, std::move(pipelines));
+  stack_ = std::make_unique<control::FlightStack>(setup, std::move(pipelines));
   if (vision_latency) vision_worker_ = std::make_unique<LockstepVisionWorker>(*stack_, *vision_latency);
   listener_ = std::make_unique<Listener>(*stack_, vision_worker_.get(), t_);
   link_ = std::make_unique<SimDroneLink>(*lab_, world_.link);
@@ -62,19 +62,19 @@ std::string SimLabFlight::description() const {
   return buf;
 }
 
-void SimLabFlight::apply(const FlightOutput& out) {
+void SimLabFlight::apply(const control::FlightOutput& out) {
   if (out.select_camera) link_->select_camera(*out.select_camera);
   switch (out.action) {
-    case FlightOutput::Action::Move: link_->move(out.move); break;
-    case FlightOutput::Action::Hover: link_->hover(); break;
-    case FlightOutput::Action::Takeoff:
+    case control::FlightOutput::Action::Move: link_->move(out.move); break;
+    case control::FlightOutput::Action::Hover: link_->hover(); break;
+    case control::FlightOutput::Action::Takeoff:
       // The IMU's roll/pitch calibrated on the ground first (as on the real drone: FlightRuntime).
       link_->flat_trim();
       link_->takeoff();
       break;
-    case FlightOutput::Action::Land: link_->land(); break;
-    case FlightOutput::Action::Emergency: link_->emergency(); break;
-    case FlightOutput::Action::None: break;
+    case control::FlightOutput::Action::Land: link_->land(); break;
+    case control::FlightOutput::Action::Emergency: link_->emergency(); break;
+    case control::FlightOutput::Action::None: break;
   }
 }
 
@@ -83,7 +83,7 @@ void SimLabFlight::tick() {
   if (vision_worker_) vision_worker_->advance(t_);
   const Eigen::Isometry3d truth = true_pose();
   stack_->set_ground_truth(truth, t_);
-  const FlightOutput out = stack_->tick(t_);
+  const control::FlightOutput out = stack_->tick(t_);
   apply(out);
   samples_.push_back(sample_of(stack_->status(), out, pipelines_->estimator(), truth, t_, true_face()));
   t_ += kControlDt;

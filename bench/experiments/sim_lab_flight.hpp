@@ -1,6 +1,6 @@
 #pragma once
 // One lockstep flight in the simulated lab with FlightStack running the real vision front-ends on the
-// rendered frames (`labodrone sim ... --vision real`): SimulatedLab (drone/sim/: the firmware's
+// rendered frames (`labodrone-bench sim ... --vision real`): SimulatedLab (drone/sim/: the firmware's
 // dynamics, the sensor model, the walking teacher, LabRenderer's cameras) behind SimDroneLink, the
 // lockstep DroneLink with the real link's timing (15 Hz demo navdata, 30 fps video, delays, jitter,
 // the driver's 30 ms AT loop, the camera switch delay; docs/sim.md). Each control period the link
@@ -28,19 +28,19 @@ class SimLabFlight final : public ExperimentFlight {
   // `sim` is the lab's and the link's settings (their seeds included) and the world's mode: the
   // simulated lab flies make_sim_world(lab, setup.cameras, sim), the flight stack only `setup`.
   // `head` textures the teacher's face.
-  SimLabFlight(const FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
+  SimLabFlight(const control::FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
                std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency = std::nullopt);
   ~SimLabFlight() override;
 
   void tick() override;
-  FlightStack& stack() override { return *stack_; }
+  control::FlightStack& stack() override { return *stack_; }
   Seconds now() const override { return t_; }
   Eigen::Isometry3d true_pose() const override { return lab_->truth().T_world_body(); }
   std::optional<Eigen::Isometry3d> true_face() const override;
   void start_teacher_walk() override {}  // the lab's teacher walks the lab file's path all along
   void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) override { lab_->dynamics().push(dv_world_mps, dyaw_rad); }
   bool crashed() const override { return lab_->truth().crashes > 0; }
-  const LabGeometry& lab() const override { return geometry_; }
+  const fusion::LabGeometry& lab() const override { return geometry_; }
   const TrueLab& true_lab() const override { return true_lab_; }
   const SimWorld* world() const override { return &world_; }
   const std::vector<FlightSample>& samples() const override { return samples_; }
@@ -53,14 +53,14 @@ class SimLabFlight final : public ExperimentFlight {
 
  private:
   struct Listener;
-  void apply(const FlightOutput& out);
+  void apply(const control::FlightOutput& out);
 
-  LabGeometry geometry_;
+  fusion::LabGeometry geometry_;
   SimWorld world_;
   TrueLab true_lab_;
   std::unique_ptr<SimulatedLab> lab_;
-  std::unique_ptr<FlightStack> stack_;
-  const LabPipelines* pipelines_ = nullptr;  // owned by stack_
+  std::unique_ptr<control::FlightStack> stack_;
+  const fusion::LabPipelines* pipelines_ = nullptr;  // owned by stack_
   std::unique_ptr<LockstepVisionWorker> vision_worker_;  // with a latency model
   std::unique_ptr<Listener> listener_;
   std::unique_ptr<SimDroneLink> link_;

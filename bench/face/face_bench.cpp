@@ -267,8 +267,8 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
     T.linear() = head_rotation({});
     T.translation() = Eigen::Vector3d(0, -0.02, 0.8);
     renderer.render(T, frontal);
-    // Consecutive frames of the still head: the first is the single picture registration used
-    // before (same seed), the others the same video's next frames.
+    // Consecutive frames of the still head: the first is the picture a one-picture registration uses
+    // (same seed), the others the same video's next frames.
     std::vector<cv::Mat> pictures;
     FrameDegrader reg_degrader(options, camera, options.seed);
     for (int k = 0; k < std::max(options.registration_frames, 1); ++k) {

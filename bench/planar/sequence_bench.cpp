@@ -13,11 +13,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "core/frames.hpp"
-#include "drone/lab/lab_description.hpp"
-#include "drone/sim/lab_renderer.hpp"
-
+#include "bench/frame_timing.hpp"
 #include "bench/planar/h264_roundtrip.hpp"
+#include "bench/planar/lab_sequences.hpp"
 #include "localization/planar/planar_localizer.hpp"
 #include "localization/planar/pose/planar_pose_filter.hpp"
 #include "bench/planar/synthetic_scene.hpp"
@@ -29,29 +27,7 @@ namespace {
 constexpr double kFps = 30.0;
 constexpr double kPi = 3.14159265358979323846;
 
-struct PanelModel {
-  cv::Mat image;
-  double width_m = 0, height_m = 0;
-};
-
-struct Sequence {
-  std::string name;
-  PanelModel panel;
-  bool bottom_camera = false;
-  std::vector<cv::Mat> frames;
-  std::vector<Eigen::Isometry3d> truth;  // T_cam_object
-  std::vector<bool> in_view;
-  bool pooled = true;       // in the all-sequence range bins (false: the H.264 sequence's extra noise seeds)
-  bool h264_seed = false;   // one of the H.264 sequence's noise seeds
-};
-
-
-// This thread's CPU time: on a shared machine wall time also measures the neighbours.
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
-}
+using Sequence = PlanarSequence;
 
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
@@ -65,19 +41,6 @@ void add_noise(cv::Mat& frame, cv::RNG& rng, double sigma) {
   frame.convertTo(wide, CV_16S);
   wide += noise;
   wide.convertTo(frame, CV_8U);
-}
-
-double visible(const PinholeCamera& cam, const PanelModel& panel, const Eigen::Isometry3d& T_cam_object) {
-  // Fraction of a 9x9 grid of panel points that project inside the image.
-  int inside = 0;
-  for (int i = 0; i < 9; ++i) {
-    for (int j = 0; j < 9; ++j) {
-      const Eigen::Vector3d p((i / 8.0 - 0.5) * panel.width_m, (j / 8.0 - 0.5) * panel.height_m, 0);
-      const auto px = cam.project(T_cam_object * p);
-      if (px && cam.in_image(*px)) ++inside;
-    }
-  }
-  return inside / 81.0;
 }
 
 // Renders a sequence from a camera path (camera position and look-at target in the object frame,
@@ -97,7 +60,7 @@ Sequence render_sequence(const std::string& name, const PlanarViewRenderer& rend
     const Eigen::Isometry3d T = pose_at(i);
     cv::Mat frame = renderer.render(panel.image, panel.width_m, panel.height_m, T);
     add_noise(frame, rng, 2.0);
-    s.in_view.push_back(visible(renderer.camera(), panel, T) >= min_visible);
+    s.in_view.push_back(visible_fraction(renderer.camera(), panel, T) >= min_visible);
     if (effect) effect(i, frame);
     s.frames.push_back(frame);
     s.truth.push_back(T);
@@ -107,53 +70,6 @@ Sequence render_sequence(const std::string& name, const PlanarViewRenderer& rend
 
 Eigen::Isometry3d facing(double x, double y, double distance, double look_dx = 0, double look_dy = 0, double roll = 0) {
   return look_at_object(Eigen::Vector3d(x, y, -distance), Eigen::Vector3d(x * 0.7 + look_dx, y * 0.7 + look_dy, 0), roll);
-}
-
-// The oscilloscope of config/lab.json approached in the simulated lab and rendered by its LabRenderer
-// (drone/sim/lab_renderer.hpp: room, benches and instruments ray traced through the distorted front
-// camera, motion blur over the 10 ms shutter from the body's velocity, sensor noise): 3 m -> 0.6 m
-// with a lateral sway, a height wobble and a yaw wobble of the camera.
-Sequence render_lab_approach(const std::string& name, double min_visible) {
-  const LabDescription lab = load_lab_description(default_lab_path());
-  const InstrumentSpec* scope = lab.find_instrument("oscilloscope");
-  if (scope == nullptr) throw std::runtime_error(lab.source.string() + ": no instrument 'oscilloscope'");
-  const CamerasConfig cameras = ardrone2_cameras();
-  LabRenderer renderer(lab, cameras, std::nullopt, 7);
-  Sequence s;
-  s.name = name;
-  s.panel = {cv::imread(scope->template_path.string(), cv::IMREAD_GRAYSCALE), scope->width_m, scope->height_m};
-  if (s.panel.image.empty()) throw std::runtime_error(scope->template_path.string() + ": unreadable template");
-  const Eigen::Isometry3d T_body_cam = LabRenderer::T_body_cam(CameraId::Front);
-  const Eigen::Vector3d centre = scope->T_world_object.translation();
-  const Eigen::Vector3d towards_viewer = -scope->T_world_object.linear().col(2);
-  const Eigen::Vector3d side = towards_viewer.cross(Eigen::Vector3d::UnitZ()).normalized();
-  const int frames = 150;
-  const auto body_at = [&](double i) {
-    const double a = i / (frames - 1);
-    const Eigen::Vector3d camera = centre + towards_viewer * (3.0 - 2.4 * a) + side * (0.2 * std::sin(3.0 * a)) +
-                                   Eigen::Vector3d::UnitZ() * (0.05 * std::sin(5.0 * a));
-    const Eigen::Vector3d d = centre + side * (0.05 * std::sin(7.0 * a)) - camera;  // a yaw wobble
-    Eigen::Isometry3d T = make_pose(Eigen::Vector3d::Zero(), std::atan2(d.y(), d.x()),
-                                    -std::atan2(d.z(), d.head<2>().norm()), 0.0);
-    T.translation() = camera - T.linear() * T_body_cam.translation();
-    return T;
-  };
-  const PinholeCamera camera(cameras.front);
-  cv::Mat bgr, gray;
-  for (int i = 0; i < frames; ++i) {
-    SceneState scene;
-    scene.t = i / kFps;
-    scene.T_world_body = body_at(i);
-    scene.velocity_world_mps = (body_at(i + 0.5).translation() - body_at(i - 0.5).translation()) * kFps;
-    scene.teacher_present = false;
-    renderer.render(CameraId::Front, scene, bgr);
-    cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
-    const Eigen::Isometry3d T_cam_object = (scene.T_world_body * T_body_cam).inverse() * scope->T_world_object;
-    s.frames.push_back(gray.clone());
-    s.truth.push_back(T_cam_object);
-    s.in_view.push_back(visible(camera, s.panel, T_cam_object) >= min_visible);
-  }
-  return s;
 }
 
 std::vector<Sequence> make_sequences(const planar::PlanarConfig& config, const PanelModel& panel, const PanelModel& platform,
@@ -230,6 +146,7 @@ std::vector<Sequence> make_sequences(const planar::PlanarConfig& config, const P
   if (wanted("lab_renderer_oscilloscope_3m_to_0.6m")) {
     out.push_back(render_lab_approach("lab_renderer_oscilloscope_3m_to_0.6m", mv));
   }
+  if (wanted("lab_renderer_platform_1.5m_to_0.3m")) out.push_back(render_lab_platform_pass("lab_renderer_platform_1.5m_to_0.3m", mv));
   if (wanted("platform_descent_bottom_2m_to_0.4m")) out.push_back(render_sequence("platform_descent_bottom_2m_to_0.4m", bottom_renderer, platform, 150, [](int i) {
     const double a = i / 149.0;
     return look_at_object(Eigen::Vector3d(0.1 * std::sin(3 * a), 0.08 * std::cos(2 * a), -(2.0 - 1.6 * a)),
@@ -278,7 +195,7 @@ SequenceStats run_one(const Sequence& s, const PanelModel& panel, planar::Tracke
   config.tracker = kind;
   const PinholeCamera camera = s.bottom_camera ? PinholeCamera::ardrone2_bottom() : PinholeCamera::ardrone2_front();
   planar::PlanarObjectLocalizer localizer(planar::PlanarTemplate::create(panel.image, panel.width_m, panel.height_m, s.name, config),
-                                  camera, planar::PlanarObjectThresholds::from(vision), config);
+                                  camera, planar::PlanarObjectThresholds::from(vision, s.sift_switch_distance_m, s.sift_min_inliers), config);
   SequenceStats st;
   st.sequence = s.name;
   st.tracker = to_string(kind);

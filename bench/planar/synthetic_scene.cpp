@@ -206,10 +206,10 @@ cv::Mat PlanarViewRenderer::render(const cv::Mat& templ, double width_m, double 
   // template by the local Jacobian of the map, split into 2 x 2 sub-squares, each a box with its second
   // moments along the template's axes (a sheared or rotated footprint is then close to its true shape),
   // each box's mean read from the summed-area table. The part of the footprint outside the panel shows
-  // the wall: the pixel blends the two by the covered area. (Before 2026-12-03 the template was
-  // area-shrunk to the panel's size and then sampled bilinearly: resampled twice, each pixel's kernel
-  // depended on its sub-pixel phase and displaced the detail by a phase-dependent fraction of a pixel,
-  // which read as a tilt of a degree at 2-3 m; docs/planar.md.)
+  // the wall: the pixel blends the two by the covered area. Why not shrink the template to the
+  // panel's size and sample it bilinearly: resampled twice, each pixel's kernel would depend on its
+  // sub-pixel phase and displace the detail by a fraction of a pixel, which reads as a tilt of a
+  // degree at 2-3 m.
   cv::Mat sat;
   cv::integral(templ, sat, CV_64F);
   const double tw = templ.cols, th = templ.rows;

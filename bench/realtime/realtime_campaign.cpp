@@ -65,7 +65,7 @@ RealtimeRun fly_one(const RealtimeCampaignOptions& o, const AppConfig& base, uns
   FlightService& flight = backend->flight();
   EventLog events;
   flight.set_sink(&events);
-  const LabGeometry lab = lab_geometry_from(config.lab);
+  const fusion::LabGeometry lab = fusion::lab_geometry_from(config.lab);
   MissionCommand command;
   if (o.mission == RealtimeMission::Inspect) {
     command.kind = MissionCommandKind::Inspect;

@@ -10,6 +10,7 @@
 #include <optional>
 #include <sstream>
 
+#include "bench/frame_timing.hpp"
 #include "core/frames.hpp"
 #include "drone/sim/lab_renderer.hpp"
 #include "drone/sim/render_commands.hpp"
@@ -43,19 +44,6 @@ SceneState bench_scene(const LabDescription& lab, int frame, double fps) {
                              std::atan2(p.y() - s.teacher_floor_xy.y(), p.x() - s.teacher_floor_xy.x()));
   s.exposure_gain = 1.0 + 0.15 * std::sin(0.3 * t);
   return s;
-}
-
-// CPU time of this thread (ms): on a shared machine, what the renderer itself costs; wall time
-// also counts the time other processes hold the core.
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
-
-double percentile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
 }
 
 }  // namespace
@@ -113,10 +101,10 @@ int run_bench_render_command(const ParsedArgs& args) {
       }
       std::cout << std::left << std::setw(8) << name << std::setw(12) << (effects ? "blur+noise" : "sharp") << std::setw(10)
                 << (std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows)) << std::right << std::fixed << std::setprecision(2)
-                << std::setw(6) << percentile(cpu, 0.5) << std::setw(7) << percentile(cpu, 0.95) << std::setw(7)
-                << percentile(cpu, 1.0) << std::setw(9) << percentile(wall, 0.5) << std::setw(7) << percentile(wall, 0.95)
-                << std::setw(7) << percentile(wall, 1.0) << std::setw(14) << std::setprecision(0) << 100.0 * uniform / frames << "%"
-                << std::setw(15) << std::setprecision(1) << percentile(motion, 0.5) << "\n";
+                << std::setw(6) << quantile_of(cpu, 0.5) << std::setw(7) << quantile_of(cpu, 0.95) << std::setw(7)
+                << quantile_of(cpu, 1.0) << std::setw(9) << quantile_of(wall, 0.5) << std::setw(7) << quantile_of(wall, 0.95)
+                << std::setw(7) << quantile_of(wall, 1.0) << std::setw(14) << std::setprecision(0) << 100.0 * uniform / frames << "%"
+                << std::setw(15) << std::setprecision(1) << quantile_of(motion, 0.5) << "\n";
     }
   }
   return 0;

@@ -65,7 +65,12 @@ void ArdroneLink::start() {
   if (!settings_.recording.empty()) recorder_ = std::make_unique<RecordingWriter>(settings_.recording);
   navdata_receiver_ = std::make_unique<NavdataReceiver>(
       counters_, [this](const NavdataSample& s, const NavdataPacket& p) { on_navdata(s, p); });
-  video_receiver_ = std::make_unique<VideoReceiver>(counters_, [this](const VideoFrame& f) { on_video(f); });
+  video_receiver_ = std::make_unique<VideoReceiver>(
+      counters_, [this](const VideoFrame& f) { on_video(f); },
+      [this](const EncodedVideo& unit) {
+        std::lock_guard lock(listener_mutex_);
+        if (listener_) listener_->on_encoded_video(unit);
+      });
   queue_startup_config();
   running_ = true;
   set_state(LinkState::Connecting, clock_->now());

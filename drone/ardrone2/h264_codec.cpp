@@ -110,7 +110,8 @@ void H264Encoder::Impl::open(const H264EncoderSettings& s) {
   // x264's fastest preset, but with the two tools a hardware baseline encoder like the drone's has and
   // ultrafast drops for speed: quarter-pel motion (subme 1; whole-pel copies shift a far panel's detail
   // by up to half a pixel per macroblock) and the in-loop deblocking filter (docs/ardrone2.md "The
-  // simulated drone's encoder": an assumption, not verified on a drone; +0-1 ms per frame).
+  // simulated drone's encoder": an assumption, not verified on a drone). Test "link: the simulated
+  // drone's encoder moves blocks by quarter pixels and deblocks".
   av_opt_set(c->priv_data, "x264-params", "scenecut=0:open-gop=0:repeat-headers=1:subme=1:deblock=1", 0);
   if (avcodec_open2(c, codec, nullptr) < 0) throw std::runtime_error("H264Encoder: cannot open libx264");
   frame.reset(av_frame_alloc());
@@ -134,8 +135,9 @@ const H264EncoderSettings& H264Encoder::settings() const { return impl_->setting
 void H264Encoder::set_bitrate_kbps(int kbps) {
   if (kbps <= 0) throw std::invalid_argument("H264Encoder: bitrate must be positive");
   if (kbps == impl_->settings.bitrate_kbps) return;
-  // A new libx264 (its next frame an IDR, the GOP counted from there): setting bit_rate on the open
-  // context was tried and libavcodec 59 kept the old rate (P frames 2.4 kB instead of 13 kB).
+  // A new libx264 (its next frame an IDR, the GOP counted from there): libavcodec 59 ignores a bit_rate
+  // set on an open context and keeps encoding at the old rate. Test "link: the H.264 encoder changes
+  // its bit rate at run time".
   H264EncoderSettings s = impl_->settings;
   s.bitrate_kbps = kbps;
   impl_->open(s);

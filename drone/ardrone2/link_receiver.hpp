@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <vector>
 
 #include "drone/ardrone2/h264_codec.hpp"
 #include "drone/ardrone2/link_counters.hpp"
@@ -34,7 +35,10 @@ class NavdataReceiver {
 class VideoReceiver {
  public:
   using Handler = std::function<void(const VideoFrame&)>;
-  VideoReceiver(LinkCounters& counters, Handler handler);
+  using EncodedHandler = std::function<void(const EncodedVideo&)>;
+  // A frame sent in several PaVE packets (slices) is joined before it is decoded. `encoded`, when
+  // given, receives each access unit before it is decoded, from the first IDR after a reset on.
+  VideoReceiver(LinkCounters& counters, Handler handler, EncodedHandler encoded = {});
   // Bytes from TCP 5555 as they came.
   void bytes(std::span<const std::uint8_t> bytes, Seconds t);
   // A new TCP connection or a camera switch: drop partial data, wait for the next IDR.
@@ -43,12 +47,22 @@ class VideoReceiver {
   void set_camera(CameraId camera) { camera_ = camera; }
 
  private:
+  // The access unit `pave` completes (its own payload, or the joined slices of its frame); empty
+  // while a frame's slices are still coming or when one was lost.
+  std::span<const std::uint8_t> assemble(const PaveFrame& pave);
+  void forward(std::span<const std::uint8_t> unit, const PaveHeader& h, Seconds t);
+
   LinkCounters& counters_;
   Handler handler_;
+  EncodedHandler encoded_;
   PaveDemuxer demuxer_;
   H264Decoder decoder_;
   VideoFrame frame_;
   CameraId camera_ = CameraId::Front;
+  std::vector<std::uint8_t> slices_;  // the slices of a frame sent in several PaVE packets, so far
+  std::uint32_t slices_frame_ = 0;
+  std::uint8_t slices_next_ = 0;      // the slice index expected next (0: a new frame)
+  bool forward_seen_idr_ = false;
 };
 
 }  // namespace labo::ardrone2

@@ -11,9 +11,13 @@ ReplayLink::ReplayLink(const std::filesystem::path& recording, Logger logger)
       counters_, [this](const NavdataSample& s, const ardrone2::NavdataPacket&) {
         if (listener_) listener_->on_navdata(s);
       });
-  video_ = std::make_unique<ardrone2::VideoReceiver>(counters_, [this](const VideoFrame& f) {
-    if (listener_) listener_->on_video(f);
-  });
+  video_ = std::make_unique<ardrone2::VideoReceiver>(
+      counters_, [this](const VideoFrame& f) {
+        if (listener_) listener_->on_video(f);
+      },
+      [this](const EncodedVideo& unit) {
+        if (listener_) listener_->on_encoded_video(unit);
+      });
   load_next();
 }
 

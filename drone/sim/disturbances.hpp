@@ -10,8 +10,8 @@
 //    firmware hovers after its 2 s command timeout, the driver sees the link degrade and get lost;
 //  - lighting: the light changes over an interval (a lamp switched on, sun through a window, the
 //    camera's auto-exposure catching up): the frames' exposure is multiplied by a factor that rises
-//    to `exposure_gain` and falls back as a raised cosine. Vision must survive it (issue #6's
-//    lighting case, in flight instead of only in the planar benchmark);
+//    to `exposure_gain` and falls back as a raised cosine. Vision must survive it (the planar
+//    benchmark's lighting case, in flight);
 //  - flicker: the lamps' mains flicker as the camera samples it: the exposure is multiplied by
 //    1 + amplitude·sin(2π·frequency·(t − t_s)) over an interval.
 #include <Eigen/Core>

@@ -187,7 +187,7 @@ SceneTracer::LevelMap SceneTracer::level_for(const View& v, int ti) const {
   // Minified more than 3 texels per pixel (mip level 2 and up): a panel's pixels average their
   // footprint. Nearer, the mip level's bilinear sample stays: its blur (the level's texel box and the
   // bilinear tent, 0.75-1.5 level texels per pixel) is close to the pixel's box there, and area
-  // filtering costs ~27 ns per pixel, i.e. +1.1 ms for a panel filling 40 k pixels (docs/sim_rendering.md).
+  // filtering every pixel of a panel that fills the frame would cost too much (docs/sim_rendering.md).
   if (level >= kAreaMinLevel && tex.has_area_table() && half_u > 0 && half_v > 0) {
     const TextureMap::Level& l0 = tex.level(0);
     return {&l0, v.tpu, v.tpv, &tex, static_cast<std::int32_t>(half_u * 256.f + 0.5f), static_cast<std::int32_t>(half_v * 256.f + 0.5f)};

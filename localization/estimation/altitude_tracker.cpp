@@ -3,7 +3,7 @@
 #include <array>
 #include <cmath>
 
-namespace labo {
+namespace labo::estimation {
 
 namespace {
 constexpr Seconds kMaxGap = 0.5;             // beyond, increments are not comparable: re-anchor
@@ -102,4 +102,4 @@ AltitudeDecision AltitudeTracker::process(double range_m, Seconds t, double z_pr
   return d;
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -13,15 +13,16 @@
 // estimate is pulled to its surveyed height, so an earlier misclassification does not persist.
 // A sudden shorter range that no motion explains over a surface where no step is possible is a
 // spurious short echo (the sonar hears something nearer than the floor for a ping): it is dropped, and
-// only accepted as motion if it persists for kEchoPersist (found on the simulated lab, whose sonar
-// has such echoes: fused as motion they put 0.1-0.5 m spikes into z and the scale's metric odometry).
+// only accepted as motion if it persists for kEchoPersist: fused as motion, such echoes (the simulated
+// lab's sonar has them) put 0.1-0.5 m spikes into z and the scale's metric odometry. Test
+// "estimation: a short sonar echo over a surveyed floor is dropped, a lasting lower range is motion".
 #include <Eigen/Core>
 #include <optional>
 
 #include "core/time.hpp"
 #include "localization/estimation/surface_map.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 struct AltitudeDecision {
   // FusedAsMotion: an increment above gamma explained by vertical speed or a flat surface map.
@@ -72,4 +73,4 @@ class AltitudeTracker {
   std::optional<Seconds> echo_since_;  // a short echo is being dropped since then
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

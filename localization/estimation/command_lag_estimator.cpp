@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace labo {
+namespace labo::estimation {
 
 namespace {
 constexpr std::size_t kCommandCapacity = 2048;   // 30-100 Hz over window + max lag
@@ -178,4 +178,4 @@ void CommandLagEstimator::evaluate(Seconds t_end) {
   current_ = CommandLagEstimate{*mid, static_cast<std::size_t>(n), contrast};
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -27,7 +27,7 @@
 #include "localization/estimation/estimation_config.hpp"
 #include "localization/estimation/timed_queue.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 struct CommandLagSettings {
   Seconds window_s = 6.0;            // flight data per evaluation
@@ -91,4 +91,4 @@ class CommandLagEstimator {
   CommandLagCounters counters_;
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

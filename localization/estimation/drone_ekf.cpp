@@ -6,7 +6,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 using namespace est;
 
@@ -117,4 +117,4 @@ void DroneEkf::keep_positive_definite() {
   ++repairs_;
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

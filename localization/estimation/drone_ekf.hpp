@@ -10,7 +10,7 @@
 #include "localization/estimation/estimation_config.hpp"
 #include "localization/estimation/state_estimator.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 class DroneEkf {
  public:
@@ -89,4 +89,4 @@ class DroneEkf {
   int repairs_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -1,6 +1,6 @@
 #include "localization/estimation/estimation_config.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 namespace {
 void read_model(const ConfigReader& n, MotionModelConstants& m) {
@@ -103,4 +103,4 @@ EstimatorConfig read_estimation_config(const ConfigReader& node) {
   return c;
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -8,7 +8,7 @@
 #include "localization/estimation/reacquisition_gate.hpp"
 #include "localization/estimation/scale_estimator.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 // First-order responses of the AR.Drone's onboard controllers to the normalized PCMD (MoveCommand):
 //   roll'    = attitude_rate_hz * (tilt_max_rad * u_roll  - roll)      (pitch alike)
@@ -57,7 +57,7 @@ struct EstimatorNoise {
 // Detection of a failed bottom-camera velocity (velocity_dropout_detector.hpp; thresholds chosen on
 // the simulated lab, docs/state-estimation.md "Velocity dropout").
 struct VelocityDropoutSettings {
-  bool enabled = true;          // false fuses every navdata velocity (the behaviour before, for comparison)
+  bool enabled = true;          // false fuses every navdata velocity (no detection, for comparison)
   Seconds window_s = 0.4;       // the model-consistency window
   Seconds average_s = 0.1;      // the measured velocity is averaged over this span at both ends
   double onset_mps = 0.1;       // speed lost against the model over the window
@@ -118,4 +118,4 @@ struct EstimatorConfig {
 // Reads the "estimation" section; every key optional, defaults above, delays in ms at this edge.
 EstimatorConfig read_estimation_config(const ConfigReader& node);
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -6,7 +6,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 using namespace est;
 
@@ -14,10 +14,11 @@ namespace {
 constexpr Seconds kCommandValidity = 1.0;   // a command older than this no longer drives the model
 // A navdata yaw increment larger than the drone can turn in the packet interval is a firmware reset,
 // not a rotation: re-anchor instead of fusing it. tum_ardrone gates at 10 deg per packet, at 200 Hz;
-// at demo navdata's 15 Hz a knock turns the drone faster than that (sim perturb's 0.4 rad yaw kick:
-// 13 deg in 33 ms, ~18 deg between packets), and gating it at 10 deg left the estimate on the old yaw
-// while the drone was 23 deg off (recovery only once vision re-synced it, 4.3-5 s). So the bound is a
-// rate, two turns per second, and never below 10 deg nor above 90 deg (after a long navdata gap).
+// at demo navdata's 15 Hz a knock turns the drone faster than that (a 0.4 rad yaw kick turns it
+// 13 deg in 33 ms, ~18 deg between packets), and a 10 deg gate would leave the estimate on the old
+// yaw until vision re-synced it. So the bound is a rate, two turns per second, and never below 10 deg
+// nor above 90 deg (after a long navdata gap). Test "estimation: demo navdata's yaw follows a knock
+// turning faster than 10 deg a packet, and a reset is not followed".
 constexpr double kYawJumpMinRad = 10.0 * std::numbers::pi / 180.0;
 constexpr double kYawJumpMaxRad = 90.0 * std::numbers::pi / 180.0;
 constexpr double kMaxYawRateRadps = 4.0 * std::numbers::pi;
@@ -207,4 +208,4 @@ void FilterCore::observe_landed() {
   ekf_.update<3>(y, H, Eigen::Vector3d::Constant(0.01 * 0.01).asDiagonal());
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -12,7 +12,7 @@
 #include "localization/estimation/estimation_config.hpp"
 #include "localization/estimation/velocity_dropout_detector.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 // Metric displacement integrated from navdata since the filter started (world axes).
 struct MetricOdometry {
@@ -84,4 +84,4 @@ class FilterCore {
   NavdataCounters counters_;
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

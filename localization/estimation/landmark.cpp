@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace labo {
+namespace labo::estimation {
 
 namespace {
 // Kalman weight of a measurement of variance `measured` against a state of variance `self`.
@@ -52,4 +52,4 @@ Landmark place_landmark(const PoseWithVariance& cascade, const PoseWithVariance*
   return l;
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

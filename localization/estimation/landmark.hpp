@@ -3,14 +3,15 @@
 // the teacher's face) with a scalar position variance and a scalar rotation variance. Placed at its
 // first sighting by cascading T_world_body * T_body_cam * T_cam_landmark, optionally fused with a
 // surveyed pose, and refined by later sightings with the weights of a scalar Kalman filter: the
-// position by the position variances, the orientation by the rotation variances. (One weight for both
-// let a planar panel's orientation seen from 4 m - off by up to ~20 degrees - turn a placement whose
-// survey was right: sim perturb --vision real held 4.5 degrees and 0.07 m off in world coordinates.)
+// position by the position variances, the orientation by the rotation variances: with one weight for
+// both, a planar panel's orientation seen from 4 m (off by up to ~20 degrees) would turn a placement
+// whose survey was right. Test "estimation: an object's placement weighs orientations by their
+// rotation variances".
 #include <Eigen/Geometry>
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 // A pose measurement with its isotropic variances (m^2 for the position, rad^2 for the rotation).
 struct PoseWithVariance {
@@ -36,4 +37,4 @@ struct Landmark {
 // Combines a cascade with a survey (each with its variances) into a first placement.
 Landmark place_landmark(const PoseWithVariance& cascade, const PoseWithVariance* surveyed, Seconds t);
 
-}  // namespace labo
+}  // namespace labo::estimation

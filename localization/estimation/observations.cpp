@@ -1,6 +1,6 @@
 #include "localization/estimation/observations.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 std::string_view to_string(LocalizationSource source) {
   switch (source) {
@@ -22,4 +22,4 @@ std::string_view to_string(SourceColour colour) {
   return "?";
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

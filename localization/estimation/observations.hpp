@@ -9,7 +9,7 @@
 #include "core/time.hpp"
 #include "drone/drone_link.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 // Which measurement drives the fused estimate now (paper Fig. 9).
 enum class LocalizationSource { Slam, Homography, Face, DeadReckoning };
@@ -58,4 +58,4 @@ struct FaceObservation {
   double quality = 1.0;           // 0..1
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -1,6 +1,6 @@
 #include "localization/estimation/reacquisition_gate.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 void ReacquisitionGate::reset() {
   has_previous_ = false;
@@ -32,4 +32,4 @@ ReacquisitionGate::Verdict ReacquisitionGate::check(const Eigen::Vector4d& innov
   return Verdict::Refused;
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -1,10 +1,11 @@
 #pragma once
 // ReacquisitionGate: a vision source's first poses after it was lost (a panel re-detected, SLAM
 // relocalized, a face found again) are compared with the dead-reckoned estimate before they may
-// correct it. While a source is established the estimator's innovation gate watches it; at its
-// re-acquisition nothing did, and a wrong re-detection was fused at once (seen in the simulated lab:
-// a vertical push took the panel out of view, the re-detected homography dragged the estimate
-// 0.5-1.5 m, and the drone flew into the bench; sim perturb --axis z --vision real).
+// correct it. While a source is established the estimator's innovation gate watches it; without this
+// gate nothing would watch its re-acquisition, and a wrong re-detection (after a vertical push took
+// the panel out of view, a false homography 0.5-1.5 m off) would drag the estimate at once and fly
+// the drone into the bench. Test "estimation: a wrong re-detection 1 m off after a loss does not
+// drive the estimate".
 //
 // A pose is accepted at once when its innovation (observed - estimated x, y, z, yaw) is within both
 // bounds: the squared Mahalanobis distance under the estimate's and the observation's covariance
@@ -18,7 +19,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 struct ReacquisitionSettings {
   double chi2 = 16.0;              // 4 dof: about the 99.7 % quantile
@@ -55,4 +56,4 @@ class ReacquisitionGate {
   Eigen::Vector4d previous_innovation_ = Eigen::Vector4d::Zero();
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace labo {
+namespace labo::estimation {
 
 namespace {
 // Pairs older than this many memories weigh less than 2 % and are dropped.
@@ -175,4 +175,4 @@ Eigen::Isometry3d MapToWorld::T_world_cam(const Eigen::Isometry3d& T_map_cam) co
   return T;
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -7,8 +7,8 @@
 //  - both noises are given in metres (the map side is converted with the current scale), so the
 //    estimator weighs the two sides the same whatever the map's unit is (a monocular map's unit is its
 //    initial median depth: 6-10 m in the simulated lab);
-//  - a monocular map's scale drifts (measured in the simulated lab: 10 -> 6 m/unit within 20 s of
-//    the map's start, docs/state-estimation.md): older pairs are forgotten with a weight
+//  - a monocular map's scale drifts (in the simulated lab from 10 to 6 m/unit within 20 s of the
+//    map's start, docs/state-estimation.md): older pairs are forgotten with a weight
 //    (1 - 1/memory_pairs)^age, so the estimate follows the map of now;
 //  - outliers: each pair's residual |m_i - lambda_ref q_i| against the weighted median of the
 //    single-pair scales is tested with a chi2 gate (3 dof) under the same noise model, instead of
@@ -24,7 +24,7 @@
 #include <utility>
 #include <vector>
 
-namespace labo {
+namespace labo::estimation {
 
 struct ScaleStatus {
   double scale = 1.0;
@@ -116,4 +116,4 @@ class MapToWorld {
   Eigen::Vector3d fixpoint_map_ = Eigen::Vector3d::Zero();
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

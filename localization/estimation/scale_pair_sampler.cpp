@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace labo {
+namespace labo::estimation {
 
 namespace {
 constexpr Seconds kMaxFrameGap = 0.2;  // frames further apart do not form one window
@@ -65,4 +65,4 @@ std::optional<ScalePair> ScalePairSampler::add(const ScaleSample& sample) {
   return pair;
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -13,7 +13,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 struct ScaleSample {
   Seconds t = 0;
@@ -66,4 +66,4 @@ class ScalePairSampler {
   Seconds gap_since_start_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

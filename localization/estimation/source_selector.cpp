@@ -1,6 +1,6 @@
 #include "localization/estimation/source_selector.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 void SourceSelector::on_consistent(LocalizationSource source, Seconds t, double quality) {
   if (source == LocalizationSource::DeadReckoning) return;
@@ -63,4 +63,4 @@ double SourceSelector::quality(Seconds t) const {
   return s == LocalizationSource::DeadReckoning ? 0.0 : track(s).quality;
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -8,7 +8,7 @@
 #include "core/time.hpp"
 #include "localization/estimation/observations.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 class SourceSelector {
  public:
@@ -46,4 +46,4 @@ class SourceSelector {
   LocalizationSource last_vision_ = LocalizationSource::Slam;
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

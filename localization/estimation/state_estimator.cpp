@@ -12,7 +12,7 @@
 #include "localization/estimation/timed_queue.hpp"
 #include "localization/estimation/vision_gate.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 using namespace est;
 
@@ -574,9 +574,11 @@ FusedState StateEstimator::predict(Seconds t) const {
   if (!(t > m.core.time())) return m.make_state(m.core, m.core.time());
   // Nor can the motion model alone carry it far: without navdata (a link down, a drone not yet
   // connected, an empty replay) each call would integrate the whole gap since the last packet in
-  // 10 ms steps - an hour without a drone made every control tick 360 000 steps, and stalled the
+  // 10 ms steps - an hour without a drone makes every control tick 360 000 steps and stalls the
   // server's flight thread. Past kMaxExtrapolationS beyond the newest navdata (or the filter's
-  // time, when newer) the state is the one extrapolated that far, stamped with that time.
+  // time, when newer) the state is the one extrapolated that far, stamped with that time. Test
+  // "estimation: without navdata a prediction reaches at most 2 s past the newest packet, stamped
+  // where it stopped".
   const Seconds newest = std::max(m.core.time(), m.last_navdata_t - m.config.navdata_delay_s);
   const Seconds target = std::min(t, newest + kMaxExtrapolationS);
   FilterCore copy = m.core;
@@ -622,4 +624,4 @@ EstimatorStatistics StateEstimator::statistics() const {
   return st;
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -38,7 +38,7 @@
 #include "localization/estimation/surface_map.hpp"
 #include "localization/vision_thresholds.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 // State indices.
 namespace est {
@@ -126,4 +126,4 @@ class StateEstimator {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -5,7 +5,7 @@
 
 #include "drone/lab/lab_description.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 double SurfaceMap::height_at(const Eigen::Vector2d& xy) const {
   double h = floor_z_;
@@ -59,4 +59,4 @@ SurfaceMap surface_map_of(const LabDescription& lab) {
   return map;
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

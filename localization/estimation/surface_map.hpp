@@ -7,8 +7,10 @@
 #include <vector>
 
 namespace labo {
-
 struct LabDescription;
+}  // namespace labo
+
+namespace labo::estimation {
 
 struct SurfaceRect {
   Eigen::Vector2d min_xy = Eigen::Vector2d::Zero();
@@ -45,4 +47,4 @@ class SurfaceMap {
 // over the room's floor.
 SurfaceMap surface_map_of(const LabDescription& lab);
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -8,7 +8,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 template <typename T>
 class TimedQueue {
@@ -47,4 +47,4 @@ class TimedQueue {
   std::size_t size_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

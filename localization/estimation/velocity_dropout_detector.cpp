@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace labo {
+namespace labo::estimation {
 
 namespace {
 Eigen::Vector2d rotate(double yaw, const Eigen::Vector2d& v) {
@@ -187,4 +187,4 @@ void VelocityDropoutDetector::record_filter_velocity(const Eigen::Vector2d& filt
   if (size_ > 0) back().filter = filter_velocity;
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -40,7 +40,7 @@
 #include "core/time.hpp"
 #include "localization/estimation/estimation_config.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 // What the filter is told per packet.
 struct VelocityVerdict {
@@ -134,4 +134,4 @@ class VelocityDropoutDetector {
   DropoutCorrection correction_;
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -4,7 +4,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 VisionGate::Verdict VisionGate::check(const Eigen::Isometry3d& T_world_body, Seconds t, double max_distance_m,
                                       double max_angle_rad) {
@@ -24,4 +24,4 @@ VisionGate::Verdict VisionGate::check(const Eigen::Isometry3d& T_world_body, Sec
   return v;
 }
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -6,7 +6,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::estimation {
 
 class VisionGate {
  public:
@@ -23,4 +23,4 @@ class VisionGate {
   Eigen::Isometry3d previous_ = Eigen::Isometry3d::Identity();
 };
 
-}  // namespace labo
+}  // namespace labo::estimation

@@ -17,10 +17,11 @@ struct FaceLimits {
   double max_rms_per_interocular = 0.12;  // RMS landmark fit error / interocular distance (px/px)
   double max_yaw_rad = 1.22;              // 70°: beyond it the detector and landmarks are unreliable
   double max_pitch_rad = 0.87;            // 50°
-  // A new track starts only on a face turned less than this. Off (90°) by default: at 30° the face
-  // benchmark meets Table 1 on seed 5 too (tz 17.97 -> 11.27 mm), but find-teacher then seldom picks
-  // up a teacher walking past the drone (real-vision face-follow, seed 7: tracked 2 %, 1.45 m RMS;
-  // docs/face.md "A track starts only on a face turned less than 30°").
+  // A new track starts only on a face turned less than this. Off (90°) by default: at 30° a turned
+  // face's first pose no longer biases the track, but find-teacher then seldom picks up a teacher
+  // walking past the drone, whose face it sees turned (docs/face.md "A track starts only on a face
+  // turned less than 30°"; test "face: a track starts only on a face turned less than max_start_yaw,
+  // then follows it further").
   double max_start_yaw_rad = 1.5708;
   double min_distance_m = 0.2;
   double max_distance_m = 6.0;

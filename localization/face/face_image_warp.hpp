@@ -2,7 +2,8 @@
 // The face front end's per-frame resampling without allocating: the landmark crop (cv::warpAffine)
 // and the frontal view (cv::remap), both bilinear with the border replicated, pixel for pixel as
 // OpenCV 4.6 computes them for 8-bit grey images (each of those OpenCV calls allocates its scratch
-// blocks and thread-pool work on every call: 35 and 4 heap allocations per frame, measured single-threaded).
+// blocks and thread-pool work on every call; test "face front end: a tracked frame allocates nothing,
+// a detector frame only the detector's").
 // OpenCV places each output pixel's source position on a 1/32 px grid (fixed point) and blends the
 // four neighbours with integer weights (32 - fx or fx) (32 - fy or fy) over 2^10, rounded half up;
 // neighbours beyond the image take its nearest border pixel. tests/localization/face/face_image_warp_test.cpp

@@ -473,9 +473,9 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
   if (!plausible_distance(s)) return lose(result, FaceLostReason::ImplausibleDistance);
   // A track's first pose has no earlier pose to make the frontal view from, and at a large yaw the
   // view made at its own provisional pose still carries the predictor's pull towards a frontal face
-  // (seen less turned and farther: +50 to +100 mm at 44° and 1.3 m, docs/face.md). Every later frame's
-  // view starts from it and the error decays only as the head turns back, so wait for a less turned
-  // face to start from.
+  // (it reads the face less turned and 50-100 mm farther at 44° and 1.3 m, docs/face.md). Every later
+  // frame's view starts from it and the error decays only as the head turns back, so wait for a less
+  // turned face to start from.
   if (!last_pose_ && std::abs(result.angles.yaw) > L.max_start_yaw_rad) {
     return lose(result, FaceLostReason::TurnedAtStart);
   }

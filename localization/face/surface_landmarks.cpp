@@ -70,7 +70,7 @@ Eigen::Matrix3Xd surface_landmark_offsets(const Candide3Model& candide, const Fa
     const Eigen::Vector3d offset = origin + nearest * d - mapped.col(i);
     // The limit is on what the picture saw, the in-plane part: the depth is the mesh's, and an outer
     // brow end seen on the temple lies 10-15 mm deeper than the brow vertex (a limit on the whole
-    // offset sent it back to the vertex on one seed, pitch 1.63 -> 1.90°, docs/face.md).
+    // offset would send it back to the vertex, and its pitch bias with it; docs/face.md).
     if (offset.head<2>().norm() <= max_offset_m) offsets.col(i) = offset;
   }
   // The metric scale stays the interpupillary distance's: the offsets move the eye landmarks too

@@ -7,9 +7,9 @@
 // in depth it is not, but the landmark lies on the face's surface: at registration the ray through
 // each detected landmark of the frontal picture is followed to where it meets the fitted CANDIDE-3
 // mesh, and that point (the picture's position, the mesh's depth there) is the person's landmark.
-// Kept as an offset from the mapped point. (Until 2026-12-02 17:00 the depth stayed the mapped
-// point's; the mesh's depth brought the registered depths from 3.2 to 0.6-0.8 mm RMS of the rendered
-// head's and pitch from 1.46° to 1.23-1.28°, docs/face.md.)
+// Kept as an offset from the mapped point. Why the mesh's depth and not the mapped point's: the
+// mapped point's depth is off by several mm on a real head's relief, which reads as a pitch bias
+// (docs/face.md gives the registered depths' error with each).
 #include <Eigen/Geometry>
 
 #include "core/candide3.hpp"

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-namespace labo {
+namespace labo::fusion {
 
 void AttitudeHistory::add(Seconds t_meas, const Attitude& attitude) {
   if (!std::isfinite(t_meas) || !std::isfinite(attitude.roll_rad) || !std::isfinite(attitude.pitch_rad)) return;
@@ -34,4 +34,4 @@ std::optional<Attitude> AttitudeHistory::at(Seconds t, Seconds max_hold_s, Secon
   return std::nullopt;  // older than the history
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

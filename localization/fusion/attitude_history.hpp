@@ -9,7 +9,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 struct Attitude {
   double roll_rad = 0, pitch_rad = 0;
@@ -36,4 +36,4 @@ class AttitudeHistory {
   std::size_t next_ = 0, size_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::fusion

@@ -4,7 +4,7 @@
 
 #include "localization/fusion/lab_pipelines.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 namespace {
 // Frames further apart than this (face-follow was off, or the camera switched): search afresh
@@ -43,4 +43,4 @@ const TargetObservation& FaceFrontEnd::process(const cv::Mat& gray, Seconds t, s
   return o;
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

@@ -9,7 +9,7 @@
 #include "localization/fusion/vision_front_end.hpp"
 #include "localization/face/face_pose_estimator.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 class FaceFrontEnd final : public TargetFrontEnd {
  public:
@@ -28,4 +28,4 @@ class FaceFrontEnd final : public TargetFrontEnd {
   std::optional<Seconds> last_t_;
 };
 
-}  // namespace labo
+}  // namespace labo::fusion

@@ -2,7 +2,7 @@
 
 #include "localization/slam/slam_config.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 FrontEndSettings read_front_end_settings(const ConfigReader& root, const std::filesystem::path& base_dir) {
   FrontEndSettings s;
@@ -12,4 +12,4 @@ FrontEndSettings read_front_end_settings(const ConfigReader& root, const std::fi
   return s;
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

@@ -9,7 +9,7 @@
 #include "localization/planar/planar_config.hpp"
 #include "localization/slam/slam_system.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 struct FrontEndSettings {
   planar::PlanarConfig planar;
@@ -24,4 +24,4 @@ struct FrontEndSettings {
 // relative to `base_dir`. Other sections are left to their readers.
 FrontEndSettings read_front_end_settings(const ConfigReader& root, const std::filesystem::path& base_dir);
 
-}  // namespace labo
+}  // namespace labo::fusion

@@ -3,7 +3,7 @@
 #include "core/frames.hpp"
 #include "drone/lab/lab_description.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 namespace {
 PlanarTarget planar_target_of(const InstrumentSpec& spec) {
@@ -41,7 +41,7 @@ LabGeometry lab_geometry_from(const LabDescription& lab) {
   g.instruments.reserve(lab.instruments.size());
   for (const auto& spec : lab.instruments) g.instruments.push_back(planar_target_of(spec));
   g.platform = planar_target_of(lab.platform);
-  g.surfaces = surface_map_of(lab);
+  g.surfaces = estimation::surface_map_of(lab);
   g.teacher.waypoints = lab.teacher.waypoints;
   g.teacher.speed_mps = lab.teacher.speed_mps;
   g.teacher.pause_s = lab.teacher.pause_s;
@@ -49,4 +49,4 @@ LabGeometry lab_geometry_from(const LabDescription& lab) {
   return g;
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

@@ -13,8 +13,10 @@
 #include "localization/estimation/surface_map.hpp"
 
 namespace labo {
-
 struct LabDescription;
+}  // namespace labo
+
+namespace labo::fusion {
 
 // A planar target: object frame at the panel's centre, x right, y down, z into the panel.
 struct PlanarTarget {
@@ -50,7 +52,7 @@ struct LabGeometry {
   PlanarTarget platform;
   // The tops the ultrasound sees (benches, the platform, instrument housings) over the floor, for the
   // altitude tracker to tell a floor step from a climb; empty: floor only, steps told by gamma alone.
-  SurfaceMap surfaces;
+  estimation::SurfaceMap surfaces;
   TeacherRoute teacher;
 
   const PlanarTarget* find_instrument(const std::string& id) const;
@@ -61,4 +63,4 @@ struct LabGeometry {
 // surfaces under the drone (bench, platform and housing tops).
 LabGeometry lab_geometry_from(const LabDescription& lab);
 
-}  // namespace labo
+}  // namespace labo::fusion

@@ -7,7 +7,7 @@
 #include "core/frames.hpp"
 #include "localization/slam/slam_system.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 namespace {
 constexpr int kPlatformIndex = 0;  // object indices: platform 0, instruments 1..n in lab order
@@ -17,12 +17,12 @@ constexpr double kMaxSigmaForDistanceM = 0.5;
 // Beyond this the prediction is a worse prior for SLAM than its own motion model.
 constexpr double kMaxSigmaForSlamPriorM = 0.3;
 
-FeedbackSource feedback_of(LocalizationSource s) {
+FeedbackSource feedback_of(estimation::LocalizationSource s) {
   switch (s) {
-    case LocalizationSource::Slam: return FeedbackSource::Slam;
-    case LocalizationSource::Homography: return FeedbackSource::Homography;
-    case LocalizationSource::Face: return FeedbackSource::Face;
-    case LocalizationSource::DeadReckoning: return FeedbackSource::DeadReckoning;
+    case estimation::LocalizationSource::Slam: return FeedbackSource::Slam;
+    case estimation::LocalizationSource::Homography: return FeedbackSource::Homography;
+    case estimation::LocalizationSource::Face: return FeedbackSource::Face;
+    case estimation::LocalizationSource::DeadReckoning: return FeedbackSource::DeadReckoning;
   }
   return FeedbackSource::DeadReckoning;
 }
@@ -34,7 +34,7 @@ Eigen::Isometry3d flip_about_y() {
   return T;
 }
 
-LabPipelines::LabPipelines(LabGeometry lab, const EstimatorConfig& config, const VisionThresholds& thresholds)
+LabPipelines::LabPipelines(LabGeometry lab, const estimation::EstimatorConfig& config, const VisionThresholds& thresholds)
     : lab_(std::move(lab)), estimator_(config, thresholds), instrument_fes_(lab_.instruments.size()) {
   if (!lab_.surfaces.empty()) estimator_.set_surface_map(lab_.surfaces);
 }
@@ -78,16 +78,16 @@ void LabPipelines::on_video(const VideoFrame& frame) {
 
 std::optional<double> LabPipelines::expected_distance(const Eigen::Isometry3d& T_world_target, CameraId camera,
                                                       Seconds t) const {
-  const FusedState f = estimator_.predict(t);
+  const estimation::FusedState f = estimator_.predict(t);
   if (!f.initialized || f.position_sigma_m > kMaxSigmaForDistanceM) return std::nullopt;
   const Eigen::Isometry3d T_body_cam = camera == CameraId::Front ? T_body_cam_front() : T_body_cam_bottom();
   return ((f.T_world_body * T_body_cam).inverse() * T_world_target).translation().norm();
 }
 
 std::optional<Eigen::Isometry3d> LabPipelines::slam_prior(Seconds t) const {
-  const MapToWorld& map = estimator_.map_to_world();
+  const estimation::MapToWorld& map = estimator_.map_to_world();
   if (!map.initialized() || !estimator_.scale_status().estimated || slam_map_id_ != slam_fe_map_id_) return std::nullopt;
-  const FusedState f = estimator_.predict(t);
+  const estimation::FusedState f = estimator_.predict(t);
   if (!f.initialized || f.position_sigma_m > kMaxSigmaForSlamPriorM) return std::nullopt;
   // p_world = R * scale * p_map + t, inverted for the camera.
   const Eigen::Isometry3d T_world_cam = f.T_world_body * T_body_cam_front();
@@ -160,7 +160,7 @@ void LabPipelines::apply_instrument(const std::string& id, const TargetObservati
   const int index = instrument_index(id);
   if (index < 0) return;
   if (obs.state == TrackState::Tracking && focus_.feedback == FeedbackSource::Homography) {
-    ObjectObservation o;
+    estimation::ObjectObservation o;
     o.t = obs.t;
     o.object_index = index;
     o.camera = CameraId::Front;
@@ -179,7 +179,7 @@ void LabPipelines::apply_instrument(const std::string& id, const TargetObservati
 void LabPipelines::add_platform_result(const TargetObservation& obs) {
   platform_ = obs;
   if (obs.state == TrackState::Tracking && focus_.feedback == FeedbackSource::Homography) {
-    ObjectObservation o;
+    estimation::ObjectObservation o;
     o.t = obs.t;
     o.object_index = kPlatformIndex;
     o.camera = CameraId::Bottom;
@@ -198,7 +198,7 @@ void LabPipelines::add_platform_result(const TargetObservation& obs) {
 void LabPipelines::add_face_result(const TargetObservation& obs) {
   face_ = obs;
   if (obs.state == TrackState::Tracking && focus_.feedback == FeedbackSource::Face) {
-    FaceObservation f;
+    estimation::FaceObservation f;
     f.t = obs.t;
     f.T_cam_face = obs.T_cam_target * flip_about_y();
     f.quality = obs.quality;
@@ -211,7 +211,7 @@ void LabPipelines::add_slam_result(const Eigen::Isometry3d& T_map_cam, const Sla
   const bool good = summary.state == SlamState::Good;
   if (!good || !focus_.slam) return;
   slam_map_id_ = map_id;  // the estimator's map from now on
-  SlamObservation s;
+  estimation::SlamObservation s;
   s.t = t;
   s.T_map_cam = T_map_cam;
   s.map_id = map_id;
@@ -222,14 +222,14 @@ void LabPipelines::add_slam_result(const Eigen::Isometry3d& T_map_cam, const Sla
 
 SlamSummary LabPipelines::slam() const {
   SlamSummary s = slam_;
-  const ScaleStatus& scale = estimator_.scale_status();
+  const estimation::ScaleStatus& scale = estimator_.scale_status();
   s.scale_estimated = scale.estimated;
   s.scale = scale.scale;
   return s;
 }
 
 PoseEstimate LabPipelines::predict(Seconds t) const {
-  const FusedState f = estimator_.predict_for_control(t);
+  const estimation::FusedState f = estimator_.predict_for_control(t);
   PoseEstimate e;
   e.t = t;
   e.valid = f.initialized;
@@ -242,4 +242,4 @@ PoseEstimate LabPipelines::predict(Seconds t) const {
   return e;
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

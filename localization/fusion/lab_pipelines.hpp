@@ -23,11 +23,11 @@
 #include "localization/fusion/vision_job.hpp"
 #include "localization/estimation/state_estimator.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 class LabPipelines final : public LocalizationPipelines {
  public:
-  LabPipelines(LabGeometry lab, const EstimatorConfig& config, const VisionThresholds& thresholds);
+  LabPipelines(LabGeometry lab, const estimation::EstimatorConfig& config, const VisionThresholds& thresholds);
 
   // Front-ends run by on_video(); without one, that kind of result only comes through add_*_result().
   // Throws std::invalid_argument for an instrument id the lab does not have.
@@ -57,7 +57,7 @@ class LabPipelines final : public LocalizationPipelines {
   TargetObservation face() const override { return face_; }
   SlamSummary slam() const override;
 
-  const StateEstimator& estimator() const { return estimator_; }
+  const estimation::StateEstimator& estimator() const { return estimator_; }
   const PerceptionFocus& focus() const { return focus_; }
 
  private:
@@ -76,7 +76,7 @@ class LabPipelines final : public LocalizationPipelines {
   void apply_instrument(const std::string& id, const TargetObservation& obs);
 
   LabGeometry lab_;
-  StateEstimator estimator_;
+  estimation::StateEstimator estimator_;
   PerceptionFocus focus_;
   TargetObservation instrument_, platform_, face_;
   SlamSummary slam_;
@@ -93,4 +93,4 @@ class LabPipelines final : public LocalizationPipelines {
 // Rotation by pi about y: between "z into the face" (control) and "z out of the face" (face/).
 Eigen::Isometry3d flip_about_y();
 
-}  // namespace labo
+}  // namespace labo::fusion

@@ -4,10 +4,10 @@
 #include "localization/fusion/planar_front_end.hpp"
 #include "localization/fusion/slam_front_end.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 std::unique_ptr<LabPipelines> make_lab_pipelines(const LabGeometry& lab, const CamerasConfig& cameras, const VisionThresholds& vision,
-                                                 const EstimatorConfig& estimation, const FrontEndSettings& settings) {
+                                                 const estimation::EstimatorConfig& estimation, const FrontEndSettings& settings) {
   auto pipelines = std::make_unique<LabPipelines>(lab, estimation, vision);
   const PinholeCamera front(cameras.front), bottom(cameras.bottom);
   for (const PlanarTarget& instrument : lab.instruments) {
@@ -23,4 +23,4 @@ std::unique_ptr<LabPipelines> make_lab_pipelines(const LabGeometry& lab, const C
   return pipelines;
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

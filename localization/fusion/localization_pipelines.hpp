@@ -15,7 +15,7 @@
 #include "core/time.hpp"
 #include "drone/drone_link.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 struct VisionJob;
 struct VisionResults;
@@ -49,7 +49,7 @@ struct TargetObservation {
   std::vector<cv::Point2f> image_points;  // panel corners, or the 68 face landmarks
   double quality = 0;
   double rotation_sigma_rad = 0;  // 1-sigma of T_cam_target's rotation when the front-end measures it; 0: unknown
-  std::string method;  // "template", "sift", "ecc", "pnp-lm", ...
+  std::string method;  // "template", "features" (near detection), "ecc", "pnp-lm", ...
   std::string reason;  // why lost, for the UI
 };
 
@@ -100,4 +100,4 @@ class LocalizationPipelines {
   virtual SlamSummary slam() const = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::fusion

@@ -1,6 +1,6 @@
 #include "localization/fusion/localization_switch.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 bool LocalizationSwitch::held(bool condition, Seconds& since, Seconds t) const {
   if (!condition) {
@@ -19,8 +19,9 @@ void LocalizationSwitch::reset(FeedbackSource source) {
 
 FeedbackSource LocalizationSwitch::update(const SwitchInputs& in) {
   // Only what LabPipelines fuses counts: Good SLAM frames. Dodgy ones are not fused, so "SLAM" while
-  // SLAM stays dodgy is dead reckoning in disguise (in the simulated lab, seed 1 approached the panel
-  // so, ignored the panel tracked at 1.9 m, and the safety monitor's dead-reckoning hover landed it).
+  // SLAM stays dodgy is dead reckoning in disguise: it would ignore a panel tracked in the hysteresis
+  // band, and the safety monitor's dead-reckoning hover would land the drone. Test "control: a dodgy
+  // SLAM (not fused) is no source: a tracked target is taken instead".
   const bool slam_ok = in.slam == SlamState::Good && in.slam_scaled;
   const bool slam_good = held(slam_ok, slam_good_since_, in.t);
   const bool slam_gone = held(!slam_ok, slam_bad_since_, in.t);
@@ -56,4 +57,4 @@ FeedbackSource LocalizationSwitch::update(const SwitchInputs& in) {
   return current_;
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

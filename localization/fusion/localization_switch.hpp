@@ -11,7 +11,7 @@
 
 #include "localization/fusion/localization_pipelines.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 // The switch's hysteresis (config "control.mission": far_to_near_m, near_to_far_m, source_hold_s).
 struct SourceSwitchParameters {
@@ -53,4 +53,4 @@ class LocalizationSwitch {
   Seconds face_bad_since_ = -1;
 };
 
-}  // namespace labo
+}  // namespace labo::fusion

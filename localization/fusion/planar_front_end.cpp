@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace labo {
+namespace labo::fusion {
 
 namespace {
 // Frames further apart than this: the last homography is no prior any more (the front-end was not
@@ -11,11 +11,13 @@ constexpr Seconds kMaxTrackingGapS = 0.5;
 // The retry without the predicted distance may change the detector; a template match it finds farther
 // from the prediction than this factor (the localizer's own template window around a predicted
 // distance, planar_localizer.cpp) is a candidate, reported once the tracker has followed it for
-// kConfirmFrames frames in a row: hysteresis on the detection. In the simulated lab, with the panel
-// below the view after a push up, the retry's template matching found other texture at 4.4-6.5 m
-// (correlation 0.88-0.93) while the panel was 1.3 m away; those tracks ended in a pose jump within
-// 1-13 frames, and each was reported as the panel (sim perturb --axis z --vision real). A prediction
-// that is wrong, with the panel really there, costs kConfirmFrames frames, not the panel.
+// kConfirmFrames frames in a row: hysteresis on the detection. With the panel below the view after a
+// push up, the retry's template matching finds other texture several metres beyond the panel with a
+// high correlation; such tracks end in a pose jump within a few frames, and without the hysteresis
+// each would be reported as the panel. A prediction that is wrong, with the panel really there, costs
+// kConfirmFrames frames, not the panel. Tests "vision front-ends: a retried detection far from the
+// predicted distance that the tracker loses never counts" and "vision front-ends: a wrong predicted
+// distance costs the confirmation frames, not the target".
 constexpr double kRetryScaleFactor = 1.6;
 constexpr int kConfirmFrames = 15;
 
@@ -75,10 +77,9 @@ const TargetObservation& PlanarFrontEnd::process(const cv::Mat& gray, Seconds t,
   // The predicted distance picks one detector (the paper's lambda switch); when that found nothing,
   // the next frame runs both, so a wrong prediction or a detector that fails at this range (template
   // matching on a target filling the view) cannot keep the target unseen. A lost *track* is no failed
-  // detection: the next frame detects with the prediction first. (Until 2026-12-02 a lost track also
-  // made the next frame a retry: with real vision, after a z push, the retry's template matching found
-  // the same false match every other frame, the tracker lost it the frame after, and SIFT, which finds
-  // the panel at the standoff, did not run for 2 s: sim perturb --axis z --vision real seed 3, 5.97 s.)
+  // detection: the next frame detects with the prediction first. Were a lost track a retry too, a
+  // template match that keeps finding the same false match (after a vertical push, at the standoff)
+  // would lose and re-find it every other frame and SIFT, which finds the panel there, would not run.
   const bool retried = retry_without_distance_;
   const std::optional<double> distance = retried ? std::nullopt : expected_distance_m;
   result_ = localizer_.process(gray, t, distance);
@@ -108,4 +109,4 @@ const TargetObservation& PlanarFrontEnd::process(const cv::Mat& gray, Seconds t,
   return o;
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

@@ -14,7 +14,7 @@
 #include "core/camera_model.hpp"
 #include "localization/planar/planar_localizer.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 class PlanarFrontEnd final : public TargetFrontEnd {
  public:
@@ -41,4 +41,4 @@ class PlanarFrontEnd final : public TargetFrontEnd {
 // Reads a target's template, refusing a target without one with its id in the message.
 planar::PlanarTemplate load_target_template(const PlanarTarget& target, const planar::PlanarConfig& config);
 
-}  // namespace labo
+}  // namespace labo::fusion

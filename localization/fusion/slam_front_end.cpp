@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace labo {
+namespace labo::fusion {
 
 SlamState slam_state_of(slam::TrackingState state) {
   switch (state) {
@@ -55,4 +55,4 @@ const SlamFrame& SlamSystemFrontEnd::process(const cv::Mat& gray, Seconds t,
   return frame_;
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

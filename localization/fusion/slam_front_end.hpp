@@ -9,7 +9,7 @@
 #include "localization/fusion/vision_front_end.hpp"
 #include "localization/slam/slam_system.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 class SlamSystemFrontEnd final : public SlamFrontEnd {
  public:
@@ -33,4 +33,4 @@ class SlamSystemFrontEnd final : public SlamFrontEnd {
 
 SlamState slam_state_of(slam::TrackingState state);
 
-}  // namespace labo
+}  // namespace labo::fusion

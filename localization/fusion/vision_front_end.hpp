@@ -13,7 +13,7 @@
 #include "localization/fusion/localization_pipelines.hpp"
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 // A planar target (instrument panel, landing platform) or the teacher's face.
 class TargetFrontEnd {
@@ -49,4 +49,4 @@ class SlamFrontEnd {
   virtual int map_id() const = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::fusion

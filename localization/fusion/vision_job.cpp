@@ -1,6 +1,6 @@
 #include "localization/fusion/vision_job.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 void VisionJob::clear() {
   instrument = nullptr;
@@ -16,7 +16,7 @@ void VisionJob::clear() {
 }
 
 bool VisionResults::detected() const {
-  const auto by_detector = [](const TargetObservation& o) { return o.method == "template" || o.method == "sift"; };
+  const auto by_detector = [](const TargetObservation& o) { return o.method == "template" || o.method == "features"; };
   return (has_instrument && by_detector(instrument)) || (has_platform && by_detector(platform));
 }
 
@@ -40,4 +40,4 @@ void run_vision_job(const VisionJob& job, VisionResults& out) {
   if (job.face) out.face = job.face->process(job.gray, job.t, std::nullopt);
 }
 
-}  // namespace labo
+}  // namespace labo::fusion

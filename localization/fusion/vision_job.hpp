@@ -20,7 +20,7 @@
 #include "drone/drone_link.hpp"
 #include "localization/fusion/vision_front_end.hpp"
 
-namespace labo {
+namespace labo::fusion {
 
 struct VisionJob {
   Seconds t = 0;                       // the frame's capture time
@@ -60,4 +60,4 @@ struct VisionResults {
 // Runs the job's front-ends on its frame into `out` (reused). Touches the job's front-ends only.
 void run_vision_job(const VisionJob& job, VisionResults& out);
 
-}  // namespace labo
+}  // namespace labo::fusion

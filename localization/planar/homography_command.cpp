@@ -1,4 +1,4 @@
-// `labodrone homography TEMPLATE IMAGE [--method auto|template|sift] [--config FILE]`: finds a
+// `labodrone homography TEMPLATE IMAGE [--method auto|template|features] [--config FILE]`: finds a
 // template in a still image the way the localizer does (detector, then the tracker's refinement,
 // accepted above alpha) and prints JSON. Exit 0 found, 3 not found, 2 bad input.
 #include <iostream>
@@ -10,6 +10,7 @@
 #include "localization/planar/track/homography_tracker.hpp"
 #include "localization/planar/planar_commands.hpp"
 #include "localization/planar/detect/planar_detectors.hpp"
+#include "localization/planar/detect/template_detector.hpp"
 #include "localization/planar/planar_template.hpp"
 #include "localization/vision_thresholds.hpp"
 
@@ -31,7 +32,7 @@ const CommandSpec& homography_command_spec() {
       "homography",
       "TEMPLATE IMAGE",
       "find a planar template in an image; JSON {found, method, H, corners, inliers, score}; exit 3 if not found",
-      {{"--method", "M", "auto (SIFT, then template matching), template or sift"},
+      {{"--method", "M", "auto (features, then template matching), template or features (planar.near_detector: ORB by default, SIFT)"},
        {"--config", "FILE", "read the \"vision\" and \"planar\" sections of this config (default: built-in values)"}},
       2,
       2};
@@ -40,8 +41,8 @@ const CommandSpec& homography_command_spec() {
 
 int run_homography_command(const ParsedArgs& args) {
   const std::string method = args.value_or("--method", "auto");
-  if (method != "auto" && method != "template" && method != "sift") {
-    throw UsageError("--method must be auto, template or sift, not '" + method + "'");
+  if (method != "auto" && method != "template" && method != "features") {
+    throw UsageError("--method must be auto, template or features, not '" + method + "'");
   }
   const PlanarCommandSettings settings = read_planar_command_settings(args);
   // The physical size does not matter for a homography; 1 m keeps the template's aspect.
@@ -59,21 +60,21 @@ int run_homography_command(const ParsedArgs& args) {
   if (image.cols < 32 || image.rows < 32) throw UsageError("image '" + args.positionals[1] + "' refused: smaller than 32 px");
 
   auto tracker = make_homography_tracker(settings.planar.tracker, templ.working(), settings.planar);
-  TemplateMatchDetector matcher(templ.working(), settings.planar, settings.vision.template_correlation_alpha);
-  SiftDetector sift(templ.working(), settings.planar, settings.vision.sift_min_inliers);
+  TemplateMatchDetector matcher(templ.working(), image.size(), settings.planar, settings.vision.template_correlation_alpha);
+  FeatureMatchDetector features(templ.working(), image.size(), settings.planar, settings.vision.sift_min_inliers);
 
   std::vector<std::string> order;
-  if (method != "template") order.push_back("sift");
-  if (method != "sift") order.push_back("template");
+  if (method != "template") order.push_back("features");
+  if (method != "features") order.push_back("template");
   nlohmann::json out{{"found", false}, {"method", nullptr}, {"H", nullptr}, {"corners", nullptr},
                      {"inliers", 0}, {"score", 0.0}};
   for (const auto& m : order) {
-    const Detection d = m == "sift" ? sift.detect(image)
+    const Detection d = m == "features" ? features.detect(image)
                                     : matcher.detect(image, settings.planar.detection_min_width_fraction * image.cols,
                                                      settings.planar.detection_max_width_fraction * image.cols);
-    if (m == "sift") out["inliers"] = d.inliers;
+    if (m == "features") out["inliers"] = d.inliers;
     nlohmann::json attempt{{"method", m}, {"detected", d.found}, {"detection_score", d.score}};
-    if (m == "sift") attempt["inliers"] = d.inliers;
+    if (m == "features") attempt["inliers"] = d.inliers;
     if (!d.found) {
       out["attempts"].push_back(attempt);
       continue;

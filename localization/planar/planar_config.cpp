@@ -1,10 +1,33 @@
 #include "localization/planar/planar_config.hpp"
 
+#include <string>
+
 namespace labo::planar {
 
 const char* to_string(TrackerKind kind) { return kind == TrackerKind::Ecc ? "ecc" : "ic"; }
 
 const char* to_string(PoseRefinement refinement) { return refinement == PoseRefinement::Se3 ? "se3" : "none"; }
+
+const char* to_string(TemplateSearch search) { return search == TemplateSearch::CoarseToFine ? "coarse_to_fine" : "per_scale"; }
+
+const char* to_string(NearDetector detector) {
+  switch (detector) {
+    case NearDetector::Sift: return "sift";
+    case NearDetector::Orb: return "orb";
+    case NearDetector::Brisk: return "brisk";
+    case NearDetector::Akaze: return "akaze";
+  }
+  return "?";
+}
+
+namespace {
+NearDetector near_detector_named(const std::string& name) {
+  if (name == "orb") return NearDetector::Orb;
+  if (name == "brisk") return NearDetector::Brisk;
+  if (name == "akaze") return NearDetector::Akaze;
+  return NearDetector::Sift;
+}
+}  // namespace
 
 PlanarConfig read_planar_config(const ConfigReader& node) {
   PlanarConfig c;
@@ -41,11 +64,19 @@ PlanarConfig read_planar_config(const ConfigReader& node) {
     node.fail("detection_max_width_fraction", "must exceed detection_min_width_fraction");
   }
   c.detection_scale_step = node.number_or("detection_scale_step", c.detection_scale_step, Range{1.0, 2.0, true});
+  c.template_search = node.choice_or("template_search", to_string(c.template_search), {"coarse_to_fine", "per_scale"}) == "per_scale"
+                          ? TemplateSearch::PerScale
+                          : TemplateSearch::CoarseToFine;
+  c.detection_coarse_width_px = node.integer_or("detection_coarse_width_px", c.detection_coarse_width_px, 8, 128);
+  c.detection_candidates = node.integer_or("detection_candidates", c.detection_candidates, 1, 8);
   c.detection_match_width_px = node.integer_or("detection_match_width_px", c.detection_match_width_px, 16, 256);
-  c.sift_ratio = node.number_or("sift_ratio", c.sift_ratio, Range{0.0, 1.0, true});
+  c.near_detector = near_detector_named(node.choice_or("near_detector", to_string(c.near_detector), {"sift", "orb", "brisk", "akaze"}));
+  c.near_frame_scale = node.number_or("near_frame_scale", c.near_frame_scale, Range::closed(0.25, 1.0));
+  c.near_ratio = node.number_or("near_ratio", c.near_ratio, Range{0.0, 1.0, true});
   c.ransac_threshold_px = node.number_or("ransac_threshold_px", c.ransac_threshold_px, Range{0.0, 20.0, true});
-  c.sift_max_frame_features = node.integer_or("sift_max_frame_features", c.sift_max_frame_features, 50, 20000);
+  c.near_max_frame_features = node.integer_or("near_max_frame_features", c.near_max_frame_features, 50, 20000);
   c.min_visible_fraction = node.number_or("min_visible_fraction", c.min_visible_fraction, Range{0.0, 1.0, true});
+  c.min_image_fraction = node.number_or("min_image_fraction", c.min_image_fraction, Range{0.0, 1.0, true});
   c.max_template_side_px = node.number_or("max_template_side_px", c.max_template_side_px, Range::closed(64, 2000));
   c.min_intensity_stddev = node.number_or("min_intensity_stddev", c.min_intensity_stddev, Range::non_negative());
   c.min_edge_fraction = node.number_or("min_edge_fraction", c.min_edge_fraction, Range::closed(0.0, 1.0));

@@ -1,6 +1,8 @@
 #include "localization/planar/planar_localizer.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <array>
 #include <cmath>
 #include <string_view>
@@ -18,10 +20,10 @@ constexpr Seconds kRecentPoseS = 2.0;
 // Two poses closer than this are one (the IPPE pair, refined poses).
 constexpr double kDistinctPosesRad = 2.0 * 3.14159265358979 / 180.0;
 // Two refined IPPE branches whose photometric residuals are within this ratio are not told apart
-// reliably: at 3.9-6 m in the simulated lab they were 10-25 deg apart with residuals 1-5 % apart, and
-// the lower residual picked the wrong branch (17.8 deg off at 3.9 m while the refinement's own sigma
-// said 2.8 deg). The pose is then the midway between the two (below), and its rotation sigma covers
-// both branches.
+// reliably: at 4-6 m the two lie 10-25 deg apart with residuals 1-5 % apart, and the lower residual
+// may pick the wrong one while the refinement's own sigma claims a few degrees. The pose is then the
+// midway between the two (below), and its rotation sigma covers both branches. Test "planar: two
+// refined IPPE branches the fit cannot tell apart give the pose midway between them".
 constexpr double kUnresolvedResidualRatio = 1.15;
 // Template-matching scale window around a predicted width.
 constexpr double kPredictedWidthFactor = 1.6;
@@ -88,13 +90,18 @@ SmallPolygon clip(const SmallPolygon& in, Inside inside, Cross cross) {
   return out;
 }
 
-// The fraction of the quad's area inside the image (pixel centres at integers, so the image spans
-// -0.5 .. size - 0.5).
-double visible_fraction(const std::array<cv::Point2d, 4>& corners, cv::Size size) {
+// How much of the quad is in view: the fraction of its area inside the image, and the fraction of the
+// image it covers (pixel centres at integers, so the image spans -0.5 .. size - 0.5).
+struct InView {
+  double of_panel = 0, of_image = 0;
+  SmallPolygon inside;  // the quad clipped by the image
+};
+
+InView in_view(const std::array<cv::Point2d, 4>& corners, cv::Size size) {
   SmallPolygon quad;
   for (const auto& c : corners) quad.v[quad.n++] = c;
   const double area = polygon_area(quad);
-  if (!(area > 1.0)) return 0.0;
+  if (!(area > 1.0)) return {};
   const double x0 = -0.5, y0 = -0.5, x1 = size.width - 0.5, y1 = size.height - 0.5;
   const auto at_x = [](double x) {
     return [x](const cv::Point2d& a, const cv::Point2d& b) { return cv::Point2d(x, a.y + (b.y - a.y) * (x - a.x) / (b.x - a.x)); };
@@ -106,7 +113,34 @@ double visible_fraction(const std::array<cv::Point2d, 4>& corners, cv::Size size
   p = clip(p, [&](const cv::Point2d& q) { return q.x <= x1; }, at_x(x1));
   p = clip(p, [&](const cv::Point2d& q) { return q.y >= y0; }, at_y(y0));
   p = clip(p, [&](const cv::Point2d& q) { return q.y <= y1; }, at_y(y1));
-  return p.n < 3 ? 0.0 : std::clamp(polygon_area(p) / area, 0.0, 1.0);
+  if (p.n < 3) return {};
+  const double inside = polygon_area(p);
+  return {std::clamp(inside / area, 0.0, 1.0), std::clamp(inside / (static_cast<double>(size.width) * size.height), 0.0, 1.0), p};
+}
+
+// Four well spread points of the panel in view, for a panel larger than the view (its corners far
+// outside the image): the vertices of the part in view nearest the corners of its bounding box,
+// moved 5 % towards its centre. False when they are not four distinct vertices.
+bool points_in_view(const SmallPolygon& inside, std::array<cv::Point2d, 4>& points) {
+  if (inside.n < 4) return false;
+  cv::Point2d lo = inside.v[0], hi = inside.v[0], centre(0, 0);
+  for (std::size_t i = 0; i < inside.n; ++i) {
+    lo = {std::min(lo.x, inside.v[i].x), std::min(lo.y, inside.v[i].y)};
+    hi = {std::max(hi.x, inside.v[i].x), std::max(hi.y, inside.v[i].y)};
+    centre += inside.v[i] * (1.0 / static_cast<double>(inside.n));
+  }
+  const std::array<cv::Point2d, 4> box{lo, cv::Point2d(hi.x, lo.y), hi, cv::Point2d(lo.x, hi.y)};
+  std::array<std::size_t, 4> chosen{};
+  for (std::size_t k = 0; k < 4; ++k) {
+    for (std::size_t i = 1; i < inside.n; ++i) {
+      if (cv::norm(inside.v[i] - box[k]) < cv::norm(inside.v[chosen[k]] - box[k])) chosen[k] = i;
+    }
+    for (std::size_t j = 0; j < k; ++j) {
+      if (chosen[j] == chosen[k]) return false;
+    }
+    points[k] = inside.v[chosen[k]] + 0.05 * (centre - inside.v[chosen[k]]);
+  }
+  return true;
 }
 
 }  // namespace
@@ -125,7 +159,7 @@ const char* to_string(PlanarMethod m) {
   switch (m) {
     case PlanarMethod::None: return "none";
     case PlanarMethod::TemplateMatching: return "template";
-    case PlanarMethod::Sift: return "sift";
+    case PlanarMethod::Features: return "features";
     case PlanarMethod::Ecc: return "ecc";
     case PlanarMethod::InverseCompositional: return "ic";
   }
@@ -165,8 +199,8 @@ PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, con
       thresholds_(thresholds),
       config_(config),
       tracker_(make_homography_tracker(config.tracker, template_.working(), config)),
-      template_detector_(template_.working(), config, thresholds.min_correlation),
-      sift_detector_(template_.working(), config, thresholds.sift_min_inliers),
+      template_detector_(template_.working(), cv::Size(camera.width(), camera.height()), config, thresholds.min_correlation),
+      feature_detector_(template_.working(), cv::Size(camera.width(), camera.height()), config, thresholds.sift_min_inliers),
       pose_solver_(camera.K(), template_.object_corners()),
       pose_refiner_(template_.working(), template_.width_m(), template_.height_m(), camera.K(),
                     se3_settings(config, thresholds.min_correlation)) {
@@ -228,8 +262,13 @@ PlanarResult PlanarObjectLocalizer::track(const cv::Mat& image, PlanarResult r) 
   }
   if (loss == PlanarLoss::None) {
     r.state = PlanarState::Tracking;
+    detection_confirmed_ = true;
     return r;
   }
+  // A detection that the very next frame could not follow may have been a look-alike: its distance
+  // must not narrow the searches that follow (tests/localization/planar/planar_localizer_test.cpp,
+  // "a detection lost at once does not steer the next searches").
+  if (!detection_confirmed_) last_pose_.reset();
   tracking_ = false;
   r.state = PlanarState::Lost;
   r.reason = loss;
@@ -238,17 +277,17 @@ PlanarResult PlanarObjectLocalizer::track(const cv::Mat& image, PlanarResult r) 
 }
 
 PlanarResult PlanarObjectLocalizer::detect(const cv::Mat& image, PlanarResult r, std::optional<double> distance_m) {
-  std::array<PlanarMethod, 2> order{PlanarMethod::TemplateMatching, PlanarMethod::Sift};
+  std::array<PlanarMethod, 2> order{PlanarMethod::TemplateMatching, PlanarMethod::Features};
   int count = 2;
   if (distance_m) {
-    order[0] = *distance_m < thresholds_.sift_switch_distance_m ? PlanarMethod::Sift : PlanarMethod::TemplateMatching;
+    order[0] = *distance_m < thresholds_.sift_switch_distance_m ? PlanarMethod::Features : PlanarMethod::TemplateMatching;
     count = 1;
   }
   r.reason = PlanarLoss::NotFound;
   for (int i = 0; i < count; ++i) {
     Detection d;
-    if (order[static_cast<std::size_t>(i)] == PlanarMethod::Sift) {
-      d = sift_detector_.detect(image);
+    if (order[static_cast<std::size_t>(i)] == PlanarMethod::Features) {
+      d = feature_detector_.detect(image);
       r.inliers = d.inliers;
     } else {
       double lo = config_.detection_min_width_fraction * image.cols;
@@ -275,6 +314,7 @@ PlanarResult PlanarObjectLocalizer::detect(const cv::Mat& image, PlanarResult r,
     if (r.reason == PlanarLoss::None) {
       r.state = PlanarState::Detected;
       tracking_ = true;
+      detection_confirmed_ = false;
       ever_found_ = true;
       return r;
     }
@@ -288,24 +328,34 @@ PlanarLoss PlanarObjectLocalizer::accept(const cv::Mat& image, const cv::Matx33d
                                          bool check_jump, PlanarResult& r) {
   if (correlation < thresholds_.min_correlation) return PlanarLoss::LowCorrelation;
   const auto corners = map_corners(H_working, template_.working_corners());
-  r.visible_fraction = visible_fraction(corners, cv::Size(camera_.width(), camera_.height()));
-  if (r.visible_fraction < config_.min_visible_fraction) {
+  const InView view = in_view(corners, cv::Size(camera_.width(), camera_.height()));
+  r.visible_fraction = view.of_panel;
+  r.image_fraction = view.of_image;
+  // Enough of the panel to fit: most of it, or (an object larger than the view: the platform below
+  // ~0.7 m) a part that fills the image.
+  if (r.visible_fraction < config_.min_visible_fraction && r.image_fraction < config_.min_image_fraction) {
     r.detail = "too little of the panel inside the image";
     return PlanarLoss::OutOfView;
   }
   const std::optional<Eigen::Isometry3d> previous =
       last_pose_ && r.t - last_pose_t_ < kRecentPoseS ? last_pose_ : std::nullopt;
-  std::optional<PlanarPose> pose = pose_solver_.solve(corners, previous);
+  // A panel larger than the view (in view by the image rule) is solved from points in view.
+  const bool larger_than_view = r.visible_fraction < config_.min_visible_fraction;
+  std::array<cv::Point2d, 4> points;
+  std::optional<PlanarPose> pose = larger_than_view && points_in_view(view.inside, points)
+                                       ? pose_solver_.solve(object_points(H_working, points), points, previous)
+                                       : pose_solver_.solve(corners, previous);
   if (!pose) return PlanarLoss::NoPose;
   SmallPolygon quad;
   for (const auto& c : corners) quad.v[quad.n++] = c;
-  const double size_px = std::sqrt(polygon_area(quad));
+  // The panel's size in the image, for the uncertainty of a pose from its corners: of the part in view.
+  const double size_px = std::sqrt(polygon_area(larger_than_view ? view.inside : quad));
   const double margin = std::clamp((correlation - thresholds_.min_correlation) / (1.0 - thresholds_.min_correlation), 0.0, 1.0);
   if (!refine_pose(image, *pose, size_px, margin, r)) {
     unverified_pose_ = pose->T_cam_object;
     unverified_pose_t_ = r.t;
-    // Measured (docs/planar.md, 2026-12-03): every such pose on the bench's sequences was 4-10 deg off
-    // (a panel partly out of view, a detection on a smeared frame): IC's homography had gone wrong.
+    // On the bench's sequences every such pose is 4-10 deg off (a panel partly out of view, a
+    // detection on a smeared frame; docs/planar.md): the tracker's homography has gone wrong.
     r.detail = "the photometric fit contradicts the tracker's homography";
     return PlanarLoss::NoPose;
   }
@@ -336,8 +386,21 @@ PlanarLoss PlanarObjectLocalizer::accept(const cv::Mat& image, const cv::Matx33d
   r.distance_m = pose->T_cam_object.translation().norm();
   r.reprojection_error_px = pose->reprojection_error_px;
   r.pose_ambiguous = pose->ambiguous;
-  r.quality = margin * r.visible_fraction * (pose->ambiguous ? 0.5 : 1.0) / (1.0 + pose->reprojection_error_px);
+  const double seen = std::max(r.visible_fraction, r.image_fraction);
+  r.quality = margin * seen * (pose->ambiguous ? 0.5 : 1.0) / (1.0 + pose->reprojection_error_px);
   return PlanarLoss::None;
+}
+
+std::array<Eigen::Vector2d, 4> PlanarObjectLocalizer::object_points(const cv::Matx33d& H_working,
+                                                                   const std::array<cv::Point2d, 4>& image_points) const {
+  const cv::Matx33d to_template = H_working.inv();
+  const cv::Size w = template_.working().size();
+  std::array<Eigen::Vector2d, 4> out;
+  for (std::size_t k = 0; k < 4; ++k) {
+    const cv::Point2d u = apply_homography(to_template, image_points[k]);
+    out[k] = Eigen::Vector2d(((u.x + 0.5) / w.width - 0.5) * template_.width_m(), ((u.y + 0.5) / w.height - 0.5) * template_.height_m());
+  }
+  return out;
 }
 
 Eigen::Vector2d PlanarObjectLocalizer::panel_motion_px(const Eigen::Isometry3d& T, Seconds t) const {
@@ -466,8 +529,10 @@ bool PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
       // Both branches may also end in the same one of the two mirror minima (the lab's oscilloscope at
       // 2-3 m: both 3-4 deg off): the refined pose mirrored about the line of sight to the panel's
       // centre is refined too, and treated as the other branch above. Not with the footprint model,
-      // whose cost has no such split minimum: on the 9 bench sequences the mirror never changed its pose
-      // (docs/planar.md, "the pixel's footprint"), and it cost a third of the refinement work.
+      // whose cost has no such split minimum: on the bench's sequences the mirror does not change its
+      // pose (docs/planar.md, "the pixel's footprint"), and it would cost a third of the refinement
+      // work.
+      // Test "planar: the mirror of the refined pose finds the other minimum both IPPE branches missed".
       if (refined.refined && !two_minima && !use_footprint) {
         const Eigen::Isometry3d T_mirror = mirrored_about_line_of_sight(refined.T_cam_object);
         if (rotation_angle(T_mirror.linear(), refined.T_cam_object.linear()) > kDistinctPosesRad) {
@@ -496,7 +561,7 @@ bool PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
       r.rotation_sigma_rad = refined.rotation_sigma_rad;
       return true;
     }
-    if (refined.contradicts_start) return false;
+    if (refined.contradicts_start) { if (std::getenv("DBG")) std::fprintf(stderr, "contradiction: %s corr %.3f\n", refined.failure, refined.correlation); return false; }
   }
   // From the corners alone, with a corner noise growing as the correlation margin shrinks (0.3 px when
   // aligned perfectly): depth from the apparent size, sigma_Z = Z sigma_px / size_px; the tilt of a

@@ -1,8 +1,9 @@
 #pragma once
 // Localization of one planar object (an instrument's front panel in the front camera, the landing
 // platform in the bottom camera) after the paper's Fig. 3:
-//   searching/lost -> detection: SIFT when the object is nearer than lambda, template matching on
-//   a pyramid otherwise (both, template first, when the distance is unknown); the detection's
+//   searching/lost -> detection: features (the paper's SIFT; ORB by default, PlanarConfig::near_detector)
+//   when the object is nearer than lambda, template matching on a pyramid otherwise (both, template
+//   first, when the distance is unknown); the detection's
 //   homography is refined by the tracker and accepted when the correlation exceeds alpha;
 //   tracking -> the previous homography is the prior of the tracker (ECC or LaboDrone's IC) in the
 //   next frame; the pose comes from IPPE on the tracker's corners, refined photometrically in SE(3)
@@ -22,6 +23,7 @@
 #include "localization/planar/image_ops.hpp"
 #include "localization/planar/planar_config.hpp"
 #include "localization/planar/detect/planar_detectors.hpp"
+#include "localization/planar/detect/template_detector.hpp"
 #include "localization/planar/pose/planar_pose.hpp"
 #include "localization/planar/planar_result.hpp"
 #include "localization/planar/planar_template.hpp"
@@ -34,8 +36,8 @@ struct PlanarObjectThresholds {
   double min_correlation = 0.8;           // alpha
   double max_jump_m = 0.30;               // D
   double max_turn_rad = 15.0 * 3.14159265358979 / 180.0;  // beta
-  double sift_switch_distance_m = 2.0;    // lambda (per object)
-  int sift_min_inliers = 20;              // N (per object)
+  double sift_switch_distance_m = 2.0;    // lambda (per object): features nearer, template matching farther
+  int sift_min_inliers = 20;              // N (per object): the near detection's minimum RANSAC inliers
 
   // From the "vision" section, with the object's own lambda and N when it has them.
   static PlanarObjectThresholds from(const VisionThresholds& vision, std::optional<double> lambda_m = {},
@@ -77,6 +79,8 @@ class PlanarObjectLocalizer {
   Se3Refinement refine_with_blur_search(const Eigen::Isometry3d& T_start, Seconds t, bool use_footprint, Eigen::Vector2d& blur_px,
                                         int& iterations);
   const cv::Mat& undistort(const cv::Mat& gray);
+  // Object-frame x, y (m) of undistorted image points on the panel.
+  std::array<Eigen::Vector2d, 4> object_points(const cv::Matx33d& H_working, const std::array<cv::Point2d, 4>& image_points) const;
   // One refinement of T_start: the footprint model on the raw frame when configured, no motion blur is
   // modelled and the panel is narrow enough (`use_footprint`), else Se3PoseRefiner on smoothed_.
   Se3Refinement refine_once(const Eigen::Isometry3d& T_start, bool use_footprint, const Eigen::Vector2d& blur_px = Eigen::Vector2d::Zero(),
@@ -88,7 +92,7 @@ class PlanarObjectLocalizer {
   PlanarConfig config_;
   std::unique_ptr<HomographyTracker> tracker_;
   TemplateMatchDetector template_detector_;
-  SiftDetector sift_detector_;
+  FeatureMatchDetector feature_detector_;
   PlanarPoseSolver pose_solver_;
   Se3PoseRefiner pose_refiner_;
   std::optional<AreaPoseRefiner> footprint_refiner_;  // se3_pixel_model "footprint"
@@ -102,6 +106,7 @@ class PlanarObjectLocalizer {
   cv::Matx33d H_working_ = cv::Matx33d::eye();  // last accepted, working template px -> undistorted px
   std::optional<Eigen::Isometry3d> last_pose_;
   Seconds last_pose_t_ = 0;
+  bool detection_confirmed_ = false;  // the frame after the detection was tracked
   int last_exposure_ = -1;  // see refine_with_blur_search
   // The IPPE pose of the last frame whose photometric fit contradicted the tracker (a loss): not a
   // pose to report, but good enough to measure the panel's image motion from, so that the next frame

@@ -10,7 +10,9 @@
 namespace labo::planar {
 
 enum class PlanarState { Searching, Detected, Tracking, Lost };
-enum class PlanarMethod { None, TemplateMatching, Sift, Ecc, InverseCompositional };
+// How the pose was found: detection far (template matching) or near (features: PlanarConfig::near_detector,
+// the paper's SIFT or a binary detector), or tracking (ECC or LaboDrone's IC).
+enum class PlanarMethod { None, TemplateMatching, Features, Ecc, InverseCompositional };
 // Why there is no pose in this frame (None when there is one).
 enum class PlanarLoss {
   None,
@@ -42,7 +44,7 @@ struct PlanarResult {
   std::array<cv::Point2d, 4> image_corners{};
   Eigen::Isometry3d T_cam_object = Eigen::Isometry3d::Identity();
   double distance_m = 0;
-  double quality = 0;                // [0, 1]: correlation margin x visible fraction x ambiguity
+  double quality = 0;                // [0, 1]: correlation margin x the larger in-view fraction x ambiguity
   // 1-sigma uncertainties of T_cam_object along its worst-determined direction: from the SE(3)
   // refinement's covariance when it ran (pose_refined), else from the corners' noise (approximate).
   // Both grow with the distance; the rotation's mostly as the tilt of the panel seen face-on.
@@ -53,8 +55,9 @@ struct PlanarResult {
   double reprojection_error_px = 0;  // IPPE, RMS over the corners
   double correlation = 0;            // after alignment
   double visible_fraction = 0;       // of the panel's area inside the image
+  double image_fraction = 0;         // of the image the panel covers
   bool pose_ambiguous = false;       // the two IPPE poses could not be told apart
-  int inliers = 0;                   // SIFT detections
+  int inliers = 0;                   // near detections (features): RANSAC inliers
   // Gauss-Newton iterations of this frame's SE(3) refinements (every blur hypothesis and IPPE branch
   // tried): the refinement's cost, independent of the machine's load.
   int refinement_iterations = 0;

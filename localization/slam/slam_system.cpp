@@ -9,12 +9,12 @@
 #include "localization/slam/camera/ideal_camera.hpp"
 #include "localization/slam/feature/feature_extractor.hpp"
 #include "localization/slam/initialize/map_initializer.hpp"
+#include "localization/slam/initialize/map_start.hpp"
 #include "localization/slam/io/map_file.hpp"
-#include "localization/slam/module/frame_tracker.hpp"
-#include "localization/slam/module/keyframe_policy.hpp"
 #include "localization/slam/module/local_mapper.hpp"
 #include "localization/slam/module/relocalizer.hpp"
-#include "localization/slam/optimize/se3.hpp"
+#include "localization/slam/module/tracking_module.hpp"
+#include "localization/slam/slam_settings.hpp"
 
 namespace labo::slam {
 
@@ -50,39 +50,6 @@ struct Stopwatch {
   double cpu_ms() const { return thread_cpu_ms() - cpu; }
 };
 
-void validate_settings(const SlamSettings& s) {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("slam settings: " + what); };
-  if (s.pyramid_levels != 4) fail("pyramid_levels must be 4");
-  if (!(s.pyramid_scale >= 1.1 && s.pyramid_scale <= 2.5)) fail("pyramid_scale must be in [1.1, 2.5]");
-  if (s.max_features < 100 || s.max_features > 5000) fail("max_features must be in [100, 5000]");
-  if (s.max_points_searched < 50 || s.max_points_searched > 5000) fail("max_points_searched must be in [50, 5000]");
-  if (s.fast_threshold < 5 || s.fast_threshold > 100) fail("fast_threshold must be in [5, 100]");
-  if (!(s.smoothing_sigma_px >= 0 && s.smoothing_sigma_px <= 3)) fail("smoothing_sigma_px must be in [0, 3]");
-  if (!(s.quality_lost > 0 && s.quality_lost < s.quality_good && s.quality_good < 1)) {
-    fail("need 0 < quality_lost < quality_good < 1");
-  }
-  if (s.keyframe_min_points_dodgy < 0) fail("keyframe_min_points_dodgy must be >= 0 (0: keyframes from Good frames only)");
-  if (s.lost_after_bad_frames < 1) fail("lost_after_bad_frames must be >= 1");
-  if (s.local_ba_keyframes < 2) fail("local_ba_keyframes must be >= 2");
-  if (s.local_ba_iterations < 1 || s.global_ba_iterations < 1) fail("local_ba_iterations and global_ba_iterations must be >= 1");
-  if (s.init_min_points < 20) fail("init_min_points must be >= 20");
-  if (!(s.init_min_parallax_px > 0)) fail("init_min_parallax_px must be > 0");
-  if (!(s.init_min_parallax_deg > 0 && s.init_min_parallax_deg < 90)) fail("init_min_parallax_deg must be in (0, 90)");
-  if (s.global_ba_max_keyframes < 3) fail("global_ba_max_keyframes must be >= 3");
-  if (s.global_ba_every < 1) fail("global_ba_every must be >= 1");
-  if (s.global_ba_fixed_keyframes < 1 || s.global_ba_fixed_keyframes > 10) fail("global_ba_fixed_keyframes must be in [1, 10]");
-  if (!(s.gravity_sigma_deg >= 0 && s.gravity_sigma_deg <= 10)) fail("gravity_sigma_deg must be in [0, 10] (0: no gravity prior)");
-  if (!(s.loop_min_gap_s > 0)) fail("loop_min_gap_s must be > 0");
-}
-
-// Keyframes keep their own pyramid: the extractor reuses its buffers (and level 0 may be the caller's frame).
-std::vector<cv::Mat> copy_pyramid(const std::vector<cv::Mat>& pyramid) {
-  std::vector<cv::Mat> out;
-  out.reserve(pyramid.size());
-  for (const cv::Mat& level : pyramid) out.push_back(level.clone());
-  return out;
-}
-
 const PinholeCamera& validated(const PinholeCamera& camera) {
   validate(camera.intrinsics(), "slam");
   return camera;
@@ -90,54 +57,27 @@ const PinholeCamera& validated(const PinholeCamera& camera) {
 
 }  // namespace
 
+// The facade's state: the modules, the current frame, and what initialization keeps of its
+// reference frame. track() is: refuse_input, read_frame, then initialize (until the map starts) or
+// track_map (module/tracking_module) and hand_to_mapper.
 struct SlamSystem::Impl {
   Impl(const PinholeCamera& cam, const SlamSettings& s)
       : settings(s),
         camera(validated(cam)),
-        extractor(camera, {s.pyramid_levels, s.pyramid_scale, s.max_features, s.fast_threshold, 7, 40, s.smoothing_sigma_px}),
+        extractor(camera, extractor_settings(s)),
         grid(camera.ideal_min(), camera.ideal_max(), 24.0),
-        initializer(camera, {s.init_min_parallax_px, s.init_timeout_s, 30.0, 60, {s.init_min_points, s.init_min_parallax_deg, 1.5, 0.45}}),
-        tracker(camera, {s.pyramid_levels, s.pyramid_scale, s.max_points_searched, s.coarse_points, s.coarse_radius_px,
-                         s.fine_radius_px, 50, 10, s.patch_refinement}),
-        relocalizer(camera),
-        mapper(std::make_unique<LocalMapper>(camera, map, mapper_settings(s))) {}
-
-  static MapperSettings mapper_settings(const SlamSettings& s) {
-    MapperSettings m;
-    m.threaded = s.mapping_mode == MappingMode::Threaded;
-    m.levels = s.pyramid_levels;
-    m.level_scale = s.pyramid_scale;
-    m.local_ba_keyframes = s.local_ba_keyframes;
-    m.local_ba_iterations = s.local_ba_iterations;
-    m.global_ba_iterations = s.global_ba_iterations;
-    m.global_ba = s.global_ba_when_idle;
-    m.global_ba_max_keyframes = s.global_ba_max_keyframes;
-    m.global_ba_every = s.global_ba_every;
-    m.global_ba_fixed_keyframes = s.global_ba_fixed_keyframes;
-    m.cull_points = s.cull_points;
-    m.new_point_clearance_px = s.new_point_clearance_px;
-    m.patch_refinement = s.patch_refinement;
-    m.gravity_sigma_rad = s.gravity_sigma_deg * M_PI / 180.0;
-    m.loop.enabled = s.loop_closure;
-    m.loop.min_gap_s = s.loop_min_gap_s;
-    m.loop.levels = s.pyramid_levels;
-    m.loop.level_scale = s.pyramid_scale;
-    return m;
-  }
+        initializer(camera, initializer_settings(s)),
+        mapper(std::make_unique<LocalMapper>(camera, map, mapper_settings(s))),
+        tracking(camera, s, map, *mapper) {}
 
   SlamResult track(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior,
                    const std::optional<GravityMeasurement>& gravity);
   std::optional<std::string> refuse_input(const cv::Mat& gray, Seconds t, const std::optional<GravityMeasurement>& gravity) const;
-  std::optional<GravityPrior> gravity_prior() const;
-  SlamResult initialize(Seconds t);
+  void read_frame(const cv::Mat& gray, const std::optional<GravityMeasurement>& gravity);
+  SlamResult initialize(const cv::Mat& gray, Seconds t);
+  void create_map(const InitialMap& init, const cv::Mat& gray, Seconds t);
   SlamResult track_map(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior);
-  void accept_pose(const Eigen::Isometry3d& T, Seconds t);
-  KeyframeCandidate keyframe_candidate(const TrackOutcome& o, TrackingState frame_state) const;
-  bool want_keyframe(const TrackOutcome& o, TrackingState frame_state, Seconds t) const;
-  void add_keyframe(const TrackOutcome& o, const cv::Mat& gray, Seconds t);
-  void start_map(const InitialMap& init, const cv::Mat& gray, Seconds t);
-  void clear_tracking();
-  std::optional<Similarity3> follow_map_corrections();
+  void hand_to_mapper(Keyframe keyframe);
 
   SlamSettings settings;
   IdealCamera camera;
@@ -145,21 +85,12 @@ struct SlamSystem::Impl {
   FeatureExtractor extractor;
   FeatureGrid grid;
   MapInitializer initializer;
-  FrameTracker tracker;
-  Relocalizer relocalizer;
   std::unique_ptr<LocalMapper> mapper;
+  TrackingModule tracking;
   FrameFeatures frame;
   std::optional<Eigen::Vector3d> frame_down_cam;  // this frame's IMU attitude, when given
 
-  TrackingState state = TrackingState::Initializing;
   std::optional<Seconds> last_t;
-  std::optional<Eigen::Isometry3d> last_T, previous_T;
-  Seconds last_pose_t = 0, previous_pose_t = 0;
-  int bad_frames = 0;
-  bool relocalizing = false;
-  int reference_keyframe = -1;
-  int map_generation = 0;  // the last map correction this tracker's poses follow
-  Seconds last_keyframe_t = -1e9;
   cv::Mat reference_small_image;  // of the initializer's reference frame
   std::vector<cv::Mat> reference_pyramid;  // the same frame's pyramid (keyframe 0's)
   std::optional<Eigen::Vector3d> reference_down_cam;  // the same frame's IMU attitude
@@ -194,43 +125,16 @@ SlamResult SlamSystem::Impl::track(const cv::Mat& gray, Seconds t, const std::op
                                    const std::optional<GravityMeasurement>& gravity) {
   const Stopwatch watch;
   inline_mapping_wall_ms = inline_mapping_cpu_ms = 0;
-  SlamResult result;
   if (const auto refusal = refuse_input(gray, t, gravity)) {
     // Refused frames change nothing: not the map, not the motion model, not the state.
+    SlamResult result;
     result.state = TrackingState::Lost;
     result.reason = "frame refused: " + *refusal;
     return result;
   }
   last_t = t;
-  frame_down_cam.reset();
-  if (gravity && settings.gravity_sigma_deg > 0) frame_down_cam = gravity->down_cam.normalized();
-  extractor.extract(gray, frame);
-  grid.build(frame);
-  if (state == TrackingState::Initializing) {
-    const int attempts = initializer.attempts();
-    std::optional<InitialMap> init = initializer.add_frame(frame, grid, t);
-    if (initializer.attempts() != attempts) {
-      reference_small_image = small_blurry_image(gray);
-      reference_pyramid = copy_pyramid(extractor.pyramid());
-      reference_down_cam = frame_down_cam;
-    }
-    if (init) {
-      const Stopwatch mapping_watch;
-      start_map(*init, gray, t);
-      inline_mapping_wall_ms += mapping_watch.wall_ms();
-      inline_mapping_cpu_ms += mapping_watch.cpu_ms();
-      result.state = state;
-      result.T_cam_map = last_T;
-      result.points_found = result.points_attempted = static_cast<int>(init->points.size());
-      result.quality = 1.0;
-      result.keyframe_added = true;
-    } else {
-      result.state = TrackingState::Initializing;
-      result.reason = initializer.reason();
-    }
-  } else {
-    result = track_map(gray, t, prior);
-  }
+  read_frame(gray, gravity);
+  SlamResult result = tracking.state() == TrackingState::Initializing ? initialize(gray, t) : track_map(gray, t, prior);
   // Mapping done inline (synchronous mode, map start) is mapping time, not tracking time.
   result.tracking_ms = watch.wall_ms() - inline_mapping_wall_ms;
   result.tracking_cpu_ms = watch.cpu_ms() - inline_mapping_cpu_ms;
@@ -238,267 +142,70 @@ SlamResult SlamSystem::Impl::track(const cv::Mat& gray, Seconds t, const std::op
   return result;
 }
 
-void SlamSystem::Impl::start_map(const InitialMap& init, const cv::Mat& gray, Seconds t) {
-  {
-    std::unique_lock lock(map.mutex());
-    Keyframe first;
-    first.t = init.reference_t;
-    first.frame = init.reference;
-    first.small_image = reference_small_image.clone();
-    first.pyramid = reference_pyramid;
-    first.down_cam = reference_down_cam;
-    const int k0 = map.add_keyframe(std::move(first));
-    Keyframe second;
-    second.t = t;
-    second.T_cam_map = init.T_current_reference;
-    second.frame = frame;
-    second.small_image = small_blurry_image(gray);
-    second.pyramid = copy_pyramid(extractor.pyramid());
-    second.down_cam = frame_down_cam;
-    const int k1 = map.add_keyframe(std::move(second));
-    // The map's gravity direction from the first keyframe's attitude (its camera frame is the map's);
-    // global adjustments refine it with every keyframe's.
-    if (reference_down_cam) map.set_down_map(*reference_down_cam);
-    else if (frame_down_cam) map.set_down_map(init.T_current_reference.linear().transpose() * *frame_down_cam);
-    const Eigen::Vector3d c0 = Eigen::Vector3d::Zero();
-    for (std::size_t i = 0; i < init.points.size(); ++i) {
-      MapPoint p;
-      p.p_map = init.points[i];
-      const auto [f0, f1] = init.matches[i];
-      p.descriptor = init.reference.descriptors[static_cast<std::size_t>(f0)];
-      p.observations = {{k0, f0}, {k1, f1}};
-      p.reference_keyframe = k0;
-      p.reference_level = init.reference.features[static_cast<std::size_t>(f0)].level;
-      p.reference_distance = (init.points[i] - c0).norm();
-      map.add_point(std::move(p));
-    }
+void SlamSystem::Impl::read_frame(const cv::Mat& gray, const std::optional<GravityMeasurement>& gravity) {
+  frame_down_cam.reset();
+  if (gravity && settings.gravity_sigma_deg > 0) frame_down_cam = gravity->down_cam.normalized();
+  extractor.extract(gray, frame);
+  grid.build(frame);
+}
+
+SlamResult SlamSystem::Impl::initialize(const cv::Mat& gray, Seconds t) {
+  const int attempts = initializer.attempts();
+  const std::optional<InitialMap> init = initializer.add_frame(frame, grid, t);
+  if (initializer.attempts() != attempts) {
+    // A new reference frame: keyframe 0 if the map starts from it.
+    reference_small_image = small_blurry_image(gray);
+    reference_pyramid = owned_pyramid(extractor.pyramid());
+    reference_down_cam = frame_down_cam;
   }
-  mapper->adjust_initial_map();
-  // Rescale so that the median depth seen from the first keyframe is 1 (the map's unit).
-  {
-    std::unique_lock lock(map.mutex());
-    std::vector<double> depths;
-    for (const auto& [id, p] : map.points()) depths.push_back(p.p_map.z());
-    if (!depths.empty()) {
-      std::nth_element(depths.begin(), depths.begin() + static_cast<long>(depths.size() / 2), depths.end());
-      const double s = depths[depths.size() / 2] > 1e-9 ? 1.0 / depths[depths.size() / 2] : 1.0;
-      for (auto& [id, p] : map.points_mutable()) {
-        p.p_map *= s;
-        p.reference_distance *= s;
-      }
-      for (auto& kf : map.keyframes_mutable()) kf.T_cam_map.translation() *= s;
-    }
-  }
-  clear_tracking();
-  state = TrackingState::Good;
-  last_T = map.keyframes()[1].T_cam_map;
-  last_pose_t = t;
-  previous_T = map.keyframes()[0].T_cam_map;
-  previous_pose_t = init.reference_t;
-  reference_keyframe = 1;
-  last_keyframe_t = t;
-}
-
-void SlamSystem::Impl::clear_tracking() {
-  last_T.reset();
-  previous_T.reset();
-  bad_frames = 0;
-  relocalizing = false;
-  reference_keyframe = -1;
-  std::shared_lock lock(map.mutex());
-  map_generation = map.generation();
-}
-
-std::optional<Similarity3> SlamSystem::Impl::follow_map_corrections() {
-  // A loop correction moved the map under the tracker: carry the motion model's poses over with the
-  // reference keyframe's correction (the part of the map the camera is looking at). Returns what
-  // was applied (pose' = rigid part of pose * returned), if anything.
-  std::shared_lock lock(map.mutex());
-  if (map.generation() == map_generation) return std::nullopt;
-  const std::vector<const MapCorrection*> corrections = map.corrections_since(map_generation);
-  const bool complete = !corrections.empty() && corrections.back()->generation == map.generation() &&
-                        corrections.front()->generation == map_generation + 1;
-  map_generation = map.generation();
-  if (!complete || reference_keyframe < 0) {
-    // Too far behind to carry the poses over: find the map again.
-    last_T.reset();
-    previous_T.reset();
-    relocalizing = true;
-    return std::nullopt;
-  }
-  Similarity3 G_inv;
-  for (const MapCorrection* c : corrections) {
-    if (static_cast<std::size_t>(reference_keyframe) < c->keyframe_correction.size()) {
-      G_inv = G_inv * c->keyframe_correction[static_cast<std::size_t>(reference_keyframe)].inverse();
-    }
-  }
-  if (last_T) last_T = (Similarity3::from_rigid(*last_T) * G_inv).rigid_pose();
-  if (previous_T) previous_T = (Similarity3::from_rigid(*previous_T) * G_inv).rigid_pose();
-  return G_inv;
-}
-
-std::optional<GravityPrior> SlamSystem::Impl::gravity_prior() const {
-  if (!frame_down_cam || !settings.gravity_in_tracking) return std::nullopt;
-  std::shared_lock lock(map.mutex());
-  if (!map.down_map()) return std::nullopt;
-  return GravityPrior{*map.down_map(), *frame_down_cam, settings.gravity_sigma_deg * M_PI / 180.0};
-}
-
-void SlamSystem::Impl::accept_pose(const Eigen::Isometry3d& T, Seconds t) {
-  previous_T = last_T;
-  previous_pose_t = last_pose_t;
-  last_T = T;
-  last_pose_t = t;
-}
-
-SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior) {
-  follow_map_corrections();
-  const std::optional<GravityPrior> gravity = gravity_prior();
   SlamResult result;
-  result.gravity_used = gravity.has_value();
-  bool coarse = true;
-  Eigen::Isometry3d guess = last_T.value_or(Eigen::Isometry3d::Identity());
-  std::optional<RelocalizationCandidate> reloc;
-  if (relocalizing) {
-    reloc = relocalizer.relocalize(map, frame, small_blurry_image(gray));
-    if (!reloc && !prior) {
-      result.state = TrackingState::Lost;
-      result.reason = "lost: relocalizing against " + std::to_string(map.keyframes().size()) + " keyframes";
-      return result;
-    }
-    if (reloc) {
-      guess = reloc->T_cam_map;
-      reference_keyframe = reloc->keyframe;
-    } else {
-      guess = *prior;
-    }
-    coarse = false;
-  } else if (prior) {
-    guess = *prior;
-  } else if (last_T && previous_T && last_pose_t > previous_pose_t) {
-    // Decaying constant-velocity model, scaled to this frame's interval.
-    const Eigen::Isometry3d delta = *last_T * previous_T->inverse();
-    const double fraction = 0.9 * (t - last_pose_t) / (last_pose_t - previous_pose_t);
-    const Eigen::Isometry3d step = scale_motion(delta, std::min(fraction, 3.0));
-    guess = step * *last_T;
-    // PTAM switches the coarse stage off when the camera barely moves: less jitter.
-    coarse = rotation_angle(step) * camera.fx() + step.translation().norm() * camera.fx() > 4.0;
-  }
-  TrackOutcome o = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, coarse, gravity);
-  if (o.map_generation != map_generation && !relocalizing) {
-    // The mapper corrected the map between our prior and the tracking pass. An adjustment moves the
-    // map by a fraction of a pixel: the pose found in the old map is carried over. A loop correction
-    // bends it: carry the prior over and track again (once per loop closure at most).
-    if (const auto G_inv = follow_map_corrections()) {
-      // How far the correction moves the camera, in pixels at the scene's depth.
-      const Eigen::Isometry3d G = G_inv->rigid_pose();
-      const Eigen::Vector3d centre = o.T_cam_map.inverse().translation();
-      const double moved = (G * centre - centre).norm() / std::max(o.mean_depth, 1e-3) + rotation_angle(G);
-      const bool small = moved * camera.fx() < 1.0;
-      if (small && o.pose_valid) {
-        o.T_cam_map = (Similarity3::from_rigid(o.T_cam_map) * *G_inv).rigid_pose();
-      } else {
-        guess = (Similarity3::from_rigid(guess) * *G_inv).rigid_pose();
-        o = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, coarse, gravity);
-      }
-    } else {
-      o = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, coarse, gravity);
-    }
-  }
-  if (!coarse && !relocalizing && (!o.pose_valid || o.found < settings.min_found_good)) {
-    // The motion model said "barely moving" but the view jumped (the drone tilts to start or stop a
-    // manoeuvre: 5 deg in one frame is ~50 px): search again coarse to fine from the same prior.
-    TrackOutcome wide = tracker.track(map, frame, grid, extractor.pyramid(), guess, reference_keyframe, true, gravity);
-    if (wide.pose_valid && wide.found > o.found && wide.map_generation == o.map_generation) o = std::move(wide);
-  }
-  result.points_found = o.found;
-  result.points_attempted = o.attempted;
-  result.misses = {o.search.no_feature, o.search.too_far, o.search.ambiguous, o.search.taken, o.pose_outliers};
-  result.quality = o.attempted > 0 ? static_cast<double>(o.found) / o.attempted : 0.0;
-  TrackingState frame_state = TrackingState::Lost;
-  if (o.pose_valid && result.quality >= settings.quality_good && o.found >= settings.min_found_good) {
-    frame_state = TrackingState::Good;
-  } else if (o.pose_valid && result.quality >= settings.quality_lost && o.found >= settings.min_found_good / 2) {
-    frame_state = TrackingState::Dodgy;
-  }
-  if (relocalizing && frame_state != TrackingState::Good) frame_state = TrackingState::Lost;  // confirm with a good frame
-  if (frame_state == TrackingState::Lost) {
-    ++bad_frames;
-    if (bad_frames >= settings.lost_after_bad_frames) relocalizing = true;
-    state = TrackingState::Lost;
-    result.state = TrackingState::Lost;
-    result.reason = relocalizing ? "lost: relocalizing" : "tracking failed (" + std::to_string(o.found) + " points)";
+  if (!init) {
+    result.state = TrackingState::Initializing;
+    result.reason = initializer.reason();
     return result;
   }
-  result.relocalized = relocalizing;
-  if (relocalizing) {
-    // A relocalized pose has no velocity: restart the motion model from it.
-    previous_T.reset();
-  }
-  relocalizing = false;
-  bad_frames = 0;
-  state = frame_state;
-  result.state = frame_state;
-  result.T_cam_map = o.T_cam_map;
-  if (frame_state == TrackingState::Dodgy) result.reason = "dodgy: few points found";
-  accept_pose(o.T_cam_map, t);
-  if (o.reference_keyframe >= 0) reference_keyframe = o.reference_keyframe;
-  // Which frames may and should become keyframes: module/keyframe_policy (Dodgy frames included
-  // when their pose is still pinned: a map starved of keyframes spirals down to lost).
-  if (want_keyframe(o, frame_state, t)) {
-    add_keyframe(o, gray, t);
-    result.keyframe_added = true;
-  }
+  const Stopwatch mapping_watch;
+  create_map(*init, gray, t);
+  inline_mapping_wall_ms += mapping_watch.wall_ms();
+  inline_mapping_cpu_ms += mapping_watch.cpu_ms();
+  result.state = tracking.state();
+  result.T_cam_map = tracking.last_pose();
+  result.points_found = result.points_attempted = static_cast<int>(init->points.size());
+  result.quality = 1.0;
+  result.keyframe_added = true;
   return result;
 }
 
-KeyframeCandidate SlamSystem::Impl::keyframe_candidate(const TrackOutcome& o, TrackingState frame_state) const {
-  KeyframeCandidate c;
-  c.state = frame_state;
-  c.found = o.found;
-  c.attempted = o.attempted;
-  c.reference_shared = o.reference_shared;
-  c.reference_points = o.reference_points;
-  c.mean_depth = o.mean_depth;
-  c.nearest_keyframe_distance = 1e9;
-  std::shared_lock lock(map.mutex());
-  const Eigen::Vector3d centre = o.T_cam_map.inverse().translation();
-  for (const Keyframe& kf : map.keyframes()) {
-    c.nearest_keyframe_distance = std::min(c.nearest_keyframe_distance, (kf.center() - centre).norm());
-  }
-  return c;
+void SlamSystem::Impl::create_map(const InitialMap& init, const cv::Mat& gray, Seconds t) {
+  Keyframe reference;
+  reference.small_image = reference_small_image.clone();
+  reference.pyramid = reference_pyramid;
+  reference.down_cam = reference_down_cam;
+  Keyframe current;
+  current.t = t;
+  current.frame = frame;
+  current.small_image = small_blurry_image(gray);
+  current.pyramid = owned_pyramid(extractor.pyramid());
+  current.down_cam = frame_down_cam;
+  start_map(init, std::move(reference), std::move(current), map, *mapper);
+  tracking.start(init.reference_t, t);
 }
 
-bool SlamSystem::Impl::want_keyframe(const TrackOutcome& o, TrackingState frame_state, Seconds t) const {
-  if (t - last_keyframe_t < settings.keyframe_min_interval_s) return false;
-  if (static_cast<int>(map.keyframes().size()) >= settings.max_keyframes) return false;
-  if (mapper->queued() > 0) return false;  // the mapper is still busy with the previous one
-  const KeyframeCandidate candidate = keyframe_candidate(o, frame_state);
-  return keyframe_eligible(candidate, settings) && keyframe_needed(candidate, settings);
+SlamResult SlamSystem::Impl::track_map(const cv::Mat& gray, Seconds t, const std::optional<Eigen::Isometry3d>& prior) {
+  TrackedFrame tracked = tracking.track({.gray = gray,
+                                         .t = t,
+                                         .features = frame,
+                                         .grid = grid,
+                                         .pyramid = extractor.pyramid(),
+                                         .down_cam = frame_down_cam},
+                                        prior);
+  if (tracked.new_keyframe) hand_to_mapper(std::move(*tracked.new_keyframe));
+  return tracked.result;
 }
 
-void SlamSystem::Impl::add_keyframe(const TrackOutcome& o, const cv::Mat& gray, Seconds t) {
-  Keyframe kf;
-  kf.t = t;
-  kf.T_cam_map = o.T_cam_map;
-  kf.frame = frame;
-  kf.point_of_feature.assign(frame.size(), kNoPoint);
-  for (std::size_t i = 0; i < o.matches.size(); ++i) {
-    const auto [feature, id] = o.matches[i];
-    kf.point_of_feature[static_cast<std::size_t>(feature)] = id;
-    // The keyframe measures its tracked points where the tracker did (patch-aligned when it could).
-    Feature& f = kf.frame.features[static_cast<std::size_t>(feature)];
-    f.image_px = o.match_image_px[i].cast<float>();
-    f.px = camera.ideal_from_image(o.match_image_px[i].x(), o.match_image_px[i].y());
-  }
-  kf.pyramid = copy_pyramid(extractor.pyramid());
-  kf.small_image = small_blurry_image(gray);
-  kf.map_generation = map_generation;
-  kf.tracking_reference = reference_keyframe;
-  kf.down_cam = frame_down_cam;
-  last_keyframe_t = t;
+void SlamSystem::Impl::hand_to_mapper(Keyframe keyframe) {
   const Stopwatch mapping_watch;
-  mapper->enqueue(std::move(kf));  // returns at once in threaded mode
+  mapper->enqueue(std::move(keyframe));  // returns at once in threaded mode
   inline_mapping_wall_ms += mapping_watch.wall_ms();
   inline_mapping_cpu_ms += mapping_watch.cpu_ms();
 }
@@ -517,7 +224,7 @@ SlamResult SlamSystem::track(const cv::Mat& gray, Seconds t, const std::optional
 
 SlamStatus SlamSystem::status() const {
   SlamStatus s;
-  s.state = impl_->state;
+  s.state = impl_->tracking.state();
   s.quality = impl_->last.quality;
   s.points_found = impl_->last.points_found;
   s.reason = impl_->last.reason;
@@ -567,8 +274,7 @@ void SlamSystem::reset() {
     impl_->map.clear();
   }
   impl_->initializer.reset();
-  impl_->clear_tracking();
-  impl_->state = TrackingState::Initializing;
+  impl_->tracking.clear();
   impl_->last = {};
 }
 
@@ -599,9 +305,7 @@ void SlamSystem::load_map(const std::filesystem::path& file) {
     for (const LoopEdge& e : loaded.loop_edges()) impl_->map.add_loop_edge(e);
     if (loaded.down_map()) impl_->map.set_down_map(*loaded.down_map());
   }
-  impl_->clear_tracking();
-  impl_->relocalizing = true;
-  impl_->state = TrackingState::Lost;
+  impl_->tracking.relocalize_in_new_map();
   impl_->last = {};
   impl_->last.state = TrackingState::Lost;
   impl_->last.reason = "map loaded: relocalizing";

@@ -28,7 +28,7 @@ enum class MappingMode { Threaded, Synchronous };
 
 struct SlamSettings {
   MappingMode mapping_mode = MappingMode::Threaded;
-  int pyramid_levels = 4;            // fixed by the issue; checked
+  int pyramid_levels = 4;            // the SLAM design's four levels; checked
   double pyramid_scale = 1.5;        // between levels
   int max_features = 1000;           // per frame, over all levels
   int fast_threshold = 20;           // FAST intensity threshold (falls back to 7 in flat cells)

@@ -3,6 +3,7 @@
 #include <boost/asio/dispatch.hpp>
 #include <boost/asio/post.hpp>
 
+#include "server/lab/lab_messages.hpp"
 #include "server/lab/remote_lab.hpp"
 
 namespace labo {
@@ -19,7 +20,8 @@ WebSocketSession::WebSocketSession(asio::ip::tcp::socket&& socket, ClientId id, 
       session_(std::move(session)),
       lab_(std::move(lab)),
       limits_(limits),
-      metrics_(metrics) {}
+      metrics_(metrics),
+      units_(static_cast<std::size_t>(limits.video_queue_frames)) {}
 
 WebSocketSession::~WebSocketSession() {
   if (joined_) {
@@ -66,7 +68,7 @@ void WebSocketSession::on_read(beast::error_code ec, std::size_t) {
   }
   metrics_.ws_messages_in++;
   if (!ws_.got_text()) {
-    queue_event(RemoteLab::error_json(400, "binary messages are not accepted: send JSON text"));
+    queue_event(error_message(400, "binary messages are not accepted: send JSON text"));
   } else {
     lab_->on_message(*this, beast::buffers_to_string(read_buffer_.data()));
   }
@@ -83,6 +85,18 @@ void WebSocketSession::send_event(std::shared_ptr<const std::string> json) {
 void WebSocketSession::send_frame(std::shared_ptr<const std::string> wire) {
   asio::post(ws_.get_executor(), [self = shared_from_this(), wire = std::move(wire)]() mutable {
     self->store_frame(std::move(wire));
+  });
+}
+
+void WebSocketSession::send_access_unit(const WireAccessUnit& unit) {
+  asio::post(ws_.get_executor(), [self = shared_from_this(), unit] { self->queue_unit(unit); });
+}
+
+void WebSocketSession::select_video(VideoPath path) {
+  asio::post(ws_.get_executor(), [self = shared_from_this(), path] {
+    self->video_ = path;
+    self->units_.restart();
+    self->frame_slot_.reset();
   });
 }
 
@@ -108,24 +122,38 @@ void WebSocketSession::store_frame(std::shared_ptr<const std::string> wire) {
   write_next();
 }
 
+void WebSocketSession::queue_unit(const WireAccessUnit& unit) {
+  if (closed_ || !joined_ || video_ != VideoPath::H264) return;
+  const AccessUnitQueue::PushResult r = units_.push(unit);
+  metrics_.ws_units_skipped += r.dropped;
+  if (r.fell_behind) metrics_.ws_keyframe_waits++;
+  if (r.queued) write_next();
+}
+
 void WebSocketSession::write_next() {
   if (writing_ || closed_ || !joined_) return;
-  // Events first (acks, emergencies, stage changes), then the newest frame.
+  // Events first (acks, emergencies, stage changes), then video: the next access unit (its geometry
+  // first) or the newest JPEG frame.
+  bool binary = false;
   if (!events_.empty()) {
     in_flight_ = std::move(events_.front());
     events_.pop_front();
-    in_flight_is_frame_ = false;
+    in_flight_kind_ = Outgoing::Event;
     if (events_.size() < static_cast<std::size_t>(limits_.event_queue_messages)) queue_full_since_.reset();
+  } else if (!units_.empty()) {
+    in_flight_ = units_.pop(binary);
+    in_flight_kind_ = binary ? Outgoing::Unit : Outgoing::Geometry;
   } else if (frame_slot_) {
     in_flight_ = std::move(frame_slot_);
     frame_slot_.reset();
-    in_flight_is_frame_ = true;
+    in_flight_kind_ = Outgoing::Frame;
+    binary = true;
   } else {
     return;
   }
   writing_ = true;
   write_started_ = Clock::now();
-  ws_.binary(in_flight_is_frame_);
+  ws_.binary(binary);
   ws_.async_write(asio::buffer(*in_flight_), beast::bind_front_handler(&WebSocketSession::on_write, shared_from_this()));
 }
 
@@ -137,8 +165,12 @@ void WebSocketSession::on_write(beast::error_code ec, std::size_t bytes) {
     return;
   }
   metrics_.ws_bytes_out += bytes;
-  if (in_flight_is_frame_) metrics_.ws_frames_out++;
-  else metrics_.ws_events_out++;
+  switch (in_flight_kind_) {
+    case Outgoing::Event: metrics_.ws_events_out++; break;
+    case Outgoing::Frame: metrics_.ws_frames_out++; break;
+    case Outgoing::Unit: metrics_.ws_units_out++; break;
+    case Outgoing::Geometry: break;
+  }
   write_next();
 }
 
@@ -172,6 +204,7 @@ void WebSocketSession::close_now(const std::string& reason) {
   lab_->log_disconnect(id_, reason);
   events_.clear();
   frame_slot_.reset();
+  units_.restart();
   watchdog_.cancel();
   // Close the TCP socket itself: a websocket close handshake would wait behind a stuck write.
   beast::error_code ignored;

@@ -1,9 +1,10 @@
 #pragma once
 // One WebSocket client (Beast 1.74). Runs on its connection's strand. A read is always pending, so
 // pings, pongs and close frames are handled even for view-only spectators. Outgoing traffic goes
-// through a bounded queue of JSON events and a one-frame video slot that a newer frame overwrites: a
-// slow viewer loses frames, never memory. A client whose event queue stays full, or whose write
-// stays pending, past its limit is disconnected.
+// through a bounded queue of JSON events, and video by the path the client chose: a one-frame JPEG
+// slot that a newer frame overwrites, or a bounded queue of H.264 access units that drops to the
+// next IDR (AccessUnitQueue). A slow viewer loses frames, never memory. A client whose event queue
+// stays full, or whose write stays pending, past its limit is disconnected.
 #include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
@@ -13,6 +14,7 @@
 #include <memory>
 #include <string>
 
+#include "server/http/access_unit_queue.hpp"
 #include "server/lab/lab_client.hpp"
 #include "server/lab/server_metrics.hpp"
 #include "server/server_settings.hpp"
@@ -33,6 +35,8 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
   const SessionInfo& session() const override { return session_; }
   void send_event(std::shared_ptr<const std::string> json) override;
   void send_frame(std::shared_ptr<const std::string> wire) override;
+  void send_access_unit(const WireAccessUnit& unit) override;
+  void select_video(VideoPath path) override;
   void disconnect(const std::string& reason) override;
 
  private:
@@ -42,6 +46,7 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
   void on_read(boost::beast::error_code ec, std::size_t bytes);
   void queue_event(std::shared_ptr<const std::string> json);
   void store_frame(std::shared_ptr<const std::string> wire);
+  void queue_unit(const WireAccessUnit& unit);
   void write_next();
   void on_write(boost::beast::error_code ec, std::size_t bytes);
   void arm_watchdog();
@@ -59,9 +64,12 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
 
   std::deque<std::shared_ptr<const std::string>> events_;
   std::shared_ptr<const std::string> frame_slot_;
+  AccessUnitQueue units_;
+  VideoPath video_ = VideoPath::Jpeg;
+  enum class Outgoing { Event, Frame, Geometry, Unit };
   std::shared_ptr<const std::string> in_flight_;  // kept alive while its write runs
+  Outgoing in_flight_kind_ = Outgoing::Event;
   bool writing_ = false;
-  bool in_flight_is_frame_ = false;
   bool joined_ = false;
   bool closed_ = false;
   Clock::time_point write_started_{};

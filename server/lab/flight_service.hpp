@@ -66,6 +66,17 @@ struct WireFrame {
   std::shared_ptr<const std::string> wire;  // shared by every client: built once per frame
 };
 
+// One H.264 access unit ready for the wire (video/access_unit_wire.hpp), with its frame's overlay
+// geometry (JSON, video/overlay_geometry.hpp); both built once and shared by every H.264 viewer.
+struct WireAccessUnit {
+  std::uint32_t frame_number = 0;
+  double capture_unix_ms = 0;
+  CameraId camera = CameraId::Front;
+  bool keyframe = false;
+  std::shared_ptr<const std::string> wire;
+  std::shared_ptr<const std::string> geometry;
+};
+
 struct FlightEvent {
   std::string kind;     // "stage", "mission", "error", "link"
   std::string mission;  // mission name
@@ -78,7 +89,14 @@ class FlightEventSink {
   virtual ~FlightEventSink() = default;
   // Called from the runtime's threads: implementations hand off quickly (post, never block).
   virtual void on_frame(const WireFrame& frame) = 0;
+  // Every access unit of the drone's stream, in order, from an IDR on (never skipped here: a viewer
+  // that cannot keep up skips to the next IDR on its own).
+  virtual void on_access_unit(const WireAccessUnit&) {}
   virtual void on_flight_event(const FlightEvent& event) = 0;
+  // Whether anyone watches each path now: the runtime skips the JPEG encode, or the access units
+  // and their geometry, that nobody would receive.
+  virtual bool wants_jpeg() const { return true; }
+  virtual bool wants_access_units() const { return false; }
 };
 
 struct InstrumentSummary {

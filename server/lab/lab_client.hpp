@@ -1,14 +1,24 @@
 #pragma once
 // One connected browser as the RemoteLab sees it. The WebSocket session implements it; tests can
 // implement it without sockets. send_* are thread-safe and never block: each client keeps a bounded
-// queue of JSON events and a single latest-frame slot for video.
+// queue of JSON events, a single latest-frame slot for JPEG video, and a bounded queue of H.264
+// access units that drops to the next IDR when the client falls behind.
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "server/auth/session_store.hpp"
 #include "server/lab/control_queue.hpp"
+#include "server/lab/flight_service.hpp"
 
 namespace labo {
+
+// How a client watches the video: JPEG frames with the overlays drawn in by the server (the
+// default), or the drone's own H.264 with the overlays' geometry as data.
+enum class VideoPath { Jpeg, H264 };
+std::string_view to_string(VideoPath path);
+std::optional<VideoPath> parse_video_path(std::string_view text);
 
 class LabClient {
  public:
@@ -17,6 +27,9 @@ class LabClient {
   virtual const SessionInfo& session() const = 0;
   virtual void send_event(std::shared_ptr<const std::string> json) = 0;
   virtual void send_frame(std::shared_ptr<const std::string> wire) = 0;
+  virtual void send_access_unit(const WireAccessUnit& unit) = 0;
+  // The path the client chose: H.264 starts at the next IDR.
+  virtual void select_video(VideoPath path) = 0;
   virtual void disconnect(const std::string& reason) = 0;
 };
 

@@ -1,312 +1,171 @@
 #include "server/lab/remote_lab.hpp"
 
-#include <chrono>
-#include <nlohmann/json.hpp>
-#include <set>
-
 #include "server/auth/permissions.hpp"
+#include "server/lab/lab_messages.hpp"
 
 namespace labo {
 
-class RemoteLab::Locked {
- public:
-  explicit Locked(RemoteLab& lab) : lab_(lab), lock_(lab.mutex_) {}
-  Locked(const Locked&) = delete;
-  Locked& operator=(const Locked&) = delete;
-  ~Locked() {
-    std::vector<std::shared_ptr<LabClient>> release;
-    release.swap(lab_.release_after_unlock_);
-    lock_.unlock();
-  }  // `release` goes here, unlocked: a session it held last leaves the lab without a deadlock
-
- private:
-  RemoteLab& lab_;
-  std::unique_lock<std::mutex> lock_;
-};
-
-using nlohmann::json;
-
-namespace {
-
-std::shared_ptr<const std::string> shared_json(const json& j) { return std::make_shared<const std::string>(j.dump()); }
-
-json pose_json(const PoseXyzYaw& p) { return {{"x", p.x_m}, {"y", p.y_m}, {"z", p.z_m}, {"yaw", p.yaw_rad}}; }
-
-json telemetry_json(const FlightTelemetry& t) {
-  json j{{"type", "telemetry"},
-         {"t", t.t_unix_s},
-         {"mission", t.mission},
-         {"stage", t.stage},
-         {"pose", pose_json(t.pose)},
-         {"source", to_string(t.source)},
-         {"source_colour", colour_of(t.source)},
-         {"source_quality", t.source_quality},
-         {"battery_percent", t.battery_percent},
-         {"altitude_m", t.altitude_m},
-         {"link_quality", t.link_quality},
-         {"link_state", t.link_state},
-         {"flying", t.flying},
-         {"slam_state", t.slam_state},
-         {"video_fps", t.video_fps}};
-  j["desired"] = t.desired ? pose_json(*t.desired) : json(nullptr);
-  j["ground_truth"] = t.ground_truth ? pose_json(*t.ground_truth) : json(nullptr);
-  j["teacher"] = t.teacher_xy ? json{t.teacher_xy->first, t.teacher_xy->second} : json(nullptr);
-  json points = json::array();
-  for (const auto& [x, y] : t.slam_points_xy) points.push_back({x, y});
-  j["slam_points"] = std::move(points);
-  return j;
-}
-
-json participant_json(const Participant& p) { return {{"user", p.user}, {"role", to_string(p.role)}, {"client", p.client}}; }
-
-}  // namespace
-
 RemoteLab::RemoteLab(FlightService& flight, const ServerSettings& settings, ServerMetrics& metrics, const Clock& clock,
                      Logger log)
-    : flight_(flight), settings_(settings), metrics_(metrics), clock_(clock), log_(std::move(log)), control_(settings.control) {
+    : flight_(flight),
+      settings_(settings),
+      metrics_(metrics),
+      clock_(clock),
+      log_(std::move(log)),
+      clients_(settings.clients.commands_per_s, settings.clients.command_burst),
+      control_(settings.control) {
   flight_.set_sink(this);
 }
 
 RemoteLab::~RemoteLab() { flight_.set_sink(nullptr); }
 
-std::shared_ptr<const std::string> RemoteLab::error_json(int status, const std::string& message) {
-  return shared_json({{"type", "error"}, {"status", status}, {"error", message}});
-}
-
 void RemoteLab::join(const std::shared_ptr<LabClient>& client) {
   const SessionInfo& s = client->session();
-  json instruments = json::array();
-  for (const InstrumentSummary& i : flight_.instruments())
-    instruments.push_back({{"id", i.id}, {"name", i.name}, {"width_m", i.width_m}, {"height_m", i.height_m}, {"x", i.x_m}, {"y", i.y_m}});
-  client->send_event(shared_json({{"type", "hello"},
-                                  {"client", client->id()},
-                                  {"user", s.user},
-                                  {"role", to_string(s.role)},
-                                  {"instruments", instruments},
-                                  {"heartbeat_timeout_s", settings_.control.heartbeat_timeout_s},
-                                  {"time_limit_s", settings_.control.time_limit_s}}));
-  Locked lock(*this);
-  clients_.emplace(client->id(), Client{client, Participant{client->id(), s.user, s.role},
-                                        TokenBucket(settings_.clients.commands_per_s, settings_.clients.command_burst)});
+  client->send_event(hello_message(client->id(), s, flight_.instruments(), settings_.control));
+  clients_.join(client);
   log_.info(clock_.now(), "client joined").kv("client", client->id()).kv("user", s.user).kv("role", to_string(s.role));
-  broadcast_control_state();
+  change_control([](ControlQueue&, double) { return std::vector<ControlNotice>{}; });
 }
 
 void RemoteLab::leave(ClientId client) {
-  Locked lock(*this);
-  clients_.erase(client);
-  deliver(control_.leave(client, clock_.now()));
-  broadcast_control_state();
+  clients_.leave(client);
+  change_control([client](ControlQueue& q, double now) { return q.leave(client, now); });
 }
 
 void RemoteLab::log_disconnect(ClientId client, const std::string& reason) {
   log_.info(clock_.now(), "client disconnected").kv("client", client).kv("reason", reason);
 }
 
-void RemoteLab::disconnect_all(const std::string& reason) {
-  std::vector<std::shared_ptr<LabClient>> targets;
-  {
-    Locked lock(*this);
-    for (const auto& [id, c] : clients_)
-      if (auto link = c.link.lock()) targets.push_back(std::move(link));
-  }
-  for (const auto& t : targets) t->disconnect(reason);
-}
+void RemoteLab::disconnect_all(const std::string& reason) { clients_.disconnect_all(reason); }
 
 void RemoteLab::on_message(LabClient& client, const std::string& text) {
-  const auto reply_error = [&](int status, const std::string& message) {
-    client.send_event(error_json(status, message));
-  };
-  json msg = json::parse(text, nullptr, false);
-  if (msg.is_discarded()) return reply_error(400, "malformed JSON");
-  if (!msg.is_object()) return reply_error(400, "expected a JSON object");
-  if (!msg.contains("type") || !msg["type"].is_string()) return reply_error(400, "'type' (string) is required");
-  const std::string type = msg["type"];
-  const bool emergency = type == "command" && msg.value("command", json()) == "emergency_stop";
-  const double now = clock_.now();
-  {
-    Locked lock(*this);
-    auto it = clients_.find(client.id());
-    if (it == clients_.end()) return;
-    // Emergency stop is never rate limited: it must act at once, whatever came before.
-    if (!emergency && !it->second.bucket.take(now)) {
-      metrics_.rate_limited++;
-      return reply_error(429, "too many messages: at most " + std::to_string(settings_.clients.commands_per_s) +
-                                  " per second (burst " + std::to_string(settings_.clients.command_burst) + ")");
+  const ParsedMessage parsed = parse_client_message(text);
+  const auto* request = std::get_if<ClientRequest>(&parsed);
+  const auto* refusal = std::get_if<Refusal>(&parsed);
+  // Every message that names its type counts against the rate limit, except an emergency stop: it
+  // must act at once, whatever came before.
+  if (request ? !is_emergency_stop(*request) : refusal->typed) {
+    switch (clients_.admit(client.id(), clock_.now())) {
+      case ClientRegistry::Admission::Admitted: break;
+      case ClientRegistry::Admission::NotJoined: return;
+      case ClientRegistry::Admission::RateLimited:
+        metrics_.rate_limited++;
+        client.send_event(error_message(429, "too many messages: at most " + std::to_string(settings_.clients.commands_per_s) +
+                                                 " per second (burst " + std::to_string(settings_.clients.command_burst) + ")"));
+        return;
     }
   }
-  if (type == "command") return handle_command(client, text);
-  if (msg.size() != 1) return reply_error(400, "'" + type + "' takes no other field");
-  const Participant who{client.id(), client.session().user, client.session().role};
-  Locked lock(*this);
-  if (type == "heartbeat") {
-    control_.heartbeat(client.id(), now);
-  } else if (type == "request_control") {
-    deliver(control_.request(who, now));
-    broadcast_control_state();
-  } else if (type == "release_control") {
-    deliver(control_.release(client.id(), now));
-    broadcast_control_state();
-  } else if (type == "take_over") {
-    if (!role_may(who.role, Permission::TakeOver)) return reply_error(403, "only a teacher or an admin may take over");
-    deliver(control_.take_over(who, now));
-    broadcast_control_state();
-  } else {
-    reply_error(400, "unknown message type '" + type +
-                         "' (expected command, heartbeat, request_control, release_control, take_over)");
-  }
+  if (refusal) return client.send_event(error_message(refusal->status, refusal->error));
+  std::visit([&](const auto& r) { execute(client, r); }, *request);
 }
 
-void RemoteLab::handle_command(LabClient& client, const std::string& text) {
-  const json msg = json::parse(text);
-  const auto reply_error = [&](int status, const std::string& message) {
-    client.send_event(error_json(status, message));
+void RemoteLab::execute(LabClient& client, const CommandRequest& r) {
+  const auto ack = [&](const CommandVerdict& verdict) {
+    (verdict.accepted ? metrics_.commands_accepted : metrics_.commands_rejected)++;
+    client.send_event(ack_message(r.id, r.name, verdict));
   };
-  static const std::set<std::string> kFields{"type", "id", "command", "instrument", "hold_s"};
-  for (const auto& [key, value] : msg.items())
-    if (!kFields.contains(key)) return reply_error(400, "unknown field '" + key + "' in a command");
-  if (msg.contains("id") && !msg["id"].is_number_integer()) return reply_error(400, "'id' must be an integer");
-  if (!msg.contains("command") || !msg["command"].is_string()) return reply_error(400, "'command' (string) is required");
-  const json id = msg.value("id", json(nullptr));
-  const std::string name = msg["command"];
-  const auto kind = parse_mission_command(name);
-  const auto ack = [&](bool accepted, const std::string& reason) {
-    (accepted ? metrics_.commands_accepted : metrics_.commands_rejected)++;
-    client.send_event(shared_json({{"type", "ack"}, {"id", id}, {"command", name}, {"accepted", accepted}, {"reason", reason}}));
-  };
-  if (!kind)
-    return reply_error(400, "unknown command '" + name +
-                                "' (expected takeoff, inspect, find_teacher, stop_face_follow, return_home, land, emergency_stop)");
-  MissionCommand command{*kind, "", 10};
-  if (*kind == MissionCommandKind::Inspect) {
-    if (!msg.contains("instrument") || !msg["instrument"].is_string())
-      return reply_error(400, "inspect needs 'instrument' (string, an instrument id)");
-    command.instrument = msg["instrument"];
-    if (msg.contains("hold_s")) {
-      if (!msg["hold_s"].is_number() || msg["hold_s"].get<double>() <= 0 || msg["hold_s"].get<double>() > 600)
-        return reply_error(400, "'hold_s' must be a number in (0, 600] seconds");
-      command.hold_s = msg["hold_s"];
-    }
-  } else if (msg.contains("instrument") || msg.contains("hold_s")) {
-    return reply_error(400, "'instrument' and 'hold_s' belong to inspect only");
-  }
   const Role role = client.session().role;
-  const Permission needed = *kind == MissionCommandKind::EmergencyStop ? Permission::EmergencyStop : Permission::RequestControl;
-  if (!role_may(role, needed)) return ack(false, "role " + to_string(role) + " may not send " + name);
-  if (*kind != MissionCommandKind::EmergencyStop) {
-    Locked lock(*this);
-    if (!control_.is_controller(client.id()))
-      return ack(false, "you do not have control: request it and wait for your turn");
-  }
-  const CommandVerdict verdict = flight_.request(command);
+  const bool emergency = r.command.kind == MissionCommandKind::EmergencyStop;
+  if (!role_may(role, emergency ? Permission::EmergencyStop : Permission::RequestControl))
+    return ack({false, "role " + to_string(role) + " may not send " + r.name});
+  if (!emergency && !has_control(client.id())) return ack({false, "you do not have control: request it and wait for your turn"});
+  const CommandVerdict verdict = flight_.request(r.command);
   log_.info(clock_.now(), "command")
       .kv("user", client.session().user)
-      .kv("command", name)
+      .kv("command", r.name)
       .kv("accepted", verdict.accepted)
       .kv("reason", verdict.reason);
-  ack(verdict.accepted, verdict.reason);
-  if (*kind == MissionCommandKind::EmergencyStop && verdict.accepted)
-    broadcast(shared_json({{"type", "event"}, {"kind", "emergency"}, {"message", "emergency stop by " + client.session().user}}));
+  ack(verdict);
+  if (emergency && verdict.accepted) clients_.send(emergency_event_message(client.session().user));
 }
 
-void RemoteLab::deliver(const std::vector<ControlNotice>& notices) {
-  for (const ControlNotice& n : notices) {
-    auto it = clients_.find(n.client);
-    if (it == clients_.end()) continue;
-    auto link = it->second.link.lock();
-    if (!link) continue;
-    release_after_unlock_.push_back(link);
-    json j{{"type", "notice"}};
-    switch (n.kind) {
-      case ControlNotice::Kind::Granted: j["kind"] = "granted"; j["remaining_s"] = n.remaining_s; break;
-      case ControlNotice::Kind::Warning: j["kind"] = "warning"; j["remaining_s"] = n.remaining_s; break;
-      case ControlNotice::Kind::Ended: j["kind"] = "ended"; j["reason"] = n.reason; break;
-    }
-    link->send_event(shared_json(j));
-  }
+void RemoteLab::execute(LabClient& client, const HeartbeatRequest&) {
+  std::lock_guard lock(control_mutex_);
+  control_.heartbeat(client.id(), clock_.now());
 }
 
-std::string RemoteLab::control_json_for(ClientId client) const {
-  const ControlSnapshot s = control_.snapshot(clock_.now());
-  json queue = json::array();
-  for (const Participant& p : s.queue) queue.push_back(participant_json(p));
-  json j{{"type", "control"},
-         {"controller", s.controller ? participant_json(*s.controller) : json(nullptr)},
-         {"remaining_s", s.remaining_s},
-         {"queue", queue},
-         {"spectators", clients_.size()}};
-  if (client != 0) {
-    const auto pos = control_.queue_position(client);
-    j["you"] = {{"client", client}, {"controlling", control_.is_controller(client)}, {"position", pos ? json(*pos) : json(nullptr)}};
-  }
-  return j.dump();
+void RemoteLab::execute(LabClient& client, const RequestControlRequest&) {
+  const Participant who{client.id(), client.session().user, client.session().role};
+  change_control([&who](ControlQueue& q, double now) { return q.request(who, now); });
 }
 
-void RemoteLab::broadcast_control_state() {
-  metrics_.queue_length = static_cast<std::int64_t>(control_.snapshot(clock_.now()).queue.size());
-  for (const auto& [id, c] : clients_)
-    if (auto link = c.link.lock()) {
-      link->send_event(std::make_shared<const std::string>(control_json_for(id)));
-      release_after_unlock_.push_back(std::move(link));
-    }
+void RemoteLab::execute(LabClient& client, const ReleaseControlRequest&) {
+  change_control([&client](ControlQueue& q, double now) { return q.release(client.id(), now); });
 }
 
-void RemoteLab::broadcast(const std::shared_ptr<const std::string>& json_text) {
-  std::vector<std::shared_ptr<LabClient>> targets;
+void RemoteLab::execute(LabClient& client, const TakeOverRequest&) {
+  const Participant who{client.id(), client.session().user, client.session().role};
+  if (!role_may(who.role, Permission::TakeOver)) return client.send_event(error_message(403, "only a teacher or an admin may take over"));
+  change_control([&who](ControlQueue& q, double now) { return q.take_over(who, now); });
+}
+
+void RemoteLab::execute(LabClient& client, const SubscribeRequest& r) {
+  client.select_video(r.video);  // first: the client's H.264 queue restarts before units reach it
+  clients_.set_video(client.id(), r.video);
+  client.send_event(subscribed_message(r.video));
+}
+
+bool RemoteLab::has_control(ClientId client) const {
+  std::lock_guard lock(control_mutex_);
+  return control_.is_controller(client);
+}
+
+template <typename Change>
+void RemoteLab::change_control(Change change) {
+  std::vector<std::pair<ClientId, ClientRegistry::Message>> out;
   {
-    Locked lock(*this);
-    for (const auto& [id, c] : clients_)
-      if (auto link = c.link.lock()) targets.push_back(std::move(link));
+    std::lock_guard lock(control_mutex_);
+    for (const ControlNotice& n : change(control_, clock_.now())) out.emplace_back(n.client, notice_message(n));
+    add_control_views(out);
   }
-  for (const auto& t : targets) t->send_event(json_text);
+  clients_.send_each(out);
+}
+
+void RemoteLab::add_control_views(std::vector<std::pair<ClientId, ClientRegistry::Message>>& out) {
+  const double now = clock_.now();
+  const ControlSnapshot snapshot = control_.snapshot(now);
+  metrics_.queue_length = static_cast<std::int64_t>(snapshot.queue.size());
+  last_control_broadcast_s_ = now;
+  const std::vector<Participant> everyone = clients_.participants();
+  ++control_seq_;
+  for (const Participant& p : everyone) {
+    const ClientControlView you{p.client, control_.is_controller(p.client), control_.queue_position(p.client)};
+    out.emplace_back(p.client, control_message(snapshot, everyone.size(), control_seq_, you));
+  }
 }
 
 void RemoteLab::tick() {
+  std::vector<std::pair<ClientId, ClientRegistry::Message>> out;
   {
-    Locked lock(*this);
-    const auto notices = control_.tick(clock_.now());
-    deliver(notices);
-    bool changed = false;
-    for (const auto& n : notices) changed = changed || n.kind != ControlNotice::Kind::Warning;
-    // The remaining time changes every second: refresh everyone's view of it once a second.
+    std::lock_guard lock(control_mutex_);
     const double now = clock_.now();
-    if (changed || now - last_control_broadcast_s_ >= 1.0) {
-      last_control_broadcast_s_ = now;
-      broadcast_control_state();
+    bool changed = false;
+    for (const ControlNotice& n : control_.tick(now)) {
+      out.emplace_back(n.client, notice_message(n));
+      changed = changed || n.kind != ControlNotice::Kind::Warning;
     }
+    // The remaining time changes every second: refresh everyone's view of it once a second.
+    if (changed || now - last_control_broadcast_s_ >= 1.0) add_control_views(out);
   }
-  broadcast(shared_json(telemetry_json(flight_.telemetry())));
+  clients_.send_each(out);
+  clients_.send(telemetry_message(flight_.telemetry()));
 }
 
 void RemoteLab::on_frame(const WireFrame& frame) {
   metrics_.frames_published++;
-  std::vector<std::shared_ptr<LabClient>> targets;
-  {
-    Locked lock(*this);
-    targets.reserve(clients_.size());
-    for (const auto& [id, c] : clients_)
-      if (auto link = c.link.lock()) targets.push_back(std::move(link));
-  }
-  for (const auto& t : targets) t->send_frame(frame.wire);
+  clients_.send_frame(frame.wire);
 }
 
-void RemoteLab::on_flight_event(const FlightEvent& event) {
-  broadcast(shared_json({{"type", "event"}, {"kind", event.kind}, {"mission", event.mission}, {"stage", event.stage}, {"message", event.message}}));
+void RemoteLab::on_access_unit(const WireAccessUnit& unit) {
+  metrics_.access_units_published++;
+  clients_.send_access_unit(unit);
 }
+
+void RemoteLab::on_flight_event(const FlightEvent& event) { clients_.send(flight_event_message(event)); }
 
 std::string RemoteLab::control_state_json() const {
-  std::lock_guard lock(mutex_);
-  json j = json::parse(control_json_for(0));
-  json clients = json::array();
-  for (const auto& [id, c] : clients_) clients.push_back(participant_json(c.who));
-  j["clients"] = clients;
-  j.erase("type");
-  return j.dump();
-}
-
-std::size_t RemoteLab::client_count() const {
-  std::lock_guard lock(mutex_);
-  return clients_.size();
+  std::lock_guard lock(control_mutex_);
+  return control_summary_json(control_.snapshot(clock_.now()), clients_.participants());
 }
 
 }  // namespace labo

@@ -1,21 +1,21 @@
 #pragma once
-// The shared state of the remote lab: connected clients, the control queue, the WebSocket command
-// protocol, and the fan-out of telemetry, events and video from the FlightService. Thread-safe: client
-// sessions call in from their strands, the runtime from its threads, the server's timer from the
-// io_context. Frames and events are serialized once and shared by every client.
-#include <map>
-#include <vector>
+// The remote lab as the clients see it: who is connected (ClientRegistry), who flies (ControlQueue),
+// what a client's message asks (lab_protocol) and whether the client may ask it (roles, control, the
+// rate limit), and the fan-out of telemetry, events and video from the FlightService. Thread-safe:
+// client sessions call in from their strands, the runtime from its threads, the server's timer from
+// the io_context. No lock is held while a message is delivered.
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "core/log.hpp"
 #include "core/time.hpp"
-#include "server/auth/session_store.hpp"
-#include "server/auth/token_bucket.hpp"
+#include "server/lab/client_registry.hpp"
 #include "server/lab/control_queue.hpp"
 #include "server/lab/flight_service.hpp"
-#include "server/lab/lab_client.hpp"
+#include "server/lab/lab_protocol.hpp"
 #include "server/lab/server_metrics.hpp"
 #include "server/server_settings.hpp"
 
@@ -37,43 +37,41 @@ class RemoteLab final : public FlightEventSink {
   void tick();
 
   void on_frame(const WireFrame& frame) override;
+  void on_access_unit(const WireAccessUnit& unit) override;
   void on_flight_event(const FlightEvent& event) override;
+  bool wants_jpeg() const override { return clients_.watching(VideoPath::Jpeg) > 0; }
+  bool wants_access_units() const override { return clients_.watching(VideoPath::H264) > 0; }
 
   // JSON for REST: the queue and the connected clients.
   std::string control_state_json() const;
-  std::size_t client_count() const;
-  // {"type":"error","status":..,"error":..}
-  static std::shared_ptr<const std::string> error_json(int status, const std::string& message);
+  std::size_t client_count() const { return clients_.size(); }
 
   FlightService& flight() { return flight_; }
 
  private:
-  struct Client {
-    std::weak_ptr<LabClient> link;
-    Participant who;
-    TokenBucket bucket;
-  };
-  void handle_command(LabClient& client, const std::string& text);
-  void deliver(const std::vector<ControlNotice>& notices);       // with mutex_ held
-  void broadcast_control_state();                                 // with mutex_ held
-  void broadcast(const std::shared_ptr<const std::string>& json);  // takes mutex_
-  std::string control_json_for(ClientId client) const;            // with mutex_ held
-  // Holds mutex_; the sessions kept alive while it was held are released after it is unlocked.
-  class Locked;
-  // A weak link locked under mutex_ may be a session's last owner (it closed meanwhile on the server's
-  // thread): destroyed there, its destructor leaves the lab, which takes mutex_ again, a deadlock
-  // (seen in CI, 2026-12-03: "a WebSocket needs a session"). deliver() and broadcast_control_state()
-  // park the links they locked here, and Locked releases them after unlocking.
-  std::vector<std::shared_ptr<LabClient>> release_after_unlock_;
+  void execute(LabClient& client, const CommandRequest& request);
+  void execute(LabClient& client, const HeartbeatRequest& request);
+  void execute(LabClient& client, const RequestControlRequest& request);
+  void execute(LabClient& client, const ReleaseControlRequest& request);
+  void execute(LabClient& client, const TakeOverRequest& request);
+  void execute(LabClient& client, const SubscribeRequest& request);
+  bool has_control(ClientId client) const;
+  // A change of the control queue (its notices), made by `change` under control_mutex_; the notices
+  // and everyone's view of the new state are sent once it is released.
+  template <typename Change>
+  void change_control(Change change);
+  // Everyone's control message, built under control_mutex_.
+  void add_control_views(std::vector<std::pair<ClientId, ClientRegistry::Message>>& out);
 
   FlightService& flight_;
   ServerSettings settings_;
   ServerMetrics& metrics_;
   const Clock& clock_;
   Logger log_;
-  mutable std::mutex mutex_;
-  std::map<ClientId, Client> clients_;
+  ClientRegistry clients_;
+  mutable std::mutex control_mutex_;  // control_, control_seq_, last_control_broadcast_s_
   ControlQueue control_;
+  std::uint64_t control_seq_ = 0;
   double last_control_broadcast_s_ = -1;
 };
 

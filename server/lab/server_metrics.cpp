@@ -24,9 +24,13 @@ std::string ServerMetrics::prometheus_text(const std::string& extra) const {
   emit(o, "labodrone_ws_events_dropped_total", "counter", "JSON events dropped on full client queues.", ws_events_dropped);
   emit(o, "labodrone_ws_frames_out_total", "counter", "Video frames written to clients.", ws_frames_out);
   emit(o, "labodrone_ws_frames_skipped_total", "counter", "Video frames replaced before a slow client took them.", ws_frames_skipped);
+  emit(o, "labodrone_ws_units_out_total", "counter", "H.264 access units written to clients.", ws_units_out);
+  emit(o, "labodrone_ws_units_skipped_total", "counter", "H.264 access units dropped while a client waited for an IDR.", ws_units_skipped);
+  emit(o, "labodrone_ws_keyframe_waits_total", "counter", "Times a client fell behind and dropped to the next IDR.", ws_keyframe_waits);
   emit(o, "labodrone_ws_slow_disconnects_total", "counter", "Clients disconnected for a backlog that stayed full.", ws_slow_disconnects);
   emit(o, "labodrone_ws_bytes_out_total", "counter", "Bytes written to WebSocket clients.", ws_bytes_out);
   emit(o, "labodrone_frames_published_total", "counter", "Annotated frames encoded and published.", frames_published);
+  emit(o, "labodrone_access_units_published_total", "counter", "H.264 access units passed on from the drone.", access_units_published);
   emit(o, "labodrone_commands_accepted_total", "counter", "Mission commands accepted.", commands_accepted);
   emit(o, "labodrone_commands_rejected_total", "counter", "Mission commands rejected.", commands_rejected);
   emit(o, "labodrone_rate_limited_total", "counter", "Messages refused by a rate limit.", rate_limited);

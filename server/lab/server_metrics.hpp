@@ -18,9 +18,13 @@ struct ServerMetrics {
   std::atomic<std::uint64_t> ws_events_dropped{0};
   std::atomic<std::uint64_t> ws_frames_out{0};
   std::atomic<std::uint64_t> ws_frames_skipped{0};  // replaced in a client's slot before being sent
+  std::atomic<std::uint64_t> ws_units_out{0};        // H.264 access units written
+  std::atomic<std::uint64_t> ws_units_skipped{0};    // dropped while a client waited for the next IDR
+  std::atomic<std::uint64_t> ws_keyframe_waits{0};   // a client fell behind and dropped to the next IDR
   std::atomic<std::uint64_t> ws_slow_disconnects{0};
   std::atomic<std::uint64_t> ws_bytes_out{0};
   std::atomic<std::uint64_t> frames_published{0};
+  std::atomic<std::uint64_t> access_units_published{0};
   std::atomic<std::uint64_t> commands_accepted{0};
   std::atomic<std::uint64_t> commands_rejected{0};
   std::atomic<std::uint64_t> rate_limited{0};

@@ -19,17 +19,17 @@ namespace labo {
 
 namespace {
 
-FlightStackSetup flight_setup(const AppConfig& config) {
+control::FlightStackSetup flight_setup(const AppConfig& config) {
   // The lab's geometry (room, base, instruments, platform) from the lab description the config
   // names (validated when the config was loaded).
-  FlightStackSetup setup;
-  setup.lab = lab_geometry_from(config.lab);
+  control::FlightStackSetup setup;
+  setup.lab = fusion::lab_geometry_from(config.lab);
   setup.control = config.control;
   setup.cameras = config.cameras;
   setup.vision = config.vision;
   setup.estimation = config.estimation;
   // The real vision pipelines on the drone's frames (localization/fusion/lab_pipelines_factory.hpp).
-  setup.front_ends = FrontEndSettings{config.planar, config.slam, config.face, true};
+  setup.front_ends = fusion::FrontEndSettings{config.planar, config.slam, config.face, true};
   return setup;
 }
 
@@ -48,7 +48,7 @@ class ArdroneBackend final : public DroneBackend {
           s.host = spec.host;
           return s;
         }(), log.child("link")),
-        core_(std::make_unique<FlightStack>(flight_setup(config)), config.cameras),
+        core_(std::make_unique<control::FlightStack>(flight_setup(config)), config.cameras),
         runtime_(link_, core_, clock_, runtime_options(config), log) {
     runtime_.start();
     link_.start();
@@ -84,7 +84,7 @@ class ReplayBackend final : public DroneBackend {
   ReplayBackend(const DroneSpec& spec, const AppConfig& config, Logger log)
       : link_(spec.file, log.child("replay")),
         clock_(std::isfinite(link_.next_time()) ? link_.next_time() : 0.0),
-        core_(std::make_unique<FlightStack>(flight_setup(config)), config.cameras),
+        core_(std::make_unique<control::FlightStack>(flight_setup(config)), config.cameras),
         runtime_(link_, core_, clock_, runtime_options(config), log) {
     runtime_.start();
     player_ = std::thread([this] {
@@ -116,7 +116,7 @@ class SimBackend final : public DroneBackend {
       : lab_(make_lab(config)),
         emulator_(*lab_, emulator_settings(config), log.child("emulator")),
         link_(link_settings(config, emulator_), log.child("link")),
-        core_(std::make_unique<FlightStack>(flight_setup(config)), config.cameras),
+        core_(std::make_unique<control::FlightStack>(flight_setup(config)), config.cameras),
         runtime_(link_, core_, clock_, runtime_options(config), log) {
     // The page shows the lab's truth beside the estimate (dashed grey), as the experiments' plots do.
     core_.set_truth_source([this]() -> std::optional<Eigen::Isometry3d> {

@@ -8,10 +8,12 @@
 #include "server/lab/flight_service.hpp"
 #include "server/video/overlay_model.hpp"
 
-namespace labo {
-
+namespace labo::fusion {
 struct VisionJob;
 struct VisionResults;
+}  // namespace labo::fusion
+
+namespace labo {
 
 // What the flight software wants sent to the drone after a tick.
 struct FlightAction {
@@ -33,13 +35,13 @@ class FlightCore {
   virtual void on_navdata(const NavdataSample& sample) = 0;
   virtual void on_video(const VideoFrame& frame) = 0;
   // A frame's vision in steps, so that the runtime runs it on its worker (VisionWorker): prepare
-  // here, run_vision_job() there, apply back here. False: the frame needs no worker (a core without
+  // here, fusion::run_vision_job() there, apply back here. False: the frame needs no worker (a core without
   // that split handles the frame inline, as on_video).
-  virtual bool prepare_vision(const VideoFrame& frame, VisionJob&) {
+  virtual bool prepare_vision(const VideoFrame& frame, fusion::VisionJob&) {
     on_video(frame);
     return false;
   }
-  virtual void apply_vision(const VisionResults&) {}
+  virtual void apply_vision(const fusion::VisionResults&) {}
   virtual void on_link_state(LinkState state, Seconds t) = 0;
   virtual FlightAction tick(Seconds t) = 0;
   virtual CommandVerdict request(const MissionCommand& command, Seconds t) = 0;

@@ -77,6 +77,24 @@ void FlightRuntime::on_video(const VideoFrame& frame) {
   video_cv_.notify_one();
 }
 
+void FlightRuntime::on_encoded_video(const EncodedVideo& unit) {
+  {
+    std::lock_guard lock(sink_mutex_);
+    if (!sink_ || !sink_->wants_access_units()) return;
+  }
+  {
+    std::lock_guard lock(snapshot_mutex_);
+    unit_overlay_ = snapshot_.overlay;  // assignments: the members keep their capacity
+    unit_telemetry_ = snapshot_.telemetry;
+  }
+  WireAccessUnit out = packer_.pack(unit, unix_ms_of(unit.t));
+  out.geometry = geometry_.write(unit_overlay_, unit_telemetry_,
+                                 {unit.frame_number, out.capture_unix_ms, unit.camera, unit.width, unit.height},
+                                 clock_to_unix_s_);
+  std::lock_guard lock(sink_mutex_);
+  if (sink_) sink_->on_access_unit(out);
+}
+
 void FlightRuntime::on_link_state(LinkState state, Seconds t) {
   const LinkState previous = link_state_.exchange(state);
   if (previous == state) return;
@@ -236,6 +254,10 @@ void FlightRuntime::video_loop() {
       if (!running_) break;
       std::swap(frame, video_slot_.frame);
       video_slot_.fresh = false;
+    }
+    {
+      std::lock_guard lock(sink_mutex_);
+      if (!sink_ || !sink_->wants_jpeg()) continue;
     }
     {
       std::lock_guard lock(snapshot_mutex_);

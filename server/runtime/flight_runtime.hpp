@@ -8,7 +8,11 @@
 //    results applied here with their capture time; frames that come while the worker is busy are
 //    skipped, the newest kept;
 //  - the video thread takes the newest frame, draws the overlays from the latest snapshot, encodes
-//    JPEG and publishes it to the sink (a slow encoder drops frames, never queues them).
+//    JPEG and publishes it to the sink (a slow encoder drops frames, never queues them), while
+//    anyone watches the JPEG path;
+//  - each access unit of the drone's H.264 stream goes to the sink from the link's thread as it
+//    came (no decoding, no re-encoding), with the latest snapshot's overlay geometry, while anyone
+//    watches the H.264 path.
 // Emergency stop goes to the link from the caller's thread at once, then to the core.
 #include <atomic>
 #include <condition_variable>
@@ -24,7 +28,9 @@
 #include "server/runtime/flight_core.hpp"
 #include "server/runtime/runtime_timing.hpp"
 #include "server/runtime/vision_worker.hpp"
+#include "server/video/access_unit_wire.hpp"
 #include "server/video/frame_encoder.hpp"
+#include "server/video/overlay_geometry.hpp"
 
 namespace labo {
 
@@ -55,6 +61,7 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
  private:
   void on_navdata(const NavdataSample& sample) override;
   void on_video(const VideoFrame& frame) override;
+  void on_encoded_video(const EncodedVideo& unit) override;
   void on_link_state(LinkState state, Seconds t) override;
   void flight_loop();
   // The vision worker's results, applied; then the newest frame handed to it when it is free.
@@ -96,8 +103,8 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
 
   RuntimeTiming timing_;
   RateLimiter vision_log_limit_{5.0};
-  VisionJob vision_job_;          // the flight thread's, swapped with the worker's
-  VisionResults vision_results_;  // likewise
+  fusion::VisionJob vision_job_;          // the flight thread's, swapped with the worker's
+  fusion::VisionResults vision_results_;  // likewise
 
   mutable std::mutex snapshot_mutex_;
   FlightSnapshot snapshot_;
@@ -108,6 +115,11 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
 
   FrameEncoder encoder_;
   cv::Mat annotated_;
+  // The link's video thread's (on_encoded_video): pooled wire buffers, the snapshot copied in.
+  AccessUnitPacker packer_;
+  OverlayGeometryWriter geometry_;
+  OverlayModel unit_overlay_;
+  FlightTelemetry unit_telemetry_;
   std::thread flight_thread_;
   std::thread video_thread_;
   VisionWorker vision_;  // last: its thread calls back into input_cv_

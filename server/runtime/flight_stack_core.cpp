@@ -9,13 +9,13 @@ PoseXyzYaw xyz_yaw(const Eigen::Isometry3d& T) {
   return {T.translation().x(), T.translation().y(), T.translation().z(), std::atan2(R(1, 0), R(0, 0))};
 }
 
-PoseSource source_of(FeedbackSource s, const FlightStatus& status) {
+PoseSource source_of(fusion::FeedbackSource s, const control::FlightStatus& status) {
   switch (s) {
-    case FeedbackSource::Slam: return PoseSource::Slam;
-    case FeedbackSource::Homography:
-      return status.instrument.state == TrackState::Lost ? PoseSource::VisionLost : PoseSource::Homography;
-    case FeedbackSource::Face: return PoseSource::Face;
-    case FeedbackSource::DeadReckoning: return PoseSource::DeadReckoning;
+    case fusion::FeedbackSource::Slam: return PoseSource::Slam;
+    case fusion::FeedbackSource::Homography:
+      return status.instrument.state == fusion::TrackState::Lost ? PoseSource::VisionLost : PoseSource::Homography;
+    case fusion::FeedbackSource::Face: return PoseSource::Face;
+    case fusion::FeedbackSource::DeadReckoning: return PoseSource::DeadReckoning;
   }
   return PoseSource::DeadReckoning;
 }
@@ -53,7 +53,7 @@ const std::vector<std::pair<int, int>>& face_landmark_edges() {
   return edges;
 }
 
-FlightStackCore::FlightStackCore(std::unique_ptr<FlightStack> stack, const CamerasConfig& cameras)
+FlightStackCore::FlightStackCore(std::unique_ptr<control::FlightStack> stack, const CamerasConfig& cameras)
     : stack_(std::move(stack)), front_(cameras.front), bottom_(cameras.bottom) {}
 
 void FlightStackCore::on_navdata(const NavdataSample& sample) { stack_->on_navdata(sample); }
@@ -63,7 +63,7 @@ void FlightStackCore::on_video(const VideoFrame& frame) {
   stack_->on_video(frame);
 }
 
-bool FlightStackCore::prepare_vision(const VideoFrame& frame, VisionJob& job) {
+bool FlightStackCore::prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) {
   camera_ = frame.camera;
   return stack_->prepare_vision(frame, job);
 }
@@ -72,44 +72,44 @@ FlightAction FlightStackCore::tick(Seconds t) {
   if (truth_) {
     if (const auto T_world_body = truth_()) stack_->set_ground_truth(*T_world_body, t);
   }
-  const FlightOutput out = stack_->tick(t);
+  const control::FlightOutput out = stack_->tick(t);
   FlightAction a;
   a.move = out.move;
   a.select_camera = out.select_camera;
   switch (out.action) {
-    case FlightOutput::Action::None: a.kind = FlightAction::Kind::None; break;
-    case FlightOutput::Action::Move: a.kind = FlightAction::Kind::Move; break;
-    case FlightOutput::Action::Hover: a.kind = FlightAction::Kind::Hover; break;
-    case FlightOutput::Action::Takeoff: a.kind = FlightAction::Kind::Takeoff; break;
-    case FlightOutput::Action::Land: a.kind = FlightAction::Kind::Land; break;
-    case FlightOutput::Action::Emergency: a.kind = FlightAction::Kind::Emergency; break;
+    case control::FlightOutput::Action::None: a.kind = FlightAction::Kind::None; break;
+    case control::FlightOutput::Action::Move: a.kind = FlightAction::Kind::Move; break;
+    case control::FlightOutput::Action::Hover: a.kind = FlightAction::Kind::Hover; break;
+    case control::FlightOutput::Action::Takeoff: a.kind = FlightAction::Kind::Takeoff; break;
+    case control::FlightOutput::Action::Land: a.kind = FlightAction::Kind::Land; break;
+    case control::FlightOutput::Action::Emergency: a.kind = FlightAction::Kind::Emergency; break;
   }
   return a;
 }
 
 CommandVerdict FlightStackCore::request(const MissionCommand& c, Seconds t) {
-  MissionRequest r;
+  control::MissionRequest r;
   switch (c.kind) {
-    case MissionCommandKind::Takeoff: r.kind = RequestKind::Takeoff; break;
-    case MissionCommandKind::Inspect: r.kind = RequestKind::Inspect; break;
-    case MissionCommandKind::FindTeacher: r.kind = RequestKind::FindTeacher; break;
-    case MissionCommandKind::StopFaceFollow: r.kind = RequestKind::StopFaceFollow; break;
-    case MissionCommandKind::ReturnHome: r.kind = RequestKind::ReturnHome; break;
-    case MissionCommandKind::Land: r.kind = RequestKind::Land; break;
-    case MissionCommandKind::EmergencyStop: r.kind = RequestKind::EmergencyStop; break;
+    case MissionCommandKind::Takeoff: r.kind = control::RequestKind::Takeoff; break;
+    case MissionCommandKind::Inspect: r.kind = control::RequestKind::Inspect; break;
+    case MissionCommandKind::FindTeacher: r.kind = control::RequestKind::FindTeacher; break;
+    case MissionCommandKind::StopFaceFollow: r.kind = control::RequestKind::StopFaceFollow; break;
+    case MissionCommandKind::ReturnHome: r.kind = control::RequestKind::ReturnHome; break;
+    case MissionCommandKind::Land: r.kind = control::RequestKind::Land; break;
+    case MissionCommandKind::EmergencyStop: r.kind = control::RequestKind::EmergencyStop; break;
   }
   r.instrument_id = c.instrument;
   r.hold_s = c.hold_s;
-  const CommandResult result = stack_->request(r, t);
+  const control::CommandResult result = stack_->request(r, t);
   return {result.accepted, result.reason};
 }
 
 FlightSnapshot FlightStackCore::status() {
-  const FlightStatus s = stack_->status();
+  const control::FlightStatus s = stack_->status();
   FlightSnapshot snap;
   FlightTelemetry& t = snap.telemetry;
   // After an emergency stop the mission has ended, but what everyone must see is the cut-out.
-  t.mission = s.phase == FlightPhase::Emergency ? "emergency" : s.mission;
+  t.mission = s.phase == control::FlightPhase::Emergency ? "emergency" : s.mission;
   t.stage = s.stage;
   t.pose = xyz_yaw(s.pose.T_world_body);
   if (s.desired) t.desired = PoseXyzYaw{(*s.desired)(0), (*s.desired)(1), (*s.desired)(2), (*s.desired)(3)};
@@ -119,22 +119,23 @@ FlightSnapshot FlightStackCore::status() {
   t.battery_percent = s.battery_percent;
   t.altitude_m = s.altitude_m;
   t.link_quality = s.link == LinkState::Connected ? 1.0 : s.link == LinkState::Degraded ? 0.5 : 0.0;
-  t.flying = s.phase != FlightPhase::Landed && s.phase != FlightPhase::Emergency;
+  t.flying = s.phase != control::FlightPhase::Landed && s.phase != control::FlightPhase::Emergency;
   t.slam_state = to_string(s.slam.state);
   if (s.face.placed_in_world) t.teacher_xy = std::pair{s.face.T_world_target.translation().x(), s.face.T_world_target.translation().y()};
 
   const PinholeCamera& camera = camera_ == CameraId::Front ? front_ : bottom_;
-  if (s.instrument.state == TrackState::Tracking && s.instrument.image_points.size() == 4) {
-    snap.overlay.panel_corners = s.instrument.image_points;
-    snap.overlay.panel_axes = project_axes(camera, s.instrument.T_cam_target, 0.15);
-  } else if (s.platform.state == TrackState::Tracking && s.platform.image_points.size() == 4) {
-    snap.overlay.panel_corners = s.platform.image_points;
-    snap.overlay.panel_axes = project_axes(camera, s.platform.T_cam_target, 0.15);
+  // The panel, else the platform (the camera that sees it is the one selected).
+  if (s.instrument.state == fusion::TrackState::Tracking && s.instrument.image_points.size() == 4) {
+    snap.overlay.panel = {s.instrument.image_points, project_axes(camera, s.instrument.T_cam_target, 0.15), s.instrument.t};
+  } else if (s.platform.state == fusion::TrackState::Tracking && s.platform.image_points.size() == 4) {
+    snap.overlay.platform = {s.platform.image_points, project_axes(camera, s.platform.T_cam_target, 0.15), s.platform.t};
   }
-  if (s.face.state == TrackState::Tracking && !s.face.image_points.empty()) {
-    snap.overlay.face_points = s.face.image_points;
-    if (s.face.image_points.size() == 68) snap.overlay.face_edges = face_landmark_edges();
-    snap.overlay.face_axes = project_axes(camera, s.face.T_cam_target, 0.10);
+  if (s.face.state == fusion::TrackState::Tracking && !s.face.image_points.empty()) {
+    FaceOverlay& face = snap.overlay.face;
+    face.points = s.face.image_points;
+    if (s.face.image_points.size() == 68) face.edges = face_landmark_edges();
+    face.axes = project_axes(camera, s.face.T_cam_target, 0.10);
+    face.measured_t = s.face.t;
   }
 
   if (s.mission != last_mission_ || s.stage != last_stage_) {
@@ -151,7 +152,7 @@ FlightSnapshot FlightStackCore::status() {
 
 std::vector<InstrumentSummary> FlightStackCore::instruments() const {
   std::vector<InstrumentSummary> out;
-  for (const PlanarTarget& p : stack_->setup().lab.instruments) out.push_back({p.id, p.name, p.width_m, p.height_m, p.T_world_object.translation().x(), p.T_world_object.translation().y()});
+  for (const fusion::PlanarTarget& p : stack_->setup().lab.instruments) out.push_back({p.id, p.name, p.width_m, p.height_m, p.T_world_object.translation().x(), p.T_world_object.translation().y()});
   return out;
 }
 

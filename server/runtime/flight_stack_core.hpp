@@ -14,26 +14,26 @@ namespace labo {
 
 class FlightStackCore final : public FlightCore {
  public:
-  FlightStackCore(std::unique_ptr<FlightStack> stack, const CamerasConfig& cameras);
+  FlightStackCore(std::unique_ptr<control::FlightStack> stack, const CamerasConfig& cameras);
 
   void on_navdata(const NavdataSample& sample) override;
   void on_video(const VideoFrame& frame) override;
-  bool prepare_vision(const VideoFrame& frame, VisionJob& job) override;
-  void apply_vision(const VisionResults& results) override { stack_->apply_vision(results); }
+  bool prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) override;
+  void apply_vision(const fusion::VisionResults& results) override { stack_->apply_vision(results); }
   void on_link_state(LinkState state, Seconds t) override { stack_->on_link_state(state, t); }
   FlightAction tick(Seconds t) override;
   CommandVerdict request(const MissionCommand& command, Seconds t) override;
   FlightSnapshot status() override;
   std::vector<InstrumentSummary> instruments() const override;
 
-  FlightStack& stack() { return *stack_; }
+  control::FlightStack& stack() { return *stack_; }
   // Where the drone truly is, asked at every tick and shown beside the estimate (the simulated lab
   // only: a real flight has no truth). Set before the runtime starts.
   using TruthSource = std::function<std::optional<Eigen::Isometry3d>()>;
   void set_truth_source(TruthSource source) { truth_ = std::move(source); }
 
  private:
-  std::unique_ptr<FlightStack> stack_;
+  std::unique_ptr<control::FlightStack> stack_;
   PinholeCamera front_, bottom_;
   CameraId camera_ = CameraId::Front;
   TruthSource truth_;

@@ -21,7 +21,7 @@ bool VisionWorker::idle() const {
   return state_ == State::Idle;
 }
 
-void VisionWorker::submit(VisionJob& job) {
+void VisionWorker::submit(fusion::VisionJob& job) {
   {
     std::lock_guard lock(mutex_);
     if (state_ != State::Idle) throw std::logic_error("VisionWorker::submit: the worker is busy");
@@ -31,7 +31,7 @@ void VisionWorker::submit(VisionJob& job) {
   cv_.notify_all();
 }
 
-bool VisionWorker::take(VisionResults& out, double& run_ms) {
+bool VisionWorker::take(fusion::VisionResults& out, double& run_ms) {
   std::lock_guard lock(mutex_);
   if (state_ != State::Done) return false;
   std::swap(out, results_);
@@ -49,7 +49,7 @@ void VisionWorker::loop() {
     lock.unlock();
     const auto start = std::chrono::steady_clock::now();
     try {
-      run_vision_job(job_, results_);
+      fusion::run_vision_job(job_, results_);
     } catch (const std::exception& e) {
       // A front-end that throws must not take the server down: the frame yields nothing.
       results_.has_instrument = results_.has_platform = results_.has_face = results_.has_slam = false;

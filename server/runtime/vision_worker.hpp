@@ -25,10 +25,10 @@ class VisionWorker {
   // No job running and no results waiting to be taken.
   bool idle() const;
   // Starts `job` (requires idle()); the caller gets the worker's previous job buffers back in `job`.
-  void submit(VisionJob& job);
+  void submit(fusion::VisionJob& job);
   // The finished job's results swapped into `out`, with the time the front-ends took (steady
   // clock, ms); false when none is ready.
-  bool take(VisionResults& out, double& run_ms);
+  bool take(fusion::VisionResults& out, double& run_ms);
 
  private:
   enum class State { Idle, Running, Done };
@@ -39,8 +39,8 @@ class VisionWorker {
   std::condition_variable cv_;
   State state_ = State::Idle;
   bool stopping_ = false;
-  VisionJob job_;
-  VisionResults results_;
+  fusion::VisionJob job_;
+  fusion::VisionResults results_;
   double run_ms_ = 0;
   std::thread thread_;  // last: started once the members above exist
 };

@@ -1,13 +1,13 @@
 #pragma once
-// JPEG-encodes annotated frames into wire messages (header + JPEG). Wire buffers come from a small
-// pool and are reused once every client has let go of them, so steady-state encoding does not
-// allocate: a buffer still held by a slow client is simply skipped.
+// JPEG-encodes annotated frames into wire messages (header + JPEG), in pooled buffers
+// (WireBufferPool): steady-state encoding does not allocate.
 #include <memory>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
 #include "server/lab/flight_service.hpp"
+#include "server/video/wire_buffer_pool.hpp"
 
 namespace labo {
 
@@ -18,10 +18,9 @@ class FrameEncoder {
   double last_encode_ms() const { return last_encode_ms_; }
 
  private:
-  std::shared_ptr<std::string> free_buffer();
   std::vector<int> params_;
   std::vector<std::uint8_t> jpeg_;
-  std::vector<std::shared_ptr<std::string>> pool_;
+  WireBufferPool pool_;
   double last_encode_ms_ = 0;
 };
 

@@ -1,20 +1,11 @@
 #include "server/video/frame_header.hpp"
 
-#include <bit>
+#include "server/video/wire_bytes.hpp"
 
 namespace labo {
 
-namespace {
-static_assert(std::endian::native == std::endian::little, "the wire format is little-endian; add byte swaps for this host");
-template <typename T>
-void put(char* out, std::size_t at, T v) { std::memcpy(out + at, &v, sizeof(T)); }
-template <typename T>
-T get(std::string_view in, std::size_t at) {
-  T v;
-  std::memcpy(&v, in.data() + at, sizeof(T));
-  return v;
-}
-}  // namespace
+using wire::get;
+using wire::put;
 
 void FrameHeader::write(char* out) const {
   std::memcpy(out, "LDV1", 4);

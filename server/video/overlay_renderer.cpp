@@ -29,18 +29,19 @@ cv::Scalar bgr_of(const std::string& hex) {
 void draw_overlays(cv::Mat& img, const OverlayModel& o, const FlightTelemetry& t) {
   if (img.empty()) return;
   const cv::Scalar source_colour = bgr_of(colour_of(t.source));
-  if (o.panel_corners.size() == 4 && inside(img, o.panel_corners[0])) {
-    for (int i = 0; i < 4; ++i)
-      cv::line(img, o.panel_corners[i], o.panel_corners[(i + 1) % 4], {255, 255, 0}, 2, cv::LINE_AA);
+  for (const OutlineOverlay* outline : {&o.panel, &o.platform}) {
+    const auto& c = outline->corners;
+    if (c.size() == 4 && inside(img, c[0]))
+      for (int i = 0; i < 4; ++i) cv::line(img, c[i], c[(i + 1) % 4], {255, 255, 0}, 2, cv::LINE_AA);
+    if (outline->axes && inside(img, outline->axes->origin)) draw_axes(img, *outline->axes);
   }
-  if (o.panel_axes && inside(img, o.panel_axes->origin)) draw_axes(img, *o.panel_axes);
-  for (const auto& [a, b] : o.face_edges) {
-    if (a < 0 || b < 0 || a >= static_cast<int>(o.face_points.size()) || b >= static_cast<int>(o.face_points.size())) continue;
-    cv::line(img, o.face_points[a], o.face_points[b], {0, 220, 255}, 1, cv::LINE_AA);
-  }
-  for (const auto& p : o.face_points)
+  const FaceOverlay& face = o.face;
+  const int n = static_cast<int>(face.points.size());
+  for (const auto& [a, b] : face.edges)
+    if (a >= 0 && b >= 0 && a < n && b < n) cv::line(img, face.points[a], face.points[b], {0, 220, 255}, 1, cv::LINE_AA);
+  for (const auto& p : face.points)
     if (inside(img, p)) cv::circle(img, p, 2, {0, 160, 255}, cv::FILLED, cv::LINE_AA);
-  if (o.face_axes && inside(img, o.face_axes->origin)) draw_axes(img, *o.face_axes);
+  if (face.axes && inside(img, face.axes->origin)) draw_axes(img, *face.axes);
 
   // Source colour as a frame border, so the state is visible at a glance.
   cv::rectangle(img, {0, 0, img.cols, img.rows}, source_colour, 6);

@@ -10,11 +10,12 @@
 #include "teacher_routes.hpp"
 
 using namespace labo;
+using namespace labo::control;
 
 namespace {
 
-LabGeometry lab_of_config() {
-  LabGeometry lab = model_lab();
+fusion::LabGeometry lab_of_config() {
+  fusion::LabGeometry lab = model_lab();
   lab.room_min = {-1.5, -3.0, 0.0};
   lab.room_max = {6.5, 3.0, 3.0};
   lab.teacher = test::lab_route();
@@ -22,19 +23,19 @@ LabGeometry lab_of_config() {
 }
 
 struct RouteFlight {
-  explicit RouteFlight(LabGeometry l = lab_of_config(), ControlConfig config = {}) : lab(std::move(l)), f(std::move(config), lab) {}
-  LabGeometry lab;
+  explicit RouteFlight(fusion::LabGeometry l = lab_of_config(), control::ControlConfig config = {}) : lab(std::move(l)), f(std::move(config), lab) {}
+  fusion::LabGeometry lab;
   TeacherMotion motion{test::walking(lab.teacher)};
   test::ModelFlight f;
   Eigen::Vector3d face_shift = Eigen::Vector3d::Zero();  // the face seen this far from the head's place
 
   void tick() {
-    f.world->T_world_face = Eigen::Translation3d(face_shift) * motion.pose(f.t).T_world_head * flip_about_y();
+    f.world->T_world_face = Eigen::Translation3d(face_shift) * motion.pose(f.t).T_world_head * fusion::flip_about_y();
     f.run(1.0 / 30.0);
   }
   bool find_and_settle() {
-    MissionRequest r;
-    r.kind = RequestKind::FindTeacher;
+    control::MissionRequest r;
+    r.kind = control::RequestKind::FindTeacher;
     if (!f.request(r).accepted) return false;
     for (const double end = f.t + 150; f.t < end;) {
       tick();
@@ -121,7 +122,7 @@ void check_leg_start_met(const RouteFlight::LegStart& leg) {
 TEST_CASE("control: next_long_leg is the route's own leg, not one drawn in from the walls") {
   // The meeting point drawn in 0.2 m from leg A's start (1.2, -2.4) lies within 0.6 m of the short
   // leg's start (1.2, -1.9) too: the leg walked next is still A, 3 m long.
-  const std::optional<RouteLeg> leg = next_long_leg(test::lab_route(), {1.2, -2.2}, 0.6);
+  const std::optional<control::RouteLeg> leg = next_long_leg(test::lab_route(), {1.2, -2.2}, 0.6);
   REQUIRE(leg);
   CHECK(leg->index == 0);
   CHECK(leg->length_m == Approx(3.0));
@@ -131,7 +132,7 @@ TEST_CASE("control: next_long_leg is the route's own leg, not one drawn in from 
 }
 
 TEST_CASE("control: metres_short_of_waypoint measures along the leg into a waypoint, only on it") {
-  const TeacherRoute route = test::lab_route();
+  const fusion::TeacherRoute route = test::lab_route();
   // Leg C runs (4.2, -1.9) -> (1.2, -1.9), into waypoint 3.
   CHECK(metres_short_of_waypoint(route, {1.65, -1.9}, 3, 0.25) == Approx(0.45));
   CHECK(metres_short_of_waypoint(route, {1.65, -1.75}, 3, 0.25) == Approx(0.45));  // off the line, within tolerance
@@ -143,7 +144,7 @@ TEST_CASE("control: metres_short_of_waypoint measures along the leg into a waypo
 
 TEST_CASE("control: route_place_before walks the pauses and the short leg between a corner and the next long leg") {
   // Reached (4.2, -2.4) at 0: pause 3 s, the 0.5 m leg to (4.2, -1.9) in 1.25 s, pause 3 s, then leg C.
-  const std::optional<RouteLeg> leg = next_long_leg(test::lab_route(), {4.2, -2.4}, 0.25);
+  const std::optional<control::RouteLeg> leg = next_long_leg(test::lab_route(), {4.2, -2.4}, 0.25);
   REQUIRE(leg);
   CHECK(leg->index == 2);
   CHECK(seconds_to_set_off(test::lab_route(), {4.2, -2.4}, *leg) == Approx(7.25));
@@ -154,10 +155,9 @@ TEST_CASE("control: route_place_before walks the pauses and the short leg betwee
 }
 
 TEST_CASE("control: a face lost as the teacher sets off along the leg by the wall is predicted along the whole leg") {
-  // Real vision, seed 1 (2026-12-02, a08cc03): the face lost 0.3 s into leg A (the track still
-  // standing: the face's jitter hides 0.1 m of walking), the predicted teacher stopped after 0.5 m
-  // (the short leg's length, taken from the wrong corner), and the drone waited there while the
-  // teacher walked on at it, 0.41 m from the face.
+  // The face lost 0.3 s into leg A, the track still standing (the face's jitter hides 0.1 m of
+  // walking). Wrong: the predicted teacher stops after 0.5 m (the short leg's length, taken from the
+  // wrong corner) and the drone waits there while the teacher walks on at it.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   REQUIRE(r.until_end_of_short_leg());
@@ -180,11 +180,11 @@ TEST_CASE("control: a face lost as the teacher sets off along the leg by the wal
 }
 
 TEST_CASE("control: a face lost at a corner waits for the teacher pausing there, not ahead of them") {
-  // Real vision, seed 1 (2026-12-02, a08cc03): the face lost as the teacher reached the corner
-  // (4.2, -1.9) and stood there 3 s turning; the prediction walked the next leg from that moment, and
-  // the drone, 1.2 m ahead of a teacher who was not there, was 2.4 m from the face when they set off.
-  // Here a square of 3 m legs (90 degree turns, no turn back: the drone follows into the corner).
-  LabGeometry lab = model_lab();  // fence x -0.7..4.7, y -2.7..2.7
+  // The face lost as the teacher reaches a corner and stands there 3 s turning. Wrong: the prediction
+  // walks the next leg from that moment, and the drone waits ahead of a teacher who is not there, far
+  // from the face when they set off. Here a square of 3 m legs (90 degree turns, no turn back: the
+  // drone follows into the corner).
+  fusion::LabGeometry lab = model_lab();  // fence x -0.7..4.7, y -2.7..2.7
   lab.teacher = test::lab_route();
   lab.teacher.waypoints = {{0.5, -1.5}, {3.5, -1.5}, {3.5, 1.5}, {0.5, 1.5}};
   RouteFlight r{lab};
@@ -204,9 +204,9 @@ TEST_CASE("control: a face lost at a corner waits for the teacher pausing there,
 }
 
 TEST_CASE("control: a face taken up for a moment at the corner keeps the meeting's wait for the teacher to set off") {
-  // Real vision, seed 1 (2026-12-02): met in front of leg C, the drone took the face up 0.05 s before
-  // the teacher stopped at its corner and lost it 0.4 s later; with nothing seen walking, the
-  // prediction walked leg C at once, 3 s early, and the drone waited 1.2 m too far along it.
+  // Met in front of leg C, the drone takes the face up just before the teacher stops at its corner and
+  // loses it 0.4 s later. Wrong: with nothing seen walking, the prediction walks leg C at once, 3 s
+  // early, and the drone waits too far along it.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   // Until the teacher stands at the corner before a long leg with the drone in front of it, hidden
@@ -225,12 +225,12 @@ TEST_CASE("control: a face taken up for a moment at the corner keeps the meeting
 }
 
 TEST_CASE("control: a correction of the drone's pose estimate is not taken for the teacher's walk") {
-  // Real vision (2026-12-02, every seed): on dead reckoning over the lab's bare floor the estimator
-  // corrected the drone's estimate by 0.09-0.13 m within one tick; the faces placed from it moved as
-  // much, the track read that as 0.27 m/s of walking, and its heading swung: the set point went 0.3 m
-  // sideways (seed 4, leg C). Here the estimate jumps 0.12 m across a long leg while the teacher walks
-  // it (leg C, y = -1.9: the standoff there is clear of the wall clearance, which is fixed in the
-  // estimate's frame): the drone, in truth, should stay in front of them.
+  // On dead reckoning over a bare floor the estimator corrects the drone's estimate by about 0.1 m
+  // within one tick; the faces placed from it move as much. Wrong: the track reads that as 0.27 m/s of
+  // walking, its heading swings and the set point with it. Here the estimate jumps 0.12 m across a
+  // long leg while the teacher walks it (leg C, y = -1.9: the standoff there is clear of the wall
+  // clearance, which is fixed in the estimate's frame): the drone, in truth, should stay in front of
+  // them.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   // Until the teacher has walked 3 s of leg C (along -x), followed (the drone settled in front).
@@ -265,11 +265,11 @@ TEST_CASE("control: a correction of the drone's pose estimate is not taken for t
 }
 
 TEST_CASE("control: going round to the next leg, the camera turns with the bearing to the teacher on the short leg") {
-  // Real vision, seed 1 (2026-12-02): while the drone went round the corner to meet the teacher in
-  // front of leg C (~0.5 rad/s round them), the yaw loop lagged the bearing by 0.15-0.3 rad and the
-  // face of the teacher walking the 0.5 m leg sat 0.27 m off the centre ray at 0.9 m (face-centre
-  // error RMS 0.27 on that leg). The bearing's rate is fed forward now.
-  const auto short_leg_aim_rms_rad = [](ControlConfig config) {
+  // Going round the corner to meet the teacher in front of leg C (~0.5 rad/s round them), the yaw loop
+  // alone lags the bearing by 0.15-0.3 rad: the face of the teacher walking the 0.5 m leg sits a
+  // quarter of a metre off the centre ray. The bearing's rate is fed forward; without it (the
+  // feed-forward set to 0) the aim is worse.
+  const auto short_leg_aim_rms_rad = [](control::ControlConfig config) {
     RouteFlight r{lab_of_config(), std::move(config)};
     REQUIRE(r.find_and_settle());
     double sum = 0;
@@ -289,10 +289,10 @@ TEST_CASE("control: going round to the next leg, the camera turns with the beari
     REQUIRE(n > 20);
     return std::sqrt(sum / n);
   };
-  ControlConfig without;
+  control::ControlConfig without;
   without.gains.yaw_rate_feedforward = 0;
   const double lagging = short_leg_aim_rms_rad(without);
-  const double fed_forward = short_leg_aim_rms_rad(ControlConfig{});
+  const double fed_forward = short_leg_aim_rms_rad(control::ControlConfig{});
   INFO("face off the optical axis on the short leg, RMS: " << lagging << " rad without the feed-forward, " << fed_forward << " rad with it");
   CHECK(fed_forward < 0.1);
   CHECK(fed_forward < 0.6 * lagging);
@@ -302,8 +302,8 @@ TEST_CASE("control: a face first seen for a moment at the end of a leg waits out
   // Found late on leg C (walking at (1.2, -1.9), the corner before the 0.5 m short leg to leg A's
   // start) and lost 0.4 s later: too short a look to see them walk in, so the prediction took them
   // for a teacher standing at a corner and walked leg A at once - 7 s early, while by the route they
-  // still pause, walk the short leg and pause again. The drone waited far along leg A and met them
-  // late (found 2026-12-02 in variant configs: 1.2 m from the face).
+  // still pause, walk the short leg and pause again. The drone would wait far along leg A and meet them
+  // late.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   r.f.world->face_visible = false;
@@ -337,7 +337,7 @@ TEST_CASE("control: a face first seen for a moment at the end of a leg waits out
 }
 
 TEST_CASE("control: waypoint_walked_into is the end of the leg walked along, only while walking it") {
-  const TeacherRoute route = test::lab_route();
+  const fusion::TeacherRoute route = test::lab_route();
   // Mid-leg A (+x into waypoint 1), walking along it.
   const std::optional<std::size_t> k = waypoint_walked_into(route, {2.7, -2.35}, {0.4, 0.0}, 0.25, 0.1);
   REQUIRE(k);
@@ -349,18 +349,17 @@ TEST_CASE("control: waypoint_walked_into is the end of the leg walked along, onl
   CHECK_FALSE(waypoint_walked_into(route, {2.7, -2.4}, {0.0, 0.0}, 0.25, 0.1));    // standing
   CHECK_FALSE(waypoint_walked_into(route, {2.7, -2.4}, {-0.4, 0.0}, 0.25, 0.1));   // against the leg
   CHECK_FALSE(waypoint_walked_into(route, {2.7, -2.9}, {0.4, 0.0}, 0.25, 0.1));    // off the route
-  const std::optional<RouteLeg> after = next_long_leg_from(route, 1);  // past the 0.5 m leg: leg C
+  const std::optional<control::RouteLeg> after = next_long_leg_from(route, 1);  // past the 0.5 m leg: leg C
   REQUIRE(after);
   CHECK(after->index == 2);
   CHECK(after->corner == 1);
 }
 
 TEST_CASE("control: a face lost in the middle of a leg is followed on along the route, not held") {
-  // The head's sway takes the face past the detector in the middle of a leg (real vision, teacher at
-  // 0.5 m/s: leg A, 1.1 m short of its end). Holding there, the drone was walked into; now it backs
-  // off ahead of where the route has them and meets them at the corner.
+  // The head's sway takes the face past the detector in the middle of a leg. Holding there, the drone
+  // would be walked into; it backs off ahead of where the route has them and meets them at the corner.
   for (const double speed : {0.4, 0.5}) {
-    LabGeometry lab = lab_of_config();
+    fusion::LabGeometry lab = lab_of_config();
     lab.teacher.speed_mps = speed;
     RouteFlight r(lab);
     REQUIRE(r.find_and_settle());
@@ -384,11 +383,10 @@ TEST_CASE("control: a face lost in the middle of a leg is followed on along the 
 }
 
 TEST_CASE("control: a teacher met in front of the next leg is followed from their set-off, not after the walk shows") {
-  // Real vision, teacher at 0.5 m/s (2026-12-03, seeds 1-8): the first 2 s of the long legs were 62 %
-  // of the squared distance error: met in front of the leg, the drone waited for the face's velocity
-  // (low-passed over 0.4 s, behind the perception delay) to show the walk, and the teacher came
-  // 0.2 m too close 1.3 s into the leg. The set-off is now fed forward from the route's time or from
-  // the first 5 cm the face walks along the leg.
+  // Met in front of the leg, a drone that waits for the face's velocity (low-passed over 0.4 s, behind
+  // the perception delay) to show the walk lets the teacher come too close in the leg's first seconds,
+  // where most of the follow's distance error would then lie. The set-off is fed forward from the
+  // route's time or from the first 5 cm the face walks along the leg.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   REQUIRE(r.until_end_of_short_leg());
@@ -414,9 +412,9 @@ TEST_CASE("control: a teacher met in front of the next leg is followed from thei
 }
 
 TEST_CASE("control: a face lost for a few frames mid-leg is bridged along the track, not taken for a loss") {
-  // At the tracker's limit (~35 degrees of head yaw) the face flickers. Each flicker used to send the
-  // mission through Lost and a meeting, resetting the controller; a loss shorter than 0.25 s while
-  // the teacher walks a leg is now flown along the coasted track.
+  // At the tracker's limit (~35 degrees of head yaw) the face flickers. Each flicker must not send the
+  // mission through Lost and a meeting, resetting the controller: a loss shorter than 0.25 s while
+  // the teacher walks a leg is flown along the coasted track.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   REQUIRE(r.until_walking_leg_a(2.2, 2.8));
@@ -462,7 +460,7 @@ SetOffFlown fly_face_moved_at_corner(bool then_lost, std::initializer_list<doubl
   SetOffFlown out;
   REQUIRE(r.find_and_settle());
   REQUIRE(r.until_end_of_short_leg());
-  const std::optional<RouteLeg> leg = next_long_leg(r.lab.teacher, r.motion.pose(r.f.t).T_world_head.translation().head<2>(), 0.6);
+  const std::optional<control::RouteLeg> leg = next_long_leg(r.lab.teacher, r.motion.pose(r.f.t).T_world_head.translation().head<2>(), 0.6);
   REQUIRE(leg);
   r.face_shift.head<2>() = before_m * leg->along;
   for (const double end = r.f.t + 1.5; r.f.t < end;) r.tick();
@@ -499,11 +497,11 @@ SetOffFlown fly_face_moved_at_corner(bool then_lost, std::initializer_list<doubl
 }  // namespace
 
 TEST_CASE("control: a face that moves a few cm along the next leg and is lost is no set-off for the meeting") {
-  // Real vision, teacher at 0.4 m/s, seed 7 (2026-12-03): met in front of leg C and followed standing
-  // at its start, the face's place moved 5 cm along the leg 1.2 s before the route's set-off and
-  // stopped; that first 5 cm fed the route's walking speed forward, and the face, lost 0.1 s later,
-  // was taken for a teacher walking the leg (the track's velocity was the feed-forward's): the meeting
-  // backed off along it at once, and the drone was 1.6 m from the face when they came.
+  // Met in front of leg C and followed standing at its start, the face's place moves a few cm along
+  // the leg before the route's set-off and stops; that first move feeds the route's walking speed
+  // forward, and the face is lost just after. Wrong: taking it for a teacher walking the leg (the
+  // track's velocity is the feed-forward's), the meeting backs off along it at once, and the drone is
+  // far from the face when they come.
   const SetOffFlown flown = fly_face_moved_at_corner(true);
   INFO("depth error at the set-off " << flown.depth_error_at_set_off_m << " m, RMS over the leg's first 4 s "
                                       << flown.depth_error_rms_m << " m");
@@ -514,9 +512,9 @@ TEST_CASE("control: a face that moves a few cm along the next leg and is lost is
 }
 
 TEST_CASE("control: a face that moves a few cm along the next leg and stops is no set-off while followed") {
-  // The same 5 cm with the face still in view: the feed-forward it started is confirmed only by the
-  // face walking on; before, it ran until the face had walked 0.2 m, i.e. until the teacher really set
-  // off, and the drone backed off at the route's speed meanwhile.
+  // The same few cm with the face still in view: the feed-forward it started is confirmed only by the
+  // face walking on; run until the face had walked 0.2 m, i.e. until the teacher really set off, it
+  // would back the drone off at the route's speed meanwhile.
   const SetOffFlown flown = fly_face_moved_at_corner(false);
   INFO("depth error at the set-off " << flown.depth_error_at_set_off_m << " m, RMS over the leg's first 4 s "
                                       << flown.depth_error_rms_m << " m");
@@ -526,12 +524,11 @@ TEST_CASE("control: a face that moves a few cm along the next leg and stops is n
 }
 
 TEST_CASE("control: a head turning at the corner, its face not yet on the next leg, is no set-off when lost") {
-  // Real vision, teacher at 0.4 m/s, seed 14 (2026-12-03): followed standing at the corner before leg
-  // C, the face's place moved 6.5 cm along the leg (the feed-forward started) and 5.6 cm more 0.47 s
-  // later (confirmed: the head turning on, not a step), and the face was lost 0.4 s after, its place
-  // still 4 cm short of the leg's start. The track's fed-forward 0.4 m/s was read as a teacher walking
-  // the leg; the meeting backed off at once, 1.3 s before the set-off. A velocity counts as a walk only
-  // with the face's place on the leg.
+  // Followed standing at the corner before leg C, the face's place moves 6.5 cm along the leg (the
+  // feed-forward starts) and 6.5 cm more 0.3 s later (confirmed: the head turning on, not a step), and
+  // the face is lost, its place still short of the leg's start. Wrong: the track's fed-forward speed
+  // read as a teacher walking the leg, the meeting backing off at once, before the set-off. A velocity
+  // counts as a walk only with the face's place on the leg.
   const SetOffFlown flown = fly_face_moved_at_corner(true, {0.065, 0.13}, -0.17);
   INFO("depth error at the set-off " << flown.depth_error_at_set_off_m << " m, RMS over the leg's first 4 s "
                                       << flown.depth_error_rms_m << " m");
@@ -540,11 +537,11 @@ TEST_CASE("control: a head turning at the corner, its face not yet on the next l
 }
 
 TEST_CASE("control: a face lost walking into a corner and seen again on the way times the set-off from the walk seen") {
-  // Real vision, teacher at 0.5 m/s, seed 1 (2026-12-03): the face lost 0.54 m short of the end of
-  // leg C, taken up again for 0.4 s on the way in (too short for a walk spell) and lost at the corner.
-  // The set-off along leg A was timed from the end of the last walk spell plus the rest of the way from
-  // where the face was *last* seen, at the corner: the way walked meanwhile was counted twice, the
-  // set-off predicted 0.8 s early, and the drone backed off ahead of a teacher who still stood.
+  // The face lost half a metre short of the end of leg C, taken up again for 0.4 s on the way in (too
+  // short for a walk spell) and lost at the corner. Wrong: timing the set-off along leg A from the end
+  // of the last walk spell plus the rest of the way from where the face was *last* seen, at the
+  // corner, counts the way walked meanwhile twice: the set-off predicted early, the drone backs off
+  // ahead of a teacher who still stands.
   RouteFlight r;
   REQUIRE(r.find_and_settle());
   // Until the teacher walks leg C (-x, y = -1.9) 0.65 m short of its end (1.2, -1.9), followed.

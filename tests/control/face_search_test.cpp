@@ -11,21 +11,22 @@
 #include "teacher_routes.hpp"
 
 using namespace labo;
+using namespace labo::control;
 using labo::test::lab_route;
 using labo::test::turn_back_route;
 using labo::test::walking;
 
 namespace {
-MissionRequest find_teacher() {
-  MissionRequest r;
-  r.kind = RequestKind::FindTeacher;
+control::MissionRequest find_teacher() {
+  control::MissionRequest r;
+  r.kind = control::RequestKind::FindTeacher;
   return r;
 }
 }  // namespace
 
 TEST_CASE("control: watch points lie beyond each long leg of the teacher's route, facing back along it") {
-  const Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);
-  const std::vector<WatchPoint> w = teacher_watch_points(lab_route(), fence, 1.5, 0.8);
+  const control::Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);
+  const std::vector<control::WatchPoint> w = teacher_watch_points(lab_route(), fence, 1.5, 0.8);
   REQUIRE(w.size() == 2);  // the two 0.5 m legs are too short to watch
   CHECK((w[0].position - Eigen::Vector3d(5.7, -2.4, 1.65)).norm() < 1e-9);
   CHECK(std::abs(std::abs(w[0].yaw) - std::numbers::pi) < 1e-9);  // facing -x, towards the oncoming teacher
@@ -35,38 +36,38 @@ TEST_CASE("control: watch points lie beyond each long leg of the teacher's route
 }
 
 TEST_CASE("control: a watch point clamped into the fence too close to the route is dropped") {
-  TeacherRoute r;
+  fusion::TeacherRoute r;
   r.waypoints = {{0.0, 0.0}, {3.0, 0.0}};
   r.eye_height_m = 1.6;
-  const Geofence fence({-3.0, -3.0, 0.0}, {4.0, 3.0, 3.0}, 0.3);  // x <= 3.7: (4.5, 0) clamps to 0.7 m from the route
-  const std::vector<WatchPoint> w = teacher_watch_points(r, fence, 1.5, 0.8);
+  const control::Geofence fence({-3.0, -3.0, 0.0}, {4.0, 3.0, 3.0}, 0.3);  // x <= 3.7: (4.5, 0) clamps to 0.7 m from the route
+  const std::vector<control::WatchPoint> w = teacher_watch_points(r, fence, 1.5, 0.8);
   REQUIRE(w.size() == 1);
   CHECK((w[0].position - Eigen::Vector3d(-1.5, 0.0, 1.6)).norm() < 1e-9);
   CHECK(distance_to_route({1.0, 0.5}, r) == Approx(0.5));
-  CHECK(teacher_watch_points(TeacherRoute{}, fence, 1.5, 0.8).empty());
+  CHECK(teacher_watch_points(fusion::TeacherRoute{}, fence, 1.5, 0.8).empty());
 }
 
 TEST_CASE("control: the face standoff is turned into the fence and reached around the teacher") {
-  const Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);  // y >= -2.7
+  const control::Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);  // y >= -2.7
   const Eigen::Vector3d face(1.2, -2.4, 1.65);
   // The teacher faces the wall (-y): the standoff 1 m in front of them is behind the fence.
-  const PoseTarget behind{{1.2, -3.4, 1.65}, std::numbers::pi / 2};
-  const PoseTarget in = follow_standoff(behind, face, {1.2, -1.4, 1.65}, fence, std::numbers::pi);
+  const control::PoseTarget behind{{1.2, -3.4, 1.65}, std::numbers::pi / 2};
+  const control::PoseTarget in = follow_standoff(behind, face, {1.2, -1.4, 1.65}, fence, std::numbers::pi);
   CHECK(fence.contains(in.position));
   CHECK((in.position - face).norm() == Approx(1.0));
   CHECK((in.position - face).y() >= -0.3 - 1e-9);
   CHECK((in.position - face).y() < -0.3 + 0.1);  // the smallest turn that brings it in
   // The teacher turned round: the standoff on the far side is approached 60 degrees at a time.
-  const PoseTarget far_side{{2.2, -1.0, 1.65}, std::numbers::pi};
+  const control::PoseTarget far_side{{2.2, -1.0, 1.65}, std::numbers::pi};
   const Eigen::Vector3d drone(0.2, -1.0, 1.65), centre(1.2, -1.0, 1.65);
-  const PoseTarget step = follow_standoff(far_side, centre, drone, fence, std::numbers::pi / 3);
+  const control::PoseTarget step = follow_standoff(far_side, centre, drone, fence, std::numbers::pi / 3);
   const double lead = std::atan2((step.position - centre).y(), (step.position - centre).x());
   CHECK(std::abs(std::abs(lead) - 2 * std::numbers::pi / 3) < 1e-9);  // 180 - 60 degrees from +x
   CHECK((step.position - centre).norm() == Approx(1.0));
 }
 
 TEST_CASE("control: find teacher with a known route waits at a watch point instead of sweeping the room") {
-  LabGeometry lab = model_lab();
+  fusion::LabGeometry lab = model_lab();
   lab.teacher.waypoints = {{1.0, -2.0}, {3.0, -2.0}, {3.0, -1.5}, {1.0, -1.5}};
   lab.teacher.eye_height_m = 1.6;
   test::ModelFlight f({}, lab);
@@ -86,9 +87,9 @@ TEST_CASE("control: find teacher with a known route waits at a watch point inste
 }
 
 TEST_CASE("control: a face lost at a corner of the route is met ahead on the next long leg") {
-  const Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);
+  const control::Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);
   // At the end of the leg back (1.2, -1.9): the short leg to (1.2, -2.4) comes next, then the long one along +x.
-  const std::optional<WatchPoint> meet = next_leg_meeting_point(lab_route(), {1.25, -1.95}, fence, 1.5, 0.6);
+  const std::optional<control::WatchPoint> meet = next_leg_meeting_point(lab_route(), {1.25, -1.95}, fence, 1.5, 0.6);
   REQUIRE(meet);
   CHECK((meet->position - Eigen::Vector3d(2.7, -2.4, 1.65)).norm() < 1e-9);
   CHECK(std::abs(std::abs(meet->yaw) - std::numbers::pi) < 1e-9);  // facing the teacher coming along +x
@@ -96,34 +97,34 @@ TEST_CASE("control: a face lost at a corner of the route is met ahead on the nex
 }
 
 TEST_CASE("control: going round the teacher keeps to the side inside the fence") {
-  const Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);  // y >= -2.7
+  const control::Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);  // y >= -2.7
   const Eigen::Vector3d face(1.2, -2.4, 1.65);
   for (const double side : {-1e-6, 1e-6}) {  // the teacher turned round: either way is as short
-    const PoseTarget ahead{{2.2, -2.4 + side, 1.65}, std::numbers::pi};
-    const PoseTarget step = follow_standoff(ahead, face, {0.2, -2.4, 1.65}, fence, std::numbers::pi / 3);
+    const control::PoseTarget ahead{{2.2, -2.4 + side, 1.65}, std::numbers::pi};
+    const control::PoseTarget step = follow_standoff(ahead, face, {0.2, -2.4, 1.65}, fence, std::numbers::pi / 3);
     CHECK(fence.contains(step.position));
     CHECK(step.position.y() > -2.4);  // round the north side, not clamped against the wall behind
   }
 }
 
 TEST_CASE("control: the meeting point starts from the nearest corner when two are within the radius") {
-  const Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);
+  const control::Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);
   // Near (1.2, -2.4), 0.45 m from (1.2, -1.9): the teacher turns at (1.2, -2.4) onto the leg along +x.
-  const std::optional<WatchPoint> start = next_leg_meeting_point(lab_route(), {1.2, -2.35}, fence, 0.0, 0.6, 0.4);
+  const std::optional<control::WatchPoint> start = next_leg_meeting_point(lab_route(), {1.2, -2.35}, fence, 0.0, 0.6, 0.4);
   REQUIRE(start);
   CHECK((start->position - Eigen::Vector3d(1.2, -2.4, 1.65)).norm() < 1e-9);
   CHECK(std::abs(std::abs(start->yaw) - std::numbers::pi) < 1e-9);  // facing back along +x
 }
 
 TEST_CASE("control: a teacher turning back at a corner is met in front of the next leg and followed along it") {
-  LabGeometry lab = model_lab();  // room x -1..5, y -3..3: fence y >= -2.7, x <= 4.7
+  fusion::LabGeometry lab = model_lab();  // room x -1..5, y -3..3: fence y >= -2.7, x <= 4.7
   lab.teacher = turn_back_route();
   const TeacherSpec spec = walking(lab.teacher);
   const TeacherMotion motion(spec);
   test::ModelFlight f({}, lab);
   const auto walk = [&](double seconds) {
     for (const double end = f.t + seconds; f.t < end;) {
-      f.world->T_world_face = motion.pose(f.t).T_world_head * flip_about_y();
+      f.world->T_world_face = motion.pose(f.t).T_world_head * fusion::flip_about_y();
       f.run(1.0 / 30.0);
     }
   };
@@ -139,9 +140,9 @@ TEST_CASE("control: a teacher turning back at a corner is met in front of the ne
   bool was_meeting = false;
   std::vector<double> error;
   double nearest = 10;
-  // Settled first: the face may be found 2 m away with the teacher walking off (with the z gains of
-  // 2026-12-02 the drone reaches eye height sooner and finds the face on a leg, not at its end), and
-  // closing that gap is the approach, not the follow.
+  // Settled first: the face may be found 2 m away with the teacher walking off (the drone reaches
+  // eye height early and may find the face on a leg, not at its end), and closing that gap is the
+  // approach, not the follow.
   const auto depth_error = [&] {
     const Eigen::Vector3d p =
         ((f.world->drone.pose() * T_body_cam_front()).inverse() * motion.pose(f.t).T_world_head).translation();
@@ -172,16 +173,15 @@ TEST_CASE("control: a teacher turning back at a corner is met in front of the ne
 }
 
 TEST_CASE("control: a face lost at a corner: the drone waiting on the next leg keeps ahead of a teacher who sets off unseen") {
-  // Real vision, seed 1 (2026-12-02): the face was lost just as the teacher set off on the next leg
-  // towards the drone, which then held, and met them at the leg's start, for a face that stayed out of
-  // the detector's reach (head sway) while the teacher walked into it.
-  LabGeometry lab = model_lab();  // room x -1..5, y -3..3
+  // The face lost just as the teacher sets off on the next leg towards the drone, and out of the
+  // detector's reach (head sway) while they walk. Wrong: the drone holds and the teacher walks into it.
+  fusion::LabGeometry lab = model_lab();  // room x -1..5, y -3..3
   lab.teacher = turn_back_route();
   const TeacherSpec spec = walking(lab.teacher);
   const TeacherMotion motion(spec);
   test::ModelFlight f({}, lab);
   const auto tick = [&] {
-    f.world->T_world_face = motion.pose(f.t).T_world_head * flip_about_y();
+    f.world->T_world_face = motion.pose(f.t).T_world_head * fusion::flip_about_y();
     f.run(1.0 / 30.0);
   };
   REQUIRE(f.request(find_teacher()).accepted);

@@ -5,32 +5,34 @@
 
 #include "control/flight_stack.hpp"
 #include "control/level_hold.hpp"
+#include "control/take_off_and_scale.hpp"
 #include "tests/control/model_flight.hpp"
 
 using namespace labo;
+using namespace labo::control;
 using labo::test::ModelFlight;
 
 namespace {
-MissionRequest req(RequestKind kind) {
-  MissionRequest r;
+control::MissionRequest req(control::RequestKind kind) {
+  control::MissionRequest r;
   r.kind = kind;
   return r;
 }
-MissionRequest inspect(const std::string& id, double hold_s = 3.0, double standoff = 0) {
-  MissionRequest r = req(RequestKind::Inspect);
+control::MissionRequest inspect(const std::string& id, double hold_s = 3.0, double standoff = 0) {
+  control::MissionRequest r = req(control::RequestKind::Inspect);
   r.instrument_id = id;
   r.hold_s = hold_s;
   r.standoff_m = standoff;
   return r;
 }
-MissionRequest go(double x, double y, double z, double yaw = 0) {
-  MissionRequest r = req(RequestKind::Goto);
+control::MissionRequest go(double x, double y, double z, double yaw = 0) {
+  control::MissionRequest r = req(control::RequestKind::Goto);
   r.target << x, y, z, yaw;
   return r;
 }
 void take_off(ModelFlight& f) {
-  REQUIRE(f.request(req(RequestKind::Takeoff)).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().phase == FlightPhase::Flying; }, 8.0));
+  REQUIRE(f.request(req(control::RequestKind::Takeoff)).accepted);
+  REQUIRE(f.run_until([&] { return f.stack->status().phase == control::FlightPhase::Flying; }, 8.0));
 }
 // Flies an inspect mission of the oscilloscope until stage 3 holds at the standoff.
 void reach_standoff_hold(ModelFlight& f, double hold_s) {
@@ -52,9 +54,9 @@ TEST_CASE("control: inspect runs stages 1-6 in order and ends on the platform") 
   double standoff_error = 1e9, centre_offset = 1e9;
   bool saw_homography = false;
   const bool ended = f.run_until([&] {
-    const FlightStatus s = f.stack->status();
+    const control::FlightStatus s = f.stack->status();
     if (s.stage_index > 0 && (stages.empty() || stages.back() != s.stage_index)) stages.push_back(s.stage_index);
-    if (s.source == FeedbackSource::Homography) saw_homography = true;
+    if (s.source == fusion::FeedbackSource::Homography) saw_homography = true;
     if (s.stage.find("holding") != std::string::npos) {
       const Eigen::Isometry3d T_cam_obj =
           (f.world->drone.pose() * T_body_cam_front()).inverse() * f.lab.instruments[0].T_world_object;
@@ -73,9 +75,31 @@ TEST_CASE("control: inspect runs stages 1-6 in order and ends on the platform") 
   CHECK(saw_homography);
   CHECK(standoff_error < 0.05);
   CHECK(centre_offset < 0.05);
-  CHECK(f.stack->status().phase == FlightPhase::Landed);
+  CHECK(f.stack->status().phase == control::FlightPhase::Landed);
   CHECK(f.world->drone.p.head<2>().norm() < 0.10);
   CHECK_FALSE(f.world->drone.crashed);
+}
+
+TEST_CASE("control: a map still without a scale flies the vertical manoeuvre again, kMaxRounds times in all") {
+  // Counts the up legs of stage 1: one when SLAM fixes its scale, kMaxRounds when it never does.
+  const auto up_legs = [](bool slam_available) {
+    ModelFlight f;
+    f.world->slam_available = slam_available;
+    REQUIRE(f.request(inspect("oscilloscope", 3.0)).accepted);
+    int ups = 0;
+    bool was_up = false;
+    const bool stage_2 = f.run_until([&] {
+      const bool up = f.stack->status().stage.find("scale manoeuvre (up") != std::string::npos;
+      if (up && !was_up) ++ups;
+      was_up = up;
+      return f.stack->status().stage_index >= 2;
+    }, 120.0);
+    CHECK(stage_2);
+    return ups;
+  };
+  CHECK(up_legs(true) == 1);
+  REQUIRE(control::TakeOffAndScale::kMaxRounds > 1);
+  CHECK(up_legs(false) == control::TakeOffAndScale::kMaxRounds);
 }
 
 TEST_CASE("control: losing the instrument in stage 3 triggers re-detection, not a push forward") {
@@ -95,7 +119,7 @@ TEST_CASE("control: an approach left on dead reckoning re-detects before the saf
   ModelFlight f;
   REQUIRE(f.request(inspect("oscilloscope", 5.0)).accepted);
   REQUIRE(f.run_until([&] { return f.stack->status().stage.find("approaching") != std::string::npos; }, 90.0));
-  REQUIRE(f.stack->status().source == FeedbackSource::Slam);
+  REQUIRE(f.stack->status().source == fusion::FeedbackSource::Slam);
   // SLAM lost, the panel tracked one frame in two: the loss timer never runs 0.5 s, the switch never
   // sees the 0.5 s of unbroken tracking it needs, so the estimate is left on dead reckoning. Staying in
   // the approach meant the safety hover after 1 s, which pauses the mission: stuck until it lands.
@@ -117,7 +141,7 @@ TEST_CASE("control: an approach left on dead reckoning re-detects before the saf
 TEST_CASE("control: a vertical push out of the panel's view is undone at the standoff's altitude, not by backing off") {
   ModelFlight f;
   hold_at_standoff_without_slam(f);
-  REQUIRE(f.stack->status().source == FeedbackSource::Homography);
+  REQUIRE(f.stack->status().source == fusion::FeedbackSource::Homography);
   const Eigen::Vector4d hold = *f.stack->status().desired;
   const Eigen::Vector3d hold_position = f.world->drone.p;
   // Held 0.35 m up (the model's climb response is 0.3 s, the firmware's 1.25 s: the model would be back
@@ -132,7 +156,7 @@ TEST_CASE("control: a vertical push out of the panel's view is undone at the sta
   double farthest_set_point = 0;
   bool held_by_safety = false;
   const bool back = f.run_until([&] {
-    const FlightStatus s = f.stack->status();
+    const control::FlightStatus s = f.stack->status();
     if (s.desired) farthest_set_point = std::max(farthest_set_point, (s.desired->head<3>() - hold.head<3>()).norm());
     for (const std::string& a : s.safety_alerts) held_by_safety |= a.find("hovering") != std::string::npos;
     return s.stage.find("holding") != std::string::npos && (f.world->drone.p - hold.head<3>()).norm() < 0.1;
@@ -163,67 +187,67 @@ TEST_CASE("control: a re-detected panel turns the back-off into the approach bef
 TEST_CASE("control: the localization source switches with hysteresis near the instrument") {
   ModelFlight f;
   REQUIRE(f.request(inspect("oscilloscope", 2.0)).accepted);
-  std::vector<FeedbackSource> seq;
+  std::vector<fusion::FeedbackSource> seq;
   f.run_until([&] {
-    const FeedbackSource s = f.stack->status().source;
+    const fusion::FeedbackSource s = f.stack->status().source;
     if (seq.empty() || seq.back() != s) seq.push_back(s);
     return f.stack->status().stage_index >= 5;
   }, 90.0);
   // dead reckoning before SLAM, SLAM far, homography near, SLAM again on the way home, no chattering.
   REQUIRE(seq.size() >= 3);
-  CHECK(std::count(seq.begin(), seq.end(), FeedbackSource::Homography) == 1);
+  CHECK(std::count(seq.begin(), seq.end(), fusion::FeedbackSource::Homography) == 1);
   CHECK(seq.size() <= 5);
 }
 
 TEST_CASE("control: requests are refused with the reason") {
   ModelFlight f;
-  auto refused = [&](const MissionRequest& r, const std::string& why) {
-    const CommandResult c = f.request(r);
+  auto refused = [&](const control::MissionRequest& r, const std::string& why) {
+    const control::CommandResult c = f.request(r);
     INFO(to_string(r.kind) << ": " << c.reason);
     CHECK_FALSE(c.accepted);
     CHECK(c.reason.find(why) != std::string::npos);
   };
   // Landed: commands that need flight.
   refused(go(1, 0, 1), "needs flight");
-  refused(req(RequestKind::Land), "needs flight");
-  refused(req(RequestKind::Hover), "needs flight");
-  refused(req(RequestKind::ReturnHome), "needs flight");
-  refused(req(RequestKind::StopFaceFollow), "no face-follow");
+  refused(req(control::RequestKind::Land), "needs flight");
+  refused(req(control::RequestKind::Hover), "needs flight");
+  refused(req(control::RequestKind::ReturnHome), "needs flight");
+  refused(req(control::RequestKind::StopFaceFollow), "no face-follow");
   refused(inspect("multimeter"), "unknown instrument 'multimeter' (known: oscilloscope)");
   refused(inspect("oscilloscope", 3.0, 0.2), "below the safe minimum");
   refused(inspect("oscilloscope", -1.0), "hold time");
   refused(inspect("oscilloscope", std::numeric_limits<double>::quiet_NaN()), "finite");
 
   take_off(f);
-  refused(req(RequestKind::Takeoff), "already");
+  refused(req(control::RequestKind::Takeoff), "already");
   refused(go(9, 0, 1), "outside the geofence");
   refused(go(1, 0, 5), "z = 5.00 m is outside the geofence");
   refused(go(std::numeric_limits<double>::quiet_NaN(), 0, 1), "finite");
   refused(go(1, 0, std::numeric_limits<double>::infinity()), "finite");
-  MissionRequest far = req(RequestKind::MoveBy);
+  control::MissionRequest far = req(control::RequestKind::MoveBy);
   far.target << 20, 0, 0, 0;
   refused(far, "outside the geofence");
 
   REQUIRE(f.request(inspect("oscilloscope", 5.0)).accepted);
   f.run(1.0);
   refused(inspect("oscilloscope"), "mission 'inspect' is running");
-  refused(req(RequestKind::FindTeacher), "mission 'inspect' is running");
+  refused(req(control::RequestKind::FindTeacher), "mission 'inspect' is running");
   refused(go(1, 0, 1), "mission 'inspect' is running");
   CHECK(f.stack->status().last_event.find("refused") != std::string::npos);
   // Abort commands are accepted while a mission runs.
-  CHECK(f.request(req(RequestKind::Hover)).accepted);
+  CHECK(f.request(req(control::RequestKind::Hover)).accepted);
   CHECK(f.stack->status().mission == "idle");
 
   // In emergency only a new take-off is accepted; once down, without a link, nothing takes off.
-  REQUIRE(f.request(req(RequestKind::EmergencyStop)).accepted);
+  REQUIRE(f.request(req(control::RequestKind::EmergencyStop)).accepted);
   f.run(0.1);
   refused(go(1, 0, 1), "emergency");
   refused(inspect("oscilloscope"), "emergency");
   f.run(1.5);
-  REQUIRE(f.stack->status().phase == FlightPhase::Landed);
+  REQUIRE(f.stack->status().phase == control::FlightPhase::Landed);
   f.stack->on_link_state(LinkState::Lost, f.t);
-  refused(req(RequestKind::Takeoff), "no link");
-  refused(req(RequestKind::FindTeacher), "no link");
+  refused(req(control::RequestKind::Takeoff), "no link");
+  refused(req(control::RequestKind::FindTeacher), "no link");
 }
 
 TEST_CASE("control: goto and move-by fly to the target and hold it") {
@@ -233,7 +257,7 @@ TEST_CASE("control: goto and move-by fly to the target and hold it") {
   f.run(12.0);
   CHECK((f.world->drone.p - Eigen::Vector3d(2.0, -1.0, 1.2)).norm() < 0.1);
   CHECK(std::abs(wrap_angle(f.world->drone.yaw - 0.5)) < 0.05);
-  MissionRequest by = req(RequestKind::MoveBy);
+  control::MissionRequest by = req(control::RequestKind::MoveBy);
   by.target << 1.0, 0.0, 0.0, 0.0;  // 1 m forward along yaw 0.5
   REQUIRE(f.request(by).accepted);
   f.run(10.0);
@@ -244,30 +268,30 @@ TEST_CASE("control: emergency stop always works") {
   ModelFlight f;
   REQUIRE(f.request(inspect("oscilloscope")).accepted);
   f.run(12.0);
-  const CommandResult c = f.request(req(RequestKind::EmergencyStop));
+  const control::CommandResult c = f.request(req(control::RequestKind::EmergencyStop));
   CHECK(c.accepted);
   f.run(1.0 / 30.0);
-  CHECK(f.last.action == FlightOutput::Action::Emergency);
-  CHECK(f.stack->status().phase == FlightPhase::Emergency);
+  CHECK(f.last.action == control::FlightOutput::Action::Emergency);
+  CHECK(f.stack->status().phase == control::FlightPhase::Emergency);
   CHECK(f.stack->status().mission == "idle");
   // Also while landed, and twice.
-  CHECK(f.request(req(RequestKind::EmergencyStop)).accepted);
+  CHECK(f.request(req(control::RequestKind::EmergencyStop)).accepted);
 }
 
 TEST_CASE("control: link loss: hover, then land after the configured time") {
-  ControlConfig cfg;
+  control::ControlConfig cfg;
   cfg.safety.link_loss_land_s = 2.0;
   ModelFlight f(cfg);
   take_off(f);
   f.stack->on_link_state(LinkState::Lost, f.t);
   f.run(1.0);
-  CHECK(f.last.action == FlightOutput::Action::Hover);
+  CHECK(f.last.action == control::FlightOutput::Action::Hover);
   CHECK_FALSE(f.stack->status().safety_alerts.empty());
   f.run(1.5);
-  CHECK(f.stack->status().phase == FlightPhase::Landing);
-  CHECK(f.last.action == FlightOutput::Action::Land);  // repeated while the link is down
+  CHECK(f.stack->status().phase == control::FlightPhase::Landing);
+  CHECK(f.last.action == control::FlightOutput::Action::Land);  // repeated while the link is down
   f.stack->on_link_state(LinkState::Connected, f.t);
-  CHECK(f.run_until([&] { return f.stack->status().phase == FlightPhase::Landed; }, 10.0));
+  CHECK(f.run_until([&] { return f.stack->status().phase == control::FlightPhase::Landed; }, 10.0));
 }
 
 TEST_CASE("control: low battery returns home and lands, critical battery lands at once") {
@@ -279,18 +303,18 @@ TEST_CASE("control: low battery returns home and lands, critical battery lands a
   f.run(0.2);
   CHECK(f.stack->status().mission == "return_home");
   CHECK(f.stack->status().last_event.find("battery") != std::string::npos);
-  CHECK(f.run_until([&] { return f.stack->status().phase == FlightPhase::Landed; }, 60.0));
+  CHECK(f.run_until([&] { return f.stack->status().phase == control::FlightPhase::Landed; }, 60.0));
   CHECK(f.world->drone.p.head<2>().norm() < 0.1);
 
   ModelFlight g;
   take_off(g);
   g.world->drone.battery = 5;
   g.run(0.2);
-  CHECK(g.stack->status().phase == FlightPhase::Landing);
+  CHECK(g.stack->status().phase == control::FlightPhase::Landing);
 }
 
 TEST_CASE("control: localization lost too long: hover, then land") {
-  ControlConfig cfg;
+  control::ControlConfig cfg;
   cfg.safety.localization_lost_hover_s = 0.5;
   cfg.safety.localization_lost_land_s = 3.0;
   ModelFlight f(cfg);
@@ -301,7 +325,7 @@ TEST_CASE("control: localization lost too long: hover, then land") {
   const double z_before = f.world->drone.p.z();
   f.run(1.0);
   // A level hold, not the firmware's hover: altitude and yaw stay controlled.
-  CHECK(f.last.action == FlightOutput::Action::Move);
+  CHECK(f.last.action == control::FlightOutput::Action::Move);
   bool hovering_alert = false;
   for (const auto& a : f.stack->status().safety_alerts) hovering_alert |= a.find("hovering") != std::string::npos;
   CHECK(hovering_alert);
@@ -309,7 +333,7 @@ TEST_CASE("control: localization lost too long: hover, then land") {
   f.run(2.0);
   CHECK(std::abs(f.world->drone.p.z() - z_before) < 0.15);
   f.run(0.5);
-  CHECK(f.stack->status().phase == FlightPhase::Landing);
+  CHECK(f.stack->status().phase == control::FlightPhase::Landing);
   CHECK(f.stack->status().last_event.find("localization lost") != std::string::npos);
 }
 
@@ -335,12 +359,12 @@ TEST_CASE("control: a bad altitude estimate cannot fly the drone into the floor:
   CHECK(held);     // the 0.9 m jump first held the drone level for a second
   CHECK(climbed);  // then the ultrasound stopped the descent
   CHECK(lowest > 0.25);
-  CHECK(f.stack->status().phase == FlightPhase::Flying);
+  CHECK(f.stack->status().phase == control::FlightPhase::Flying);
 }
 
 TEST_CASE("control: a level hold keeps the altitude and yaw of the set point, braking on the velocity") {
-  const PoseControlGains g;
-  PoseEstimate pose;
+  const control::PoseControlGains g;
+  fusion::PoseEstimate pose;
   pose.valid = true;
   pose.T_world_body = make_pose({1.0, 0.0, 1.5}, 0.3);  // 0.5 m above the hold, 0.3 rad off its yaw
   pose.velocity_world = Eigen::Vector3d(0.6, 0.0, 0.0);  // drifting along +x
@@ -361,11 +385,11 @@ TEST_CASE("control: return home lands on the platform from anywhere") {
   take_off(f);
   REQUIRE(f.request(go(3.0, -2.0, 1.0)).accepted);
   f.run(10.0);
-  REQUIRE(f.request(req(RequestKind::ReturnHome)).accepted);
+  REQUIRE(f.request(req(control::RequestKind::ReturnHome)).accepted);
   std::set<int> stages;
   REQUIRE(f.run_until([&] {
     stages.insert(f.stack->status().stage_index);
-    return f.stack->status().phase == FlightPhase::Landed;
+    return f.stack->status().phase == control::FlightPhase::Landed;
   }, 60.0));
   CHECK(stages.count(1) == 1);
   CHECK(stages.count(2) == 1);
@@ -375,7 +399,7 @@ TEST_CASE("control: return home lands on the platform from anywhere") {
 
 TEST_CASE("control: find teacher searches, follows the face and stops on request") {
   ModelFlight f;
-  REQUIRE(f.request(req(RequestKind::FindTeacher)).accepted);
+  REQUIRE(f.request(req(control::RequestKind::FindTeacher)).accepted);
   REQUIRE(f.run_until([&] { return f.stack->status().stage == "3 face-follow"; }, 60.0));
   f.run(8.0);
   auto face_in_cam = [&]() -> Eigen::Vector3d {
@@ -393,8 +417,8 @@ TEST_CASE("control: find teacher searches, follows the face and stops on request
   f.run(6.0);
   worst = std::abs(face_in_cam().z() - 1.0);
   CHECK(worst < 0.1);
-  REQUIRE(f.request(req(RequestKind::StopFaceFollow)).accepted);
+  REQUIRE(f.request(req(control::RequestKind::StopFaceFollow)).accepted);
   f.run(0.1);
   CHECK(f.stack->status().mission == "idle");
-  CHECK(f.stack->status().phase == FlightPhase::Flying);
+  CHECK(f.stack->status().phase == control::FlightPhase::Flying);
 }

@@ -146,10 +146,9 @@ std::size_t allocations_of(F&& f) {
 }
 }  // namespace
 
-// Until 2026-12-03 the planar localizer's tracking made 93 heap allocations per frame (109 on frames
-// where motion blur is modelled), all inside OpenCV calls (found with a backtrace on the counting
-// operator new): cv::solvePnPGeneric (IPPE) 82, the corner clipping's vectors 6, cv::GaussianBlur 16,
-// cv::pyrDown 3, cv::remap 2. LaboDrone's own allocation-free code replaced them (ippe.hpp,
+// OpenCV's calls on the tracking path allocate on every frame (cv::solvePnPGeneric for IPPE the most,
+// then cv::GaussianBlur, cv::pyrDown, cv::remap; found with a backtrace on the counting operator
+// new), so the planar localizer uses LaboDrone's own allocation-free code instead (ippe.hpp,
 // image_ops.hpp, planar_localizer.cpp); the frames below cover both refinement models (the
 // footprint model, and the sampled one with its smoothing on the frames the panel moved 2 px or more).
 
@@ -158,8 +157,8 @@ TEST_CASE("vision front-ends: tracking a panel allocates nothing") {
   // made on this thread: counted single-threaded, they repeat exactly.
   const int threads = cv::getNumThreads();
   cv::setNumThreads(0);
-  const LabGeometry lab = lab_geometry_from(load_lab_description(default_lab_path()));
-  const PlanarTarget& osc = lab.instruments.front();
+  const fusion::LabGeometry lab = fusion::lab_geometry_from(load_lab_description(default_lab_path()));
+  const fusion::PlanarTarget& osc = lab.instruments.front();
   const PinholeCamera camera = PinholeCamera::ardrone2_front();
   const cv::Mat templ = cv::imread(osc.template_path.string(), cv::IMREAD_GRAYSCALE);
   const PlanarViewRenderer renderer(camera, make_clutter_background(cv::Size(1200, 1200), 5), 0.0025);
@@ -177,15 +176,15 @@ TEST_CASE("vision front-ends: tracking a panel allocates nothing") {
     cv::cvtColor(frames.back(), f.bgr, cv::COLOR_GRAY2BGR);
     video.push_back(f);
   }
-  planar::PlanarObjectLocalizer bare(load_target_template(osc, planar::PlanarConfig{}), camera,
+  planar::PlanarObjectLocalizer bare(fusion::load_target_template(osc, planar::PlanarConfig{}), camera,
                              planar::PlanarObjectThresholds::from(VisionThresholds{}, osc.sift_switch_distance_m, osc.sift_min_inliers),
                              planar::PlanarConfig{});
-  PlanarFrontEnd front_end(osc, camera, VisionThresholds{}, planar::PlanarConfig{});
-  FrontEndSettings settings;
+  fusion::PlanarFrontEnd front_end(osc, camera, VisionThresholds{}, planar::PlanarConfig{});
+  fusion::FrontEndSettings settings;
   settings.with_face = false;
-  const auto pipelines = make_lab_pipelines(lab, ardrone2_cameras(), VisionThresholds{}, EstimatorConfig{}, settings);
+  const auto pipelines = fusion::make_lab_pipelines(lab, ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
   pipelines->reset(make_pose(body, 0.0), 0.0);
-  PerceptionFocus focus;
+  fusion::PerceptionFocus focus;
   focus.slam = false;
   focus.instrument_id = osc.id;
   pipelines->set_focus(focus);
@@ -216,7 +215,7 @@ TEST_CASE("vision front-ends: tracking a panel allocates nothing") {
   // Both refinement models ran (the sampled one smooths the frame; the footprint one reads it raw).
   CHECK(footprint_frames > 0);
   CHECK(sampled_frames > 0);
-  CHECK(pipelines->instrument().state == TrackState::Tracking);
+  CHECK(pipelines->instrument().state == fusion::TrackState::Tracking);
   cv::setNumThreads(threads);
 }
 
@@ -253,10 +252,10 @@ TEST_CASE("navdata path: a datagram through NavdataReceiver into the StateEstima
     NavdataBuilder().build(packet, datagrams.back());
     times.push_back(t);
   }
-  StateEstimator estimator;
+  estimation::StateEstimator estimator;
   estimator.reset(make_pose(Eigen::Vector3d(0, 0, 1), 0.0), 0.5);
   LinkCounters counters(Logger("test", LogLevel::Warn, [](const std::string&) {}));
-  FusedState predicted;
+  estimation::FusedState predicted;
   NavdataReceiver receiver(counters, [&](const NavdataSample& sample, const NavdataPacket&) {
     REQUIRE(estimator.add_navdata(sample));
     predicted = estimator.predict_for_control(sample.t);
@@ -273,21 +272,18 @@ TEST_CASE("navdata path: a datagram through NavdataReceiver into the StateEstima
   CHECK(predicted.T_world_body.translation().allFinite());
 }
 
-// The face front end (2026-12-03, measured here with a backtrace on the counting operator new).
-// Until 15:00 UTC: 374-401 allocations per tracked frame, 693 on frames where the detector runs
-// again: dlib's shape_predictor (the 68 landmarks) 335, cv::warpAffine (the landmark crop) 35, the
-// face PnP's vectors 4, and on the detector's frames dlib's fHOG detector 315, its list of faces 1,
-// cv::resize 3. LaboDrone's own code replaced the first three (landmark_cascade.hpp,
-// face_image_warp.hpp also for the frontal view's cv::remap, pnp_solvers.cpp): a tracked frame
-// allocates nothing. Left: the detector's own on its frames (every redetect_every_n_frames), and
-// EPnP (cv::solvePnP, ~23) on the frames where the tracking solver starts again from it because the
-// tracked pose no longer fits the landmarks.
+// The face front end: dlib's shape_predictor, cv::warpAffine and the PnP's vectors allocate on every
+// tracked frame (hundreds of blocks; found with a backtrace on the counting operator new), so
+// LaboDrone has its own (landmark_cascade.hpp, face_image_warp.hpp also for the frontal view's
+// cv::remap, pnp_solvers.cpp) and a tracked frame allocates nothing through operator new. Left: the
+// detector's own on its frames (every redetect_every_n_frames), and EPnP (cv::solvePnP, ~23) on the
+// frames where the tracking solver starts again from it because the tracked pose no longer fits the
+// landmarks.
 
-// Counting malloc too (16:40 UTC, the lead; not in sanitizer builds) shows 19 more per tracked face
-// frame: Eigen's dynamic temporaries in the face code (centroid_and_spread, FacePoseEstimator's
-// ideal_pixels / choose_box / process, FrontalView::render's ColPivHouseholderQR), found with the
-// callers' return addresses. They are capped here, not yet removed; the planar and navdata paths
-// stay at 0 with malloc counted.
+// Counting malloc too (not in sanitizer builds) shows 19 more per tracked face frame: Eigen's dynamic
+// temporaries in the face code (centroid_and_spread, FacePoseEstimator's ideal_pixels / choose_box /
+// process, FrontalView::render's ColPivHouseholderQR), found with the callers' return addresses. They
+// are capped here, not yet removed; the planar and navdata paths stay at 0 with malloc counted.
 constexpr std::size_t kFaceTrackedFrame = LABO_COUNT_NEW ? 0 : 19;
 constexpr std::size_t kEpnpRestart = 30;
 
@@ -307,7 +303,7 @@ FaceFrameCounts count_face_frames(const face::FaceConfig& config) {
   face::TexturedHead head = face::texture_head_from_photo(*estimator, candide, photo, 0.063);
   estimator->set_person({"astronaut", 0.063, head.shape_params, 0, {}}, false);
   face::TexturedHeadRenderer renderer(candide, head, camera);
-  FaceFrontEnd front_end(std::move(estimator));
+  fusion::FaceFrontEnd front_end(std::move(estimator));
   std::vector<cv::Mat> frames;
   for (int i = 0; i < 24; ++i) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

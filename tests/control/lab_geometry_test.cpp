@@ -6,10 +6,11 @@
 #include "teacher_routes.hpp"
 
 using namespace labo;
+using namespace labo::control;
 
 TEST_CASE("control: lab_geometry_from maps config/lab.json's room, base, instruments and platform") {
   const LabDescription lab = load_lab_description(default_lab_path());
-  const LabGeometry g = lab_geometry_from(lab);
+  const fusion::LabGeometry g = fusion::lab_geometry_from(lab);
   CHECK(g.room_min.isApprox(Eigen::Vector3d(-1.5, -3.0, 0.0)));
   CHECK(g.room_max.isApprox(Eigen::Vector3d(6.5, 3.0, 3.0)));
   // The drone starts on the platform's top, 0.10 m above the floor, facing +x.
@@ -17,7 +18,7 @@ TEST_CASE("control: lab_geometry_from maps config/lab.json's room, base, instrum
   CHECK(g.base_yaw_rad == Approx(0.0).margin(1e-12));
 
   REQUIRE(g.instruments.size() == 3);
-  const PlanarTarget* osc = g.find_instrument("oscilloscope");
+  const fusion::PlanarTarget* osc = g.find_instrument("oscilloscope");
   REQUIRE(osc);
   CHECK(osc->name == "Oscilloscope DS-1054");
   CHECK(osc->width_m == Approx(0.40));
@@ -29,7 +30,7 @@ TEST_CASE("control: lab_geometry_from maps config/lab.json's room, base, instrum
   CHECK(std::filesystem::exists(osc->template_path));
   CHECK(osc->sift_switch_distance_m == Approx(2.0));
   CHECK(osc->sift_min_inliers == 20);
-  const PlanarTarget* gen = g.find_instrument("signal_generator");
+  const fusion::PlanarTarget* gen = g.find_instrument("signal_generator");
   REQUIRE(gen);
   CHECK(gen->sift_switch_distance_m == Approx(1.8));
   CHECK(gen->sift_min_inliers == 16);
@@ -48,18 +49,18 @@ TEST_CASE("control: lab_geometry_from maps config/lab.json's room, base, instrum
 }
 
 TEST_CASE("control: a FlightStack on the lab's geometry accepts its instruments and refuses others by name") {
-  FlightStackSetup setup;
-  setup.lab = lab_geometry_from(load_lab_description(default_lab_path()));
-  FlightStack stack(setup);
-  MissionRequest r;
-  r.kind = RequestKind::Inspect;
+  control::FlightStackSetup setup;
+  setup.lab = fusion::lab_geometry_from(load_lab_description(default_lab_path()));
+  control::FlightStack stack(setup);
+  control::MissionRequest r;
+  r.kind = control::RequestKind::Inspect;
   r.instrument_id = "multimeter";
-  const CommandResult refused = stack.request(r, 0.0);
+  const control::CommandResult refused = stack.request(r, 0.0);
   CHECK_FALSE(refused.accepted);
   CHECK_THAT(refused.reason, Catch::Contains("multimeter") && Catch::Contains("oscilloscope") &&
                                  Catch::Contains("signal_generator") && Catch::Contains("power_supply"));
   r.instrument_id = "power_supply";
-  const CommandResult accepted = stack.request(r, 0.0);
+  const control::CommandResult accepted = stack.request(r, 0.0);
   INFO(accepted.reason);
   CHECK(accepted.accepted);
 }
@@ -67,8 +68,8 @@ TEST_CASE("control: a FlightStack on the lab's geometry accepts its instruments 
 TEST_CASE("control: the find-teacher tests' lab route is config/lab.json's teacher route") {
   // test::lab_route() pins the route's figures for the route tests; this keeps it the lab's, so a
   // change of the lab file shows up here instead of silently leaving those tests on an old route.
-  const TeacherRoute lab = lab_geometry_from(load_lab_description(default_lab_path())).teacher;
-  const TeacherRoute pinned = test::lab_route();
+  const fusion::TeacherRoute lab = fusion::lab_geometry_from(load_lab_description(default_lab_path())).teacher;
+  const fusion::TeacherRoute pinned = test::lab_route();
   REQUIRE(lab.waypoints.size() == pinned.waypoints.size());
   for (std::size_t i = 0; i < lab.waypoints.size(); ++i) CHECK(lab.waypoints[i].isApprox(pinned.waypoints[i]));
   CHECK(lab.speed_mps == Approx(pinned.speed_mps));

@@ -29,18 +29,18 @@ inline bool in_front_view(const Eigen::Isometry3d& T_cam_target, double max_rang
   return T_cam_target.linear().col(2).z() > 0.3;  // the panel's z (into it) points away from the camera
 }
 
-class ModelPipelines final : public LocalizationPipelines {
+class ModelPipelines final : public fusion::LocalizationPipelines {
  public:
-  ModelPipelines(std::shared_ptr<ModelWorld> world, LabGeometry lab) : world_(std::move(world)), lab_(std::move(lab)) {}
+  ModelPipelines(std::shared_ptr<ModelWorld> world, fusion::LabGeometry lab) : world_(std::move(world)), lab_(std::move(lab)) {}
   void on_navdata(const NavdataSample& s) override { t_ = s.t; }
   void on_command(const MoveCommand&, Seconds) override {}
   void on_video(const VideoFrame&) override {}
-  void set_focus(const PerceptionFocus& f) override { focus_ = f; }
+  void set_focus(const fusion::PerceptionFocus& f) override { focus_ = f; }
   void reset(const Eigen::Isometry3d&, Seconds) override {}
   void start_at_first_navdata(const Eigen::Isometry3d&) override {}
 
-  PoseEstimate predict(Seconds t) const override {
-    PoseEstimate e;
+  fusion::PoseEstimate predict(Seconds t) const override {
+    fusion::PoseEstimate e;
     e.valid = true;
     e.t = t;
     e.T_world_body = world_->drone.pose();
@@ -48,77 +48,77 @@ class ModelPipelines final : public LocalizationPipelines {
     e.velocity_world = world_->drone.v;
     e.yaw_rate = world_->drone.yaw_rate;
     e.quality = 1;
-    const bool slam_ok = slam().state == SlamState::Good;
+    const bool slam_ok = slam().state == fusion::SlamState::Good;
     switch (focus_.feedback) {
-      case FeedbackSource::Homography:
-        e.source = (focus_.platform ? platform() : instrument()).state == TrackState::Tracking
-                       ? FeedbackSource::Homography : FeedbackSource::DeadReckoning;
+      case fusion::FeedbackSource::Homography:
+        e.source = (focus_.platform ? platform() : instrument()).state == fusion::TrackState::Tracking
+                       ? fusion::FeedbackSource::Homography : fusion::FeedbackSource::DeadReckoning;
         break;
-      case FeedbackSource::Face:
-        e.source = face().state == TrackState::Tracking ? FeedbackSource::Face : FeedbackSource::DeadReckoning;
+      case fusion::FeedbackSource::Face:
+        e.source = face().state == fusion::TrackState::Tracking ? fusion::FeedbackSource::Face : fusion::FeedbackSource::DeadReckoning;
         break;
-      case FeedbackSource::Slam:
-        e.source = slam_ok ? FeedbackSource::Slam : FeedbackSource::DeadReckoning;
+      case fusion::FeedbackSource::Slam:
+        e.source = slam_ok ? fusion::FeedbackSource::Slam : fusion::FeedbackSource::DeadReckoning;
         break;
-      case FeedbackSource::DeadReckoning:
-        e.source = FeedbackSource::DeadReckoning;
+      case fusion::FeedbackSource::DeadReckoning:
+        e.source = fusion::FeedbackSource::DeadReckoning;
         break;
     }
     return e;
   }
-  TargetObservation instrument() const override {
-    TargetObservation o;
-    const PlanarTarget* inst = lab_.find_instrument(focus_.instrument_id);
+  fusion::TargetObservation instrument() const override {
+    fusion::TargetObservation o;
+    const fusion::PlanarTarget* inst = lab_.find_instrument(focus_.instrument_id);
     if (!inst) return o;
     const Eigen::Isometry3d T_world_cam = world_->drone.pose() * T_body_cam_front();
     o.T_cam_target = T_world_cam.inverse() * inst->T_world_object;
-    o.state = world_->instrument_visible && in_front_view(o.T_cam_target, 5.0) ? TrackState::Tracking : TrackState::Lost;
+    o.state = world_->instrument_visible && in_front_view(o.T_cam_target, 5.0) ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
     o.t = t_;
     return o;
   }
-  TargetObservation platform() const override {
-    TargetObservation o;
+  fusion::TargetObservation platform() const override {
+    fusion::TargetObservation o;
     if (!focus_.platform) return o;
     const Eigen::Isometry3d T_world_cam = world_->drone.pose() * T_body_cam_bottom();
     o.T_cam_target = T_world_cam.inverse() * lab_.platform.T_world_object;
     const Eigen::Vector3d p = o.T_cam_target.translation();
     o.state = world_->platform_visible && p.z() > 0.2 && std::abs(p.x() / p.z()) < 0.45 && std::abs(p.y() / p.z()) < 0.25
-                  ? TrackState::Tracking : TrackState::Lost;
+                  ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
     o.t = t_;
     return o;
   }
-  TargetObservation face() const override {
-    TargetObservation o;
+  fusion::TargetObservation face() const override {
+    fusion::TargetObservation o;
     if (!focus_.face) return o;
     const Eigen::Isometry3d T_world_cam = world_->drone.pose() * T_body_cam_front();
     o.T_cam_target = T_world_cam.inverse() * world_->T_world_face;
-    o.state = world_->face_visible && in_front_view(o.T_cam_target, 4.0) ? TrackState::Tracking : TrackState::Lost;
+    o.state = world_->face_visible && in_front_view(o.T_cam_target, 4.0) ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
     o.t = t_;
     return o;
   }
-  SlamSummary slam() const override {
-    SlamSummary s;
+  fusion::SlamSummary slam() const override {
+    fusion::SlamSummary s;
     const bool up = world_->drone.control_state == 3 || world_->drone.control_state == 4;
-    s.state = !focus_.slam ? SlamState::Off : (world_->slam_available && up ? SlamState::Good : SlamState::Initializing);
-    s.scale_estimated = s.state == SlamState::Good;
+    s.state = !focus_.slam ? fusion::SlamState::Off : (world_->slam_available && up ? fusion::SlamState::Good : fusion::SlamState::Initializing);
+    s.scale_estimated = s.state == fusion::SlamState::Good;
     return s;
   }
 
  private:
   std::shared_ptr<ModelWorld> world_;
-  LabGeometry lab_;
-  PerceptionFocus focus_;
+  fusion::LabGeometry lab_;
+  fusion::PerceptionFocus focus_;
   Seconds t_ = 0;
 };
 
 class ModelFlight {
  public:
-  explicit ModelFlight(ControlConfig config = {}, LabGeometry lab_geometry = model_lab())
+  explicit ModelFlight(control::ControlConfig config = {}, fusion::LabGeometry lab_geometry = model_lab())
       : world(std::make_shared<ModelWorld>()), lab(std::move(lab_geometry)) {
-    FlightStackSetup setup;
+    control::FlightStackSetup setup;
     setup.control = config;
     setup.lab = lab;
-    stack = std::make_unique<FlightStack>(setup, std::make_unique<ModelPipelines>(world, lab));
+    stack = std::make_unique<control::FlightStack>(setup, std::make_unique<ModelPipelines>(world, lab));
   }
   // Advances `seconds` in 1/30 s control ticks, 5 physics sub-steps each.
   void run(double seconds) {
@@ -140,23 +140,23 @@ class ModelFlight {
     }
     return false;
   }
-  CommandResult request(MissionRequest r) { return stack->request(r, t); }
+  control::CommandResult request(control::MissionRequest r) { return stack->request(r, t); }
 
   std::shared_ptr<ModelWorld> world;
-  LabGeometry lab;
-  std::unique_ptr<FlightStack> stack;
-  FlightOutput last;
+  fusion::LabGeometry lab;
+  std::unique_ptr<control::FlightStack> stack;
+  control::FlightOutput last;
   double t = 0;
 
  private:
-  void apply(const FlightOutput& out) {
+  void apply(const control::FlightOutput& out) {
     switch (out.action) {
-      case FlightOutput::Action::Move: world->drone.move(out.move); break;
-      case FlightOutput::Action::Hover: world->drone.hover(); break;
-      case FlightOutput::Action::Takeoff: world->drone.takeoff(); break;
-      case FlightOutput::Action::Land: world->drone.land(); break;
-      case FlightOutput::Action::Emergency: world->drone.emergency(); break;
-      case FlightOutput::Action::None: break;
+      case control::FlightOutput::Action::Move: world->drone.move(out.move); break;
+      case control::FlightOutput::Action::Hover: world->drone.hover(); break;
+      case control::FlightOutput::Action::Takeoff: world->drone.takeoff(); break;
+      case control::FlightOutput::Action::Land: world->drone.land(); break;
+      case control::FlightOutput::Action::Emergency: world->drone.emergency(); break;
+      case control::FlightOutput::Action::None: break;
     }
   }
 };

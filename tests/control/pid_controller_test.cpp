@@ -6,10 +6,11 @@
 #include "core/frames.hpp"
 
 using namespace labo;
+using namespace labo::control;
 
 namespace {
-PoseEstimate at(const Eigen::Vector3d& p, double yaw, const Eigen::Vector3d& v = Eigen::Vector3d::Zero()) {
-  PoseEstimate e;
+fusion::PoseEstimate at(const Eigen::Vector3d& p, double yaw, const Eigen::Vector3d& v = Eigen::Vector3d::Zero()) {
+  fusion::PoseEstimate e;
   e.valid = true;
   e.T_world_body = make_pose(p, yaw);
   e.velocity_world = v;
@@ -18,14 +19,14 @@ PoseEstimate at(const Eigen::Vector3d& p, double yaw, const Eigen::Vector3d& v =
 }  // namespace
 
 TEST_CASE("control: PID output is clipped to its limits") {
-  PidAxis axis({2.0, 0.0, 0.0, 0.0, -0.25, 0.5});
+  control::PidAxis axis({2.0, 0.0, 0.0, 0.0, -0.25, 0.5});
   CHECK(axis.update(10.0, 0.0, 0.03) == Approx(0.5));
   CHECK(axis.update(-10.0, 0.0, 0.03) == Approx(-0.25));
   CHECK(axis.update(0.1, 0.0, 0.03) == Approx(0.2));
 }
 
 TEST_CASE("control: PID derivative acts on the measured rate, not on the error") {
-  PidAxis axis({1.0, 0.0, 0.5, 0.0, -1, 1});
+  control::PidAxis axis({1.0, 0.0, 0.5, 0.0, -1, 1});
   // A target step gives no derivative kick: the output is the P term only.
   CHECK(axis.update(0.4, 0.0, 0.03) == Approx(0.4));
   // Moving towards the target at 0.4 m/s damps the command.
@@ -33,7 +34,7 @@ TEST_CASE("control: PID derivative acts on the measured rate, not on the error")
 }
 
 TEST_CASE("control: PID integral does not wind up while saturated and is capped") {
-  PidAxis axis({1.0, 0.1, 0.0, 2.0, -1, 1});
+  control::PidAxis axis({1.0, 0.1, 0.0, 2.0, -1, 1});
   for (int i = 0; i < 1000; ++i) axis.update(5.0, 0.0, 0.03);  // P alone saturates: no integration
   CHECK(axis.integral() == Approx(0.0));
   for (int i = 0; i < 2000; ++i) axis.update(0.5, 0.0, 0.03);  // unsaturated: integrates up to the cap
@@ -42,7 +43,7 @@ TEST_CASE("control: PID integral does not wind up while saturated and is capped"
 }
 
 TEST_CASE("control: PID integral unwinds faster against the error and stops at zero") {
-  PidAxis axis({0.1, 1.0, 0.0, 10.0, -1, 1});
+  control::PidAxis axis({0.1, 1.0, 0.0, 10.0, -1, 1});
   for (int i = 0; i < 10; ++i) axis.update(0.05, 0.0, 0.1);
   const double before = axis.integral();
   REQUIRE(before == Approx(0.05));
@@ -53,9 +54,9 @@ TEST_CASE("control: PID integral unwinds faster against the error and stops at z
 }
 
 TEST_CASE("control: a new target resets the integrals, a moving set point keeps them") {
-  PoseControlGains g;
+  control::PoseControlGains g;
   g.z = {0.1, 1.0, 0.0, 5.0, -1, 1};
-  PoseController c(g);
+  control::PoseController c(g);
   c.set_target({{0, 0, 1.0}, 0});
   for (int i = 0; i < 20; ++i) c.update(at({0, 0, 0.5}, 0), 0.03);
   REQUIRE(c.axis_z().integral() > 0.1);
@@ -66,10 +67,10 @@ TEST_CASE("control: a new target resets the integrals, a moving set point keeps 
 }
 
 TEST_CASE("control: horizontal errors are rotated into the body frame") {
-  PoseControlGains g;
+  control::PoseControlGains g;
   g.xy = {0.5, 0, 0, 0, -1, 1};
   g.max_tilt_command = 1.0;
-  PoseController c(g);
+  control::PoseController c(g);
   c.set_target({{1.0, 0, 1}, std::numbers::pi / 2});
   // Facing +y (yaw 90 deg), a target at +x world is on the drone's right: roll right, no pitch.
   MoveCommand m = c.update(at({0, 0, 1}, std::numbers::pi / 2), 0.03);
@@ -82,17 +83,17 @@ TEST_CASE("control: horizontal errors are rotated into the body frame") {
   CHECK(m.roll == Approx(0.0).margin(1e-9));
   // Facing -x with velocity towards +x world: the damping is rotated too.
   g.xy.kd = 0.5;
-  PoseController d(g);
+  control::PoseController d(g);
   d.set_target({{0, 0, 1}, std::numbers::pi});
   m = d.update(at({0, 0, 1}, std::numbers::pi, {1.0, 0, 0}), 0.03);
   CHECK(m.pitch == Approx(0.5));  // moving backwards: push forward
 }
 
 TEST_CASE("control: the horizontal command is clipped as a vector, keeping its direction") {
-  PoseControlGains g;
+  control::PoseControlGains g;
   g.xy = {1.0, 0, 0, 0, -1, 1};
   g.max_tilt_command = 0.3;
-  PoseController c(g);
+  control::PoseController c(g);
   c.set_target({{3.0, 4.0, 1}, 0});
   const MoveCommand m = c.update(at({0, 0, 1}, 0), 0.03);
   CHECK(std::hypot(m.pitch, m.roll) == Approx(0.3));
@@ -100,9 +101,9 @@ TEST_CASE("control: the horizontal command is clipped as a vector, keeping its d
 }
 
 TEST_CASE("control: yaw error is wrapped across +-180 degrees") {
-  PoseControlGains g;
+  control::PoseControlGains g;
   g.yaw = {1.0, 0, 0, 0, -1, 1};
-  PoseController c(g);
+  control::PoseController c(g);
   c.set_target({{0, 0, 1}, -3.0});
   const MoveCommand m = c.update(at({0, 0, 1}, 3.0), 0.03);
   CHECK(m.yaw_rate == Approx(wrap_angle(-3.0 - 3.0)));
@@ -110,12 +111,12 @@ TEST_CASE("control: yaw error is wrapped across +-180 degrees") {
 }
 
 TEST_CASE("control: a turning set point's yaw rate is fed forward, so the yaw does not lag it") {
-  PoseControlGains g;  // yaw kp 2.0, yaw_rate_feedforward 0.57 command per rad/s
-  PoseController c(g);
-  PoseTarget target{{0, 0, 1}, 0.5};
+  control::PoseControlGains g;  // yaw kp 2.0, yaw_rate_feedforward 0.57 command per rad/s
+  control::PoseController c(g);
+  control::PoseTarget target{{0, 0, 1}, 0.5};
   target.yaw_rate = 0.5;  // rad/s
   c.set_target(target);
-  PoseEstimate turning = at({0, 0, 1}, 0.5);
+  fusion::PoseEstimate turning = at({0, 0, 1}, 0.5);
   turning.yaw_rate = 0.5;
   // On the set point and turning with it: keep turning (before: 0, the drone stopped and fell behind).
   CHECK(c.update(turning, 0.03).yaw_rate == Approx(g.yaw_rate_feedforward * 0.5));

@@ -7,106 +7,107 @@
 #include "core/config_reader.hpp"
 
 using namespace labo;
+using namespace labo::control;
 
 TEST_CASE("control: localization switch uses homography near, SLAM far, with hysteresis") {
-  SourceSwitchParameters p;  // far_to_near 1.6 m, near_to_far 2.0 m, hold 0.5 s
-  LocalizationSwitch sw(p);
-  SwitchInputs in;
-  in.slam = SlamState::Good;
-  in.target_state = TrackState::Tracking;
+  fusion::SourceSwitchParameters p;  // far_to_near 1.6 m, near_to_far 2.0 m, hold 0.5 s
+  fusion::LocalizationSwitch sw(p);
+  fusion::SwitchInputs in;
+  in.slam = fusion::SlamState::Good;
+  in.target_state = fusion::TrackState::Tracking;
   in.target_distance_m = 2.5;
   for (in.t = 0; in.t < 1.0; in.t += 0.1) sw.update(in);
-  CHECK(sw.current() == FeedbackSource::Slam);
+  CHECK(sw.current() == fusion::FeedbackSource::Slam);
   in.target_distance_m = 1.5;  // near, but must hold 0.5 s first
   in.t = 1.0;
-  CHECK(sw.update(in) == FeedbackSource::Slam);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Slam);
   in.t = 1.6;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
   in.target_distance_m = 1.9;  // inside the hysteresis band: stays
   in.t = 2.0;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
-  in.target_state = TrackState::Lost;  // a short drop-out is bridged
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
+  in.target_state = fusion::TrackState::Lost;  // a short drop-out is bridged
   in.t = 2.2;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
   in.t = 2.8;  // lost for 0.6 s: back to SLAM
-  CHECK(sw.update(in) == FeedbackSource::Slam);
-  in.slam = SlamState::Lost;
+  CHECK(sw.update(in) == fusion::FeedbackSource::Slam);
+  in.slam = fusion::SlamState::Lost;
   in.t = 3.0;
   sw.update(in);
   in.t = 3.6;
-  CHECK(sw.update(in) == FeedbackSource::DeadReckoning);
-  in.target_state = TrackState::Tracking;
+  CHECK(sw.update(in) == fusion::FeedbackSource::DeadReckoning);
+  in.target_state = fusion::TrackState::Tracking;
   in.target_distance_m = 3.5;  // far, but better than dead reckoning once held 0.5 s
   in.t = 5.0;
-  CHECK(sw.update(in) == FeedbackSource::DeadReckoning);
+  CHECK(sw.update(in) == fusion::FeedbackSource::DeadReckoning);
   in.t = 5.6;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
-  in.slam = SlamState::Good;  // SLAM back: far, so SLAM once it has been good for 0.5 s
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
+  in.slam = fusion::SlamState::Good;  // SLAM back: far, so SLAM once it has been good for 0.5 s
   in.t = 6.0;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
   in.t = 6.6;
-  CHECK(sw.update(in) == FeedbackSource::Slam);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Slam);
 }
 
 TEST_CASE("control: SLAM without a metric scale is no source: a far target is taken instead") {
-  SourceSwitchParameters p;
-  LocalizationSwitch sw(p);
-  SwitchInputs in;
-  in.slam = SlamState::Good;
+  fusion::SourceSwitchParameters p;
+  fusion::LocalizationSwitch sw(p);
+  fusion::SwitchInputs in;
+  in.slam = fusion::SlamState::Good;
   in.slam_scaled = false;  // the estimator does not fuse it yet
   for (in.t = 0; in.t < 1.0; in.t += 0.1) sw.update(in);
-  CHECK(sw.current() == FeedbackSource::DeadReckoning);
-  in.target_state = TrackState::Tracking;
+  CHECK(sw.current() == fusion::FeedbackSource::DeadReckoning);
+  in.target_state = fusion::TrackState::Tracking;
   in.target_distance_m = 5.0;
   in.t = 1.0;
   sw.update(in);
   in.t = 1.6;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
   in.slam_scaled = true;  // scale fixed: far, so SLAM after 0.5 s
   in.t = 2.0;
   sw.update(in);
   in.t = 2.6;
-  CHECK(sw.update(in) == FeedbackSource::Slam);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Slam);
 }
 
 TEST_CASE("control: a dodgy SLAM (not fused) is no source: a tracked target is taken instead") {
-  SourceSwitchParameters p;
-  LocalizationSwitch sw(p);
-  SwitchInputs in;
-  in.slam = SlamState::Good;
+  fusion::SourceSwitchParameters p;
+  fusion::LocalizationSwitch sw(p);
+  fusion::SwitchInputs in;
+  in.slam = fusion::SlamState::Good;
   for (in.t = 0; in.t < 1.0; in.t += 0.1) sw.update(in);
-  REQUIRE(sw.current() == FeedbackSource::Slam);
-  in.slam = SlamState::Dodgy;
-  in.target_state = TrackState::Tracking;
+  REQUIRE(sw.current() == fusion::FeedbackSource::Slam);
+  in.slam = fusion::SlamState::Dodgy;
+  in.target_state = fusion::TrackState::Tracking;
   in.target_distance_m = 1.9;  // inside the hysteresis band, not near
   in.t = 1.0;
-  CHECK(sw.update(in) == FeedbackSource::Slam);  // a short dodgy spell is bridged
+  CHECK(sw.update(in) == fusion::FeedbackSource::Slam);  // a short dodgy spell is bridged
   in.t = 1.6;
-  const FeedbackSource after = sw.update(in);
-  CHECK(after != FeedbackSource::Slam);
+  const fusion::FeedbackSource after = sw.update(in);
+  CHECK(after != fusion::FeedbackSource::Slam);
   in.t = 2.2;
-  CHECK(sw.update(in) == FeedbackSource::Homography);
+  CHECK(sw.update(in) == fusion::FeedbackSource::Homography);
 }
 
 TEST_CASE("control: on the way home dead reckoning is tolerated for the grace, then escalates") {
-  SafetyLimits lim;  // hover after 1 s, land after 8 s
-  SafetyMonitor m(lim);
-  SafetyInputs in;
+  control::SafetyLimits lim;  // hover after 1 s, land after 8 s
+  control::SafetyMonitor m(lim);
+  control::SafetyInputs in;
   in.airborne = true;
   in.localization_required = true;
   in.localization_ok = false;
   in.localization_grace_s = 20.0;
   in.t = 0;
-  CHECK(m.evaluate(in).action == SafetyAction::None);
+  CHECK(m.evaluate(in).action == control::SafetyAction::None);
   in.t = 20.5;
-  const SafetyVerdict tolerated = m.evaluate(in);
-  CHECK(tolerated.action == SafetyAction::None);
+  const control::SafetyVerdict tolerated = m.evaluate(in);
+  CHECK(tolerated.action == control::SafetyAction::None);
   REQUIRE(tolerated.alerts.size() == 1);
   CHECK_THAT(tolerated.alerts[0], Catch::Contains("dead reckoning for 20.5 s"));
   in.t = 21.5;
-  CHECK(m.evaluate(in).action == SafetyAction::HoldLevel);
+  CHECK(m.evaluate(in).action == control::SafetyAction::HoldLevel);
   in.t = 28.5;
-  CHECK(m.evaluate(in).action == SafetyAction::Land);
+  CHECK(m.evaluate(in).action == control::SafetyAction::Land);
   in.localization_grace_s = 0;  // elsewhere: the usual 1 s / 8 s
   in.localization_ok = true;
   m.evaluate(in);
@@ -114,11 +115,11 @@ TEST_CASE("control: on the way home dead reckoning is tolerated for the grace, t
   in.t = 30.0;
   m.evaluate(in);
   in.t = 31.1;
-  CHECK(m.evaluate(in).action == SafetyAction::HoldLevel);
+  CHECK(m.evaluate(in).action == control::SafetyAction::HoldLevel);
 }
 
 TEST_CASE("control: geofence keeps the margin and names the violated bound") {
-  const Geofence fence({-2, -2, 0}, {2, 2, 2.5}, 0.3);
+  const control::Geofence fence({-2, -2, 0}, {2, 2, 2.5}, 0.3);
   CHECK(fence.contains({1.7, 0, 1}));
   CHECK_FALSE(fence.contains({1.8, 0, 1}));
   CHECK_FALSE(fence.contains({0, 0, 2.3}));
@@ -129,29 +130,29 @@ TEST_CASE("control: geofence keeps the margin and names the violated bound") {
 }
 
 TEST_CASE("control: safety monitor escalates link loss and localization loss over time") {
-  SafetyLimits lim;
+  control::SafetyLimits lim;
   lim.link_loss_land_s = 2.0;
-  SafetyMonitor m(lim);
-  SafetyInputs in;
+  control::SafetyMonitor m(lim);
+  control::SafetyInputs in;
   in.airborne = true;
   in.link = LinkState::Lost;
   in.t = 0;
-  CHECK(m.evaluate(in).action == SafetyAction::Hover);
+  CHECK(m.evaluate(in).action == control::SafetyAction::Hover);
   in.t = 2.1;
-  CHECK(m.evaluate(in).action == SafetyAction::Land);
+  CHECK(m.evaluate(in).action == control::SafetyAction::Land);
   in.link = LinkState::Connected;
   in.battery_percent = 15;
-  CHECK(m.evaluate(in).action == SafetyAction::ReturnHome);
+  CHECK(m.evaluate(in).action == control::SafetyAction::ReturnHome);
   in.returning_home = true;
-  CHECK(m.evaluate(in).action == SafetyAction::None);
+  CHECK(m.evaluate(in).action == control::SafetyAction::None);
   in.battery_percent = 5;
-  CHECK(m.evaluate(in).action == SafetyAction::Land);
+  CHECK(m.evaluate(in).action == control::SafetyAction::Land);
 }
 
 TEST_CASE("control: safety holds level after a sudden estimate jump, not after smooth motion") {
-  SafetyLimits lim;  // jump 0.30 m, hold 1 s
-  SafetyMonitor m(lim);
-  SafetyInputs in;
+  control::SafetyLimits lim;  // jump 0.30 m, hold 1 s
+  control::SafetyMonitor m(lim);
+  control::SafetyInputs in;
   in.airborne = in.flying = true;
   in.velocity_mps = Eigen::Vector3d(1.0, 0, 0);  // flying at 1 m/s: 3.3 cm per tick is no jump
   Eigen::Vector3d p(0, 0, 1);
@@ -159,13 +160,13 @@ TEST_CASE("control: safety holds level after a sudden estimate jump, not after s
     in.t = i / 30.0;
     p.x() = in.t;
     in.position_m = p;
-    REQUIRE(m.evaluate(in).action == SafetyAction::None);
+    REQUIRE(m.evaluate(in).action == control::SafetyAction::None);
   }
   in.t += 1 / 30.0;
   p.x() = in.t + 0.8;  // a wrong fix moved the estimate 0.8 m in one tick
   in.position_m = p;
-  const SafetyVerdict v = m.evaluate(in);
-  CHECK(v.action == SafetyAction::HoldLevel);
+  const control::SafetyVerdict v = m.evaluate(in);
+  CHECK(v.action == control::SafetyAction::HoldLevel);
   REQUIRE_FALSE(v.alerts.empty());
   CHECK_THAT(v.alerts.back(), Catch::Contains("jumped 0.80 m"));
   CHECK(m.estimate_jumps() == 1);
@@ -174,46 +175,46 @@ TEST_CASE("control: safety holds level after a sudden estimate jump, not after s
     in.t += 1 / 30.0;
     p.x() += 1 / 30.0;
     in.position_m = p;
-    REQUIRE(m.evaluate(in).action == SafetyAction::HoldLevel);
+    REQUIRE(m.evaluate(in).action == control::SafetyAction::HoldLevel);
   }
   in.t = jumped_at + 1.05;
   p.x() += 0.15 * 1.0;
   in.position_m = p;
-  CHECK(m.evaluate(in).action == SafetyAction::None);
+  CHECK(m.evaluate(in).action == control::SafetyAction::None);
   in.flying = false;  // landing or taking off: never held
   in.t += 1 / 30.0;
   p.x() += 2.0;
   in.position_m = p;
-  CHECK(m.evaluate(in).action == SafetyAction::None);
+  CHECK(m.evaluate(in).action == control::SafetyAction::None);
 }
 
 TEST_CASE("control: safety climbs when the ultrasound says the surface below is too close") {
-  SafetyLimits lim;  // 0.35 m, climbing until 0.50 m
-  SafetyMonitor m(lim);
-  SafetyInputs in;
+  control::SafetyLimits lim;  // 0.35 m, climbing until 0.50 m
+  control::SafetyMonitor m(lim);
+  control::SafetyInputs in;
   in.airborne = in.flying = true;
   in.ultrasound_m = 1.0;
-  CHECK(m.evaluate(in).action == SafetyAction::None);
+  CHECK(m.evaluate(in).action == control::SafetyAction::None);
   in.ultrasound_m = 0.17;  // over a bench top at instrument height, whatever the estimate says
-  const SafetyVerdict v = m.evaluate(in);
-  CHECK(v.action == SafetyAction::Climb);
+  const control::SafetyVerdict v = m.evaluate(in);
+  CHECK(v.action == control::SafetyAction::Climb);
   CHECK_THAT(v.alerts.back(), Catch::Contains("0.17 m above the surface below"));
   in.ultrasound_m = 0.45;  // inside the hysteresis: still climbing
-  CHECK(m.evaluate(in).action == SafetyAction::Climb);
+  CHECK(m.evaluate(in).action == control::SafetyAction::Climb);
   in.ultrasound_m = 0.55;
-  CHECK(m.evaluate(in).action == SafetyAction::None);
+  CHECK(m.evaluate(in).action == control::SafetyAction::None);
   in.ultrasound_m = 0.2;  // a climb outranks a return home; a critical battery's landing outranks it
   in.battery_percent = 15;
-  CHECK(m.evaluate(in).action == SafetyAction::Climb);
+  CHECK(m.evaluate(in).action == control::SafetyAction::Climb);
   in.battery_percent = 5;
-  CHECK(m.evaluate(in).action == SafetyAction::Land);
+  CHECK(m.evaluate(in).action == control::SafetyAction::Land);
   in.battery_percent = 90;
   in.flying = false;  // taking off or landing: the ground is meant to be near
-  CHECK(m.evaluate(in).action == SafetyAction::None);
+  CHECK(m.evaluate(in).action == control::SafetyAction::None);
   lim.min_clearance_m = 0;  // off
-  SafetyMonitor off(lim);
+  control::SafetyMonitor off(lim);
   in.flying = true;
-  CHECK(off.evaluate(in).action == SafetyAction::None);
+  CHECK(off.evaluate(in).action == control::SafetyAction::None);
 }
 
 TEST_CASE("control: config section is validated with the key path") {
@@ -221,7 +222,7 @@ TEST_CASE("control: config section is validated with the key path") {
     const ConfigDocument doc = ConfigDocument::parse(text, "test.json");
     return read_control_config(doc.root());
   };
-  const ControlConfig c = read(R"({"gains": {"xy": {"kp": 0.4}}, "mission": {"standoff_m": 0.9}})");
+  const control::ControlConfig c = read(R"({"gains": {"xy": {"kp": 0.4}}, "mission": {"standoff_m": 0.9}})");
   CHECK(c.gains.xy.kp == 0.4);
   CHECK(c.mission.standoff_m == 0.9);
   CHECK(c.mission.face_distance_m == 1.0);
@@ -230,7 +231,7 @@ TEST_CASE("control: config section is validated with the key path") {
   CHECK_THROWS_WITH(read(R"({"mission": {"standoff_m": 0.3}})"), Catch::Contains("min_standoff_m"));
   CHECK_THROWS_WITH(read(R"({"mission": {"far_to_near_m": 2.5}})"), Catch::Contains("hysteresis"));
   CHECK_THROWS_WITH(read(R"({"safety": {"link_loss_land_s": "soon"}})"), Catch::Contains("link_loss_land_s"));
-  const ControlConfig net = read(R"({"safety": {"min_clearance_m": 0.5, "estimate_jump_m": 0.4, "estimate_jump_hold_s": 2}})");
+  const control::ControlConfig net = read(R"({"safety": {"min_clearance_m": 0.5, "estimate_jump_m": 0.4, "estimate_jump_hold_s": 2}})");
   CHECK(net.safety.min_clearance_m == 0.5);
   CHECK(net.safety.estimate_jump_m == 0.4);
   CHECK(net.safety.estimate_jump_hold_s == 2.0);
@@ -251,7 +252,7 @@ TEST_CASE("control: the standoff pose puts the panel centre at the image centre 
   T_world_panel.translation() = Eigen::Vector3d(3.0, 0.5, 1.2);
   const CameraIntrinsics k = PinholeCamera::ardrone2_front().intrinsics();
   const Eigen::Vector3d ray = image_centre_ray(k.fx, k.fy, k.cx, k.cy, k.width, k.height);
-  const PoseTarget t = standoff_target(T_world_panel, 0.8, ray);
+  const control::PoseTarget t = standoff_target(T_world_panel, 0.8, ray);
   const Eigen::Isometry3d T_cam_panel = (make_pose(t.position, t.yaw) * T_body_cam_front()).inverse() * T_world_panel;
   const Eigen::Vector3d c = T_cam_panel.translation();
   CHECK(c.z() == Approx(0.8));

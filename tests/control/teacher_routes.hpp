@@ -7,8 +7,8 @@
 namespace labo::test {
 
 // The route of config/lab.json: along x at y = -2.4, back at y = -1.9.
-inline TeacherRoute lab_route() {
-  TeacherRoute r;
+inline fusion::TeacherRoute lab_route() {
+  fusion::TeacherRoute r;
   r.waypoints = {{1.2, -2.4}, {4.2, -2.4}, {4.2, -1.9}, {1.2, -1.9}};
   r.speed_mps = 0.4;
   r.pause_s = 3.0;
@@ -17,8 +17,8 @@ inline TeacherRoute lab_route() {
 }
 
 // Two long legs along x, 0.5 m apart, joined by short ones: a turn back at each end.
-inline TeacherRoute turn_back_route() {
-  TeacherRoute r;
+inline fusion::TeacherRoute turn_back_route() {
+  fusion::TeacherRoute r;
   r.waypoints = {{1.0, -2.0}, {3.5, -2.0}, {3.5, -1.5}, {1.0, -1.5}};
   r.speed_mps = 0.4;
   r.pause_s = 3.0;
@@ -27,7 +27,7 @@ inline TeacherRoute turn_back_route() {
 }
 
 // The simulated teacher walking `route`, with the lab's head sway.
-inline TeacherSpec walking(const TeacherRoute& route) {
+inline TeacherSpec walking(const fusion::TeacherRoute& route) {
   TeacherSpec spec;
   spec.waypoints = route.waypoints;
   spec.speed_mps = route.speed_mps;

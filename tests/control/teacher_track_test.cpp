@@ -7,6 +7,7 @@
 #include "core/frames.hpp"
 
 using namespace labo;
+using namespace labo::control;
 
 namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -24,7 +25,7 @@ Eigen::Isometry3d face_at(const Eigen::Vector3d& p, double looking) {
 }  // namespace
 
 TEST_CASE("control: a walking teacher's heading is the walking direction, not the swaying head's") {
-  TeacherTrack track;
+  control::TeacherTrack track;
   const double walk = 0.3;  // rad: walking a little left of +x
   const Eigen::Vector3d v(0.4 * std::cos(walk), 0.4 * std::sin(walk), 0.0);
   double worst = 0;
@@ -42,7 +43,7 @@ TEST_CASE("control: a walking teacher's heading is the walking direction, not th
 }
 
 TEST_CASE("control: a teacher turning on the spot is followed by where the face looks") {
-  TeacherTrack track;
+  control::TeacherTrack track;
   const Eigen::Vector3d p(4.2, -2.4, 1.65);
   track.reset(face_at(p, 0.0), 0.0);
   for (int k = 1; k <= 90; ++k) track.update(face_at(p, std::numbers::pi / 2 * k / 90.0), k / 30.0);  // 90 deg in 3 s
@@ -53,7 +54,7 @@ TEST_CASE("control: a teacher turning on the spot is followed by where the face 
 }
 
 TEST_CASE("control: a lost teacher coasts along the last motion, a route prediction places them") {
-  TeacherTrack track;
+  control::TeacherTrack track;
   const Eigen::Vector3d v(0.5, 0.0, 0.0);
   for (int k = 0; k <= 90; ++k) {
     const Eigen::Isometry3d face = face_at(Eigen::Vector3d(0, 0, 1.6) + v * (k / 30.0), 0.0);
@@ -72,7 +73,7 @@ TEST_CASE("control: a lost teacher coasts along the last motion, a route predict
 }
 
 TEST_CASE("control: a sustained walk is remembered after the teacher stops, the pose's jitter is no walk") {
-  TeacherTrack track;
+  control::TeacherTrack track;
   const Eigen::Vector3d start(4.2, -2.4, 1.65);
   track.reset(face_at(start, std::numbers::pi / 2), 0.0);
   // Standing, the face's place jittering by 3 cm frame to frame (seeded): no sustained walk.
@@ -89,16 +90,16 @@ TEST_CASE("control: a sustained walk is remembered after the teacher stops, the 
   for (; k <= 90 + 38; ++k) track.update(face_at(start + Eigen::Vector3d(0, 0.4 * (k / 30.0 - walk_start), 0), std::numbers::pi / 2), k / 30.0);
   const Eigen::Vector3d end = track.position();
   for (; k <= 90 + 38 + 30; ++k) track.update(face_at(end, std::numbers::pi / 2), k / 30.0);
-  const TeacherTrack::WalkSpell& w = track.last_walk();
+  const control::TeacherTrack::WalkSpell& w = track.last_walk();
   REQUIRE(w.seen);
   CHECK(w.direction.y() > 0.95);
-  CHECK(w.to > w.from + TeacherTrack::kSustainedWalkS);
+  CHECK(w.to > w.from + control::TeacherTrack::kSustainedWalkS);
   CHECK(w.to < (90 + 38 + 30) / 30.0 - 0.3);  // ended when they stopped, not now
   CHECK_FALSE(track.walking());
 }
 
 TEST_CASE("control: a face taken up again after a route prediction keeps the predicted walk") {
-  TeacherTrack track;
+  control::TeacherTrack track;
   track.reset(face_at({1.2, -2.4, 1.65}, 0.0), 0.0);
   // Predicted walking the leg along +x at 0.4 m/s; the face found again 0.5 m along it.
   track.place({1.6, -2.4}, 0.0, {0.4, 0.0});

@@ -18,15 +18,16 @@
 #include "drone/sim/quadrotor_dynamics.hpp"
 
 using namespace labo;
+using namespace labo::control;
 
 namespace {
 
 struct ZFlight {
   LabDescription lab = load_lab_description(default_lab_path());
   QuadrotorDynamics drone{QuadrotorParams{}, CollisionModel(lab, QuadrotorParams{}.hull), lab.T_world_base};
-  PoseController controller{PoseControlGains{}};
+  control::PoseController controller{control::PoseControlGains{}};
   std::deque<MoveCommand> in_flight;  // the link's delay: a command acts 90 ms after the pose it came from
-  PoseTarget target;
+  control::PoseTarget target;
 
   ZFlight() {
     drone.takeoff();
@@ -41,7 +42,7 @@ struct ZFlight {
   // 30 ms control periods with the truth as the estimate.
   void fly(Seconds duration, const std::function<void()>& each = [] {}) {
     for (Seconds t = 0; t < duration - 1e-9; t += 0.03) {
-      PoseEstimate pose;
+      fusion::PoseEstimate pose;
       pose.valid = true;
       pose.T_world_body = drone.state().T_world_body();
       pose.velocity_world = drone.state().velocity_mps;
@@ -127,7 +128,7 @@ TEST_CASE("control: a descent at the z gains' limit is stopped by the clearance 
   // The safety's net under a bad estimate: below min_clearance_m (0.35 m) the drone climbs (gaz 0.5,
   // level_hold.hpp). A descent at out_min must be stopped before the floor: within 0.15 m.
   ZFlight f;
-  const PoseControlGains gains;
+  const control::PoseControlGains gains;
   f.target.position.z() += 1.0;  // room below for a 3 s descent
   f.controller.set_target(f.target);
   f.fly(6.0);
@@ -139,7 +140,7 @@ TEST_CASE("control: a descent at the z gains' limit is stopped by the clearance 
   }
   REQUIRE(f.drone.state().velocity_mps.z() < -0.3);
   const double z_at_climb = f.drone.state().position_m.z();
-  PoseEstimate pose;
+  fusion::PoseEstimate pose;
   pose.valid = true;
   double lowest = z_at_climb;
   for (int i = 0; i < 100; ++i) {

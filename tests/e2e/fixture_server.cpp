@@ -1,6 +1,6 @@
 // The browser test's and the web benchmark's server: the real WebServer and FlightRuntime, with the
 // drone and the flight software replaced by the test doubles of tests/server/support (a 30 fps test
-// card and a scripted inspection). It exercises everything of the web layer without the simulated
+// card, also H.264-encoded as the drone sends it, and a scripted inspection). It exercises everything of the web layer without the simulated
 // lab. Usage: labo_e2e_server PORT [STAGE_SECONDS] [FPS] [textured|plain] [CONFIG_FILE]
 #include <iostream>
 #include <string>
@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
     runtime.start();
     const unsigned short port = server.start();
     link.set_textured(argc > 4 && std::string(argv[4]) == "textured");
+    link.set_h264(true);
     link.start_pump(clock, fps);
     std::cout << "listening " << port << std::endl;
     server.run_until_signal();

@@ -9,6 +9,7 @@
 
 #include "server/runtime/flight_runtime.hpp"
 #include "tests/server/support/fake_drone.hpp"
+#include "tests/support/instrument_job.hpp"
 
 using namespace labo;
 using namespace labo::test;
@@ -16,14 +17,14 @@ using namespace labo::test;
 namespace {
 
 // A front-end that holds every frame until the test releases it, and counts its frames.
-class GatedFrontEnd final : public TargetFrontEnd {
+class GatedFrontEnd final : public fusion::TargetFrontEnd {
  public:
-  const TargetObservation& process(const cv::Mat& gray, Seconds t, std::optional<double>) override {
+  const fusion::TargetObservation& process(const cv::Mat& gray, Seconds t, std::optional<double>) override {
     std::unique_lock lock(mutex_);
     ++entered_;
     cv_.notify_all();
     cv_.wait(lock, [&] { return open_; });
-    observation_.state = gray.empty() ? TrackState::Lost : TrackState::Tracking;
+    observation_.state = gray.empty() ? fusion::TrackState::Lost : fusion::TrackState::Tracking;
     observation_.t = t;
     observation_.method = "template";
     return observation_;
@@ -48,11 +49,11 @@ class GatedFrontEnd final : public TargetFrontEnd {
   std::condition_variable cv_;
   bool open_ = false;
   int entered_ = 0;
-  TargetObservation observation_;
+  fusion::TargetObservation observation_;
 };
 
-VisionJob job_for(TargetFrontEnd& fe, Seconds t) {
-  VisionJob job;
+fusion::VisionJob job_for(fusion::TargetFrontEnd& fe, Seconds t) {
+  fusion::VisionJob job;
   job.t = t;
   job.gray = cv::Mat(36, 64, CV_8UC1, cv::Scalar(100));
   job.instrument = &fe;
@@ -66,16 +67,9 @@ class GatedVisionCore final : public FlightCore {
   explicit GatedVisionCore(GatedFrontEnd& fe) : fe_(fe) {}
   void on_navdata(const NavdataSample&) override {}
   void on_video(const VideoFrame&) override {}
-  bool prepare_vision(const VideoFrame& frame, VisionJob& job) override {
-    job.clear();
-    job.t = frame.t;
-    frame.bgr.copyTo(job.gray);
-    job.instrument = &fe_;
-    job.instrument_id = "oscilloscope";
-    return true;
-  }
-  void apply_vision(const VisionResults& r) override {
-    if (r.has_instrument && r.instrument.state == TrackState::Tracking) ++applied;
+  bool prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) override { return test::instrument_job(frame, fe_, job); }
+  void apply_vision(const fusion::VisionResults& r) override {
+    if (r.has_instrument && r.instrument.state == fusion::TrackState::Tracking) ++applied;
   }
   void on_link_state(LinkState, Seconds) override {}
   FlightAction tick(Seconds) override {
@@ -108,14 +102,14 @@ TEST_CASE("vision worker: runs one job at a time and hands its results back by s
   std::promise<void> done;
   VisionWorker worker([&] { done.set_value(); });
   CHECK(worker.idle());
-  VisionJob job = job_for(fe, 1.5);
+  fusion::VisionJob job = job_for(fe, 1.5);
   worker.submit(job);
   CHECK_FALSE(worker.idle());
   REQUIRE(fe.wait_entered(1));
-  VisionResults results;
+  fusion::VisionResults results;
   double run_ms = -1;
   CHECK_FALSE(worker.take(results, run_ms));  // still running
-  VisionJob second = job_for(fe, 2.0);
+  fusion::VisionJob second = job_for(fe, 2.0);
   CHECK_THROWS_AS(worker.submit(second), std::logic_error);
   fe.open();
   REQUIRE(done.get_future().wait_for(std::chrono::seconds(10)) == std::future_status::ready);
@@ -124,25 +118,25 @@ TEST_CASE("vision worker: runs one job at a time and hands its results back by s
   CHECK(results.t == 1.5);
   CHECK(results.has_instrument);
   CHECK(results.instrument_id == "oscilloscope");
-  CHECK(results.instrument.state == TrackState::Tracking);
+  CHECK(results.instrument.state == fusion::TrackState::Tracking);
   CHECK(results.detected());
   CHECK(run_ms >= 0);
 }
 
 TEST_CASE("vision worker: a front-end that throws yields an empty result with the reason") {
-  struct Throwing final : TargetFrontEnd {
-    const TargetObservation& process(const cv::Mat&, Seconds, std::optional<double>) override {
+  struct Throwing final : fusion::TargetFrontEnd {
+    const fusion::TargetObservation& process(const cv::Mat&, Seconds, std::optional<double>) override {
       throw std::runtime_error("frame of the wrong size");
     }
     void reset() override {}
   } fe;
   std::promise<void> done;
   VisionWorker worker([&] { done.set_value(); });
-  VisionJob job;
+  fusion::VisionJob job;
   job.instrument = &fe;
   worker.submit(job);
   REQUIRE(done.get_future().wait_for(std::chrono::seconds(10)) == std::future_status::ready);
-  VisionResults results;
+  fusion::VisionResults results;
   double run_ms = 0;
   REQUIRE(worker.take(results, run_ms));
   CHECK_FALSE(results.has_instrument);

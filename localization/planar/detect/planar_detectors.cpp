@@ -6,14 +6,24 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "localization/planar/detect/binary_matcher.hpp"
 #include "localization/planar/planar_template.hpp"
 
 namespace labo::planar {
 
 namespace {
 
-// Scale about pixel centres: x' = (x + 0.5) * s - 0.5.
-cv::Matx33d centre_scale(double sx, double sy) { return {sx, 0, 0.5 * sx - 0.5, 0, sy, 0.5 * sy - 0.5, 0, 0, 1}; }
+// The template's features cover object sizes down to this fraction of the working template (320 px:
+// 43 px, the oscilloscope at 5 m): ORB's 8 levels 1.2 apart reach only 1/3.6, which missed the panel
+// at 2.5 m partly in view ("planar: a panel sliding slowly across the image's edge ..."); the frame
+// keeps the detector's own levels (objects larger than the template).
+constexpr int kTemplateOrbLevels = 12;
+// Binary detectors drop keypoints within their patch (ORB: 31 px) of the border on every pyramid
+// level; the template is padded with its mean grey by that patch at the coarsest level (31 x 1.2^11 px
+// at level 0) so that its edges keep their features at every scale.
+constexpr int kBinaryTemplatePaddingPx = 230;
+constexpr int kTemplateFeatures = 1000;
+constexpr int kFrameEdgePx = 8;
 
 // A convex quadrilateral of reasonable size: a homography a real plane can produce.
 bool plausible(const cv::Matx33d& H, cv::Size template_size, double min_side_px) {
@@ -30,85 +40,105 @@ bool plausible(const cv::Matx33d& H, cv::Size template_size, double min_side_px)
   return true;
 }
 
+cv::Ptr<cv::Feature2D> make_features(NearDetector kind, int max_features) {
+  switch (kind) {
+    case NearDetector::Sift: return cv::SIFT::create(max_features);
+    // Keypoints up to kFrameEdgePx from the frame's border (ORB's default is its 31 px patch): a panel
+    // entering the view shows there first. Their descriptors read ORB's own reflected border.
+    case NearDetector::Orb: return cv::ORB::create(max_features, 1.2f, 8, kFrameEdgePx);
+    case NearDetector::Brisk: return cv::BRISK::create();
+    case NearDetector::Akaze: return cv::AKAZE::create();
+  }
+  return cv::SIFT::create(max_features);
+}
+
+// A frame of `size` with the template in its middle, half the frame wide, on its mean grey: what the
+// constructor runs the detector on once.
+cv::Mat warm_up_frame(const cv::Mat& working_template, cv::Size size) {
+  cv::Mat frame(size, CV_8UC1, cv::Scalar(cv::mean(working_template)[0]));
+  const double s = std::min(0.5 * size.width / working_template.cols, 0.8 * size.height / working_template.rows);
+  const cv::Size placed(std::max(1, static_cast<int>(working_template.cols * s)), std::max(1, static_cast<int>(working_template.rows * s)));
+  cv::Mat inner = frame(cv::Rect((size.width - placed.width) / 2, (size.height - placed.height) / 2, placed.width, placed.height));
+  cv::resize(working_template, inner, placed, 0, 0, cv::INTER_AREA);
+  return frame;
+}
+
 }  // namespace
 
-TemplateMatchDetector::TemplateMatchDetector(const cv::Mat& working_template, const PlanarConfig& config,
-                                             double min_correlation)
-    : template_(working_template.clone()), config_(config), min_correlation_(min_correlation) {}
-
-const cv::Mat& TemplateMatchDetector::template_at_width(int width_px) {
-  auto it = resized_templates_.find(width_px);
-  if (it == resized_templates_.end()) {
-    const int height = std::max(4, static_cast<int>(std::lround(width_px * template_.rows / double(template_.cols))));
-    cv::Mat resized;
-    cv::resize(template_, resized, cv::Size(width_px, height), 0, 0, cv::INTER_AREA);
-    it = resized_templates_.emplace(width_px, resized).first;
-  }
-  return it->second;
-}
-
-Detection TemplateMatchDetector::detect(const cv::Mat& image, double min_width_px, double max_width_px) {
-  Detection best;
-  const int match_width = config_.detection_match_width_px;
-  for (double width = std::max(8.0, min_width_px); width <= max_width_px * 1.0001; width *= config_.detection_scale_step) {
-    // Match where the template is `match_width` wide (or at full resolution for small objects).
-    const int wt = std::max(8, static_cast<int>(std::lround(std::min(width, double(match_width)))));
-    const double f = wt / width;
-    const cv::Mat& templ = template_at_width(wt);
-    const cv::Mat* searched = &image;
-    if (f < 1.0) {
-      const cv::Size size(std::max(1, static_cast<int>(std::lround(image.cols * f))),
-                          std::max(1, static_cast<int>(std::lround(image.rows * f))));
-      cv::resize(image, resized_image_, size, 0, 0, cv::INTER_AREA);  // explicit size: exact pixel map
-      searched = &resized_image_;
-    }
-    if (templ.cols >= searched->cols || templ.rows >= searched->rows) continue;
-    cv::matchTemplate(*searched, templ, result_, cv::TM_CCOEFF_NORMED);
-    double score = 0;
-    cv::Point loc;
-    cv::minMaxLoc(result_, nullptr, &score, nullptr, &loc);
-    if (!std::isfinite(score) || score <= best.score) continue;
-    const double fx = static_cast<double>(searched->cols) / image.cols, fy = static_cast<double>(searched->rows) / image.rows;
-    const cv::Matx33d shift(1, 0, loc.x, 0, 1, loc.y, 0, 0, 1);
-    best.score = score;
-    best.H = centre_scale(1 / fx, 1 / fy) * shift *
-             centre_scale(static_cast<double>(templ.cols) / template_.cols, static_cast<double>(templ.rows) / template_.rows);
-  }
-  best.found = best.score > min_correlation_;
-  return best;
-}
-
-SiftDetector::SiftDetector(const cv::Mat& working_template, const PlanarConfig& config, int min_inliers)
-    : frame_sift_(cv::SIFT::create(config.sift_max_frame_features)),
+FeatureMatchDetector::FeatureMatchDetector(const cv::Mat& working_template, cv::Size image_size, const PlanarConfig& config,
+                                           int min_inliers)
+    : frame_features_(make_features(config.near_detector, config.near_max_frame_features)),
+      matcher_(config.near_detector == NearDetector::Sift ? cv::NORM_L2 : cv::NORM_HAMMING),
       template_size_(working_template.size()),
       config_(config),
       min_inliers_(min_inliers) {
-  cv::SIFT::create()->detectAndCompute(working_template, cv::noArray(), keypoints_, descriptors_);
+  describe_template(working_template);
+  if (image_size.width >= 32 && image_size.height >= 32) detect(warm_up_frame(working_template, image_size));
 }
 
-Detection SiftDetector::detect(const cv::Mat& image) {
+void FeatureMatchDetector::describe_template(const cv::Mat& working_template) {
+  if (config_.near_detector == NearDetector::Sift) {
+    cv::SIFT::create()->detectAndCompute(working_template, cv::noArray(), keypoints_, descriptors_);
+    return;
+  }
+  const int pad = kBinaryTemplatePaddingPx;
+  cv::Mat padded;
+  cv::copyMakeBorder(working_template, padded, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar(cv::mean(working_template)[0]));
+  std::vector<cv::KeyPoint> all;
+  cv::Mat all_descriptors;
+  const cv::Ptr<cv::Feature2D> features = config_.near_detector == NearDetector::Orb
+                                               ? cv::Ptr<cv::Feature2D>(cv::ORB::create(kTemplateFeatures, 1.2f, kTemplateOrbLevels))
+                                               : make_features(config_.near_detector, kTemplateFeatures);
+  features->detectAndCompute(padded, cv::noArray(), all, all_descriptors);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    cv::KeyPoint k = all[i];
+    k.pt -= cv::Point2f(pad, pad);
+    if (k.pt.x < 0 || k.pt.y < 0 || k.pt.x > working_template.cols - 1 || k.pt.y > working_template.rows - 1) continue;
+    keypoints_.push_back(k);
+    descriptors_.push_back(all_descriptors.row(static_cast<int>(i)));
+  }
+}
+
+Detection FeatureMatchDetector::detect(const cv::Mat& image) {
   Detection d;
   if (keypoints_.size() < 4) return d;
-  std::vector<cv::KeyPoint> keypoints;
-  cv::Mat descriptors;
-  frame_sift_->detectAndCompute(image, cv::noArray(), keypoints, descriptors);
-  if (keypoints.size() < 4) return d;
-  std::vector<std::vector<cv::DMatch>> knn;
-  matcher_.knnMatch(descriptors_, descriptors, knn, 2);
-  std::vector<cv::Point2f> from, to;
-  for (const auto& m : knn) {
-    if (m.size() == 2 && m[0].distance < config_.sift_ratio * m[1].distance) {
-      from.push_back(keypoints_[static_cast<std::size_t>(m[0].queryIdx)].pt);
-      to.push_back(keypoints[static_cast<std::size_t>(m[0].trainIdx)].pt);
+  const cv::Mat* searched = &image;
+  if (config_.near_frame_scale < 1.0) {
+    const cv::Size size(std::max(1, static_cast<int>(std::lround(image.cols * config_.near_frame_scale))),
+                        std::max(1, static_cast<int>(std::lround(image.rows * config_.near_frame_scale))));
+    cv::resize(image, scaled_, size, 0, 0, cv::INTER_AREA);
+    searched = &scaled_;
+  }
+  frame_features_->detectAndCompute(*searched, cv::noArray(), frame_keypoints_, frame_descriptors_);
+  if (frame_keypoints_.size() < 4) return d;
+  // Area-resize pixel map back to the frame: x = (x' + 0.5) / s - 0.5.
+  const float sx = static_cast<float>(image.cols) / searched->cols, sy = static_cast<float>(image.rows) / searched->rows;
+  from_.clear();
+  to_.clear();
+  const auto keep = [&](int template_index, int frame_index) {
+    const cv::Point2f p = frame_keypoints_[static_cast<std::size_t>(frame_index)].pt;
+    from_.push_back(keypoints_[static_cast<std::size_t>(template_index)].pt);
+    to_.emplace_back((p.x + 0.5f) * sx - 0.5f, (p.y + 0.5f) * sy - 0.5f);
+  };
+  if (config_.near_detector == NearDetector::Sift) {
+    knn_.clear();  // OpenCV's knnMatch appends to what the vector holds
+    matcher_.knnMatch(descriptors_, frame_descriptors_, knn_, 2);
+    for (const auto& m : knn_) {
+      if (m.size() == 2 && m[0].distance < config_.near_ratio * m[1].distance) keep(m[0].queryIdx, m[0].trainIdx);
+    }
+  } else {
+    nearest_two_hamming(descriptors_, frame_descriptors_, nearest_);
+    for (std::size_t i = 0; i < nearest_.size(); ++i) {
+      const NearestTwo& n = nearest_[i];
+      if (n.best >= 0 && n.best_distance < config_.near_ratio * n.second_distance) keep(static_cast<int>(i), n.best);
     }
   }
-  d.matches = static_cast<int>(from.size());
-  if (from.size() < 4) return d;
-  std::vector<unsigned char> mask;
-  const cv::Mat H = cv::findHomography(from, to, cv::RANSAC, config_.ransac_threshold_px, mask, 2000, 0.995);
+  d.matches = static_cast<int>(from_.size());
+  if (from_.size() < 4) return d;
+  const cv::Mat H = cv::findHomography(from_, to_, cv::RANSAC, config_.ransac_threshold_px, mask_, 2000, 0.995);
   if (H.empty()) return d;
-  d.inliers = cv::countNonZero(mask);
-  d.score = static_cast<double>(d.inliers) / static_cast<double>(from.size());
+  d.inliers = cv::countNonZero(mask_);
+  d.score = static_cast<double>(d.inliers) / static_cast<double>(from_.size());
   H.convertTo(cv::Mat(3, 3, CV_64F, d.H.val), CV_64F);
   d.found = d.inliers >= min_inliers_ && plausible(d.H, template_size_, 8.0);
   return d;

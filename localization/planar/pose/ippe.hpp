@@ -2,7 +2,8 @@
 // Infinitesimal Plane-based Pose Estimation (Collins & Bartoli, "Infinitesimal Plane-based Pose
 // Estimation", IJCV 2014) for the four corners of a planar object, written from the paper's maths
 // with fixed-size Eigen types: nothing is allocated, so the planar localizer can run it per frame
-// (it replaces cv::solvePnPGeneric(SOLVEPNP_IPPE), which made ~80 heap allocations per call;
+// (it replaces cv::solvePnPGeneric(SOLVEPNP_IPPE), which allocates on every call: test "vision
+// front-ends: tracking a panel allocates nothing";
 // tests/localization/planar/pose/ippe_test.cpp holds the two to 1e-9 on fronto-parallel and oblique views).
 //
 // The method: the homography H from the plane (object points centred on their centroid) to the

@@ -22,13 +22,19 @@ PlanarPoseSolver::PlanarPoseSolver(const cv::Matx33d& K, const std::array<cv::Po
 
 std::optional<PlanarPose> PlanarPoseSolver::solve(const std::array<cv::Point2d, 4>& image_corners,
                                                   const std::optional<Eigen::Isometry3d>& previous) const {
+  return solve(object_xy_, image_corners, previous);
+}
+
+std::optional<PlanarPose> PlanarPoseSolver::solve(const std::array<Eigen::Vector2d, 4>& object_xy,
+                                                  const std::array<cv::Point2d, 4>& image_corners,
+                                                  const std::optional<Eigen::Isometry3d>& previous) const {
   struct Candidate {
     Eigen::Isometry3d T;
     double error;
   };
   std::array<Eigen::Vector2d, 4> image;
   for (std::size_t i = 0; i < 4; ++i) image[i] = Eigen::Vector2d(image_corners[i].x, image_corners[i].y);
-  const auto solutions = ippe_four_points(object_xy_, image, intrinsics_);
+  const auto solutions = ippe_four_points(object_xy, image, intrinsics_);
   if (!solutions) return std::nullopt;  // degenerate corners (collinear, ...)
   // The solutions come lower reprojection error first.
   std::array<Candidate, 2> candidates;

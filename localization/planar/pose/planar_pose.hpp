@@ -40,6 +40,11 @@ class PlanarPoseSolver {
   // Empty when no candidate is physically possible. `previous` is the last accepted pose. Allocates nothing.
   std::optional<PlanarPose> solve(const std::array<cv::Point2d, 4>& image_corners,
                                   const std::optional<Eigen::Isometry3d>& previous) const;
+  // The same from four other points of the object's plane (object x, y in metres) and their images:
+  // a panel larger than the view, whose corners lie far outside the image, is solved from points in
+  // view (the corners extrapolated by the homography carry its errors magnified).
+  std::optional<PlanarPose> solve(const std::array<Eigen::Vector2d, 4>& object_xy, const std::array<cv::Point2d, 4>& image_points,
+                                  const std::optional<Eigen::Isometry3d>& previous) const;
 
  private:
   IppeIntrinsics intrinsics_;

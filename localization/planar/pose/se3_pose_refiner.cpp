@@ -21,12 +21,12 @@ constexpr int kCells = 6;      // per side: the samples are spread over the pane
 constexpr int kMinSamples = 50;
 // At range the template is area-resampled to kOversampling times the panel's apparent size (template
 // px per frame px at the panel's centre), and blurred to the frame's blur, instead of the pyramid
-// level: the pyramid's 2x steps left the template 0.6-0.9 or 1.1-1.3 frame px per px and its blur off
+// level: the pyramid's 2x steps leave the template 0.6-0.9 or 1.1-1.3 frame px per px and its blur off
 // by as much. Not exactly 1: then every sample has the same sub-pixel phase in the frame and the
-// bilinear interpolation's phase-dependent bias no longer averages out over the panel (measured: worse
-// than the pyramid); not a simple ratio either (2: two phases). Only while the panel appears smaller
-// than kResampleBelow times the working template (nearer, the pyramid measured better on the
-// synthetic sequences). docs/planar.md, "the template at the frame's resolution".
+// bilinear interpolation's phase-dependent bias no longer averages out over the panel (worse than the
+// pyramid); not a simple ratio either (2: two phases). Only while the panel appears smaller than
+// kResampleBelow times the working template (nearer, the pyramid does better on the synthetic
+// sequences). docs/planar.md, "the template at the frame's resolution".
 constexpr double kOversampling = 1.3;
 constexpr double kResampleBelow = 0.5;
 // The resampled template is rebuilt when the panel's apparent width or height changes by more than

@@ -28,11 +28,10 @@
 //
 // Smoothing: the frame and the template are resampled differently (the camera or renderer integrates
 // over pixels and mip levels, the template pyramid is cv::pyrDown's 5-tap Gaussian), and at 2-3 m, where
-// 0.01 px on a corner is 0.25 deg of tilt, that mismatch dominated the error: on the simulated lab's
-// oscilloscope (0.40 x 0.20 m) the 2-3 m rotation error was 2.96 deg median with or without sensor
-// noise and motion blur. Smoothing both with the same small Gaussian (`smoothing_sigma_px`, in frame
-// pixels; the template level matches the panel's apparent size, so in level pixels too) makes the two
-// agree; measured in docs/planar.md.
+// 0.01 px on a corner is 0.25 deg of tilt, that mismatch dominates the error, with or without sensor
+// noise and motion blur (degrees on the simulated lab's 0.40 x 0.20 m oscilloscope). Smoothing both
+// with the same small Gaussian (`smoothing_sigma_px`, in frame pixels; the template level matches the
+// panel's apparent size, so in level pixels too) makes the two agree (docs/planar.md).
 #include <initializer_list>
 #include <vector>
 
@@ -58,7 +57,7 @@ struct Se3RefinerSettings {
   // true: at range the template is area-resampled to 1.3x the panel's apparent size and blurred like
   // the frame (se3_pose_refiner.cpp, kOversampling); false: always the pyramid level matching the
   // apparent size (the tracker's rule). Config: planar.se3_template_resolution "frame" | "pyramid".
-  // Not the default: with the blur fixed it was better on the simulated lab's renderer and worse on this
+  // Not the default: with the blur fixed it is better on the simulated lab's renderer and worse on this
   // module's; with the blur estimated (estimate_blur) it is worse on both (docs/planar.md).
   bool resample_to_frame = false;
   // true: the fit also estimates how much blurrier (or sharper) the frame is than the template level,

@@ -19,6 +19,10 @@ namespace {
 
 constexpr int kMinLevelSidePx = 16;
 constexpr int kGridCells = 8;  // per side, for spreading the samples over the panel
+// The frame must show at least a quarter of the samples, or (a panel larger than the view: the landing
+// platform below ~0.7 m, a sixth of it in view at 0.3 m) this many; never fewer than kMinSamples.
+constexpr int kMinSamples = 32;
+constexpr int kEnoughSamples = 100;
 // IC's Hessian comes from the template level's gradients; when the frame is sharper than that level
 // (the level rule allows a template up to 0.3 octave coarser than the panel's image) the true
 // curvature is larger along some direction and the full Gauss-Newton step jumps across the minimum.
@@ -352,7 +356,7 @@ HomographyTrackOutcome InverseCompositionalTracker::track(const cv::Mat& image, 
         last_step = 0;
         break;
       }
-      if (s.valid < std::max(32, s.total / 4)) {
+      if (s.valid < kMinSamples || (s.valid < s.total / 4 && s.valid < kEnoughSamples)) {
         out.failure = "object out of view";
         return out;
       }

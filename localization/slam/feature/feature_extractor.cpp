@@ -26,8 +26,8 @@ void FeatureExtractor::extract(const cv::Mat& gray, FrameFeatures& out) {
   out.clear();
   out_ = &out;
   // Smoothed first: FAST on the raw image fires on sensor noise and on aliased texture, and cv::resize
-  // does not filter before decimating, so the levels alias too. In the benchmark's room the tour's
-  // online ATE went from 13.8 to 3.6 cm with sigma 1.2 (0.8: 7.5 cm; no noise, no smoothing: 5.4 cm).
+  // does not filter before decimating, so the levels alias too: smoothed, the corners and their
+  // descriptors follow the scene instead of the noise (docs/slam.md gives the tour's error with each).
   const double sigma = settings_.smoothing_sigma_px;
   if (sigma > 0) {
     const int k = 2 * static_cast<int>(std::ceil(2.5 * sigma)) + 1;  // 7x7 for 1.2
@@ -81,8 +81,8 @@ void FeatureExtractor::detect_level(int level, int budget) {
   orb_->compute(img, kept_, descriptors_);
   // The level's true size ratios, not the nominal scale: the sizes are rounded (640 / 1.5^3 = 189.6
   // -> 190), and cv::resize maps by the size ratio. With the nominal scale, coordinates on levels 1-3
-  // were off by up to 0.3 % of their distance to the image's corner (a rotation seen on level 3 came
-  // out 0.3 % too large, on level 2 0.3 % too small; tests/localization/slam/feature_geometry_test).
+  // would be off by up to 0.3 % of their distance to the image's corner (a rotation seen on level 3
+  // 0.3 % too large, on level 2 0.3 % too small; tests/localization/slam/feature_geometry_test.cpp).
   const double sx = static_cast<double>(pyramid_[0].cols) / img.cols, sy = static_cast<double>(pyramid_[0].rows) / img.rows;
   for (int i = 0; i < static_cast<int>(kept_.size()); ++i) {
     const cv::KeyPoint& k = kept_[static_cast<std::size_t>(i)];

@@ -40,6 +40,14 @@ struct Keyframe {
   Eigen::Vector3d optical_axis() const { return T_cam_map.linear().row(2).transpose(); }
 };
 
+// A pyramid a keyframe can keep: the extractor reuses its buffers (and level 0 may be the caller's frame).
+inline std::vector<cv::Mat> owned_pyramid(const std::vector<cv::Mat>& pyramid) {
+  std::vector<cv::Mat> out;
+  out.reserve(pyramid.size());
+  for (const cv::Mat& level : pyramid) out.push_back(level.clone());
+  return out;
+}
+
 struct Observation {
   int keyframe = -1;
   int feature = -1;

@@ -84,32 +84,31 @@ int FrameTracker::solve(const std::vector<SearchMatch>& matches, const FrameFeat
   return optimize_pose(camera_, observations_, T, {}, gravity);
 }
 
-TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame, const FeatureGrid& grid,
-                                 const std::vector<cv::Mat>& pyramid, const Eigen::Isometry3d& prior, int last_reference_keyframe, bool coarse_stage,
-                                 const std::optional<GravityPrior>& gravity) {
-  TrackOutcome out;
-  Eigen::Isometry3d T = prior;
+void FrameTracker::read_local_map(const SlamMap& map, const Eigen::Isometry3d& T, int reference_keyframe, TrackOutcome& out) {
   std::shared_lock lock(map.mutex());
   out.map_generation = map.generation();
-  collect_candidates(map, T, last_reference_keyframe);
-  lock.unlock();  // candidates are copies: the mapper may proceed
+  collect_candidates(map, T, reference_keyframe);
+  // Unlocked on return: candidates are copies, the mapper may proceed.
+}
 
-  matcher_.project_candidates(candidates_, T);
-  if (coarse_stage) {
-    // Coarse: the points predicted at the coarsest levels, searched wide.
-    coarse_.clear();
-    for (int level = settings_.levels - 1; level >= 0 && static_cast<int>(coarse_.size()) < settings_.coarse_points; --level) {
-      for (std::size_t i = 0; i < candidates_.size() && static_cast<int>(coarse_.size()) < settings_.coarse_points; ++i) {
-        if (candidates_[i].in_view && candidates_[i].predicted_level == level) coarse_.push_back(static_cast<int>(i));
-      }
-    }
-    matcher_.search(candidates_, coarse_, frame, grid, settings_.coarse_radius_px, 0, settings_.max_hamming, matches_);
-    Eigen::Isometry3d T_coarse = T;
-    if (matches_.size() >= 10 && solve(matches_, frame, T_coarse, false, gravity) >= 8) {
-      T = T_coarse;
-      matcher_.project_candidates(candidates_, T);
+void FrameTracker::coarse_search(const FrameFeatures& frame, const FeatureGrid& grid, const std::optional<GravityPrior>& gravity,
+                                 Eigen::Isometry3d& T) {
+  // The points predicted at the coarsest levels, searched wide.
+  coarse_.clear();
+  for (int level = settings_.levels - 1; level >= 0 && static_cast<int>(coarse_.size()) < settings_.coarse_points; --level) {
+    for (std::size_t i = 0; i < candidates_.size() && static_cast<int>(coarse_.size()) < settings_.coarse_points; ++i) {
+      if (candidates_[i].in_view && candidates_[i].predicted_level == level) coarse_.push_back(static_cast<int>(i));
     }
   }
+  matcher_.search(candidates_, coarse_, frame, grid, settings_.coarse_radius_px, 0, settings_.max_hamming, matches_);
+  Eigen::Isometry3d T_coarse = T;
+  if (matches_.size() >= 10 && solve(matches_, frame, T_coarse, false, gravity) >= 8) {
+    T = T_coarse;
+    matcher_.project_candidates(candidates_, T);
+  }
+}
+
+void FrameTracker::fine_search(const FrameFeatures& frame, const FeatureGrid& grid, bool after_coarse, TrackOutcome& out) {
   in_view_.clear();
   for (std::size_t i = 0; i < candidates_.size(); ++i) {
     if (candidates_[i].in_view) in_view_.push_back(static_cast<int>(i));
@@ -122,16 +121,19 @@ TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame,
   }
   out.attempted = static_cast<int>(in_view_.size());
   matcher_.search(candidates_, in_view_, frame, grid, settings_.fine_radius_px, 0, settings_.max_hamming, matches_);
-  if (matches_.size() < 20 && !coarse_stage) {
+  if (matches_.size() < 20 && !after_coarse) {
     // The prior was off by more than the fine radius: widen once.
     matcher_.search(candidates_, in_view_, frame, grid, 3.0 * settings_.fine_radius_px, 0, settings_.max_hamming, matches_);
   }
   out.search = matcher_.breakdown();
-  if (matches_.size() < 6) return out;
+}
+
+bool FrameTracker::update_pose(const FrameFeatures& frame, const std::vector<cv::Mat>& pyramid,
+                               const std::optional<GravityPrior>& gravity, Eigen::Isometry3d& T, TrackOutcome& out) {
   refine_matches(frame, pyramid, T);
   const int inliers = solve(matches_, frame, T, true, gravity);
   out.pose_outliers = static_cast<int>(matches_.size()) - inliers;
-  if (inliers < 6) return out;
+  if (inliers < 6) return false;
   out.pose_valid = true;
   out.T_cam_map = T;
   out.found = inliers;
@@ -145,8 +147,12 @@ TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame,
     depth_sum += (T * c.p_map).z();
   }
   out.mean_depth = depth_sum / std::max(1, inliers);
-  // Reference keyframe: the one observing most of the matched points.
-  lock.lock();
+  return true;
+}
+
+void FrameTracker::find_reference_keyframe(const SlamMap& map, TrackOutcome& out) const {
+  // The keyframe observing most of the matched points.
+  std::shared_lock lock(map.mutex());
   std::map<int, int> shared;
   for (const auto& [f, id] : out.matches) {
     if (const MapPoint* p = map.point(id)) {
@@ -164,6 +170,20 @@ TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame,
       out.reference_points += map.point(id) ? 1 : 0;
     }
   }
+}
+
+TrackOutcome FrameTracker::track(const SlamMap& map, const FrameFeatures& frame, const FeatureGrid& grid,
+                                 const std::vector<cv::Mat>& pyramid, const Eigen::Isometry3d& prior, int last_reference_keyframe, bool coarse_stage,
+                                 const std::optional<GravityPrior>& gravity) {
+  TrackOutcome out;
+  Eigen::Isometry3d T = prior;
+  read_local_map(map, T, last_reference_keyframe, out);
+  matcher_.project_candidates(candidates_, T);
+  if (coarse_stage) coarse_search(frame, grid, gravity, T);
+  fine_search(frame, grid, coarse_stage, out);
+  if (matches_.size() < 6) return out;
+  if (!update_pose(frame, pyramid, gravity, T, out)) return out;
+  find_reference_keyframe(map, out);
   return out;
 }
 

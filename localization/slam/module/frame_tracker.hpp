@@ -56,6 +56,19 @@ class FrameTracker {
                      const std::optional<GravityPrior>& gravity = std::nullopt);
 
  private:
+  // The steps of track(), in order.
+  // The candidates: the local map's points, copied under the map's lock.
+  void read_local_map(const SlamMap& map, const Eigen::Isometry3d& T, int reference_keyframe, TrackOutcome& out);
+  // A few points from the coarsest levels over a wide radius; their pose replaces T when it holds.
+  void coarse_search(const FrameFeatures& frame, const FeatureGrid& grid, const std::optional<GravityPrior>& gravity,
+                     Eigen::Isometry3d& T);
+  // Every point in view (evenly thinned to max_points_searched) over the tight radius.
+  void fine_search(const FrameFeatures& frame, const FeatureGrid& grid, bool after_coarse, TrackOutcome& out);
+  // The fine matches refined to sub-pixel, the pose solved from them; false when too few inliers.
+  bool update_pose(const FrameFeatures& frame, const std::vector<cv::Mat>& pyramid, const std::optional<GravityPrior>& gravity,
+                   Eigen::Isometry3d& T, TrackOutcome& out);
+  void find_reference_keyframe(const SlamMap& map, TrackOutcome& out) const;
+
   void collect_candidates(const SlamMap& map, const Eigen::Isometry3d& T, int reference_keyframe);
   int solve(const std::vector<SearchMatch>& matches, const FrameFeatures& frame, Eigen::Isometry3d& T, bool refined,
             const std::optional<GravityPrior>& gravity);

@@ -6,12 +6,14 @@ bool keyframe_eligible(const KeyframeCandidate& c, const SlamSettings& s) {
   if (c.state == TrackingState::Good) return true;
   if (c.state != TrackingState::Dodgy) return false;
   // Dodgy only because the map is small: the frame finds most of what it searches (ratio Good) but
-  // fewer than min_found_good points exist to be found. A map initialized from few points (63 in
-  // the real-vision inspect, seed 3, frames smoothed) is in this state right after take-off; refusing
-  // its keyframes left it at two keyframes until tracking was lost (docs/slam.md).
+  // fewer than min_found_good points exist to be found. A map initialized from a few tens of points
+  // is in this state right after take-off; refusing its keyframes would leave it at two keyframes
+  // until tracking is lost (docs/slam.md). Test "keyframe policy: a frame Dodgy only for the map's
+  // size may add a keyframe".
   const double ratio = c.attempted > 0 ? static_cast<double>(c.found) / c.attempted : 0.0;
   if (ratio >= s.quality_good) return true;
-  // Dodgy by ratio but holding hundreds of points: a fast approach (docs/slam.md, lab-inspect).
+  // Dodgy by ratio but holding hundreds of points: a fast approach (docs/slam.md, lab-inspect; test
+  // "keyframe policy: Dodgy frames holding many points, as configured").
   return s.keyframe_min_points_dodgy > 0 && c.found >= s.keyframe_min_points_dodgy;
 }
 

@@ -20,14 +20,14 @@ PlantFactory surrogate() {
 }
 
 PipelineKind truth_vision() {
-  return {"truth", false, [](const EstimatorConfig& c, const EstimationPlant& plant, unsigned seed) -> std::unique_ptr<EstimationPipeline> {
+  return {"truth", false, [](const estimation::EstimatorConfig& c, const EstimationPlant& plant, unsigned seed) -> std::unique_ptr<EstimationPipeline> {
             return std::make_unique<TruthVisionPipeline>(c, VisionThresholds{}, plant, seed);
           }};
 }
 }  // namespace
 
-TEST_CASE("estimation: lockstep experiments on the surrogate plant meet the issue's targets (seed 3)") {
-  const EstimationResults r = run_estimation_experiments(surrogate(), truth_vision(), 3, EstimatorConfig{});
+TEST_CASE("estimation: lockstep experiments on the surrogate plant meet the estimation targets (seed 3)") {
+  const EstimationResults r = run_estimation_experiments(surrogate(), truth_vision(), 3, estimation::EstimatorConfig{});
   INFO("scale " << r.scale_error_percent << " %, hover " << r.hover_slam.position_rmse_m << " m, servo "
                 << r.servo.position_rmse_m << " m, impulse return " << r.impulse_servo.return_time_s << " s");
   CHECK(r.scale_estimated);
@@ -43,7 +43,7 @@ TEST_CASE("estimation: lockstep experiments on the surrogate plant meet the issu
 
 TEST_CASE("estimation: the model fit recovers the surrogate's yaw-rate and tilt limits") {
   SurrogatePlant plant(5);
-  const ModelFitReport fit = fit_motion_model(plant, MotionModelConstants{}, 60.0, 2);
+  const ModelFitReport fit = fit_motion_model(plant, estimation::MotionModelConstants{}, 60.0, 2);
   CHECK(fit.fitted.tilt_max_rad == Approx(0.21).epsilon(0.1));        // the plant's 12 deg
   CHECK(fit.fitted.yaw_rate_max_radps == Approx(1.7).epsilon(0.1));   // the plant's 1.7 rad/s
   for (const ModelFitLaw& law : fit.laws) CHECK(law.residual_rms_after <= law.residual_rms_before * 1.01);
@@ -86,8 +86,8 @@ TEST_CASE("estimation: the lab plant takes off, then delivers navdata at the lin
   CHECK_THROWS_AS(LabPlant(LabPlantInputs{}, PlantRequest{}), std::invalid_argument);  // no such instrument
 }
 
-TEST_CASE("estimation: lockstep experiments on the simulated lab meet the issue's targets (seed 3, truth-derived vision)") {
-  const EstimationResults r = run_estimation_experiments(lab_plant(), truth_vision(), 3, EstimatorConfig{});
+TEST_CASE("estimation: lockstep experiments on the simulated lab meet the estimation targets (seed 3, truth-derived vision)") {
+  const EstimationResults r = run_estimation_experiments(lab_plant(), truth_vision(), 3, estimation::EstimatorConfig{});
   INFO("scale " << r.scale_error_percent << " %, hover " << r.hover_slam.position_rmse_m << " m, servo "
                 << r.servo.position_rmse_m << " m, impulse return " << r.impulse_servo.return_time_s << " s");
   CHECK(r.plant == "lab");

@@ -8,8 +8,8 @@
 using namespace labo;
 
 namespace {
-FlightStackSetup lockstep_setup() {
-  FlightStackSetup setup;
+control::FlightStackSetup lockstep_setup() {
+  control::FlightStackSetup setup;
   setup.lab = model_lab();
   setup.estimation.video_delay_s = 0;
   setup.estimation.navdata_delay_s = 0;
@@ -19,8 +19,8 @@ FlightStackSetup lockstep_setup() {
 
 // An inspection with a long hold, flown until it has held for 3 s.
 void hold_in_front_of_the_oscilloscope(LockstepFlight& f) {
-  MissionRequest r;
-  r.kind = RequestKind::Inspect;
+  control::MissionRequest r;
+  r.kind = control::RequestKind::Inspect;
   r.instrument_id = "oscilloscope";
   r.hold_s = 300;
   REQUIRE(f.request(r).accepted);
@@ -30,10 +30,10 @@ void hold_in_front_of_the_oscilloscope(LockstepFlight& f) {
 }  // namespace
 
 TEST_CASE("control: lockstep inspect with the StateEstimator in the loop ends on the platform") {
-  const FlightStackSetup setup = lockstep_setup();
+  const control::FlightStackSetup setup = lockstep_setup();
   LockstepFlight f(setup, {}, 7);
-  MissionRequest r;
-  r.kind = RequestKind::Inspect;
+  control::MissionRequest r;
+  r.kind = control::RequestKind::Inspect;
   r.instrument_id = "oscilloscope";
   r.hold_s = 3;
   REQUIRE(f.request(r).accepted);
@@ -50,15 +50,15 @@ TEST_CASE("control: lockstep inspect with the StateEstimator in the loop ends on
   // Every source of the paper's Fig. 9 appeared: dead reckoning, SLAM, homography.
   bool slam = false, homography = false, dead = false;
   for (const auto& s : f.samples()) {
-    slam |= s.source == FeedbackSource::Slam;
-    homography |= s.source == FeedbackSource::Homography;
-    dead |= s.source == FeedbackSource::DeadReckoning;
+    slam |= s.source == fusion::FeedbackSource::Slam;
+    homography |= s.source == fusion::FeedbackSource::Homography;
+    dead |= s.source == fusion::FeedbackSource::DeadReckoning;
   }
   CHECK((slam && homography && dead));
 }
 
 TEST_CASE("control: lockstep impulse on z is recovered on the homography pose") {
-  const FlightStackSetup setup = lockstep_setup();
+  const control::FlightStackSetup setup = lockstep_setup();
   LockstepFlight f(setup, {}, 3);
   hold_in_front_of_the_oscilloscope(f);
   const Eigen::Vector3d before = f.drone().p;
@@ -70,10 +70,10 @@ TEST_CASE("control: lockstep impulse on z is recovered on the homography pose") 
 }
 
 TEST_CASE("control: lockstep push up out of the panel's view: re-detected, recovered in 5 s, no crash") {
-  // 1.5 m/s up lifts the model drone ~0.27 m (with the z gains of 2026-12-02; 1.0 m/s lifted it 0.23 m
-  // with the earlier ones and now too little to lose the panel): the panel leaves the view (SLAM is
-  // lost next to it); the re-detection flies the standoff's altitude and brings it back.
-  const FlightStackSetup setup = lockstep_setup();
+  // 1.5 m/s up lifts the model drone ~0.27 m with the default z gains (1.0 m/s lifts it too little to
+  // lose the panel): the panel leaves the view (SLAM is lost next to it); the re-detection flies the
+  // standoff's altitude and brings it back.
+  const control::FlightStackSetup setup = lockstep_setup();
   LockstepFlight f(setup, {}, 5);
   hold_in_front_of_the_oscilloscope(f);
   const Eigen::Vector3d before = f.drone().p;
@@ -82,7 +82,7 @@ TEST_CASE("control: lockstep push up out of the panel's view: re-detected, recov
   double highest = before.z();
   for (int i = 0; i < 150; ++i) {  // 5 s
     f.tick();
-    lost |= f.stack().status().instrument.state != TrackState::Tracking;
+    lost |= f.stack().status().instrument.state != fusion::TrackState::Tracking;
     highest = std::max(highest, f.drone().p.z());
   }
   INFO("highest " << highest - before.z() << " m above the hold");

@@ -2,53 +2,47 @@
 
 #include <catch2/catch.hpp>
 #include <vector>
+#include "tests/support/instrument_job.hpp"
 
 using namespace labo;
 
 namespace {
 
 // A front-end that reports the method it was built with.
-class MethodFrontEnd final : public TargetFrontEnd {
+class MethodFrontEnd final : public fusion::TargetFrontEnd {
  public:
   explicit MethodFrontEnd(std::string method) { o_.method = std::move(method); }
-  const TargetObservation& process(const cv::Mat&, Seconds t, std::optional<double>) override {
-    o_.state = TrackState::Tracking;
+  const fusion::TargetObservation& process(const cv::Mat&, Seconds t, std::optional<double>) override {
+    o_.state = fusion::TrackState::Tracking;
     o_.t = t;
     return o_;
   }
   void reset() override {}
-  TargetObservation o_;
+  fusion::TargetObservation o_;
 };
 
 // Pipelines that run one instrument front-end per frame and record the frame times applied.
-class RecordingPipelines final : public LocalizationPipelines {
+class RecordingPipelines final : public fusion::LocalizationPipelines {
  public:
-  explicit RecordingPipelines(TargetFrontEnd& fe) : fe_(fe) {}
+  explicit RecordingPipelines(fusion::TargetFrontEnd& fe) : fe_(fe) {}
   void on_navdata(const NavdataSample&) override {}
   void on_command(const MoveCommand&, Seconds) override {}
   void on_video(const VideoFrame&) override {}
-  bool prepare_vision(const VideoFrame& frame, VisionJob& job) override {
-    job.clear();
-    job.t = frame.t;
-    frame.bgr.copyTo(job.gray);
-    job.instrument = &fe_;
-    job.instrument_id = "oscilloscope";
-    return true;
-  }
-  void apply_vision(const VisionResults& r) override { applied->push_back(r.t); }
-  void set_focus(const PerceptionFocus&) override {}
+  bool prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) override { return test::instrument_job(frame, fe_, job); }
+  void apply_vision(const fusion::VisionResults& r) override { applied->push_back(r.t); }
+  void set_focus(const fusion::PerceptionFocus&) override {}
   void reset(const Eigen::Isometry3d&, Seconds) override {}
   void start_at_first_navdata(const Eigen::Isometry3d&) override {}
-  PoseEstimate predict(Seconds t) const override { return {.t = t}; }
-  TargetObservation instrument() const override { return {}; }
-  TargetObservation platform() const override { return {}; }
-  TargetObservation face() const override { return {}; }
-  SlamSummary slam() const override { return {}; }
+  fusion::PoseEstimate predict(Seconds t) const override { return {.t = t}; }
+  fusion::TargetObservation instrument() const override { return {}; }
+  fusion::TargetObservation platform() const override { return {}; }
+  fusion::TargetObservation face() const override { return {}; }
+  fusion::SlamSummary slam() const override { return {}; }
 
   std::shared_ptr<std::vector<Seconds>> applied = std::make_shared<std::vector<Seconds>>();
 
  private:
-  TargetFrontEnd& fe_;
+  fusion::TargetFrontEnd& fe_;
 };
 
 VideoFrame frame_at(Seconds t) {
@@ -64,8 +58,9 @@ TEST_CASE("lockstep vision worker: results wait for the modelled time, and a bus
   MethodFrontEnd detector("template");
   auto pipelines = std::make_unique<RecordingPipelines>(detector);
   const auto applied = pipelines->applied;
-  FlightStack stack(FlightStackSetup{}, std::move(pipelines));
-  const VisionLatencyModel model;
+  control::FlightStack stack(control::FlightStackSetup{}, std::move(pipelines));
+  VisionLatencyModel model;
+  model.template_detection_ms = 18.3;  // a slow search, longer than the frames' spacing below
   LockstepVisionWorker worker(stack, model);
 
   worker.on_frame(frame_at(0.00), 0.00);  // a template search: 18.3 + 0.2 ms
@@ -88,18 +83,18 @@ TEST_CASE("lockstep vision worker: results wait for the modelled time, and a bus
 
 TEST_CASE("lockstep vision worker: a frame's modelled time is the sum of what its vision did") {
   const VisionLatencyModel m;
-  VisionResults r;
+  fusion::VisionResults r;
   CHECK(m.latency_of(r) == Approx(m.handoff_ms / 1000.0));
   r.has_slam = true;
-  r.slam.summary.state = SlamState::Good;
+  r.slam.summary.state = fusion::SlamState::Good;
   r.has_instrument = true;
   r.instrument.method = "ic";
   CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.slam_ms + m.planar_tracking_ms) / 1000.0));
-  r.instrument.method = "sift";
-  CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.slam_ms + m.sift_detection_ms) / 1000.0));
+  r.instrument.method = "features";
+  CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.slam_ms + m.feature_detection_ms) / 1000.0));
   r.instrument.method = "none";  // a search that found nothing costs a search
-  CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.slam_ms + m.sift_detection_ms) / 1000.0));
-  r.slam.summary.state = SlamState::Off;  // paused on a bottom frame: nothing to run
+  CHECK(m.latency_of(r) == Approx((m.handoff_ms + m.slam_ms + m.feature_detection_ms) / 1000.0));
+  r.slam.summary.state = fusion::SlamState::Off;  // paused on a bottom frame: nothing to run
   r.has_instrument = false;
   r.has_platform = true;
   r.platform.method = "ic";

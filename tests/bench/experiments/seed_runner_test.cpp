@@ -40,8 +40,8 @@ TEST_CASE("seed runner: real-vision flights in parallel equal the same seeds flo
   o.real_vision = true;
   o.video_fps = 15;  // short: take-off, SLAM initialisation and the start of the scale manoeuvre
   const Experiment e = make_experiment(o, false);
-  MissionRequest inspect;
-  inspect.kind = RequestKind::Inspect;
+  control::MissionRequest inspect;
+  inspect.kind = control::RequestKind::Inspect;
   inspect.instrument_id = e.setup.lab.instruments.front().id;
   const auto fly = [&](int i) {
     const auto f = make_flight(e, 7 + static_cast<unsigned>(i));

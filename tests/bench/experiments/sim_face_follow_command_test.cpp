@@ -1,4 +1,4 @@
-// sim face-follow's options: the teacher's walking speed (the target is stated at 0.5 m/s).
+// sim face-follow's options: the teacher's walking speed (the face-follow target is stated at 0.5 m/s).
 #include <catch2/catch.hpp>
 
 #include <string>

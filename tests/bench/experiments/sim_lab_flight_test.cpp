@@ -17,17 +17,17 @@ TEST_CASE("control: real vision in the simulated lab reaches the 0.80 m hold in 
   const Experiment e = make_experiment(o, false);
   REQUIRE(e.lab);
   const auto f = make_flight(e, 1);
-  const PlanarTarget& osc = *e.setup.lab.find_instrument("oscilloscope");
-  MissionRequest r;
-  r.kind = RequestKind::Inspect;
+  const fusion::PlanarTarget& osc = *e.setup.lab.find_instrument("oscilloscope");
+  control::MissionRequest r;
+  r.kind = control::RequestKind::Inspect;
   r.instrument_id = osc.id;
   r.hold_s = 2;
   REQUIRE(f->request(r).accepted);
   // The errors over the hold's last second (30 ticks), as `labodrone-bench sim inspect` measures them.
   std::vector<double> standoff, centre;
-  std::vector<FeedbackSource> sources;
+  std::vector<fusion::FeedbackSource> sources;
   const bool held = f->run_until([&] {
-    const FlightStatus s = f->stack().status();
+    const control::FlightStatus s = f->stack().status();
     if (s.stage.find("holding") != std::string::npos) {
       const Eigen::Vector3d p = f->true_T_cam(osc.T_world_object).translation();
       standoff.push_back(std::abs(p.z() - 0.80));
@@ -36,7 +36,7 @@ TEST_CASE("control: real vision in the simulated lab reaches the 0.80 m hold in 
     }
     return s.stage_index >= 4 || s.mission == "idle";  // the hold is over
   }, 70.0);
-  const FlightStatus s = f->stack().status();
+  const control::FlightStatus s = f->stack().status();
   INFO("stage: " << s.stage << "; last event: " << s.last_event << "; SLAM " << to_string(s.slam.state)
                  << "; instrument " << to_string(s.instrument.state) << " " << s.instrument.reason << "; t " << f->now());
   REQUIRE(held);
@@ -45,6 +45,6 @@ TEST_CASE("control: real vision in the simulated lab reaches the 0.80 m hold in 
   CHECK(rms(last_second(standoff)) < 0.05);
   CHECK(rms(last_second(centre)) < 0.05);
   CHECK(s.stage_index == 4);  // held the full 2 s, then left on its own
-  CHECK(sources.back() == FeedbackSource::Homography);
+  CHECK(sources.back() == fusion::FeedbackSource::Homography);
   CHECK_FALSE(f->crashed());
 }

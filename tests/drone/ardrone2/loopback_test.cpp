@@ -62,7 +62,7 @@ TEST_CASE("link: the driver takes off, flies, streams and lands a vehicle throug
   ArdroneEmulatorSettings es;
   es.at_port = es.navdata_port = es.video_port = 0;
   es.camera_switch_delay_s = 0.2;
-  es.com_watchdog_s = 0.5;  // the 2-core CI machine is loaded: keep the watchdog bit quiet
+  es.com_watchdog_s = 0.5;  // a loaded machine delays the AT loop: keep the watchdog bit quiet
   ArdroneEmulator emulator(vehicle, es, quiet());
   emulator.start();
 

@@ -58,3 +58,83 @@ TEST_CASE("link: bad input is counted by kind and logged at most once a second p
   CHECK(counters.get("pave_junk") + counters.get("pave_bad_header_size") + counters.get("pave_payload_too_large") +
             counters.get("h264_decode_error") > 2);
 }
+
+TEST_CASE("link: a frame's PaVE slices are joined, decoded, and passed on undecoded from the first IDR", "[link]") {
+  Logger logger("test", LogLevel::Warn);
+  LinkCounters counters(logger);
+  std::vector<EncodedVideo> units;
+  std::vector<std::vector<std::uint8_t>> bytes;
+  std::vector<std::uint32_t> decoded;
+  VideoReceiver video(
+      counters, [&](const VideoFrame& f) { decoded.push_back(f.frame_number); },
+      [&](const EncodedVideo& u) {
+        units.push_back(u);
+        bytes.emplace_back(u.annexb.begin(), u.annexb.end());
+      });
+
+  // An encoder's stream, each access unit cut in two PaVE packets (slice 0 and 1 of 2), the first
+  // frame (the IDR) left out so that the stream starts on P frames.
+  H264Encoder encoder({.width = 320, .height = 180, .fps = 30, .gop = 5, .bitrate_kbps = 500});
+  PaveWriter writer;
+  std::vector<std::uint8_t> stream;
+  std::vector<std::vector<std::uint8_t>> sent;
+  cv::Mat image(180, 320, CV_8UC3);
+  EncodedFrame encoded;
+  for (std::uint32_t n = 0; n < 12; ++n) {
+    cv::randu(image, 0, 255);
+    REQUIRE(encoder.encode(image, encoded));
+    sent.push_back(encoded.data);
+    if (n == 0) continue;
+    const std::size_t half = encoded.data.size() / 2;
+    for (std::uint8_t slice = 0; slice < 2; ++slice) {
+      PaveHeader h;
+      h.frame_number = n;
+      h.total_slices = 2;
+      h.slice_index = slice;
+      h.display_width = 320;
+      h.display_height = 180;
+      const auto from = encoded.data.begin() + (slice == 0 ? 0 : static_cast<std::ptrdiff_t>(half));
+      const auto to = slice == 0 ? encoded.data.begin() + static_cast<std::ptrdiff_t>(half) : encoded.data.end();
+      writer.write(h, std::vector<std::uint8_t>(from, to), stream);
+    }
+  }
+  video.bytes(stream, 5.0);
+  // Frames 1-4 are P frames before any IDR: held back. Frame 5 is the next IDR.
+  REQUIRE(units.size() == 7);
+  CHECK(units[0].frame_number == 5);
+  CHECK(units[0].keyframe);
+  CHECK(units[5].keyframe);  // frame 10
+  CHECK_FALSE(units[1].keyframe);
+  CHECK(units[0].width == 320);
+  CHECK(units[0].t == 5.0);
+  for (std::size_t i = 0; i < units.size(); ++i) CHECK(bytes[i] == sent[units[i].frame_number]);
+  // The decoder got the joined units too: every frame from the IDR on, none refused.
+  CHECK(decoded == std::vector<std::uint32_t>{5, 6, 7, 8, 9, 10, 11});
+  CHECK(counters.get("h264_decode_error") == 0);
+
+  // A slice whose first part never came is dropped and counted; a reset waits for the next IDR again.
+  units.clear();
+  video.reset();
+  stream.clear();
+  PaveHeader lone;
+  lone.frame_number = 40;
+  lone.total_slices = 2;
+  lone.slice_index = 1;
+  writer.write(lone, sent[5], stream);
+  video.bytes(stream, 6.0);
+  CHECK(units.empty());
+  CHECK(counters.get("video_slices_orphaned") == 1);
+
+  // Slices 0 and 2 of 3 with slice 1 lost: the frame is dropped, not joined with a hole.
+  stream.clear();
+  for (std::uint8_t slice : {0, 2}) {
+    PaveHeader h;
+    h.frame_number = 41;
+    h.total_slices = 3;
+    h.slice_index = slice;
+    writer.write(h, sent[10], stream);
+  }
+  video.bytes(stream, 7.0);
+  CHECK(units.empty());
+  CHECK(counters.get("video_slices_orphaned") == 2);
+}

@@ -68,10 +68,10 @@ TEST_CASE("render: a texture's box mean is the exact mean of the texels the box 
 TEST_CASE("render: an instrument panel seen from afar records each pixel's mean, as 8x8 sub-pixels do") {
   // The oscilloscope (0.40 m, its 800 px template) from 2.5 m, a little off-axis: ~90 px wide, ~9 texels
   // per pixel. A camera's pixel integrates the light over its area; the reference is the mean of
-  // 8 x 8 sub-pixels, each about one texel (level 0, bilinear). Before area filtering the renderer
-  // sampled the mip level of ~1 texel per pixel bilinearly at the pixel's centre: its blur and
-  // aliasing depend on the sub-pixel phase (measured here without the area table: mean |difference|
-  // 3.17 grey levels inside the panel, largest 44; with it 0.16 and 1.4).
+  // 8 x 8 sub-pixels, each about one texel (level 0, bilinear). Without area filtering the renderer
+  // would sample the mip level of ~1 texel per pixel bilinearly at the pixel's centre: its blur and
+  // aliasing depend on the sub-pixel phase (here without the area table: mean |difference| about
+  // 3 grey levels inside the panel, largest tens).
   const LabDescription lab = load_lab_description(default_lab_path());
   const InstrumentSpec* scope = lab.find_instrument("oscilloscope");
   REQUIRE(scope != nullptr);

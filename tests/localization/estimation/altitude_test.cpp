@@ -6,6 +6,7 @@
 #include "synthetic_flight.hpp"
 
 using namespace labo;
+using namespace labo::estimation;
 using labo::test::DelayedLink;
 using labo::test::SyntheticFlight;
 
@@ -18,13 +19,13 @@ struct ImpulseRun {
 
 // Hover at 1 m, navdata at 15 Hz (demo mode), then a vertical push that lifts the drone by 0.5 m
 // within 0.1 s; without a controller it stays there, so the estimate must end at 1.5 m.
-ImpulseRun vertical_push(bool use_vz, const SurfaceMap* map) {
+ImpulseRun vertical_push(bool use_vz, const estimation::SurfaceMap* map) {
   SyntheticFlight truth(21);
   truth.report_vz = use_vz;  // demo-mode firmwares send vz = 0
-  EstimatorConfig c;
+  estimation::EstimatorConfig c;
   c.video_delay_s = c.navdata_delay_s = c.control_delay_s = 0.0;
   c.use_navdata_vz = use_vz;
-  StateEstimator est(c);
+  estimation::StateEstimator est(c);
   if (map != nullptr) est.set_surface_map(*map);
   est.reset(truth.T_world_body(), 0.0);
   DelayedLink link{truth, 0.0, 0.0, 1.0 / 15.0, {}, {}, 0.0};
@@ -58,8 +59,8 @@ TEST_CASE("estimation: a vertical push is tracked through the navdata vertical s
 }
 
 TEST_CASE("estimation: without vz, the surface map tells a push from a floor step") {
-  SurfaceMap flat;  // floor only, plus a bench far away
-  flat.add(SurfaceRect{Eigen::Vector2d(5, 5), Eigen::Vector2d(6, 6), 0.8});
+  estimation::SurfaceMap flat;  // floor only, plus a bench far away
+  flat.add(estimation::SurfaceRect{Eigen::Vector2d(5, 5), Eigen::Vector2d(6, 6), 0.8});
   const ImpulseRun with_map = vertical_push(false, &flat);
   INFO("with map: max z error " << with_map.max_error << " m, final " << with_map.final_error);
   CHECK(with_map.floor_steps == 0);
@@ -74,11 +75,11 @@ TEST_CASE("estimation: without vz, the surface map tells a push from a floor ste
 TEST_CASE("estimation: flying over a bench edge is a floor step, z does not jump") {
   for (const bool with_map : {false, true}) {
     SyntheticFlight truth(22);
-    EstimatorConfig c;
+    estimation::EstimatorConfig c;
     c.video_delay_s = c.navdata_delay_s = c.control_delay_s = 0.0;
-    StateEstimator est(c);
-    SurfaceMap map;
-    map.add(SurfaceRect{Eigen::Vector2d(0.4, -2.0), Eigen::Vector2d(1.0, 2.0), 0.7});
+    estimation::StateEstimator est(c);
+    estimation::SurfaceMap map;
+    map.add(estimation::SurfaceRect{Eigen::Vector2d(0.4, -2.0), Eigen::Vector2d(1.0, 2.0), 0.7});
     if (with_map) est.set_surface_map(map);
     est.reset(truth.T_world_body(), 0.0);
     truth.s()(est::Z) = 1.5;
@@ -101,13 +102,13 @@ TEST_CASE("estimation: flying over a bench edge is a floor step, z does not jump
 }
 
 TEST_CASE("estimation: altitude tracker pulls the floor to the surveyed surface") {
-  SurfaceMap map;
-  AltitudeTracker tracker(0.10);
+  estimation::SurfaceMap map;
+  estimation::AltitudeTracker tracker(0.10);
   // A wrong start (the filter thought z = 1.3 over a 1.0 m range) is corrected over a flat floor.
-  AltitudeDecision d = tracker.process(1.0, 0.0, 1.3, 0.0, Eigen::Vector2d(0, 0), 0.05, nullptr);
-  CHECK(d.kind == AltitudeDecision::Kind::Anchored);
+  estimation::AltitudeDecision d = tracker.process(1.0, 0.0, 1.3, 0.0, Eigen::Vector2d(0, 0), 0.05, nullptr);
+  CHECK(d.kind == estimation::AltitudeDecision::Kind::Anchored);
   CHECK(tracker.floor_z() == Approx(0.3));
-  map.add(SurfaceRect{Eigen::Vector2d(4, 4), Eigen::Vector2d(5, 5), 0.7});
+  map.add(estimation::SurfaceRect{Eigen::Vector2d(4, 4), Eigen::Vector2d(5, 5), 0.7});
   for (int i = 1; i <= 400; ++i) {
     d = tracker.process(1.0, 0.005 * i, 1.3, 0.0, Eigen::Vector2d(0, 0), 0.05, &map);
     tracker.set_reference_z(1.3);
@@ -118,28 +119,28 @@ TEST_CASE("estimation: altitude tracker pulls the floor to the surveyed surface"
 }
 
 TEST_CASE("estimation: a short sonar echo over a surveyed floor is dropped, a lasting lower range is motion") {
-  SurfaceMap map(0.0);
+  estimation::SurfaceMap map(0.0);
   map.add({Eigen::Vector2d(3, 3), Eigen::Vector2d(4, 4), 0.8});  // a bench far away: the map is not empty
-  AltitudeTracker tracker;
+  estimation::AltitudeTracker tracker;
   const Eigen::Vector2d xy(0, 0);
   Seconds t = 0;
   const auto ping = [&](double range) {
     t += 0.04;
-    const AltitudeDecision d = tracker.process(range, t, 1.0, 0.0, xy, 0.05, &map);
+    const estimation::AltitudeDecision d = tracker.process(range, t, 1.0, 0.0, xy, 0.05, &map);
     tracker.set_reference_z(1.0);
     return d;
   };
-  for (int i = 0; i < 5; ++i) CHECK(ping(1.0).kind == AltitudeDecision::Kind::Fused);
+  for (int i = 0; i < 5; ++i) CHECK(ping(1.0).kind == estimation::AltitudeDecision::Kind::Fused);
   // One ping hears something 0.6 m nearer, the next the floor again.
-  CHECK(ping(0.4).kind == AltitudeDecision::Kind::ShortEcho);
-  const AltitudeDecision back = ping(1.0);
-  CHECK(back.kind == AltitudeDecision::Kind::Fused);
+  CHECK(ping(0.4).kind == estimation::AltitudeDecision::Kind::ShortEcho);
+  const estimation::AltitudeDecision back = ping(1.0);
+  CHECK(back.kind == estimation::AltitudeDecision::Kind::Fused);
   CHECK(back.range_increment == Approx(0.0).margin(1e-9));  // measured from the last good range
   CHECK(tracker.floor_steps() == 0);
   // A lower range that lasts (a descent the vertical speed did not show) is accepted after 0.25 s.
-  AltitudeDecision d;
-  for (int i = 0; i < 10 && d.kind != AltitudeDecision::Kind::FusedAsMotion; ++i) d = ping(0.7);
-  CHECK(d.kind == AltitudeDecision::Kind::FusedAsMotion);
+  estimation::AltitudeDecision d;
+  for (int i = 0; i < 10 && d.kind != estimation::AltitudeDecision::Kind::FusedAsMotion; ++i) d = ping(0.7);
+  CHECK(d.kind == estimation::AltitudeDecision::Kind::FusedAsMotion);
   CHECK(d.z_observed == Approx(0.7).margin(1e-9));
   CHECK(tracker.floor_steps() == 0);
 }

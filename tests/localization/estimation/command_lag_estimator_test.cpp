@@ -7,6 +7,7 @@
 #include "localization/estimation/command_lag_estimator.hpp"
 
 using namespace labo;
+using namespace labo::estimation;
 
 namespace {
 
@@ -24,7 +25,7 @@ struct LaggedAttitudePlant {
 };
 
 // Flies `duration` seconds: random command steps every 0.3-1.0 s sent at 30 Hz, navdata at `rate_hz`.
-void fly(const LaggedAttitudePlant& p, CommandLagEstimator& estimator, Seconds duration, double navdata_hz,
+void fly(const LaggedAttitudePlant& p, estimation::CommandLagEstimator& estimator, Seconds duration, double navdata_hz,
          unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> level(-0.6, 0.6), hold(0.3, 1.0);
@@ -69,8 +70,8 @@ void fly(const LaggedAttitudePlant& p, CommandLagEstimator& estimator, Seconds d
   }
 }
 
-MotionModelConstants fitted_model() {
-  MotionModelConstants m;
+estimation::MotionModelConstants fitted_model() {
+  estimation::MotionModelConstants m;
   m.attitude_rate_hz = 6.5;  // the lab fit's figure, not the plant's 7.0
   m.tilt_max_rad = 0.21;
   return m;
@@ -82,7 +83,7 @@ TEST_CASE("estimation: the command round trip is measured from flight data (200 
   const double navdata_hz = GENERATE(200.0, 15.0);
   CAPTURE(navdata_hz);
   LaggedAttitudePlant plant;
-  CommandLagEstimator estimator(fitted_model());
+  estimation::CommandLagEstimator estimator(fitted_model());
   fly(plant, estimator, 40.0, navdata_hz, 7);
   const auto lag = estimator.estimate();
   REQUIRE(lag.has_value());
@@ -96,7 +97,7 @@ TEST_CASE("estimation: a different round trip is found, not a fixed figure") {
   LaggedAttitudePlant plant;
   plant.control_delay = 0.020;
   plant.navdata_delay = 0.030;
-  CommandLagEstimator estimator(fitted_model());
+  estimation::CommandLagEstimator estimator(fitted_model());
   fly(plant, estimator, 40.0, 200.0, 11);
   const auto lag = estimator.estimate();
   REQUIRE(lag.has_value());
@@ -104,7 +105,7 @@ TEST_CASE("estimation: a different round trip is found, not a fixed figure") {
 
   LaggedAttitudePlant slow = plant;
   slow.control_delay = 0.250;
-  CommandLagEstimator estimator_slow(fitted_model());
+  estimation::CommandLagEstimator estimator_slow(fitted_model());
   fly(slow, estimator_slow, 40.0, 200.0, 11);
   REQUIRE(estimator_slow.estimate().has_value());
   CHECK(estimator_slow.estimate()->round_trip_s == Approx(0.280).margin(0.015));
@@ -114,7 +115,7 @@ TEST_CASE("estimation: no round trip without commands that move, nor from a land
   SECTION("hover: the commands never change") {
     LaggedAttitudePlant plant;
     plant.excite = false;
-    CommandLagEstimator estimator(fitted_model());
+    estimation::CommandLagEstimator estimator(fitted_model());
     fly(plant, estimator, 30.0, 200.0, 3);
     CHECK_FALSE(estimator.estimate().has_value());
     CHECK(estimator.counters().windows_low_excitation > 0);
@@ -122,7 +123,7 @@ TEST_CASE("estimation: no round trip without commands that move, nor from a land
   SECTION("landed: the firmware ignores PCMD") {
     LaggedAttitudePlant plant;
     plant.control_state = 2;
-    CommandLagEstimator estimator(fitted_model());
+    estimation::CommandLagEstimator estimator(fitted_model());
     fly(plant, estimator, 30.0, 200.0, 3);
     CHECK_FALSE(estimator.estimate().has_value());
     CHECK(estimator.counters().windows_accepted == 0);
@@ -130,7 +131,7 @@ TEST_CASE("estimation: no round trip without commands that move, nor from a land
 }
 
 TEST_CASE("estimation: the command lag estimator refuses non-finite and out-of-order inputs") {
-  CommandLagEstimator estimator(fitted_model());
+  estimation::CommandLagEstimator estimator(fitted_model());
   NavdataSample s;
   s.t = 1.0;
   s.control_state = 3;
@@ -150,10 +151,10 @@ TEST_CASE("estimation: the command lag estimator refuses non-finite and out-of-o
   CHECK(estimator.counters().rejected_out_of_order == 2);
   CHECK(estimator.counters().rejected_nonfinite == 2);
 
-  MotionModelConstants bad = fitted_model();
+  estimation::MotionModelConstants bad = fitted_model();
   bad.attitude_rate_hz = 0;
   CHECK_THROWS_WITH(CommandLagEstimator(bad), Catch::Contains("attitude_rate_hz"));
-  CommandLagSettings settings;
+  estimation::CommandLagSettings settings;
   settings.horizon_s = settings.window_s;
   CHECK_THROWS_WITH(CommandLagEstimator(fitted_model(), settings), Catch::Contains("horizon_s < window_s"));
 }

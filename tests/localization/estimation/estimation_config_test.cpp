@@ -4,13 +4,14 @@
 #include "localization/estimation/estimation_config.hpp"
 
 using namespace labo;
+using namespace labo::estimation;
 
 TEST_CASE("estimation: config reads delays in ms and model constants, refuses bad values") {
   const ConfigDocument doc = ConfigDocument::parse(
       R"({"video_delay_ms": 80, "navdata_delay_ms": 30, "control_delay_ms": 120,
           "model": {"tilt_max_deg": 15, "drag_per_s": 0.7}})",
       "test.json");
-  const EstimatorConfig c = read_estimation_config(doc.root());
+  const estimation::EstimatorConfig c = estimation::read_estimation_config(doc.root());
   CHECK(c.video_delay_s == Approx(0.080));
   CHECK(c.navdata_delay_s == Approx(0.030));
   CHECK(c.control_delay_s == Approx(0.120));
@@ -18,26 +19,26 @@ TEST_CASE("estimation: config reads delays in ms and model constants, refuses ba
   CHECK(c.model.drag_per_s == Approx(0.7));
 
   const ConfigDocument bad = ConfigDocument::parse(R"({"video_delay_ms": -5})", "bad.json");
-  CHECK_THROWS_WITH(read_estimation_config(bad.root()), Catch::Contains("video_delay_ms"));
+  CHECK_THROWS_WITH(estimation::read_estimation_config(bad.root()), Catch::Contains("video_delay_ms"));
   const ConfigDocument unknown = ConfigDocument::parse(R"({"model": {"tilt_max": 12}})", "unknown.json");
-  CHECK_THROWS_WITH(read_estimation_config(unknown.root()), Catch::Contains("tilt_max"));
+  CHECK_THROWS_WITH(estimation::read_estimation_config(unknown.root()), Catch::Contains("tilt_max"));
   const ConfigDocument order = ConfigDocument::parse(R"({"scale_interval_min_s": 3, "scale_interval_max_s": 2})", "o.json");
-  CHECK_THROWS_WITH(read_estimation_config(order.root()), Catch::Contains("scale_interval_max_s"));
+  CHECK_THROWS_WITH(estimation::read_estimation_config(order.root()), Catch::Contains("scale_interval_max_s"));
 }
 
 TEST_CASE("estimation: config reads the velocity dropout detector, refuses bad values") {
   const ConfigDocument doc = ConfigDocument::parse(
       R"({"velocity_dropout": {"enabled": false, "window_s": 0.5, "onset_mps": 0.15, "confirm_packets": 3}})", "test.json");
-  const EstimatorConfig c = read_estimation_config(doc.root());
+  const estimation::EstimatorConfig c = estimation::read_estimation_config(doc.root());
   CHECK_FALSE(c.velocity_dropout.enabled);
   CHECK(c.velocity_dropout.window_s == Approx(0.5));
   CHECK(c.velocity_dropout.onset_mps == Approx(0.15));
   CHECK(c.velocity_dropout.confirm_packets == 3);
-  CHECK(c.velocity_dropout.agree_mps == Approx(VelocityDropoutSettings{}.agree_mps));
+  CHECK(c.velocity_dropout.agree_mps == Approx(estimation::VelocityDropoutSettings{}.agree_mps));
 
   const auto refuses = [](const char* json, const char* key) {
     const ConfigDocument bad = ConfigDocument::parse(json, "bad.json");
-    CHECK_THROWS_WITH(read_estimation_config(bad.root()), Catch::Contains(key));
+    CHECK_THROWS_WITH(estimation::read_estimation_config(bad.root()), Catch::Contains(key));
   };
   refuses(R"({"velocity_dropout": {"onset_mps": -0.1}})", "onset_mps");
   refuses(R"({"velocity_dropout": {"onset_ratio": 1.5}})", "onset_ratio");

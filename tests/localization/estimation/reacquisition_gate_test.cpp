@@ -9,6 +9,7 @@
 #include "synthetic_flight.hpp"
 
 using namespace labo;
+using namespace labo::estimation;
 using labo::test::DelayedLink;
 using labo::test::SyntheticFlight;
 
@@ -18,40 +19,40 @@ constexpr Seconds kGap = 0.4;
 }  // namespace
 
 TEST_CASE("estimation: the re-acquisition gate refuses a 1 m jump and accepts a small one") {
-  ReacquisitionGate gate;
+  estimation::ReacquisitionGate gate;
   // 1 m off, although a grown covariance makes it look plausible (d2 = 4).
-  CHECK(gate.check({1.0, 0, 0, 0}, 4.0, 0.0, kGap) == ReacquisitionGate::Verdict::Refused);
+  CHECK(gate.check({1.0, 0, 0, 0}, 4.0, 0.0, kGap) == estimation::ReacquisitionGate::Verdict::Refused);
   CHECK(gate.refused_in_row() == 1);
   // Within both bounds: accepted, and the source stays accepted while it keeps coming.
-  ReacquisitionGate near;
-  CHECK(near.check({0.1, -0.05, 0.02, 0.01}, 2.0, 0.0, kGap) == ReacquisitionGate::Verdict::Accepted);
+  estimation::ReacquisitionGate near;
+  CHECK(near.check({0.1, -0.05, 0.02, 0.01}, 2.0, 0.0, kGap) == estimation::ReacquisitionGate::Verdict::Accepted);
   CHECK(near.open());
   // Small in metres but improbable under a tight covariance: refused.
-  ReacquisitionGate tight;
-  CHECK(tight.check({0.2, 0, 0, 0}, 100.0, 0.0, kGap) == ReacquisitionGate::Verdict::Refused);
+  estimation::ReacquisitionGate tight;
+  CHECK(tight.check({0.2, 0, 0, 0}, 100.0, 0.0, kGap) == estimation::ReacquisitionGate::Verdict::Refused);
 }
 
 TEST_CASE("estimation: a consistent re-detection is accepted after confirm_frames, an erratic one never") {
-  ReacquisitionSettings s;
+  estimation::ReacquisitionSettings s;
   s.confirm_frames = 10;
   SECTION("consistent: the same 1 m offset every frame") {
-    ReacquisitionGate gate(s);
+    estimation::ReacquisitionGate gate(s);
     for (int i = 0; i < 9; ++i)
-      REQUIRE(gate.check({1.0 + 0.01 * (i % 2), 0.0, 0.0, 0.0}, 50.0, i * kFrame, kGap) == ReacquisitionGate::Verdict::Refused);
-    CHECK(gate.check({1.0, 0.0, 0.0, 0.0}, 50.0, 9 * kFrame, kGap) == ReacquisitionGate::Verdict::Confirmed);
-    CHECK(gate.check({1.0, 0.0, 0.0, 0.0}, 50.0, 10 * kFrame, kGap) == ReacquisitionGate::Verdict::Accepted);
+      REQUIRE(gate.check({1.0 + 0.01 * (i % 2), 0.0, 0.0, 0.0}, 50.0, i * kFrame, kGap) == estimation::ReacquisitionGate::Verdict::Refused);
+    CHECK(gate.check({1.0, 0.0, 0.0, 0.0}, 50.0, 9 * kFrame, kGap) == estimation::ReacquisitionGate::Verdict::Confirmed);
+    CHECK(gate.check({1.0, 0.0, 0.0, 0.0}, 50.0, 10 * kFrame, kGap) == estimation::ReacquisitionGate::Verdict::Accepted);
     // Lost for longer than the gap: the next pose is checked anew.
-    CHECK(gate.check({1.0, 0.0, 0.0, 0.0}, 50.0, 10 * kFrame + 1.0, kGap) == ReacquisitionGate::Verdict::Refused);
+    CHECK(gate.check({1.0, 0.0, 0.0, 0.0}, 50.0, 10 * kFrame + 1.0, kGap) == estimation::ReacquisitionGate::Verdict::Refused);
   }
   SECTION("erratic: the offset jumps 0.3 m from frame to frame") {
-    ReacquisitionGate gate(s);
+    estimation::ReacquisitionGate gate(s);
     for (int i = 0; i < 60; ++i)
-      CHECK(gate.check({1.0 + 0.3 * (i % 2), 0.0, 0.0, 0.0}, 50.0, i * kFrame, kGap) == ReacquisitionGate::Verdict::Refused);
+      CHECK(gate.check({1.0 + 0.3 * (i % 2), 0.0, 0.0, 0.0}, 50.0, i * kFrame, kGap) == estimation::ReacquisitionGate::Verdict::Refused);
   }
   SECTION("a gap breaks the run") {
-    ReacquisitionGate gate(s);
+    estimation::ReacquisitionGate gate(s);
     for (int i = 0; i < 9; ++i) gate.check({1.0, 0.0, 0.0, 0.0}, 50.0, i * kFrame, kGap);
-    CHECK(gate.check({1.0, 0.0, 0.0, 0.0}, 50.0, 9 * kFrame + 0.5, kGap) == ReacquisitionGate::Verdict::Refused);
+    CHECK(gate.check({1.0, 0.0, 0.0, 0.0}, 50.0, 9 * kFrame + 0.5, kGap) == estimation::ReacquisitionGate::Verdict::Refused);
     CHECK(gate.refused_in_row() == 1);
   }
 }
@@ -61,7 +62,7 @@ namespace {
 // re-detection `offset` off the truth for `frames` frames; returns the estimator.
 struct Redetection {
   SyntheticFlight truth{11};
-  StateEstimator est;
+  estimation::StateEstimator est;
   DelayedLink link{truth, 0.0, 0.0, 1.0 / 200.0, {}, {}, 0.0};
   Eigen::Isometry3d T_world_object = make_pose({2.0, 0.1, 1.1}, 0.0) *
                                      Eigen::Isometry3d(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()) *
@@ -71,7 +72,7 @@ struct Redetection {
   bool visible = true;
   Eigen::Vector3d offset_world = Eigen::Vector3d::Zero();  // the re-detection's error, in the world
 
-  explicit Redetection(const EstimatorConfig& c) : est(c) { est.reset(truth.T_world_body(), 0.0); }
+  explicit Redetection(const estimation::EstimatorConfig& c) : est(c) { est.reset(truth.T_world_body(), 0.0); }
 
   void run_until(Seconds t) {
     std::normal_distribution<double> n(0.0, 0.003);
@@ -80,7 +81,7 @@ struct Redetection {
       if (truth.t < next_frame) return;
       next_frame += kFrame;
       if (!visible) return;
-      ObjectObservation o;
+      estimation::ObjectObservation o;
       o.t = truth.t;
       o.object_index = 1;
       // Seen from a camera displaced by offset_world: the implied body pose is off by that much.
@@ -95,22 +96,22 @@ struct Redetection {
   double error() { return (est.predict(truth.t).position_world - truth.s().segment<3>(est::X)).norm(); }
 };
 
-EstimatorConfig no_delays() {
-  EstimatorConfig c;
+estimation::EstimatorConfig no_delays() {
+  estimation::EstimatorConfig c;
   c.video_delay_s = c.navdata_delay_s = c.control_delay_s = 0.0;
   return c;
 }
 }  // namespace
 
 TEST_CASE("estimation: a wrong re-detection 1 m off after a loss does not drive the estimate") {
-  EstimatorConfig c = no_delays();
+  estimation::EstimatorConfig c = no_delays();
   c.reacquisition.confirm_frames = 15;
   Redetection r(c);
   r.run_until(3.0);  // placed and tracked
-  REQUIRE(r.est.source() == LocalizationSource::Homography);
+  REQUIRE(r.est.source() == estimation::LocalizationSource::Homography);
   r.visible = false;
   r.run_until(7.0);  // 4 s of dead reckoning
-  REQUIRE(r.est.source() == LocalizationSource::DeadReckoning);
+  REQUIRE(r.est.source() == estimation::LocalizationSource::DeadReckoning);
   const double before = r.error();
   // The panel re-detected 1 m off along x, erratic by 0.3 m from frame to frame (a wrong homography).
   r.visible = true;
@@ -122,12 +123,12 @@ TEST_CASE("estimation: a wrong re-detection 1 m off after a loss does not drive 
   refused = r.est.statistics().count("rejected_reacquisition");
   CHECK(refused >= 25);
   CHECK(r.est.statistics().count("reacquisition_confirmed") == 0);
-  CHECK(r.est.source() == LocalizationSource::DeadReckoning);
+  CHECK(r.est.source() == estimation::LocalizationSource::DeadReckoning);
   CHECK(r.error() < before + 0.1);  // still dead reckoning, not dragged 1 m
 }
 
 TEST_CASE("estimation: a re-detection that persists with one offset is accepted after confirm_frames") {
-  EstimatorConfig c = no_delays();
+  estimation::EstimatorConfig c = no_delays();
   c.reacquisition.confirm_frames = 15;
   Redetection r(c);
   r.run_until(3.0);
@@ -141,10 +142,10 @@ TEST_CASE("estimation: a re-detection that persists with one offset is accepted 
   INFO("refused " << r.est.statistics().count("rejected_reacquisition") << " confirmed "
                   << r.est.statistics().count("reacquisition_confirmed") << " fused " << r.est.statistics().count("object_fused"));
   CHECK(r.est.statistics().count("rejected_reacquisition") >= 9);
-  CHECK(r.est.source() == LocalizationSource::DeadReckoning);
+  CHECK(r.est.source() == estimation::LocalizationSource::DeadReckoning);
   r.run_until(6.5);
   CHECK(r.est.statistics().count("reacquisition_confirmed") == 1);
-  CHECK(r.est.source() == LocalizationSource::Homography);
+  CHECK(r.est.source() == estimation::LocalizationSource::Homography);
   // Fused: the estimate follows the vision (0.8 m from the truth, by construction).
   const Eigen::Vector3d p = r.est.predict(r.truth.t).position_world;
   INFO("estimate - truth " << (p - r.truth.s().segment<3>(est::X)).transpose() << " fused " << r.est.statistics().count("object_fused")
@@ -160,13 +161,13 @@ TEST_CASE("estimation: a re-detection that agrees with the estimate is fused at 
   r.visible = true;
   r.run_until(4.5);
   CHECK(r.est.statistics().count("rejected_reacquisition") == 0);
-  CHECK(r.est.source() == LocalizationSource::Homography);
+  CHECK(r.est.source() == estimation::LocalizationSource::Homography);
 }
 
 TEST_CASE("estimation: the re-acquisition gate is configured in the estimation section, bad values refused") {
   const ConfigDocument doc = ConfigDocument::parse(
       R"({"reacquisition": {"chi2": 9.0, "max_jump_m": 0.3, "confirm_frames": 20, "confirm_spread_m": 0.05}})", "t.json");
-  const EstimatorConfig c = read_estimation_config(doc.root());
+  const estimation::EstimatorConfig c = estimation::read_estimation_config(doc.root());
   CHECK(c.reacquisition.chi2 == Approx(9.0));
   CHECK(c.reacquisition.max_jump_m == Approx(0.3));
   CHECK(c.reacquisition.confirm_frames == 20);
@@ -174,8 +175,8 @@ TEST_CASE("estimation: the re-acquisition gate is configured in the estimation s
   for (const char* bad : {R"({"reacquisition": {"chi2": 0}})", R"({"reacquisition": {"max_jump_m": 0.0}})",
                           R"({"reacquisition": {"confirm_frames": 0}})", R"({"reacquisition": {"confirm_spread_m": 5}})"}) {
     INFO(bad);
-    CHECK_THROWS(read_estimation_config(ConfigDocument::parse(bad, "bad.json").root()));
+    CHECK_THROWS(estimation::read_estimation_config(ConfigDocument::parse(bad, "bad.json").root()));
   }
-  CHECK_THROWS_WITH(read_estimation_config(ConfigDocument::parse(R"({"reacquisition": {"max_jump": 1}})", "u.json").root()),
+  CHECK_THROWS_WITH(estimation::read_estimation_config(ConfigDocument::parse(R"({"reacquisition": {"max_jump": 1}})", "u.json").root()),
                     Catch::Contains("max_jump"));
 }

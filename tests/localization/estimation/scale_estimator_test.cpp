@@ -6,20 +6,21 @@
 #include "localization/estimation/scale_pair_sampler.hpp"
 
 using namespace labo;
+using namespace labo::estimation;
 
 TEST_CASE("estimation: ML scale reaches its two limits") {
   const double s_pp = 2.0, s_ii = 9.0, s_pi = 4.1;
   // Exact metric displacements: lambda = S_II / S_PI; exact map displacements: lambda = S_PI / S_PP.
-  CHECK(ScaleEstimator::ml_scale(s_pp, s_ii, s_pi, 0.2, 1e-9) == Approx(s_ii / s_pi).epsilon(1e-6));
-  CHECK(ScaleEstimator::ml_scale(s_pp, s_ii, s_pi, 1e-9, 0.2) == Approx(s_pi / s_pp).epsilon(1e-6));
-  CHECK(ScaleEstimator::ml_scale(s_pp, s_ii, s_pi, 0.2, 0.2) > s_pi / s_pp);
+  CHECK(estimation::ScaleEstimator::ml_scale(s_pp, s_ii, s_pi, 0.2, 1e-9) == Approx(s_ii / s_pi).epsilon(1e-6));
+  CHECK(estimation::ScaleEstimator::ml_scale(s_pp, s_ii, s_pi, 1e-9, 0.2) == Approx(s_pi / s_pp).epsilon(1e-6));
+  CHECK(estimation::ScaleEstimator::ml_scale(s_pp, s_ii, s_pi, 0.2, 0.2) > s_pi / s_pp);
 }
 
 TEST_CASE("estimation: scale estimator recovers the scale from noisy pairs with outliers") {
   std::mt19937 rng(11);
   std::normal_distribution<double> n(0.0, 1.0);
   const double truth = 2.7;
-  ScaleEstimator est{ScaleSettings{}};
+  estimation::ScaleEstimator est{estimation::ScaleSettings{}};
   for (int i = 0; i < 30; ++i) {
     const Eigen::Vector3d p(0.05 * n(rng), 0.05 * n(rng), 0.4 * n(rng));
     Eigen::Vector3d m = truth * p + Eigen::Vector3d(0.003 * n(rng), 0.003 * n(rng), 0.01 * n(rng));
@@ -41,7 +42,7 @@ TEST_CASE("estimation: scale estimator recovers the scale from noisy pairs with 
 
 namespace {
 // Pairs of a vertical manoeuvre (weighted as the estimator does: z x3) for a map of `metres_per_unit`.
-void add_manoeuvre_pairs(ScaleEstimator& est, double metres_per_unit, int n, std::mt19937& rng) {
+void add_manoeuvre_pairs(estimation::ScaleEstimator& est, double metres_per_unit, int n, std::mt19937& rng) {
   std::normal_distribution<double> noise(0.0, 0.01);
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d metric(0.02 * noise(rng) / 0.01, 0.0, 3.0 * (i % 2 == 0 ? 0.25 : -0.2));
@@ -58,7 +59,7 @@ TEST_CASE("estimation: the scale is found whatever the map's unit, from the thir
   // come, and its 5 cm minimum was in map units (0.5 m of real motion at 10 m/unit).
   for (const double metres_per_unit : {0.2, 1.0, 8.0, 40.0}) {
     std::mt19937 rng(5);
-    ScaleEstimator est{ScaleSettings{}};
+    estimation::ScaleEstimator est{estimation::ScaleSettings{}};
     add_manoeuvre_pairs(est, metres_per_unit, 2, rng);
     CHECK_FALSE(est.status().estimated);
     add_manoeuvre_pairs(est, metres_per_unit, 1, rng);
@@ -70,10 +71,10 @@ TEST_CASE("estimation: the scale is found whatever the map's unit, from the thir
 }
 
 TEST_CASE("estimation: the scale follows a map whose scale drifts") {
-  // Measured in the simulated lab with the real SLAM: 10 m/unit during the manoeuvre, 6 m/unit after
-  // the map's first adjustments. Without forgetting, the estimate would stay near the mean.
+  // As a monocular map in the simulated lab does: 10 m/unit during the manoeuvre, 6 m/unit after the
+  // map's first adjustments. Without forgetting, the estimate would stay near the mean.
   std::mt19937 rng(9);
-  ScaleEstimator est{ScaleSettings{}};
+  estimation::ScaleEstimator est{estimation::ScaleSettings{}};
   add_manoeuvre_pairs(est, 10.0, 8, rng);
   CHECK(est.scale() == Approx(10.0).epsilon(0.03));
   CHECK(est.scale_changes() == 0);
@@ -90,7 +91,7 @@ TEST_CASE("estimation: the scale follows a map whose scale drifts") {
 
 TEST_CASE("estimation: one outlier does not restart the scale, nor two that disagree") {
   std::mt19937 rng(4);
-  ScaleEstimator est{ScaleSettings{}};
+  estimation::ScaleEstimator est{estimation::ScaleSettings{}};
   add_manoeuvre_pairs(est, 8.0, 8, rng);
   CHECK(est.add_pair(Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0, 0, 0.1 * 8.0 * 1.5)));
   CHECK(est.add_pair(Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0, 0, 0.1 * 8.0 * 0.6)));
@@ -101,7 +102,7 @@ TEST_CASE("estimation: one outlier does not restart the scale, nor two that disa
 
 TEST_CASE("estimation: a pair far off the scale is an outlier, a noisy one is not") {
   std::mt19937 rng(3);
-  ScaleEstimator est{ScaleSettings{}};
+  estimation::ScaleEstimator est{estimation::ScaleSettings{}};
   add_manoeuvre_pairs(est, 5.0, 6, rng);
   const int inliers = est.status().inliers;
   // 30 % too long (the metric side read a floor step as motion): refused by the chi2 gate.
@@ -117,7 +118,7 @@ TEST_CASE("estimation: a pair far off the scale is an outlier, a noisy one is no
 TEST_CASE("estimation: map-to-world keeps the fixpoint when the scale changes") {
   const Eigen::Isometry3d T_map_cam = make_pose({0.3, -0.2, 0.5}, 0.4, 0.1, -0.2);
   const Eigen::Isometry3d T_world_cam = make_pose({1.0, 2.0, 1.2}, -1.0, 0.05, 0.02);
-  MapToWorld m;
+  estimation::MapToWorld m;
   m.initialize(T_map_cam, T_world_cam, 0.5);
   CHECK((m.T_world_cam(T_map_cam).matrix() - T_world_cam.matrix()).norm() < 1e-9);
   const Eigen::Isometry3d other = make_pose({1.3, 0.2, -0.5}, 0.2, 0, 0);
@@ -131,11 +132,11 @@ TEST_CASE("estimation: map-to-world keeps the fixpoint when the scale changes") 
 }
 
 TEST_CASE("estimation: a scale pair closes on enough motion, not after a fixed time") {
-  ScalePairSampler sampler(1.0, 3.0, Eigen::Vector3d(1.0, 1.0, 3.0), 0.3);
+  estimation::ScalePairSampler sampler(1.0, 3.0, Eigen::Vector3d(1.0, 1.0, 3.0), 0.3);
   const auto run = [&](double vx, double vz, Seconds until, Seconds& t) {
-    std::optional<ScalePair> first;
+    std::optional<estimation::ScalePair> first;
     for (; t < until && !first; t += 1.0 / 30.0) {
-      ScaleSample s;
+      estimation::ScaleSample s;
       s.t = t;
       s.metric = Eigen::Vector3d(vx * t, 0, 1.0 + vz * t);
       s.p_map = s.metric / 7.0;

@@ -7,19 +7,20 @@
 #include "synthetic_flight.hpp"
 
 using namespace labo;
+using namespace labo::estimation;
 using labo::test::DelayedLink;
 using labo::test::SyntheticFlight;
 using labo::test::symmetric_positive_definite;
 
 namespace {
-EstimatorConfig no_delays() {
-  EstimatorConfig c;
+estimation::EstimatorConfig no_delays() {
+  estimation::EstimatorConfig c;
   c.video_delay_s = c.navdata_delay_s = c.control_delay_s = 0.0;
   return c;
 }
 
-SlamObservation slam_at(const Eigen::Isometry3d& T_world_body, Seconds t) {
-  SlamObservation o;
+estimation::SlamObservation slam_at(const Eigen::Isometry3d& T_world_body, Seconds t) {
+  estimation::SlamObservation o;
   o.t = t;
   o.T_map_cam = T_world_body * T_body_cam_front();  // map = world, scale 1
   o.map_is_metric = true;
@@ -28,7 +29,7 @@ SlamObservation slam_at(const Eigen::Isometry3d& T_world_body, Seconds t) {
 }  // namespace
 
 TEST_CASE("estimation: bad inputs are rejected and counted") {
-  StateEstimator est(no_delays());
+  estimation::StateEstimator est(no_delays());
   est.reset(make_pose({0, 0, 1}, 0), 0.0);
   SyntheticFlight truth(1);
   NavdataSample n = truth.navdata();
@@ -55,7 +56,7 @@ TEST_CASE("estimation: bad inputs are rejected and counted") {
   CHECK(est.add_command(MoveCommand{std::nan(""), 0, 0, 0}, 0.02));  // taken as the hover the link sends
 
   // Vision: a rotation that is not one, a jump of more than D, a turn of more than beta.
-  SlamObservation broken = slam_at(truth.T_world_body(), 0.03);
+  estimation::SlamObservation broken = slam_at(truth.T_world_body(), 0.03);
   broken.T_map_cam.linear() *= 2.0;
   CHECK_FALSE(est.add_slam_pose(broken));
   Seconds t = 0.03;
@@ -65,12 +66,12 @@ TEST_CASE("estimation: bad inputs are rejected and counted") {
   for (int i = 0; i < 3; ++i, t += 0.033) est.add_slam_pose(slam_at(truth.T_world_body(), t));
   CHECK_FALSE(est.add_slam_pose(slam_at(make_pose({0, 0, 1}, 0.5), t)));    // 29 deg > beta
   CHECK_FALSE(est.add_slam_pose(slam_at(truth.T_world_body(), t - 0.1)));   // out of order
-  ObjectObservation bad_index;
+  estimation::ObjectObservation bad_index;
   bad_index.t = t + 0.01;
   bad_index.object_index = -1;
   CHECK_FALSE(est.add_object_pose(bad_index));
 
-  const EstimatorStatistics st = est.statistics();
+  const estimation::EstimatorStatistics st = est.statistics();
   CHECK(st.count("rejected_nonfinite") == 5);
   CHECK(st.count("rejected_out_of_order") == 2);
   CHECK(st.count("rejected_future") == 1);
@@ -85,7 +86,7 @@ TEST_CASE("estimation: covariance stays symmetric positive definite over long ra
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::uniform_int_distribution<int> pick(0, 9);
-  StateEstimator est;
+  estimation::StateEstimator est;
   est.reset(make_pose({0, 0, 1}, 0), 0.0);
   Seconds t = 0;
   for (int i = 0; i < 20000; ++i) {
@@ -107,7 +108,7 @@ TEST_CASE("estimation: covariance stays symmetric positive definite over long ra
       switch (pick(rng) % 3) {
         case 0: est.add_slam_pose(slam_at(T, t)); break;
         case 1: {
-          ObjectObservation o;
+          estimation::ObjectObservation o;
           o.t = t;
           o.object_index = pick(rng) % 2;
           o.T_cam_object = make_pose({0.3 * u(rng), 0.3 * u(rng), 1.0 + 0.5 * u(rng)}, 0.2 * u(rng), 0, 0);
@@ -115,7 +116,7 @@ TEST_CASE("estimation: covariance stays symmetric positive definite over long ra
           break;
         }
         default: {
-          FaceObservation f;
+          estimation::FaceObservation f;
           f.t = t;
           f.T_cam_face = make_pose({0.2 * u(rng), 0.2 * u(rng), 1.5 + 0.5 * u(rng)}, 0.3 * u(rng), 0, 0);
           est.add_face_pose(f);
@@ -133,7 +134,7 @@ TEST_CASE("estimation: covariance stays symmetric positive definite over long ra
 
 TEST_CASE("estimation: dead reckoning on navdata follows a flight with little drift") {
   SyntheticFlight truth(3);
-  StateEstimator est(no_delays());
+  estimation::StateEstimator est(no_delays());
   est.reset(truth.T_world_body(), 0.0);
   DelayedLink link{truth, 0.0, 0.0, 1.0 / 200.0, {}, {}, 0.0};
   std::mt19937 rng(9);
@@ -144,18 +145,18 @@ TEST_CASE("estimation: dead reckoning on navdata follows a flight with little dr
     est.add_command(c, truth.t);
     link.run_until(truth.t + 1.0, [&](const NavdataSample& n) { est.add_navdata(n); });
   }
-  const FusedState f = est.predict(truth.t);
+  const estimation::FusedState f = est.predict(truth.t);
   const double drift = (f.position_world - truth.s().segment<3>(est::X)).norm();
   INFO("drift " << drift << " m after 20 s");
   CHECK(drift < 0.4);
   CHECK(std::abs(wrap_angle(f.yaw - truth.s()(est::YAW))) < 0.05);
-  CHECK(f.source == LocalizationSource::DeadReckoning);
-  CHECK(f.colour == SourceColour::Red);
+  CHECK(f.source == estimation::LocalizationSource::DeadReckoning);
+  CHECK(f.colour == estimation::SourceColour::Red);
 }
 
 TEST_CASE("estimation: a prediction for a time the filter has passed is the filtered state, stamped with its own time") {
   SyntheticFlight truth(4);
-  StateEstimator est(no_delays());
+  estimation::StateEstimator est(no_delays());
   est.reset(truth.T_world_body(), 0.0);
   DelayedLink link{truth, 0.0, 0.0, 1.0 / 200.0, {}, {}, 0.0};
   const MoveCommand c{0.3, 0.0, 0.0, 0.0};
@@ -165,8 +166,8 @@ TEST_CASE("estimation: a prediction for a time the filter has passed is the filt
   REQUIRE(est.add_slam_pose(slam_at(truth.T_world_body(), truth.t)));  // moves the filter to 1.0 s
   const Seconds filter_t = est.filter_time();
   REQUIRE(filter_t > 0.9);
-  const FusedState past = est.predict(0.5);
-  const FusedState now = est.filtered();
+  const estimation::FusedState past = est.predict(0.5);
+  const estimation::FusedState now = est.filtered();
   CHECK(past.t == filter_t);
   CHECK(past.position_world.isApprox(now.position_world));
   CHECK(past.velocity_world.isApprox(now.velocity_world));
@@ -178,10 +179,10 @@ TEST_CASE("estimation: without navdata a prediction reaches at most 2 s past the
   // A server whose drone is not connected (or whose link went down) asks for the control pose every
   // tick: the model alone must not integrate the whole gap each time (an hour = 360 000 steps).
   SyntheticFlight truth(4);
-  StateEstimator est(no_delays());
+  estimation::StateEstimator est(no_delays());
   est.reset(truth.T_world_body(), 0.0);
   SECTION("no navdata at all: 2 s past the reset") {
-    const FusedState f = est.predict(3600.0);
+    const estimation::FusedState f = est.predict(3600.0);
     CHECK(f.t == Approx(2.0));
     CHECK(f.position_world.allFinite());
   }
@@ -195,8 +196,8 @@ TEST_CASE("estimation: without navdata a prediction reaches at most 2 s past the
       est.add_navdata(n);
       last = n.t;
     });
-    const FusedState at_limit = est.predict(last + 2.0);
-    const FusedState far = est.predict(last + 3600.0);
+    const estimation::FusedState at_limit = est.predict(last + 2.0);
+    const estimation::FusedState far = est.predict(last + 3600.0);
     CHECK(at_limit.t == Approx(last + 2.0));
     CHECK(far.t == Approx(last + 2.0));
     CHECK(far.position_world.isApprox(at_limit.position_world));
@@ -207,8 +208,8 @@ TEST_CASE("estimation: without navdata a prediction reaches at most 2 s past the
 TEST_CASE("estimation: a start pose without a time is taken at the first navdata, however late it comes") {
   // A server's clock has run for seconds (loading models, connecting) before the first navdata; the
   // filter must start there, not judge every sample "from the future" against time 0.
-  EstimatorConfig config;  // the default delays
-  StateEstimator est(config);
+  estimation::EstimatorConfig config;  // the default delays
+  estimation::StateEstimator est(config);
   const Eigen::Isometry3d base = make_pose({0.5, -0.2, 0.10}, 0.3);
   est.start_at_first_navdata(base);
   NavdataSample n;
@@ -218,7 +219,7 @@ TEST_CASE("estimation: a start pose without a time is taken at the first navdata
     n.t = 7.3 + k / 15.0;
     REQUIRE(est.add_navdata(n));
   }
-  const FusedState f = est.predict(n.t);
+  const estimation::FusedState f = est.predict(n.t);
   REQUIRE(f.initialized);
   CHECK((f.position_world - base.translation()).norm() < 0.05);
   CHECK(std::abs(wrap_angle(f.yaw - 0.3)) < 0.01);
@@ -230,10 +231,10 @@ TEST_CASE("estimation: delay compensation predicts the pose at the time a comman
   // The controller's question: where will the drone be when the command computed now acts (now + 100 ms)?
   const auto rms_error = [](bool compensate) {
     SyntheticFlight truth(4);
-    EstimatorConfig c;
+    estimation::EstimatorConfig c;
     c.navdata_delay_s = compensate ? 0.040 : 0.0;
     c.control_delay_s = compensate ? 0.100 : 0.0;
-    StateEstimator est(c);
+    estimation::StateEstimator est(c);
     est.reset(truth.T_world_body(), 0.0);
     DelayedLink link{truth, 0.040, 0.100, 1.0 / 200.0, {}, {}, 0.0};
     std::vector<std::pair<Seconds, Eigen::Vector3d>> predictions;
@@ -267,7 +268,7 @@ TEST_CASE("estimation: delay compensation predicts the pose at the time a comman
 }
 
 TEST_CASE("estimation: navdata packets received in one burst are all taken, a repeated packet is not") {
-  StateEstimator est(no_delays());
+  estimation::StateEstimator est(no_delays());
   est.reset(make_pose({0, 0, 1}, 0), 0.0);
   SyntheticFlight truth(2);
   NavdataSample a = truth.navdata();
@@ -285,7 +286,7 @@ TEST_CASE("estimation: navdata packets received in one burst are all taken, a re
 TEST_CASE("estimation: demo navdata's yaw follows a knock turning faster than 10 deg a packet, and a reset is not followed") {
   // 15 Hz navdata while hovering; navdata yaw = a 0.4 rad kick decaying in ~0.1 s (sim perturb's yaw
   // impulse: 13 deg in 33 ms), later a 60 deg step within one packet (a firmware reset of psi).
-  StateEstimator est(no_delays());
+  estimation::StateEstimator est(no_delays());
   est.reset(make_pose({0, 0, 1}, 0), 0.0);
   const double dt = 1.0 / 15.0, kick_t = 1.0, reset_t = 3.0;
   auto navdata_yaw = [&](Seconds t) {

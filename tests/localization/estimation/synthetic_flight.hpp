@@ -11,14 +11,14 @@
 namespace labo::test {
 
 struct SyntheticFlight {
-  explicit SyntheticFlight(unsigned seed, MotionModelConstants truth_model = {})
-      : model(truth_model, EstimatorNoise{}), rng(seed) {
-    StateVector s = StateVector::Zero();
-    s(est::Z) = 1.0;
-    model.reset(s, StateCovariance::Identity());
+  explicit SyntheticFlight(unsigned seed, estimation::MotionModelConstants truth_model = {})
+      : model(truth_model, estimation::EstimatorNoise{}), rng(seed) {
+    estimation::StateVector s = estimation::StateVector::Zero();
+    s(estimation::est::Z) = 1.0;
+    model.reset(s, estimation::StateCovariance::Identity());
   }
 
-  DroneEkf model;  // used for its derivative only
+  estimation::DroneEkf model;  // used for its derivative only
   std::mt19937 rng;
   Seconds t = 0;
   MoveCommand command;
@@ -26,43 +26,43 @@ struct SyntheticFlight {
   double nav_noise = 1.0;  // multiplies every navdata noise
   bool report_vz = true;
 
-  StateVector& s() { return model.mutable_state(); }
+  estimation::StateVector& s() { return model.mutable_state(); }
 
   void step(double dt) {
-    const StateVector d = model.derivative(model.state(), command);
-    const Eigen::Vector3d v_old = s().segment<3>(est::VX);
+    const estimation::StateVector d = model.derivative(model.state(), command);
+    const Eigen::Vector3d v_old = s().segment<3>(estimation::est::VX);
     s() += d * dt;
-    s().segment<3>(est::X) += -d.segment<3>(est::X) * dt + 0.5 * (v_old + s().segment<3>(est::VX)) * dt;
+    s().segment<3>(estimation::est::X) += -d.segment<3>(estimation::est::X) * dt + 0.5 * (v_old + s().segment<3>(estimation::est::VX)) * dt;
     t += dt;
   }
 
   NavdataSample navdata() {
     std::normal_distribution<double> n(0.0, 1.0);
-    const StateVector& x = model.state();
+    const estimation::StateVector& x = model.state();
     NavdataSample nav;
     nav.t = t;
     nav.control_state = 3;
-    nav.roll_rad = x(est::ROLL) + 0.003 * nav_noise * n(rng);
-    nav.pitch_rad = x(est::PITCH) + 0.003 * nav_noise * n(rng);
-    nav.yaw_rad = wrap_angle(x(est::YAW) + 0.4 + 0.002 * nav_noise * n(rng));  // arbitrary IMU yaw origin
-    const double c = std::cos(x(est::YAW)), sn = std::sin(x(est::YAW));
-    nav.vx_mps = c * x(est::VX) + sn * x(est::VY) + 0.03 * nav_noise * n(rng);
-    nav.vy_mps = -sn * x(est::VX) + c * x(est::VY) + 0.03 * nav_noise * n(rng);
-    nav.vz_mps = report_vz ? x(est::VZ) + 0.03 * nav_noise * n(rng) : 0.0;
-    nav.altitude_m = (x(est::Z) - floor_z) / (std::cos(x(est::ROLL)) * std::cos(x(est::PITCH))) + 0.005 * nav_noise * n(rng);
+    nav.roll_rad = x(estimation::est::ROLL) + 0.003 * nav_noise * n(rng);
+    nav.pitch_rad = x(estimation::est::PITCH) + 0.003 * nav_noise * n(rng);
+    nav.yaw_rad = wrap_angle(x(estimation::est::YAW) + 0.4 + 0.002 * nav_noise * n(rng));  // arbitrary IMU yaw origin
+    const double c = std::cos(x(estimation::est::YAW)), sn = std::sin(x(estimation::est::YAW));
+    nav.vx_mps = c * x(estimation::est::VX) + sn * x(estimation::est::VY) + 0.03 * nav_noise * n(rng);
+    nav.vy_mps = -sn * x(estimation::est::VX) + c * x(estimation::est::VY) + 0.03 * nav_noise * n(rng);
+    nav.vz_mps = report_vz ? x(estimation::est::VZ) + 0.03 * nav_noise * n(rng) : 0.0;
+    nav.altitude_m = (x(estimation::est::Z) - floor_z) / (std::cos(x(estimation::est::ROLL)) * std::cos(x(estimation::est::PITCH))) + 0.005 * nav_noise * n(rng);
     return nav;
   }
 
   Eigen::Isometry3d T_world_body() const {
-    const StateVector& x = model.state();
-    return make_pose(x.segment<3>(est::X), x(est::YAW), x(est::PITCH), x(est::ROLL));
+    const estimation::StateVector& x = model.state();
+    return make_pose(x.segment<3>(estimation::est::X), x(estimation::est::YAW), x(estimation::est::PITCH), x(estimation::est::ROLL));
   }
 };
 
-inline bool symmetric_positive_definite(const StateCovariance& P) {
+inline bool symmetric_positive_definite(const estimation::StateCovariance& P) {
   if (!P.allFinite()) return false;
   if ((P - P.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(1.0, P.cwiseAbs().maxCoeff())) return false;
-  const Eigen::LLT<StateCovariance> llt(P);
+  const Eigen::LLT<estimation::StateCovariance> llt(P);
   return llt.info() == Eigen::Success;
 }
 

@@ -11,6 +11,7 @@
 #include "synthetic_flight.hpp"
 
 using namespace labo;
+using namespace labo::estimation;
 using labo::test::DelayedLink;
 using labo::test::SyntheticFlight;
 using labo::test::symmetric_positive_definite;
@@ -20,7 +21,7 @@ constexpr double kDemoPeriod = 1.0 / 15.0;  // navdata demo mode, as in the lab 
 constexpr double kFailedFlowDecayPerS = 3.0;  // drone/sim's SensorModel
 
 // The normalized pitch command that holds `speed` forward against the drag (thrust along the tilt).
-double cruise_pitch(double speed, const MotionModelConstants& m = {}) {
+double cruise_pitch(double speed, const estimation::MotionModelConstants& m = {}) {
   return std::asin(m.drag_per_s * speed / m.thrust_accel_mps2) / m.tilt_max_rad;
 }
 
@@ -39,7 +40,7 @@ struct Outcome {
   std::uint64_t dropouts = 0;
   std::uint64_t dropout_packets = 0;
   std::vector<std::uint64_t> dropout_packets_after_phase;
-  StateCovariance covariance;
+  estimation::StateCovariance covariance;
 };
 
 // Flies `phases` from a cruise at `speed` forward (for 4 s first: the estimate converges and the dropout
@@ -50,11 +51,11 @@ Outcome fly(double speed, const std::vector<Phase>& phases, bool detect, unsigne
   SyntheticFlight truth(seed);
   truth.s()(est::VX) = speed;
   const MoveCommand cruise{0.0, cruise_pitch(speed), 0.0, 0.0};
-  truth.s()(est::PITCH) = cruise.pitch * MotionModelConstants{}.tilt_max_rad;
-  EstimatorConfig config;
+  truth.s()(est::PITCH) = cruise.pitch * estimation::MotionModelConstants{}.tilt_max_rad;
+  estimation::EstimatorConfig config;
   config.video_delay_s = config.navdata_delay_s = config.control_delay_s = 0.0;
   config.velocity_dropout.enabled = detect;
-  StateEstimator est(config);
+  estimation::StateEstimator est(config);
   est.reset(truth.T_world_body(), 0.0);
   DelayedLink link{truth, 0.0, 0.0, kDemoPeriod, {}, {}, 0.0};
   std::mt19937 rng(seed + 100);
@@ -75,7 +76,7 @@ Outcome fly(double speed, const std::vector<Phase>& phases, bool detect, unsigne
     }
     last_t = n.t;
     est.add_navdata(n);
-    const FusedState f = est.predict(n.t);
+    const estimation::FusedState f = est.predict(n.t);
     out.max_position_error = std::max(out.max_position_error, (f.position_world - truth.s().segment<3>(est::X)).head<2>().norm());
   };
   std::vector<Phase> all{{4.0, cruise, false}};
@@ -88,7 +89,7 @@ Outcome fly(double speed, const std::vector<Phase>& phases, bool detect, unsigne
     link.run_until(truth.t + all[i].duration, deliver);
     if (i > 0) out.dropout_packets_after_phase.push_back(est.statistics().count("velocity_dropout_packets"));
   }
-  const FusedState f = est.predict(truth.t);
+  const estimation::FusedState f = est.predict(truth.t);
   out.position_error = (f.position_world - truth.s().segment<3>(est::X)).head<2>();
   out.estimated_velocity = f.velocity_world.head<2>();
   out.true_velocity = truth.s().segment<2>(est::VX);
@@ -214,14 +215,14 @@ TEST_CASE("estimation: with an IMU offset, a drone creeping over a bare floor on
 
 TEST_CASE("estimation: the dropout detector learns the IMU's tilt offset while the flow works") {
   // A hover whose measured tilt is all offset: thrust along it predicts a push the flow never shows.
-  VelocityDropoutDetector d;
+  estimation::VelocityDropoutDetector d;
   const Eigen::Vector2d offset_push(0.098, -0.05);  // world frame, m/s^2 (0.57 and 0.29 deg)
   const double yaw = 0.3;
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.03);
   int not_fused = 0;
   for (int k = 0; k <= 150; ++k) {  // 10 s at 15 Hz
-    const VelocityVerdict v = d.process(k / 15.0, Eigen::Vector2d(noise(rng), noise(rng)), offset_push, yaw, Eigen::Vector2d::Zero());
+    const estimation::VelocityVerdict v = d.process(k / 15.0, Eigen::Vector2d(noise(rng), noise(rng)), offset_push, yaw, Eigen::Vector2d::Zero());
     d.record_filter_velocity(Eigen::Vector2d::Zero());
     not_fused += v.fuse ? 0 : 1;
   }

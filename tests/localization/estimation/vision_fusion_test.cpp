@@ -7,12 +7,13 @@
 #include "synthetic_flight.hpp"
 
 using namespace labo;
+using namespace labo::estimation;
 using labo::test::DelayedLink;
 using labo::test::SyntheticFlight;
 
 namespace {
-EstimatorConfig no_delays() {
-  EstimatorConfig c;
+estimation::EstimatorConfig no_delays() {
+  estimation::EstimatorConfig c;
   c.video_delay_s = c.navdata_delay_s = c.control_delay_s = 0.0;
   return c;
 }
@@ -23,13 +24,13 @@ struct FakeSlamMap {
   double metres_per_unit = 2.5;
   double noise_m = 0.01;
   std::mt19937 rng{17};
-  SlamObservation observe(const Eigen::Isometry3d& T_world_body, Seconds t) {
+  estimation::SlamObservation observe(const Eigen::Isometry3d& T_world_body, Seconds t) {
     std::normal_distribution<double> n(0.0, noise_m);
     Eigen::Isometry3d T_world_cam = T_world_body * T_body_cam_front();
     T_world_cam.translation() += Eigen::Vector3d(n(rng), n(rng), n(rng));
     Eigen::Isometry3d T = T_map_world * T_world_cam;
     T.translation() /= metres_per_unit;  // (translation of T_map_world also in metres: a shifted map)
-    SlamObservation o;
+    estimation::SlamObservation o;
     o.t = t;
     o.T_map_cam = T;
     return o;
@@ -41,7 +42,7 @@ TEST_CASE("estimation: the up/down manoeuvre fixes the SLAM map's scale") {
   int within_3_percent = 0;
   for (unsigned seed = 0; seed < 5; ++seed) {
     SyntheticFlight truth(100 + seed);
-    StateEstimator est(no_delays());
+    estimation::StateEstimator est(no_delays());
     est.reset(truth.T_world_body(), 0.0);
     FakeSlamMap slam;
     slam.metres_per_unit = 0.5 + seed * 0.7;
@@ -60,7 +61,7 @@ TEST_CASE("estimation: the up/down manoeuvre fixes the SLAM map's scale") {
       est.add_command(c, truth.t);
       link.run_until(truth.t + 2.0, deliver);
     }
-    const ScaleStatus s = est.scale_status();
+    const estimation::ScaleStatus s = est.scale_status();
     const double error = std::abs(s.scale / slam.metres_per_unit - 1.0);
     INFO("seed " << seed << ": scale " << s.scale << " truth " << slam.metres_per_unit << " pairs " << s.pairs);
     CHECK(s.estimated);
@@ -68,15 +69,15 @@ TEST_CASE("estimation: the up/down manoeuvre fixes the SLAM map's scale") {
     if (error < 0.03) ++within_3_percent;
     // After the scale is known the fused position follows the truth closely.
     CHECK((est.predict(truth.t).position_world - truth.s().segment<3>(est::X)).norm() < 0.1);
-    CHECK(est.source() == LocalizationSource::Slam);
-    CHECK(est.colour() == SourceColour::Green);
+    CHECK(est.source() == estimation::LocalizationSource::Slam);
+    CHECK(est.colour() == estimation::SourceColour::Green);
   }
   CHECK(within_3_percent == 5);
 }
 
 TEST_CASE("estimation: an object placed at first sighting drives the estimate, blue then black") {
   SyntheticFlight truth(7);
-  StateEstimator est(no_delays());
+  estimation::StateEstimator est(no_delays());
   est.reset(truth.T_world_body(), 0.0);
   const Eigen::Isometry3d T_world_object = make_pose({2.0, 0.1, 1.1}, 0.0) * Eigen::Isometry3d(
       Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
@@ -89,7 +90,7 @@ TEST_CASE("estimation: an object placed at first sighting drives the estimate, b
   const auto deliver = [&](const NavdataSample& nav) {
     est.add_navdata(nav);
     if (truth.t >= next_frame && visible) {
-      ObjectObservation o;
+      estimation::ObjectObservation o;
       o.t = truth.t;
       o.object_index = 1;
       o.T_cam_object = (truth.T_world_body() * T_body_cam_front()).inverse() * T_world_object;
@@ -97,20 +98,20 @@ TEST_CASE("estimation: an object placed at first sighting drives the estimate, b
       o.T_world_object_surveyed = T_world_object;
       est.add_object_pose(o);
       ++seen;
-      if (seen == 2) CHECK(est.source() == LocalizationSource::DeadReckoning);  // hysteresis: 3 frames
+      if (seen == 2) CHECK(est.source() == estimation::LocalizationSource::DeadReckoning);  // hysteresis: 3 frames
       next_frame += 1.0 / 30.0;
     }
   };
   link.run_until(3.0, deliver);
-  CHECK(est.source() == LocalizationSource::Homography);
-  CHECK(est.colour() == SourceColour::Blue);
+  CHECK(est.source() == estimation::LocalizationSource::Homography);
+  CHECK(est.colour() == estimation::SourceColour::Blue);
   REQUIRE(est.T_world_object(1).has_value());
   CHECK((est.T_world_object(1)->translation() - T_world_object.translation()).norm() < 0.05);
   CHECK((est.predict(truth.t).position_world - truth.s().segment<3>(est::X)).norm() < 0.05);
   visible = false;  // the object leaves the view: navdata and the model only
   link.run_until(4.0, deliver);
-  CHECK(est.source() == LocalizationSource::DeadReckoning);
-  CHECK(est.colour() == SourceColour::Black);
+  CHECK(est.source() == estimation::LocalizationSource::DeadReckoning);
+  CHECK(est.colour() == estimation::SourceColour::Black);
   CHECK(est.statistics().count("object_fused") > 50);
 }
 
@@ -119,11 +120,11 @@ TEST_CASE("estimation: delayed video is fused at the frame's time, not its arriv
   // estimate 7.5 cm back every frame.
   for (const bool compensate : {true, false}) {
     SyntheticFlight truth(8);
-    EstimatorConfig c;
+    estimation::EstimatorConfig c;
     c.navdata_delay_s = 0.0;
     c.control_delay_s = 0.0;
     c.video_delay_s = compensate ? 0.075 : 0.0;
-    StateEstimator est(c);
+    estimation::StateEstimator est(c);
     est.reset(truth.T_world_body(), 0.0);
     FakeSlamMap slam;
     slam.metres_per_unit = 1.0;
@@ -140,7 +141,7 @@ TEST_CASE("estimation: delayed video is fused at the frame's time, not its arriv
         next_frame += 1.0 / 30.0;
       }
       while (!frames.empty() && frames.front().first + 0.075 <= truth.t + 1e-9) {
-        SlamObservation o = slam.observe(frames.front().second, frames.front().first);
+        estimation::SlamObservation o = slam.observe(frames.front().second, frames.front().first);
         o.t = frames.front().first + 0.075;  // stamped on arrival
         o.map_is_metric = true;              // this test is about time, not scale
         est.add_slam_pose(o);
@@ -170,14 +171,14 @@ namespace {
 Eigen::Isometry3d place_from_one_sighting(const Eigen::Isometry3d& T_world_object, const Eigen::Isometry3d& T_world_surveyed,
                                           double turn_rad, double rotation_sigma_rad) {
   SyntheticFlight truth(11);
-  StateEstimator est(no_delays());
+  estimation::StateEstimator est(no_delays());
   est.reset(truth.T_world_body(), 0.0);
   DelayedLink link{truth, 0.0, 0.0, 1.0 / 200.0, {}, {}, 0.0};
   bool sent = false;
   link.run_until(0.5, [&](const NavdataSample& nav) {
     est.add_navdata(nav);
     if (sent || truth.t < 0.3) return;
-    ObjectObservation o;
+    estimation::ObjectObservation o;
     o.t = truth.t;
     o.object_index = 1;
     o.T_cam_object = (truth.T_world_body() * T_body_cam_front()).inverse() * T_world_object *
@@ -233,9 +234,9 @@ TEST_CASE("estimation: an object's placement weighs orientations by their rotati
   }
   SECTION("a negative or non-finite sigma is refused") {
     SyntheticFlight truth(12);
-    StateEstimator est(no_delays());
+    estimation::StateEstimator est(no_delays());
     est.reset(truth.T_world_body(), 0.0);
-    ObjectObservation o;
+    estimation::ObjectObservation o;
     o.t = 0.1;
     o.object_index = 1;
     o.T_cam_object = (truth.T_world_body() * T_body_cam_front()).inverse() * panel_ahead(2.0);
@@ -256,7 +257,7 @@ namespace {
 double sideways_jump_from_a_turned_far_panel(double reported_sigma_rad) {
   constexpr double kDeg = M_PI / 180.0;
   SyntheticFlight truth(13);
-  StateEstimator est(no_delays());
+  estimation::StateEstimator est(no_delays());
   est.reset(truth.T_world_body(), 0.0);
   const Eigen::Isometry3d T_world_object = panel_ahead(2.5);
   DelayedLink link{truth, 0.0, 0.0, 1.0 / 200.0, {}, {}, 0.0};
@@ -267,7 +268,7 @@ double sideways_jump_from_a_turned_far_panel(double reported_sigma_rad) {
     if (truth.t < next_frame || jump_m >= 0.0) return;
     next_frame += 1.0 / 30.0;
     const bool turned = truth.t > 1.5;
-    ObjectObservation o;
+    estimation::ObjectObservation o;
     o.t = truth.t;
     o.object_index = 1;
     o.T_cam_object = (truth.T_world_body() * T_body_cam_front()).inverse() * T_world_object *
@@ -278,7 +279,7 @@ double sideways_jump_from_a_turned_far_panel(double reported_sigma_rad) {
     REQUIRE(est.add_object_pose(o));
     if (turned) jump_m = std::abs((est.predict(truth.t).position_world - before).y());  // panel ahead along +x
   });
-  REQUIRE(est.source() == LocalizationSource::Homography);
+  REQUIRE(est.source() == estimation::LocalizationSource::Homography);
   REQUIRE(jump_m >= 0.0);
   return jump_m;
 }

@@ -82,7 +82,7 @@ TEST_CASE("face: config and person files are validated") {
       {R"({"depth_refinement": {"max_depth_change_mm": 50}})", "max_depth_change_mm"},
       {R"({"depth_refinement": {"huber_px": -1}})", "huber_px"},
       {R"({"depth_refinement": {"min_view": 10}})", "min_view"},
-      // A track's first-frame views (9147abb): 1-20 passes, a mirror yaw of 0-90 degrees.
+      // A track's first-frame views: 1-20 passes, a mirror yaw of 0-90 degrees.
       {R"({"start_view_passes": 0})", "start_view_passes"},
       {R"({"start_view_passes": 21})", "start_view_passes"},
       {R"({"start_mirror_yaw_deg": -5})", "start_mirror_yaw_deg"},
@@ -318,12 +318,13 @@ TEST_CASE("face: a track starts only on a face turned less than max_start_yaw, t
 }
 
 TEST_CASE("face: a turned face's first pose is made on views with its far side mirrored, iterated") {
-  // A track's first frame at 44.7° of yaw, 1.3 m, rolled 20° (seed 5's free_5_138cm, docs/face.md
-  // "The start of a turned face"): one frontal view made at the crop's pose (~12° short of the turn)
-  // leaves the face seen less turned and farther, and under the relative-motion protocol every later
-  // frame's motion is measured from it. The views of a start, iterated with the far side mirrored
-  // (seen obliquely, it is stretched from few pixels), get the distance. The person is registered as
-  // the benchmark's (surface landmarks from the frontal view); the blur is the benchmark's middle.
+  // A track's first frame at 44.7° of yaw, 1.3 m, rolled 20° (the start of the face benchmark's
+  // sequence free_5_138cm, docs/face.md "The start of a turned face"): one frontal view made at the
+  // crop's pose (~12° short of the turn) leaves the face seen less turned and farther, and under the
+  // relative-motion protocol every later frame's motion is measured from it. The views of a start,
+  // iterated with the far side mirrored (seen obliquely, it is stretched from few pixels), get the
+  // distance. The person is registered as the benchmark's (surface landmarks from the frontal view);
+  // the blur is the benchmark's middle.
   struct Case {
     Eigen::Isometry3d truth;
     double max_error_m;  // with the mirrored, iterated views (without: 82, 19, 16 mm)
@@ -362,8 +363,8 @@ TEST_CASE("face: the registered points are where tracking's frontal-view landmar
   // Tracking finds its landmarks on the frontal view, registration on the detector's crop, and the
   // predictor does not put them at quite the same points of the face in the two. With the frontal view
   // on, registration places the person's points where the view's landmarks meet the mesh at the
-  // fitted pose; before, a frontal head was tracked ~1° low in pitch (the view's landmarks against
-  // the crop's points, docs/face.md "The pitch offset").
+  // fitted pose; with the crop's points a frontal head would be tracked ~1° low in pitch (the view's
+  // landmarks against the crop's points, docs/face.md "The pitch offset").
   FaceConfig crop_config = default_face_config();
   crop_config.surface_landmarks = true;
   FaceConfig view_config = crop_config;

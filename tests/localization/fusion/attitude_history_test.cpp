@@ -4,9 +4,10 @@
 #include "localization/fusion/attitude_history.hpp"
 
 using namespace labo;
+using namespace labo::fusion;
 
 TEST_CASE("attitude history: interpolates at a frame's time, holds the newest briefly, refuses gaps") {
-  AttitudeHistory h;
+  fusion::AttitudeHistory h;
   CHECK_FALSE(h.at(1.0));
   // 15 Hz navdata, pitch ramping 0.1 rad/s, roll constant.
   for (int i = 0; i <= 30; ++i) h.add(i / 15.0, {0.02, 0.1 * i / 15.0});
@@ -33,7 +34,7 @@ TEST_CASE("attitude history: interpolates at a frame's time, holds the newest br
 }
 
 TEST_CASE("attitude history: keeps the last 64 samples") {
-  AttitudeHistory h;
+  fusion::AttitudeHistory h;
   for (int i = 0; i < 200; ++i) h.add(i * 0.005, {0.0, i * 0.001});
   CHECK_FALSE(h.at(0.005 * 130));          // dropped
   REQUIRE(h.at(0.005 * 140 + 0.0025));     // kept (samples 136..199)
@@ -47,29 +48,29 @@ TEST_CASE("attitude history: keeps the last 64 samples") {
 namespace {
 
 // Records what LabPipelines hands the SLAM front-end.
-class RecordingSlam final : public SlamFrontEnd {
+class RecordingSlam final : public fusion::SlamFrontEnd {
  public:
   explicit RecordingSlam(std::vector<std::optional<Eigen::Vector3d>>& seen) : seen_(seen) {}
-  const SlamFrame& process(const cv::Mat&, Seconds, const std::optional<Eigen::Isometry3d>&,
+  const fusion::SlamFrame& process(const cv::Mat&, Seconds, const std::optional<Eigen::Isometry3d>&,
                            const std::optional<Eigen::Vector3d>& gravity_down_cam) override {
     seen_.push_back(gravity_down_cam);
     return frame_;
   }
-  const SlamFrame& pause() override { return frame_; }
+  const fusion::SlamFrame& pause() override { return frame_; }
   int map_id() const override { return 1; }
 
  private:
   std::vector<std::optional<Eigen::Vector3d>>& seen_;
-  SlamFrame frame_;
+  fusion::SlamFrame frame_;
 };
 
 }  // namespace
 
 TEST_CASE("lab pipelines: each front frame goes to SLAM with the IMU's attitude at its capture time") {
-  LabPipelines pipelines(LabGeometry{}, EstimatorConfig{}, VisionThresholds{});
+  fusion::LabPipelines pipelines(fusion::LabGeometry{}, estimation::EstimatorConfig{}, VisionThresholds{});
   std::vector<std::optional<Eigen::Vector3d>> seen;
   pipelines.set_slam_front_end(std::make_unique<RecordingSlam>(seen));
-  PerceptionFocus focus;
+  fusion::PerceptionFocus focus;
   focus.slam = true;
   pipelines.set_focus(focus);
   VideoFrame frame;
@@ -78,7 +79,7 @@ TEST_CASE("lab pipelines: each front frame goes to SLAM with the IMU's attitude 
   frame.t = 0.05;
   pipelines.on_video(frame);  // no navdata yet: no attitude
   // 15 Hz navdata (received at t, measured navdata_delay_s earlier), the nose going down 0.1 rad/s.
-  const EstimatorConfig config;
+  const estimation::EstimatorConfig config;
   for (int i = 0; i <= 15; ++i) {
     NavdataSample n;
     n.t = 0.1 + i / 15.0;

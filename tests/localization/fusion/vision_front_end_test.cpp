@@ -19,13 +19,14 @@
 #include "bench/slam/trajectory_metrics.hpp"
 
 using namespace labo;
+using namespace labo::fusion;
 
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-const LabGeometry& lab() {
-  static const LabGeometry g = lab_geometry_from(load_lab_description(default_lab_path()));
+const fusion::LabGeometry& lab() {
+  static const fusion::LabGeometry g = fusion::lab_geometry_from(load_lab_description(default_lab_path()));
   return g;
 }
 
@@ -35,7 +36,7 @@ double angle_between(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
 
 // A planar target of the lab drawn through a camera at a known pose, in front of a cluttered wall.
 struct PanelScene {
-  PlanarTarget target;
+  fusion::PlanarTarget target;
   PinholeCamera camera;
   cv::Mat templ = cv::imread(target.template_path.string(), cv::IMREAD_GRAYSCALE);
   PlanarViewRenderer renderer{camera, make_clutter_background(cv::Size(1200, 1200), 5), 0.0025};
@@ -61,17 +62,17 @@ VideoFrame bgr_frame(const cv::Mat& gray, Seconds t, CameraId camera) {
 }  // namespace
 
 TEST_CASE("vision front-ends: the instrument panel is detected near with SIFT, far with templates, then tracked") {
-  const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
   for (const double distance : {1.2, 2.8}) {
-    PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
+    fusion::PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
     INFO("distance " << distance);
     for (int i = 0; i < 4; ++i) {
       // A slow drift to the right and forward, as the drone approaches.
       const Eigen::Isometry3d truth =
           look_at_object(Eigen::Vector3d(0.05 + 0.01 * i, -0.03, -distance + 0.01 * i), Eigen::Vector3d::Zero());
-      const TargetObservation& o = fe.process(scene.view(truth), i / 30.0, distance);
-      REQUIRE(o.state == TrackState::Tracking);
+      const fusion::TargetObservation& o = fe.process(scene.view(truth), i / 30.0, distance);
+      REQUIRE(o.state == fusion::TrackState::Tracking);
       CHECK(o.t == Approx(i / 30.0));
       CHECK((o.T_cam_target.translation() - truth.translation()).norm() < 0.02 * distance);
       // A 0.4 m panel spans 80 px at 2.8 m: its tilt is known to a few degrees only.
@@ -82,67 +83,68 @@ TEST_CASE("vision front-ends: the instrument panel is detected near with SIFT, f
       const auto corner = scene.camera.project(truth * Eigen::Vector3d(-osc.width_m / 2, -osc.height_m / 2, 0));
       REQUIRE(corner);
       CHECK(std::hypot(o.image_points[0].x - corner->x(), o.image_points[0].y - corner->y()) < 2.0);
-      if (i == 0) CHECK(o.method == (distance < 2.0 ? "sift" : "template"));  // lambda = 2 m for the oscilloscope
+      if (i == 0) CHECK(o.method == (distance < 2.0 ? "features" : "template"));  // lambda = 2 m for the oscilloscope
       else CHECK(o.method == "ic");
     }
   }
 }
 
 TEST_CASE("vision front-ends: a panel out of view is lost with the reason, then found again") {
-  const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
-  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
+  fusion::PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
   const Eigen::Isometry3d seen = look_at_object(Eigen::Vector3d(0, 0, -1.0), Eigen::Vector3d::Zero());
-  REQUIRE(fe.process(scene.view(seen), 0.0, 1.0).state == TrackState::Tracking);
+  REQUIRE(fe.process(scene.view(seen), 0.0, 1.0).state == fusion::TrackState::Tracking);
   cv::Mat wall = scene.view(look_at_object(Eigen::Vector3d(2.0, 0, -1.0), Eigen::Vector3d(2.0, 0, 0)));  // beside it
-  const TargetObservation& lost = fe.process(wall, 1 / 30.0, 1.0);
-  CHECK(lost.state == TrackState::Lost);
+  const fusion::TargetObservation& lost = fe.process(wall, 1 / 30.0, 1.0);
+  CHECK(lost.state == fusion::TrackState::Lost);
   CHECK_FALSE(lost.reason.empty());
   CHECK(lost.image_points.empty());
-  CHECK(fe.process(scene.view(seen), 2 / 30.0, 1.0).state == TrackState::Tracking);
+  CHECK(fe.process(scene.view(seen), 2 / 30.0, 1.0).state == fusion::TrackState::Tracking);
   // A frame that is no camera frame is refused, not posed.
   CHECK(fe.process(cv::Mat(10, 10, CV_8UC1, cv::Scalar(0)), 3 / 30.0, 1.0).reason == "bad_frame");
 }
 
 TEST_CASE("vision front-ends: a wrong predicted distance costs the confirmation frames, not the target") {
-  const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
-  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
+  fusion::PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
   const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d::Zero());
   const cv::Mat view = scene.view(truth);
   // Predicted at 1 m: SIFT runs, and the 70 px panel gives it too few inliers.
-  const TargetObservation& first = fe.process(view, 0.0, 1.0);
-  CHECK(first.state != TrackState::Tracking);
+  const fusion::TargetObservation& first = fe.process(view, 0.0, 1.0);
+  CHECK(first.state != fusion::TrackState::Tracking);
   CHECK(first.reason == "not_found");
   // The next frame runs both detectors: template matching finds it, 3.2 times farther than predicted,
-  // so it counts once the tracker has followed it for 15 frames (until 2026-12-02: at once).
-  const TargetObservation& second = fe.process(view, 1 / 30.0, 1.0);
-  CHECK(second.state == TrackState::Lost);
+  // so it counts once the tracker has followed it for 15 frames.
+  const fusion::TargetObservation& second = fe.process(view, 1 / 30.0, 1.0);
+  CHECK(second.state == fusion::TrackState::Lost);
   CHECK(second.reason == "unconfirmed_detection");
   int frame = 2;
-  for (; frame < 30 && fe.process(view, frame / 30.0, 1.0).state != TrackState::Tracking; ++frame) {
+  for (; frame < 30 && fe.process(view, frame / 30.0, 1.0).state != fusion::TrackState::Tracking; ++frame) {
   }
   CHECK(frame == 16);
-  const TargetObservation& confirmed = fe.process(view, (frame + 1) / 30.0, 1.0);
-  REQUIRE(confirmed.state == TrackState::Tracking);
-  CHECK(confirmed.method != "sift");
+  const fusion::TargetObservation& confirmed = fe.process(view, (frame + 1) / 30.0, 1.0);
+  REQUIRE(confirmed.state == fusion::TrackState::Tracking);
+  CHECK(confirmed.method != "features");
   CHECK((confirmed.T_cam_target.translation() - truth.translation()).norm() < 0.06);
 }
 
 TEST_CASE("vision front-ends: a retried detection far from the predicted distance that the tracker loses never counts") {
-  // What the simulated lab showed: the panel below the view (predicted 1.3 m), the retry's template
-  // matching found other texture at 4-6 m, tracked it for a few frames and lost it in a pose jump.
-  // Here: the panel at 3.2 m with a 1 m prediction, found by the retry, then gone from the view.
-  const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  // The case: the panel below the view (predicted 1.3 m), the retry's template matching finds other
+  // texture at 4-6 m, tracks it for a few frames and loses it in a pose jump; it must never be
+  // reported as the panel. Here: the panel at 3.2 m with a 1 m prediction, found by the retry, then
+  // gone from the view.
+  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
-  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
+  fusion::PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
   const cv::Mat view = scene.view(look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d::Zero()));
   const cv::Mat empty = scene.view(look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d(6.0, 0.0, 0.0)));
-  CHECK(fe.process(view, 0.0, 1.0).state != TrackState::Tracking);
-  CHECK(fe.process(view, 1 / 30.0, 1.0).state != TrackState::Tracking);  // found, not confirmed
-  CHECK(fe.process(view, 2 / 30.0, 1.0).state != TrackState::Tracking);  // followed, not confirmed yet
+  CHECK(fe.process(view, 0.0, 1.0).state != fusion::TrackState::Tracking);
+  CHECK(fe.process(view, 1 / 30.0, 1.0).state != fusion::TrackState::Tracking);  // found, not confirmed
+  CHECK(fe.process(view, 2 / 30.0, 1.0).state != fusion::TrackState::Tracking);  // followed, not confirmed yet
   bool ever = false;
-  for (int frame = 3; frame < 30; ++frame) ever |= fe.process(empty, frame / 30.0, 1.0).state == TrackState::Tracking;
+  for (int frame = 3; frame < 30; ++frame) ever |= fe.process(empty, frame / 30.0, 1.0).state == fusion::TrackState::Tracking;
   CHECK_FALSE(ever);
 }
 
@@ -151,27 +153,27 @@ TEST_CASE("vision front-ends: after a lost track the predicted detector runs fir
   // other frame and the tracker lost it the frame after; when the lost track also counted as a failed
   // detection, every frame was either that retry or that track, and SIFT (which finds the panel at the
   // predicted standoff distance) never ran. Here: a candidate 3.2 m away with a 1 m prediction.
-  const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
-  PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
+  fusion::PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
   const cv::Mat far = scene.view(look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d::Zero()));
   const cv::Mat empty = scene.view(look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d(6.0, 0.0, 0.0)));
   CHECK(fe.process(far, 0.0, 1.0).reason == "not_found");                   // SIFT, predicted
   CHECK(fe.process(far, 1 / 30.0, 1.0).reason == "unconfirmed_detection");  // the retry's template match
-  CHECK(fe.process(empty, 2 / 30.0, 1.0).state == TrackState::Lost);        // its track is lost
+  CHECK(fe.process(empty, 2 / 30.0, 1.0).state == fusion::TrackState::Lost);        // its track is lost
   // Before: this frame was a retry again and found the candidate again ("unconfirmed_detection").
   CHECK(fe.process(far, 3 / 30.0, 1.0).reason == "not_found");              // SIFT, predicted
   CHECK(fe.process(far, 4 / 30.0, 1.0).reason == "unconfirmed_detection");  // then the retry
   // And the panel where predicted is found by the predicted detector right after a lost track.
   const Eigen::Isometry3d near = look_at_object(Eigen::Vector3d(0.02, 0.0, -1.0), Eigen::Vector3d::Zero());
-  CHECK(fe.process(empty, 5 / 30.0, 1.0).state == TrackState::Lost);
-  const TargetObservation& found = fe.process(scene.view(near), 6 / 30.0, 1.0);
-  CHECK(found.state == TrackState::Tracking);
-  CHECK(found.method == "sift");
+  CHECK(fe.process(empty, 5 / 30.0, 1.0).state == fusion::TrackState::Lost);
+  const fusion::TargetObservation& found = fe.process(scene.view(near), 6 / 30.0, 1.0);
+  CHECK(found.state == fusion::TrackState::Tracking);
+  CHECK(found.method == "features");
 }
 
 TEST_CASE("vision front-ends: a target without a template is refused by name") {
-  PlanarTarget t;
+  fusion::PlanarTarget t;
   t.id = "modelled";
   t.width_m = 0.4;
   t.height_m = 0.2;
@@ -183,29 +185,29 @@ TEST_CASE("vision front-ends: a target without a template is refused by name") {
 }
 
 TEST_CASE("vision front-ends: LabPipelines runs the focused instrument on front frames and the platform on bottom frames") {
-  FrontEndSettings settings;
+  fusion::FrontEndSettings settings;
   settings.with_face = false;
   settings.slam.mapping_mode = slam::MappingMode::Synchronous;
-  const auto pipelines = make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, EstimatorConfig{}, settings);
-  const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const auto pipelines = fusion::make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
+  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   // Hovering 1.3 m in front of the oscilloscope (the camera sits 0.2 m ahead of the body centre).
   const Eigen::Vector3d body = osc.T_world_object.translation() - Eigen::Vector3d(1.5, 0.05, 0.0);
   pipelines->reset(make_pose(body, 0.0), 0.0);
   const Eigen::Isometry3d T_cam_osc = front_camera_at(body, 0.0).inverse() * osc.T_world_object;
   const PanelScene panel{osc, PinholeCamera::ardrone2_front()};
 
-  PerceptionFocus focus;
+  fusion::PerceptionFocus focus;
   focus.slam = false;
   pipelines->set_focus(focus);
   pipelines->on_video(bgr_frame(panel.view(T_cam_osc), 0.1, CameraId::Front));
-  CHECK(pipelines->instrument().state == TrackState::Off);  // not asked for: not run
+  CHECK(pipelines->instrument().state == fusion::TrackState::Off);  // not asked for: not run
 
   focus.instrument_id = "oscilloscope";
   pipelines->set_focus(focus);
   pipelines->on_video(bgr_frame(panel.view(T_cam_osc), 0.2, CameraId::Front));
-  const TargetObservation o = pipelines->instrument();
-  REQUIRE(o.state == TrackState::Tracking);
-  CHECK(o.method == "sift");  // the estimator predicts 1.3 m, below the oscilloscope's lambda
+  const fusion::TargetObservation o = pipelines->instrument();
+  REQUIRE(o.state == fusion::TrackState::Tracking);
+  CHECK(o.method == "features");  // the estimator predicts 1.3 m, below the oscilloscope's lambda
   CHECK((o.T_cam_target.translation() - T_cam_osc.translation()).norm() < 0.03);
   CHECK(angle_between(o.T_cam_target, T_cam_osc) < 2.0 * kDeg);
 
@@ -219,12 +221,12 @@ TEST_CASE("vision front-ends: LabPipelines runs the focused instrument on front 
   focus.platform = true;
   pipelines->set_focus(focus);
   pipelines->on_video(bgr_frame(pad.view(T_cam_platform), 1.1, CameraId::Bottom));
-  const TargetObservation p = pipelines->platform();
-  REQUIRE(p.state == TrackState::Tracking);
+  const fusion::TargetObservation p = pipelines->platform();
+  REQUIRE(p.state == fusion::TrackState::Tracking);
   CHECK((p.T_cam_target.translation() - T_cam_platform.translation()).norm() < 0.03);
   CHECK(angle_between(p.T_cam_target, T_cam_platform) < 2.0 * kDeg);
   // SLAM sees nothing while the bottom camera streams.
-  CHECK(pipelines->slam().state == SlamState::Off);
+  CHECK(pipelines->slam().state == fusion::SlamState::Off);
 }
 
 TEST_CASE("vision front-ends: SLAM on front frames gives the camera's trajectory up to a similarity") {
@@ -232,15 +234,15 @@ TEST_CASE("vision front-ends: SLAM on front frames gives the camera's trajectory
   const slam::SyntheticRoom room(camera);
   slam::SlamSettings settings;
   settings.mapping_mode = slam::MappingMode::Synchronous;
-  SlamSystemFrontEnd fe(std::make_unique<slam::SlamSystem>(camera, settings));
+  fusion::SlamSystemFrontEnd fe(std::make_unique<slam::SlamSystem>(camera, settings));
   const slam::Flight flight = slam::approach_flight(room.panel_center());
   std::vector<slam::PosePair> tracked;
   bool initializing_seen = false;
   for (std::size_t i = 0; i < flight.frames.size() && flight.frames[i].t < 6.0; ++i) {
     const auto& f = flight.frames[i];
-    const SlamFrame& s = fe.process(room.render(f.T_world_cam, static_cast<unsigned>(i)), f.t, std::nullopt);
-    initializing_seen = initializing_seen || s.summary.state == SlamState::Initializing;
-    CHECK(s.has_pose == (s.summary.state == SlamState::Good || s.summary.state == SlamState::Dodgy));
+    const fusion::SlamFrame& s = fe.process(room.render(f.T_world_cam, static_cast<unsigned>(i)), f.t, std::nullopt);
+    initializing_seen = initializing_seen || s.summary.state == fusion::SlamState::Initializing;
+    CHECK(s.has_pose == (s.summary.state == fusion::SlamState::Good || s.summary.state == fusion::SlamState::Dodgy));
     if (s.has_pose) tracked.push_back({f.t, s.T_map_cam, f.T_world_cam});
   }
   CHECK(initializing_seen);
@@ -251,14 +253,14 @@ TEST_CASE("vision front-ends: SLAM on front frames gives the camera's trajectory
   CHECK(errors->ate_rmse_m < 0.05);
   CHECK(fe.process(room.render(flight.frames[200].T_world_cam, 999), 6.5, std::nullopt).summary.keyframes >= 2);
 
-  const SlamFrame& paused = fe.pause();
-  CHECK(paused.summary.state == SlamState::Off);
+  const fusion::SlamFrame& paused = fe.pause();
+  CHECK(paused.summary.state == fusion::SlamState::Off);
   CHECK_FALSE(paused.has_pose);
   CHECK(paused.map_id == 1);
   fe.restart_map();
-  const SlamFrame& again = fe.process(room.render(flight.frames[0].T_world_cam, 1000), 7.0, std::nullopt);
+  const fusion::SlamFrame& again = fe.process(room.render(flight.frames[0].T_world_cam, 1000), 7.0, std::nullopt);
   CHECK(again.map_id == 2);
-  CHECK(again.summary.state == SlamState::Initializing);
+  CHECK(again.summary.state == fusion::SlamState::Initializing);
 }
 
 namespace {
@@ -283,47 +285,47 @@ TEST_CASE("vision front-ends: the teacher's face gives a pose with z into the fa
   face::TexturedHead head = face::texture_head_from_photo(*estimator, candide, photo, 0.063);
   estimator->set_person({"astronaut", 0.063, head.shape_params, 0, {}}, false);
   face::TexturedHeadRenderer renderer(candide, head, undistorted_front());
-  FaceFrontEnd fe(std::move(estimator));
+  fusion::FaceFrontEnd fe(std::move(estimator));
 
   const Eigen::Isometry3d T_cam_face = head_at(15, {0.04, -0.02, 1.0});
-  const TargetObservation* o = nullptr;
+  const fusion::TargetObservation* o = nullptr;
   for (int i = 0; i < 4; ++i) {
     cv::Mat img(360, 640, CV_8UC1, cv::Scalar(120));
     renderer.render(T_cam_face, img);
     o = &fe.process(img, i / 30.0, std::nullopt);
   }
-  REQUIRE(o->state == TrackState::Tracking);
+  REQUIRE(o->state == fusion::TrackState::Tracking);
   CHECK(o->image_points.size() == 68);
   // face/ has z out of the face; control's targets have z into it.
-  const Eigen::Isometry3d expected = T_cam_face * flip_about_y();
+  const Eigen::Isometry3d expected = T_cam_face * fusion::flip_about_y();
   CHECK((o->T_cam_target.translation() - expected.translation()).norm() < 0.05);
   CHECK(angle_between(o->T_cam_target, expected) < 5.0 * kDeg);
   CHECK(o->T_cam_target.linear().col(2).z() > 0.8);  // looking at the camera: z points away from it
 
   cv::Mat empty(360, 640, CV_8UC1, cv::Scalar(120));
-  const TargetObservation& lost = fe.process(empty, 1.0, std::nullopt);
-  CHECK(lost.state == TrackState::Lost);
+  const fusion::TargetObservation& lost = fe.process(empty, 1.0, std::nullopt);
+  CHECK(lost.state == fusion::TrackState::Lost);
   CHECK_FALSE(lost.reason.empty());
 }
 
 TEST_CASE("vision front-ends: vision prepared, run and applied in steps gives what on_video gives, and the focus may change meanwhile") {
-  FrontEndSettings settings;
+  fusion::FrontEndSettings settings;
   settings.with_face = false;
   settings.slam.mapping_mode = slam::MappingMode::Synchronous;
-  const auto inline_run = make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, EstimatorConfig{}, settings);
-  const auto stepped = make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, EstimatorConfig{}, settings);
-  const PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const auto inline_run = fusion::make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
+  const auto stepped = fusion::make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
+  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
   const Eigen::Vector3d body = osc.T_world_object.translation() - Eigen::Vector3d(1.5, 0.05, 0.0);
   const PanelScene panel{osc, PinholeCamera::ardrone2_front()};
-  PerceptionFocus focus;
+  fusion::PerceptionFocus focus;
   focus.instrument_id = "oscilloscope";
-  focus.feedback = FeedbackSource::Homography;
-  for (LabPipelines* p : {inline_run.get(), stepped.get()}) {
+  focus.feedback = fusion::FeedbackSource::Homography;
+  for (fusion::LabPipelines* p : {inline_run.get(), stepped.get()}) {
     p->reset(make_pose(body, 0.0), 0.0);
     p->set_focus(focus);
   }
-  VisionJob job;
-  VisionResults results;
+  fusion::VisionJob job;
+  fusion::VisionResults results;
   for (int i = 0; i < 6; ++i) {
     const Seconds t = 0.1 + 0.033 * i;
     const Eigen::Vector3d at = body + Eigen::Vector3d(0.01 * i, 0.0, 0.0);
@@ -332,28 +334,28 @@ TEST_CASE("vision front-ends: vision prepared, run and applied in steps gives wh
     REQUIRE(stepped->prepare_vision(frame, job));
     CHECK(job.instrument_id == "oscilloscope");
     CHECK(job.slam != nullptr);
-    run_vision_job(job, results);
+    fusion::run_vision_job(job, results);
     if (i == 5) {
       // The mission moved on before the worker finished: the result still counts for the instrument
       // it was prepared for.
-      PerceptionFocus other = focus;
+      fusion::PerceptionFocus other = focus;
       other.instrument_id.clear();
       stepped->set_focus(other);
     }
     stepped->apply_vision(results);
   }
-  const TargetObservation a = inline_run->instrument(), b = stepped->instrument();
-  REQUIRE(a.state == TrackState::Tracking);
+  const fusion::TargetObservation a = inline_run->instrument(), b = stepped->instrument();
+  REQUIRE(a.state == fusion::TrackState::Tracking);
   CHECK(b.state == a.state);
   CHECK(b.method == a.method);
   CHECK((b.T_cam_target.translation() - a.T_cam_target.translation()).norm() < 1e-9);
   CHECK(b.placed_in_world == a.placed_in_world);
-  const PoseEstimate pa = inline_run->predict(0.4), pb = stepped->predict(0.4);
+  const fusion::PoseEstimate pa = inline_run->predict(0.4), pb = stepped->predict(0.4);
   CHECK((pa.T_world_body.translation() - pb.T_world_body.translation()).norm() < 1e-9);
   CHECK(stepped->slam().state == inline_run->slam().state);
 
   // A frame nothing is asked of needs no job.
-  PerceptionFocus nothing;
+  fusion::PerceptionFocus nothing;
   nothing.slam = false;
   stepped->set_focus(nothing);
   CHECK_FALSE(stepped->prepare_vision(bgr_frame(panel.view(front_camera_at(body, 0.0).inverse() * osc.T_world_object), 1.0,

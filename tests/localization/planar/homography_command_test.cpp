@@ -47,12 +47,12 @@ TEST_CASE("planar: labodrone homography finds a panel, says when it does not, re
   // The reported corner is where the true homography puts it.
   const cv::Point2d c = apply_homography(H, cv::Point2d(-0.5, -0.5));
   CHECK(out.find(std::to_string(static_cast<int>(c.x))) != std::string::npos);
-  CHECK(run({(dir / "panel.png").string(), (dir / "scene.png").string(), "--method", "sift"}) == 0);
+  CHECK(run({(dir / "panel.png").string(), (dir / "scene.png").string(), "--method", "features"}) == 0);
   CHECK(run({(dir / "panel.png").string(), (dir / "empty_scene.png").string()}, &out) == 3);
   CHECK(out.find("\"found\": false") != std::string::npos);
   CHECK_THROWS_AS(run({(dir / "flat.png").string(), (dir / "scene.png").string()}), UsageError);
   CHECK_THROWS_AS(run({(dir / "missing.png").string(), (dir / "scene.png").string()}), UsageError);
   CHECK_THROWS_AS(run({(dir / "panel.png").string(), (dir / "missing.png").string()}), UsageError);
-  CHECK_THROWS_AS(run({(dir / "panel.png").string(), (dir / "scene.png").string(), "--method", "orb"}), UsageError);
+  CHECK_THROWS_AS(run({(dir / "panel.png").string(), (dir / "scene.png").string(), "--method", "sift"}), UsageError);
   std::filesystem::remove_all(dir);
 }

@@ -66,12 +66,12 @@ TEST_CASE("planar: detection and tracking give the pose of synthetic views (dist
   }
 }
 
-TEST_CASE("planar: near detection uses SIFT, far detection template matching") {
+TEST_CASE("planar: near detection uses features, far detection template matching") {
   const Rig rig;
   planar::PlanarObjectLocalizer near = rig.localizer();
   const planar::PlanarResult a = near.process(rig.view(at(0.0, 0.0, 0.9)), 0.0, 0.9);  // below lambda = 2 m
   REQUIRE(a.state == planar::PlanarState::Detected);
-  CHECK(a.method == planar::PlanarMethod::Sift);
+  CHECK(a.method == planar::PlanarMethod::Features);
   CHECK(a.inliers >= 20);
   planar::PlanarObjectLocalizer far = rig.localizer();
   const planar::PlanarResult b = far.process(rig.view(at(0.0, 0.0, 2.6)), 0.0, 2.6);
@@ -92,10 +92,10 @@ TEST_CASE("planar: a loss is declared on a garbage frame and recovered at once w
   CHECK(lost.state == planar::PlanarState::Lost);
   CHECK_FALSE(lost.has_pose);
   CHECK((lost.reason == planar::PlanarLoss::LowCorrelation || lost.reason == planar::PlanarLoss::NoConvergence));
-  // Fig. 3: the next frame runs detection again (SIFT here: the last pose is near and recent).
+  // Fig. 3: the next frame runs detection again (features here: the last pose is near and recent).
   const planar::PlanarResult back = loc.process(rig.view(T), 3 / 30.0);
   REQUIRE(back.state == planar::PlanarState::Detected);
-  CHECK(back.method == planar::PlanarMethod::Sift);
+  CHECK(back.method == planar::PlanarMethod::Features);
   CHECK(percent_error(back, T) < 1.0);
 }
 
@@ -228,7 +228,8 @@ TEST_CASE("planar: a panel sliding slowly across the image's edge is fitted by t
   // The test above slides ~11 px per frame, so its partly visible frames go to the sampled model (motion
   // blur modelled). Here the panel moves 1.6 px per frame (< 2 px: no blur modelled), so the footprint
   // model (AreaPoseRefiner) fits the partly visible panel: leaving the image sideways at 1 m, and entering
-  // it from below at 2.5 m (detected again when 60 % is in view).
+  // it from below at 2.5 m (detected when 84 % is in view by ORB, the default near detector; the
+  // paper's SIFT found it at 60 %: ORB's 31 px patch covers most of a 91 x 45 px panel).
   const Rig rig;
   REQUIRE(rig.config.se3_footprint_model);
   struct Pass {
@@ -257,13 +258,30 @@ TEST_CASE("planar: a panel sliding slowly across the image's edge is fitted by t
       CAPTURE(i, r.visible_fraction, r.footprint_model);
       CHECK(r.visible_fraction >= rig.config.min_visible_fraction);
       CHECK(percent_error(r, T) < 0.5);
-      CHECK(deg_error(r, T) < 1.0);  // measured: at most 0.27 deg (docs/planar.md)
+      CHECK(deg_error(r, T) < 1.0);  // a few tenths in practice (docs/planar.md)
       CHECK(r.quality <= r.visible_fraction + 1e-9);
       least_visible_with_pose = std::min(least_visible_with_pose, r.visible_fraction);
       if (r.visible_fraction < 0.95 && r.footprint_model) ++footprint_partial;
     }
     CHECK(footprint_partial >= 5);  // the footprint model did fit partly visible panels (7 and 66 frames)
-    CHECK(least_visible_with_pose < 0.8);  // well below whole
+    CHECK(least_visible_with_pose < 0.9);  // well below whole
     if (pass.leaving) CHECK(lost_out_of_view >= 1);  // and then the panel was lost, not mislocated
   }
+}
+
+// A detection that the next frame cannot follow may have been a look-alike (a part of the scene that
+// matches the template at another scale): its distance must not narrow the searches after it, or the
+// real panel, at another distance, is never searched for at its size.
+TEST_CASE("planar: a detection lost at once does not steer the next searches") {
+  const Rig rig;
+  planar::PlanarObjectLocalizer loc = rig.localizer();
+  REQUIRE(loc.process(rig.view(at(0.0, 0.0, 3.0)), 0.0).state == planar::PlanarState::Detected);
+  cv::Mat garbage(360, 640, CV_8UC1);
+  cv::RNG(4).fill(garbage, cv::RNG::UNIFORM, 0, 256);
+  REQUIRE(loc.process(garbage, 1 / 30.0).state == planar::PlanarState::Lost);
+  // Half the distance: twice the width, outside the window a 3 m prediction would search.
+  const Eigen::Isometry3d T = at(0.0, 0.0, 1.5);
+  const planar::PlanarResult back = loc.process(rig.view(T), 2 / 30.0);
+  REQUIRE(back.state == planar::PlanarState::Detected);
+  CHECK(percent_error(back, T) < 1.0);
 }

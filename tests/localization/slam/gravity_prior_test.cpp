@@ -1,6 +1,6 @@
-// The gravity prior (docs/slam.md, session of 2026-12-03 morning): the IMU's roll and pitch given with
-// a frame hold the tilt of the tracker's pose and of the keyframes in the adjustments. In front of one
-// wall a pitch and a vertical translation move the image alike; the prior decides between them.
+// The gravity prior (docs/slam.md): the IMU's roll and pitch given with a frame hold the tilt of the
+// tracker's pose and of the keyframes in the adjustments. In front of one wall a pitch and a vertical
+// translation move the image alike; the prior decides between them.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>

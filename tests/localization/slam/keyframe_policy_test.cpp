@@ -8,8 +8,8 @@ using namespace labo::slam;
 
 namespace {
 
-// A frame of a map holding 63 points (what the real-vision inspect's seed 3 initialized from),
-// close to its keyframes and sharing most points with the reference keyframe.
+// A frame of a map holding 63 points (as few as a real-vision inspect in the simulated lab may
+// initialize from), close to its keyframes and sharing most points with the reference keyframe.
 KeyframeCandidate small_map_frame(TrackingState state, int found) {
   KeyframeCandidate c;
   c.state = state;
@@ -80,7 +80,7 @@ TEST_CASE("keyframe policy: a large map adds keyframes by distance or overlap on
 
 TEST_CASE("slam: a map initialized from few points grows during the climb") {
   // Few features per frame give a small initial map (fewer than min_found_good / overlap points).
-  // Before the small-map rules it stayed at its two keyframes, Dodgy, until tracking was lost.
+  // Without the small-map rules it would stay at its two keyframes, Dodgy, until tracking is lost.
   const PinholeCamera camera = PinholeCamera::ardrone2_front();
   const SyntheticRoom room(camera);
   SlamSettings settings = testing::synchronous();

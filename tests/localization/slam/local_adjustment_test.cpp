@@ -1,8 +1,8 @@
 // The mapper's local bundle adjustment window (module/local_mapper): the new keyframe and its
 // local_ba_keyframes - 1 most covisible neighbours are free, the other observers fixed. With dense
 // keyframes (the tour: one every ~0.27 s) five keyframes span ~1.3 s of flight, too short to tell a
-// pitch from a vertical translation in front of one wall (docs/slam.md, session of 2026-12-03); the
-// tour's configuration frees 8.
+// pitch from a vertical translation in front of one wall (docs/slam.md); the tour's configuration
+// frees 8.
 #include <catch2/catch.hpp>
 #include <cmath>
 

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <thread>
 
+#include "drone/ardrone2/h264_codec.hpp"
 #include "server/runtime/flight_core.hpp"
 
 namespace labo::test {
@@ -41,6 +42,12 @@ class FakeDroneLink final : public DroneLink {
     cv::RNG(3).fill(texture_, cv::RNG::UNIFORM, 0, 255);
     cv::GaussianBlur(texture_, texture_, {5, 5}, 1.2);
   }
+  // With H.264 on, each frame is also encoded (an IDR every 15 frames, like the drone) and its access
+  // unit delivered before the frame, as ArdroneLink does.
+  void set_h264(bool on) {
+    if (on) encoder_ = std::make_unique<ardrone2::H264Encoder>(ardrone2::H264EncoderSettings{.bitrate_kbps = 4000});
+    else encoder_.reset();
+  }
   void deliver_frame(std::uint32_t n, Seconds t) {
     frame_.create(360, 640, CV_8UC3);
     if (texture_.empty()) frame_.setTo(cv::Scalar(90, 110, 90));
@@ -48,8 +55,11 @@ class FakeDroneLink final : public DroneLink {
     for (int x = -80; x < 640; x += 80) cv::rectangle(frame_, cv::Rect(x + static_cast<int>(n * 4 % 80), 120, 40, 120), {200, 200, 200}, cv::FILLED);
     cv::putText(frame_, "frame " + std::to_string(n), {40, 320}, cv::FONT_HERSHEY_SIMPLEX, 1.0, {255, 255, 255}, 2);
     VideoFrame f{t, CameraId::Front, n, frame_};
+    if (encoder_) encoder_->encode(frame_, encoded_);
     std::lock_guard lock(mutex_);
-    if (listener_) listener_->on_video(f);
+    if (!listener_) return;
+    if (encoder_) listener_->on_encoded_video({t, CameraId::Front, n, encoded_.keyframe, 640, 360, encoded_.data});
+    listener_->on_video(f);
   }
   void deliver_navdata(Seconds t, double altitude_m) {
     NavdataSample s;
@@ -86,6 +96,8 @@ class FakeDroneLink final : public DroneLink {
   std::mutex mutex_;
   DroneLinkListener* listener_ = nullptr;
   cv::Mat frame_, texture_;
+  std::unique_ptr<ardrone2::H264Encoder> encoder_;
+  ardrone2::EncodedFrame encoded_;
   std::atomic<bool> running_{false};
   std::thread pump_;
 };
@@ -144,8 +156,9 @@ class ScriptedCore final : public FlightCore {
     s.telemetry.desired = PoseXyzYaw{1.2, 0.0, 1.0, 0.0};
     s.telemetry.source = mission_ == "inspect" ? PoseSource::Homography : PoseSource::Slam;
     s.telemetry.link_quality = 0.9;
-    s.overlay.panel_corners = {{220, 100}, {420, 100}, {420, 220}, {220, 220}};
-    s.overlay.panel_axes = AxesPx{{320, 160}, {380, 160}, {320, 220}, {300, 140}};
+    s.overlay.panel.corners = {{220, 100}, {420, 100}, {420, 220}, {220, 220}};
+    s.overlay.panel.axes = AxesPx{{320, 160}, {380, 160}, {320, 220}, {300, 140}};
+    s.overlay.panel.measured_t = now_;
     if (stage_ != last_stage_) {
       s.events.push_back({"stage", mission_, stage_, mission_ + ": " + stage_});
       last_stage_ = stage_;

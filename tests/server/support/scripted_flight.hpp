@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "server/lab/flight_service.hpp"
+#include "server/video/access_unit_wire.hpp"
 #include "server/video/frame_encoder.hpp"
 
 namespace labo::test {
@@ -39,6 +40,16 @@ class ScriptedFlight final : public FlightService {
     std::lock_guard lock(mutex_);
     if (sink_) sink_->on_frame(f);
   }
+  // An access unit of `bytes` filler bytes (not real H.264: the server does not look inside) with
+  // a one-line geometry message naming its frame.
+  void publish_access_unit(std::uint32_t number, bool keyframe, std::size_t bytes = 2000) {
+    filler_.assign(bytes, static_cast<std::uint8_t>(number));
+    WireAccessUnit unit = packer_.pack({0, CameraId::Front, number, keyframe, 640, 360, filler_}, 1.0e12);
+    unit.geometry = std::make_shared<const std::string>(R"({"type":"overlay","frame":)" + std::to_string(number) + "}");
+    std::lock_guard lock(mutex_);
+    if (sink_) sink_->on_access_unit(unit);
+  }
+  std::size_t access_unit_buffers() const { return packer_.buffers(); }
   void publish_event(const FlightEvent& e) {
     std::lock_guard lock(mutex_);
     if (sink_) sink_->on_flight_event(e);
@@ -56,6 +67,8 @@ class ScriptedFlight final : public FlightService {
   FlightEventSink* sink_ = nullptr;
   FlightTelemetry telemetry_;
   FrameEncoder encoder_{70};
+  AccessUnitPacker packer_;
+  std::vector<std::uint8_t> filler_;
 };
 
 }  // namespace labo::test

@@ -116,7 +116,8 @@ TEST_CASE("planar: the SE(3) refinement smooths only where the panel is, with th
   REQUIRE(a.refined);
   REQUIRE(b.refined);
   // Equal up to the rounding of OpenCV's 8-bit blur (its vector and scalar paths split a region
-  // differently from the whole frame): 0.003 deg measured; stale or unsmoothed pixels would be far more.
+  // differently from the whole frame): thousandths of a degree; stale or unsmoothed pixels would be
+  // far more.
   CHECK(rotation_angle(a.T_cam_object.linear(), b.T_cam_object.linear()) < 0.01 * kDeg);
   CHECK((a.T_cam_object.translation() - b.T_cam_object.translation()).norm() < 1e-4);
   CHECK(rotation_angle(a.T_cam_object.linear(), truth.linear()) < 0.6 * kDeg);
@@ -198,9 +199,9 @@ TEST_CASE("planar: the SE(3) refinement estimates the frame's blur relative to t
   REQUIRE(planar::Se3RefinerSettings{}.estimate_blur);  // the default
   // 2.3 m: the 160 px level is finer than the panel's ~112 px image, and the camera is a little softer
   // than a pixel's box (an extra Gaussian of sigma 0.5 px), so the frame is blurrier than the level; with
-  // the blur fixed the fit tilts the panel by more than a degree. (Since the renderer integrates each
-  // pixel's footprint, 2026-12-03, the frame without the extra blur is close enough to the level's blur
-  // that the fixed fit is only 0.63 deg off; measured with it: fixed 1.33-1.37 deg, estimated 0.14 deg.)
+  // the blur fixed the fit tilts the panel by more than a degree. (The renderer integrates each pixel's
+  // footprint, so without the extra blur the frame is close enough to the level's blur that the fixed
+  // fit is off by less than a degree: the extra blur is what makes the case.)
   const Eigen::Isometry3d near = look_at_object(Eigen::Vector3d(0.05, 0.03, -2.3), Eigen::Vector3d::Zero(), 0.02);
   cv::Mat near_frame;
   cv::GaussianBlur(scene.view(near), near_frame, cv::Size(0, 0), 0.5);

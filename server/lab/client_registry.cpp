@@ -1,0 +1,109 @@
+#include "server/lab/client_registry.hpp"
+
+#include <algorithm>
+
+namespace labo {
+
+void ClientRegistry::join(const std::shared_ptr<LabClient>& client) {
+  const SessionInfo& s = client->session();
+  std::lock_guard lock(mutex_);
+  members_.insert_or_assign(client->id(), Member{client, Participant{client->id(), s.user, s.role},
+                                                 TokenBucket(messages_per_s_, burst_)});
+  count_viewers();
+}
+
+void ClientRegistry::leave(ClientId client) {
+  std::lock_guard lock(mutex_);
+  members_.erase(client);
+  count_viewers();
+}
+
+void ClientRegistry::set_video(ClientId client, VideoPath path) {
+  std::lock_guard lock(mutex_);
+  if (const auto it = members_.find(client); it != members_.end()) it->second.video = path;
+  count_viewers();
+}
+
+void ClientRegistry::count_viewers() {
+  std::size_t h264 = 0;
+  for (const auto& [id, m] : members_) h264 += m.video == VideoPath::H264;
+  h264_viewers_ = h264;
+  jpeg_viewers_ = members_.size() - h264;
+}
+
+ClientRegistry::Admission ClientRegistry::admit(ClientId client, double now_s) {
+  std::lock_guard lock(mutex_);
+  const auto it = members_.find(client);
+  if (it == members_.end()) return Admission::NotJoined;
+  return it->second.bucket.take(now_s) ? Admission::Admitted : Admission::RateLimited;
+}
+
+std::vector<std::weak_ptr<LabClient>> ClientRegistry::links() const {
+  std::vector<std::weak_ptr<LabClient>> out;
+  std::lock_guard lock(mutex_);
+  out.reserve(members_.size());
+  for (const auto& [id, m] : members_) out.push_back(m.link);
+  return out;
+}
+
+void ClientRegistry::send(const Message& message) {
+  for (const auto& weak : links())
+    if (const auto client = weak.lock()) client->send_event(message);
+}
+
+void ClientRegistry::send_to(ClientId client, const Message& message) { send_each({{client, message}}); }
+
+void ClientRegistry::send_each(const std::vector<std::pair<ClientId, Message>>& messages) {
+  std::vector<std::pair<std::weak_ptr<LabClient>, const Message*>> targets;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [id, message] : messages)
+      if (const auto it = members_.find(id); it != members_.end()) targets.emplace_back(it->second.link, &message);
+  }
+  for (const auto& [weak, message] : targets)
+    if (const auto client = weak.lock()) client->send_event(*message);
+}
+
+void ClientRegistry::links_watching(VideoPath path, std::vector<std::weak_ptr<LabClient>>& out) const {
+  out.clear();
+  std::lock_guard lock(mutex_);
+  for (const auto& [id, m] : members_)
+    if (m.video == path) out.push_back(m.link);
+}
+
+void ClientRegistry::send_frame(const Message& wire) {
+  thread_local std::vector<std::weak_ptr<LabClient>> targets;
+  links_watching(VideoPath::Jpeg, targets);
+  for (const auto& weak : targets)
+    if (const auto client = weak.lock()) client->send_frame(wire);
+  targets.clear();  // no client kept alive by the scratch vector
+}
+
+void ClientRegistry::send_access_unit(const WireAccessUnit& unit) {
+  thread_local std::vector<std::weak_ptr<LabClient>> targets;
+  links_watching(VideoPath::H264, targets);
+  for (const auto& weak : targets)
+    if (const auto client = weak.lock()) client->send_access_unit(unit);
+  targets.clear();
+}
+
+void ClientRegistry::disconnect_all(const std::string& reason) {
+  for (const auto& weak : links())
+    if (const auto client = weak.lock()) client->disconnect(reason);
+}
+
+std::vector<Participant> ClientRegistry::participants() const {
+  std::vector<Participant> out;
+  std::lock_guard lock(mutex_);
+  out.reserve(members_.size());
+  for (const auto& [id, m] : members_) out.push_back(m.who);
+  std::sort(out.begin(), out.end(), [](const Participant& a, const Participant& b) { return a.client < b.client; });
+  return out;
+}
+
+std::size_t ClientRegistry::size() const {
+  std::lock_guard lock(mutex_);
+  return members_.size();
+}
+
+}  // namespace labo

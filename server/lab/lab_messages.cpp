@@ -1,0 +1,116 @@
+#include "server/lab/lab_messages.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace labo {
+
+using nlohmann::json;
+
+namespace {
+
+Message shared(const json& j) { return std::make_shared<const std::string>(j.dump()); }
+
+json pose_json(const PoseXyzYaw& p) { return {{"x", p.x_m}, {"y", p.y_m}, {"z", p.z_m}, {"yaw", p.yaw_rad}}; }
+
+json participant_json(const Participant& p) { return {{"user", p.user}, {"role", to_string(p.role)}, {"client", p.client}}; }
+
+json control_json(const ControlSnapshot& s, std::size_t spectators) {
+  json queue = json::array();
+  for (const Participant& p : s.queue) queue.push_back(participant_json(p));
+  return {{"controller", s.controller ? participant_json(*s.controller) : json(nullptr)},
+          {"remaining_s", s.remaining_s},
+          {"queue", queue},
+          {"spectators", spectators}};
+}
+
+}  // namespace
+
+Message hello_message(ClientId client, const SessionInfo& session, const std::vector<InstrumentSummary>& instruments,
+                      const ControlRules& rules) {
+  json list = json::array();
+  for (const InstrumentSummary& i : instruments)
+    list.push_back({{"id", i.id}, {"name", i.name}, {"width_m", i.width_m}, {"height_m", i.height_m}, {"x", i.x_m}, {"y", i.y_m}});
+  return shared({{"type", "hello"},
+                 {"client", client},
+                 {"user", session.user},
+                 {"role", to_string(session.role)},
+                 {"instruments", list},
+                 {"heartbeat_timeout_s", rules.heartbeat_timeout_s},
+                 {"time_limit_s", rules.time_limit_s}});
+}
+
+Message error_message(int status, const std::string& error) {
+  return shared({{"type", "error"}, {"status", status}, {"error", error}});
+}
+
+Message ack_message(std::optional<std::int64_t> id, const std::string& command, const CommandVerdict& verdict) {
+  return shared({{"type", "ack"},
+                 {"id", id ? json(*id) : json(nullptr)},
+                 {"command", command},
+                 {"accepted", verdict.accepted},
+                 {"reason", verdict.reason}});
+}
+
+Message notice_message(const ControlNotice& n) {
+  json j{{"type", "notice"}};
+  switch (n.kind) {
+    case ControlNotice::Kind::Granted: j["kind"] = "granted"; j["remaining_s"] = n.remaining_s; break;
+    case ControlNotice::Kind::Warning: j["kind"] = "warning"; j["remaining_s"] = n.remaining_s; break;
+    case ControlNotice::Kind::Ended: j["kind"] = "ended"; j["reason"] = n.reason; break;
+  }
+  return shared(j);
+}
+
+Message telemetry_message(const FlightTelemetry& t) {
+  json j{{"type", "telemetry"},
+         {"t", t.t_unix_s},
+         {"mission", t.mission},
+         {"stage", t.stage},
+         {"pose", pose_json(t.pose)},
+         {"source", to_string(t.source)},
+         {"source_colour", colour_of(t.source)},
+         {"source_quality", t.source_quality},
+         {"battery_percent", t.battery_percent},
+         {"altitude_m", t.altitude_m},
+         {"link_quality", t.link_quality},
+         {"link_state", t.link_state},
+         {"flying", t.flying},
+         {"slam_state", t.slam_state},
+         {"video_fps", t.video_fps}};
+  j["desired"] = t.desired ? pose_json(*t.desired) : json(nullptr);
+  j["ground_truth"] = t.ground_truth ? pose_json(*t.ground_truth) : json(nullptr);
+  j["teacher"] = t.teacher_xy ? json{t.teacher_xy->first, t.teacher_xy->second} : json(nullptr);
+  json points = json::array();
+  for (const auto& [x, y] : t.slam_points_xy) points.push_back({x, y});
+  j["slam_points"] = std::move(points);
+  return shared(j);
+}
+
+Message flight_event_message(const FlightEvent& e) {
+  return shared({{"type", "event"}, {"kind", e.kind}, {"mission", e.mission}, {"stage", e.stage}, {"message", e.message}});
+}
+
+Message emergency_event_message(const std::string& user) {
+  return shared({{"type", "event"}, {"kind", "emergency"}, {"message", "emergency stop by " + user}});
+}
+
+Message subscribed_message(VideoPath video) { return shared({{"type", "subscribed"}, {"video", to_string(video)}}); }
+
+Message control_message(const ControlSnapshot& snapshot, std::size_t spectators, std::uint64_t seq,
+                        const ClientControlView& you) {
+  json j = control_json(snapshot, spectators);
+  j["type"] = "control";
+  j["seq"] = seq;
+  j["you"] = {{"client", you.client}, {"controlling", you.controlling}, {"position", you.position ? json(*you.position) : json(nullptr)}};
+  return shared(j);
+}
+
+std::string control_summary_json(const ControlSnapshot& snapshot, const std::vector<Participant>& clients) {
+  json j = control_json(snapshot, clients.size());
+  json list = json::array();
+  for (const Participant& p : clients) list.push_back(participant_json(p));
+  j["clients"] = std::move(list);
+  return j.dump();
+}
+
+}  // namespace labo

@@ -1,0 +1,48 @@
+#pragma once
+// The WebSocket protocol, server to client: each message serialised once into a string that every
+// client it goes to shares (docs/web.md "WebSocket protocol").
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "server/auth/session_store.hpp"
+#include "server/lab/control_queue.hpp"
+#include "server/lab/flight_service.hpp"
+#include "server/lab/lab_client.hpp"
+#include "server/server_settings.hpp"
+
+namespace labo {
+
+using Message = std::shared_ptr<const std::string>;
+
+// {"type":"hello","client","user","role","instruments","heartbeat_timeout_s","time_limit_s"}
+Message hello_message(ClientId client, const SessionInfo& session, const std::vector<InstrumentSummary>& instruments,
+                      const ControlRules& rules);
+// {"type":"error","status":..,"error":..}
+Message error_message(int status, const std::string& error);
+// {"type":"ack","id","command","accepted","reason"}; `id` null when the command had none.
+Message ack_message(std::optional<std::int64_t> id, const std::string& command, const CommandVerdict& verdict);
+// {"type":"notice","kind":"granted|warning|ended",...}
+Message notice_message(const ControlNotice& notice);
+Message telemetry_message(const FlightTelemetry& telemetry);
+Message flight_event_message(const FlightEvent& event);
+Message emergency_event_message(const std::string& user);
+// {"type":"subscribed","video":"h264|jpeg"}: the path this client's video now takes.
+Message subscribed_message(VideoPath video);
+
+// The control state as one client sees it: who controls, the queue, and where this client stands.
+struct ClientControlView {
+  ClientId client = 0;
+  bool controlling = false;
+  std::optional<std::size_t> position;  // 1-based place in the queue
+};
+// {"type":"control","seq","controller","remaining_s","queue","spectators","you"}. `seq` grows with
+// every state published: states may reach a client out of order (they are sent after the lab's lock
+// is released), and the page keeps the newest.
+Message control_message(const ControlSnapshot& snapshot, std::size_t spectators, std::uint64_t seq,
+                        const ClientControlView& you);
+// For REST: the same without "type", "seq" and "you", with every connected client.
+std::string control_summary_json(const ControlSnapshot& snapshot, const std::vector<Participant>& clients);
+
+}  // namespace labo

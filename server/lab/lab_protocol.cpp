@@ -1,0 +1,97 @@
+#include "server/lab/lab_protocol.hpp"
+
+#include <algorithm>
+#include <array>
+#include <nlohmann/json.hpp>
+
+namespace labo {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr std::string_view kTypes = "command, heartbeat, request_control, release_control, take_over, subscribe";
+constexpr std::string_view kCommands =
+    "takeoff, inspect, find_teacher, stop_face_follow, return_home, land, emergency_stop";
+constexpr double kMaxHoldS = 600;
+
+Refusal refuse(std::string error) { return {400, std::move(error), true}; }
+Refusal untyped(std::string error) { return {400, std::move(error), false}; }
+
+ParsedMessage parse_command(const json& msg) {
+  static constexpr std::array<std::string_view, 5> kFields{"type", "id", "command", "instrument", "hold_s"};
+  for (const auto& [key, value] : msg.items())
+    if (std::find(kFields.begin(), kFields.end(), key) == kFields.end())
+      return refuse("unknown field '" + key + "' in a command");
+  CommandRequest r;
+  if (msg.contains("id")) {
+    if (!msg["id"].is_number_integer()) return refuse("'id' must be an integer");
+    r.id = msg["id"].get<std::int64_t>();
+  }
+  if (!msg.contains("command") || !msg["command"].is_string()) return refuse("'command' (string) is required");
+  r.name = msg["command"].get<std::string>();
+  const auto kind = parse_mission_command(r.name);
+  if (!kind) return refuse("unknown command '" + r.name + "' (expected " + std::string(kCommands) + ")");
+  r.command = MissionCommand{*kind, "", 10};
+  if (*kind != MissionCommandKind::Inspect) {
+    if (msg.contains("instrument") || msg.contains("hold_s")) return refuse("'instrument' and 'hold_s' belong to inspect only");
+    return ClientRequest{std::move(r)};
+  }
+  if (!msg.contains("instrument") || !msg["instrument"].is_string())
+    return refuse("inspect needs 'instrument' (string, an instrument id)");
+  r.command.instrument = msg["instrument"].get<std::string>();
+  if (msg.contains("hold_s")) {
+    const json& hold = msg["hold_s"];
+    if (!hold.is_number() || hold.get<double>() <= 0 || hold.get<double>() > kMaxHoldS)
+      return refuse("'hold_s' must be a number in (0, 600] seconds");
+    r.command.hold_s = hold.get<double>();
+  }
+  return ClientRequest{std::move(r)};
+}
+
+ParsedMessage parse_subscribe(const json& msg) {
+  for (const auto& [key, value] : msg.items())
+    if (key != "type" && key != "video") return refuse("unknown field '" + key + "' in subscribe (expected 'video')");
+  if (!msg.contains("video") || !msg["video"].is_string()) return refuse("subscribe needs 'video' (string: h264 or jpeg)");
+  const std::string name = msg["video"].get<std::string>();
+  const auto path = parse_video_path(name);
+  if (!path) return refuse("unknown video path '" + name + "' (expected h264 or jpeg)");
+  return ClientRequest{SubscribeRequest{*path}};
+}
+
+// The messages that carry nothing but their type.
+struct BareMessage {
+  std::string_view type;
+  ClientRequest request;
+};
+const std::array<BareMessage, 4> kBareMessages{{
+    {"heartbeat", HeartbeatRequest{}},
+    {"request_control", RequestControlRequest{}},
+    {"release_control", ReleaseControlRequest{}},
+    {"take_over", TakeOverRequest{}},
+}};
+
+}  // namespace
+
+ParsedMessage parse_client_message(std::string_view text) {
+  const json msg = json::parse(text, nullptr, false);
+  if (msg.is_discarded()) return untyped("malformed JSON");
+  if (!msg.is_object()) return untyped("expected a JSON object");
+  if (!msg.contains("type") || !msg["type"].is_string()) return untyped("'type' (string) is required");
+  const std::string type = msg["type"].get<std::string>();
+  if (type == "command") return parse_command(msg);
+  if (type == "subscribe") return parse_subscribe(msg);
+  for (const BareMessage& m : kBareMessages) {
+    if (m.type != type) continue;
+    if (msg.size() != 1) return refuse("'" + type + "' takes no other field");
+    return m.request;
+  }
+  return refuse("unknown message type '" + type + "' (expected " + std::string(kTypes) + ")");
+}
+
+bool is_emergency_stop(const ClientRequest& request) {
+  const auto* c = std::get_if<CommandRequest>(&request);
+  return c && c->command.kind == MissionCommandKind::EmergencyStop;
+}
+
+}  // namespace labo
