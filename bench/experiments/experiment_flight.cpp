@@ -58,8 +58,8 @@ Eigen::Isometry3d ExperimentFlight::true_T_cam(const Eigen::Isometry3d& T_world_
   return (true_pose() * true_lab().T_body_front).inverse() * T_world_target;
 }
 
-const PlanarTarget& ExperimentFlight::true_instrument(const std::string& id) const {
-  const PlanarTarget* target = true_lab().lab.find_instrument(id);
+const fusion::PlanarTarget& ExperimentFlight::true_instrument(const std::string& id) const {
+  const fusion::PlanarTarget* target = true_lab().lab.find_instrument(id);
   if (!target) throw std::invalid_argument("the lab has no instrument '" + id + "'");
   return *target;
 }

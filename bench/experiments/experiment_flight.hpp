@@ -61,7 +61,7 @@ struct FlightSample {
 // platform stand, the front camera's intrinsics and mounting. The flight software never sees it (it
 // flies with the configuration's); for the models' flights and a nominal world it is the configuration.
 struct TrueLab {
-  LabGeometry lab;
+  fusion::LabGeometry lab;
   CameraIntrinsics front;
   Eigen::Isometry3d T_body_front = T_body_cam_front();
 };
@@ -101,7 +101,7 @@ class ExperimentFlight {
   Eigen::Isometry3d true_T_cam(const Eigen::Isometry3d& T_world_target) const;
   // The instrument `id` (or the platform) where it really is; throws std::invalid_argument when the
   // lab has no such instrument.
-  const PlanarTarget& true_instrument(const std::string& id) const;
+  const fusion::PlanarTarget& true_instrument(const std::string& id) const;
 };
 
 Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T);

@@ -27,7 +27,7 @@ SimLabFlight::SimLabFlight(const control::FlightStackSetup& setup, const LabDesc
                            std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency)
     : geometry_(setup.lab),
       world_(make_sim_world(lab, setup.cameras, sim)),
-      true_lab_{lab_geometry_from(world_.lab), world_.cameras.front, world_.mounts.front} {
+      true_lab_{fusion::lab_geometry_from(world_.lab), world_.cameras.front, world_.mounts.front} {
   if (!setup.front_ends) throw std::invalid_argument("SimLabFlight: the setup has no vision front-ends");
   lab_ = make_simulated_lab(world_, std::move(head));
   auto pipelines = fusion::make_lab_pipelines(setup.lab, setup.cameras, setup.vision, setup.estimation, *setup.front_ends);

@@ -25,7 +25,7 @@ Experiment experiment_in(WorldMode mode) {
 }
 
 // What the flight software is told about the lab and its cameras.
-void check_same_setup(const FlightStackSetup& a, const FlightStackSetup& b) {
+void check_same_setup(const control::FlightStackSetup& a, const control::FlightStackSetup& b) {
   REQUIRE(a.lab.instruments.size() == b.lab.instruments.size());
   for (std::size_t i = 0; i < a.lab.instruments.size(); ++i)
     CHECK(a.lab.instruments[i].T_world_object.isApprox(b.lab.instruments[i].T_world_object, 0.0));
