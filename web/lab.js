@@ -1,13 +1,14 @@
-// The lab page: live video with the measured glass-to-browser latency, mission commands, the control
-// queue, events, telemetry plots and the map. One WebSocket (/ws) carries JSON events (text) and
-// video frames (binary: a 24-byte header, then a JPEG; see server/video/frame_header.hpp).
+// The lab page: live video (video_view.js) with the measured glass-to-browser latency, mission
+// commands, the control queue, events, telemetry plots and the map. One WebSocket (/ws) carries JSON
+// events (text) and video (binary: H.264 access units or JPEG frames; docs/web.md).
 import {TelemetryView} from './telemetry_view.js';
+import {VideoView} from './video_view.js';
 
 const $ = (id) => document.getElementById(id);
 const view = new TelemetryView(document);
-const state = {ws: null, role: null, nextId: 1, latencies: [], frames: 0, lastFpsT: performance.now(), heartbeat: null, controlSeq: -1};
+const state = {ws: null, role: null, nextId: 1, lastFpsT: performance.now(), heartbeat: null, controlSeq: -1};
 // Exposed for tests and curious users: what the page has seen.
-window.labodrone = {framesDecoded: 0, lastFrameNumber: -1, stages: [], acks: [], latencyMedianMs: null, connected: false};
+window.labodrone = {stages: [], acks: [], connected: false};
 
 function logEvent(text, cls) {
   const li = document.createElement('li');
@@ -25,29 +26,7 @@ function command(name, extra = {}) {
   send({type: 'command', id: state.nextId++, command: name, ...extra});
 }
 
-async function onFrame(buffer) {
-  const dv = new DataView(buffer);
-  if (buffer.byteLength < 24 || String.fromCharCode(dv.getUint8(0), dv.getUint8(1), dv.getUint8(2), dv.getUint8(3)) !== 'LDV1') return;
-  const frameNumber = dv.getUint32(4, true);
-  const captureMs = dv.getFloat64(8, true);
-  const bitmap = await createImageBitmap(new Blob([new Uint8Array(buffer, 24)], {type: 'image/jpeg'}));
-  const canvas = $('video');
-  canvas.getContext('2d').drawImage(bitmap, 0, 0, canvas.width, canvas.height);
-  bitmap.close();
-  // Glass to browser: from the frame's capture time (server clock, Unix ms) to now, once on screen.
-  const latency = Date.now() - captureMs;
-  state.latencies.push(latency);
-  if (state.latencies.length > 60) state.latencies.shift();
-  const sorted = [...state.latencies].sort((a, b) => a - b);
-  const median = sorted[Math.floor(sorted.length / 2)];
-  $('frame-number').textContent = frameNumber;
-  $('latency').textContent = latency.toFixed(0);
-  $('latency-median').textContent = median.toFixed(0);
-  window.labodrone.framesDecoded++;
-  window.labodrone.lastFrameNumber = frameNumber;
-  window.labodrone.latencyMedianMs = median;
-  state.frames++;
-}
+const video = new VideoView(document, send, window.labodrone);
 
 function onControl(msg) {
   // States are sent after the server's lock is released and may arrive out of order: keep the newest.
@@ -73,8 +52,11 @@ function onMessage(msg) {
       const sel = $('instrument'); sel.innerHTML = '';
       for (const i of msg.instruments) { const o = document.createElement('option'); o.value = i.id; o.textContent = i.name || i.id; sel.append(o); }
       view.instruments = msg.instruments;
+      video.start();
       break;
     }
+    case 'overlay': video.onGeometry(msg); break;
+    case 'subscribed': break;
     case 'telemetry':
       view.add(msg);
       $('mission').textContent = msg.mission;
@@ -115,7 +97,7 @@ function connect() {
     window.labodrone.connected = true;
     state.heartbeat = setInterval(() => send({type: 'heartbeat'}), 2000);
   };
-  ws.onmessage = (ev) => { if (typeof ev.data === 'string') onMessage(JSON.parse(ev.data)); else onFrame(ev.data); };
+  ws.onmessage = (ev) => { if (typeof ev.data === 'string') onMessage(JSON.parse(ev.data)); else video.onBinary(ev.data); };
   ws.onclose = () => {
     window.labodrone.connected = false;
     clearInterval(state.heartbeat);
@@ -138,8 +120,8 @@ document.addEventListener('keydown', (e) => { if (e.key === ' ' && e.target === 
 
 setInterval(() => {
   const now = performance.now();
-  $('fps').textContent = (state.frames * 1000 / (now - state.lastFpsT)).toFixed(1);
-  state.frames = 0; state.lastFpsT = now;
+  $('fps').textContent = (video.takeFrameCount() * 1000 / (now - state.lastFpsT)).toFixed(1);
+  state.lastFpsT = now;
 }, 1000);
 (function redraw() { view.draw(); requestAnimationFrame(redraw); })();
 

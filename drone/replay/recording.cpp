@@ -76,7 +76,7 @@ bool RecordingReader::next(Record& record) {
     return false;
   }
   const auto channel = static_cast<std::uint8_t>(header[0]);
-  if (channel < 1 || channel > 5) throw RecordingError(where + ": unknown channel " + std::to_string(channel));
+  if (channel < 1 || channel > kMaxRecordChannel) throw RecordingError(where + ": unknown channel " + std::to_string(channel));
   const auto t = get<double>(header + 4);
   const auto length = get<std::uint32_t>(header + 12);
   if (!std::isfinite(t)) throw RecordingError(where + ": time is not finite");

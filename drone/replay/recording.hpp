@@ -6,8 +6,10 @@
 //   file   = "LABOREC1" (8 bytes) u32 version (=1) record*
 //   record = u8 channel, u8 reserved (0), u16 reserved (0), f64 t_s, u32 length, length bytes
 // little-endian; channel: 1 AT out (UDP 5556), 2 navdata out (UDP 5554), 3 navdata in, 4 video in
-// (one TCP 5555 read), 5 note (UTF-8 text: link state changes, config sent). Records are in write
-// order; the link's threads write concurrently, so times are monotonic per channel only.
+// (one TCP 5555 read), 5 note (UTF-8 text: link state changes, config sent); a Tello's: 6 command
+// out (UDP 8889, "rc" included), 7 reply in (UDP 8889), 8 state in (UDP 8890), 9 video in (one UDP
+// 11111 datagram). Records are in write order; the link's threads write concurrently, so times are
+// monotonic per channel only.
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -20,7 +22,18 @@
 
 namespace labo {
 
-enum class RecordChannel : std::uint8_t { AtOut = 1, NavdataOut = 2, NavdataIn = 3, VideoIn = 4, Note = 5 };
+enum class RecordChannel : std::uint8_t {
+  AtOut = 1,
+  NavdataOut = 2,
+  NavdataIn = 3,
+  VideoIn = 4,
+  Note = 5,
+  TelloCommandOut = 6,
+  TelloReplyIn = 7,
+  TelloStateIn = 8,
+  TelloVideoIn = 9,
+};
+inline constexpr std::uint8_t kMaxRecordChannel = 9;
 inline constexpr std::size_t kMaxRecordBytes = 16u << 20;
 
 // Notes the replay acts on (others are for people reading a recording).
@@ -28,6 +41,8 @@ inline constexpr const char* kNoteLinkStatePrefix = "link_state ";  // + to_stri
 inline constexpr const char* kNoteVideoConnected = "video_connected";
 inline constexpr const char* kNoteCameraFront = "video_camera front";
 inline constexpr const char* kNoteCameraBottom = "video_camera bottom";
+// A Tello command that ended without its reply: + "timed_out <command>" or "abandoned <command>".
+inline constexpr const char* kNoteTelloGaveUpPrefix = "tello_command_gave_up ";
 
 class RecordingError : public std::runtime_error {
  public:

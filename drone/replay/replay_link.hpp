@@ -1,7 +1,9 @@
 #pragma once
 // ReplayLink: a DroneLink that plays a recording (drone/replay/recording.hpp) back through the very
-// same receivers as ArdroneLink (navdata parser, PaVE demuxer, H.264 decoder), so an offline run sees
-// byte-identical input and yields the same events with the same times. Lockstep: nothing happens
+// same receivers as the live link that wrote it (ArdroneLink: navdata parser, PaVE demuxer, H.264
+// decoder; TelloLink: state parser, flight phase, Annex-B assembler, H.264 decoder), so an offline run
+// sees byte-identical input and yields the same events with the same times. A Tello's replies are
+// matched to the commands recorded before them, as the live link matched them. Lockstep: nothing happens
 // until advance_to(t) or run_to_end(); events reach the listener synchronously on the caller's thread.
 // Commands are ignored (the recording already holds what was sent); they are counted.
 #include <filesystem>
@@ -12,6 +14,7 @@
 #include "drone/ardrone2/link_receiver.hpp"
 #include "drone/drone_link.hpp"
 #include "drone/replay/recording.hpp"
+#include "drone/tello/tello_receivers.hpp"
 
 namespace labo {
 
@@ -41,6 +44,9 @@ class ReplayLink final : public DroneLink {
 
  private:
   void play(const Record& record);
+  void play_note(std::string_view note, Seconds t);
+  void play_tello_command(std::string_view text, Seconds t);
+  void play_tello_reply(std::span<const std::uint8_t> bytes, Seconds t);
   void load_next();
 
   Logger logger_;
@@ -52,6 +58,9 @@ class ReplayLink final : public DroneLink {
   LinkState state_ = LinkState::Disconnected;
   std::unique_ptr<ardrone2::NavdataReceiver> navdata_;
   std::unique_ptr<ardrone2::VideoReceiver> video_;
+  std::unique_ptr<tello::TelloStateReceiver> tello_state_;
+  std::unique_ptr<tello::TelloVideoReceiver> tello_video_;
+  std::string tello_awaiting_;  // the Tello command sent and not answered yet
 };
 
 }  // namespace labo

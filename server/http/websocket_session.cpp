@@ -92,6 +92,14 @@ void WebSocketSession::send_access_unit(const WireAccessUnit& unit) {
   asio::post(ws_.get_executor(), [self = shared_from_this(), unit] { self->queue_unit(unit); });
 }
 
+void WebSocketSession::send_reading_view(std::shared_ptr<const std::string> view) {
+  asio::post(ws_.get_executor(), [self = shared_from_this(), view = std::move(view)]() mutable {
+    if (self->closed_ || !self->joined_) return;
+    self->reading_slot_ = std::move(view);
+    self->write_next();
+  });
+}
+
 void WebSocketSession::select_video(VideoPath path) {
   asio::post(ws_.get_executor(), [self = shared_from_this(), path] {
     self->video_ = path;
@@ -133,7 +141,7 @@ void WebSocketSession::queue_unit(const WireAccessUnit& unit) {
 void WebSocketSession::write_next() {
   if (writing_ || closed_ || !joined_) return;
   // Events first (acks, emergencies, stage changes), then video: the next access unit (its geometry
-  // first) or the newest JPEG frame.
+  // first) or the newest JPEG frame, then the newest reading view.
   bool binary = false;
   if (!events_.empty()) {
     in_flight_ = std::move(events_.front());
@@ -147,6 +155,11 @@ void WebSocketSession::write_next() {
     in_flight_ = std::move(frame_slot_);
     frame_slot_.reset();
     in_flight_kind_ = Outgoing::Frame;
+    binary = true;
+  } else if (reading_slot_) {
+    in_flight_ = std::move(reading_slot_);
+    reading_slot_.reset();
+    in_flight_kind_ = Outgoing::Reading;
     binary = true;
   } else {
     return;
@@ -169,7 +182,8 @@ void WebSocketSession::on_write(beast::error_code ec, std::size_t bytes) {
     case Outgoing::Event: metrics_.ws_events_out++; break;
     case Outgoing::Frame: metrics_.ws_frames_out++; break;
     case Outgoing::Unit: metrics_.ws_units_out++; break;
-    case Outgoing::Geometry: break;
+    case Outgoing::Geometry:
+    case Outgoing::Reading: break;
   }
   write_next();
 }
@@ -204,6 +218,7 @@ void WebSocketSession::close_now(const std::string& reason) {
   lab_->log_disconnect(id_, reason);
   events_.clear();
   frame_slot_.reset();
+  reading_slot_.reset();
   units_.restart();
   watchdog_.cancel();
   // Close the TCP socket itself: a websocket close handshake would wait behind a stuck write.

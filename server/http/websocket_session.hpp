@@ -36,6 +36,7 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
   void send_event(std::shared_ptr<const std::string> json) override;
   void send_frame(std::shared_ptr<const std::string> wire) override;
   void send_access_unit(const WireAccessUnit& unit) override;
+  void send_reading_view(std::shared_ptr<const std::string> view) override;
   void select_video(VideoPath path) override;
   void disconnect(const std::string& reason) override;
 
@@ -64,9 +65,10 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
 
   std::deque<std::shared_ptr<const std::string>> events_;
   std::shared_ptr<const std::string> frame_slot_;
+  std::shared_ptr<const std::string> reading_slot_;  // the newest reading view
   AccessUnitQueue units_;
   VideoPath video_ = VideoPath::Jpeg;
-  enum class Outgoing { Event, Frame, Geometry, Unit };
+  enum class Outgoing { Event, Frame, Geometry, Unit, Reading };
   std::shared_ptr<const std::string> in_flight_;  // kept alive while its write runs
   Outgoing in_flight_kind_ = Outgoing::Event;
   bool writing_ = false;

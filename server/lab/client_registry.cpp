@@ -87,6 +87,11 @@ void ClientRegistry::send_access_unit(const WireAccessUnit& unit) {
   targets.clear();
 }
 
+void ClientRegistry::send_reading_view(const Message& view) {
+  for (const auto& weak : links())
+    if (const auto client = weak.lock()) client->send_reading_view(view);
+}
+
 void ClientRegistry::disconnect_all(const std::string& reason) {
   for (const auto& weak : links())
     if (const auto client = weak.lock()) client->disconnect(reason);

@@ -41,6 +41,7 @@ class ClientRegistry {
   void set_video(ClientId client, VideoPath path);
   void send_frame(const Message& wire);
   void send_access_unit(const WireAccessUnit& unit);
+  void send_reading_view(const Message& view);  // to every client's reading-view slot
   std::size_t watching(VideoPath path) const { return (path == VideoPath::H264 ? h264_viewers_ : jpeg_viewers_).load(); }
   void disconnect_all(const std::string& reason);
 

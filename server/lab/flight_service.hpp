@@ -92,11 +92,15 @@ class FlightEventSink {
   // Every access unit of the drone's stream, in order, from an IDR on (never skipped here: a viewer
   // that cannot keep up skips to the next IDR on its own).
   virtual void on_access_unit(const WireAccessUnit&) {}
+  // The instrument reading view (video/panel_reading_view.hpp), a few times a second while a panel
+  // is tracked.
+  virtual void on_reading_view(std::shared_ptr<const std::string>) {}
   virtual void on_flight_event(const FlightEvent& event) = 0;
-  // Whether anyone watches each path now: the runtime skips the JPEG encode, or the access units
-  // and their geometry, that nobody would receive.
+  // Whether anyone watches each path now: the runtime skips the JPEG encode, the access units and
+  // their geometry, or the reading view, that nobody would receive.
   virtual bool wants_jpeg() const { return true; }
   virtual bool wants_access_units() const { return false; }
+  virtual bool wants_reading_view() const { return false; }
 };
 
 struct InstrumentSummary {

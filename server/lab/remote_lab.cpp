@@ -161,6 +161,11 @@ void RemoteLab::on_access_unit(const WireAccessUnit& unit) {
   clients_.send_access_unit(unit);
 }
 
+void RemoteLab::on_reading_view(std::shared_ptr<const std::string> view) {
+  metrics_.reading_views_published++;
+  clients_.send_reading_view(view);
+}
+
 void RemoteLab::on_flight_event(const FlightEvent& event) { clients_.send(flight_event_message(event)); }
 
 std::string RemoteLab::control_state_json() const {

@@ -38,9 +38,11 @@ class RemoteLab final : public FlightEventSink {
 
   void on_frame(const WireFrame& frame) override;
   void on_access_unit(const WireAccessUnit& unit) override;
+  void on_reading_view(std::shared_ptr<const std::string> view) override;
   void on_flight_event(const FlightEvent& event) override;
   bool wants_jpeg() const override { return clients_.watching(VideoPath::Jpeg) > 0; }
   bool wants_access_units() const override { return clients_.watching(VideoPath::H264) > 0; }
+  bool wants_reading_view() const override { return clients_.size() > 0; }
 
   // JSON for REST: the queue and the connected clients.
   std::string control_state_json() const;

@@ -25,6 +25,7 @@ struct ServerMetrics {
   std::atomic<std::uint64_t> ws_bytes_out{0};
   std::atomic<std::uint64_t> frames_published{0};
   std::atomic<std::uint64_t> access_units_published{0};
+  std::atomic<std::uint64_t> reading_views_published{0};
   std::atomic<std::uint64_t> commands_accepted{0};
   std::atomic<std::uint64_t> commands_rejected{0};
   std::atomic<std::uint64_t> rate_limited{0};

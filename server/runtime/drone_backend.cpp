@@ -36,6 +36,7 @@ control::FlightStackSetup flight_setup(const AppConfig& config) {
 FlightRuntimeOptions runtime_options(const AppConfig& config) {
   FlightRuntimeOptions o;
   o.jpeg_quality = config.server.video.jpeg_quality;
+  o.front_camera = PinholeCamera(config.cameras.front);
   return o;
 }
 

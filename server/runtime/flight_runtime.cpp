@@ -21,6 +21,7 @@ FlightRuntime::FlightRuntime(DroneLink& link, FlightCore& core, const Clock& clo
       clock_to_unix_s_(unix_now_s() - clock.now()),
       instruments_(core.instruments()),
       encoder_(options.jpeg_quality),
+      reading_view_(options.reading_view_hz, options.jpeg_quality, options.front_camera),
       vision_([this] {
         {
           std::lock_guard lock(input_mutex_);
@@ -255,15 +256,28 @@ void FlightRuntime::video_loop() {
       std::swap(frame, video_slot_.frame);
       video_slot_.fresh = false;
     }
+    bool jpeg = false, reading = false;
     {
       std::lock_guard lock(sink_mutex_);
-      if (!sink_ || !sink_->wants_jpeg()) continue;
+      if (sink_) {
+        jpeg = sink_->wants_jpeg();
+        reading = sink_->wants_reading_view();
+      }
     }
+    if (!jpeg && !reading) continue;
     {
       std::lock_guard lock(snapshot_mutex_);
       overlay = snapshot_.overlay;
       telemetry = snapshot_.telemetry;
     }
+    if (reading) {
+      reading_view_.add_frame(frame, overlay.panel);
+      if (auto view = reading_view_.due(overlay.panel, frame.t, clock_to_unix_s_)) {
+        std::lock_guard lock(sink_mutex_);
+        if (sink_) sink_->on_reading_view(std::move(view));
+      }
+    }
+    if (!jpeg) continue;
     frame.bgr.copyTo(annotated_);
     draw_overlays(annotated_, overlay, telemetry);
     const WireFrame encoded = encoder_.encode(annotated_, frame.frame_number, unix_ms_of(frame.t), frame.camera);

@@ -9,7 +9,8 @@
 //    skipped, the newest kept;
 //  - the video thread takes the newest frame, draws the overlays from the latest snapshot, encodes
 //    JPEG and publishes it to the sink (a slow encoder drops frames, never queues them), while
-//    anyone watches the JPEG path;
+//    anyone watches the JPEG path; and, a few times a second while a panel is tracked, the panel
+//    rectified to its template's front view (the reading view);
 //  - each access unit of the drone's H.264 stream goes to the sink from the link's thread as it
 //    came (no decoding, no re-encoding), with the latest snapshot's overlay geometry, while anyone
 //    watches the H.264 path.
@@ -31,12 +32,15 @@
 #include "server/video/access_unit_wire.hpp"
 #include "server/video/frame_encoder.hpp"
 #include "server/video/overlay_geometry.hpp"
+#include "server/video/panel_reading_view.hpp"
 
 namespace labo {
 
 struct FlightRuntimeOptions {
   double control_hz = 50;
   int jpeg_quality = 75;
+  double reading_view_hz = 4;  // the instrument reading view's rate while a panel is tracked
+  std::optional<PinholeCamera> front_camera;  // its lens is undone in the reading view
   std::size_t navdata_ring = 256;
   double request_timeout_s = 2.0;
 };
@@ -115,6 +119,7 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
 
   FrameEncoder encoder_;
   cv::Mat annotated_;
+  PanelReadingView reading_view_;  // the video thread's
   // The link's video thread's (on_encoded_video): pooled wire buffers, the snapshot copied in.
   AccessUnitPacker packer_;
   OverlayGeometryWriter geometry_;

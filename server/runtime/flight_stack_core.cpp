@@ -1,5 +1,9 @@
 #include "server/runtime/flight_stack_core.hpp"
 
+#include <opencv2/imgcodecs.hpp>
+
+#include "localization/fusion/vision_job.hpp"
+
 namespace labo {
 
 namespace {
@@ -54,7 +58,19 @@ const std::vector<std::pair<int, int>>& face_landmark_edges() {
 }
 
 FlightStackCore::FlightStackCore(std::unique_ptr<control::FlightStack> stack, const CamerasConfig& cameras)
-    : stack_(std::move(stack)), front_(cameras.front), bottom_(cameras.bottom) {}
+    : stack_(std::move(stack)), front_(cameras.front), bottom_(cameras.bottom) {
+  // The templates' sizes, for the reading view (the front-ends own the images themselves).
+  for (const fusion::PlanarTarget& p : stack_->setup().lab.instruments) {
+    if (p.template_path.empty()) continue;
+    const cv::Mat image = cv::imread(p.template_path.string(), cv::IMREAD_UNCHANGED);
+    if (!image.empty()) template_px_[p.id] = image.size();
+  }
+}
+
+void FlightStackCore::apply_vision(const fusion::VisionResults& results) {
+  if (results.has_instrument) measured_instrument_ = results.instrument_id;
+  stack_->apply_vision(results);
+}
 
 void FlightStackCore::on_navdata(const NavdataSample& sample) { stack_->on_navdata(sample); }
 
@@ -126,9 +142,11 @@ FlightSnapshot FlightStackCore::status() {
   const PinholeCamera& camera = camera_ == CameraId::Front ? front_ : bottom_;
   // The panel, else the platform (the camera that sees it is the one selected).
   if (s.instrument.state == fusion::TrackState::Tracking && s.instrument.image_points.size() == 4) {
-    snap.overlay.panel = {s.instrument.image_points, project_axes(camera, s.instrument.T_cam_target, 0.15), s.instrument.t};
+    const auto size = template_px_.find(measured_instrument_);
+    snap.overlay.panel = {s.instrument.image_points, project_axes(camera, s.instrument.T_cam_target, 0.15), s.instrument.t,
+                          size == template_px_.end() ? cv::Size() : size->second};
   } else if (s.platform.state == fusion::TrackState::Tracking && s.platform.image_points.size() == 4) {
-    snap.overlay.platform = {s.platform.image_points, project_axes(camera, s.platform.T_cam_target, 0.15), s.platform.t};
+    snap.overlay.platform = {s.platform.image_points, project_axes(camera, s.platform.T_cam_target, 0.15), s.platform.t, {}};
   }
   if (s.face.state == fusion::TrackState::Tracking && !s.face.image_points.empty()) {
     FaceOverlay& face = snap.overlay.face;

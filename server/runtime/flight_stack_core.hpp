@@ -3,6 +3,7 @@
 // web layer's types, projects the tracked panel's and the face's axes into the image for the overlay,
 // and turns stage changes and FlightStack's event log into FlightEvents.
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 
@@ -19,7 +20,7 @@ class FlightStackCore final : public FlightCore {
   void on_navdata(const NavdataSample& sample) override;
   void on_video(const VideoFrame& frame) override;
   bool prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) override;
-  void apply_vision(const fusion::VisionResults& results) override { stack_->apply_vision(results); }
+  void apply_vision(const fusion::VisionResults& results) override;
   void on_link_state(LinkState state, Seconds t) override { stack_->on_link_state(state, t); }
   FlightAction tick(Seconds t) override;
   CommandVerdict request(const MissionCommand& command, Seconds t) override;
@@ -38,6 +39,8 @@ class FlightStackCore final : public FlightCore {
   CameraId camera_ = CameraId::Front;
   TruthSource truth_;
   std::string last_mission_, last_stage_, last_event_;
+  std::map<std::string, cv::Size> template_px_;  // each instrument's template resolution
+  std::string measured_instrument_;              // the instrument of the last vision result
 };
 
 // The 68-landmark face outline as edges (jaw, brows, nose, eyes, lips), for the overlay.

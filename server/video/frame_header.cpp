@@ -7,8 +7,8 @@ namespace labo {
 using wire::get;
 using wire::put;
 
-void FrameHeader::write(char* out) const {
-  std::memcpy(out, "LDV1", 4);
+void FrameHeader::write(char* out, std::string_view magic) const {
+  std::memcpy(out, magic.data(), 4);
   put(out, 4, frame_number);
   put(out, 8, capture_unix_ms);
   put(out, 16, camera);
@@ -17,8 +17,8 @@ void FrameHeader::write(char* out) const {
   put(out, 20, jpeg_bytes);
 }
 
-std::optional<FrameHeader> FrameHeader::read(std::string_view m) {
-  if (m.size() < kSize || m.substr(0, 4) != "LDV1") return std::nullopt;
+std::optional<FrameHeader> FrameHeader::read(std::string_view m, std::string_view magic) {
+  if (m.size() < kSize || m.substr(0, 4) != magic) return std::nullopt;
   FrameHeader h;
   h.frame_number = get<std::uint32_t>(m, 4);
   h.capture_unix_ms = get<double>(m, 8);

@@ -1,6 +1,6 @@
 #pragma once
 // The binary WebSocket video message: a 24-byte little-endian header, then one JPEG.
-//   0  "LDV1"            magic
+//   0  "LDV1"            magic ("LDR1" for the reading view, video/panel_reading_view.hpp)
 //   4  u32 frame_number  the drone's frame counter
 //   8  f64 capture_ms    capture (receive) time, Unix epoch milliseconds: the page subtracts it from
 //                        its own clock to show glass-to-browser latency
@@ -24,8 +24,8 @@ struct FrameHeader {
   std::uint32_t jpeg_bytes = 0;
 
   // Writes the header into the first kSize bytes of `out` (which must be at least that long).
-  void write(char* out) const;
-  static std::optional<FrameHeader> read(std::string_view message);
+  void write(char* out, std::string_view magic = "LDV1") const;
+  static std::optional<FrameHeader> read(std::string_view message, std::string_view magic = "LDV1");
 };
 
 }  // namespace labo

@@ -21,6 +21,7 @@ struct OutlineOverlay {
   std::vector<cv::Point2f> corners;  // 4 corners, template order (tl, tr, br, bl); empty: not tracked
   std::optional<AxesPx> axes;
   Seconds measured_t = 0;            // time of the frame the tracker measured this on
+  cv::Size template_px;              // the target's template resolution (0 x 0: unknown)
 };
 
 struct FaceOverlay {

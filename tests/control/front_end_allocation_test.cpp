@@ -2,7 +2,8 @@
 // operator new in this test executable (test_control; an executable may do so once), on the calling
 // thread only; in sanitizer builds, whose runtime owns malloc, operator new only. The
 // planar localizer's tracking allocates nothing, nor do the front-ends that wrap it; a navdata packet
-// allocates nothing from the datagram to the estimator's prediction; a face frame tracked from the
+// (an AR.Drone's or a Tello's state string) allocates nothing from the datagram to the estimator's
+// prediction, nor does the reassembly of the Tello's video datagrams; a face frame tracked from the
 // last landmarks allocates nothing, and a frame where the face detector runs no more than the detector.
 #include <catch2/catch.hpp>
 
@@ -21,6 +22,9 @@
 #include "drone/ardrone2/link_receiver.hpp"
 #include "drone/ardrone2/navdata_builder.hpp"
 #include "drone/ardrone2/wire_signs.hpp"
+#include "drone/ardrone2/h264_codec.hpp"
+#include "drone/tello/annexb_assembler.hpp"
+#include "drone/tello/tello_receivers.hpp"
 #include "localization/estimation/state_estimator.hpp"
 #include "localization/face/textured_head_renderer.hpp"
 #include "localization/fusion/planar_front_end.hpp"
@@ -270,6 +274,72 @@ TEST_CASE("navdata path: a datagram through NavdataReceiver into the StateEstima
     CHECK(n == 0);
   }
   CHECK(predicted.T_world_body.translation().allFinite());
+}
+
+TEST_CASE("navdata path: a Tello state string through TelloStateReceiver into the StateEstimator allocates nothing") {
+  // Per state string (~10 Hz): parse, flight phase, sample, the estimator's update and a prediction.
+  std::vector<std::string> datagrams;
+  std::vector<Seconds> times;
+  for (int i = 0; i < 120; ++i) {
+    tello::TelloState s;
+    s.pitch_deg = std::round(2 * std::sin(0.3 * i));
+    s.yaw_deg = std::round(0.1 * i);
+    s.vgx_dmps = std::round(std::sin(0.1 * i));
+    s.tof_cm = 100 + i / 10;
+    s.h_cm = 95;
+    s.bat_percent = 80;
+    s.time_s = 10 + i / 10;
+    s.agz_mg = -1000;
+    datagrams.emplace_back();
+    tello::format_tello_state(s, datagrams.back());
+    times.push_back(1.0 + i / 10.0);
+  }
+  estimation::StateEstimator estimator;
+  estimator.reset(make_pose(Eigen::Vector3d(0, 0, 1), 0.0), 0.5);
+  ardrone2::LinkCounters counters(Logger("test", LogLevel::Warn, [](const std::string&) {}));
+  estimation::FusedState predicted;
+  tello::TelloStateReceiver receiver(counters, [&](const NavdataSample& sample, const tello::TelloState&) {
+    REQUIRE(estimator.add_navdata(sample));
+    predicted = estimator.predict_for_control(sample.t);
+  });
+  auto bytes = [](const std::string& d) { return std::span(reinterpret_cast<const std::uint8_t*>(d.data()), d.size()); };
+  constexpr std::size_t kWarmUp = 40;
+  for (std::size_t i = 0; i < kWarmUp; ++i) REQUIRE(receiver.datagram(bytes(datagrams[i]), times[i]));
+  for (std::size_t i = kWarmUp; i < datagrams.size(); ++i) {
+    bool accepted = false;
+    const std::size_t n = allocations_of([&] { accepted = receiver.datagram(bytes(datagrams[i]), times[i]); });
+    REQUIRE(accepted);
+    INFO("state " << i << ": " << n << " allocations");
+    CHECK(n == 0);
+  }
+  CHECK(predicted.T_world_body.translation().allFinite());
+}
+
+TEST_CASE("video path: Tello datagrams into access units allocate nothing") {
+  // Per UDP 11111 datagram: the Annex-B reassembly. (The H.264 decoding after it is libavcodec's:
+  // the packet copy it makes of a buffer it does not own, its frame pool.)
+  ardrone2::H264Encoder encoder({.width = 320, .height = 240, .fps = 30, .gop = 15, .bitrate_kbps = 2000});
+  cv::Mat image(240, 320, CV_8UC3);
+  ardrone2::EncodedFrame frame;
+  std::vector<std::vector<std::uint8_t>> datagrams;
+  for (int i = 0; i < 60; ++i) {
+    image.setTo(cv::Scalar(30, 60, 200));
+    cv::randu(image(cv::Rect(0, 150, 320, 90)), cv::Scalar::all(0), cv::Scalar::all(255));
+    cv::rectangle(image, cv::Rect(10 + 4 * i, 50, 40, 40), cv::Scalar(255, 255, 255), cv::FILLED);
+    REQUIRE(encoder.encode(image, frame));
+    for (std::size_t at = 0; at < frame.data.size(); at += tello::kTelloVideoDatagramBytes) {
+      const auto end = std::min(frame.data.size(), at + tello::kTelloVideoDatagramBytes);
+      datagrams.emplace_back(frame.data.begin() + static_cast<long>(at), frame.data.begin() + static_cast<long>(end));
+    }
+  }
+  std::size_t units = 0;
+  tello::AnnexBAssembler assembler([&](std::span<const std::uint8_t>) { ++units; });
+  const std::size_t warm_up = datagrams.size() / 4;
+  for (std::size_t i = 0; i < warm_up; ++i) assembler.feed(datagrams[i]);
+  std::size_t allocations = 0;
+  for (std::size_t i = warm_up; i < datagrams.size(); ++i) allocations += allocations_of([&] { assembler.feed(datagrams[i]); });
+  CHECK(units == 60);
+  CHECK(allocations == 0);
 }
 
 // The face front end: dlib's shape_predictor, cv::warpAffine and the PnP's vectors allocate on every

@@ -26,7 +26,9 @@ int main(int argc, char** argv) {
     SteadyClock clock;
     test::FakeDroneLink link;
     test::ScriptedCore core(stage_s);
-    FlightRuntime runtime(link, core, clock, {50, config.server.video.jpeg_quality, 256, 2.0}, log.child("runtime"));
+    FlightRuntimeOptions options;
+    options.jpeg_quality = config.server.video.jpeg_quality;
+    FlightRuntime runtime(link, core, clock, options, log.child("runtime"));
     WebServer server(config.server, config_file, runtime, log.child("web"));
     runtime.start();
     const unsigned short port = server.start();

@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
-# Runs the browser test: installs Debian's chromium and the npm package when missing, starts the
-# server on a free port, drives it with student_flow.mjs, stops the server.
-# Usage: run_browser_test.sh SERVER_BINARY OUT_DIR
+# Runs a browser test: installs Debian's chromium and the npm package when missing, starts the
+# server on a free port, drives it with the test script, stops the server.
+# Usage: run_browser_test.sh SERVER_BINARY OUT_DIR [student_flow|video_paths]
 #   SERVER_BINARY labo_e2e_server: the web layer over test doubles (a test card, a scripted mission);
 #   SERVER_BINARY labodrone: `labodrone serve`, i.e. the simulated lab on loopback with the real
 #   driver, flight stack and vision, as `make run` starts it.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
-server="$1"; out="$2"
+server="$1"; out="$2"; script="${3:-student_flow}"
 mkdir -p "$out"
 if ! command -v chromium >/dev/null; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
@@ -28,4 +28,9 @@ for _ in $(seq 300); do  # the simulated lab loads the teacher's face first
   curl -sf "http://127.0.0.1:$port/api/health" >/dev/null && break
   sleep 0.1
 done
-node "$here/student_flow.mjs" "http://127.0.0.1:$port" "$out/student_flow.png"
+mode=scripted; [ "$(basename "$server")" = labodrone ] && mode=sim
+case "$script" in
+  student_flow) node "$here/student_flow.mjs" "http://127.0.0.1:$port" "$out/student_flow.png" ;;
+  video_paths) node "$here/video_paths.mjs" "http://127.0.0.1:$port" "$out" "$mode" ;;
+  *) echo "unknown browser test '$script' (expected student_flow or video_paths)" >&2; exit 2 ;;
+esac

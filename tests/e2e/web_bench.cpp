@@ -1,9 +1,10 @@
 // Web benchmark, against a running server (labo_e2e_server or labodrone serve):
-//   labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0]
-// Connects CLIENTS spectators (one session, CLIENTS WebSockets), each reading everything, and
-// reports per-client frames/s, the glass-to-client latency (now - the frame's capture time; same
-// machine, same clock) and the server's CPU (from /proc/PID/stat) over the run. With STUCK_SECONDS
-// it then opens one viewer that never reads and samples the server's resident memory meanwhile.
+//   labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264]
+// Connects CLIENTS spectators (one session, CLIENTS WebSockets) watching the VIDEO path, each
+// reading everything, and reports per-client frames/s, the bytes each receives per second (video
+// and all), the glass-to-client latency (now - the frame's capture time; same machine, same clock)
+// and the server's CPU (from /proc/PID/stat) over the run. With STUCK_SECONDS it then opens one
+// viewer of the same path that never reads and samples the server's resident memory meanwhile.
 #include <algorithm>
 #include <fstream>
 #include <iostream>
@@ -12,6 +13,7 @@
 #include <thread>
 #include <unistd.h>
 
+#include "server/video/access_unit_wire.hpp"
 #include "server/video/frame_header.hpp"
 #include "tests/server/support/test_clients.hpp"
 
@@ -48,6 +50,13 @@ long rss_kib(int pid) {
   return -1;
 }
 
+// The capture time of a video message of either path (JPEG frame, H.264 access unit).
+std::optional<double> capture_ms(const std::string& message) {
+  if (const auto h = FrameHeader::read(message)) return h->capture_unix_ms;
+  if (const auto h = AccessUnitHeader::read(message)) return h->capture_unix_ms;
+  return std::nullopt;
+}
+
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
@@ -58,9 +67,15 @@ double percentile(std::vector<double> v, double p) {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::cerr << "usage: labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0]\n";
+    std::cerr << "usage: labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264]\n";
     return 2;
   }
+  const std::string video = argc > 6 ? argv[6] : "jpeg";
+  if (video != "jpeg" && video != "h264") {
+    std::cerr << "labo_web_bench: VIDEO must be jpeg or h264, not '" << video << "'\n";
+    return 2;
+  }
+  const std::string subscribe = R"({"type":"subscribe","video":")" + video + R"("})";
   const auto port = static_cast<unsigned short>(std::stoi(argv[1]));
   const int pid = std::stoi(argv[2]);
   const int clients = argc > 3 ? std::stoi(argv[3]) : 20;
@@ -72,10 +87,13 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::vector<std::unique_ptr<WsClient>> ws;
-  for (int i = 0; i < clients; ++i) ws.push_back(std::make_unique<WsClient>(port, cookie));
+  for (int i = 0; i < clients; ++i) {
+    ws.push_back(std::make_unique<WsClient>(port, cookie));
+    ws.back()->send(subscribe);
+  }
   std::mutex mutex;
   std::vector<double> latencies;
-  std::vector<double> fps(clients);
+  std::vector<double> fps(clients), video_bytes_s(clients), all_bytes_s(clients);
   const double cpu0 = cpu_seconds(pid);
   const auto start = std::chrono::steady_clock::now();
   const auto deadline = start + std::chrono::duration<double>(seconds);
@@ -83,27 +101,38 @@ int main(int argc, char** argv) {
   for (int i = 0; i < clients; ++i) {
     threads.emplace_back([&, i] {
       int frames = 0;
+      double video_bytes = 0, all_bytes = 0;
       std::vector<double> mine;
       while (std::chrono::steady_clock::now() < deadline) {
         auto m = ws[i]->read(1.0);
         if (!m) break;
-        if (!m->binary) continue;
-        const auto h = FrameHeader::read(m->data);
-        if (!h) continue;
+        all_bytes += static_cast<double>(m->data.size());
+        if (!m->binary) {  // the H.264 path's geometry is part of its video
+          if (m->data.rfind(R"({"type":"overlay")", 0) == 0) video_bytes += static_cast<double>(m->data.size());
+          continue;
+        }
+        const auto t = capture_ms(m->data);
+        if (!t) continue;
         ++frames;
-        mine.push_back(unix_ms() - h->capture_unix_ms);
+        video_bytes += static_cast<double>(m->data.size());
+        mine.push_back(unix_ms() - *t);
       }
       std::lock_guard lock(mutex);
       fps[i] = frames / seconds;
+      video_bytes_s[i] = video_bytes / seconds;
+      all_bytes_s[i] = all_bytes / seconds;
       latencies.insert(latencies.end(), mine.begin(), mine.end());
     });
   }
   for (auto& t : threads) t.join();
+  if (clients == 0) std::this_thread::sleep_until(deadline);  // the server's CPU with nobody watching
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double server_cores = (cpu_seconds(pid) - cpu0) / wall;
-  std::cout << "spectators: " << clients << ", " << seconds << " s\n"
-            << "frames/s per client: min " << *std::min_element(fps.begin(), fps.end()) << ", median "
-            << percentile(fps, 0.5) << "\n"
+  const auto kbit = [](double bytes_s) { return bytes_s * 8 / 1000; };
+  std::cout << "spectators: " << clients << " (" << video << "), " << seconds << " s\n"
+            << "frames/s per client: min " << percentile(fps, 0) << ", median " << percentile(fps, 0.5) << "\n"
+            << "per client: video " << percentile(video_bytes_s, 0.5) / 1000 << " kB/s (" << kbit(percentile(video_bytes_s, 0.5))
+            << " kbit/s), everything " << percentile(all_bytes_s, 0.5) / 1000 << " kB/s (median over clients)\n"
             << "glass-to-client latency ms: median " << percentile(latencies, 0.5) << ", p95 " << percentile(latencies, 0.95)
             << ", max " << percentile(latencies, 1.0) << "\n"
             << "server CPU: " << server_cores << " cores\n";
@@ -119,6 +148,8 @@ int main(int argc, char** argv) {
     beast::get_lowest_layer(stuck).connect({asio::ip::make_address("127.0.0.1"), port});
     stuck.set_option(beast::websocket::stream_base::decorator([&](beast::websocket::request_type& r) { r.set(http::field::cookie, cookie); }));
     stuck.handshake("127.0.0.1", "/ws");
+    stuck.text(true);
+    stuck.write(asio::buffer(subscribe));
     const long rss0 = rss_kib(pid);
     long rss_max = rss0;
     const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(stuck_seconds);

@@ -166,5 +166,7 @@ TEST_CASE("web: control keeps ticking while a frame's vision is stuck, and the n
   CHECK(timing.frames_to_vision == 2);
   CHECK(timing.frames_skipped == 4);
   CHECK(timing.vision_latency_ms.count == 2);
-  CHECK(timing.tick_interval_ms.count >= 10);
+  // At least the 10 ticks above; their intervals are one fewer when the first tick came after frame 0
+  // reached the worker (the runtime counts an interval from the second tick on).
+  CHECK(timing.tick_interval_ms.count >= 9);
 }

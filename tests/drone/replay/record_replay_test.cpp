@@ -155,7 +155,7 @@ TEST_CASE("link: recording reader refuses bad files and stops at a truncated rec
   // An unknown channel is an error naming the record.
   {
     RecordingWriter w(file);
-    w.write(static_cast<RecordChannel>(9), 0.0, std::vector<std::uint8_t>{});
+    w.write(static_cast<RecordChannel>(10), 0.0, std::vector<std::uint8_t>{});  // 1-9 are defined
   }
   RecordingReader bad(file);
   CHECK_THROWS_WITH(bad.next(rec), Catch::Contains("unknown channel"));

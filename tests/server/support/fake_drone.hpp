@@ -107,7 +107,10 @@ class ScriptedCore final : public FlightCore {
  public:
   explicit ScriptedCore(double stage_s = 1.0, double request_delay_s = 0.0) : stage_s_(stage_s), request_delay_s_(request_delay_s) {}
   void on_navdata(const NavdataSample& s) override { battery_ = s.battery_percent; }
-  void on_video(const VideoFrame&) override { frames++; }
+  void on_video(const VideoFrame& f) override {
+    frames++;
+    last_frame_t_ = f.t;
+  }
   void on_link_state(LinkState, Seconds) override {}
   FlightAction tick(Seconds t) override {
     now_ = t;
@@ -158,7 +161,8 @@ class ScriptedCore final : public FlightCore {
     s.telemetry.link_quality = 0.9;
     s.overlay.panel.corners = {{220, 100}, {420, 100}, {420, 220}, {220, 220}};
     s.overlay.panel.axes = AxesPx{{320, 160}, {380, 160}, {320, 220}, {300, 140}};
-    s.overlay.panel.measured_t = now_;
+    s.overlay.panel.measured_t = last_frame_t_;  // "tracked" on the newest frame
+    s.overlay.panel.template_px = {400, 240};
     if (stage_ != last_stage_) {
       s.events.push_back({"stage", mission_, stage_, mission_ + ": " + stage_});
       last_stage_ = stage_;
@@ -174,7 +178,7 @@ class ScriptedCore final : public FlightCore {
   static constexpr const char* kStages[6] = {"take off", "explore", "approach", "hold", "return", "land"};
   double stage_s_, request_delay_s_;
   std::string mission_ = "idle", stage_, last_stage_;
-  double started_ = 0, now_ = 0, battery_ = 0;
+  double started_ = 0, now_ = 0, battery_ = 0, last_frame_t_ = -1;
   bool flying_ = false;
 };
 

@@ -1,0 +1,35 @@
+#pragma once
+// The "tello" section: the link (TelloLink), the emulator (TelloEmulator) and the Tello's camera,
+// which replaces cameras.front whenever a Tello flies (serve --drone tello, emulate --protocol tello).
+//
+// The camera default: 960x720, the SDK stream's size, with the 82.6 deg field of view of the Tello's
+// specification taken as the image's diagonal, no distortion: f = 600 / tan(41.3 deg) = 683 px,
+// principal point at the centre. A default until the lab calibrates its drone (docs/tello.md).
+// Sensors: a time-of-flight range to the surface below (the state's `tof`, the sample's altitude),
+// a barometer (`baro`), an IMU; no bottom-camera image in SDK mode: cameras.bottom stays configured
+// but no frame ever comes from it.
+#include "core/camera_config.hpp"
+#include "drone/tello/tello_emulator.hpp"
+#include "drone/tello/tello_link.hpp"
+
+namespace labo {
+
+// The default above: 960x720, f = 683 px, centred, no distortion.
+CameraIntrinsics tello_front_camera();
+
+struct TelloConfig {
+  TelloLinkSettings link;
+  TelloEmulatorSettings emulator;
+  CameraIntrinsics camera = tello_front_camera();
+};
+
+// Reads {"link": {...}, "emulator": {...}, "camera": {width, height, fx, fy, cx, cy, distortion}},
+// every key optional; refuses unknown keys.
+TelloConfig read_tello_config(const ConfigReader& section);
+// The config's "tello" section, or the defaults without one.
+TelloConfig read_tello_config_of(const ConfigReader& root);
+
+// `cameras` with the front camera replaced by the Tello's.
+CamerasConfig tello_cameras(const TelloConfig& tello, const CamerasConfig& cameras);
+
+}  // namespace labo

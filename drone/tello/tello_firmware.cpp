@@ -1,0 +1,175 @@
+#include "drone/tello/tello_firmware.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+
+namespace labo::tello {
+
+namespace {
+
+constexpr double kAirDensity = 1.225;  // kg/m³, for the height above the take-off point
+constexpr double kG = 9.80665;
+constexpr int kControlLandedState = 2, kControlFlyingState = 3, kControlHoveringState = 4;
+
+constexpr std::array<std::string_view, 16> kUnflownMoves = {"up", "down", "left", "right", "forward", "back",
+                                                            "cw", "ccw", "flip", "go", "curve", "jump",
+                                                            "mon", "moff", "mdirection", "wifi"};
+
+bool parse_int(std::string_view text, int& value) {
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  return !text.empty() && ec == std::errc() && end == text.data() + text.size();
+}
+
+std::string number_text(double v, const char* format) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), format, v);
+  return buf;
+}
+
+}  // namespace
+
+TelloFirmware::TelloFirmware(TelloFirmwareSettings settings, ardrone2::LinkCounters& counters)
+    : settings_(settings), counters_(counters) {}
+
+bool TelloFirmware::take_stream_restart() {
+  const bool restart = stream_restart_;
+  stream_restart_ = false;
+  return restart;
+}
+
+std::optional<TelloFirmware::Reply> TelloFirmware::command(std::string_view text, EmulatedVehicle& vehicle, Seconds t) {
+  const std::size_t space = text.find(' ');
+  const std::string_view word = text.substr(0, space);
+  const std::string_view args = space == std::string_view::npos ? std::string_view() : text.substr(space + 1);
+  if (word == "command") {
+    if (!sdk_mode_) counters_.add("sdk_mode_entered");
+    sdk_mode_ = true;
+  }
+  if (!sdk_mode_) {
+    counters_.add("commands_before_sdk_mode");  // a Tello outside SDK mode ignores text
+    return std::nullopt;
+  }
+  last_command_t_ = t;
+  vehicle.advance_to(t);
+  return handle(word, args, vehicle, t);
+}
+
+std::optional<TelloFirmware::Reply> TelloFirmware::handle(std::string_view word, std::string_view args,
+                                                          EmulatedVehicle& vehicle, Seconds t) {
+  if (word == "rc") return rc(args, vehicle, t);
+  if (word == "emergency") {
+    if (!vehicle.telemetry().emergency) vehicle.emergency(t);
+    motion_ = Motion::None;  // a take-off or landing under way is never answered
+    counters_.add("emergencies");
+    return Reply{"ok", t};
+  }
+  if (motion_ != Motion::None) {
+    counters_.add("busy_refusals");
+    return after_delay("error", t);
+  }
+  const VehicleTelemetry tel = vehicle.telemetry();
+  if (word == "command") return after_delay("ok", t);
+  if (word == "takeoff" && args.empty()) {
+    if (tel.flying) return after_delay("error", t);
+    if (tel.emergency) vehicle.emergency(t);  // motors were cut: the toggle re-arms them on the ground
+    takeoff_pressure_pa_ = tel.pressure_pa;
+    vehicle.takeoff(t);
+    motion_ = Motion::TakingOff;
+    motion_since_ = t;
+    return std::nullopt;
+  }
+  if (word == "land" && args.empty()) {
+    if (!tel.flying) return after_delay("error", t);
+    vehicle.land(t);
+    motion_ = Motion::Landing;
+    motion_since_ = t;
+    return std::nullopt;
+  }
+  if (word == "stop" && args.empty()) {
+    vehicle.move(MoveCommand{}, true, t);
+    return after_delay("ok", t);
+  }
+  if ((word == "streamon" || word == "streamoff") && args.empty()) {
+    stream_restart_ = word == "streamon" && !streaming_;
+    streaming_ = word == "streamon";
+    return after_delay("ok", t);
+  }
+  if (word == "speed" && !args.empty()) {
+    int speed = 0;
+    if (!parse_int(args, speed) || speed < 10 || speed > 100) {
+      counters_.add("bad_arguments");
+      return after_delay("error", t);
+    }
+    speed_cmps_ = speed;
+    return after_delay("ok", t);
+  }
+  if (word.ends_with('?') && args.empty()) {
+    if (auto reply = read(word, tel, t)) return reply;
+  }
+  for (std::string_view move : kUnflownMoves) {
+    if (word == move) {
+      counters_.add("unflown_commands");
+      return after_delay("error", t);
+    }
+  }
+  counters_.bad_input("unknown_command", t, std::string(word) + " (expected an SDK 2.0 command)");
+  return after_delay("error", t);
+}
+
+std::optional<TelloFirmware::Reply> TelloFirmware::rc(std::string_view args, EmulatedVehicle& vehicle, Seconds t) {
+  RcSticks s;
+  if (!parse_rc_arguments(args, s)) {
+    counters_.bad_input("rc_malformed", t, "rc " + std::string(args) + " (expected 4 integers in [-100, 100])");
+    return std::nullopt;
+  }
+  counters_.add("rc_received");
+  vehicle.move(move_from_rc(s), s.centred(), t);
+  return std::nullopt;
+}
+
+std::optional<TelloFirmware::Reply> TelloFirmware::read(std::string_view word, const VehicleTelemetry& tel,
+                                                        Seconds t) const {
+  if (word == "battery?") return after_delay(number_text(std::round(tel.nav.battery_percent), "%.0f"), t);
+  if (word == "speed?") return after_delay(number_text(speed_cmps_, "%.1f"), t);
+  if (word == "time?") return after_delay(number_text(std::floor(motors_s_), "%.0fs"), t);
+  if (word == "wifi?") return after_delay(number_text(std::round(tel.wifi_link_quality * 90.0), "%.0f"), t);
+  if (word == "sdk?") return after_delay("20", t);
+  if (word == "sn?") return after_delay("LABODRONEEMU0001", t);
+  return std::nullopt;
+}
+
+std::optional<TelloFirmware::Reply> TelloFirmware::advance(EmulatedVehicle& vehicle, Seconds t) {
+  vehicle.advance_to(t);
+  const VehicleTelemetry tel = vehicle.telemetry();
+  if (last_advance_t_ >= 0 && tel.flying) motors_s_ += t - last_advance_t_;
+  last_advance_t_ = t;
+  height_m_ = takeoff_pressure_pa_ > 0 ? (takeoff_pressure_pa_ - tel.pressure_pa) / (kAirDensity * kG) : 0.0;
+  if (motion_ == Motion::None) {
+    if (sdk_mode_ && tel.flying && t - last_command_t_ > settings_.watchdog_s) {
+      counters_.add("watchdog_landings");
+      vehicle.land(t);
+      last_command_t_ = t;  // one landing per silence
+    }
+    return std::nullopt;
+  }
+  const int cs = tel.nav.control_state;
+  const bool done = motion_ == Motion::TakingOff ? (cs == kControlFlyingState || cs == kControlHoveringState)
+                                                 : (cs == kControlLandedState && !tel.flying);
+  if (done || t - motion_since_ > settings_.motion_timeout_s) {
+    motion_ = Motion::None;
+    return Reply{done ? "ok" : "error", t};
+  }
+  return std::nullopt;
+}
+
+TelloState TelloFirmware::state(const VehicleTelemetry& telemetry) const {
+  EmulatedStateExtras extras;
+  extras.height_m = height_m_;
+  extras.motors_s = motors_s_;
+  extras.temperature_c = 55.0 + std::min(30.0, motors_s_ / 20.0);  // warms up in flight
+  return state_from_telemetry(telemetry, extras);
+}
+
+}  // namespace labo::tello

@@ -1,0 +1,74 @@
+#pragma once
+// TelloFirmware: what a Tello in SDK 2.0 mode does with the text commands it receives, played over
+// any EmulatedVehicle (the simulated lab), without I/O. TelloEmulator (tello_emulator.hpp) puts it
+// on UDP; tests drive it directly. Behaviour played (docs/tello.md "TelloEmulator"):
+//   - nothing is answered before "command" (SDK mode); then every command but "rc" gets one reply;
+//   - setup and read commands are answered after `reply_delay_s`; takeoff once the vehicle hovers,
+//     land once it is down (or "error" after `motion_timeout_s`), emergency at once;
+//   - "rc a b c d" moves the vehicle (centred sticks: hover) and is never answered;
+//   - the 15 s watchdog: a flying vehicle without any command for `watchdog_s` lands;
+//   - while a take-off or landing runs, other commands get "error" (emergency and rc excepted);
+//   - unknown commands, bad arguments and the SDK's moves this emulator does not fly (up/down/left/
+//     right/forward/back/cw/ccw/flip/go/curve/jump, mission pads) get "error", counted.
+// The caller serialises every call (one lock with the vehicle's).
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "drone/ardrone2/link_counters.hpp"
+#include "drone/emulated_vehicle.hpp"
+#include "drone/tello/tello_wire.hpp"
+
+namespace labo::tello {
+
+struct TelloFirmwareSettings {
+  Seconds reply_delay_s = 0.02;     // a setup or read command's answer
+  Seconds watchdog_s = 15.0;        // a flying Tello without commands this long lands
+  Seconds motion_timeout_s = 10.0;  // a take-off or landing not done by then is answered "error"
+};
+
+class TelloFirmware {
+ public:
+  TelloFirmware(TelloFirmwareSettings settings, ardrone2::LinkCounters& counters);
+
+  struct Reply {
+    std::string text;
+    Seconds due_t = 0;  // send at or after this time
+  };
+  // One command datagram's text, received at t. Returns the reply to send, if one is due (a motion
+  // command's reply comes later from advance()).
+  std::optional<Reply> command(std::string_view text, EmulatedVehicle& vehicle, Seconds t);
+  // Time passes (call often): a take-off or landing completes, the watchdog lands the vehicle, the
+  // motors' time and the height above the take-off point are kept.
+  std::optional<Reply> advance(EmulatedVehicle& vehicle, Seconds t);
+
+  bool sdk_mode() const { return sdk_mode_; }
+  bool streaming() const { return streaming_; }
+  // A new "streamon" since the last call: the video starts over with an IDR.
+  bool take_stream_restart();
+  // The state string now.
+  TelloState state(const VehicleTelemetry& telemetry) const;
+
+ private:
+  enum class Motion { None, TakingOff, Landing };
+  std::optional<Reply> handle(std::string_view word, std::string_view args, EmulatedVehicle& vehicle, Seconds t);
+  std::optional<Reply> rc(std::string_view args, EmulatedVehicle& vehicle, Seconds t);
+  std::optional<Reply> read(std::string_view word, const VehicleTelemetry& telemetry, Seconds t) const;
+  Reply after_delay(std::string text, Seconds t) const { return Reply{std::move(text), t + settings_.reply_delay_s}; }
+
+  TelloFirmwareSettings settings_;
+  ardrone2::LinkCounters& counters_;
+  bool sdk_mode_ = false;
+  bool streaming_ = false;
+  bool stream_restart_ = false;
+  int speed_cmps_ = 10;
+  Motion motion_ = Motion::None;
+  Seconds motion_since_ = 0;
+  Seconds last_command_t_ = 0;
+  Seconds last_advance_t_ = -1;
+  double motors_s_ = 0;
+  double takeoff_pressure_pa_ = -1;  // latched at take-off: the height's reference
+  double height_m_ = 0;
+};
+
+}  // namespace labo::tello

@@ -1,0 +1,125 @@
+// The live video on the lab page, by one of two paths (docs/web.md "WebSocket protocol"):
+//  - h264: the drone's own stream decoded in the page (WebCodecs), the overlays drawn here from the
+//    geometry sent with each frame, each group switchable;
+//  - jpeg: frames with the overlays drawn in by the server; chosen when the browser has no
+//    VideoDecoder or cannot decode the stream's H.264 profile.
+// Measures the glass-to-browser latency: the frame's capture time (server clock) to the moment the
+// frame and its overlays are on the canvas (same machine or synchronized clocks).
+import {H264Player, h264Available, parseAccessUnit} from './h264_player.js';
+import {OVERLAY_GROUPS, paintOverlays} from './overlay_painter.js';
+import {ReadingView} from './reading_view.js';
+
+const LATENCY_WINDOW = 1800;  // a minute at 30 frames/s
+
+export class VideoView {
+  // send(obj): a message to the server; stats: the object tests read (window.labodrone).
+  constructor(doc, send, stats) {
+    this.doc = doc;
+    this.canvas = doc.getElementById('video');
+    this.send = send;
+    this.stats = stats;
+    this.geometry = new Map();  // frame number -> overlay geometry, until that frame is drawn
+    this.latencies = [];
+    this.frames = 0;
+    this.player = null;
+    this.reading = new ReadingView(doc, stats);
+    this.enabled = {};
+    for (const group of OVERLAY_GROUPS) {
+      const box = doc.getElementById('overlay-' + group);
+      this.enabled[group] = box.checked;
+      box.addEventListener('change', () => { this.enabled[group] = box.checked; });
+    }
+    Object.assign(stats, {videoPath: null, videoPathReason: '', codec: null, framesDecoded: 0, lastFrameNumber: -1,
+                          latencyMedianMs: null, latencyP95Ms: null, videoBytes: 0, overlaysDrawn: [], unitsDropped: 0,
+                          // Restart the latency window (a measurement leaves the start-up out).
+                          resetLatencies: () => { this.latencies = []; },
+                          latencySummary: () => this.latencySummary()});
+  }
+
+  // On every (re)connection: the H.264 path when the browser has WebCodecs, else JPEG.
+  start() {
+    if (h264Available()) this.choose('h264', 'WebCodecs');
+    else this.choose('jpeg', 'no WebCodecs VideoDecoder in this browser');
+  }
+
+  choose(path, reason) {
+    if (this.player) this.player.close();
+    this.player = path === 'h264' ? new H264Player({
+      onFrame: (frame, unit) => this.drawDecoded(frame, unit),
+      onUnsupported: (why) => this.choose('jpeg', why),
+    }) : null;
+    this.geometry.clear();
+    Object.assign(this.stats, {videoPath: path, videoPathReason: reason});
+    this.doc.getElementById('video-path').textContent =
+        path === 'h264' ? 'H.264, decoded here (WebCodecs); overlays drawn here' : `JPEG, overlays drawn by the server (${reason})`;
+    for (const group of OVERLAY_GROUPS) this.doc.getElementById('overlay-' + group).disabled = path !== 'h264';
+    this.send({type: 'subscribe', video: path});
+  }
+
+  onGeometry(msg) {
+    this.geometry.set(msg.frame, msg);
+    if (this.geometry.size > 64) this.geometry.delete(this.geometry.keys().next().value);  // units never decoded
+  }
+
+  async onBinary(buffer) {
+    if (buffer.byteLength >= 24 && new DataView(buffer).getUint32(0, true) === 0x3152444c) return this.reading.show(buffer);  // "LDR1"
+    this.stats.videoBytes += buffer.byteLength;
+    if (this.stats.videoPath === 'h264') {
+      const unit = parseAccessUnit(buffer);
+      if (unit && this.player) await this.player.push(unit);
+      if (this.player) { this.stats.codec = this.player.codec; this.stats.unitsDropped = this.player.dropped; }
+      return;
+    }
+    await this.drawJpeg(buffer);
+  }
+
+  drawDecoded(frame, unit) {
+    const g = this.canvas.getContext('2d');
+    g.drawImage(frame, 0, 0, this.canvas.width, this.canvas.height);
+    frame.close();
+    if (!unit) return;
+    const geometry = this.geometry.get(unit.frame);
+    for (const k of this.geometry.keys()) if (k <= unit.frame) this.geometry.delete(k);
+    this.stats.overlaysDrawn = geometry ? paintOverlays(this.canvas, geometry, this.enabled) : [];
+    this.shown(unit.frame, unit.captureMs);
+  }
+
+  async drawJpeg(buffer) {
+    const dv = new DataView(buffer);
+    if (buffer.byteLength < 24 || dv.getUint32(0, true) !== 0x3156444c) return;  // "LDV1"
+    const bitmap = await createImageBitmap(new Blob([new Uint8Array(buffer, 24)], {type: 'image/jpeg'}));
+    this.canvas.getContext('2d').drawImage(bitmap, 0, 0, this.canvas.width, this.canvas.height);
+    bitmap.close();
+    this.shown(dv.getUint32(4, true), dv.getFloat64(8, true));
+  }
+
+  // A frame is on the canvas: count it and its glass-to-browser latency.
+  shown(frameNumber, captureMs) {
+    const latency = Date.now() - captureMs;
+    this.latencies.push(latency);
+    if (this.latencies.length > LATENCY_WINDOW) this.latencies.shift();
+    Object.assign(this.stats, {framesDecoded: this.stats.framesDecoded + 1, lastFrameNumber: frameNumber});
+    this.doc.getElementById('frame-number').textContent = frameNumber;
+    this.doc.getElementById('latency').textContent = latency.toFixed(0);
+    this.frames++;
+  }
+
+  // Median and 95th percentile of the latencies in the window.
+  latencySummary() {
+    const sorted = [...this.latencies].sort((a, b) => a - b);
+    const at = (p) => sorted[Math.min(sorted.length - 1, Math.floor(p * sorted.length))];
+    return {median: at(0.5), p95: at(0.95), frames: sorted.length};
+  }
+
+  // Frames drawn since the last call (for the fps display, once a second); the latency shown.
+  takeFrameCount() {
+    const n = this.frames;
+    this.frames = 0;
+    if (this.latencies.length) {
+      const {median, p95} = this.latencySummary();
+      Object.assign(this.stats, {latencyMedianMs: median, latencyP95Ms: p95});
+      this.doc.getElementById('latency-median').textContent = median.toFixed(0);
+    }
+    return n;
+  }
+}
