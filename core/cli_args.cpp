@@ -83,9 +83,9 @@ ParsedArgs parse_args(const CommandSpec& spec, std::span<const std::string> args
   return out;
 }
 
-std::string usage(const CommandSpec& spec) {
+std::string usage(const CommandSpec& spec, const std::string& program) {
   std::ostringstream out;
-  out << "usage: labodrone " << spec.name;
+  out << "usage: " << program << " " << spec.name;
   if (!spec.options.empty()) out << " [options]";
   if (!spec.positionals.empty()) out << ' ' << spec.positionals;
   out << "\n\n" << spec.summary << "\n";

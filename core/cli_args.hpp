@@ -46,6 +46,7 @@ class ParsedArgs {
 };
 
 ParsedArgs parse_args(const CommandSpec& spec, std::span<const std::string> args);
-std::string usage(const CommandSpec& spec);
+// `program` is the binary the command belongs to ("labodrone", "labodrone-bench").
+std::string usage(const CommandSpec& spec, const std::string& program = "labodrone");
 
 }  // namespace labo

@@ -36,7 +36,7 @@ int run_one(const Program& program, const Subcommand& c, std::span<const std::st
   try {
     const ParsedArgs parsed = parse_args(c.spec, rest);
     if (parsed.help) {
-      std::cout << usage(c.spec);
+      std::cout << usage(c.spec, program.name);
       return 0;
     }
     return c.run(parsed);

@@ -1,6 +1,6 @@
 #pragma once
 // The real vision front-ends as an EstimationPipeline, for `labodrone-bench sim estimate --vision real`:
-// control's LabPipelines (the StateEstimator and the handling of the front-ends' results, as the
+// fusion::LabPipelines (the StateEstimator and the handling of the front-ends' results, as the
 // flight software runs them) with the SLAM front-end on the front camera and the planar front-end on
 // the experiment's instrument, focused as each experiment phase asks (SLAM while hovering, the
 // instrument's homography while servoing, nothing in dead reckoning).

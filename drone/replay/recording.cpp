@@ -31,14 +31,20 @@ RecordingWriter::RecordingWriter(const std::filesystem::path& file) : out_(file,
 }
 
 void RecordingWriter::write(RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes) {
-  char header[kRecordHeaderBytes] = {};
-  header[0] = static_cast<char>(channel);
-  put(header + 4, t);
-  put(header + 12, static_cast<std::uint32_t>(std::min(bytes.size(), kMaxRecordBytes)));
+  // A chunk longer than a record may be is written as consecutive records of the same channel and
+  // time, so that nothing is cut (the reader refuses longer records). The links' chunks are socket
+  // reads, far below the limit; the split is for what a caller might one day hand over.
   std::lock_guard lock(mutex_);
-  out_.write(header, sizeof(header));
-  out_.write(reinterpret_cast<const char*>(bytes.data()),
-             static_cast<std::streamsize>(std::min(bytes.size(), kMaxRecordBytes)));
+  do {
+    const std::span<const std::uint8_t> part = bytes.first(std::min(bytes.size(), kMaxRecordBytes));
+    char header[kRecordHeaderBytes] = {};
+    header[0] = static_cast<char>(channel);
+    put(header + 4, t);
+    put(header + 12, static_cast<std::uint32_t>(part.size()));
+    out_.write(header, sizeof(header));
+    out_.write(reinterpret_cast<const char*>(part.data()), static_cast<std::streamsize>(part.size()));
+    bytes = bytes.subspan(part.size());
+  } while (!bytes.empty());
 }
 
 void RecordingWriter::note(Seconds t, const std::string& text) {

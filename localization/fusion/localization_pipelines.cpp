@@ -12,13 +12,15 @@ std::string to_string(FeedbackSource source) {
   return "unknown";
 }
 
-// The paper's colour code: green SLAM, blue homography, red/black dead reckoning; face in purple.
+// The paper's colour code: green while SLAM tracks, blue from the panel's homography, red on navdata
+// alone; the face (not coloured in the paper) orange. The server's overlays and the page use these
+// same values (server/lab/flight_service.cpp adds black for a lost object track).
 std::string colour_of(FeedbackSource source) {
   switch (source) {
-    case FeedbackSource::Slam: return "#1a9850";
-    case FeedbackSource::Homography: return "#2166ac";
-    case FeedbackSource::Face: return "#984ea3";
-    case FeedbackSource::DeadReckoning: return "#d73027";
+    case FeedbackSource::Slam: return "#00b000";
+    case FeedbackSource::Homography: return "#1060ff";
+    case FeedbackSource::Face: return "#ff9000";
+    case FeedbackSource::DeadReckoning: return "#e00000";
   }
   return "#000000";
 }

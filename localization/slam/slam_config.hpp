@@ -6,10 +6,8 @@
 
 namespace labo::slam {
 
-// Keys: mapping ("threaded" | "synchronous"), max_features, fast_threshold, quality_good,
-// quality_lost, keyframe_min_interval_s, max_keyframes, global_ba_when_idle, global_ba_max_keyframes,
-// global_ba_fixed_keyframes, global_ba_every (synchronous mode), local_ba_keyframes, cull_points,
-// loop_closure, loop_min_gap_s.
+// Keys: every key read_slam_settings accepts is listed, with its range, in slam_config.cpp and
+// docs/slam.md; the rest of SlamSettings is fixed in code.
 SlamSettings read_slam_settings(const ConfigReader& node);
 
 }  // namespace labo::slam

@@ -1,7 +1,7 @@
 #pragma once
 // SlamSystem: monocular keyframe SLAM for the AR.Drone's front camera (PTAM-style: tracking on every
-// frame, mapping on keyframes). Facts from /work/shared/notes/slam_web.md §A; no code from PTAM or
-// ORB-SLAM. Poses are T_cam_map (map -> camera), the map's scale is arbitrary (the state estimator's
+// frame, mapping on keyframes), written from the published descriptions of PTAM and ORB-SLAM; none
+// of their code. Poses are T_cam_map (map -> camera), the map's scale is arbitrary (the state estimator's
 // ScaleEstimator makes it metric).
 //
 // Threading: track() is called from one thread. In MappingMode::Threaded the mapper runs in its own

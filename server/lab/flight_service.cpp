@@ -3,6 +3,8 @@
 #include <array>
 #include <utility>
 
+#include "localization/fusion/localization_pipelines.hpp"
+
 namespace labo {
 
 namespace {
@@ -40,14 +42,14 @@ std::string to_string(PoseSource source) {
   return "dead_reckoning";
 }
 
-// The paper: green while SLAM tracks, red on navdata alone after SLAM loss, blue from the panel's
-// homography, black when the object tracking fails. Face (not coloured in the paper): orange.
+// The flight software's palette (fusion::colour_of: the paper's green, blue and red, the face
+// orange), and the paper's black when the object's tracking failed.
 std::string colour_of(PoseSource source) {
   switch (source) {
-    case PoseSource::Slam: return "#00b000";
-    case PoseSource::Homography: return "#1060ff";
-    case PoseSource::Face: return "#ff9000";
-    case PoseSource::DeadReckoning: return "#e00000";
+    case PoseSource::Slam: return fusion::colour_of(fusion::FeedbackSource::Slam);
+    case PoseSource::Homography: return fusion::colour_of(fusion::FeedbackSource::Homography);
+    case PoseSource::Face: return fusion::colour_of(fusion::FeedbackSource::Face);
+    case PoseSource::DeadReckoning: return fusion::colour_of(fusion::FeedbackSource::DeadReckoning);
     case PoseSource::VisionLost: return "#000000";
   }
   return "#e00000";

@@ -91,6 +91,7 @@ TEST_CASE("subcommands: --help lists the commands, no arguments prints it and ex
     test::CoutCapture out;
     CHECK(run_program(p, {"say", "hello", "--help"}) == 0);
     CHECK_THAT(out.text(), Catch::Contains("--loud"));
+    CHECK_THAT(out.text(), Catch::StartsWith("usage: prog say hello"));  // the binary that has the command
   }
 }
 

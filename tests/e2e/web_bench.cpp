@@ -141,15 +141,7 @@ int main(int argc, char** argv) {
   if (stuck_seconds > 0) {
     // A viewer that never reads: its socket buffers fill, then the server must drop its frames and
     // finally disconnect it, with memory flat meanwhile.
-    asio::io_context io;
-    beast::websocket::stream<beast::tcp_stream> stuck(io);
-    beast::get_lowest_layer(stuck).socket().open(asio::ip::tcp::v4());
-    beast::get_lowest_layer(stuck).socket().set_option(asio::socket_base::receive_buffer_size(4096));
-    beast::get_lowest_layer(stuck).connect({asio::ip::make_address("127.0.0.1"), port});
-    stuck.set_option(beast::websocket::stream_base::decorator([&](beast::websocket::request_type& r) { r.set(http::field::cookie, cookie); }));
-    stuck.handshake("127.0.0.1", "/ws");
-    stuck.text(true);
-    stuck.write(asio::buffer(subscribe));
+    const StuckViewer stuck(port, cookie, subscribe);
     const long rss0 = rss_kib(pid);
     long rss_max = rss0;
     const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(stuck_seconds);

@@ -72,16 +72,7 @@ TEST_CASE("web: an H.264 viewer that reads nothing is cut off with its queue bou
     s.clients.video_queue_frames = 4;
     s.clients.write_timeout_s = 2.0;
   });
-  const std::string cookie = login_cookie(f.port, "bob", "bob-pw");
-  asio::io_context io;
-  beast::websocket::stream<beast::tcp_stream> stuck(io);
-  beast::get_lowest_layer(stuck).socket().open(asio::ip::tcp::v4());
-  beast::get_lowest_layer(stuck).socket().set_option(asio::socket_base::receive_buffer_size(4096));
-  beast::get_lowest_layer(stuck).connect({asio::ip::make_address("127.0.0.1"), f.port});
-  stuck.set_option(beast::websocket::stream_base::decorator([cookie](beast::websocket::request_type& r) { r.set(http::field::cookie, cookie); }));
-  stuck.handshake("127.0.0.1", "/ws");
-  stuck.text(true);
-  stuck.write(asio::buffer(std::string(R"({"type":"subscribe","video":"h264"})")));
+  const StuckViewer stuck(f.port, login_cookie(f.port, "bob", "bob-pw"), R"({"type":"subscribe","video":"h264"})");
 
   WsClient good(f.port, login_cookie(f.port, "alice", "alice-pw"));
   good.send(json{{"type", "subscribe"}, {"video", "h264"}});

@@ -146,15 +146,7 @@ TEST_CASE("web: a viewer that reads nothing costs bounded memory and is disconne
     s.clients.backlog_timeout_s = 1.0;
     s.clients.write_timeout_s = 2.0;
   });
-  const std::string cookie = login_cookie(f.port, "bob", "bob-pw");
-  // The stuck viewer: a WebSocket handshake, then never a read. A tiny receive buffer fills fast.
-  asio::io_context io;
-  beast::websocket::stream<beast::tcp_stream> stuck(io);
-  beast::get_lowest_layer(stuck).socket().open(asio::ip::tcp::v4());
-  beast::get_lowest_layer(stuck).socket().set_option(asio::socket_base::receive_buffer_size(4096));
-  beast::get_lowest_layer(stuck).connect({asio::ip::make_address("127.0.0.1"), f.port});
-  stuck.set_option(beast::websocket::stream_base::decorator([cookie](beast::websocket::request_type& r) { r.set(http::field::cookie, cookie); }));
-  stuck.handshake("127.0.0.1", "/ws");
+  const StuckViewer stuck(f.port, login_cookie(f.port, "bob", "bob-pw"));
 
   WsClient good(f.port, login_cookie(f.port, "alice", "alice-pw"));
   REQUIRE(good.wait_for("hello"));

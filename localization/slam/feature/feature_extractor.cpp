@@ -27,7 +27,7 @@ void FeatureExtractor::extract(const cv::Mat& gray, FrameFeatures& out) {
   out_ = &out;
   // Smoothed first: FAST on the raw image fires on sensor noise and on aliased texture, and cv::resize
   // does not filter before decimating, so the levels alias too: smoothed, the corners and their
-  // descriptors follow the scene instead of the noise (docs/slam.md gives the tour's error with each).
+  // descriptors follow the scene instead of the noise.
   const double sigma = settings_.smoothing_sigma_px;
   if (sigma > 0) {
     const int k = 2 * static_cast<int>(std::ceil(2.5 * sigma)) + 1;  // 7x7 for 1.2

@@ -161,3 +161,27 @@ TEST_CASE("link: recording reader refuses bad files and stops at a truncated rec
   CHECK_THROWS_WITH(bad.next(rec), Catch::Contains("unknown channel"));
   std::filesystem::remove(file);
 }
+
+TEST_CASE("recording: a chunk longer than a record is kept whole in consecutive records", "[replay]") {
+  const auto file = temp_file("labo_long_chunk");
+  std::vector<std::uint8_t> bytes(kMaxRecordBytes + 10);
+  for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<std::uint8_t>(i * 7);
+  {
+    RecordingWriter w(file);
+    w.write(RecordChannel::VideoIn, 3.0, bytes);
+  }
+  RecordingReader r(file);
+  Record rec;
+  std::vector<std::uint8_t> back;
+  int records = 0;
+  while (r.next(rec)) {
+    CHECK(rec.channel == RecordChannel::VideoIn);
+    CHECK(rec.t == 3.0);
+    back.insert(back.end(), rec.bytes.begin(), rec.bytes.end());
+    ++records;
+  }
+  CHECK_FALSE(r.truncated());
+  CHECK(records == 2);
+  CHECK(back == bytes);
+  std::filesystem::remove(file);
+}

@@ -124,4 +124,26 @@ class WsClient {
   beast::flat_buffer buffer_;
 };
 
+// A viewer that stops reading: a WebSocket handshake (and optionally one text message, e.g. a
+// subscription), then never a read. Its tiny receive buffer fills at once.
+class StuckViewer {
+ public:
+  StuckViewer(unsigned short port, const std::string& cookie, const std::string& first_message = {}) : ws_(io_) {
+    auto& socket = beast::get_lowest_layer(ws_).socket();
+    socket.open(asio::ip::tcp::v4());
+    socket.set_option(asio::socket_base::receive_buffer_size(4096));
+    beast::get_lowest_layer(ws_).connect({asio::ip::make_address("127.0.0.1"), port});
+    ws_.set_option(beast::websocket::stream_base::decorator(
+        [cookie](beast::websocket::request_type& r) { r.set(http::field::cookie, cookie); }));
+    ws_.handshake("127.0.0.1", "/ws");
+    if (first_message.empty()) return;
+    ws_.text(true);
+    ws_.write(asio::buffer(first_message));
+  }
+
+ private:
+  asio::io_context io_;
+  beast::websocket::stream<beast::tcp_stream> ws_;
+};
+
 }  // namespace labo::test
