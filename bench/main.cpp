@@ -14,6 +14,7 @@
 #include "bench/sim/bench_render_command.hpp"
 #include "bench/sim/bench_sim_command.hpp"
 #include "bench/slam/slam_bench_command.hpp"
+#include "bench/soak/sim_soak_command.hpp"
 #include "core/subcommands.hpp"
 
 namespace {
@@ -39,6 +40,7 @@ labo::Program program() {
               {sim_face_follow_command_spec(), run_sim_face_follow_command},
               {sim_compare_slam_command_spec(), run_sim_compare_slam_command},
               {sim_realtime_command_spec(), run_sim_realtime_command},
+              {sim_soak_command_spec(), run_sim_soak_command},
           },
       .moved = {},
   };
@@ -47,7 +49,10 @@ labo::Program program() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Every command here is a batch run: reuse freed memory (bench/batch_allocator.hpp).
-  labo::keep_freed_memory_for_batch_runs();
-  return labo::run_program(program(), std::vector<std::string>(argv + 1, argv + argc));
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  // Every command here but the soak is a batch run: reuse freed memory (bench/batch_allocator.hpp).
+  // The soak measures the server's memory as `labodrone serve` has it, with glibc's defaults.
+  const bool soak = args.size() >= 2 && args[0] == "sim" && args[1] == "soak";
+  if (!soak) labo::keep_freed_memory_for_batch_runs();
+  return labo::run_program(program(), args);
 }

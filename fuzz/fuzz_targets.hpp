@@ -12,6 +12,10 @@
 #include "drone/ardrone2/navdata_builder.hpp"
 #include "drone/ardrone2/navdata_parser.hpp"
 #include "drone/ardrone2/pave.hpp"
+#include "drone/tello/annexb_assembler.hpp"
+#include "drone/tello/tello_command.hpp"
+#include "drone/tello/tello_state.hpp"
+#include "drone/tello/tello_rc.hpp"
 
 namespace labo::fuzz {
 
@@ -76,6 +80,63 @@ inline bool at_target(std::span<const std::uint8_t> data) {
   for (const auto& c : commands) {
     if (c.sequence == 0 || c.name.empty()) return false;
     filter.accept(c.sequence);
+  }
+  return true;
+}
+
+// Tello state string: a string that parses is written back by the emulator's formatter to a string
+// that parses too, and writing that one again changes nothing.
+inline bool tello_state_target(std::span<const std::uint8_t> data) {
+  using namespace tello;
+  TelloState state, again;
+  const auto result = TelloStateParser().parse(data, state);
+  if (!result.ok()) return !result.detail.empty();
+  std::string text, text_again;
+  format_tello_state(state, text);
+  if (!TelloStateParser().parse(text, again).ok()) return false;
+  format_tello_state(again, text_again);
+  return text == text_again && again.has_mission_pad == state.has_mission_pad;
+}
+
+// Tello video: datagrams cut from the input (sizes from its first byte) into access units: every byte
+// comes out in a unit, as junk, or stays buffered (unless a unit overflowed), each unit within the
+// limit and starting with a start code.
+inline bool tello_video_target(std::span<const std::uint8_t> data) {
+  using namespace tello;
+  if (data.empty()) return true;
+  const std::size_t step = 1 + data[0] % 251;
+  const auto stream = data.subspan(1);
+  constexpr std::size_t kLimit = 16 * 1024;
+  std::size_t unit_bytes = 0;
+  bool units_ok = true;
+  AnnexBAssembler assembler(
+      [&](std::span<const std::uint8_t> u) {
+        unit_bytes += u.size();
+        units_ok = units_ok && u.size() <= kLimit && u.size() >= 3 && u[0] == 0 && u[1] == 0;
+      },
+      kLimit, 64);
+  std::size_t junk = 0;
+  bool overflow = false;
+  for (std::size_t pos = 0; pos < stream.size(); pos += step) {
+    const auto report = assembler.feed(stream.subspan(pos, std::min(step, stream.size() - pos)));
+    junk += report.junk_bytes;
+    overflow = overflow || report.overflow;
+    if (assembler.buffered_bytes() > kLimit) return false;
+  }
+  return units_ok && (overflow || unit_bytes + junk + assembler.buffered_bytes() == stream.size());
+}
+
+// Tello replies and rc arguments: classified or refused, never read past the input.
+inline bool tello_reply_target(std::span<const std::uint8_t> data) {
+  using namespace tello;
+  TelloReply reply;
+  const ReplyError error = parse_reply(data, reply);
+  if (error == ReplyError::None && (reply.text.empty() || reply.text.size() > kMaxReplyBytes)) return false;
+  RcSticks sticks;
+  const std::string_view text(reinterpret_cast<const char*>(data.data()), data.size());
+  if (parse_rc_arguments(text, sticks)) {
+    for (int v : {sticks.a, sticks.b, sticks.c, sticks.d})
+      if (v < -kMaxStick || v > kMaxStick) return false;
   }
   return true;
 }

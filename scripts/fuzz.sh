@@ -16,9 +16,11 @@ fi
 OUT=build/fuzz
 mkdir -p "$OUT/crashes"
 SOURCES=(drone/ardrone2/at_command.cpp drone/ardrone2/navdata_schema.cpp drone/ardrone2/navdata_packet.cpp
-         drone/ardrone2/navdata_parser.cpp drone/ardrone2/navdata_builder.cpp drone/ardrone2/pave.cpp)
+         drone/ardrone2/navdata_parser.cpp drone/ardrone2/navdata_builder.cpp drone/ardrone2/pave.cpp
+         drone/tello/tello_state.cpp drone/tello/tello_rc.cpp drone/tello/tello_command.cpp
+         drone/tello/annexb_assembler.cpp)
 status=0
-for target in navdata pave at; do
+for target in navdata pave at tello_state tello_video tello_reply; do
   echo "== building ${target}_fuzzer" >&2
   "$CXX_FUZZ" -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
     -I. "fuzz/${target}_fuzzer.cpp" "${SOURCES[@]}" -o "$OUT/${target}_fuzzer"

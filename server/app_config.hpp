@@ -13,6 +13,7 @@
 #include "drone/ardrone2/ardrone_link.hpp"
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/sim_config.hpp"
+#include "drone/tello/tello_config.hpp"
 #include "localization/planar/planar_config.hpp"
 #include "localization/slam/slam_system.hpp"
 #include "localization/vision_thresholds.hpp"
@@ -32,6 +33,7 @@ struct AppConfig {
   ServerSettings server;
   ArdroneLinkSettings link;          // the AR.Drone 2.0 driver (docs/ardrone2.md)
   ArdroneEmulatorSettings emulator;  // the AR.Drone 2.0 protocol emulator on loopback
+  TelloConfig tello;                 // the Tello link, its emulator and camera (docs/tello.md)
   std::filesystem::path lab_file;  // "lab": the lab description, relative to the config file
   LabDescription lab;              // loaded from lab_file and validated (docs/sim.md)
   SimConfig sim;                   // the simulated lab's physics, sensors, link, disturbances (docs/sim.md)

@@ -8,6 +8,7 @@
 #include "drone/lab/lab_commands.hpp"
 #include "drone/sim/emulate_command.hpp"
 #include "drone/sim/render_commands.hpp"
+#include "drone/tello/tello_state_command.hpp"
 #include "localization/face/face_commands.hpp"
 #include "localization/face/teacher_head.hpp"
 #include "localization/planar/planar_commands.hpp"
@@ -24,7 +25,7 @@ labo::Program program() {
   using namespace labo;
   return {
       .name = "labodrone",
-      .about = "LaboDrone flies an AR.Drone 2.0 (or the simulated lab) through a remote electronics lab.\n"
+      .about = "LaboDrone flies an AR.Drone 2.0 or a Tello (or the simulated lab) through a remote electronics lab.\n"
                "Benchmarks and experiments are in labodrone-bench.",
       .commands =
           {
@@ -32,6 +33,7 @@ labo::Program program() {
               {emulate_command_spec(), [](const ParsedArgs& a) { return run_emulate_command(a, teacher_head); }},
               {navdata_command_spec(), run_navdata_command},
               {video_command_spec(), run_video_command},
+              {tello_state_command_spec(), run_tello_state_command},
               {planar::homography_command_spec(), planar::run_homography_command},
               {face_register_command_spec(), run_face_register_command},
               {hash_password_command_spec(), run_hash_password_command},

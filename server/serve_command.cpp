@@ -16,7 +16,7 @@ const CommandSpec& serve_command_spec() {
       {{"--config", "FILE", "configuration file (default: config/default.json)"},
        {"--port", "N", "TCP port to listen on (default: from the config, 8080)"},
        {"--bind", "ADDR", "address to listen on (default: from the config, 127.0.0.1)"},
-       {"--drone", "SPEC", "sim (default: the simulated lab on loopback), ardrone[:HOST] or replay:FILE"}},
+       {"--drone", "SPEC", "sim (default: the simulated lab on loopback), ardrone[:HOST], tello[:HOST] or replay:FILE"}},
       0,
       0};
   return spec;

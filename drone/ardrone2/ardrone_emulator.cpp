@@ -38,8 +38,8 @@ ArdroneEmulatorSettings read_ardrone_emulator_settings(const ConfigReader& c) {
 }
 
 ArdroneEmulator::ArdroneEmulator(EmulatedVehicle& vehicle, ArdroneEmulatorSettings settings, Logger logger)
-    : vehicle_(vehicle), settings_(std::move(settings)), logger_(std::move(logger)), counters_(logger_),
-      bitrate_(settings_.video_bitrate_kbps), streaming_bitrate_kbps_(settings_.video_bitrate_kbps) {}
+    : vehicle_(vehicle), settings_(std::move(settings)), logger_(std::move(logger)), time_origin_(vehicle.now()),
+      counters_(logger_), bitrate_(settings_.video_bitrate_kbps), streaming_bitrate_kbps_(settings_.video_bitrate_kbps) {}
 
 ArdroneEmulator::~ArdroneEmulator() { stop(); }
 
@@ -52,7 +52,7 @@ void ArdroneEmulator::start() {
   navdata_port_ = navdata_socket_.local_port();
   video_port_ = video_listener_.local_port();
   running_ = true;
-  logger_.info(clock_.now(), "AR.Drone 2.0 emulator listening")
+  logger_.info(now(), "AR.Drone 2.0 emulator listening")
       .kv("at_port", at_port_).kv("navdata_port", navdata_port_).kv("video_port", video_port_);
   at_thread_ = std::thread([this] { at_loop(); });
   navdata_thread_ = std::thread([this] { navdata_loop(); });
@@ -76,7 +76,7 @@ void ArdroneEmulator::at_loop() {
   while (running_) {
     const long n = at_socket_.receive_from(buffer, from, 0.05);
     if (n < 0) continue;
-    const Seconds t = clock_.now();
+    const Seconds t = now();
     counters_.add("at_datagrams");
     if (static_cast<std::size_t>(n) > buffer.size()) {
       counters_.bad_input("at_datagram_too_long", t, std::to_string(n) + " bytes");
@@ -249,10 +249,10 @@ void ArdroneEmulator::navdata_loop() {
   NavdataBuilder builder;
   Endpoint from;
   std::uint32_t sequence = 0;
-  Seconds next_send = clock_.now();
+  Seconds next_send = now();
   while (running_) {
     // Any datagram to port 5554 (the client's kick) sets where navdata goes.
-    const Seconds wait = std::max(0.0, next_send - clock_.now());
+    const Seconds wait = std::max(0.0, next_send - now());
     if (navdata_socket_.receive_from(buffer, from, wait) >= 0) {
       std::lock_guard lock(state_mutex_);
       if (!have_client_ || !(navdata_client_ == from)) {
@@ -264,7 +264,7 @@ void ArdroneEmulator::navdata_loop() {
       }
       continue;
     }
-    const Seconds t = clock_.now();
+    const Seconds t = now();
     if (t < next_send) continue;
     Endpoint to;
     double rate = 0;
@@ -314,9 +314,9 @@ void ArdroneEmulator::video_loop() {
     encoder = std::make_unique<H264Encoder>(es);  // a new client starts with an IDR
     std::uint32_t frame_number = 0;
     std::uint64_t position = 0;
-    Seconds next = clock_.now();
+    Seconds next = now();
     while (running_) {
-      const Seconds t = clock_.now();
+      const Seconds t = now();
       if (t < next) {
         sleep_for(next - t);
         continue;

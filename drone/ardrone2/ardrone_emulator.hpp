@@ -58,7 +58,11 @@ class ArdroneEmulator {
   // The bit rate the firmware streams at now (kbit/s), from the video:* keys received.
   int video_bitrate_kbps() const { return streaming_bitrate_kbps_.load(); }
   LinkStatistics statistics() const { return counters_.snapshot(); }
-  Seconds now() const { return clock_.now(); }
+  // The vehicle's time: an emulator started over a vehicle that has already run (a restart on the
+  // same ports) continues from vehicle.now(); a clock from 0 would stand the physics still until it
+  // caught up (the vehicle's time is monotonic). Tested in "link: an emulator restarted over the
+  // same vehicle continues its time".
+  Seconds now() const { return time_origin_ + clock_.now(); }
   // Runs f(vehicle) under the lock the emulator's threads hold while they drive the vehicle, so
   // another thread (the server showing the simulated lab's ground truth) can read it safely. f must
   // be short: navdata and video wait for it.
@@ -80,6 +84,7 @@ class ArdroneEmulator {
   EmulatedVehicle& vehicle_;
   ArdroneEmulatorSettings settings_;
   Logger logger_;
+  Seconds time_origin_ = 0;
   SteadyClock clock_;
   ardrone2::LinkCounters counters_;
   ardrone2::Socket at_socket_, navdata_socket_, video_listener_;

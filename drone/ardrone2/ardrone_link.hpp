@@ -18,6 +18,7 @@
 #include "drone/ardrone2/socket.hpp"
 #include "drone/ardrone2/video_bitrate.hpp"
 #include "drone/drone_link.hpp"
+#include "drone/link_status.hpp"
 #include "drone/replay/recording.hpp"
 
 namespace labo {
@@ -58,6 +59,8 @@ class ArdroneLink final : public DroneLink {
   // Starts the threads (the link then goes Connecting). Throws when sockets cannot be opened.
   void start();
   void stop();
+  // The local UDP port navdata arrives on (after start(); the drone streams to whoever kicks it).
+  int navdata_local_port() const { return navdata_socket_.local_port(); }
 
   void set_listener(DroneLinkListener* listener) override;
   void takeoff() override;
@@ -72,6 +75,9 @@ class ArdroneLink final : public DroneLink {
   // AR.Drone-specific: AT*CALIB for the magnetometer (only honoured in flight).
   void calibrate_magnetometer();
   LinkStatistics statistics() const override;
+  // The recording's bytes so far (RecordingWriter::bytes_written; 0 without link.recording). After
+  // stop() the file is flushed and holds exactly this many.
+  std::uint64_t recorded_bytes() const { return recorder_ ? recorder_->bytes_written() : 0; }
 
  private:
   void control_loop();
@@ -91,6 +97,7 @@ class ArdroneLink final : public DroneLink {
   SteadyClock own_clock_;
   const Clock* clock_;
   ardrone2::LinkCounters counters_;
+  LinkStatus status_;
   std::unique_ptr<RecordingWriter> recorder_;
   ardrone2::Endpoint at_endpoint_, navdata_endpoint_, video_endpoint_;
   ardrone2::Socket at_socket_, navdata_socket_;
@@ -114,8 +121,6 @@ class ArdroneLink final : public DroneLink {
   std::atomic<bool> reset_video_{false};          // reopen the TCP connection
   std::atomic<bool> reset_video_decoder_{false};  // camera switched: wait for the next IDR
   std::atomic<CameraId> active_camera_{CameraId::Front};
-  mutable std::mutex state_mutex_;
-  LinkState state_ = LinkState::Disconnected;
 
   ardrone2::AtCommandEncoder encoder_;  // control thread only
   std::string at_buffer_;

@@ -1,7 +1,8 @@
 #pragma once
-// `labodrone navdata FILE` and `labodrone video FILE [--frames DIR]`: look inside a raw capture or a
-// flight recording with the driver's own parsers. Exit 0 on success, 2 on unreadable or invalid
-// input with a one-line reason on stderr.
+// `labodrone navdata FILE` and `labodrone video FILE [--frames DIR] [--protocol ardrone|tello]`: look
+// inside a raw capture or a flight recording with the driver's own parsers (a Tello's video with the
+// Tello link's, drone/tello/). Exit 0 on success, 2 on unreadable or invalid input with a one-line
+// reason on stderr.
 #include <string>
 
 #include "core/cli_args.hpp"

@@ -8,6 +8,7 @@
 #include "drone/ardrone2/inspect_commands.hpp"
 #include "drone/ardrone2/link_receiver.hpp"
 #include "drone/replay/replay_link.hpp"
+#include "drone/tello/tello_receivers.hpp"
 
 namespace labo {
 
@@ -47,8 +48,11 @@ std::uint64_t counter(const LinkStatistics& s, const std::string& kind) {
 const CommandSpec& video_command_spec() {
   static const CommandSpec spec{
       "video", "FILE",
-      "Demultiplex and decode AR.Drone video (a raw TCP 5555 capture or a recording); prints a JSON summary.",
-      {{"--frames", "DIR", "write each decoded frame as DIR/frame_NNNNNN.png"}},
+      "Demultiplex and decode drone video (a raw capture or a recording); prints a JSON summary.",
+      {{"--frames", "DIR", "write each decoded frame as DIR/frame_NNNNNN.png"},
+       {"--protocol", "ardrone|tello",
+        "a raw capture's format: AR.Drone PaVE from TCP 5555 (default) or a Tello's H.264 from UDP 11111, "
+        "the datagrams' bytes one after the other (a recording says which itself)"}},
       1, 1};
   return spec;
 }
@@ -70,6 +74,10 @@ int run_video_command(const ParsedArgs& args) {
     std::cerr << "labodrone video: " << file.string() << ": cannot read\n";
     return 2;
   }
+  const std::string protocol = args.value_or("--protocol", "ardrone");
+  if (protocol != "ardrone" && protocol != "tello")
+    throw UsageError("--protocol: '" + protocol + "' is not ardrone or tello");
+  const bool tello = protocol == "tello";
   Logger quiet("video", LogLevel::Off);
   LinkStatistics stats;
   std::string input_kind;
@@ -80,6 +88,16 @@ int run_video_command(const ParsedArgs& args) {
       replay.set_listener(&sink);
       replay.run_to_end();
       stats = replay.statistics();
+    } else if (tello) {
+      input_kind = "udp_capture";
+      LinkCounters counters(quiet);
+      tello::TelloVideoReceiver receiver(counters, [&sink](const VideoFrame& f) { sink.on_video(f); });
+      // Datagram boundaries are not in the file: full-size datagrams, the units ending at the next one.
+      std::vector<std::uint8_t> datagram(tello::kTelloVideoDatagramBytes);
+      while (in.read(reinterpret_cast<char*>(datagram.data()), static_cast<std::streamsize>(datagram.size())) || in.gcount() > 0) {
+        receiver.datagram(std::span(datagram.data(), static_cast<std::size_t>(in.gcount())), 0.0);
+      }
+      stats = counters.snapshot();
     } else {
       input_kind = "tcp_capture";
       LinkCounters counters(quiet);
@@ -97,7 +115,8 @@ int run_video_command(const ParsedArgs& args) {
   nlohmann::json errors = nlohmann::json::object();
   std::uint64_t error_total = 0;
   for (const auto& [kind, n] : stats.counters) {
-    const bool is_error = (kind.starts_with("pave_") && kind != "pave_junk_bytes") || kind == "h264_decode_error";
+    const bool is_error = ((kind.starts_with("pave_") || kind.starts_with("tello_video_")) && !kind.ends_with("_bytes")) ||
+                          kind == "h264_decode_error";
     if (is_error) {
       errors[kind] = n;
       error_total += n;
@@ -113,7 +132,7 @@ int run_video_command(const ParsedArgs& args) {
                          {"height", sink.height},
                          {"errors", error_total},
                          {"errors_by_kind", errors},
-                         {"junk_bytes", counter(stats, "pave_junk_bytes")}};
+                         {"junk_bytes", counter(stats, "pave_junk_bytes") + counter(stats, "tello_video_junk_bytes")}};
   if (!sink.dir.empty()) summary["frames_written"] = sink.written;
   std::cout << summary.dump() << "\n";
   if (!sink.write_error.empty()) {
@@ -121,7 +140,10 @@ int run_video_command(const ParsedArgs& args) {
     return 2;
   }
   if (counter(stats, "video_frames") == 0) {
-    std::cerr << "labodrone video: " << file.string() << ": no PaVE frame found\n";
+    std::cerr << "labodrone video: " << file.string()
+              << (input_kind == "udp_capture"   ? ": no H.264 access unit found\n"
+                  : input_kind == "tcp_capture" ? ": no PaVE frame found\n"
+                                                : ": no video frame in the recording\n");
     return 2;
   }
   if (counter(stats, "video_decoded") == 0) {

@@ -28,6 +28,7 @@ RecordingWriter::RecordingWriter(const std::filesystem::path& file) : out_(file,
   std::memcpy(header, kSignature, 8);
   put(header + 8, kVersion);
   out_.write(header, sizeof(header));
+  if (out_) bytes_written_ = sizeof(header);
 }
 
 void RecordingWriter::write(RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes) {
@@ -43,6 +44,7 @@ void RecordingWriter::write(RecordChannel channel, Seconds t, std::span<const st
     put(header + 12, static_cast<std::uint32_t>(part.size()));
     out_.write(header, sizeof(header));
     out_.write(reinterpret_cast<const char*>(part.data()), static_cast<std::streamsize>(part.size()));
+    if (out_) bytes_written_ += sizeof(header) + part.size();
     bytes = bytes.subspan(part.size());
   } while (!bytes.empty());
 }
@@ -54,6 +56,11 @@ void RecordingWriter::note(Seconds t, const std::string& text) {
 void RecordingWriter::flush() {
   std::lock_guard lock(mutex_);
   out_.flush();
+}
+
+std::uint64_t RecordingWriter::bytes_written() const {
+  std::lock_guard lock(mutex_);
+  return bytes_written_;
 }
 
 RecordingReader::RecordingReader(const std::filesystem::path& file) : in_(file, std::ios::binary), path_(file) {
@@ -97,6 +104,18 @@ bool RecordingReader::next(Record& record) {
   }
   ++index_;
   return true;
+}
+
+RecordedDrone recorded_drone(const std::filesystem::path& file) {
+  RecordingReader reader(file);
+  Record record;
+  while (reader.next(record)) {
+    if (record.channel == RecordChannel::Note) continue;
+    return static_cast<std::uint8_t>(record.channel) >= static_cast<std::uint8_t>(RecordChannel::TelloCommandOut)
+               ? RecordedDrone::Tello
+               : RecordedDrone::Ardrone;
+  }
+  return RecordedDrone::Unknown;
 }
 
 }  // namespace labo

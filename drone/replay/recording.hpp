@@ -56,10 +56,14 @@ class RecordingWriter {
   void write(RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes);
   void note(Seconds t, const std::string& text);
   void flush();
+  // The bytes the file holds once flushed (signature and records): what a check of a recording's
+  // completeness compares the file's size with. A write the stream refused is not counted.
+  std::uint64_t bytes_written() const;
 
  private:
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::ofstream out_;
+  std::uint64_t bytes_written_ = 0;
   std::filesystem::path path_;
 };
 
@@ -87,5 +91,11 @@ class RecordingReader {
   std::uint64_t index_ = 0;
   bool truncated_ = false;
 };
+
+// Which drone a recording's link spoke to: the first record of a protocol channel says (AT, navdata
+// or PaVE video: an AR.Drone; channels 6-9: a Tello); Unknown when it holds none. Throws
+// RecordingError as RecordingReader does.
+enum class RecordedDrone { Unknown, Ardrone, Tello };
+RecordedDrone recorded_drone(const std::filesystem::path& file);
 
 }  // namespace labo

@@ -3,15 +3,15 @@
 #include <limits>
 #include <string_view>
 
-#include "drone/tello/tello_wire.hpp"
+#include "drone/tello/tello_rc.hpp"
 
 namespace labo {
 
 ReplayLink::ReplayLink(const std::filesystem::path& recording, Logger logger)
     : logger_(std::move(logger)), counters_(logger_), reader_(recording) {
   navdata_ = std::make_unique<ardrone2::NavdataReceiver>(
-      counters_, [this](const NavdataSample& s, const ardrone2::NavdataPacket&) {
-        if (listener_) listener_->on_navdata(s);
+      counters_, [this](const NavdataSample& s, const ardrone2::NavdataPacket& p) {
+        if (listener_ && p.has(ardrone2::kTagDemo)) listener_->on_navdata(s);  // as ArdroneLink does
       });
   video_ = std::make_unique<ardrone2::VideoReceiver>(
       counters_, [this](const VideoFrame& f) {

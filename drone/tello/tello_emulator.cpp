@@ -20,6 +20,18 @@ namespace {
 constexpr Seconds kCommandPollS = 0.005;  // motion replies and the watchdog are checked this often
 void sleep_for(Seconds s) { std::this_thread::sleep_for(std::chrono::duration<double>(s)); }
 
+// A periodic loop's tick: true at or after `next` (then `next` moves one period on, never into the
+// past: an overloaded machine skips ticks rather than bursting); false after a short sleep before it.
+bool tick_due(const SteadyClock& clock, Seconds& next, Seconds period, Seconds& t) {
+  t = clock.now();
+  if (t < next) {
+    sleep_for(std::min(next - t, 0.05));
+    return false;
+  }
+  next = std::max(next + period, t);
+  return true;
+}
+
 std::span<const std::uint8_t> bytes_of(std::string_view text) {
   return {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()};
 }
@@ -142,14 +154,9 @@ void TelloEmulator::state_loop() {
   text.reserve(kMaxStateBytes);
   Endpoint state_to, video_to;
   const Seconds period = 1.0 / settings_.state_rate_hz;
-  Seconds next = clock_.now();
+  Seconds next = clock_.now(), t = 0;
   while (running_) {
-    const Seconds t = clock_.now();
-    if (t < next) {
-      sleep_for(std::min(next - t, 0.05));
-      continue;
-    }
-    next = std::max(next + period, t);
+    if (!tick_due(clock_, next, period, t)) continue;
     TelloState state;
     {
       std::lock_guard lock(vehicle_mutex_);
@@ -177,14 +184,9 @@ void TelloEmulator::video_loop() {
   cv::Mat image;
   Endpoint state_to, video_to;
   const Seconds period = 1.0 / settings_.video_fps;
-  Seconds next = clock_.now();
+  Seconds next = clock_.now(), t = 0;
   while (running_) {
-    const Seconds t = clock_.now();
-    if (t < next) {
-      sleep_for(std::min(next - t, 0.05));
-      continue;
-    }
-    next = std::max(next + period, t);
+    if (!tick_due(clock_, next, period, t)) continue;
     {
       std::lock_guard lock(vehicle_mutex_);
       if (!firmware_.streaming()) continue;

@@ -51,7 +51,7 @@ TelloLinkSettings read_tello_link_settings(const ConfigReader& c) {
 
 TelloLink::TelloLink(TelloLinkSettings settings, Logger logger, const Clock* clock)
     : settings_(std::move(settings)), logger_(std::move(logger)), clock_(clock ? clock : &own_clock_),
-      counters_(logger_),
+      counters_(logger_), status_(logger_, counters_),
       channel_(TelloCommandTiming{settings_.reply_timeout_s, settings_.motion_timeout_s, settings_.command_retries}) {
   datagram_.reserve(kMaxCommandBytes);
   state_receiver_ = std::make_unique<TelloStateReceiver>(counters_, [this](const NavdataSample& s, const TelloState&) {
@@ -164,10 +164,7 @@ bool TelloLink::send_command(const std::string& command) {
   return false;
 }
 
-LinkState TelloLink::state() const {
-  std::lock_guard lock(state_mutex_);
-  return state_;
-}
+LinkState TelloLink::state() const { return status_.state(); }
 
 LinkStatistics TelloLink::statistics() const { return counters_.snapshot(); }
 
@@ -183,24 +180,16 @@ void TelloLink::record(RecordChannel channel, Seconds t, std::span<const std::ui
 }
 
 void TelloLink::set_state(LinkState s, Seconds t) {
-  {
-    std::lock_guard lock(state_mutex_);
-    if (state_ == s) return;
-    state_ = s;
-  }
-  logger_.info(t, "link state").kv("state", to_string(s));
-  counters_.add("link_state_" + to_string(s));
-  if (recorder_) recorder_->note(t, std::string(kNoteLinkStatePrefix) + to_string(s));
-  std::lock_guard lock(listener_mutex_);
-  if (listener_) listener_->on_link_state(s, t);
+  status_.set(s, t, recorder_.get(), [this](LinkState state, Seconds when) {
+    std::lock_guard lock(listener_mutex_);
+    if (listener_) listener_->on_link_state(state, when);
+  });
 }
 
 // ---- control thread ----------------------------------------------------------------------------
 
 void TelloLink::control_loop() {
   Seconds next_sticks = clock_->now();
-  Seconds rate_t = clock_->now();
-  std::uint64_t last_packets = 0, last_frames = 0;
   while (running_) {
     Seconds t = clock_->now();
     supervise(t);
@@ -209,14 +198,7 @@ void TelloLink::control_loop() {
       send_sticks(t);
       next_sticks = std::max(next_sticks + settings_.rc_interval_s, t);
     }
-    if (t - rate_t >= 1.0) {
-      const auto packets = counters_.get("state_packets"), frames = counters_.get("video_decoded");
-      counters_.set_rates(static_cast<double>(packets - last_packets) / (t - rate_t),
-                          static_cast<double>(frames - last_frames) / (t - rate_t));
-      last_packets = packets;
-      last_frames = frames;
-      rate_t = t;
-    }
+    status_.update_rates(t, "state_packets");
     t = clock_->now();
     receive_replies(std::clamp(next_sticks - t, 0.0, kMaxReplyWaitS));
   }
@@ -326,14 +308,7 @@ void TelloLink::finish(const CommandOutcome& o, Seconds t) {
 }
 
 void TelloLink::supervise(Seconds t) {
-  const Seconds last = last_state_t_.load();
-  LinkState s = LinkState::Connecting;
-  if (last >= 0) {
-    const Seconds silent = t - last;
-    s = silent > settings_.lost_after_s ? LinkState::Lost
-        : silent > settings_.degraded_after_s ? LinkState::Degraded
-                                              : LinkState::Connected;
-  }
+  const LinkState s = state_after_silence(last_state_t_.load(), t, settings_.degraded_after_s, settings_.lost_after_s);
   if (s == LinkState::Lost && state() != LinkState::Lost) {
     // The drone went silent: enter SDK mode again (and restart the video) once it answers. A Tello
     // that stays without commands for 15 s lands by itself meanwhile.

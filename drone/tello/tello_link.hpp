@@ -22,6 +22,7 @@
 #include "drone/ardrone2/link_counters.hpp"
 #include "drone/ardrone2/socket.hpp"
 #include "drone/drone_link.hpp"
+#include "drone/link_status.hpp"
 #include "drone/replay/recording.hpp"
 #include "drone/tello/tello_command.hpp"
 #include "drone/tello/tello_receivers.hpp"
@@ -103,6 +104,7 @@ class TelloLink final : public DroneLink {
   SteadyClock own_clock_;
   const Clock* clock_;
   ardrone2::LinkCounters counters_;
+  LinkStatus status_;
   RateLimiter refusals_{1.0};  // what the Tello cannot do, logged at most once a second per kind
   std::unique_ptr<RecordingWriter> recorder_;
   ardrone2::Endpoint command_endpoint_;
@@ -121,8 +123,6 @@ class TelloLink final : public DroneLink {
   std::mutex session_mutex_;
   std::atomic<double> last_state_t_{-1.0};
   std::atomic<bool> reset_video_{false};
-  mutable std::mutex state_mutex_;
-  LinkState state_ = LinkState::Disconnected;
 
   std::string datagram_;  // control thread only: the text being sent
   std::atomic<bool> running_{false};

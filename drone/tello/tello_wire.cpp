@@ -1,10 +1,7 @@
 #include "drone/tello/tello_wire.hpp"
 
 #include <algorithm>
-#include <array>
-#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 
 namespace labo::tello {
@@ -13,11 +10,6 @@ namespace {
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 constexpr double kG = 9.80665;
 constexpr double kStandardPressurePa = 101325.0;
-
-bool parse_stick(std::string_view text, int& value) {
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  return !text.empty() && ec == std::errc() && end == text.data() + text.size() && std::abs(value) <= kMaxStick;
-}
 
 int stick(double v, int limit) {
   return static_cast<int>(std::lround(std::clamp(v, -1.0, 1.0) * limit));
@@ -47,24 +39,6 @@ MoveCommand move_from_rc(const RcSticks& s) {
   return MoveCommand{unit(s.a), unit(s.b), unit(s.c), -unit(s.d)};
 }
 
-void format_rc(const RcSticks& s, std::string& out) {
-  char buf[48];
-  const int n = std::snprintf(buf, sizeof(buf), "rc %d %d %d %d", s.a, s.b, s.c, s.d);
-  out.assign(buf, static_cast<std::size_t>(n));
-}
-
-bool parse_rc_arguments(std::string_view text, RcSticks& sticks) {
-  std::array<int*, 4> values = {&sticks.a, &sticks.b, &sticks.c, &sticks.d};
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    while (text.starts_with(' ')) text.remove_prefix(1);
-    const std::size_t space = text.find(' ');
-    if (!parse_stick(text.substr(0, space), *values[i])) return false;
-    text = space == std::string_view::npos ? std::string_view() : text.substr(space);
-  }
-  while (text.starts_with(' ')) text.remove_prefix(1);
-  return text.empty();
-}
-
 void sample_from_state(const TelloState& s, Seconds t, std::uint32_t sequence, int control_state,
                        NavdataSample& out) {
   out.t = t;
@@ -73,12 +47,13 @@ void sample_from_state(const TelloState& s, Seconds t, std::uint32_t sequence, i
   out.control_state = control_state;
   out.battery_percent = s.bat_percent;
   out.roll_rad = s.roll_deg / kDegPerRad;
-  out.pitch_rad = -s.pitch_deg / kDegPerRad;  // nose up -> nose down
-  out.yaw_rad = -s.yaw_deg / kDegPerRad;      // clockwise -> counter-clockwise
+  // Negations written as 0 - x: a zero stays +0 (printed as 0, not -0, by `labodrone tello-state`).
+  out.pitch_rad = 0.0 - s.pitch_deg / kDegPerRad;  // nose up -> nose down
+  out.yaw_rad = 0.0 - s.yaw_deg / kDegPerRad;      // clockwise -> counter-clockwise
   out.altitude_m = (s.tof_cm <= kTofMaxCm ? s.tof_cm : s.h_cm) * 0.01;
   out.vx_mps = s.vgx_dmps * 0.1;
-  out.vy_mps = -s.vgy_dmps * 0.1;  // right -> left
-  out.vz_mps = -s.vgz_dmps * 0.1;  // down -> up
+  out.vy_mps = 0.0 - s.vgy_dmps * 0.1;  // right -> left
+  out.vz_mps = 0.0 - s.vgz_dmps * 0.1;  // down -> up
   out.has_drone_time = false;
   out.drone_time = 0;
 }

@@ -5,36 +5,18 @@
 // vgx forward, vgy right, vgz down in dm/s; ag* in 0.001 g on the same axes; tof, h in cm.
 // LaboDrone (drone/drone_link.hpp): roll > 0 right, pitch > 0 nose down (forward), gaz > 0 up,
 // yaw_rate > 0 counter-clockwise; body x forward, y left, z up; SI units.
-#include <string>
-#include <string_view>
-
 #include "drone/drone_link.hpp"
 #include "drone/emulated_vehicle.hpp"
+#include "drone/tello/tello_rc.hpp"
 #include "drone/tello/tello_state.hpp"
 
 namespace labo::tello {
-
-// The four sticks of "rc a b c d".
-struct RcSticks {
-  int a = 0;  // left/right
-  int b = 0;  // backward/forward
-  int c = 0;  // down/up
-  int d = 0;  // yaw: counter-clockwise/clockwise
-  bool centred() const { return a == 0 && b == 0 && c == 0 && d == 0; }
-  bool operator==(const RcSticks&) const = default;
-};
-
-inline constexpr int kMaxStick = 100;
 
 // Each MoveCommand value in [-1, 1] times `limit_percent` (1-100), rounded; values outside [-1, 1]
 // are clipped, non-finite ones give centred sticks (a hover).
 RcSticks rc_from_move(const MoveCommand& command, int limit_percent = kMaxStick);
 // The inverse for the emulator: sticks / 100, clipped to [-1, 1].
 MoveCommand move_from_rc(const RcSticks& sticks);
-// "rc a b c d" into `out` (its capacity reused).
-void format_rc(const RcSticks& sticks, std::string& out);
-// The four integers after "rc ", each in [-100, 100]; false for anything else.
-bool parse_rc_arguments(std::string_view arguments, RcSticks& sticks);
 
 // A ToF reading beyond this is out of the sensor's range: the sample's altitude is then h (docs/tello.md).
 inline constexpr double kTofMaxCm = 1000.0;

@@ -1,6 +1,7 @@
 #pragma once
-// `--drone sim|ardrone[:HOST]|replay:FILE`: which DroneLink the runtime flies, and everything it
-// needs alive (the emulator and simulated lab for sim, the flight software, the runtime's threads).
+// `--drone sim|ardrone[:HOST]|tello[:HOST]|replay:FILE`: which DroneLink the runtime flies, and
+// everything it needs alive (the emulator and simulated lab for sim, the flight software, the
+// runtime's threads).
 #include <memory>
 #include <string>
 
@@ -11,9 +12,9 @@
 namespace labo {
 
 struct DroneSpec {
-  enum class Kind { Sim, Ardrone, Replay };
+  enum class Kind { Sim, Ardrone, Tello, Replay };
   Kind kind = Kind::Sim;
-  std::string host = "192.168.1.1";  // ardrone
+  std::string host = "192.168.1.1";  // ardrone (tello: 192.168.10.1)
   std::string file;                  // replay
 };
 

@@ -316,8 +316,8 @@ TEST_CASE("navdata path: a Tello state string through TelloStateReceiver into th
 }
 
 TEST_CASE("video path: Tello datagrams into access units allocate nothing") {
-  // Per UDP 11111 datagram: the Annex-B reassembly. (The H.264 decoding after it is libavcodec's:
-  // the packet copy it makes of a buffer it does not own, its frame pool.)
+  // Per UDP 11111 datagram: the Annex-B reassembly. (The H.264 decoding after it is libavcodec's,
+  // not counted here, as on the AR.Drone path.)
   ardrone2::H264Encoder encoder({.width = 320, .height = 240, .fps = 30, .gop = 15, .bitrate_kbps = 2000});
   cv::Mat image(240, 320, CV_8UC3);
   ardrone2::EncodedFrame frame;

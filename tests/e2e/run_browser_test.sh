@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Runs a browser test: installs Debian's chromium and the npm package when missing, starts the
 # server on a free port, drives it with the test script, stops the server.
-# Usage: run_browser_test.sh SERVER_BINARY OUT_DIR [student_flow|video_paths]
+# Usage: run_browser_test.sh SERVER_BINARY OUT_DIR [student_flow|video_paths] [sim|tello]
 #   SERVER_BINARY labo_e2e_server: the web layer over test doubles (a test card, a scripted mission);
 #   SERVER_BINARY labodrone: `labodrone serve`, i.e. the simulated lab on loopback with the real
-#   driver, flight stack and vision, as `make run` starts it.
+#   driver, flight stack and vision, as `make run` starts it; with `tello`, `labodrone emulate
+#   --protocol tello` (the simulated lab as a Tello on the SDK's fixed ports of 127.0.0.1) flown by
+#   `labodrone serve --drone tello:127.0.0.1`.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
-server="$1"; out="$2"; script="${3:-student_flow}"
+server="$1"; out="$2"; script="${3:-student_flow}"; drone="${4:-sim}"
 mkdir -p "$out"
 if ! command -v chromium >/dev/null; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
@@ -17,13 +19,18 @@ if [ ! -d "$here/node_modules/playwright-core" ]; then
   (cd "$here" && npm install --no-audit --no-fund --silent)
 fi
 port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
-if [ "$(basename "$server")" = labodrone ]; then
+emulator=""
+if [ "$drone" = tello ]; then
+  "$server" emulate --protocol tello > "$out/emulator.log" 2>&1 &
+  emulator=$!
+  "$server" serve --port "$port" --drone tello:127.0.0.1 > "$out/server.log" 2>&1 &
+elif [ "$(basename "$server")" = labodrone ]; then
   "$server" serve --port "$port" > "$out/server.log" 2>&1 &
 else
   "$server" "$port" 1.5 30 > "$out/server.log" 2>&1 &
 fi
 pid=$!
-trap 'kill -TERM $pid 2>/dev/null; wait $pid 2>/dev/null || true' EXIT
+trap 'kill -TERM $pid $emulator 2>/dev/null; wait $pid $emulator 2>/dev/null || true' EXIT
 for _ in $(seq 300); do  # the simulated lab loads the teacher's face first
   curl -sf "http://127.0.0.1:$port/api/health" >/dev/null && break
   sleep 0.1

@@ -28,4 +28,7 @@ TEST_CASE("link: fuzz regression corpus replays clean", "[link][fuzz]") {
   CHECK(replay_corpus("navdata", labo::fuzz::navdata_target) >= 3);
   CHECK(replay_corpus("pave", labo::fuzz::pave_target) >= 2);
   CHECK(replay_corpus("at", labo::fuzz::at_target) >= 2);
+  CHECK(replay_corpus("tello_state", labo::fuzz::tello_state_target) >= 2);
+  CHECK(replay_corpus("tello_video", labo::fuzz::tello_video_target) >= 1);
+  CHECK(replay_corpus("tello_reply", labo::fuzz::tello_reply_target) >= 1);
 }

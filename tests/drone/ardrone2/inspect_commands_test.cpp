@@ -7,28 +7,14 @@
 
 #include "drone/ardrone2/inspect_commands.hpp"
 #include "tests/drone/ardrone2/fixtures.hpp"
+#include "tests/support/cli_run.hpp"
 
 using namespace labo;
 
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-CliRun run(int (*fn)(const ParsedArgs&), const CommandSpec& spec, std::vector<std::string> argv) {
-  std::ostringstream out, err;
-  auto* old_out = std::cout.rdbuf(out.rdbuf());
-  auto* old_err = std::cerr.rdbuf(err.rdbuf());
-  CliRun r;
-  r.code = fn(parse_args(spec, argv));
-  std::cout.rdbuf(old_out);
-  std::cerr.rdbuf(old_err);
-  r.out = out.str();
-  r.err = err.str();
-  return r;
-}
+using test::CliRun;
+constexpr auto run = &test::run_command;
 
 CliRun navdata(const std::filesystem::path& f) { return run(run_navdata_command, navdata_command_spec(), {f.string()}); }
 

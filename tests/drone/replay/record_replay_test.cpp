@@ -15,29 +15,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include "tests/drone/ardrone2/tiny_vehicle.hpp"
+#include "tests/drone/link_events.hpp"
 
 using namespace labo;
 
 namespace {
 
-struct Events : DroneLinkListener {
-  std::mutex m;
-  std::vector<NavdataSample> navdata;
-  std::vector<VideoFrame> frames;
-  std::vector<std::pair<LinkState, Seconds>> states;
-  void on_navdata(const NavdataSample& s) override {
-    std::lock_guard l(m);
-    navdata.push_back(s);
-  }
-  void on_video(const VideoFrame& f) override {
-    std::lock_guard l(m);
-    frames.push_back(f);  // keeps a reference: the receiver must then not reuse the buffer
-  }
-  void on_link_state(LinkState s, Seconds t) override {
-    std::lock_guard l(m);
-    states.emplace_back(s, t);
-  }
-};
+using Events = test::LinkEvents;
 
 bool same(const NavdataSample& a, const NavdataSample& b) {
   return a.t == b.t && a.sequence == b.sequence && a.state == b.state && a.control_state == b.control_state &&
@@ -54,7 +38,7 @@ std::filesystem::path temp_file(const std::string& name) {
 
 TEST_CASE("link: record then replay yields identical events", "[link][replay]") {
   const auto file = temp_file("labo_record_replay");
-  Events live;
+  Events live(true);  // the pixels kept by reference: the receiver must then not reuse its buffer
   {
     test::TinyVehicle vehicle;
     ArdroneEmulatorSettings es;
@@ -77,11 +61,14 @@ TEST_CASE("link: record then replay yields identical events", "[link][replay]") 
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     link.stop();
     emulator.stop();
+    // Every byte the writer reported is on disk once the link has stopped.
+    CHECK(link.recorded_bytes() > 1000);
+    CHECK(std::filesystem::file_size(file) == link.recorded_bytes());
   }
   REQUIRE(live.navdata.size() > 10);
   REQUIRE(live.frames.size() > 10);
 
-  Events replayed;
+  Events replayed(true);
   ReplayLink replay(file, Logger("test", LogLevel::Off));
   replay.set_listener(&replayed);
   replay.run_to_end();
@@ -97,11 +84,11 @@ TEST_CASE("link: record then replay yields identical events", "[link][replay]") 
   for (std::size_t i = 0; i < live.frames.size(); ++i) {
     INFO("frame " << i);
     CHECK(replayed.frames[i].t == live.frames[i].t);
-    CHECK(replayed.frames[i].frame_number == live.frames[i].frame_number);
+    CHECK(replayed.frames[i].number == live.frames[i].number);
     CHECK(replayed.frames[i].camera == live.frames[i].camera);
     saw_bottom = saw_bottom || live.frames[i].camera == CameraId::Bottom;
-    REQUIRE(replayed.frames[i].bgr.size() == live.frames[i].bgr.size());
-    CHECK(cv::norm(replayed.frames[i].bgr, live.frames[i].bgr, cv::NORM_INF) == 0.0);
+    REQUIRE(replayed.pixels[i].size() == live.pixels[i].size());
+    CHECK(cv::norm(replayed.pixels[i], live.pixels[i], cv::NORM_INF) == 0.0);
   }
   CHECK(saw_bottom);
   CHECK(replayed.states == live.states);

@@ -13,41 +13,14 @@
 #include "drone/tello/tello_emulator.hpp"
 #include "drone/tello/tello_link.hpp"
 #include "tests/drone/ardrone2/tiny_vehicle.hpp"
+#include "tests/drone/link_events.hpp"
 #include "tests/drone/sim/loopback_support.hpp"
 
 using namespace labo;
 
 namespace {
 
-struct Recorder : DroneLinkListener {
-  std::mutex m;
-  std::vector<NavdataSample> navdata;
-  std::vector<LinkState> states;
-  VideoFrame last_frame;
-  int frames = 0;
-  void on_navdata(const NavdataSample& s) override {
-    std::lock_guard l(m);
-    navdata.push_back(s);
-  }
-  void on_video(const VideoFrame& f) override {
-    std::lock_guard l(m);
-    last_frame = f;
-    last_frame.bgr = f.bgr.clone();
-    ++frames;
-  }
-  void on_link_state(LinkState s, Seconds) override {
-    std::lock_guard l(m);
-    states.push_back(s);
-  }
-  NavdataSample last() {
-    std::lock_guard l(m);
-    return navdata.empty() ? NavdataSample{} : navdata.back();
-  }
-  int frame_count() {
-    std::lock_guard l(m);
-    return frames;
-  }
-};
+using Recorder = test::LinkEvents;
 
 Logger quiet() { return Logger("test", LogLevel::Off); }
 
@@ -79,27 +52,36 @@ void connect(TelloLink& link, TelloEmulator& emulator) {
   link.start();
 }
 
+// A tiny vehicle behind the emulator, and the link connected to it.
+struct Flight {
+  test::TinyVehicle vehicle;
+  TelloEmulator emulator{vehicle, emulator_settings(), quiet()};
+  Recorder rec;  // before the link: it outlives the link's last event
+  std::unique_ptr<TelloLink> link;
+  Flight() {
+    emulator.start();
+    link = std::make_unique<TelloLink>(link_settings(emulator), quiet());
+    link->set_listener(&rec);
+    connect(*link, emulator);
+  }
+};
+
 }  // namespace
 
 TEST_CASE("tello: the link takes off, flies, streams and lands a vehicle through the emulator", "[tello][loopback]") {
-  test::TinyVehicle vehicle;
-  TelloEmulator emulator(vehicle, emulator_settings(), quiet());
-  emulator.start();
-  TelloLink link(link_settings(emulator), quiet());
-  Recorder rec;
-  link.set_listener(&rec);
-  connect(link, emulator);
-
+  Flight f;
+  auto& [vehicle, emulator, rec, link_ptr] = f;
+  TelloLink& link = *link_ptr;
   REQUIRE(test::eventually([&] { return link.state() == LinkState::Connected; }, 5.0));
   CHECK(rec.last().battery_percent == Approx(80));
   CHECK(rec.last().control_state == 2);
   REQUIRE(test::eventually([&] { return rec.frame_count() >= 5; }, 10.0));
   {
     std::lock_guard l(rec.m);
-    CHECK(rec.last_frame.bgr.cols == 480);
-    CHECK(rec.last_frame.bgr.rows == 360);
-    CHECK(rec.last_frame.camera == CameraId::Front);
-    CHECK(cv::mean(rec.last_frame.bgr)[2] > 150);  // the tiny vehicle's front view is red
+    CHECK(rec.frames.back().width == 480);
+    CHECK(rec.frames.back().height == 360);
+    CHECK(rec.frames.back().camera == CameraId::Front);
+    CHECK(cv::mean(rec.last_pixels)[2] > 150);  // the tiny vehicle's front view is red
   }
 
   link.flat_trim();  // not in the SDK: counted, nothing sent
@@ -122,12 +104,9 @@ TEST_CASE("tello: the link takes off, flies, streams and lands a vehicle through
 
   // No bottom camera in SDK mode: refused in the open, frames stay front.
   link.select_camera(CameraId::Bottom);
-  const int frames_before = rec.frame_count();
+  const std::size_t frames_before = rec.frame_count();
   REQUIRE(test::eventually([&] { return rec.frame_count() > frames_before + 3; }, 5.0));
-  {
-    std::lock_guard l(rec.m);
-    CHECK(rec.last_frame.camera == CameraId::Front);
-  }
+  CHECK(rec.last_frame().camera == CameraId::Front);
   CHECK_THROWS_WITH(link.set_config("video:video_channel", "1"), Catch::Contains("'speed'"));
   link.set_config("speed", "50");
 
@@ -146,8 +125,8 @@ TEST_CASE("tello: the link takes off, flies, streams and lands a vehicle through
   link.stop();
   emulator.stop();
   std::lock_guard l(rec.m);
-  CHECK(rec.states.front() == LinkState::Connecting);
-  CHECK(rec.states.back() == LinkState::Disconnected);
+  CHECK(rec.states.front().first == LinkState::Connecting);
+  CHECK(rec.states.back().first == LinkState::Disconnected);
 }
 
 TEST_CASE("tello: supervision marks the link degraded, lost, and enters SDK mode again", "[tello][loopback]") {
@@ -171,10 +150,7 @@ TEST_CASE("tello: supervision marks the link degraded, lost, and enters SDK mode
   es.client_video_port = link.video_port();
   emulator.reset();
   REQUIRE(test::eventually([&] { return link.state() == LinkState::Lost; }, 5.0));
-  {
-    std::lock_guard l(rec.m);
-    CHECK(std::find(rec.states.begin(), rec.states.end(), LinkState::Degraded) != rec.states.end());
-  }
+  CHECK(rec.saw(LinkState::Degraded));
   // ...and comes back, fresh from a reboot (outside SDK mode): the link knocks with "command" again.
   emulator = std::make_unique<TelloEmulator>(vehicle, es, quiet());
   emulator->start();
@@ -234,13 +210,9 @@ TEST_CASE("tello: the emulated drone answers as a Tello and lands by itself afte
 }
 
 TEST_CASE("tello: junk on the state and video ports is counted, never fatal", "[tello][loopback]") {
-  test::TinyVehicle vehicle;
-  TelloEmulator emulator(vehicle, emulator_settings(), quiet());
-  emulator.start();
-  TelloLink link(link_settings(emulator), quiet());
-  Recorder rec;
-  link.set_listener(&rec);
-  connect(link, emulator);
+  Flight f;
+  TelloLink& link = *f.link;
+  Recorder& rec = f.rec;
   REQUIRE(test::eventually([&] { return link.state() == LinkState::Connected && rec.frame_count() > 2; }, 10.0));
 
   ardrone2::Socket junk = ardrone2::Socket::udp(0, "127.0.0.1");
@@ -256,7 +228,7 @@ TEST_CASE("tello: junk on the state and video ports is counted, never fatal", "[
     const auto s = link.statistics();
     return count(s, "tello_state_bad_number") == 20;
   }, 5.0));
-  const int frames = rec.frame_count();
+  const std::size_t frames = rec.frame_count();
   REQUIRE(test::eventually([&] { return rec.frame_count() > frames + 5; }, 5.0));  // the video goes on
   CHECK(link.state() == LinkState::Connected);
   const auto s = link.statistics();

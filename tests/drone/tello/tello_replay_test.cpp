@@ -12,32 +12,14 @@
 #include "drone/tello/tello_emulator.hpp"
 #include "drone/tello/tello_link.hpp"
 #include "tests/drone/ardrone2/tiny_vehicle.hpp"
+#include "tests/drone/link_events.hpp"
 #include "tests/drone/sim/loopback_support.hpp"
 
 using namespace labo;
 
 namespace {
 
-struct Events : DroneLinkListener {
-  std::mutex m;
-  std::vector<NavdataSample> navdata;
-  std::vector<VideoFrame> frames;
-  std::vector<std::pair<LinkState, Seconds>> states;
-  void on_navdata(const NavdataSample& s) override {
-    std::lock_guard l(m);
-    navdata.push_back(s);
-  }
-  void on_video(const VideoFrame& f) override {
-    std::lock_guard l(m);
-    VideoFrame copy = f;
-    copy.bgr = f.bgr.clone();
-    frames.push_back(copy);
-  }
-  void on_link_state(LinkState s, Seconds t) override {
-    std::lock_guard l(m);
-    states.emplace_back(s, t);
-  }
-};
+using Events = test::LinkEvents;
 
 std::filesystem::path temp_file(const std::string& name) {
   return std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()) + ".laborec");
@@ -66,7 +48,7 @@ std::string state_at(int motors_s) {
 
 TEST_CASE("tello: a recorded flight replays with the same events", "[tello][replay]") {
   const auto file = temp_file("labo_tello_replay");
-  Events live;
+  Events live(true);
   {
     test::TinyVehicle vehicle;
     TelloEmulatorSettings es;
@@ -98,7 +80,7 @@ TEST_CASE("tello: a recorded flight replays with the same events", "[tello][repl
   REQUIRE(live.navdata.size() > 10);
   REQUIRE(live.frames.size() > 10);
 
-  Events replayed;
+  Events replayed(true);
   ReplayLink replay(file, Logger("test", LogLevel::Off));
   replay.set_listener(&replayed);
   replay.run_to_end();
@@ -121,10 +103,27 @@ TEST_CASE("tello: a recorded flight replays with the same events", "[tello][repl
   for (std::size_t i = 0; i < live.frames.size(); ++i) {
     INFO("frame " << i);
     CHECK(replayed.frames[i].t == live.frames[i].t);
-    CHECK(replayed.frames[i].frame_number == live.frames[i].frame_number);
-    CHECK(cv::norm(replayed.frames[i].bgr, live.frames[i].bgr, cv::NORM_INF) == 0.0);
+    CHECK(replayed.frames[i].number == live.frames[i].number);
+    CHECK(cv::norm(replayed.pixels[i], live.pixels[i], cv::NORM_INF) == 0.0);
   }
   CHECK(replayed.states == live.states);
+  CHECK(recorded_drone(file) == RecordedDrone::Tello);  // serve --drone replay: sees it through the Tello's camera
+  std::filesystem::remove(file);
+}
+
+TEST_CASE("tello: a recording says which drone it holds", "[tello][replay]") {
+  const auto file = temp_file("labo_which_drone");
+  {
+    RecordingWriter w(file);
+    w.note(0.0, "link_state connecting");
+  }
+  CHECK(recorded_drone(file) == RecordedDrone::Unknown);
+  {
+    RecordingWriter w(file);
+    w.note(0.0, "link_state connecting");
+    write_text(w, RecordChannel::NavdataOut, 0.1, std::string("\x01\0\0\0", 4));
+  }
+  CHECK(recorded_drone(file) == RecordedDrone::Ardrone);
   std::filesystem::remove(file);
 }
 
@@ -157,6 +156,7 @@ TEST_CASE("tello: a recording's replies to nothing and malformed states are coun
   // landed; taking off; the take-off timed out but the motors' time grew: hovering; sticks off centre: flying
   CHECK(phases == std::vector<int>{2, 6, 6, 6, 4, 3});
   const auto stats = replay.statistics();
+  CHECK(recorded_drone(file) == RecordedDrone::Tello);
   CHECK(count(stats, "tello_reply_unsolicited") == 1);
   CHECK(count(stats, "tello_state_missing_field") == 1);
   CHECK(count(stats, "tello_reply_not_text") == 1);

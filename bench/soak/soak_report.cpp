@@ -1,0 +1,162 @@
+#include "bench/soak/soak_report.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace labo {
+
+namespace {
+
+int count_kind(const SoakSummary& s, const std::string& kind) {
+  return static_cast<int>(std::count_if(s.faults.begin(), s.faults.end(), [&](const FaultRecord& f) { return f.kind == kind; }));
+}
+
+std::string format(const char* fmt, double a, double b = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, a, b);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<std::string> service_failures(const SoakSummary& s, const SoakLimits& limits) {
+  std::vector<std::string> f;
+  if (s.health_probes == 0 || s.health_failures > 0)
+    f.push_back(std::to_string(s.health_failures) + " of " + std::to_string(s.health_probes) +
+                " health probes unanswered: the server did not stay up");
+  if (s.http_5xx > 0) f.push_back(std::to_string(s.http_5xx) + " HTTP 5xx answers");
+  if (count_kind(s, "link_cut") < limits.link_cuts)
+    f.push_back("link cuts applied: " + std::to_string(count_kind(s, "link_cut")) + ", expected " + std::to_string(limits.link_cuts));
+  if (count_kind(s, "emulator_restart") < limits.emulator_restarts)
+    f.push_back("emulator restarts applied: " + std::to_string(count_kind(s, "emulator_restart")) + ", expected " +
+                std::to_string(limits.emulator_restarts));
+  if (count_kind(s, "low_battery") < limits.low_battery)
+    f.push_back("low-battery flights: " + std::to_string(count_kind(s, "low_battery")) + ", expected " +
+                std::to_string(limits.low_battery));
+  if (s.missions_accepted == 0) f.push_back("no mission was accepted");
+  if (s.frames_received == 0) f.push_back("no client received a frame");
+  if (s.recording_reported_bytes == 0 || s.recording_file_bytes != s.recording_reported_bytes)
+    f.push_back("recording: " + std::to_string(s.recording_file_bytes) + " bytes on disk, the writer reported " +
+                std::to_string(s.recording_reported_bytes));
+  if (!s.replay_to_end) f.push_back("recording: the replay did not read it to its end (" + s.replay_error + ")");
+  if (s.rss_samples < 2 || s.rss_growth_percent > limits.rss_growth_percent)
+    f.push_back(format("memory grew %.1f %% after warm-up (limit %.1f %%)", s.rss_growth_percent, limits.rss_growth_percent));
+  return f;
+}
+
+std::vector<std::string> flight_failures(const SoakSummary& s, const SoakLimits& limits) {
+  std::vector<std::string> f;
+  for (const auto& fault : s.faults) {
+    if (fault.after != "landed" && fault.after.rfind("mission ", 0) != 0)
+      f.push_back(fault.kind + format(" at %.0f s: the drone was ", fault.at_s) + fault.after + " once it was over");
+    if (fault.kind == "low_battery" && fault.after != "landed")
+      f.push_back(format("low battery at %.0f s: the drone did not land", fault.at_s));
+    if (fault.kind == "low_battery" && fault.detail.find("battery") == std::string::npos)
+      f.push_back(format("low battery at %.0f s: the mission did not end for the battery", fault.at_s) + " (" +
+                  fault.detail + ")");
+  }
+  if (s.longest_unmanaged_flight_s > limits.unmanaged_flight_s)
+    f.push_back(format("the drone flew %.1f s without a mission (limit %.1f s)", s.longest_unmanaged_flight_s,
+                       limits.unmanaged_flight_s));
+  if (!s.ended_landed) f.push_back("the drone was not landed at the end");
+  if (s.crashes > 0) f.push_back(std::to_string(s.crashes) + " crashes in the simulated lab");
+  return f;
+}
+
+std::vector<std::string> soak_failures(const SoakSummary& s, const SoakLimits& limits) {
+  std::vector<std::string> f = service_failures(s, limits);
+  for (auto& g : flight_failures(s, limits)) f.push_back(std::move(g));
+  return f;
+}
+
+nlohmann::json to_json(const SoakSummary& s, const std::vector<std::string>& failures) {
+  nlohmann::json faults = nlohmann::json::array();
+  for (const auto& f : s.faults)
+    faults.push_back({{"kind", f.kind}, {"at_s", f.at_s}, {"duration_s", f.duration_s}, {"airborne", f.airborne},
+                      {"after", f.after}, {"detail", f.detail}});
+  const auto pct = [](const Percentiles& p) {
+    return nlohmann::json{{"count", p.count}, {"median", p.median}, {"p95", p.p95}, {"p99", p.p99}, {"max", p.max}};
+  };
+  return {{"experiment", "sim soak"},
+          {"passed", failures.empty()},
+          {"failures", failures},
+          {"duration_s", s.duration_s},
+          {"server", {{"health_probes", s.health_probes}, {"health_failures", s.health_failures}, {"http_5xx", s.http_5xx}}},
+          {"drone",
+           {{"faults", faults},
+            {"longest_unmanaged_flight_s", s.longest_unmanaged_flight_s},
+            {"ended_landed", s.ended_landed},
+            {"crashes", s.crashes},
+            {"battery_swaps", s.battery_swaps}}},
+          {"missions",
+           {{"rounds", s.rounds},
+            {"accepted", s.missions_accepted},
+            {"succeeded", s.missions_succeeded},
+            {"refused", s.missions_refused},
+            {"results", s.mission_results}}},
+          {"clients",
+           {{"logins", s.logins},
+            {"ws_connections", s.ws_connections},
+            {"spectators_joined", s.spectators_joined},
+            {"slow_reader_stalls", s.slow_reader_stalls},
+            {"slow_reader_cut_off", s.slow_reader_cut_off},
+            {"slow_disconnects", s.slow_disconnects},
+            {"frames_sent", s.frames_sent},
+            {"frames_received", s.frames_received},
+            {"frames_skipped", s.frames_skipped}}},
+          {"recording",
+           {{"reported_bytes", s.recording_reported_bytes},
+            {"file_bytes", s.recording_file_bytes},
+            {"replay_to_end", s.replay_to_end},
+            {"replay_records", s.replay_records},
+            {"replay_navdata", s.replay_navdata},
+            {"replay_frames", s.replay_frames},
+            {"replay_error", s.replay_error}}},
+          {"memory",
+           {{"samples", s.rss_samples},
+            {"warmup_s", s.warmup_s},
+            {"warmup_peak_mib", s.rss_warmup_peak_mib},
+            {"after_warmup_peak_mib", s.rss_after_peak_mib},
+            {"final_mib", s.rss_final_mib},
+            {"growth_percent", s.rss_growth_percent},
+            {"per_minute_mib", s.rss_per_minute_mib}}},
+          {"timing",
+           {{"tick_interval_ms", pct(s.timing.tick_interval_ms)},
+            {"vision_latency_ms", pct(s.timing.vision_latency_ms)},
+            {"frames_in", s.timing.frames_in},
+            {"frames_skipped", s.timing.frames_skipped},
+            {"vision_failures", s.timing.vision_failures}}}};
+}
+
+std::string to_text(const SoakSummary& s, const std::vector<std::string>& failures) {
+  std::ostringstream out;
+  out << (failures.empty() ? "soak passed" : "soak FAILED") << format(" after %.0f s\n", s.duration_s);
+  for (const auto& f : failures) out << "  failed: " << f << "\n";
+  out << "server: " << s.health_probes - s.health_failures << "/" << s.health_probes << " health probes answered, "
+      << s.http_5xx << " 5xx\n";
+  out << "missions: " << s.missions_succeeded << " succeeded of " << s.missions_accepted << " accepted in " << s.rounds
+      << " rounds (" << s.missions_refused << " refused)\n";
+  for (const auto& f : s.faults)
+    out << "  " << f.kind << format(" at %.0f s for %.1f s", f.at_s, f.duration_s) << (f.airborne ? " in flight" : " landed")
+        << ": then " << f.after << (f.detail.empty() ? "" : " (" + f.detail + ")") << "\n";
+  out << format("drone: longest flight without a mission %.1f s; ", s.longest_unmanaged_flight_s)
+      << (s.ended_landed ? "landed at the end" : "NOT landed at the end") << "; " << s.crashes << " crashes; "
+      << s.battery_swaps << " battery swaps\n";
+  out << "clients: " << s.ws_connections << " WebSocket connections (" << s.spectators_joined << " spectators), "
+      << s.logins << " logins; frames sent " << s.frames_sent << ", received " << s.frames_received << ", skipped "
+      << s.frames_skipped << "; slow reader stalled " << s.slow_reader_stalls << " times, cut off " << s.slow_reader_cut_off
+      << " times (" << s.slow_disconnects << " slow clients disconnected)\n";
+  out << "recording: " << s.recording_file_bytes << " bytes on disk, " << s.recording_reported_bytes
+      << " reported; replay " << (s.replay_to_end ? "read to the end" : "FAILED: " + s.replay_error) << " ("
+      << s.replay_records << " records, " << s.replay_navdata << " navdata, " << s.replay_frames << " frames)\n";
+  out << format("memory: RSS peak %.1f MiB during warm-up", s.rss_warmup_peak_mib)
+      << format(" (%.0f s), %.1f MiB after", s.warmup_s, s.rss_after_peak_mib)
+      << format(", %.1f MiB at the end: growth %.2f %%\n", s.rss_final_mib, s.rss_growth_percent);
+  out << format("control ticks (last window): median %.1f ms, p99 %.1f ms\n", s.timing.tick_interval_ms.median,
+                s.timing.tick_interval_ms.p99);
+  return out.str();
+}
+
+}  // namespace labo

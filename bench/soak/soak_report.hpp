@@ -1,0 +1,77 @@
+#pragma once
+// What a soak of `labodrone serve` under faults found (SoakSummary) and the checks it must pass
+// (soak_failures): the server stayed up, the drone was never left flying without a mission, every
+// fault was applied, the recording is complete and replays to its end, and memory stayed flat after
+// warm-up. The checks are a pure function of the summary, so their tests can feed bad summaries.
+#include <cstdint>
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+#include <vector>
+
+#include "server/runtime/runtime_timing.hpp"
+
+namespace labo {
+
+// One fault and the drone's state once it was over and the flight software had time to act.
+struct FaultRecord {
+  std::string kind;        // link_cut, emulator_restart, low_battery
+  double at_s = 0;         // since the start of the soak
+  double duration_s = 0;   // the cut or the time the emulator was down (low battery: the round)
+  bool airborne = false;   // when it began
+  std::string after;       // landed | mission <name> | flying without a mission
+  std::string detail;      // the mission's end, when it ended meanwhile
+};
+
+struct SoakSummary {
+  double duration_s = 0;
+  // The server.
+  int health_probes = 0, health_failures = 0;
+  std::uint64_t http_5xx = 0;
+  // The drone.
+  std::vector<FaultRecord> faults;
+  double longest_unmanaged_flight_s = 0;  // airborne with no mission running (truth + telemetry)
+  bool ended_landed = false;
+  int crashes = 0;
+  int battery_swaps = 0;
+  // Missions (rounds).
+  int rounds = 0, missions_accepted = 0, missions_succeeded = 0, missions_refused = 0;
+  std::vector<std::string> mission_results;  // the mission's last word per round
+  // Clients.
+  std::uint64_t logins = 0, ws_connections = 0, spectators_joined = 0, slow_reader_stalls = 0;
+  std::uint64_t slow_reader_cut_off = 0;       // the server closed the slow reader's connection
+  std::uint64_t frames_sent = 0, frames_received = 0;  // server: JPEG frames + H.264 units written
+  std::uint64_t frames_skipped = 0, slow_disconnects = 0;
+  // The recording.
+  std::uint64_t recording_reported_bytes = 0, recording_file_bytes = 0;
+  std::uint64_t replay_records = 0, replay_navdata = 0, replay_frames = 0;
+  bool replay_to_end = false;
+  std::string replay_error;
+  // Memory, from /proc/self/status (VmRSS).
+  int rss_samples = 0;
+  double warmup_s = 0;
+  double rss_warmup_peak_mib = 0, rss_after_peak_mib = 0, rss_final_mib = 0;
+  double rss_growth_percent = 0;  // after-warm-up peak over the warm-up's peak
+  std::vector<double> rss_per_minute_mib;  // the last sample of each minute: where the growth went
+  // The flight thread's timing over the whole soak.
+  RuntimeTimingSummary timing;
+};
+
+struct SoakLimits {
+  double rss_growth_percent = 5.0;
+  double unmanaged_flight_s = 15.0;  // longer without a mission: the drone was left flying
+  int link_cuts = 2, emulator_restarts = 1, low_battery = 1;
+};
+
+// The checks of the service: the server stayed up, every fault was applied, clients got frames, the
+// recording is complete and replays, memory stayed flat.
+std::vector<std::string> service_failures(const SoakSummary& summary, const SoakLimits& limits);
+// The checks of the flight under the faults: the drone landed or held after each, never flew long
+// without a mission, landed at the end, never crashed, landed on the low battery.
+std::vector<std::string> flight_failures(const SoakSummary& summary, const SoakLimits& limits);
+// Both: every check that failed, in words; empty when the soak passed.
+std::vector<std::string> soak_failures(const SoakSummary& summary, const SoakLimits& limits);
+
+nlohmann::json to_json(const SoakSummary& summary, const std::vector<std::string>& failures);
+std::string to_text(const SoakSummary& summary, const std::vector<std::string>& failures);
+
+}  // namespace labo

@@ -1,0 +1,88 @@
+#include "bench/soak/soak_watch.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <iostream>
+
+#include "bench/soak/soak_client.hpp"
+
+namespace labo {
+
+double resident_mib() {
+  std::ifstream in("/proc/self/status");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;  // kB
+  return 0;
+}
+
+std::string drone_activity(const DroneTruth& truth, const FlightTelemetry& telemetry) {
+  if (!truth.airborne) return "landed";
+  if (telemetry.mission != "idle" && !telemetry.mission.empty()) return "mission " + telemetry.mission;
+  return "flying without a mission";
+}
+
+SoakWatch::SoakWatch(RestartableDrone& drone, FlightService& flight, unsigned short port, double probe_every_s)
+    : drone_(drone), flight_(flight), port_(port), probe_every_s_(probe_every_s), thread_([this] { run(); }) {}
+
+SoakWatch::~SoakWatch() { stop(); }
+
+void SoakWatch::stop() {
+  running_ = false;
+  if (thread_.joinable()) thread_.join();
+}
+
+double SoakWatch::elapsed_s() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void SoakWatch::run() {
+  double next_probe = 0;
+  while (running_) {
+    const double t = elapsed_s();
+    sample_flight(t);
+    if (t >= next_probe) {
+      next_probe = t + probe_every_s_;
+      ++probes_;
+      if (http_request(port_, "GET", "/api/health").status != 200) ++probe_failures_;
+      std::lock_guard lock(mutex_);
+      rss_.push_back({t, resident_mib()});
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+}
+
+void SoakWatch::sample_flight(double t) {
+  const DroneTruth truth = drone_.truth();
+  const std::string activity = drone_activity(truth, flight_.telemetry());
+  std::lock_guard lock(mutex_);
+  // A battery swap brings a new lab whose count starts again.
+  if (truth.crashes < lab_crashes_) crashes_before_ += lab_crashes_;
+  if (truth.crashes > lab_crashes_)
+    std::cerr << "[soak " << static_cast<int>(t) << " s] CRASH: the drone hit " << truth.crash_reason << " ("
+              << "link " << flight_.telemetry().link_state << ")" << std::endl;
+  lab_crashes_ = truth.crashes;
+  if (activity != "flying without a mission") {
+    unmanaged_since_ = -1;
+  } else if (unmanaged_since_ < 0) {
+    unmanaged_since_ = t;
+  } else {
+    longest_unmanaged_ = std::max(longest_unmanaged_, t - unmanaged_since_);
+  }
+}
+
+double SoakWatch::longest_unmanaged_flight_s() const {
+  std::lock_guard lock(mutex_);
+  return longest_unmanaged_;
+}
+
+int SoakWatch::crashes() const {
+  std::lock_guard lock(mutex_);
+  return crashes_before_ + lab_crashes_;
+}
+
+std::vector<RssSample> SoakWatch::rss() const {
+  std::lock_guard lock(mutex_);
+  return rss_;
+}
+
+}  // namespace labo

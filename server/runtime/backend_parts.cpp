@@ -1,0 +1,59 @@
+#include "server/runtime/backend_parts.hpp"
+
+#include "drone/sim/sim_setup.hpp"
+#include "localization/face/teacher_head.hpp"
+#include "localization/fusion/lab_geometry.hpp"
+
+namespace labo {
+
+control::FlightStackSetup flight_stack_setup(const AppConfig& config) {
+  // The lab's geometry (room, base, instruments, platform) from the lab description the config
+  // names (validated when the config was loaded).
+  control::FlightStackSetup setup;
+  setup.lab = fusion::lab_geometry_from(config.lab);
+  setup.control = config.control;
+  setup.cameras = config.cameras;
+  setup.vision = config.vision;
+  setup.estimation = config.estimation;
+  // The real vision pipelines on the drone's frames (localization/fusion/lab_pipelines_factory.hpp).
+  setup.front_ends = fusion::FrontEndSettings{config.planar, config.slam, config.face, true};
+  return setup;
+}
+
+control::FlightStackSetup flight_stack_setup(const AppConfig& config, const CamerasConfig& cameras) {
+  control::FlightStackSetup setup = flight_stack_setup(config);
+  setup.cameras = cameras;
+  return setup;
+}
+
+FlightRuntimeOptions flight_runtime_options(const AppConfig& config) {
+  FlightRuntimeOptions o;
+  o.jpeg_quality = config.server.video.jpeg_quality;
+  o.front_camera = PinholeCamera(config.cameras.front);
+  return o;
+}
+
+// The world is the config's `sim.world`: the flight runtime is built from the config alone, and a
+// randomized world's delays are the loopback's, not drawn ones.
+std::unique_ptr<SimulatedLab> make_configured_lab(const AppConfig& config) {
+  return make_simulated_lab(make_sim_world(config.lab, config.cameras, config.sim),
+                            face::load_lab_teacher_head(config.lab, config.face));
+}
+
+ArdroneEmulatorSettings loopback_emulator_settings(const AppConfig& config) {
+  ArdroneEmulatorSettings s = config.emulator;
+  s.bind_host = "127.0.0.1";
+  s.at_port = s.navdata_port = s.video_port = 0;
+  return s;
+}
+
+ArdroneLinkSettings loopback_link_settings(const AppConfig& config, int at_port, int navdata_port, int video_port) {
+  ArdroneLinkSettings s = config.link;
+  s.host = "127.0.0.1";
+  s.at_port = at_port;
+  s.navdata_port = navdata_port;
+  s.video_port = video_port;
+  return s;
+}
+
+}  // namespace labo
