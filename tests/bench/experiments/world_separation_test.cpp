@@ -76,7 +76,7 @@ TEST_CASE("bench: no source of the flight software names the simulated lab's wor
   const std::vector<std::string> names = {"sim_world.hpp", "SimWorld", "make_sim_world", "WorldRanges", "PlantDeviation",
                                           "SensorBiases", "world_mode.hpp", "WorldMode"};
   // The simulated lab's backend builds the world the flight runtime flies in (as emulate does).
-  const std::filesystem::path sim_backend = root / "server" / "runtime" / "drone_backend.cpp";
+  const std::filesystem::path sim_backend = root / "server" / "runtime" / "backend_parts.cpp";
   int files = 0;
   for (const char* dir : {"localization", "control", "server"}) {
     for (const auto& entry : std::filesystem::recursive_directory_iterator(root / dir)) {
