@@ -2,6 +2,8 @@
 
 #include <boost/asio/dispatch.hpp>
 #include <boost/asio/post.hpp>
+#include <boost/beast/ssl.hpp>
+#include <boost/beast/websocket/ssl.hpp>
 #include <linux/sockios.h>
 #include <sys/ioctl.h>
 
@@ -14,9 +16,11 @@ namespace asio = boost::asio;
 namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 
-WebSocketSession::WebSocketSession(asio::ip::tcp::socket&& socket, ClientId id, SessionInfo session,
-                                   std::shared_ptr<RemoteLab> lab, const ClientLimits& limits, ServerMetrics& metrics)
-    : ws_(std::move(socket)),
+template <class NextLayer>
+WebSocketSession<NextLayer>::WebSocketSession(NextLayer&& stream, ClientId id, SessionInfo session,
+                                              std::shared_ptr<RemoteLab> lab, const ClientLimits& limits,
+                                              ServerMetrics& metrics)
+    : ws_(std::move(stream)),
       watchdog_(ws_.get_executor()),
       id_(id),
       session_(std::move(session)),
@@ -30,14 +34,16 @@ namespace {
 double steady_s(std::chrono::steady_clock::time_point t) { return std::chrono::duration<double>(t.time_since_epoch()).count(); }
 }  // namespace
 
-WebSocketSession::~WebSocketSession() {
+template <class NextLayer>
+WebSocketSession<NextLayer>::~WebSocketSession() {
   if (joined_) {
     lab_->leave(id_);
     metrics_.ws_clients--;
   }
 }
 
-void WebSocketSession::accept(beast::http::request<beast::http::string_body> upgrade) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::accept(beast::http::request<beast::http::string_body> upgrade) {
   // tcp_stream timeouts must not apply to a websocket: the websocket's own (with pings) take over.
   beast::get_lowest_layer(ws_).expires_never();
   if (limits_.send_buffer_bytes > 0) {
@@ -49,24 +55,27 @@ void WebSocketSession::accept(beast::http::request<beast::http::string_body> upg
       [](websocket::response_type& res) { res.set(beast::http::field::server, "labodrone"); }));
   ws_.read_message_max(static_cast<std::size_t>(limits_.max_message_bytes));
   ws_.auto_fragment(false);
-  ws_.async_accept(upgrade, beast::bind_front_handler(&WebSocketSession::on_accept, shared_from_this()));
+  ws_.async_accept(upgrade, beast::bind_front_handler(&WebSocketSession::on_accept, this->shared_from_this()));
 }
 
-void WebSocketSession::on_accept(beast::error_code ec) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::on_accept(beast::error_code ec) {
   if (ec) return;
   joined_ = true;
   metrics_.ws_clients++;
   metrics_.ws_connections_total++;
-  lab_->join(shared_from_this());
+  lab_->join(this->shared_from_this());
   arm_watchdog();
   do_read();
 }
 
-void WebSocketSession::do_read() {
-  ws_.async_read(read_buffer_, beast::bind_front_handler(&WebSocketSession::on_read, shared_from_this()));
+template <class NextLayer>
+void WebSocketSession<NextLayer>::do_read() {
+  ws_.async_read(read_buffer_, beast::bind_front_handler(&WebSocketSession::on_read, this->shared_from_this()));
 }
 
-void WebSocketSession::on_read(beast::error_code ec, std::size_t) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::on_read(beast::error_code ec, std::size_t) {
   if (ec == websocket::error::message_too_big) {
     // Beast has already failed the stream with close code 1009 (message too big).
     close_now("message larger than " + std::to_string(limits_.max_message_bytes) + " bytes");
@@ -87,32 +96,37 @@ void WebSocketSession::on_read(beast::error_code ec, std::size_t) {
   do_read();
 }
 
-void WebSocketSession::send_event(std::shared_ptr<const std::string> json) {
-  asio::post(ws_.get_executor(), [self = shared_from_this(), json = std::move(json)]() mutable {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::send_event(std::shared_ptr<const std::string> json) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), json = std::move(json)]() mutable {
     self->queue_event(std::move(json));
   });
 }
 
-void WebSocketSession::send_frame(std::shared_ptr<const std::string> wire) {
-  asio::post(ws_.get_executor(), [self = shared_from_this(), wire = std::move(wire)]() mutable {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::send_frame(std::shared_ptr<const std::string> wire) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), wire = std::move(wire)]() mutable {
     self->store_frame(std::move(wire));
   });
 }
 
-void WebSocketSession::send_access_unit(const WireAccessUnit& unit) {
-  asio::post(ws_.get_executor(), [self = shared_from_this(), unit] { self->queue_unit(unit); });
+template <class NextLayer>
+void WebSocketSession<NextLayer>::send_access_unit(const WireAccessUnit& unit) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), unit] { self->queue_unit(unit); });
 }
 
-void WebSocketSession::send_reading_view(std::shared_ptr<const std::string> view) {
-  asio::post(ws_.get_executor(), [self = shared_from_this(), view = std::move(view)]() mutable {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::send_reading_view(std::shared_ptr<const std::string> view) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), view = std::move(view)]() mutable {
     if (self->closed_ || !self->joined_) return;
     self->reading_slot_ = std::move(view);
     self->write_next();
   });
 }
 
-void WebSocketSession::select_video(VideoPath path, RenditionChoice rendition) {
-  asio::post(ws_.get_executor(), [self = shared_from_this(), path, rendition] {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::select_video(VideoPath path, RenditionChoice rendition) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), path, rendition] {
     const bool was_h264 = self->video_ == VideoPath::H264;
     self->policy_.choose(rendition, steady_s(Clock::now()));
     if (was_h264 && path == VideoPath::H264) {
@@ -124,15 +138,18 @@ void WebSocketSession::select_video(VideoPath path, RenditionChoice rendition) {
       self->switch_.reset(self->policy_.rendition());
     }
     self->publish_renditions();
-    if (path == VideoPath::H264) self->queue_event(rendition_message(self->policy_.rendition(), self->policy_.choice(), self->policy_.reason(), 0, 0));
+    if (path == VideoPath::H264)
+      self->queue_event(rendition_message(self->policy_.rendition(), self->policy_.choice(), self->policy_.reason(), 0, 0));
   });
 }
 
-void WebSocketSession::disconnect(const std::string& reason) {
-  asio::post(ws_.get_executor(), [self = shared_from_this(), reason] { self->close_now(reason); });
+template <class NextLayer>
+void WebSocketSession<NextLayer>::disconnect(const std::string& reason) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), reason] { self->close_now(reason); });
 }
 
-void WebSocketSession::queue_event(std::shared_ptr<const std::string> json) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::queue_event(std::shared_ptr<const std::string> json) {
   if (closed_) return;
   if (events_.size() >= static_cast<std::size_t>(limits_.event_queue_messages)) {
     metrics_.ws_events_dropped++;
@@ -143,14 +160,16 @@ void WebSocketSession::queue_event(std::shared_ptr<const std::string> json) {
   write_next();
 }
 
-void WebSocketSession::store_frame(std::shared_ptr<const std::string> wire) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::store_frame(std::shared_ptr<const std::string> wire) {
   if (closed_ || !joined_) return;
   if (frame_slot_) metrics_.ws_frames_skipped++;
   frame_slot_ = std::move(wire);  // overwrite: only the newest frame waits
   write_next();
 }
 
-void WebSocketSession::queue_unit(const WireAccessUnit& unit) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::queue_unit(const WireAccessUnit& unit) {
   if (closed_ || !joined_ || video_ != VideoPath::H264 || !switch_.accept(unit)) return;
   video_offered_ += (unit.wire ? unit.wire->size() : 0) + (unit.geometry ? unit.geometry->size() : 0);
   const AccessUnitQueue::PushResult r = units_.push(unit);
@@ -163,12 +182,14 @@ void WebSocketSession::queue_unit(const WireAccessUnit& unit) {
   if (switch_.needed() != renditions_published_) publish_renditions();  // the switch happened at this IDR
 }
 
-void WebSocketSession::publish_renditions() {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::publish_renditions() {
   renditions_published_ = video_ == VideoPath::H264 ? switch_.needed() : RenditionSwitch::bit(Rendition::Source);
   lab_->set_renditions(id_, renditions_published_);
 }
 
-void WebSocketSession::adapt_rendition(Clock::time_point now) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::adapt_rendition(Clock::time_point now) {
   int unacked = 0;  // written to the socket, not yet acknowledged by the peer
   if (::ioctl(beast::get_lowest_layer(ws_).socket().native_handle(), SIOCOUTQ, &unacked) != 0) unacked = 0;
   const std::uint64_t pending = units_.bytes() + (writing_ && in_flight_ ? in_flight_->size() : 0);
@@ -182,10 +203,12 @@ void WebSocketSession::adapt_rendition(Clock::time_point now) {
     publish_renditions();
   }
   // The page shows its rendition, why, and what its link carries: at each change and once a second.
-  if (changed || ++samples_ % 4 == 0) queue_event(rendition_message(policy_.rendition(), policy_.choice(), policy_.reason(), policy_.throughput_kbps(), policy_.lag_s()));
+  if (changed || ++samples_ % 4 == 0)
+    queue_event(rendition_message(policy_.rendition(), policy_.choice(), policy_.reason(), policy_.throughput_kbps(), policy_.lag_s()));
 }
 
-void WebSocketSession::write_next() {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::write_next() {
   if (writing_ || closed_ || !joined_) return;
   // Events first (acks, emergencies, stage changes), then video: the next access unit (its geometry
   // first) or the newest JPEG frame, then the newest reading view.
@@ -214,10 +237,11 @@ void WebSocketSession::write_next() {
   writing_ = true;
   write_started_ = Clock::now();
   ws_.binary(binary);
-  ws_.async_write(asio::buffer(*in_flight_), beast::bind_front_handler(&WebSocketSession::on_write, shared_from_this()));
+  ws_.async_write(asio::buffer(*in_flight_), beast::bind_front_handler(&WebSocketSession::on_write, this->shared_from_this()));
 }
 
-void WebSocketSession::on_write(beast::error_code ec, std::size_t bytes) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::on_write(beast::error_code ec, std::size_t bytes) {
   writing_ = false;
   in_flight_.reset();
   if (ec) {
@@ -236,14 +260,16 @@ void WebSocketSession::on_write(beast::error_code ec, std::size_t bytes) {
   write_next();
 }
 
-void WebSocketSession::arm_watchdog() {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::arm_watchdog() {
   watchdog_.expires_after(std::chrono::milliseconds(250));
-  watchdog_.async_wait([self = shared_from_this()](beast::error_code ec) {
+  watchdog_.async_wait([self = this->shared_from_this()](beast::error_code ec) {
     if (!ec) self->on_watchdog();
   });
 }
 
-void WebSocketSession::on_watchdog() {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::on_watchdog() {
   if (closed_) return;
   const auto now = Clock::now();
   const auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
@@ -261,7 +287,8 @@ void WebSocketSession::on_watchdog() {
   arm_watchdog();
 }
 
-void WebSocketSession::close_now(const std::string& reason) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::close_now(const std::string& reason) {
   if (closed_) return;
   closed_ = true;
   lab_->log_disconnect(id_, reason);
@@ -275,5 +302,8 @@ void WebSocketSession::close_now(const std::string& reason) {
   beast::get_lowest_layer(ws_).socket().shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
   beast::get_lowest_layer(ws_).socket().close(ignored);
 }
+
+template class WebSocketSession<beast::tcp_stream>;
+template class WebSocketSession<beast::ssl_stream<beast::tcp_stream>>;
 
 }  // namespace labo

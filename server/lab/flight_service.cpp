@@ -15,6 +15,7 @@ constexpr std::array<std::pair<MissionCommandKind, const char*>, 8> kCommands{{
     {MissionCommandKind::StopFaceFollow, "stop_face_follow"},
     {MissionCommandKind::ReturnHome, "return_home"},
     {MissionCommandKind::Land, "land"},
+    {MissionCommandKind::Stop, "stop"},
     {MissionCommandKind::EmergencyStop, "emergency_stop"},
     {MissionCommandKind::SelectCamera, "select_camera"},
 }};

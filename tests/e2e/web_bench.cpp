@@ -70,8 +70,8 @@ struct SlowViewerStats {
 
 SlowViewerStats run_slow_viewer(unsigned short port, const std::string& cookie, double kbps, double seconds) {
   SlowViewerStats out;
-  WsClient ws(port, cookie, 16 * 1024);
-  ws.send(R"({"type":"subscribe","video":"h264","rendition":"auto"})");
+  WsClient ws(port, cookie, {}, 16 * 1024);
+  ws.send(std::string(R"({"type":"subscribe","video":"h264","rendition":"auto"})"));
   const auto start = std::chrono::steady_clock::now();
   const auto since = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   double bytes = 0;

@@ -154,7 +154,7 @@ TEST_CASE("web: an H.264 viewer whose link cannot carry the drone's stream moves
     s.clients.rendition_probe_after_s = 600;  // no probe during the test
   });
   WsClient fast(f.port, login_cookie(f.port, "alice", "alice-pw"));
-  WsClient slow(f.port, login_cookie(f.port, "bob", "bob-pw"), 16 * 1024);
+  WsClient slow(f.port, login_cookie(f.port, "bob", "bob-pw"), {}, 16 * 1024);
   for (WsClient* c : {&fast, &slow}) {
     c->send(json{{"type", "subscribe"}, {"video", "h264"}});
     REQUIRE(c->wait_for("subscribed"));
