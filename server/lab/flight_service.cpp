@@ -8,7 +8,7 @@
 namespace labo {
 
 namespace {
-constexpr std::array<std::pair<MissionCommandKind, const char*>, 8> kCommands{{
+constexpr std::array<std::pair<MissionCommandKind, const char*>, 9> kCommands{{
     {MissionCommandKind::Takeoff, "takeoff"},
     {MissionCommandKind::Inspect, "inspect"},
     {MissionCommandKind::FindTeacher, "find_teacher"},
