@@ -20,7 +20,7 @@ std::string error_of(const HttpResult& r) { return std::to_string(r.status) + " 
 
 }  // namespace
 
-TEST_CASE("web: an admin adds a user who logs in at once; the config file keeps them") {
+TEST_CASE("web: an admin adds a user who logs in at once, and the config file keeps them") {
   ServerFixture f;
   const std::string root = login_cookie(f.port, "root", "root-pw");
   const HttpResult added = http_call(f.port, verb::post, "/api/users", R"({"name":"carol","role":"student","password":"carol-pass"})", root);
@@ -56,7 +56,7 @@ TEST_CASE("web: adding a user refuses bad input with its status") {
   CHECK(config_users(f).size() == 4);  // nothing refused was written
 }
 
-TEST_CASE("web: an admin re-roles, resets and removes users; their sessions and WebSockets end") {
+TEST_CASE("web: an admin re-roles, resets and removes users, whose sessions and WebSockets end") {
   ServerFixture f;
   const std::string root = login_cookie(f.port, "root", "root-pw");
   const std::string bob = login_cookie(f.port, "bob", "bob-pw");
@@ -91,7 +91,7 @@ TEST_CASE("web: an admin re-roles, resets and removes users; their sessions and 
   CHECK(config_users(f).size() == 3);
 }
 
-TEST_CASE("web: an admin ends a session; a config change says what applies now and what at the next start") {
+TEST_CASE("web: an admin ends a session, and a config change says what applies now and what at the next start") {
   ServerFixture f;
   const std::string root = login_cookie(f.port, "root", "root-pw");
   const std::string alice = login_cookie(f.port, "alice", "alice-pw");
