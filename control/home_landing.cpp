@@ -16,9 +16,6 @@ constexpr double kCentredSpeedMps = 0.08;
 constexpr double kCentredAltitudeM = 0.10;
 constexpr double kCentredForS = 1.0;
 constexpr double kFixMaxAgeS = 0.5;        // an older platform fix says nothing about the drone now
-// Without a fix for this long, the place last seen is the best there will be: on dead reckoning the
-// drone drifts from it by the velocity's bias (a few cm/s), so waiting longer only lands further off.
-constexpr double kBlindCentreS = 2.0;
 }  // namespace
 
 int HomeLanding::paper_stage() const {
@@ -106,12 +103,7 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
       } else if (!fix) {
         centred_since_.reset();
       }
-      const bool blind = ctx.t - std::max(last_fix_t_, since_) > kBlindCentreS;
       if (centred_since_ && ctx.t - *centred_since_ >= kCentredForS) {
-        ctx.phase_action = ctx.autopilot.land(ctx.t);
-        enter(Step::Land, ctx.t);
-      } else if (blind && ctx.autopilot.reached()) {
-        failure_ = "platform out of sight for " + format_seconds(kBlindCentreS) + " s: landing where it was last seen";
         ctx.phase_action = ctx.autopilot.land(ctx.t);
         enter(Step::Land, ctx.t);
       } else if (ctx.t - since_ > 30.0) {
