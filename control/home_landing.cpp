@@ -7,15 +7,6 @@ namespace labo::control {
 namespace {
 constexpr double kPlatformSettleS = 0.5;  // platform seen this long before centring on it
 constexpr double kLandedWaitS = 12.0;     // land sent; give up waiting after this
-// The land command hands the descent to the firmware, which holds no position: what the drone is
-// off the platform's centre when it is sent, it stays (plus the descent's drift). So it is sent only
-// once fresh bottom-camera fixes have put the drone this close above the centre, nearly still and at
-// the hover altitude, for this long (a lagging world estimate of the platform could not say so).
-constexpr double kCentredToleranceM = 0.04;
-constexpr double kCentredSpeedMps = 0.08;
-constexpr double kCentredAltitudeM = 0.10;
-constexpr double kCentredForS = 1.0;
-constexpr double kFixMaxAgeS = 0.5;        // an older platform fix says nothing about the drone now
 }  // namespace
 
 int HomeLanding::paper_stage() const {
@@ -91,19 +82,15 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
     }
     case Step::Centre: {
       const fusion::TargetObservation obs = ctx.perception.platform();
-      const bool fix = obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < kFixMaxAgeS;
-      if (fix && obs.t > last_fix_t_) {
-        last_fix_t_ = obs.t;
+      if (obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < 0.5) {
         // Refine the platform's place while it is in view, moving the set point without a reset.
         const Eigen::Vector3d seen = world_pose_of(obs, ctx.pose, CameraId::Bottom).translation();
         platform_world_ = 0.9 * platform_world_ + 0.1 * seen;
         ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad},
                             ctx.t, false);
-        track_centring(ctx, (here - seen).head<2>().norm(), here.z());
-      } else if (!fix) {
-        centred_since_.reset();
       }
-      if (centred_since_ && ctx.t - *centred_since_ >= kCentredForS) {
+      const Eigen::Vector2d off = (here - platform_world_).head<2>();
+      if (ctx.autopilot.done() || (ctx.autopilot.reached() && off.norm() < 0.05 && ctx.t - since_ > 3.0)) {
         ctx.phase_action = ctx.autopilot.land(ctx.t);
         enter(Step::Land, ctx.t);
       } else if (ctx.t - since_ > 30.0) {
@@ -123,18 +110,6 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
     case Step::Landed:
     case Step::Failed:
       break;
-  }
-}
-
-// Centred: this fix puts the drone within the tolerance of the platform's centre, at the hover
-// altitude and nearly still; the streak of such fixes starts at the first and ends at any other.
-void HomeLanding::track_centring(const MissionContext& ctx, double offset_m, double altitude_m) {
-  const bool still = ctx.pose.velocity_world.head<2>().norm() < kCentredSpeedMps;
-  const bool level = std::abs(altitude_m - ctx.config.mission.platform_hover_altitude_m) < kCentredAltitudeM;
-  if (offset_m < kCentredToleranceM && still && level) {
-    if (!centred_since_) centred_since_ = ctx.t;
-  } else {
-    centred_since_.reset();
   }
 }
 

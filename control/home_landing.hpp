@@ -2,8 +2,6 @@
 // Return to the base and land on the charging platform: the paper's stages 4-6, shared by the inspect
 // mission and return-home. Climb to the return altitude where the drone is, fly above the base (SLAM
 // feedback), switch to the bottom camera and find the platform, hover above its centre, land.
-#include <optional>
-
 #include "control/mission.hpp"
 
 namespace labo::control {
@@ -14,8 +12,6 @@ class HomeLanding {
   void start(Seconds t) {
     enter(Step::Climb, t);
     fresh_ = true;
-    last_fix_t_ = -1;
-    centred_since_.reset();
   }
   // Running until Landed (success) or Failed.
   Step step(MissionContext& ctx);
@@ -31,7 +27,6 @@ class HomeLanding {
     since_ = t;
   }
   void step_now(MissionContext& ctx, const Eigen::Vector3d& here, double yaw, const Eigen::Vector3d& base);
-  void track_centring(const MissionContext& ctx, double offset_m, double altitude_m);
 
   Step step_ = Step::Climb;
   Seconds since_ = 0;
@@ -39,8 +34,6 @@ class HomeLanding {
   std::string failure_;
   bool platform_placed_ = false;
   Eigen::Vector3d platform_world_ = Eigen::Vector3d::Zero();
-  Seconds last_fix_t_ = -1;                // frame time of the last platform fix used
-  std::optional<Seconds> centred_since_;   // first of the streak of centred fixes
 };
 
 }  // namespace labo::control

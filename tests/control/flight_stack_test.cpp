@@ -422,30 +422,3 @@ TEST_CASE("control: find teacher searches, follows the face and stops on request
   CHECK(f.stack->status().mission == "idle");
   CHECK(f.stack->status().phase == control::FlightPhase::Flying);
 }
-
-TEST_CASE("control: the land command waits for a second of fixes centred above the platform") {
-  ModelFlight f;
-  take_off(f);
-  REQUIRE(f.request(go(1.0, 0.5, 1.0)).accepted);
-  f.run(8.0);
-  REQUIRE(f.request(req(control::RequestKind::ReturnHome)).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().stage.find("hovering above its centre") != std::string::npos; }, 60.0));
-  // The bottom camera loses the platform while centring: no land without fresh fixes, however long
-  // the drone has held its set point.
-  f.world->platform_visible = false;
-  bool landed_blind = false;
-  f.run_until([&] {
-    landed_blind |= f.last.action == control::FlightOutput::Action::Land;
-    return landed_blind;
-  }, 10.0);
-  CHECK_FALSE(landed_blind);
-  // Seen again: the land goes out with the drone above the centre, and it lands there.
-  f.world->platform_visible = true;
-  Eigen::Vector2d off_at_land = Eigen::Vector2d::Constant(1.0);
-  REQUIRE(f.run_until([&] {
-    if (f.last.action == control::FlightOutput::Action::Land) off_at_land = f.world->drone.p.head<2>();
-    return f.stack->status().phase == control::FlightPhase::Landed;
-  }, 30.0));
-  CHECK(off_at_land.norm() < 0.05);
-  CHECK(f.world->drone.p.head<2>().norm() < 0.10);
-}
