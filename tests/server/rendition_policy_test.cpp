@@ -78,7 +78,7 @@ TEST_CASE("web: a viewer whose link recovers returns to the drone's stream at th
   CHECK(v.policy.probe_after_s() == Approx(15));  // the probe held: the next slow spell starts from 15 s again
 }
 
-TEST_CASE("web: a ring overflow moves a viewer down at once; a pinned choice ignores the link") {
+TEST_CASE("web: a ring overflow moves a viewer down at once, and a pinned choice ignores the link") {
   RenditionPolicy p;
   p.update({0.0, 0, 0, 0, 0, 0});
   CHECK(p.update({0.25, 1000, 1000, 0, 0, 1}) == Rendition::Low);
