@@ -48,6 +48,11 @@ MissionParameters read_mission(const ConfigReader& node, MissionParameters m) {
   m.return_altitude_m = node.number_or("return_altitude_m", m.return_altitude_m, Range::closed(0.3, 5.0));
   m.platform_hover_altitude_m =
       node.number_or("platform_hover_altitude_m", m.platform_hover_altitude_m, Range::closed(0.3, 5.0));
+  m.landing_centre_tolerance_m =
+      node.number_or("landing_centre_tolerance_m", m.landing_centre_tolerance_m, Range::closed(0.005, 0.5));
+  m.landing_settle_s = node.number_or("landing_settle_s", m.landing_settle_s, Range::closed(0.0, 10.0));
+  m.platform_settle_timeout_s =
+      node.number_or("platform_settle_timeout_s", m.platform_settle_timeout_s, Range::closed(1.0, 120.0));
   m.scale_manoeuvre_m = node.number_or("scale_manoeuvre_m", m.scale_manoeuvre_m, Range::closed(0.0, 2.0));
   m.scale_manoeuvre_speed_mps =
       node.number_or("scale_manoeuvre_speed_mps", m.scale_manoeuvre_speed_mps, Range::closed(0.05, 1.0));
