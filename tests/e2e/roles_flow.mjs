@@ -17,6 +17,8 @@ async function login(user, password = user + '-pass') {
   const context = await browser.newContext({viewport: {width: 1480, height: 900}});
   const page = await context.newPage();
   page.on('pageerror', (e) => fail(`${user}: page error: ${e.message}`));
+  page.sent = [];  // the JSON this page sent on its WebSocket
+  page.on('websocket', (ws) => ws.on('framesent', (f) => { if (typeof f.payload === 'string') page.sent.push(f.payload); }));
   await page.goto(base + '/');
   await page.fill('#user', user);
   await page.fill('#password', password);
@@ -89,7 +91,27 @@ async function adminAddsUserWhoLogsIn() {
   for (const p of [admin, dana]) await p.context().close();
 }
 
+async function studentJogsAndSetsHoldTime() {
+  const student = await login('student3');
+  await student.click('#request-control');
+  await student.waitForFunction(() => document.getElementById('turn').textContent.includes('your turn'));
+  await student.click('button[data-jog="dz_m:0.2"]');
+  await student.waitForFunction(() => window.labodrone.acks.some((a) => a.command === 'jog'));
+  await student.fill('#hold-s', '25');
+  await student.click('#inspect');
+  await student.waitForFunction(() => window.labodrone.acks.some((a) => a.command === 'inspect'));
+  const acks = await student.evaluate(() => window.labodrone.acks.map((a) => `${a.command} ${a.accepted} ${a.reason}`));
+  const sent = student.sent.map((t) => JSON.parse(t));
+  if (!sent.some((m) => m.command === 'jog' && m.dz_m === 0.2)) fail('no jog up was sent');
+  if (!sent.some((m) => m.command === 'inspect' && m.hold_s === 25)) fail('the hold time was not sent with inspect');
+  if (!acks.some((a) => a.startsWith('jog true'))) fail('the jog was not accepted: ' + acks.join('; '));
+  console.log('student: ' + acks.join('; '));
+  await student.click('#release-control');
+  await student.context().close();
+}
+
 try {
+  await studentJogsAndSetsHoldTime();
   await spectatorStopsButCannotCut();
   await adminAddsUserWhoLogsIn();
 } catch (e) {

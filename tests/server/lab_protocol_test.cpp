@@ -70,7 +70,7 @@ TEST_CASE("lab: protocol: every refused input names what was wrong and what was 
   CHECK(verdict_of(R"({"type":"command","command":5})") == "400 'command' (string) is required");
   CHECK(verdict_of(R"({"type":"command","command":"barrel_roll"})") ==
         "400 unknown command 'barrel_roll' (expected takeoff, inspect, find_teacher, stop_face_follow, return_home, land, "
-        "stop, emergency_stop)");
+        "stop, emergency_stop, jog)");
   CHECK(verdict_of(R"({"type":"command","command":"land","speed":3})") == "400 unknown field 'speed' in a command");
   CHECK(verdict_of(R"({"type":"command","command":"land","id":"x"})") == "400 'id' must be an integer");
   CHECK(verdict_of(R"({"type":"command","command":"land","id":1.5})") == "400 'id' must be an integer");
@@ -97,4 +97,18 @@ TEST_CASE("lab: protocol: every refused input names what was wrong and what was 
   CHECK(verdict_of(R"({"type":"subscribe","video":"vp8"})") == "400 unknown video path 'vp8' (expected h264 or jpeg)");
   CHECK(verdict_of(R"({"type":"subscribe","video":"h264","rate":3})") ==
         "400 unknown field 'rate' in subscribe (expected 'video')");
+}
+
+TEST_CASE("lab: protocol: a jog is one bounded step, and its refusals say the bounds") {
+  const auto& jog = request_of<CommandRequest>(parse_client_message(R"({"type":"command","command":"jog","dz_m":0.2,"dyaw_deg":-15})"));
+  CHECK(jog.command.kind == MissionCommandKind::Jog);
+  CHECK(jog.command.dz_m == 0.2);
+  CHECK(jog.command.dyaw_rad == Approx(-15 * 3.14159265358979 / 180));
+  const auto refusal = [](const std::string& text) { return std::get<Refusal>(parse_client_message(text)).error; };
+  CHECK(refusal(R"({"type":"command","command":"jog"})") == "jog needs a step: 'dx_m', 'dy_m', 'dz_m' (metres) or 'dyaw_deg'");
+  CHECK(refusal(R"({"type":"command","command":"jog","dx_m":0.6})") == "'dx_m' must be a number in [-0.5, 0.5] m");
+  CHECK(refusal(R"({"type":"command","command":"jog","dy_m":"1"})") == "'dy_m' must be a number in [-0.5, 0.5] m");
+  CHECK(refusal(R"({"type":"command","command":"jog","dyaw_deg":90})") == "'dyaw_deg' must be a number in [-45, 45] degrees");
+  CHECK(refusal(R"({"type":"command","command":"jog","dx_m":0.1,"hold_s":3})") == "'instrument' and 'hold_s' belong to inspect only");
+  CHECK(refusal(R"({"type":"command","command":"land","dx_m":0.1})") == "'dx_m', 'dy_m', 'dz_m' and 'dyaw_deg' belong to jog only");
 }
