@@ -115,6 +115,7 @@ CommandVerdict FlightStackCore::request(const MissionCommand& c, Seconds t) {
     // Land cancels the mission first; the drone's own landing holds its place while it descends.
     case MissionCommandKind::Stop: r.kind = control::RequestKind::Land; break;
     case MissionCommandKind::EmergencyStop: r.kind = control::RequestKind::EmergencyStop; break;
+    case MissionCommandKind::SelectCamera: r.kind = control::RequestKind::SelectCamera; break;
     // The flight software refuses a move while a mission runs or outside the geofence; the
     // autopilot flies it within its speed limits.
     case MissionCommandKind::Jog:
@@ -122,6 +123,7 @@ CommandVerdict FlightStackCore::request(const MissionCommand& c, Seconds t) {
       r.target = Eigen::Vector4d(c.dx_m, c.dy_m, c.dz_m, c.dyaw_rad);
       break;
   }
+  r.camera = c.camera;
   r.instrument_id = c.instrument;
   r.hold_s = c.hold_s;
   const control::CommandResult result = stack_->request(r, t);
