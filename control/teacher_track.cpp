@@ -19,8 +19,6 @@ constexpr double kHeadingRateTauS = 0.5;
 constexpr double kCoastRateDecayS = 1.0;
 // Walking forwards: the walking direction within this of where the face looks.
 constexpr double kForwardWalkRad = std::numbers::pi / 3;
-// A gap in walking longer than this (standing, or a lost face) ends a spell of walking.
-constexpr double kSpellGapS = 0.3;
 
 double blend(double dt, double tau) { return 1.0 - std::exp(-dt / tau); }
 }  // namespace
@@ -31,24 +29,10 @@ double facing_heading(const Eigen::Isometry3d& T_world_face) {
 }
 
 void TeacherTrack::reset(const Eigen::Isometry3d& T_world_face, Seconds t) {
-  walk_ = last_walk_ = WalkSpell{};
   position_ = T_world_face.translation();
   velocity_.setZero();
   heading_ = facing_heading(T_world_face);
   heading_rate_ = 0;
-  hold_heading_ = false;
-  t_ = t;
-}
-
-void TeacherTrack::resume(const Eigen::Isometry3d& T_world_face, Seconds t) {
-  walk_ = last_walk_ = WalkSpell{};
-  position_ = T_world_face.translation();
-  // The velocity stays the prediction's (place()): zeroed, the feed-forward would drop and the
-  // derivative, relative to it, would brake the drone as the face of a teacher walking at it comes
-  // back, too close. Test "control: a face taken up again after a route prediction keeps the
-  // predicted walk".
-  heading_rate_ = 0;
-  hold_heading_ = true;
   t_ = t;
 }
 
@@ -60,9 +44,6 @@ void TeacherTrack::update(const Eigen::Isometry3d& T_world_face, Seconds t) {
   Eigen::Vector3d v = (position_ - previous) / dt;
   v.z() = 0;
   velocity_ += blend(dt, kVelocityTauS) * (v - velocity_);
-  note_walking(t);
-  if (hold_heading_ && !walking()) return;
-  hold_heading_ = false;
   const double looking = facing_heading(T_world_face);
   double towards = looking;
   if (walking()) {
@@ -74,40 +55,11 @@ void TeacherTrack::update(const Eigen::Isometry3d& T_world_face, Seconds t) {
   heading_rate_ += blend(dt, kHeadingRateTauS) * (step / dt - heading_rate_);
 }
 
-void TeacherTrack::note_walking(Seconds t) {
-  if (!walking()) return;
-  const Eigen::Vector2d direction = velocity_.head<2>().normalized();
-  // A new spell after a stop or a turn of more than 45 degrees.
-  if (!walk_.seen || t - walk_.to > kSpellGapS || direction.dot(walk_.direction) < std::cos(std::numbers::pi / 4)) {
-    walk_ = WalkSpell{true, t, t, direction, position_.head<2>()};
-  } else {
-    walk_.to = t;
-    walk_.direction = direction;
-    walk_.at = position_.head<2>();
-  }
-  if (walk_.to - walk_.from >= kSustainedWalkS) last_walk_ = walk_;
-}
-
 void TeacherTrack::coast(Seconds dt) {
   position_ += velocity_ * dt;
   heading_ = wrap_angle(heading_ + heading_rate_ * dt);
   heading_rate_ *= std::exp(-dt / kCoastRateDecayS);
   t_ += dt;
-}
-
-void TeacherTrack::place(const Eigen::Vector2d& xy, double heading_rad, const Eigen::Vector2d& velocity) {
-  position_.head<2>() = xy;
-  velocity_ = Eigen::Vector3d(velocity.x(), velocity.y(), 0.0);
-  heading_ = wrap_angle(heading_rad);
-  heading_rate_ = 0;
-}
-
-void TeacherTrack::expect_walk(const Eigen::Vector2d& velocity) {
-  const double speed = velocity.norm();
-  if (speed < 1e-9) return;
-  const Eigen::Vector2d along = velocity / speed;
-  const double now = velocity_.head<2>().dot(along);
-  if (now < speed) velocity_.head<2>() += (speed - now) * along;
 }
 
 Eigen::Isometry3d TeacherTrack::T_world_upright_face(double heading_rad) const {

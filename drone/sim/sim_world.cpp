@@ -158,6 +158,7 @@ SimWorld make_sim_world(const LabDescription& lab_file, const CamerasConfig& cal
   w.link.video_delay_s = d.in(ranges.video_delay_s);
   w.link.navdata_delay_s = d.in(ranges.navdata_delay_s);
   draw_events(d, ranges, w.settings.disturbances);
+  if (ranges.teacher_walk) w.lab.teacher = random_teacher_walk(lab_file, w.seed, *ranges.teacher_walk);
   return w;
 }
 
