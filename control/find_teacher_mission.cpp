@@ -29,6 +29,10 @@ constexpr double kCoastS = 1.0;
 constexpr double kGoRoundRadps = 0.6;
 constexpr double kGoRoundMaxRad = std::numbers::pi;
 constexpr double kGoRoundS = kGoRoundMaxRad / kGoRoundRadps + 1.0;
+// ... this much farther out than face_distance_m: the teacher may walk at the drone unseen, and
+// going round them at the follow distance it is in their way (test "control: a face lost at a
+// corner: the drone keeps clear of a teacher who sets off towards it unseen").
+constexpr double kLostBeyondM = 0.5;
 // A face lost while the teacher turns this fast is gone round the way they turn; slower, the way
 // that takes the drone away from the side it watched them from (the face turned away from it).
 constexpr double kTurningRadps = 0.15;
@@ -161,20 +165,21 @@ void FindTeacherMission::lost(MissionContext& ctx) {
   fresh_ = false;
   if (lost_for < kCoastS) {
     track_.coast(ctx.t - last_tick_);
-    fly_standoff(ctx, false, track_.heading(), track_.heading_rate());
+    fly_standoff(ctx, false, track_.heading(), track_.heading_rate(), kLostBeyondM);
     round_from_heading_ = track_.heading();
   } else if (lost_for < kCoastS + kGoRoundS) {
     // How far a lost teacher walks on is not known: the place is held, the heading swept round it.
     track_.stop();
     const double turned = std::min(kGoRoundMaxRad, kGoRoundRadps * (lost_for - kCoastS));
-    fly_standoff(ctx, false, round_from_heading_ + round_sign_ * turned, turned < kGoRoundMaxRad ? round_sign_ * kGoRoundRadps : 0.0);
+    fly_standoff(ctx, false, round_from_heading_ + round_sign_ * turned, turned < kGoRoundMaxRad ? round_sign_ * kGoRoundRadps : 0.0,
+                 kLostBeyondM);
   } else {
     start_search(ctx);
   }
 }
 
-void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate) {
-  const double d = ctx.config.mission.face_distance_m;
+void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m) {
+  const double d = ctx.config.mission.face_distance_m + beyond_m;
   const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
   const Eigen::Vector3d& face = track_.position();
   PoseTarget next = follow_standoff(standoff_target(track_.T_world_upright_face(heading), d, ctx.centre_ray_front), face, here,

@@ -56,9 +56,9 @@ class FindTeacherMission final : public Mission {
   void lost(MissionContext& ctx);
   double go_round_sign(const MissionContext& ctx) const;
   Geofence roomy_fence(const MissionContext& ctx) const;
-  // Stand face_distance_m in front of the track's place, as seen facing `heading` (turning at
-  // `heading_rate`), the camera on the place.
-  void fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate);
+  // Stand face_distance_m (+ beyond_m) in front of the track's place, as seen facing `heading`
+  // (turning at `heading_rate`), the camera on the place.
+  void fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m = 0.0);
   void follow_estimate_corrections(const MissionContext& ctx);
   std::string describe(Seconds t) const;
 
