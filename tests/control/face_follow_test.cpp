@@ -185,6 +185,7 @@ TEST_CASE("control: teachers walking at 0.3 and 0.7 m/s are both followed at the
     walk.loop = false;
     walk.speed_mps = speed;
     WalkFlight r{walk};
+    r.walk_from = 1e9;  // standing at the start while found
     REQUIRE(r.find_and_settle());
     r.walk_from = r.f.t;
     double sum = 0, nearest = 10;
