@@ -77,8 +77,9 @@ TEST_CASE("sim teacher: a drawn walk pauses its own time at each waypoint and en
   s.loop = false;
   s.pauses_s = {1.0, 0.5, 4.0};
   const TeacherMotion m(s);
-  // Pause 1 s, walk 2 m (4 s), pause 0.5 s, walk 1 m (2 s), then stand at (2, 1) for ever.
-  CHECK(m.cycle_s() == Approx(1.0 + 4.0 + 0.5 + 2.0));
+  // Pause 1 s, walk 2 m (4 s), pause 0.5 s, walk 1 m (2 s), then stand at (2, 1) for ever (the
+  // walk's length counts the last pause).
+  CHECK(m.cycle_s() == Approx(1.0 + 4.0 + 0.5 + 2.0 + 4.0));
   CHECK_FALSE(m.pose(0.5).walking);
   CHECK(m.pose(0.5).heading_rad == Approx(0.0).margin(1e-12));  // facing the first leg from the start
   CHECK(m.pose(3.0).floor_xy.isApprox(Eigen::Vector2d(1.0, 0.0)));
