@@ -5,12 +5,16 @@
 #include <boost/beast/http/message.hpp>
 #include <boost/beast/http/string_body.hpp>
 #include <filesystem>
+#include <functional>
+#include <mutex>
 #include <optional>
 #include <string>
 
 #include "core/time.hpp"
 #include "server/api/http_reply.hpp"
 #include "server/api/instrument_store.hpp"
+#include "server/api/rest_support.hpp"
+#include "server/audit/audit_log.hpp"
 #include "server/auth/session_store.hpp"
 #include "server/lab/remote_lab.hpp"
 #include "server/lab/server_metrics.hpp"
@@ -18,12 +22,10 @@
 
 namespace labo {
 
-using HttpRequest = boost::beast::http::request<boost::beast::http::string_body>;
-
 class RestApi {
  public:
   RestApi(const ServerSettings& settings, std::filesystem::path config_file, SessionStore& sessions, RemoteLab& lab,
-          ServerMetrics& metrics, const Clock& clock);
+          ServerMetrics& metrics, const Clock& clock, AuditLog& audit);
 
   HttpReply handle(const HttpRequest& req, const std::string& remote_address);
   // The session a request (or WebSocket upgrade) carries, if valid.
@@ -31,16 +33,38 @@ class RestApi {
 
  private:
   HttpReply route(const HttpRequest& req, const std::string& path, const std::string& remote);
+  HttpReply route_admin(const HttpRequest& req, const std::string& path, const SessionInfo& session);
   HttpReply login(const HttpRequest& req, const std::string& remote);
+  HttpReply users(const SessionInfo& session);
+  HttpReply route_users(const HttpRequest& req, const std::string& path, const SessionInfo& session);
+  HttpReply add_user(const HttpRequest& req, const SessionInfo& session);
+  HttpReply change_user(const HttpRequest& req, const std::string& name, const SessionInfo& session);
+  HttpReply remove_user(const std::string& name, const SessionInfo& session);
+  // Reads the config file, lets `edit` change its JSON (or refuse), validates and replaces the file,
+  // applies the users; answers `answer` with `status`.
+  HttpReply edit_users(const std::function<std::optional<HttpReply>(nlohmann::json&)>& edit,
+                       boost::beast::http::status status, nlohmann::json answer);
+  // New accounts at once; the sessions and connections of removed or re-roled users end.
+  void apply_users(const std::vector<UserAccount>& users);
+  HttpReply stop(const HttpRequest& req, const SessionInfo& session, MissionCommandKind kind);
+  HttpReply audit_page(const HttpRequest& req);
   HttpReply status();
   HttpReply get_config();
-  HttpReply put_config(const HttpRequest& req);
+  HttpReply put_config(const HttpRequest& req, const SessionInfo& session);
+  HttpReply save_config(const HttpRequest& req);
   HttpReply instruments();
-  HttpReply add_instrument(const HttpRequest& req);
+  HttpReply add_instrument(const HttpRequest& req, const SessionInfo& session);
+  HttpReply store_instrument(const HttpRequest& req);
+  HttpReply delete_instrument(const std::string& id, const SessionInfo& session);
   HttpReply recordings();
   HttpReply recording(const std::string& name);
   HttpReply metrics_text();
   HttpReply static_file(const std::string& path);
+  // "; Path=/; HttpOnly; SameSite=Strict", and "; Secure" over TLS.
+  std::string cookie_attributes() const;
+  // An administrative action into the audit log, with the HTTP status of its answer.
+  void audit(const SessionInfo& session, const std::string& action, const std::string& target, const HttpReply& reply,
+             const std::string& detail = {});
 
   ServerSettings settings_;
   std::filesystem::path config_file_;
@@ -48,7 +72,9 @@ class RestApi {
   RemoteLab& lab_;
   ServerMetrics& metrics_;
   const Clock& clock_;
+  AuditLog& audit_;
   InstrumentStore uploads_;
+  std::mutex config_mutex_;  // one change of the config file at a time
 };
 
 }  // namespace labo

@@ -6,6 +6,7 @@
 // which takes the lock again (test "lab: a client whose last owner is a delivery leaves without a
 // deadlock"). Thread-safe; nothing here blocks on a client (LabClient's sends only queue).
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -44,6 +45,8 @@ class ClientRegistry {
   void send_reading_view(const Message& view);  // to every client's reading-view slot
   std::size_t watching(VideoPath path) const { return (path == VideoPath::H264 ? h264_viewers_ : jpeg_viewers_).load(); }
   void disconnect_all(const std::string& reason);
+  // Disconnects the clients whose session `match` accepts; how many.
+  std::size_t disconnect_where(const std::function<bool(const SessionInfo&)>& match, const std::string& reason);
 
   std::vector<Participant> participants() const;
   std::size_t size() const;
