@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -63,6 +64,26 @@ std::string read_text(const std::filesystem::path& p) {
   return s.str();
 }
 
+// Checks that no .cpp or .hpp under `dirs` of the source tree (but `exempt`) names any of `names`;
+// returns how many files it read.
+int check_sources_never_name(std::initializer_list<const char*> dirs, const std::vector<std::string>& names,
+                             const std::filesystem::path& exempt = {}) {
+  int files = 0;
+  for (const char* dir : dirs) {
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(source_root() / dir)) {
+      const auto ext = entry.path().extension();
+      if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".hpp") || entry.path() == exempt) continue;
+      ++files;
+      const std::string text = read_text(entry.path());
+      for (const std::string& name : names) {
+        INFO(entry.path().string() << " names " << name);
+        CHECK(text.find(name) == std::string::npos);
+      }
+    }
+  }
+  return files;
+}
+
 }  // namespace
 
 TEST_CASE("bench: the flight stacks of runs in different worlds all get the configuration, not the world") {
@@ -88,45 +109,20 @@ TEST_CASE("bench: the flight stacks of runs in different worlds all get the conf
 
 TEST_CASE("bench: no source of the flight software names the simulated lab's world or its draws") {
   const std::filesystem::path root = source_root();
-  const std::vector<std::string> names = {"sim_world.hpp", "SimWorld", "make_sim_world", "WorldRanges", "PlantDeviation",
-                                          "SensorBiases", "world_mode.hpp", "WorldMode"};
   // The simulated lab's backend builds the world the flight runtime flies in (as emulate does).
-  const std::filesystem::path sim_backend = root / "server" / "runtime" / "backend_parts.cpp";
-  int files = 0;
-  for (const char* dir : {"localization", "control", "server"}) {
-    for (const auto& entry : std::filesystem::recursive_directory_iterator(root / dir)) {
-      const auto ext = entry.path().extension();
-      if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".hpp") || entry.path() == sim_backend) continue;
-      ++files;
-      const std::string text = read_text(entry.path());
-      for (const std::string& name : names) {
-        INFO(entry.path().string() << " names " << name);
-        CHECK(text.find(name) == std::string::npos);
-      }
-    }
-  }
+  const int files = check_sources_never_name({"localization", "control", "server"},
+                                             {"sim_world.hpp", "SimWorld", "make_sim_world", "WorldRanges", "PlantDeviation",
+                                              "SensorBiases", "world_mode.hpp", "WorldMode"},
+                                             root / "server" / "runtime" / "backend_parts.cpp");
   CHECK(files > 100);  // the scan did read the sources
 }
 
 TEST_CASE("bench: no source of control/ or localization/ names the teacher's walk, its speed or the simulated teacher") {
-  const std::filesystem::path root = source_root();
   // The face front-end may know the teacher's face (their photo, the distance between their eyes):
   // who they are, not where they walk.
-  const std::vector<std::string> names = {"TeacherSpec", "TeacherMotion", "TeacherRoute", "teacher_motion.hpp",
-                                          "teacher_walk.hpp", "random_teacher_walk", "TeacherWalkRanges", "HeadMotionSpec",
-                                          "waypoints", "teacher.speed", "teacher.pause", "teacher_speed", "cycle_s"};
-  int files = 0;
-  for (const char* dir : {"localization", "control"}) {
-    for (const auto& entry : std::filesystem::recursive_directory_iterator(root / dir)) {
-      const auto ext = entry.path().extension();
-      if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".hpp")) continue;
-      ++files;
-      const std::string text = read_text(entry.path());
-      for (const std::string& name : names) {
-        INFO(entry.path().string() << " names " << name);
-        CHECK(text.find(name) == std::string::npos);
-      }
-    }
-  }
+  const int files = check_sources_never_name({"localization", "control"},
+                                             {"TeacherSpec", "TeacherMotion", "TeacherRoute", "teacher_motion.hpp",
+                                              "teacher_walk.hpp", "random_teacher_walk", "TeacherWalkRanges", "HeadMotionSpec",
+                                              "waypoints", "teacher.speed", "teacher.pause", "teacher_speed", "cycle_s"});
   CHECK(files > 80);  // the scan did read the sources
 }
