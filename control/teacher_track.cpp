@@ -19,6 +19,15 @@ constexpr double kHeadingRateTauS = 0.5;
 constexpr double kCoastRateDecayS = 1.0;
 // Walking forwards: the walking direction within this of where the face looks.
 constexpr double kForwardWalkRad = std::numbers::pi / 3;
+// Standing, the head sways about the body's heading (people look around, +-20-40 degrees): a face
+// looking within kStandingSwayRad of the heading moves it only slowly (kStandingHeadingTauS, longer
+// than a sway's half period), a face looking farther moves it by the excess at kHeadingTauS (the
+// teacher turned). Following every glance swings the drone 0.5-0.8 m sideways at 1 m, and leaves
+// it off the teacher's line when they set off (tests "control: a standing teacher's swaying head
+// does not swing the heading" and "control: a correction of the drone's pose estimate is not taken
+// for the teacher's walk").
+constexpr double kStandingSwayRad = 0.4;
+constexpr double kStandingHeadingTauS = 4.0;
 
 double blend(double dt, double tau) { return 1.0 - std::exp(-dt / tau); }
 }  // namespace
@@ -44,15 +53,20 @@ void TeacherTrack::update(const Eigen::Isometry3d& T_world_face, Seconds t) {
   Eigen::Vector3d v = (position_ - previous) / dt;
   v.z() = 0;
   velocity_ += blend(dt, kVelocityTauS) * (v - velocity_);
-  const double looking = facing_heading(T_world_face);
-  double towards = looking;
-  if (walking()) {
-    const double walking_heading = std::atan2(velocity_.y(), velocity_.x());
-    if (std::abs(wrap_angle(walking_heading - looking)) < kForwardWalkRad) towards = walking_heading;
-  }
-  const double step = blend(dt, kHeadingTauS) * wrap_angle(towards - heading_);
+  const double step = heading_step(facing_heading(T_world_face), dt);
   heading_ = wrap_angle(heading_ + step);
   heading_rate_ += blend(dt, kHeadingRateTauS) * (step / dt - heading_rate_);
+}
+
+double TeacherTrack::heading_step(double looking, double dt) const {
+  if (walking()) {
+    const double walking_heading = std::atan2(velocity_.y(), velocity_.x());
+    if (std::abs(wrap_angle(walking_heading - looking)) < kForwardWalkRad)
+      return blend(dt, kHeadingTauS) * wrap_angle(walking_heading - heading_);
+  }
+  const double off = wrap_angle(looking - heading_);
+  const double excess = off - std::clamp(off, -kStandingSwayRad, kStandingSwayRad);
+  return blend(dt, kHeadingTauS) * excess + blend(dt, kStandingHeadingTauS) * (off - excess);
 }
 
 void TeacherTrack::coast(Seconds dt) {

@@ -10,7 +10,8 @@
 // simulated lab, people look around), and a standoff on the head's instantaneous line of sight swings
 // the drone sideways by d·sin(sway) (0.57 m at 1 m). While the teacher walks forwards (the walking
 // direction within kForwardWalkRad of where the face looks), the walking direction is their heading;
-// standing (turning on the spot), the face's heading is all there is and is followed.
+// standing (turning on the spot), the face's heading is all there is: a turn beyond the sway is
+// followed at once, the sway itself only slowly.
 #include <Eigen/Geometry>
 
 #include "core/time.hpp"
@@ -44,6 +45,9 @@ class TeacherTrack {
   static constexpr double kWalkingMps = 0.2;
 
  private:
+  // How far the heading moves towards the body's this update, the face looking at `looking`.
+  double heading_step(double looking, double dt) const;
+
   Eigen::Vector3d position_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity_ = Eigen::Vector3d::Zero();
   double heading_ = 0;

@@ -47,13 +47,14 @@ struct WalkFlight {
     for (const double end = f.t + 5.0; f.t < end;) tick();
     return f.stack->status().stage.rfind("3 face-follow", 0) == 0;
   }
-  // Ticks until the teacher walks leg A (along +x) between x_min and x_max with the face followed.
-  bool until_walking_leg_a(double x_min, double x_max) {
+  // Ticks until the teacher walks leg A (along +x) between x_min and x_max with the face followed
+  // and the drone at the distance (within 5 cm: it comes round the corner behind the teacher).
+  bool until_settled_on_leg_a(double x_min, double x_max) {
     for (const double end = f.t + 3 * motion.cycle_s(); f.t < end;) {
       tick();
       const TeacherPose p = teacher();
       const double x = p.T_world_head.translation().x();
-      if (p.walking && std::cos(p.heading_rad) > 0.9 && x > x_min && x < x_max &&
+      if (p.walking && std::cos(p.heading_rad) > 0.9 && x > x_min && x < x_max && std::abs(depth_error_m()) < 0.05 &&
           f.stack->status().stage == "3 face-follow")
         return true;
     }
@@ -73,28 +74,34 @@ TEST_CASE("control: a correction of the drone's pose estimate is not taken for t
   // On dead reckoning over a bare floor the estimator corrects the drone's estimate by about 0.1 m
   // within one tick; the faces placed from it move as much. Wrong: the track reads that as 0.27 m/s of
   // walking, its heading swings and the set point with it. Here the estimate jumps 0.12 m across a
-  // long leg while the teacher walks it (leg C, y = -1.9: the standoff there is clear of the wall
-  // clearance, which is fixed in the estimate's frame): the drone, in truth, should stay in front of
-  // them.
-  WalkFlight r;
+  // straight walk along +x in the middle of the room (clear of the wall clearance, which is fixed in
+  // the estimate's frame) once the drone has settled in front of the teacher: in truth it should stay
+  // in front.
+  TeacherSpec walk = test::lab_path();
+  walk.waypoints = {{0.0, -1.0}, {4.5, -1.0}};
+  walk.pauses_s = {2.0, 0.0};
+  walk.loop = false;
+  WalkFlight r{walk};
+  r.walk_from = 1e9;  // standing at the start while found
   REQUIRE(r.find_and_settle());
-  // Until the teacher has walked 3 s of leg C (along -x), followed (the drone settled in front).
-  Seconds walking_since = -1;
-  for (const double end = r.f.t + 2 * r.motion.cycle_s(); r.f.t < end;) {
-    r.tick();
-    const TeacherPose p = r.teacher();
-    const bool long_leg = p.walking && std::cos(p.heading_rad) < -0.9;
-    if (!long_leg) walking_since = -1;
-    else if (walking_since < 0) walking_since = r.f.t;
-    if (walking_since >= 0 && r.f.t - walking_since > 3.0 && r.f.stack->status().stage == "3 face-follow") break;
-  }
-  REQUIRE(r.f.stack->status().stage == "3 face-follow");
-  const TeacherPose at_jump = r.teacher();
-  const Eigen::Vector2d across(-std::sin(at_jump.heading_rad), std::cos(at_jump.heading_rad));
+  r.walk_from = r.f.t;
   const auto sideways_m = [&] {
     const TeacherPose p = r.teacher();
+    const Eigen::Vector2d across(-std::sin(p.heading_rad), std::cos(p.heading_rad));
     return across.dot((r.f.world->drone.pose().translation() - p.T_world_head.translation()).head<2>());
   };
+  // Settled: walking, followed, and within 5 cm of the teacher's line for the last second.
+  Seconds settled_since = -1;
+  for (const double end = r.f.t + 8.0; r.f.t < end && (settled_since < 0 || r.f.t - settled_since < 1.0);) {
+    r.tick();
+    const bool on_line = r.teacher().walking && std::abs(sideways_m()) < 0.05 && r.f.stack->status().stage == "3 face-follow";
+    if (!on_line) settled_since = -1;
+    else if (settled_since < 0) settled_since = r.f.t;
+  }
+  REQUIRE(settled_since >= 0);
+  REQUIRE(r.f.t - settled_since >= 1.0);
+  const TeacherPose at_jump = r.teacher();
+  const Eigen::Vector2d across(-std::sin(at_jump.heading_rad), std::cos(at_jump.heading_rad));
   const double before = sideways_m();
   r.f.world->estimate_offset = Eigen::Vector3d(0.12 * across.x(), 0.12 * across.y(), 0.0);
   double worst = 0;
@@ -105,7 +112,6 @@ TEST_CASE("control: a correction of the drone's pose estimate is not taken for t
   }
   // Before this change: 0.25 m sideways 1.7 s after the jump (0.02 m with it).
   INFO("sideways before the jump " << before << " m, worst after it " << worst << " m");
-  CHECK(std::abs(before) < 0.1);
   CHECK(worst < 0.12);
 }
 
@@ -149,7 +155,7 @@ TEST_CASE("control: a face lost for a few frames mid-walk is bridged along the t
   // is flown along the coasted track.
   WalkFlight r;
   REQUIRE(r.find_and_settle());
-  REQUIRE(r.until_walking_leg_a(2.2, 2.8));
+  REQUIRE(r.until_settled_on_leg_a(2.2, 3.4));
   // Hidden for 0.2 s: every tick stays in face-follow, and the drone keeps its distance.
   r.f.world->face_visible = false;
   double worst = 0;
@@ -178,6 +184,13 @@ TEST_CASE("control: a face lost for a few frames mid-walk is bridged along the t
 }
 
 TEST_CASE("control: teachers walking at 0.3 and 0.7 m/s are both followed at the distance, from the face's motion alone") {
+  // The teacher stands, then sets off at the drone at full speed within one frame. Nothing tells the
+  // drone when: it learns of the walk from the face's displacement (the track's velocity rises with
+  // kVelocityTauS 0.4 s), and the xy loop (kp 0.7, kd 0.4 per m/s, its tilt clipped to half the
+  // firmware's 12 degrees: 1 m/s^2 less drag) answers a 0.7 m/s step by losing about 0.45 m of the
+  // standoff within the first second and closing it over the next two. Each speed is checked on
+  // its set-off (never nearer than 0.65 m: the hull and the body touch at 0.51 m) and on the follow
+  // once that gap is closed (from 3 s after the set-off).
   for (const double speed : {0.3, 0.7}) {
     TeacherSpec walk = test::lab_path();
     walk.waypoints = {{0.0, -1.0}, {4.5, -1.0}};
@@ -193,7 +206,7 @@ TEST_CASE("control: teachers walking at 0.3 and 0.7 m/s are both followed at the
     while (r.f.t < r.walk_from + 2.0 + 4.5 / speed) {
       r.tick();
       nearest = std::min(nearest, r.drone_to_teacher_m());
-      if (r.f.t > r.walk_from + 2.0 + 1.0) {  // past the set-off's first second
+      if (r.f.t > r.walk_from + 2.0 + 3.0) {  // past the set-off
         sum += r.depth_error_m() * r.depth_error_m();
         ++n;
       }
@@ -201,7 +214,7 @@ TEST_CASE("control: teachers walking at 0.3 and 0.7 m/s are both followed at the
     const double rms = std::sqrt(sum / std::max(n, 1));
     INFO("at " << speed << " m/s: depth error RMS " << rms << " m, nearest " << nearest << " m, " << r.f.stack->status().stage);
     CHECK(rms < 0.15);
-    CHECK(nearest > 0.7);
+    CHECK(nearest > 0.65);
     CHECK(r.f.stack->status().stage == "3 face-follow");
   }
 }
@@ -249,5 +262,7 @@ TEST_CASE("control: a teacher who turns their back is gone round until the face 
   r.f.run(5.0);
   const Eigen::Vector2d out = (r.f.world->drone.pose().translation() - at).head<2>();
   CHECK(std::abs(wrap_angle(std::atan2(out.y(), out.x()) - away)) < 0.3);  // in front of them
-  CHECK(std::abs(out.norm() - 1.0) < 0.15);
+  // At the distance: the camera (0.2 m ahead of the body's centre) 1 m from the face.
+  const Eigen::Vector3d face_in_camera = ((r.f.world->drone.pose() * T_body_cam_front()).inverse() * at);
+  CHECK(std::abs(face_in_camera.z() - 1.0) < 0.15);
 }
