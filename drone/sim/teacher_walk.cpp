@@ -2,10 +2,10 @@
 
 #include <cmath>
 #include <numbers>
-#include <random>
 #include <stdexcept>
 
 #include "core/frames.hpp"
+#include "drone/sim/seeded_draw.hpp"
 
 namespace labo {
 
@@ -14,19 +14,8 @@ namespace {
 constexpr int kTriesPerLeg = 400;
 constexpr double kSegmentStepM = 0.1;
 
-class WalkDraw {
- public:
-  explicit WalkDraw(std::uint64_t seed) {
-    // Its own stream, apart from the world's other draws and the sensors' noise.
-    std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32), 0x7465616cu};
-    rng_.seed(seq);
-  }
-  double in(double min, double max) { return min + (max - min) * unit_(rng_); }
-
- private:
-  std::mt19937_64 rng_;
-  std::uniform_real_distribution<double> unit_{0.0, 1.0};
-};
+// The walk's draws: its own stream, apart from the world's other draws and the sensors' noise.
+constexpr std::uint32_t kWalkStream = 0x7465616cu;
 
 bool segment_on_free_floor(const LabDescription& lab, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double r,
                            const TeacherWalkRanges& ranges) {
@@ -55,7 +44,7 @@ bool on_free_floor(const LabDescription& lab, const Eigen::Vector2d& xy, double 
 TeacherSpec random_teacher_walk(const LabDescription& lab, std::uint64_t seed, const TeacherWalkRanges& ranges) {
   TeacherSpec walk = lab.teacher;
   const double r = walk.body_radius_m;
-  WalkDraw d(seed);
+  SeededDraw d(seed, kWalkStream);
   const Eigen::Vector2d lo = lab.room.min.head<2>(), hi = lab.room.max.head<2>();
   const auto any_point = [&] { return Eigen::Vector2d(d.in(lo.x(), hi.x()), d.in(lo.y(), hi.y())); };
   Eigen::Vector2d at = any_point();
