@@ -25,10 +25,9 @@ void ClientRegistry::set_video(ClientId client, VideoPath path) {
 }
 
 void ClientRegistry::count_viewers() {
-  std::size_t h264 = 0;
-  for (const auto& [id, m] : members_) h264 += m.video == VideoPath::H264;
-  h264_viewers_ = h264;
-  jpeg_viewers_ = members_.size() - h264;
+  std::array<std::size_t, 3> count{};
+  for (const auto& [id, m] : members_) ++count[static_cast<std::size_t>(m.video)];
+  for (std::size_t i = 0; i < count.size(); ++i) viewers_[i] = count[i];
 }
 
 ClientRegistry::Admission ClientRegistry::admit(ClientId client, double now_s) {
@@ -84,6 +83,11 @@ void ClientRegistry::send_access_unit(const WireAccessUnit& unit) {
   links_watching(VideoPath::H264, targets);
   for (const auto& weak : targets)
     if (const auto client = weak.lock()) client->send_access_unit(unit);
+  if (unit.geometry && watching(VideoPath::Geometry) > 0) {
+    links_watching(VideoPath::Geometry, targets);
+    for (const auto& weak : targets)
+      if (const auto client = weak.lock()) client->send_event(unit.geometry);
+  }
   targets.clear();
 }
 

@@ -52,10 +52,10 @@ ParsedMessage parse_command(const json& msg) {
 ParsedMessage parse_subscribe(const json& msg) {
   for (const auto& [key, value] : msg.items())
     if (key != "type" && key != "video") return refuse("unknown field '" + key + "' in subscribe (expected 'video')");
-  if (!msg.contains("video") || !msg["video"].is_string()) return refuse("subscribe needs 'video' (string: h264 or jpeg)");
+  if (!msg.contains("video") || !msg["video"].is_string()) return refuse("subscribe needs 'video' (string: h264, jpeg or geometry)");
   const std::string name = msg["video"].get<std::string>();
   const auto path = parse_video_path(name);
-  if (!path) return refuse("unknown video path '" + name + "' (expected h264 or jpeg)");
+  if (!path) return refuse("unknown video path '" + name + "' (expected h264, jpeg or geometry)");
   return ClientRequest{SubscribeRequest{*path}};
 }
 

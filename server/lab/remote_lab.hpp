@@ -41,7 +41,9 @@ class RemoteLab final : public FlightEventSink {
   void on_reading_view(std::shared_ptr<const std::string> view) override;
   void on_flight_event(const FlightEvent& event) override;
   bool wants_jpeg() const override { return clients_.watching(VideoPath::Jpeg) > 0; }
-  bool wants_access_units() const override { return clients_.watching(VideoPath::H264) > 0; }
+  bool wants_access_units() const override {
+    return clients_.watching(VideoPath::H264) + clients_.watching(VideoPath::Geometry) > 0;
+  }
   bool wants_reading_view() const override { return clients_.size() > 0; }
 
   // JSON for REST: the queue and the connected clients.

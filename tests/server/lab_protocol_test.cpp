@@ -44,6 +44,7 @@ TEST_CASE("lab: protocol: each message type becomes its typed request") {
   request_of<TakeOverRequest>(parse_client_message(R"({"type":"take_over"})"));
   CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"h264"})")).video == VideoPath::H264);
   CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"jpeg"})")).video == VideoPath::Jpeg);
+  CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"geometry"})")).video == VideoPath::Geometry);
 
   const ParsedMessage stop = parse_client_message(R"({"type":"command","id":1,"command":"emergency_stop"})");
   CHECK(is_emergency_stop(std::get<ClientRequest>(stop)));
@@ -91,10 +92,10 @@ TEST_CASE("lab: protocol: every refused input names what was wrong and what was 
   CHECK(std::get<Refusal>(typed).typed);
 
   // Subscriptions: the video path, nothing else.
-  CHECK(verdict_of(R"({"type":"subscribe"})") == "400 subscribe needs 'video' (string: h264 or jpeg)");
-  CHECK(verdict_of(R"({"type":"subscribe","video":1})") == "400 subscribe needs 'video' (string: h264 or jpeg)");
-  CHECK(verdict_of(R"({"type":"subscribe","video":"H264"})") == "400 unknown video path 'H264' (expected h264 or jpeg)");
-  CHECK(verdict_of(R"({"type":"subscribe","video":"vp8"})") == "400 unknown video path 'vp8' (expected h264 or jpeg)");
+  CHECK(verdict_of(R"({"type":"subscribe"})") == "400 subscribe needs 'video' (string: h264, jpeg or geometry)");
+  CHECK(verdict_of(R"({"type":"subscribe","video":1})") == "400 subscribe needs 'video' (string: h264, jpeg or geometry)");
+  CHECK(verdict_of(R"({"type":"subscribe","video":"H264"})") == "400 unknown video path 'H264' (expected h264, jpeg or geometry)");
+  CHECK(verdict_of(R"({"type":"subscribe","video":"vp8"})") == "400 unknown video path 'vp8' (expected h264, jpeg or geometry)");
   CHECK(verdict_of(R"({"type":"subscribe","video":"h264","rate":3})") ==
         "400 unknown field 'rate' in subscribe (expected 'video')");
 }
