@@ -18,7 +18,10 @@ const CommandSpec& serve_command_spec() {
        {"--port", "N", "TCP port to listen on (default: from the config, 8080)"},
        {"--bind", "ADDR", "address to listen on (default: from the config, 127.0.0.1)"},
        {"--drone", "SPEC", "sim (default: the simulated lab on loopback), ardrone[:HOST], tello[:HOST] or replay:FILE"},
-       {"--rtp-video", "HOST:PORT", "also forward the drone's H.264 as RTP to a media server (a Janus streaming mount point)"}},
+       {"--rtp-video", "HOST:PORT", "also forward the drone's H.264 as RTP to a media server (a Janus streaming mount point)"},
+       {"--labs", "FILE", "the lab directory of a front of several labs, served at /api/labs (needs --lab-id)"},
+       {"--lab-id", "ID", "this lab's id in the lab directory"},
+       {"--session-key", "FILE", "a secret shared by the labs of a front (at least 32 bytes): sessions valid at all of them"}},
       0,
       0};
   return spec;
@@ -29,6 +32,11 @@ int run_serve_command(const ParsedArgs& args) {
   AppConfig config = load_app_config(config_file);
   config.server.bind_address = args.value_or("--bind", config.server.bind_address);
   config.server.port = args.integer_or("--port", config.server.port, 1, 65535);
+  config.server.multi_lab.labs_file = args.value_or("--labs", "");
+  config.server.multi_lab.lab_id = args.value_or("--lab-id", "");
+  config.server.multi_lab.session_key_file = args.value_or("--session-key", "");
+  if (config.server.multi_lab.labs_file.empty() != config.server.multi_lab.lab_id.empty())
+    throw UsageError("--labs and --lab-id go together: the directory, and this lab's entry in it");
   const DroneSpec drone = parse_drone_spec(args.value_or("--drone", "sim"));  // UsageError when malformed
   Logger log("labodrone", config.log_level);
   std::optional<RtpTarget> rtp_target;

@@ -44,6 +44,14 @@ struct VideoSettings {
   double telemetry_hz = 10;  // state messages to each client
 };
 
+// Several labs behind one front (docs/web.md "Several labs"): given on serve's command line by the
+// scripts that start the labs (scripts/janus/run_labs.sh), not read from the configuration file.
+struct MultiLabSettings {
+  std::filesystem::path labs_file;         // the lab directory served at /api/labs; empty: this lab alone
+  std::string lab_id;                      // this server's entry in it
+  std::filesystem::path session_key_file;  // shared by the labs: a session of one is valid at all
+};
+
 struct ServerSettings {
   std::string bind_address = "127.0.0.1";
   int port = 8080;
@@ -55,6 +63,7 @@ struct ServerSettings {
   ControlRules control;
   ClientLimits clients;
   VideoSettings video;
+  MultiLabSettings multi_lab;
 };
 
 // Throws ConfigError naming the file, key path, value and expectation.

@@ -62,7 +62,10 @@ RestApi::RestApi(const ServerSettings& settings, std::filesystem::path config_fi
       lab_(lab),
       metrics_(metrics),
       clock_(clock),
-      uploads_(settings.instruments_dir) {}
+      uploads_(settings.instruments_dir),
+      labs_(settings.multi_lab.labs_file.empty()
+                ? LabDirectory()
+                : LabDirectory(settings.multi_lab.labs_file, settings.multi_lab.lab_id)) {}
 
 std::optional<SessionInfo> RestApi::authenticate(const HttpRequest& req) {
   std::string token;
@@ -134,6 +137,10 @@ HttpReply RestApi::route(const HttpRequest& req, const std::string& path, const 
   if (path == "/api/me") {
     if (m != http::verb::get) return method_not_allowed("GET");
     return ok_json({{"user", session->user}, {"role", to_string(session->role)}});
+  }
+  if (path == "/api/labs") {
+    if (m != http::verb::get) return method_not_allowed("GET");
+    return HttpReply::json(http::status::ok, labs_.json());
   }
   if (path == "/api/status") {
     if (m != http::verb::get) return method_not_allowed("GET");

@@ -11,6 +11,7 @@
 #include "core/time.hpp"
 #include "server/api/http_reply.hpp"
 #include "server/api/instrument_store.hpp"
+#include "server/api/lab_directory.hpp"
 #include "server/auth/session_store.hpp"
 #include "server/lab/remote_lab.hpp"
 #include "server/lab/server_metrics.hpp"
@@ -49,6 +50,7 @@ class RestApi {
   ServerMetrics& metrics_;
   const Clock& clock_;
   InstrumentStore uploads_;
+  LabDirectory labs_;
 };
 
 }  // namespace labo

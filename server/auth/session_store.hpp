@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "server/auth/password_hash.hpp"
+#include "server/auth/session_signer.hpp"
 #include "server/auth/token_bucket.hpp"
 #include "server/server_settings.hpp"
 
@@ -36,6 +37,9 @@ class SessionStore {
   // `remote` (the client's address) is rate limited: PBKDF2 is deliberately slow.
   LoginResult login(const std::string& user, const std::string& password, const std::string& remote, double now_s);
   std::optional<SessionInfo> authenticate(const std::string& token, double now_s);
+  // From now on, logins issue tokens signed with the labs' shared key, and a token signed by another
+  // lab of the same front is a session here too (session_signer.hpp).
+  void share_with(SessionSigner signer);
   void logout(const std::string& token);
   std::vector<SessionInfo> sessions(double now_s);
   std::vector<UserAccount> users() const;
@@ -54,6 +58,9 @@ class SessionStore {
   mutable std::mutex mutex_;
   std::map<std::string, SessionInfo> sessions_;
   std::map<std::string, TokenBucket> login_buckets_;
+  std::optional<SessionSigner> signer_;
+  // Signed tokens logged out here, until they expire: a signature alone would bring them back.
+  std::map<std::string, double> revoked_until_unix_s_;
 };
 
 }  // namespace labo
