@@ -2,15 +2,44 @@
 // forwards it (RTP to a Janus streaming mount point) reaches this page over WebRTC, and the overlay
 // geometry still comes over LaboDrone's WebSocket (subscribe "geometry"). Each decoded frame is
 // matched to its geometry by RTP timestamp: the server stamps a frame captured at capture_ms with
-// round(capture_ms * 90) mod 2^32 (server/video/rtp_h264_packetizer.hpp), which Chromium reports
-// for each WebRTC frame it presents (requestVideoFrameCallback's rtpTimestamp).
+// round(capture_ms * 90) mod 2^32 (server/video/rtp_h264_packetizer.hpp), and Chromium reports the
+// timestamp of each WebRTC frame it presents (requestVideoFrameCallback's rtpTimestamp). Janus
+// rewrites timestamps by a constant offset per viewer (it keeps them continuous across source
+// changes), so the page learns that offset (RtpOffset) and matches exactly once it is known.
 // janus.js and adapter.js are Debian's (libjs-janus-gateway, libjs-webrtc-adapter), served from
 // web/vendor/ (links to /usr/share/javascript). Any failure (no lab directory entry, no library, no
 // Janus, no frame within FIRST_FRAME_TIMEOUT_MS) hands the video back to the WebSocket paths.
 const FIRST_FRAME_TIMEOUT_MS = 6000;
+const OFFSET_VOTES = 3;        // frames that must agree on an offset before it is used
+const OFFSET_LOST_FRAMES = 30;  // frames without a match after which the offset is learnt again
 
 export function rtpTimestampOf(captureMs) {
   return Math.round(captureMs * 90) % 4294967296;
+}
+
+// The constant difference between the timestamps Janus delivers and the server's: the offset that
+// the most recent frames agree on, each frame voting for its difference to every geometry waiting.
+export class RtpOffset {
+  constructor() { this.reset(); }
+  reset() { this.offset = null; this.votes = new Map(); this.misses = 0; this.last = null; }
+
+  // The geometry of the frame with RTP timestamp `rtp` among `geometries`, or null.
+  match(rtp, geometries) {
+    if (this.offset !== null) {
+      const want = (rtp - this.offset + 4294967296) % 4294967296;
+      for (const g of geometries) if (rtpTimestampOf(g.capture_ms) === want) { this.misses = 0; this.last = g; return g; }
+      if (++this.misses >= OFFSET_LOST_FRAMES) this.reset();
+      return null;
+    }
+    const votes = new Map();
+    for (const g of geometries) {
+      const d = (rtp - rtpTimestampOf(g.capture_ms) + 4294967296) % 4294967296;
+      votes.set(d, (this.votes.get(d) || 0) + 1);
+    }
+    this.votes = votes;  // only differences every recent frame shares survive
+    for (const [d, n] of votes) if (n >= OFFSET_VOTES) { this.offset = d; return this.match(rtp, geometries); }
+    return null;
+  }
 }
 
 function loadScript(src) {
@@ -51,7 +80,9 @@ export class JanusView {
     // In the document (a detached or hidden element may not be decoded), but invisible: the canvas shows it.
     this.video.style.cssText = 'position:absolute;left:0;top:0;width:2px;height:2px;opacity:0;pointer-events:none';
     doc.body.append(this.video);
+    this.matched = 0;
     this.unmatched = 0;
+    this.offset = new RtpOffset();
   }
 
   async start() {
@@ -105,9 +136,13 @@ export class JanusView {
   play(track) {
     this.video.srcObject = new MediaStream([track]);
     this.video.play().catch(() => {});
+    if (this.playing) return;  // Janus may announce the track again (renegotiation): one frame loop
+    this.playing = true;
+    let last = -1;
     const onFrame = (now, meta) => {
       if (this.closed) return;
-      this.draw(meta);
+      if (meta.presentedFrames !== last) this.draw(meta);
+      last = meta.presentedFrames;
       this.video.requestVideoFrameCallback(onFrame);
     };
     this.video.requestVideoFrameCallback(onFrame);
@@ -118,17 +153,23 @@ export class JanusView {
     clearTimeout(this.firstFrameTimer);
     const v = this.view, canvas = v.canvas;
     canvas.getContext('2d').drawImage(this.video, 0, 0, canvas.width, canvas.height);
-    let match = null;
-    for (const g of v.geometry.values()) if (rtpTimestampOf(g.capture_ms) === meta.rtpTimestamp) { match = g; break; }
-    if (!match) {
-      this.unmatched++;
-      v.stats.overlaysDrawn = [];
-      v.stats.janusUnmatched = this.unmatched;
+    const match = this.offset.match(meta.rtpTimestamp, [...v.geometry.values()]);
+    if (match) {
+      for (const k of v.geometry.keys()) if (k <= match.frame) v.geometry.delete(k);
+      v.drawOverlays(match);
+      v.stats.janusMatched = ++this.matched;
+      v.shown(match.frame, match.capture_ms);
       return;
     }
-    for (const k of v.geometry.keys()) if (k <= match.frame) v.geometry.delete(k);
-    v.drawOverlays(match);
-    v.shown(match.frame, match.capture_ms);
+    // Its geometry is late (a busy page reads the WebSocket after the frame is decoded) or lost: the
+    // frame is shown without overlays, its capture time told by its timestamp once the offset is known.
+    v.stats.overlaysDrawn = [];
+    v.stats.janusUnmatched = ++this.unmatched;
+    const newest = [...v.geometry.values()].pop() || this.offset.last;
+    if (this.offset.offset === null || !newest) return;
+    const want = (meta.rtpTimestamp - this.offset.offset + 4294967296) % 4294967296;
+    const ticks = ((want - rtpTimestampOf(newest.capture_ms) + 6442450944) % 4294967296) - 2147483648;  // signed
+    v.shown(-1, newest.capture_ms + ticks / 90);
   }
 
   fail(reason) {

@@ -81,7 +81,7 @@ std::optional<SessionInfo> RestApi::authenticate(const HttpRequest& req) {
     const auto q = target.find("token=");
     if (q != std::string::npos && target.substr(0, 3) == "/ws") token = target.substr(q + 6, target.find('&', q) - q - 6);
   }
-  if (token.empty() || token.size() > 128) return std::nullopt;
+  if (token.empty() || token.size() > 256) return std::nullopt;  // a signed token names its user (session_signer.hpp)
   return sessions_.authenticate(token, clock_.now());
 }
 

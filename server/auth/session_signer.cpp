@@ -4,6 +4,7 @@
 #include <openssl/evp.h>
 #include <openssl/hmac.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -71,13 +72,13 @@ std::string SessionSigner::mac_hex(const std::string& text) const {
   if (!HMAC(EVP_sha256(), key_.data(), static_cast<int>(key_.size()), reinterpret_cast<const unsigned char*>(text.data()),
             text.size(), mac, &n))
     throw std::runtime_error("HMAC-SHA256 failed in OpenSSL");
-  return to_hex(mac, n);
+  return to_hex(mac, std::min<unsigned int>(n, kMacBytes));
 }
 
 std::string SessionSigner::issue(const std::string& user, Role role, double expires_unix_s) const {
   const std::string body = "s1." + to_hex(reinterpret_cast<const unsigned char*>(user.data()), user.size()) + "." +
                            to_string(role) + "." + std::to_string(static_cast<long long>(std::floor(expires_unix_s))) +
-                           "." + random_hex(16);
+                           "." + random_hex(8);
   return body + "." + mac_hex(body);
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // Sessions valid across several labs (docs/web.md "Several labs"): every LaboDrone process of a
 // front reads the same secret key, and a login at any of them issues a token the others verify
-// without asking anyone: "s1.<user, hex>.<role>.<expiry, Unix s>.<nonce>.<HMAC-SHA256 of the rest>".
+// without asking anyone: "s1.<user, hex>.<role>.<expiry, Unix s>.<nonce>.<HMAC-SHA256-128 of the rest>".
 // The token carries no password and expires; a lab still refuses it when its own user list no longer
 // has that user with that role. Thread-safe (const).
 #include <filesystem>
@@ -22,6 +22,7 @@ struct SessionClaims {
 class SessionSigner {
  public:
   static constexpr std::size_t kMinKeyBytes = 32;
+  static constexpr unsigned int kMacBytes = 16;  // HMAC-SHA256 truncated to 128 bits: tokens stay short
   // Throws std::runtime_error naming the file when it cannot be read or holds fewer than kMinKeyBytes.
   static SessionSigner from_key_file(const std::filesystem::path& file);
   explicit SessionSigner(std::vector<unsigned char> key);

@@ -123,6 +123,17 @@ TEST_CASE("web: several labs: GET /api/labs answers the directory to a logged-in
   CHECK(r.json()["labs"][0]["janus"]["mountpoint"] == 1);
   CHECK(http_call(f.port, http::verb::post, "/api/labs", "{}", cookie).status == 405);
 
+  // A login at this lab is a session at another lab sharing its key, over HTTP as the browser does it.
+  std::ofstream(dir / "session.key") << std::string(40, 'k');
+  const auto shared_key = [&](ServerSettings& s) { s.multi_lab.session_key_file = dir / "session.key"; };
+  ServerFixture one(shared_key), two(shared_key);
+  const std::string at_one = login_cookie(one.port, "tess", "tess-pw");
+  CHECK(at_one.rfind("labo_session=s1.", 0) == 0);  // signed
+  const HttpResult me = http_call(two.port, http::verb::get, "/api/me", {}, at_one);
+  CHECK(me.status == 200);
+  CHECK(me.json()["user"] == "tess");
+  CHECK(http_call(f.port, http::verb::get, "/api/me", {}, at_one).status == 401);  // no shared key there
+
   ServerFixture alone;
   CHECK(http_call(alone.port, http::verb::get, "/api/labs", {}, login_cookie(alone.port, "bob", "bob-pw")).json()["labs"].empty());
   std::filesystem::remove_all(dir);
