@@ -8,6 +8,10 @@
 // Usage: [MEASURE_S=5] node janus_view.mjs LAB1_URL LAB2_URL OUT_DIR
 import {chromium} from 'playwright-core';
 
+// The test checks that video flows; the frame-rate target (>= 25 frames/s) is checked by the
+// benchmark run of the same script with MIN_FPS=25 (docs/web.md), on a machine doing nothing else.
+const minFps = Number(process.env.MIN_FPS || 5);
+
 const [lab1, lab2, outDir] = process.argv.slice(2);
 const fail = (msg) => { console.error('FAIL: ' + msg); process.exitCode = 1; };
 const browser = await chromium.launch({
@@ -37,7 +41,7 @@ async function janusFrames(page, label) {
   console.log(`${label}: ${fps.toFixed(1)} frames/s through Janus; glass-to-browser latency median ` +
               `${s.latency.median.toFixed(0)} ms, p95 ${s.latency.p95.toFixed(0)} ms; ` +
               `overlays matched by RTP timestamp on ${s.janusMatched || 0} frames, ${s.janusUnmatched || 0} without`);
-  if (fps < 20) fail(`${label}: only ${fps.toFixed(1)} frames/s reached the page`);
+  if (fps < minFps) fail(`${label}: only ${fps.toFixed(1)} frames/s reached the page`);
   const matched = (s.janusMatched || 0) / Math.max(1, (s.janusMatched || 0) + (s.janusUnmatched || 0));
   if (matched < 0.7) fail(`${label}: only ${(100 * matched).toFixed(0)} % of the frames found their geometry`);
   // Every frame's geometry has the HUD and the source border: the last matched frame drew them.
