@@ -103,8 +103,9 @@ try {
   await spectators.page.waitForFunction(() => window.labodrone.videoPath === 'janus', null, {timeout: 15000});
   const dir = await spectators.page.evaluate(async () => (await fetch('/api/labs')).json());
   const janus = dir.labs.find((l) => l.id === dir.self).janus;
-  // Its own window: a second tab of the lab page's would hide it, and a hidden page draws no frames.
-  const lightPage = await (await browser.newContext()).newPage();
+  // Its own window (a second tab of the lab page's would hide it, and a hidden page draws no frames),
+  // logged in: the viewers' WebSockets need the session.
+  const lightPage = (await login('student2')).page;
   await lightPage.goto(base + '/labs.html', {timeout: 120000});
   let count = 1;
 
