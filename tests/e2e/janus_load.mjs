@@ -88,9 +88,15 @@ async function addLightViewer(page, mountpoint, janusUrl) {
   }, [mountpoint, janusUrl]);
 }
 
-// Frames so far: the lab page's drawn frames, then each receive-only viewer's received frames.
+// Frames so far: the lab page's drawn frames, then each receive-only viewer's frames as WebRTC counts
+// them on its network and worker threads (inbound-rtp framesReceived: assembled from the packets
+// Janus sent, whether or not a starved page's script has read them yet).
 const frameCounts = async (labPage, lightPage) => [await labPage.evaluate(() => window.labodrone.framesDecoded),
-  ...await lightPage.evaluate(() => (window.lights || []).map((l) => l.frames))];
+  ...await lightPage.evaluate(() => Promise.all((window.lights || []).map(async (l) => {
+    let received = 0;
+    (await l.handle.webrtcStuff.pc.getStats()).forEach((r) => { if (r.type === 'inbound-rtp' && r.kind === 'video') received = r.framesReceived; });
+    return received;
+  })))];
 try {
   // The pilot: control, take off, on the direct path (lowest latency).
   const pilot = await login('student1');
@@ -112,7 +118,12 @@ try {
   for (const n of counts.split(/\s+/).map(Number)) {
     for (; count < n; ++count) await addLightViewer(lightPage, janus.mountpoint, janus.url);
     await spectators.page.waitForFunction(() => window.labodrone.framesDecoded >= 30, null, {timeout: 120000});
-    await lightPage.waitForFunction(() => (window.lights || []).every((l) => l.frames >= 30), null, {timeout: 120000});
+    for (const until = Date.now() + 300000; ;) {
+      const received = (await frameCounts(spectators.page, lightPage)).slice(1);
+      if (received.every((f) => f >= 30)) break;
+      if (Date.now() > until) throw new Error(`receive-only viewers without 30 frames after 300 s: ${received}`);
+      await new Promise((ok) => setTimeout(ok, 1000));
+    }
     const f0 = await frameCounts(spectators.page, lightPage);
     const c0 = {labo: cpuSeconds(laboPid), janus: cpuSeconds(janusPid), chromium: browserCpu()};
     const t0 = performance.now();
