@@ -55,7 +55,7 @@ int run_serve_command(const ParsedArgs& args) {
   WebServer server(config.server, config_file, tap ? static_cast<FlightService&>(*tap) : backend->flight(),
                    log.child("web"));
   server.start();
-  std::cout << "LaboDrone is serving on http://" << config.server.bind_address << ":" << config.server.port
+  std::cout << "LaboDrone is serving on " << (config.server.tls.enabled() ? "https://" : "http://") << config.server.bind_address << ":" << config.server.port
             << "/ (drone: " << describe(drone) << ")" << std::endl;
   if (rtp_target)
     std::cout << "H.264 forwarded as RTP to " << rtp_target->host << ":" << rtp_target->port << std::endl;

@@ -94,7 +94,9 @@ async function addLightViewer(page, mountpoint, janusUrl) {
 const frameCounts = async (labPage, lightPage) => [await labPage.evaluate(() => window.labodrone.framesDecoded),
   ...await lightPage.evaluate(() => Promise.all((window.lights || []).map(async (l) => {
     let received = 0;
-    (await l.handle.webrtcStuff.pc.getStats()).forEach((r) => { if (r.type === 'inbound-rtp' && r.kind === 'video') received = r.framesReceived; });
+    const pc = l.handle && l.handle.webrtcStuff.pc;
+    if (!pc) return 0;  // not negotiated yet
+    (await pc.getStats()).forEach((r) => { if (r.type === 'inbound-rtp' && r.kind === 'video') received = r.framesReceived; });
     return received;
   })))];
 try {
