@@ -88,17 +88,10 @@ async function addLightViewer(page, mountpoint, janusUrl) {
   }, [mountpoint, janusUrl]);
 }
 
-// Frames so far: the lab page's drawn frames, then each receive-only viewer's frames as WebRTC counts
-// them on its network and worker threads (inbound-rtp framesReceived: assembled from the packets
-// Janus sent, whether or not a starved page's script has read them yet).
+// Frames so far: the lab page's drawn frames, then each receive-only viewer's encoded frames read
+// by its page (a starved renderer reads them late: the count is what the page got).
 const frameCounts = async (labPage, lightPage) => [await labPage.evaluate(() => window.labodrone.framesDecoded),
-  ...await lightPage.evaluate(() => Promise.all((window.lights || []).map(async (l) => {
-    let received = 0;
-    const pc = l.handle && l.handle.webrtcStuff.pc;
-    if (!pc) return 0;  // not negotiated yet
-    (await pc.getStats()).forEach((r) => { if (r.type === 'inbound-rtp' && r.kind === 'video') received = r.framesReceived; });
-    return received;
-  })))];
+  ...await lightPage.evaluate(() => (window.lights || []).map((l) => l.frames))];
 try {
   // The pilot: control, take off, on the direct path (lowest latency).
   const pilot = await login('student1');
