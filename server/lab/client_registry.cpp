@@ -97,8 +97,17 @@ void ClientRegistry::send_reading_view(const Message& view) {
 }
 
 void ClientRegistry::disconnect_all(const std::string& reason) {
+  disconnect_where([](const SessionInfo&) { return true; }, reason);
+}
+
+std::size_t ClientRegistry::disconnect_where(const std::function<bool(const SessionInfo&)>& match, const std::string& reason) {
+  std::size_t n = 0;
   for (const auto& weak : links())
-    if (const auto client = weak.lock()) client->disconnect(reason);
+    if (const auto client = weak.lock(); client && match(client->session())) {
+      client->disconnect(reason);
+      ++n;
+    }
+  return n;
 }
 
 std::vector<Participant> ClientRegistry::participants() const {

@@ -7,6 +7,7 @@
 // deadlock"). Thread-safe; nothing here blocks on a client (LabClient's sends only queue).
 #include <array>
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -45,6 +46,8 @@ class ClientRegistry {
   void send_reading_view(const Message& view);  // to every client's reading-view slot
   std::size_t watching(VideoPath path) const { return viewers_[static_cast<std::size_t>(path)].load(); }
   void disconnect_all(const std::string& reason);
+  // Disconnects the clients whose session `match` accepts; how many.
+  std::size_t disconnect_where(const std::function<bool(const SessionInfo&)>& match, const std::string& reason);
 
   std::vector<Participant> participants() const;
   std::size_t size() const;

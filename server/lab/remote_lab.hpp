@@ -32,6 +32,10 @@ class RemoteLab final : public FlightEventSink {
   void leave(ClientId client);
   void log_disconnect(ClientId client, const std::string& reason);
   void disconnect_all(const std::string& reason);
+  // Ends the connections of the sessions `match` accepts (a session ended, a user removed); how many.
+  std::size_t disconnect_where(const std::function<bool(const SessionInfo&)>& match, const std::string& reason) {
+    return clients_.disconnect_where(match, reason);
+  }
   // One text message from a client: commands, heartbeats, control requests. Replies go to the client.
   void on_message(LabClient& client, const std::string& text);
   // Called periodically (telemetry_hz): the control queue's clock and the telemetry broadcast.

@@ -26,6 +26,11 @@ if [ "$drone" = tello ]; then
   "$server" serve --port "$port" --drone tello:127.0.0.1 > "$out/server.log" 2>&1 &
 elif [ "$(basename "$server")" = labodrone ]; then
   "$server" serve --port "$port" > "$out/server.log" 2>&1 &
+elif [ "$script" = roles_flow ]; then
+  # The admin's user routes write the config file: a copy, beside the pages it serves, never the source tree's.
+  rm -rf "$out/roles" && mkdir -p "$out/roles" && cp -r "$here/../../config" "$out/roles/config"
+  ln -s "$(cd "$here/../../web" && pwd)" "$out/roles/web"
+  "$server" "$port" 1.5 30 plain "$out/roles/config/default.json" > "$out/server.log" 2>&1 &
 else
   "$server" "$port" 1.5 30 > "$out/server.log" 2>&1 &
 fi
