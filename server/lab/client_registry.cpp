@@ -24,10 +24,26 @@ void ClientRegistry::set_video(ClientId client, VideoPath path) {
   count_viewers();
 }
 
+bool ClientRegistry::set_renditions(ClientId client, unsigned renditions) {
+  std::lock_guard lock(mutex_);
+  const auto it = members_.find(client);
+  if (it == members_.end()) return false;
+  const unsigned low = 1u << static_cast<unsigned>(Rendition::Low);
+  const bool newly_low = (renditions & low) && !(it->second.renditions & low);
+  it->second.renditions = renditions;
+  count_viewers();
+  return newly_low;
+}
+
 void ClientRegistry::count_viewers() {
   std::array<std::size_t, 3> count{};
-  for (const auto& [id, m] : members_) ++count[static_cast<std::size_t>(m.video)];
+  std::size_t low = 0;
+  for (const auto& [id, m] : members_) {
+    ++count[static_cast<std::size_t>(m.video)];
+    low += m.video == VideoPath::H264 && (m.renditions & (1u << static_cast<unsigned>(Rendition::Low)));
+  }
   for (std::size_t i = 0; i < count.size(); ++i) viewers_[i] = count[i];
+  low_viewers_ = low;
 }
 
 ClientRegistry::Admission ClientRegistry::admit(ClientId client, double now_s) {
@@ -63,16 +79,17 @@ void ClientRegistry::send_each(const std::vector<std::pair<ClientId, Message>>& 
     if (const auto client = weak.lock()) client->send_event(*message);
 }
 
-void ClientRegistry::links_watching(VideoPath path, std::vector<std::weak_ptr<LabClient>>& out) const {
+void ClientRegistry::links_watching(VideoPath path, Rendition rendition, std::vector<std::weak_ptr<LabClient>>& out) const {
   out.clear();
+  const unsigned wanted = 1u << static_cast<unsigned>(rendition);
   std::lock_guard lock(mutex_);
   for (const auto& [id, m] : members_)
-    if (m.video == path) out.push_back(m.link);
+    if (m.video == path && (path == VideoPath::Jpeg || (m.renditions & wanted))) out.push_back(m.link);
 }
 
 void ClientRegistry::send_frame(const Message& wire) {
   thread_local std::vector<std::weak_ptr<LabClient>> targets;
-  links_watching(VideoPath::Jpeg, targets);
+  links_watching(VideoPath::Jpeg, Rendition::Source, targets);
   for (const auto& weak : targets)
     if (const auto client = weak.lock()) client->send_frame(wire);
   targets.clear();  // no client kept alive by the scratch vector
@@ -80,11 +97,12 @@ void ClientRegistry::send_frame(const Message& wire) {
 
 void ClientRegistry::send_access_unit(const WireAccessUnit& unit) {
   thread_local std::vector<std::weak_ptr<LabClient>> targets;
-  links_watching(VideoPath::H264, targets);
+  links_watching(VideoPath::H264, unit.rendition, targets);
   for (const auto& weak : targets)
     if (const auto client = weak.lock()) client->send_access_unit(unit);
-  if (unit.geometry && watching(VideoPath::Geometry) > 0) {
-    links_watching(VideoPath::Geometry, targets);
+  // The media server forwards the source rendition: its geometry is the one matched by RTP timestamp.
+  if (unit.geometry && unit.rendition == Rendition::Source && watching(VideoPath::Geometry) > 0) {
+    links_watching(VideoPath::Geometry, Rendition::Source, targets);
     for (const auto& weak : targets)
       if (const auto client = weak.lock()) client->send_event(unit.geometry);
   }

@@ -4,6 +4,7 @@
 // rate limit), and the fan-out of telemetry, events and video from the FlightService. Thread-safe:
 // client sessions call in from their strands, the runtime from its threads, the server's timer from
 // the io_context. No lock is held while a message is delivered.
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -50,6 +51,10 @@ class RemoteLab final : public FlightEventSink {
     return clients_.watching(VideoPath::H264) + clients_.watching(VideoPath::Geometry) > 0;
   }
   bool wants_reading_view() const override { return clients_.size() > 0; }
+  bool wants_low_rendition() const override { return clients_.low_rendition_viewers() > 0; }
+  bool take_low_keyframe_request() override { return low_keyframe_wanted_.exchange(false); }
+  // The H.264 renditions a client needs now (its session's RenditionSwitch::needed()).
+  void set_renditions(ClientId client, unsigned renditions);
 
   // A stop or an emergency stop sent over REST, by the same rules as over the WebSocket (the
   // controller being the user who holds control on one of their connections). `status` is the HTTP
@@ -97,6 +102,7 @@ class RemoteLab final : public FlightEventSink {
   ControlQueue control_;
   std::uint64_t control_seq_ = 0;
   double last_control_broadcast_s_ = -1;
+  std::atomic<bool> low_keyframe_wanted_{false};
 };
 
 }  // namespace labo

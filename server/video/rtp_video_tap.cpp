@@ -19,7 +19,7 @@ void RtpVideoTap::on_frame(const WireFrame& frame) {
 }
 
 void RtpVideoTap::on_access_unit(const WireAccessUnit& unit) {
-  forwarder_.forward(unit);
+  if (unit.rendition == Rendition::Source) forwarder_.forward(unit);
   std::lock_guard lock(sink_mutex_);
   if (sink_ && sink_->wants_access_units()) sink_->on_access_unit(unit);
 }
@@ -42,6 +42,16 @@ bool RtpVideoTap::wants_jpeg() const {
 bool RtpVideoTap::wants_reading_view() const {
   std::lock_guard lock(sink_mutex_);
   return sink_ && sink_->wants_reading_view();
+}
+
+bool RtpVideoTap::wants_low_rendition() const {
+  std::lock_guard lock(sink_mutex_);
+  return sink_ && sink_->wants_low_rendition();
+}
+
+bool RtpVideoTap::take_low_keyframe_request() {
+  std::lock_guard lock(sink_mutex_);
+  return sink_ && sink_->take_low_keyframe_request();
 }
 
 }  // namespace labo

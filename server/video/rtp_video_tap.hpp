@@ -2,7 +2,8 @@
 // A FlightService that is another one with its H.264 access units also forwarded as RTP
 // (RtpVideoForwarder): `serve --rtp-video HOST:PORT` puts it between the drone's runtime and the web
 // server, so the lab's WebSocket fan-out is unchanged and the media server gets every unit, whether
-// or not anyone watches the WebSocket's H.264 path. Everything else passes through untouched.
+// or not anyone watches the WebSocket's H.264 path (the drone's own stream only: the shared low
+// rendition is for the WebSocket's slow viewers). Everything else passes through untouched.
 #include <mutex>
 
 #include "server/lab/flight_service.hpp"
@@ -21,6 +22,8 @@ class RtpVideoTap final : public FlightService, private FlightEventSink {
   std::vector<InstrumentSummary> instruments() const override { return inner_.instruments(); }
   void land_and_stop(double timeout_s) override { inner_.land_and_stop(timeout_s); }
   RuntimeTimingSummary timing() const override { return inner_.timing(); }
+  VideoCapabilities video_capabilities() const override { return inner_.video_capabilities(); }
+  CommandVerdict set_video_bitrate(int kbps) override { return inner_.set_video_bitrate(kbps); }
 
  private:
   void on_frame(const WireFrame& frame) override;
@@ -30,6 +33,8 @@ class RtpVideoTap final : public FlightService, private FlightEventSink {
   bool wants_jpeg() const override;
   bool wants_access_units() const override { return true; }  // the media server always does
   bool wants_reading_view() const override;
+  bool wants_low_rendition() const override;
+  bool take_low_keyframe_request() override;
 
   FlightService& inner_;
   RtpVideoForwarder& forwarder_;

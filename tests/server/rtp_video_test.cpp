@@ -159,7 +159,7 @@ TEST_CASE("web: RTP: refused packetizer options and forwarding targets name what
   CHECK(error.find("expected 1 to 65535") != std::string::npos);
 }
 
-TEST_CASE("web: RTP: the tap forwards every access unit over UDP, whether or not a WebSocket viewer wants it") {
+TEST_CASE("web: RTP: the tap forwards every access unit of the drone's stream over UDP, whether or not a WebSocket viewer wants it") {
   namespace asio = boost::asio;
   asio::io_context io;
   asio::ip::udp::socket receiver(io, {asio::ip::make_address("127.0.0.1"), 0});
@@ -187,6 +187,10 @@ TEST_CASE("web: RTP: the tap forwards every access unit over UDP, whether or not
   CHECK(c.units == 1);
   CHECK(c.packets == packets.size());
   CHECK(c.packets_dropped == 0);
+
+  // The shared low rendition is the WebSocket's slow viewers' own: the media server gets the drone's stream only.
+  flight.sink_->on_access_unit(packer.pack({0, CameraId::Front, 43, true, 640, 360, unit}, 1764838800033.0, Rendition::Low));
+  CHECK(forwarder.counters().units == 1);
 }
 
 TEST_CASE("web: a geometry viewer gets each access unit's overlay as JSON and no video") {
