@@ -1,7 +1,8 @@
 // Web benchmark, against a running server (labo_e2e_server or labodrone serve):
-//   labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264|geometry] [SLOW_KBPS=0]
+//   labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264|geometry|none] [SLOW_KBPS=0]
 // Connects CLIENTS spectators (one session, CLIENTS WebSockets) watching the VIDEO path (geometry: a
-// spectator whose video comes from Janus, its frames the overlay messages it gets), each
+// spectator whose video comes from Janus, its frames the overlay messages it gets; none: one whose
+// overlays come from Janus too, telemetry and events only), each
 // reading everything, and reports per-client frames/s, the bytes each receives per second (video
 // and all), the glass-to-client latency (now - the frame's capture time; same machine, same clock)
 // and the server's CPU (from /proc/PID/stat) over the run. With SLOW_KBPS (h264), one more viewer
@@ -105,12 +106,12 @@ double percentile(std::vector<double> v, double p) {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::cerr << "usage: labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264|geometry] [SLOW_KBPS=0]\n";
+    std::cerr << "usage: labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264|geometry|none] [SLOW_KBPS=0]\n";
     return 2;
   }
   const std::string video = argc > 6 ? argv[6] : "jpeg";
-  if (video != "jpeg" && video != "h264" && video != "geometry") {
-    std::cerr << "labo_web_bench: VIDEO must be jpeg, h264 or geometry, not '" << video << "'\n";
+  if (video != "jpeg" && video != "h264" && video != "geometry" && video != "none") {
+    std::cerr << "labo_web_bench: VIDEO must be jpeg, h264, geometry or none, not '" << video << "'\n";
     return 2;
   }
   const std::string subscribe = R"({"type":"subscribe","video":")" + video + R"("})";
