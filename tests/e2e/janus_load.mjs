@@ -15,7 +15,7 @@ import {execFile, spawn} from 'node:child_process';
 import {readFileSync, readdirSync} from 'node:fs';
 import {createInterface} from 'node:readline';
 import {promisify} from 'node:util';
-import {chromium} from 'playwright-core';
+import {launchChromium, logIn} from './browser.mjs';
 
 const [base, laboPid, janusPid, webBench, counts, seconds] = process.argv.slice(2);
 const port = new URL(base).port;
@@ -32,24 +32,10 @@ const chromiumPids = () => readdirSync('/proc').filter((p) => /^\d+$/.test(p)).f
 });
 const browserCpu = () => chromiumPids().reduce((sum, p) => sum + cpuSeconds(p), 0);
 
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-         '--disable-background-networking', '--disable-component-update', '--disable-sync',
-         '--autoplay-policy=no-user-gesture-required', '--disable-background-timer-throttling',
-         '--disable-renderer-backgrounding', '--disable-backgrounding-occluded-windows'],
-});
+const browser = await launchChromium(['--autoplay-policy=no-user-gesture-required', '--disable-background-timer-throttling',
+                                      '--disable-renderer-backgrounding', '--disable-backgrounding-occluded-windows']);
 
-async function login(user) {
-  const context = await browser.newContext({viewport: {width: 1480, height: 900}});
-  const page = await context.newPage();
-  await page.goto(base + "/", {timeout: 120000});
-  await page.fill('#user', user);
-  await page.fill('#password', user + '-pass');
-  await page.click('#login-button');
-  await page.waitForURL('**/lab.html');
-  return {context, page};
-}
+const login = (user) => logIn(browser, base, user, user + '-pass', {gotoOptions: {timeout: 120000}});
 
 // The receive-only viewers' process: one request, one JSON line back.
 function startViewers(janusUrl, mountpoint, cookie) {

@@ -7,7 +7,7 @@
 // (no second login: the session is valid there too) and see its video through its own mount point.
 // Prints frames/s, glass-to-browser latency and the frames presented without geometry.
 // Usage: [MEASURE_S=5] node janus_view.mjs LAB1_URL LAB2_URL OUT_DIR
-import {chromium} from 'playwright-core';
+import {launchChromium, logIn} from './browser.mjs';
 
 // The test checks that video flows; the frame-rate target (>= 25 frames/s) is checked by the
 // benchmark run of the same script with MIN_FPS=25 (docs/web.md), on a machine doing nothing else.
@@ -15,12 +15,7 @@ const minFps = Number(process.env.MIN_FPS || 5);
 
 const [lab1, lab2, outDir] = process.argv.slice(2);
 const fail = (msg) => { console.error('FAIL: ' + msg); process.exitCode = 1; };
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-         '--disable-background-networking', '--disable-component-update', '--disable-sync',
-         '--autoplay-policy=no-user-gesture-required'],
-});
+const browser = await launchChromium(['--autoplay-policy=no-user-gesture-required']);
 
 async function janusFrames(page, label) {
   await page.waitForFunction(() => window.labodrone && window.labodrone.connected, null, {timeout: 10000});
@@ -57,14 +52,8 @@ async function janusFrames(page, label) {
 }
 
 try {
-  const context = await browser.newContext({viewport: {width: 1480, height: 900}});
-  const page = await context.newPage();
-  page.on('pageerror', (e) => fail('page error: ' + e.message));
-  await page.goto(lab1 + '/');
-  await page.fill('#user', 'student2');
-  await page.fill('#password', 'student2-pass');
-  await page.click('#login-button');
-  await page.waitForURL('**/lab.html');
+  const {context, page} = await logIn(browser, lab1, 'student2', 'student2-pass',
+                                      {onPageError: (e) => fail('page error: ' + e.message)});
   await janusFrames(page, 'lab 1');
   await page.screenshot({path: outDir + '/janus_lab1.png'});
 

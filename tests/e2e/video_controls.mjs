@@ -11,15 +11,11 @@
 //     and the page says which camera it shows; then the front camera again.
 // It saves video_low_rendition.png and video_bottom_camera.png.
 // Usage: node video_controls.mjs BASE_URL OUT_DIR scripted|sim
-import {chromium} from 'playwright-core';
+import {launchChromium, logIn} from './browser.mjs';
 
 const [base, outDir, mode] = process.argv.slice(2);
 const fail = (msg) => { console.error('FAIL: ' + msg); process.exitCode = 1; };
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-         '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-});
+const browser = await launchChromium();
 
 const stats = (page) => page.evaluate(() => ({...window.labodrone, renditionFrames: {...window.labodrone.renditionFrames}}));
 // Frames drawn per second over `ms`.
@@ -33,14 +29,8 @@ async function fps(page, ms) {
 }
 
 try {
-  const context = await browser.newContext({viewport: {width: 1480, height: 900}});
-  const page = await context.newPage();
-  page.on('pageerror', (e) => fail('page error: ' + e.message));
-  await page.goto(base + '/');
-  await page.fill('#user', 'student3');
-  await page.fill('#password', 'student3-pass');
-  await page.click('#login-button');
-  await page.waitForURL('**/lab.html');
+  const {context, page} = await logIn(browser, base, 'student3', 'student3-pass',
+                                      {onPageError: (e) => fail('page error: ' + e.message)});
   await page.waitForFunction(() => window.labodrone && window.labodrone.videoPath === 'h264', null, {timeout: 10000});
   await page.waitForFunction(() => window.labodrone.framesDecoded >= 30, null, {timeout: 20000});
 
