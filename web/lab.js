@@ -122,7 +122,13 @@ function connect() {
 }
 
 for (const b of document.querySelectorAll('[data-command]')) b.addEventListener('click', () => command(b.dataset.command));
-$('inspect').addEventListener('click', () => command('inspect', {instrument: $('instrument').value}));
+$('inspect').addEventListener('click', () => command('inspect', {instrument: $('instrument').value, hold_s: Number($('hold-s').value)}));
+// A jog is one small step (0.2 m or 15°); the server bounds it, the flight software refuses it during
+// a mission or outside the geofence, and the refusal is shown in the events.
+for (const b of document.querySelectorAll('[data-jog]')) {
+  const [axis, step] = b.dataset.jog.split(':');
+  b.addEventListener('click', () => command('jog', {[axis]: Number(step)}));
+}
 $('emergency').addEventListener('click', () => command('emergency_stop'));
 $('stop').addEventListener('click', () => command('stop'));
 $('request-control').addEventListener('click', () => send({type: 'request_control'}));

@@ -76,15 +76,30 @@ struct HeadMotionSpec {
   double roll_amplitude_deg = 8, roll_period_s = 9;
 };
 
+// How the simulated teacher keeps out of a hovering drone's way (a person stops or steps aside
+// rather than walk into one; drone/sim/teacher_walker.hpp): walking, with the drone's centre in
+// the corridor their body sweeps and within keep_clear_m ahead of its front, they stop until it is
+// clear; with side_step_m > 0 they also step up to that far aside, away from the drone, where the
+// floor is free, and walk on from there.
+struct GiveWaySpec {
+  double keep_clear_m = 0.6;
+  double side_step_m = 0.0;
+};
+
 struct TeacherSpec {
   std::vector<Eigen::Vector2d> waypoints;  // floor positions (m), walked in order, then looped
   double speed_mps = 0.4;
   double pause_s = 3.0;                    // standing still at each waypoint
+  // A walk drawn for one run (drone/sim/teacher_walk.hpp) rather than the lab file's path: each
+  // waypoint's own pause (empty: pause_s at each), and no loop (the teacher stays at the last one).
+  std::vector<double> pauses_s;
+  bool loop = true;
   double interpupillary_distance_m = 0.063;
   double eye_height_m = 1.65;
   double body_radius_m = 0.25;
   std::string face_image;                  // the photograph the head is textured from (assets/)
   HeadMotionSpec head;
+  GiveWaySpec give_way;
 };
 
 // Floor or wall rectangles rendered without texture (the bottom camera's velocity fails above them,

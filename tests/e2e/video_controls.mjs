@@ -11,15 +11,11 @@
 //     and the page says which camera it shows; then the front camera again.
 // It saves video_low_rendition.png and video_bottom_camera.png.
 // Usage: node video_controls.mjs BASE_URL OUT_DIR scripted|sim
-import {chromium} from 'playwright-core';
+import {launchChromium, logIn} from './browser.mjs';
 
 const [base, outDir, mode] = process.argv.slice(2);
 const fail = (msg) => { console.error('FAIL: ' + msg); process.exitCode = 1; };
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-         '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-});
+const browser = await launchChromium();
 
 const stats = (page) => page.evaluate(() => ({...window.labodrone, renditionFrames: {...window.labodrone.renditionFrames}}));
 // Frames drawn per second over `ms`.
@@ -33,14 +29,8 @@ async function fps(page, ms) {
 }
 
 try {
-  const context = await browser.newContext({viewport: {width: 1480, height: 900}});
-  const page = await context.newPage();
-  page.on('pageerror', (e) => fail('page error: ' + e.message));
-  await page.goto(base + '/');
-  await page.fill('#user', 'student3');
-  await page.fill('#password', 'student3-pass');
-  await page.click('#login-button');
-  await page.waitForURL('**/lab.html');
+  const {context, page} = await logIn(browser, base, 'student3', 'student3-pass',
+                                      {onPageError: (e) => fail('page error: ' + e.message)});
   await page.waitForFunction(() => window.labodrone && window.labodrone.videoPath === 'h264', null, {timeout: 10000});
   await page.waitForFunction(() => window.labodrone.framesDecoded >= 30, null, {timeout: 20000});
 
@@ -66,11 +56,18 @@ try {
   const cdp = await context.newCDPSession(page);
   await cdp.send('Network.enable');
   await cdp.send('Network.emulateNetworkConditions', {offline: false, latency: 20, downloadThroughput: kbps * 125, uploadThroughput: kbps * 125});
-  const moved = await page.waitForFunction(() => window.labodrone.renditionTarget === 'low', null, {timeout: 10000}).then(() => true, () => false);
+  // The server sees the throttle only once the bytes between its socket and the emulation are full:
+  // the browser's TCP receive buffer, which the kernel's autotuning grew while the page read at full
+  // speed (megabytes on loopback), fills at the stream's excess over the throttle (2 Mbit/s here), so
+  // the move comes after seconds that depend on how far the autotuning went: about 10 s on a loaded
+  // machine, hence 40 s allowed. The move itself is the behaviour checked, not its delay.
+  const throttledAt = Date.now();
+  const moved = await page.waitForFunction(() => window.labodrone.renditionTarget === 'low', null, {timeout: 40000}).then(() => true, () => false);
   if (moved) {
+    const after_s = ((Date.now() - throttledAt) / 1000).toFixed(1);
     await page.waitForFunction(() => window.labodrone.rendition === 'low', null, {timeout: 5000});
     const throttled = await fps(page, 10000);
-    console.log(`throttled to ${kbps} kbit/s: moved to the low rendition (${throttled.after.renditionReason}); ` +
+    console.log(`throttled to ${kbps} kbit/s: moved to the low rendition after ${after_s} s (${throttled.after.renditionReason}); ` +
                 `${throttled.fps.toFixed(1)} frames/s in the page over 10 s`);
     if (throttled.fps < 25) fail(`a page on a ${kbps} kbit/s link kept only ${throttled.fps.toFixed(1)} frames/s`);
   } else if (mode === 'sim') {
