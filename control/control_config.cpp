@@ -11,6 +11,7 @@ PidGains read_pid(const ConfigReader& node, PidGains g) {
   g.ki = node.number_or("ki", g.ki, Range::non_negative());
   g.kd = node.number_or("kd", g.kd, Range::non_negative());
   g.integral_limit = node.number_or("integral_limit", g.integral_limit, Range::non_negative());
+  g.integral_zone = node.number_or("integral_zone", g.integral_zone, Range::non_negative());
   g.out_min = node.number_or("out_min", g.out_min, Range::closed(-1.0, 0.0));
   g.out_max = node.number_or("out_max", g.out_max, Range::closed(0.0, 1.0));
   node.finish();
