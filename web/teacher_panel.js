@@ -48,6 +48,7 @@ export class TeacherPanel {
     const r = await answerOf(await fetch('/api/people'));
     if (!r.ok) { $('people-note').textContent = `registered people: ${r.error}`; return; }
     this.followed = r.body.followed;
+    this.maxUploadBytes = r.body.max_upload_bytes;
     const size = r.body.photo_size;
     $('people-note').textContent = `Photos: PNG or JPEG, ${size.width}x${size.height} (the drone's front camera), the face alone and frontal.`;
     const select = $('follow-person');
@@ -79,6 +80,16 @@ export class TeacherPanel {
   }
 
   async register() {
+    // The whole form must fit the server's body limit (413 otherwise): said here before the upload.
+    const files = [...$('frontal-photos').files, ...$('turn-photos').files];
+    const bytes = files.reduce((sum, f) => sum + f.size, 0);
+    if (this.maxUploadBytes && bytes > this.maxUploadBytes) {
+      const mb = (n) => (n / 1048576).toFixed(1);
+      $('register-result').textContent = `refused: the photos are ${mb(bytes)} MB, the server takes at most ${mb(this.maxUploadBytes)} MB ` +
+        '(send JPEG, or fewer head-turn frames)';
+      $('register-result').className = 'rejected';
+      return;
+    }
     const data = new FormData();
     data.append('name', $('person-name').value.trim());
     for (const f of $('frontal-photos').files) data.append('frontal', f, f.name);
