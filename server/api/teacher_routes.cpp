@@ -83,6 +83,7 @@ HttpReply RestApi::people() {
   return ok_json({{"people", list},
                   {"followed", followed.empty() ? json(nullptr) : json(followed)},
                   {"photo_size", {{"width", camera.width}, {"height", camera.height}}},
+                  {"max_upload_bytes", settings_.clients.max_body_bytes},
                   {"max_waiting", FaceRegistrar::kMaxWaiting}});
 }
 

@@ -138,6 +138,7 @@ TEST_CASE("web: a teacher registers a face from frontal photos, lists it, replac
   CHECK(list["people"][0]["registration"]["frontal_photos"] == 2);
   CHECK(list["people"][0]["registration"]["by"] == "tess");
   CHECK(list["photo_size"] == json({{"width", 640}, {"height", 360}}));
+  CHECK(list["max_upload_bytes"] == f.settings.clients.max_body_bytes);
   CHECK(list["followed"].is_null());
 
   CHECK(error_of(http_call(f.port, verb::post, "/api/people", form({{"name", "ada"}, photo(frontal)}), tess, kFormType)) ==
