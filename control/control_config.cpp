@@ -62,6 +62,7 @@ MissionParameters read_mission(const ConfigReader& node, MissionParameters m) {
   m.default_hold_s = node.number_or("default_hold_s", m.default_hold_s, Range::non_negative());
   m.max_hold_s = node.number_or("max_hold_s", m.max_hold_s, Range::positive());
   m.face_search_yaw_rate = node.number_or("face_search_yaw_rate", m.face_search_yaw_rate, Range::closed(0.05, 2.0));
+  m.face_blind_altitude_m = node.number_or("face_blind_altitude_m", m.face_blind_altitude_m, Range::closed(0.3, 5.0));
   m.face_as_feedback = node.boolean_or("face_as_feedback", m.face_as_feedback);
   m.face_search_timeout_s = node.number_or("face_search_timeout_s", m.face_search_timeout_s, Range::positive());
   m.source_switch.far_to_near_m = node.number_or("far_to_near_m", m.source_switch.far_to_near_m, Range::positive());

@@ -117,7 +117,14 @@ Geofence FindTeacherMission::roomy_fence(const MissionContext& ctx) const {
 }
 
 double FindTeacherMission::uncertainty_clearance(const MissionContext& ctx) const {
-  return ctx.pose.valid ? kWallClearanceSigmas * ctx.pose.position_sigma_m : 0.0;
+  // The sigmas cover the estimate's white error; the drift bound what the navdata's bias and scale
+  // error have added on dead reckoning (the covariance averages those away).
+  return ctx.pose.valid ? kWallClearanceSigmas * ctx.pose.position_sigma_m + ctx.pose.drift_bound_m : 0.0;
+}
+
+double FindTeacherMission::blind_altitude(const MissionContext& ctx) const {
+  const Geofence hard = inset_fence(ctx, 0.0);
+  return std::clamp(ctx.config.mission.face_blind_altitude_m, hard.min().z(), hard.max().z());
 }
 
 void FindTeacherMission::start_search(MissionContext& ctx) {
@@ -133,7 +140,10 @@ void FindTeacherMission::sweep(MissionContext& ctx) {
   const double yaw = ypr_from_rotation(ctx.pose.T_world_body.linear())[0];
   if (fresh_) sweep_start_yaw_ = ctx.autopilot.target() ? ctx.autopilot.target()->yaw : yaw;
   const double swept = ctx.config.mission.face_search_yaw_rate * (ctx.t - since_);
-  const Eigen::Vector3d hold = ctx.autopilot.target() ? ctx.autopilot.target()->position : ctx.pose.T_world_body.translation();
+  Eigen::Vector3d hold = ctx.autopilot.target() ? ctx.autopilot.target()->position : ctx.pose.T_world_body.translation();
+  // Down from the blind altitude to sweep at face height: the detector needs a face seen from about
+  // its own height.
+  if (fresh_) hold.z() = std::clamp(kFaceHeightM, ctx.autopilot.fence().min().z(), ctx.autopilot.fence().max().z());
   ctx.autopilot.go_to({hold, sweep_start_yaw_ + swept}, ctx.t, fresh_);
   fresh_ = false;
   if (face_seen(ctx)) enter(Step::Follow, ctx.t);
@@ -142,7 +152,9 @@ void FindTeacherMission::sweep(MissionContext& ctx) {
 }
 
 void FindTeacherMission::reposition(MissionContext& ctx) {
-  const Eigen::Vector3d& to = viewpoints_[viewpoint_ % viewpoints_.size()];
+  Eigen::Vector3d to = viewpoints_[viewpoint_ % viewpoints_.size()];
+  // Over the teacher's head: a teacher the drone has not found may be on its way.
+  to.z() = blind_altitude(ctx);
   // Facing the way it flies: the camera looks over the floor ahead on the way.
   if (fresh_) ctx.autopilot.go_to({to, bearing(ctx.pose.T_world_body.translation(), to)}, ctx.t);
   fresh_ = false;
@@ -201,13 +213,14 @@ void FindTeacherMission::lost(MissionContext& ctx) {
     track_.stop();
     const double turned = std::min(kGoRoundMaxRad, kGoRoundRadps * (lost_for - kCoastS));
     fly_standoff(ctx, false, round_from_heading_ + round_sign_ * turned, turned < kGoRoundMaxRad ? round_sign_ * kGoRoundRadps : 0.0,
-                 kLostBeyondM);
+                 kLostBeyondM, true);
   } else {
     start_search(ctx);
   }
 }
 
-void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m) {
+void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m,
+                                      bool blind) {
   const double d = ctx.config.mission.face_distance_m + beyond_m;
   const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
   const Eigen::Vector3d& face = track_.position();
@@ -217,6 +230,9 @@ void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, do
   // The hard limit: the geofence inset by the estimate's uncertainty (where the drone may really be).
   const Geofence hard = inset_fence(ctx, uncertainty_clearance(ctx));
   if (!hard.contains(next.position)) next.position = hard.clamp(next.position);
+  // Going round a place the teacher may have walked on from, the drone cannot see them: it flies
+  // over their head (test "control: a lost face is gone round over the teacher's head").
+  if (blind) next.position.z() = blind_altitude(ctx);
   // Feed-forward: the standoff moves with the teacher and swings round them as they turn; not out
   // through a bound the standoff was held at (the drone overshot it into the wall).
   next.velocity = track_.velocity() + d * heading_rate * Eigen::Vector3d(-std::sin(heading), std::cos(heading), 0.0);

@@ -62,7 +62,10 @@ class FindTeacherMission final : public Mission {
   double uncertainty_clearance(const MissionContext& ctx) const;
   // Stand face_distance_m (+ beyond_m) in front of the track's place, as seen facing `heading`
   // (turning at `heading_rate`), the camera on the place.
-  void fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m = 0.0);
+  // `blind`: the face is not seen, the set point is flown at face_blind_altitude_m.
+  void fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m = 0.0,
+                    bool blind = false);
+  double blind_altitude(const MissionContext& ctx) const;
   void follow_estimate_corrections(const MissionContext& ctx);
   std::string describe(Seconds t) const;
 

@@ -56,6 +56,7 @@ struct FlightSample {
   EstimatorCounts estimator;
   Eigen::Vector2d estimated_velocity = Eigen::Vector2d::Zero();  // world x, y (the estimate's, m/s)
   double position_sigma_m = 0;  // the estimate's 1-sigma position uncertainty
+  double drift_bound_m = 0;     // ... and how far dead reckoning may have drifted
 };
 
 // The lab as it really is, which the experiments measure against: where the instruments and the

@@ -61,6 +61,13 @@ void read_velocity_dropout(const ConfigReader& n, VelocityDropoutSettings& d) {
   d.dropout_accel_noise_mps2 = n.number_or("dropout_accel_noise_mps2", d.dropout_accel_noise_mps2, Range::positive());
   n.finish();
 }
+
+void read_drift_bound(const ConfigReader& n, DriftBoundSettings& d) {
+  d.velocity_bias_mps = n.number_or("velocity_bias_mps", d.velocity_bias_mps, Range::closed(0.0, 1.0));
+  d.velocity_scale = n.number_or("velocity_scale", d.velocity_scale, Range::closed(0.0, 1.0));
+  d.dropout_mps = n.number_or("dropout_mps", d.dropout_mps, Range::closed(0.0, 2.0));
+  n.finish();
+}
 }  // namespace
 
 EstimatorConfig read_estimation_config(const ConfigReader& node) {
@@ -78,6 +85,7 @@ EstimatorConfig read_estimation_config(const ConfigReader& node) {
   c.use_navdata_vz = node.boolean_or("use_navdata_vz", c.use_navdata_vz);
   c.altitude_step_discrimination = node.boolean_or("altitude_step_discrimination", c.altitude_step_discrimination);
   if (node.has("velocity_dropout")) read_velocity_dropout(node.object("velocity_dropout"), c.velocity_dropout);
+  if (node.has("drift_bound")) read_drift_bound(node.object("drift_bound"), c.drift_bound);
   c.source_enter_count = node.integer_or("source_enter_count", c.source_enter_count, 1, 100);
   c.source_timeout_s = node.number_or("source_timeout_s", c.source_timeout_s, Range{0.0, 10.0, true});
   c.vision_gate_chi2 = node.number_or("vision_gate_chi2", c.vision_gate_chi2, Range::positive());

@@ -70,6 +70,17 @@ struct VelocityDropoutSettings {
   double dropout_accel_noise_mps2 = 0.3;
 };
 
+// A bound on how far dead reckoning has drifted since the last fix on the lab's frame. The EKF's
+// covariance treats the navdata velocity's error as white, so it averages away over hundreds of
+// packets; the bottom camera's real error is a slow bias and a scale error, and integrated they grow
+// with time and distance flown. These are the sensor's accuracy as specified for a deployment, not
+// fitted to any flight.
+struct DriftBoundSettings {
+  double velocity_bias_mps = 0.03;  // bias of the navdata's horizontal velocity, each axis
+  double velocity_scale = 0.05;     // its scale error, a fraction of the speed
+  double dropout_mps = 0.10;        // added while the velocity is in dropout (the model's guess)
+};
+
 struct EstimatorConfig {
   Seconds video_delay_s = 0.075;
   Seconds navdata_delay_s = 0.040;
@@ -97,6 +108,7 @@ struct EstimatorConfig {
   // comparison in the experiments; true tells pushes from floor steps (altitude_tracker.hpp).
   bool altitude_step_discrimination = true;
   VelocityDropoutSettings velocity_dropout;
+  DriftBoundSettings drift_bound;
   // Scale estimation (tum_ardrone's ML estimator; ScaleSettings in scale_estimator.hpp for what
   // differs). Noises are per pair and in metres after the axis weights; config keys scale_sigma_map_m,
   // scale_sigma_metric_m, scale_min_displacement_m, scale_memory_pairs, scale_outlier_chi2 and

@@ -49,6 +49,7 @@ void FilterCore::reset(const StateVector& s, const StateCovariance& P, Seconds t
   ekf_.reset_xy_accel_noise();
   odometry_ = {};
   counters_ = {};
+  drift_bound_m_ = 0;
 }
 
 void FilterCore::predict_to(Seconds t) {
@@ -83,6 +84,11 @@ void FilterCore::apply_navdata(const NavdataSample& n, bool vision_holding, cons
   const double yaw = ekf_.state()(YAW);
   const Eigen::Vector2d v_world(std::cos(yaw) * n.vx_mps - std::sin(yaw) * n.vy_mps,
                                 std::sin(yaw) * n.vx_mps + std::cos(yaw) * n.vy_mps);
+  if (!vision_holding && n.control_state != kLandedState) {
+    const DriftBoundSettings& d = config_.drift_bound;
+    const double dropout = dropout_.in_dropout() ? d.dropout_mps : 0.0;
+    drift_bound_m_ += gap * (std::sqrt(2.0) * d.velocity_bias_mps + d.velocity_scale * v_world.norm() + dropout);
+  }
   if (dropout_.in_dropout()) {
     odometry_.max_gap = std::max(odometry_.max_gap, t_ - dropout_.dropout_start() + gap);
   } else {

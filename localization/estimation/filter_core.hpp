@@ -46,6 +46,11 @@ class FilterCore {
   // looser velocity noise and the per-packet yaw anchor (notes: tum_ardrone's PTAM-valid mode).
   void apply_navdata(const NavdataSample& sample, bool vision_holding, const SurfaceMap* map);
 
+  // How far dead reckoning may have drifted since the last fix on the lab's frame
+  // (DriftBoundSettings); grows with each navdata packet applied without vision holding.
+  double drift_bound_m() const { return drift_bound_m_; }
+  void set_drift_bound(double m) { drift_bound_m_ = m; }
+
   DroneEkf& ekf() { return ekf_; }
   const DroneEkf& ekf() const { return ekf_; }
   const MetricOdometry& odometry() const { return odometry_; }
@@ -82,6 +87,7 @@ class FilterCore {
   Seconds last_nav_t_ = 0;
   MetricOdometry odometry_;
   NavdataCounters counters_;
+  double drift_bound_m_ = 0;
 };
 
 }  // namespace labo::estimation

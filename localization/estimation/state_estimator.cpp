@@ -108,6 +108,8 @@ struct StateEstimator::Impl {
   int map_id = 0;
   int map_frames = 0;
   bool map_is_metric = false;
+  // A SLAM map is placed where dead reckoning had the camera: its fixes carry that drift with them.
+  double map_drift_bound_m = 0;
   ScalePairSampler pair_sampler;
   std::map<int, Landmark> objects;
   std::map<int, Seconds> object_last_t;
@@ -212,6 +214,10 @@ struct StateEstimator::Impl {
     gated_in_row[i] = 0;
     core.ekf().update<4>(y, H, R);
     selector.on_fused(source, t_meas);
+    // A fix on the lab's frame ends the dead-reckoning drift (down to the map's own, for SLAM); the
+    // face moves with the teacher and fixes nothing.
+    if (source == LocalizationSource::Slam) core.set_drift_bound(std::min(core.drift_bound_m(), map_drift_bound_m));
+    if (source == LocalizationSource::Homography) core.set_drift_bound(0.0);
     return VisionOutcome::Fused;
   }
 
@@ -305,6 +311,7 @@ struct StateEstimator::Impl {
     f.colour = selector.colour(t);
     f.quality = selector.quality(t);
     f.position_sigma_m = std::sqrt(f.covariance.block<3, 3>(X, X).diagonal().maxCoeff());
+    f.drift_bound_m = c.drift_bound_m();
     return f;
   }
 };
@@ -448,6 +455,7 @@ bool StateEstimator::add_slam_pose(const SlamObservation& o) {
     m.scale.reset(o.map_is_metric ? 1.0 : m.config.scale.initial_scale);
     m.map_is_metric = o.map_is_metric;
     m.map.initialize(o.T_map_cam, T_world_cam_est, m.scale.scale());
+    m.map_drift_bound_m = m.core.drift_bound_m();
     m.map_frames = 1;
     m.pair_sampler.reset();
     m.gates[source_index(LocalizationSource::Slam)] = {};

@@ -62,6 +62,9 @@ struct FusedState {
   SourceColour colour = SourceColour::Red;
   double quality = 0;                 // 0..1: the driving source's quality, 0 in dead reckoning
   double position_sigma_m = 0;        // sqrt of the largest position variance
+  // How far dead reckoning may have carried the estimate off the lab's frame since its last fix
+  // there (DriftBoundSettings): a bound, not a sigma, and not in the covariance.
+  double drift_bound_m = 0;
 };
 
 // Counts of accepted and rejected inputs, by kind ("navdata", "rejected_nonfinite", ...).

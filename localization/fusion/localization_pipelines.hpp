@@ -35,6 +35,7 @@ struct PoseEstimate {
   FeedbackSource source = FeedbackSource::DeadReckoning;
   double quality = 0;  // 0..1
   double position_sigma_m = 0;  // 1-sigma position uncertainty
+  double drift_bound_m = 0;     // how far dead reckoning may have drifted (estimation::FusedState)
 };
 
 enum class TrackState { Off, Searching, Tracking, Lost };

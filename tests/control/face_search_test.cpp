@@ -222,7 +222,7 @@ TEST_CASE("control: a face lost at a corner: the drone keeps clear of a teacher 
   CHECK(found_again);
 }
 
-TEST_CASE("control: a lost face is gone round clear of the walls by the estimate's uncertainty") {
+TEST_CASE("control: a lost face is gone round clear of the walls by the estimate's uncertainty and drift") {
   // Going round a lost face is flown blind, on an estimate that may be tenths of a metre off (navdata
   // odometry without SLAM). Wrong: the standoff swept round at 0.8 m/s to the geofence's edge, and the
   // drone, 0.2 m off its estimate and carried on by the set point's velocity, hit the wall.
@@ -239,10 +239,12 @@ TEST_CASE("control: a lost face is gone round clear of the walls by the estimate
   REQUIRE(f.request(find_teacher()).accepted);
   REQUIRE(f.run_until([&] { return f.stack->status().stage == "3 face-follow"; }, 120.0));
   f.run(5.0);
-  // The face lost (they turned away) and the estimate unsure: 0.25 m at 1 sigma.
+  // The face lost (they turned away) and the estimate unsure: 0.15 m at 1 sigma, and dead reckoning
+  // may have drifted 0.2 m.
   f.world->face_visible = false;
-  f.world->position_sigma_m = 0.25;
-  const double inset = 0.3 + 2 * 0.25;
+  f.world->position_sigma_m = 0.15;
+  f.world->drift_bound_m = 0.2;
+  const double inset = 0.3 + 2 * 0.15 + 0.2;
   double nearest_wall = 10, nearest_wall_set_point = 10;
   bool went_round = false;
   for (const double end = f.t + 20.0; f.t < end;) {
@@ -261,4 +263,46 @@ TEST_CASE("control: a lost face is gone round clear of the walls by the estimate
   // Braking before the bound: 0.10-0.18 m past it (the xy integral, at the bound where the set point
   // stands still, adds the rest); 0.33 m without.
   CHECK(nearest_wall > inset - 0.2);
+}
+
+TEST_CASE("control: a lost face is gone round over the teacher's head, and the search flies over it to its viewpoints") {
+  // Blind, the drone cannot know where a teacher who walked on from the lost place went: going round
+  // that place at face height, it flew into a teacher standing on the circle. Over their head it
+  // cannot; it comes down to face height only to sweep, and to follow a face it sees.
+  fusion::LabGeometry lab = model_lab();
+  test::ModelFlight f({}, lab);
+  const double blind_z = control::MissionParameters{}.face_blind_altitude_m;
+  REQUIRE(blind_z > 1.8 + 0.1);  // the default clears a standing adult's head (eyes at ~1.65 m)
+  REQUIRE(f.request(find_teacher()).accepted);
+  REQUIRE(f.run_until([&] { return f.stack->status().stage == "3 face-follow"; }, 120.0));
+  f.run(5.0);
+  CHECK(std::abs(f.world->drone.p.z() - 1.6) < 0.15);  // following at face height
+  f.world->face_visible = false;
+  bool went_round = false, swept = false, repositioned = false;
+  double highest_going_round = 0, lowest_set_point_moving = 10, sweep_set_point_z = 0;
+  for (const double end = f.t + 40.0; f.t < end && !(swept && repositioned);) {
+    f.run(0.1);
+    const control::FlightStatus s = f.stack->status();
+    if (!s.desired) continue;
+    const double set_z = (*s.desired)(2);
+    if (s.stage.find("going round") != std::string::npos) {
+      went_round = true;
+      highest_going_round = std::max(highest_going_round, f.world->drone.p.z());
+      lowest_set_point_moving = std::min(lowest_set_point_moving, set_z);
+    } else if (s.stage.find("moving to viewpoint") != std::string::npos) {
+      repositioned = true;
+      lowest_set_point_moving = std::min(lowest_set_point_moving, set_z);
+    } else if (s.stage.find("yaw sweep") != std::string::npos) {
+      swept = true;
+      sweep_set_point_z = set_z;
+    }
+  }
+  INFO("drone's highest going round " << highest_going_round << " m; lowest set point moving blind " << lowest_set_point_moving
+                                      << " m; sweep at " << sweep_set_point_z << " m");
+  REQUIRE(went_round);
+  REQUIRE(swept);
+  REQUIRE(repositioned);
+  CHECK(highest_going_round > blind_z - 0.1);
+  CHECK(lowest_set_point_moving > blind_z - 0.1);  // a step-limited set point starts a little below it
+  CHECK(sweep_set_point_z == Approx(1.6));
 }

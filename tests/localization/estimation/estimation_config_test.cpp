@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <utility>
 
 #include "core/config_reader.hpp"
 #include "localization/estimation/estimation_config.hpp"
@@ -45,4 +46,20 @@ TEST_CASE("estimation: config reads the velocity dropout detector, refuses bad v
   refuses(R"({"velocity_dropout": {"window_s": 0.2, "average_s": 0.3}})", "average_s");
   refuses(R"({"velocity_dropout": {"confirm_packets": 0}})", "confirm_packets");
   refuses(R"({"velocity_dropout": {"window": 0.4}})", "window");
+}
+
+TEST_CASE("estimation: config reads the dead-reckoning drift bound, refuses bad values") {
+  const ConfigDocument doc = ConfigDocument::parse(
+      R"({"drift_bound": {"velocity_bias_mps": 0.05, "velocity_scale": 0.1, "dropout_mps": 0.2}})", "test.json");
+  const estimation::EstimatorConfig c = estimation::read_estimation_config(doc.root());
+  CHECK(c.drift_bound.velocity_bias_mps == Approx(0.05));
+  CHECK(c.drift_bound.velocity_scale == Approx(0.1));
+  CHECK(c.drift_bound.dropout_mps == Approx(0.2));
+  for (const auto& [json, key] : {std::pair{R"({"drift_bound": {"velocity_bias_mps": -0.01}})", "velocity_bias_mps"},
+                                  std::pair{R"({"drift_bound": {"velocity_scale": 2}})", "velocity_scale"},
+                                  std::pair{R"({"drift_bound": {"dropout_mps": "fast"}})", "dropout_mps"},
+                                  std::pair{R"({"drift_bound": {"bias": 0.1}})", "bias"}}) {
+    const ConfigDocument bad = ConfigDocument::parse(json, "bad.json");
+    CHECK_THROWS_WITH(estimation::read_estimation_config(bad.root()), Catch::Contains(key));
+  }
 }

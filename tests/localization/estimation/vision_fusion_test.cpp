@@ -296,3 +296,50 @@ TEST_CASE("estimation: a far panel's orientation error weighs on the position it
   CHECK(claimed_exact > 0.002);
   CHECK(told < 0.5 * claimed_exact);
 }
+
+TEST_CASE("estimation: dead reckoning reports a drift bound that grows with time and distance, and a fix on the lab's frame ends it") {
+  // The covariance takes the navdata velocity's error for white noise and stays small; the bound
+  // integrates its bias and scale error (DriftBoundSettings) for as long as no vision holds.
+  SyntheticFlight truth(11);
+  estimation::EstimatorConfig config = no_delays();
+  const estimation::DriftBoundSettings& d = config.drift_bound;
+  estimation::StateEstimator est(config);
+  est.reset(truth.T_world_body(), 0.0);
+  const Eigen::Isometry3d T_world_object = make_pose({3.0, 0.1, 1.1}, 0.0) * Eigen::Isometry3d(
+      Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  DelayedLink link{truth, 0.0, 0.0, 1.0 / 200.0, {}, {}, 0.0};
+  Seconds next_frame = 0.0;
+  bool visible = false;
+  const auto deliver = [&](const NavdataSample& nav) {
+    est.add_navdata(nav);
+    if (truth.t >= next_frame && visible) {
+      estimation::ObjectObservation o;
+      o.t = truth.t;
+      o.object_index = 1;
+      o.T_cam_object = (truth.T_world_body() * T_body_cam_front()).inverse() * T_world_object;
+      o.T_world_object_surveyed = T_world_object;
+      est.add_object_pose(o);
+      next_frame += 1.0 / 30.0;
+    }
+  };
+  const double hover_rate = std::sqrt(2.0) * d.velocity_bias_mps;
+  link.run_until(10.0, deliver);  // hovering on navdata alone
+  const estimation::FusedState hovered = est.predict(truth.t);
+  CHECK(hovered.drift_bound_m == Approx(10.0 * hover_rate).epsilon(0.05));
+  CHECK(hovered.position_sigma_m < hovered.drift_bound_m);  // what the covariance alone would say
+
+  visible = true;  // the instrument in view: a fix on the lab's frame
+  link.run_until(12.0, deliver);
+  CHECK(est.source() == estimation::LocalizationSource::Homography);
+  CHECK(est.predict(truth.t).drift_bound_m == Approx(0.0).margin(1e-9));
+
+  visible = false;  // out of view again, flying forward: the bound grows with the distance too
+  const Eigen::Vector3d start = truth.s().segment<3>(est::X);
+  link.send(MoveCommand{0, -0.3, 0, 0}, truth.t);
+  link.run_until(16.0, deliver);
+  const double flown_m = (truth.s().segment<3>(est::X) - start).head<2>().norm();
+  REQUIRE(flown_m > 1.0);
+  const double expected = 4.0 * hover_rate + d.velocity_scale * flown_m;
+  // (less the vision-holding time after the last fix, about source_timeout_s)
+  CHECK(est.predict(truth.t).drift_bound_m == Approx(expected).epsilon(0.15));
+}
