@@ -105,25 +105,28 @@ bool FindTeacherMission::face_seen(const MissionContext& ctx) const {
   return f.state == fusion::TrackState::Tracking && ctx.t - f.t < kFreshObservationS;
 }
 
-Geofence FindTeacherMission::inset_fence(const MissionContext& ctx, double clearance_m) const {
+Geofence FindTeacherMission::inset_fence(const MissionContext& ctx, const Eigen::Vector3d& clearance_m) const {
   const Geofence& fence = ctx.autopilot.fence();
-  // A small room keeps what room it has (the margin never more than half its narrowest extent).
-  const double margin = std::min(clearance_m, 0.45 * (fence.max() - fence.min()).minCoeff());
-  return Geofence(fence.min(), fence.max(), std::max(margin, 0.0));
+  // A small room keeps what room it has (each axis's margin never more than half its extent).
+  const Eigen::Vector3d margin = clearance_m.cwiseMin(0.45 * (fence.max() - fence.min())).cwiseMax(0.0);
+  return Geofence(fence.min() + margin, fence.max() - margin, 0.0);
 }
 
 Geofence FindTeacherMission::roomy_fence(const MissionContext& ctx) const {
-  return inset_fence(ctx, kWallClearanceM + uncertainty_clearance(ctx));
+  return inset_fence(ctx, Eigen::Vector3d::Constant(kWallClearanceM) + uncertainty_clearance(ctx));
 }
 
-double FindTeacherMission::uncertainty_clearance(const MissionContext& ctx) const {
-  // The sigmas cover the estimate's white error; the drift bound what the navdata's bias and scale
-  // error have added on dead reckoning (the covariance averages those away).
-  return ctx.pose.valid ? kWallClearanceSigmas * ctx.pose.position_sigma_m + ctx.pose.drift_bound_m : 0.0;
+Eigen::Vector3d FindTeacherMission::uncertainty_clearance(const MissionContext& ctx) const {
+  if (!ctx.pose.valid) return Eigen::Vector3d::Zero();
+  // The sigmas cover the estimate's white error; the drift bound what the navdata velocity's bias and
+  // scale error have added on dead reckoning (the covariance averages those away). The altitude is
+  // measured (ultrasound) and does not drift.
+  const double sigmas = kWallClearanceSigmas * ctx.pose.position_sigma_m;
+  return {sigmas + ctx.pose.drift_bound_m, sigmas + ctx.pose.drift_bound_m, sigmas};
 }
 
 double FindTeacherMission::blind_altitude(const MissionContext& ctx) const {
-  const Geofence hard = inset_fence(ctx, 0.0);
+  const Geofence hard = inset_fence(ctx, Eigen::Vector3d::Zero());
   return std::clamp(ctx.config.mission.face_blind_altitude_m, hard.min().z(), hard.max().z());
 }
 

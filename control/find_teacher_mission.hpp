@@ -57,9 +57,9 @@ class FindTeacherMission final : public Mission {
   double go_round_sign(const MissionContext& ctx) const;
   // The geofence inset by clearance_m more; the follow's soft fence (the walls' clearance and the
   // estimate's uncertainty); that uncertainty as a clearance.
-  Geofence inset_fence(const MissionContext& ctx, double clearance_m) const;
+  Geofence inset_fence(const MissionContext& ctx, const Eigen::Vector3d& clearance_m) const;
   Geofence roomy_fence(const MissionContext& ctx) const;
-  double uncertainty_clearance(const MissionContext& ctx) const;
+  Eigen::Vector3d uncertainty_clearance(const MissionContext& ctx) const;
   // Stand face_distance_m (+ beyond_m) in front of the track's place, as seen facing `heading`
   // (turning at `heading_rate`), the camera on the place.
   // `blind`: the face is not seen, the set point is flown at face_blind_altitude_m.

@@ -73,10 +73,10 @@ struct VelocityDropoutSettings {
 // A bound on how far dead reckoning has drifted since the last fix on the lab's frame. The EKF's
 // covariance treats the navdata velocity's error as white, so it averages away over hundreds of
 // packets; the bottom camera's real error is a slow bias and a scale error, and integrated they grow
-// with time and distance flown. These are the sensor's accuracy as specified for a deployment, not
+// with time and distance flown. The bound is per horizontal axis. These are the sensor's accuracy as specified for a deployment, not
 // fitted to any flight.
 struct DriftBoundSettings {
-  double velocity_bias_mps = 0.03;  // bias of the navdata's horizontal velocity, each axis
+  double velocity_bias_mps = 0.02;  // bias of the navdata's horizontal velocity, each axis
   double velocity_scale = 0.05;     // its scale error, a fraction of the speed
   double dropout_mps = 0.10;        // added while the velocity is in dropout (the model's guess)
 };

@@ -87,7 +87,7 @@ void FilterCore::apply_navdata(const NavdataSample& n, bool vision_holding, cons
   if (!vision_holding && n.control_state != kLandedState) {
     const DriftBoundSettings& d = config_.drift_bound;
     const double dropout = dropout_.in_dropout() ? d.dropout_mps : 0.0;
-    drift_bound_m_ += gap * (std::sqrt(2.0) * d.velocity_bias_mps + d.velocity_scale * v_world.norm() + dropout);
+    drift_bound_m_ += gap * (d.velocity_bias_mps + d.velocity_scale * v_world.norm() + dropout);
   }
   if (dropout_.in_dropout()) {
     odometry_.max_gap = std::max(odometry_.max_gap, t_ - dropout_.dropout_start() + gap);

@@ -322,10 +322,12 @@ TEST_CASE("estimation: dead reckoning reports a drift bound that grows with time
       next_frame += 1.0 / 30.0;
     }
   };
-  const double hover_rate = std::sqrt(2.0) * d.velocity_bias_mps;
+  const double hover_rate = d.velocity_bias_mps;
   link.run_until(10.0, deliver);  // hovering on navdata alone
   const estimation::FusedState hovered = est.predict(truth.t);
-  CHECK(hovered.drift_bound_m == Approx(10.0 * hover_rate).epsilon(0.05));
+  // (plus the scale error on the navdata's noisy few cm/s while hovering)
+  CHECK(hovered.drift_bound_m > 10.0 * hover_rate - 1e-6);
+  CHECK(hovered.drift_bound_m < 1.15 * 10.0 * hover_rate);
   CHECK(hovered.position_sigma_m < hovered.drift_bound_m);  // what the covariance alone would say
 
   visible = true;  // the instrument in view: a fix on the lab's frame
