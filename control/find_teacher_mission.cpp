@@ -11,7 +11,7 @@
 namespace labo::control {
 
 namespace {
-constexpr double kFaceHeightM = 1.6;  // search at about a standing adult's face height
+constexpr double kFaceHeightM = 1.6;  // sweep at about a standing adult's face height
 constexpr double kFreshObservationS = 0.3;
 // Viewpoints: the detector finds a frontal face within ~2.5 m, so a grid of cells no larger than that
 // puts every point of the free floor within reach of one sweep; a viewpoint keeps this far from a
