@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "drone/drone_link.hpp"
+#include "localization/face/person_shape.hpp"
 #include "server/runtime/runtime_timing.hpp"
 #include "server/video/rendition.hpp"
 
@@ -31,6 +32,9 @@ struct MissionCommand {
   CameraId camera = CameraId::Front;  // SelectCamera: what the drone streams while no mission runs
   // Jog: metres forward, left, up and radians counter-clockwise, from where the drone is held now.
   double dx_m = 0, dy_m = 0, dz_m = 0, dyaw_rad = 0;
+  // FindTeacher: the registered person to follow, attached by the lab (the teacher's choice); none:
+  // the one the flight software followed so far.
+  std::shared_ptr<const face::PersonShape> person{};
 };
 
 struct CommandVerdict {
