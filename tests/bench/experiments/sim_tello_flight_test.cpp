@@ -25,7 +25,7 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 // The take-off's manoeuvre gives SLAM's map its scale in one round: with the estimation section's
 // 0.1 s navdata gap limit every scale pair of a 10 Hz state was dropped and the manoeuvre repeated
 // ("again: no scale yet") until the flight went on dead reckoning; tello.estimation's 0.15 s fixes it.
-TEST_CASE("control: a Tello in the simulated lab scales its map in one round, holds at the panel and lands at the estimated base") {
+TEST_CASE("control: a Tello in the simulated lab scales its map in one round then holds at the panel and lands at the estimated base") {
   ExperimentOptions o;
   o.config = labo::source_root() / "config" / "default.json";
   o.real_vision = true;
@@ -46,6 +46,7 @@ TEST_CASE("control: a Tello in the simulated lab scales its map in one round, ho
   r.hold_s = 2;
   REQUIRE(f->request(r).accepted);
 
+  const double resting_z_m = f->true_pose().translation().z();  // the body's origin on the platform
   double highest_m = 0;
   bool repeated = false, scaled_in_init = false, scale_lost = false;
   bool scaled = false;
@@ -77,12 +78,12 @@ TEST_CASE("control: a Tello in the simulated lab scales its map in one round, ho
   CHECK(contains(s.last_event, "succeeded"));
   CHECK(contains(s.last_event, "landing at the estimated base"));
   CHECK(s.phase == control::FlightPhase::Landed);
-  CHECK(f->true_pose().translation().z() < 0.1);
+  CHECK(f->true_pose().translation().z() < resting_z_m + 0.05);
   const double landing_m =
       (f->true_pose().translation() - f->true_lab().lab.platform.T_world_object.translation()).head<2>().norm();
   CHECK(landing_m < 0.5);
   CHECK_FALSE(f->crashed());
   const LinkStatistics link = sim->link().statistics();
   CHECK(link.counters.at("tello_bottom_camera_unavailable") >= 1);
-  CHECK(link.counters.at("reconnects") == 0);
+  CHECK_FALSE(link.counters.contains("reconnects"));  // the state never went silent for 2 s
 }
