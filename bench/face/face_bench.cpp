@@ -252,10 +252,13 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
   FacePoseEstimator estimator(config, camera,
                               make_face_landmark_model(candide, load_ibug68_mapping(config.mapping)));
 
-  const cv::Mat photo = cv::imread(options.texture.string(), cv::IMREAD_GRAYSCALE);
-  if (photo.empty()) {
+  const cv::Mat photo_bgr =
+      options.texture_bgr.empty() ? cv::imread(options.texture.string(), cv::IMREAD_COLOR) : options.texture_bgr;
+  if (photo_bgr.empty()) {
     throw std::runtime_error(options.texture.string() + ": cannot read the head texture (run scripts/setup.sh)");
   }
+  cv::Mat photo;
+  cv::cvtColor(photo_bgr, photo, cv::COLOR_BGR2GRAY);
   TexturedHeadRenderer renderer(candide, texture_head_from_photo(estimator, candide, photo, options.interpupillary_distance_m),
                                 camera);
   FaceBenchReport report;
@@ -279,7 +282,10 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
     frontal = pictures.front();
     const PersonShape teacher = register_person(estimator, pictures, "teacher", options.interpupillary_distance_m);
     PersonShape used = teacher;
-    if (options.true_shape) used.shape_params = renderer.head().shape_params;
+    if (options.true_shape) {
+      used.shape_params = renderer.head().shape_params;
+      used.interpupillary_distance_m = options.interpupillary_distance_m * renderer.head().scale;
+    }
     estimator.set_person(used, true);
     report.shape_fit_rms_px = teacher.fit_rms_px;
     report.registration_frames = static_cast<int>(pictures.size());
@@ -331,7 +337,6 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
   auto sequences = make_head_pose_sequences(options.sequences, options.frames, options.seed);
   std::optional<LabHeadScene> lab_scene;
   if (options.lab_sequences > 0 && !options.lab.empty()) {
-    const cv::Mat photo_bgr = cv::imread(options.texture.string(), cv::IMREAD_COLOR);
     lab_scene.emplace(load_lab_description(options.lab), options.cameras,
                       to_head_model(candide, renderer.head(), photo_bgr), options.seed);
     for (auto& q : make_head_pose_sequences(options.lab_sequences, options.frames, options.seed + 101)) {
@@ -444,6 +449,7 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
               angle_error_deg(ea.pitch, ta.pitch), ms);
         if (kMethods[m] == PnpMethod::LmTracking) {
           by_renderer[summary.renderer].add(dt, dt_abs, a.roll.back(), a.yaw.back(), a.pitch.back(), ms);
+          report.lm_frame_errors.push_back({a.tx.back(), a.ty.back(), a.tz.back(), a.roll.back(), a.yaw.back(), a.pitch.back()});
           seq_yaw.push_back(a.yaw.back());
           seq_tz.push_back(a.tz.back());
           if (csv.is_open()) {
@@ -496,6 +502,7 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
   }
   for (PnpMethod m : kMethods) report.methods.push_back(summarise(m, acc[m]));
   for (const auto& [name, a] : by_renderer) report.lm_by_renderer.emplace_back(name, summarise(PnpMethod::LmTracking, a));
+  report.frame_ms = frame_ms;
   report.frame_ms_median = median(frame_ms);
   report.frame_ms_mean = mean(frame_ms);
   report.frame_ms_p95 = percentile(frame_ms, 0.95);
