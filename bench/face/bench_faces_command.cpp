@@ -119,9 +119,9 @@ const CommandSpec& faces_bench_command_spec() {
        {"--faces", "N", "measure at most N faces, in gallery order (default: all)"},
        {"--face", "NAME", "measure that face alone (e.g. solvay_07)"},
        {"--tuning-faces", "", "leave out the faces held out of tuning (every third: solvay_03, _06, ...)"},
-       {"--sequences", "N", "head sequences per face, guided and free alternating (default 4)"},
-       {"--lab-sequences", "N", "sequences per face drawn by the simulated lab's renderer (default 1)"},
-       {"--frames", "N", "frames per sequence (default 150)"},
+       {"--sequences", "N", "head sequences per face, guided and free alternating (default 2)"},
+       {"--lab-sequences", "N", "sequences per face drawn by the simulated lab's renderer (default 0)"},
+       {"--frames", "N", "frames per sequence (default 100)"},
        {"--seed", "N", "random seed (default 1)"},
        {"--no-lossy-video", "", "skip the H.264 round trip"},
        {"--crops", "DIR", "write each face's crop there (PNG)"},
@@ -141,9 +141,9 @@ int run_faces_bench_command(const ParsedArgs& args) {
   o.tuning_faces_only = args.flag("--tuning-faces");
   o.crops_dir = args.value_or("--crops", "");
   face::FaceBenchOptions& b = o.bench;
-  b.sequences = args.integer_or("--sequences", 4, 1, 1000);
-  b.lab_sequences = args.integer_or("--lab-sequences", 1, 0, 1000);
-  b.frames = args.integer_or("--frames", 150, 3, 100000);
+  b.sequences = args.integer_or("--sequences", 2, 1, 1000);
+  b.lab_sequences = args.integer_or("--lab-sequences", 0, 0, 1000);
+  b.frames = args.integer_or("--frames", 100, 3, 100000);
   b.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
   b.lossy_video = !args.flag("--no-lossy-video");
   b.lab = (labo::source_root() / "config" / "lab.json").string();

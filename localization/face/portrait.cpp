@@ -59,15 +59,15 @@ PortraitFace find_portrait_face(FacePoseEstimator& estimator, const cv::Mat& gra
   }
   const auto faces = estimator.find_faces(gray);
   if (faces.empty()) return refused(face, PortraitRefusal::NoFace, "no face found");
-  const auto largest = std::max_element(faces.begin(), faces.end(),
-                                        [](const FaceBox& a, const FaceBox& b) { return a.box.area() < b.box.area(); });
-  face.box = largest->box;
+  // The detector's best face (boxes come best first); another counts as a second person when it is
+  // of a comparable size and confidence.
+  face.box = faces.front().box;
+  const double best_score = faces.front().score;
   const auto people = std::count_if(faces.begin(), faces.end(), [&](const FaceBox& f) {
-    return side(f.box) >= limits.other_face_min_side * side(face.box);
+    return side(f.box) >= limits.other_face_min_side * side(face.box) && f.score >= limits.other_face_min_score * best_score;
   });
   if (people > 1) {
-    return refused(face, PortraitRefusal::SeveralFaces,
-                   std::to_string(people) + " faces found, expected one person");
+    return refused(face, PortraitRefusal::SeveralFaces, std::to_string(people) + " faces found, expected one person");
   }
   face.landmarks = estimator.landmarks_in(gray, face.box);
   face.interocular_px = interocular_px(face.landmarks);

@@ -20,16 +20,18 @@ struct PortraitLimits {
   double min_interocular_px = 20;  // eye centres apart (FaceConfig::portrait_min_interocular_px)
   double max_angle_rad = 0.26;     // |yaw|, |pitch| of the fitted head (FaceConfig::frontal_max_angle_rad)
   double border_margin_px = 2;     // a rigid landmark closer to the border: the face is cut
-  // Another detection whose box side is at least this fraction of the chosen face's counts as a second
-  // person; smaller ones are background (astronaut.png has a weak one in the flag's folds).
+  // Another detection counts as a second person when its box side and its detector score are at least
+  // these fractions of the best face's; the others are background (a rendered astronaut head gives a
+  // box larger than the face at a twentieth of its score).
   double other_face_min_side = 0.5;
+  double other_face_min_score = 0.25;
 };
 PortraitLimits portrait_limits(const FaceConfig& config);
 
 struct PortraitFace {
   PortraitRefusal refusal = PortraitRefusal::None;
   std::string reason;        // what was wrong and what was expected; "" when the picture serves
-  cv::Rect2d box;            // the detector's box of the face (the largest one)
+  cv::Rect2d box;            // the detector's box of the face (its best)
   Eigen::Matrix2Xd landmarks;  // its 68 landmarks, picture pixels (empty when no face)
   double interocular_px = 0;
   bool serves() const { return refusal == PortraitRefusal::None; }
