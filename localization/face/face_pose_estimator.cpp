@@ -1,4 +1,5 @@
 #include "localization/face/face_pose_estimator.hpp"
+#include "localization/face/portrait.hpp"
 
 #include "drone/sim/cpu_time.hpp"
 #include "localization/face/landmark_weights.hpp"
@@ -150,11 +151,7 @@ Eigen::Matrix2Xd FacePoseEstimator::ideal_pixels(const Eigen::Matrix2Xd& lm) con
   return out;
 }
 
-double FacePoseEstimator::interocular_px(const Eigen::Matrix2Xd& lm) const {
-  const Eigen::Vector2d right = lm.middleCols(36, 6).rowwise().mean();
-  const Eigen::Vector2d left = lm.middleCols(42, 6).rowwise().mean();
-  return (left - right).norm();
-}
+double FacePoseEstimator::interocular_px(const Eigen::Matrix2Xd& lm) const { return face::interocular_px(lm); }
 
 void FacePoseEstimator::remember_box_relation(const cv::Rect2d& box, const Eigen::Matrix2Xd& lm, double distance_m) {
   const auto [c, spread] = centroid_and_spread(lm);
