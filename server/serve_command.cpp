@@ -32,7 +32,7 @@ int run_serve_command(const ParsedArgs& args) {
   auto backend = make_drone_backend(drone, config, log.child("runtime"));
   WebServer server(config.server, config_file, backend->flight(), log.child("web"));
   server.start();
-  std::cout << "LaboDrone is serving on http://" << config.server.bind_address << ":" << config.server.port
+  std::cout << "LaboDrone is serving on " << (config.server.tls.enabled() ? "https://" : "http://") << config.server.bind_address << ":" << config.server.port
             << "/ (drone: " << describe(drone) << ")" << std::endl;
   server.run_until_signal();
   return 0;

@@ -85,6 +85,25 @@ VideoSettings read_video_settings(const ConfigReader& c) {
   return v;
 }
 
+TlsSettings read_tls_settings(const ConfigReader& c, const std::filesystem::path& base_dir) {
+  TlsSettings t;
+  t.cert_file = resolve(base_dir, c.string("cert_file"));
+  t.key_file = resolve(base_dir, c.string("key_file"));
+  for (const auto& [key, file] : {std::pair{"cert_file", t.cert_file}, std::pair{"key_file", t.key_file}})
+    if (!std::filesystem::is_regular_file(file)) c.fail(key, "no such file: " + file.string() + " (expected a PEM file)");
+  c.finish();
+  return t;
+}
+
+std::string read_origin(const ConfigReader& server) {
+  std::string origin = server.string_or("origin", "");
+  while (!origin.empty() && origin.back() == '/') origin.pop_back();
+  const bool scheme = origin.rfind("http://", 0) == 0 || origin.rfind("https://", 0) == 0;
+  if (!origin.empty() && (!scheme || origin.find('/', origin.find("//") + 2) != std::string::npos))
+    server.fail("origin", "expected scheme://host[:port], e.g. https://lab.example.org:8443 (or leave it out)");
+  return origin;
+}
+
 }  // namespace
 
 ServerSettings default_server_settings(const std::filesystem::path& base_dir) {
@@ -92,6 +111,8 @@ ServerSettings default_server_settings(const std::filesystem::path& base_dir) {
   s.web_root = resolve(base_dir, "../web");
   s.recordings_dir = resolve(base_dir, "../var/recordings");
   s.instruments_dir = resolve(base_dir, "../var/instruments");
+  s.audit_log = resolve(base_dir, "../var/audit.jsonl");
+  s.sessions_file = resolve(base_dir, "../var/sessions.json");
   return s;
 }
 
@@ -103,6 +124,10 @@ ServerSettings read_server_settings(const ConfigReader& server, const std::files
   s.web_root = resolve(base_dir, server.string_or("web_root", "../web"));
   s.recordings_dir = resolve(base_dir, server.string_or("recordings_dir", "../var/recordings"));
   s.instruments_dir = resolve(base_dir, server.string_or("instruments_dir", "../var/instruments"));
+  s.audit_log = resolve(base_dir, server.string_or("audit_log", "../var/audit.jsonl"));
+  s.sessions_file = resolve(base_dir, server.string_or("sessions_file", "../var/sessions.json"));
+  s.origin = read_origin(server);
+  if (server.has("tls")) s.tls = read_tls_settings(server.object("tls"), base_dir);
   if (server.has("users")) s.users = read_users(server);
   if (server.has("control")) s.control = read_control_rules(server.object("control"));
   if (server.has("clients")) s.clients = read_client_limits(server.object("clients"));

@@ -44,6 +44,13 @@ struct VideoSettings {
   double telemetry_hz = 10;  // state messages to each client
 };
 
+// HTTPS and WSS on the same port when both files are set (PEM); the session cookie is then Secure.
+struct TlsSettings {
+  std::filesystem::path cert_file;  // the certificate chain
+  std::filesystem::path key_file;   // its private key
+  bool enabled() const { return !cert_file.empty(); }
+};
+
 struct ServerSettings {
   std::string bind_address = "127.0.0.1";
   int port = 8080;
@@ -51,6 +58,12 @@ struct ServerSettings {
   std::filesystem::path web_root;         // resolved against the config file's folder
   std::filesystem::path recordings_dir;   // flights recorded by the link, served for download
   std::filesystem::path instruments_dir;  // uploaded instrument templates
+  std::filesystem::path audit_log;        // JSON lines: every command and administrative action
+  std::filesystem::path sessions_file;    // the logged-in sessions, kept across restarts
+  // The origin the pages are served from ("https://lab.example.org:8443"): a WebSocket upgrade from
+  // a page of any other origin is refused. Empty: the origin must name the host the request names.
+  std::string origin;
+  TlsSettings tls;
   std::vector<UserAccount> users;
   ControlRules control;
   ClientLimits clients;

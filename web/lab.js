@@ -6,9 +6,9 @@ import {VideoView} from './video_view.js';
 
 const $ = (id) => document.getElementById(id);
 const view = new TelemetryView(document);
-const state = {ws: null, role: null, nextId: 1, lastFpsT: performance.now(), heartbeat: null, controlSeq: -1};
+const state = {ws: null, role: null, controlling: false, nextId: 1, lastFpsT: performance.now(), heartbeat: null, controlSeq: -1};
 // Exposed for tests and curious users: what the page has seen.
-window.labodrone = {stages: [], acks: [], connected: false};
+window.labodrone = {stages: [], acks: [], connected: false, send: (obj) => send(obj)};
 
 function logEvent(text, cls) {
   const li = document.createElement('li');
@@ -28,10 +28,20 @@ function command(name, extra = {}) {
 
 const video = new VideoView(document, send, window.labodrone);
 
+// Cutting the motors drops the drone: the server allows it to the controller, teachers and admins
+// only, and the page offers it to them only. Everyone has stop (hover, then land).
+function mayCutMotors() { return state.controlling || state.role === 'teacher' || state.role === 'admin'; }
+function showStopButtons() {
+  $('emergency').hidden = !mayCutMotors();
+  $('stop-hint').hidden = mayCutMotors();
+}
+
 function onControl(msg) {
   // States are sent after the server's lock is released and may arrive out of order: keep the newest.
   if (msg.seq <= state.controlSeq) return;
   state.controlSeq = msg.seq;
+  state.controlling = !!(msg.you && msg.you.controlling);
+  showStopButtons();
   const c = msg.controller;
   $('control-state').textContent = c ? `${c.user} (${c.role}) has control` : 'nobody controls the drone';
   $('turn').textContent = msg.you && msg.you.controlling
@@ -49,6 +59,7 @@ function onMessage(msg) {
       $('who').textContent = `${msg.user} · ${msg.role}`;
       for (const el of document.querySelectorAll('.teacher-only')) el.hidden = msg.role === 'student';
       $('admin-link').hidden = msg.role !== 'admin';
+      showStopButtons();
       const sel = $('instrument'); sel.innerHTML = '';
       for (const i of msg.instruments) { const o = document.createElement('option'); o.value = i.id; o.textContent = i.name || i.id; sel.append(o); }
       view.instruments = msg.instruments;
@@ -76,7 +87,7 @@ function onMessage(msg) {
       break;
     case 'event':
       if (msg.kind === 'stage') window.labodrone.stages.push(msg.stage);
-      logEvent(msg.message || `${msg.kind} ${msg.mission} ${msg.stage}`, msg.kind === 'error' || msg.kind === 'emergency' ? 'rejected' : '');
+      logEvent(msg.message || `${msg.kind} ${msg.mission} ${msg.stage}`, ['error', 'emergency', 'stop'].includes(msg.kind) ? 'rejected' : '');
       break;
     case 'notice':
       if (msg.kind === 'granted') logEvent('you have control' + (msg.remaining_s > 0 ? ` for ${Math.round(msg.remaining_s)} s` : ''));
@@ -112,11 +123,16 @@ function connect() {
 for (const b of document.querySelectorAll('[data-command]')) b.addEventListener('click', () => command(b.dataset.command));
 $('inspect').addEventListener('click', () => command('inspect', {instrument: $('instrument').value}));
 $('emergency').addEventListener('click', () => command('emergency_stop'));
+$('stop').addEventListener('click', () => command('stop'));
 $('request-control').addEventListener('click', () => send({type: 'request_control'}));
 $('release-control').addEventListener('click', () => send({type: 'release_control'}));
 $('take-over').addEventListener('click', () => send({type: 'take_over'}));
 $('logout').addEventListener('click', async () => { await fetch('/api/logout', {method: 'POST'}); location.href = '/'; });
-document.addEventListener('keydown', (e) => { if (e.key === ' ' && e.target === document.body) { e.preventDefault(); command('emergency_stop'); } });
+document.addEventListener('keydown', (e) => {
+  if (e.key !== ' ' || e.target !== document.body) return;
+  e.preventDefault();
+  command(mayCutMotors() ? 'emergency_stop' : 'stop');
+});
 
 setInterval(() => {
   const now = performance.now();

@@ -9,6 +9,7 @@
 #include "bench/experiments/lockstep_flight.hpp"
 #include "bench/experiments/model_lab.hpp"
 #include "bench/experiments/sim_lab_flight.hpp"
+#include "bench/experiments/world_report.hpp"
 #include "localization/fusion/front_end_settings.hpp"
 #include "core/camera_config.hpp"
 #include "core/config_reader.hpp"
@@ -30,6 +31,10 @@ std::vector<OptionSpec> real_vision_option_specs() {
            "model (default): quadrotor and perception models; real: the simulated lab with rendered cameras and the "
            "real vision pipelines"},
           {"--fps", "N", "with --vision real: frames rendered and processed per second (default 30)"},
+          {"--world", "nominal|randomized",
+           "with --vision real: the simulated lab's world: nominal, the configuration exactly; randomized, a world drawn "
+           "around it per seed (the drone, sensor biases, placements, cameras, delays, light, Wi-Fi losses; docs/sim.md) "
+           "that the flight software does not see (default: the config's sim.world)"},
           {"--vision-latency", "inline|worker",
            "with --vision real: inline (default): each frame's vision is done before the next control tick; worker: as "
            "labodrone serve runs it, a frame's results reach the estimator after the worker's modelled time and frames "
@@ -54,6 +59,11 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args) {
       throw UsageError("--vision-latency must be inline or worker (got '" + *latency + "')");
     if (!o.real_vision) throw UsageError("--vision-latency needs --vision real");
     if (*latency == "worker") o.vision_latency = VisionLatencyModel{};
+  }
+  if (const auto world = args.value("--world")) {
+    o.world = parse_world_mode(*world);
+    if (!o.world) throw UsageError("--world must be nominal or randomized (got '" + *world + "')");
+    if (!o.real_vision) throw UsageError("--world needs --vision real (the models fly no simulated lab)");
   }
   o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
   o.runs = args.integer_or("--runs", 1, 1, 10000);
@@ -110,6 +120,7 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   front_ends.with_face = with_face;
   setup.front_ends = front_ends;
   e.sim = read_sim_config_of(root);
+  if (options.world) e.sim.world = *options.world;
   if (options.video_fps) e.sim.link.video_fps = *options.video_fps;
   e.vision_latency = options.vision_latency;
   if (with_face) e.head = face::load_lab_teacher_head(*e.lab, front_ends.face);
@@ -126,6 +137,12 @@ std::unique_ptr<ExperimentFlight> make_flight(const Experiment& experiment, unsi
   sim.lab.seed = seed;
   sim.link.seed = seed;
   return std::make_unique<SimLabFlight>(experiment.setup, *experiment.lab, sim, experiment.head, experiment.vision_latency);
+}
+
+std::string world_name(const Experiment& experiment) { return experiment.lab ? to_string(experiment.sim.world) : "none"; }
+
+nlohmann::json run_world_json(const ExperimentFlight& flight) {
+  return flight.world() ? world_json(*flight.world(), flight.now()) : nlohmann::json();
 }
 
 void write_run_outputs(const ExperimentOptions& options, const std::string& name, int index, const ExperimentFlight& flight) {

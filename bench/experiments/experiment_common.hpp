@@ -34,6 +34,8 @@ struct ExperimentOptions {
   // face-follow target is stated at 0.5 m/s; config/lab.json walks at 0.4).
   std::optional<double> teacher_speed_mps;
   int jobs = 1;  // --jobs: seeded runs flown at once on that many threads (seed_runner.hpp)
+  // --world (with --vision real): the simulated lab's world, replacing the config's sim.world.
+  std::optional<WorldMode> world;
 };
 
 std::vector<OptionSpec> experiment_option_specs();
@@ -59,6 +61,10 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face);
 // One run's flight: LockstepFlight (models) or, with --vision real, SimLabFlight (the lab's and the
 // link's seeds set to `seed`).
 std::unique_ptr<ExperimentFlight> make_flight(const Experiment& experiment, unsigned seed);
+// The world the runs fly in, for summaries: "nominal" or "randomized", "none" for the models.
+std::string world_name(const Experiment& experiment);
+// A run's world (world_report.hpp) up to now, or null for the models' flights.
+nlohmann::json run_world_json(const ExperimentFlight& flight);
 // Writes run `index`'s CSV (and its SVG for the first run) under --out.
 void write_run_outputs(const ExperimentOptions& options, const std::string& name, int index, const ExperimentFlight& flight);
 // Writes summary.json under --out, prints JSON (--json) or the text lines.

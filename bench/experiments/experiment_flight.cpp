@@ -1,6 +1,7 @@
 #include "bench/experiments/experiment_flight.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "core/frames.hpp"
 
@@ -54,7 +55,13 @@ FlightSample sample_of(const control::FlightStatus& s, const control::FlightOutp
 }
 
 Eigen::Isometry3d ExperimentFlight::true_T_cam(const Eigen::Isometry3d& T_world_target) const {
-  return (true_pose() * T_body_cam_front()).inverse() * T_world_target;
+  return (true_pose() * true_lab().T_body_front).inverse() * T_world_target;
+}
+
+const fusion::PlanarTarget& ExperimentFlight::true_instrument(const std::string& id) const {
+  const fusion::PlanarTarget* target = true_lab().lab.find_instrument(id);
+  if (!target) throw std::invalid_argument("the lab has no instrument '" + id + "'");
+  return *target;
 }
 
 void ExperimentFlight::run(double seconds) {

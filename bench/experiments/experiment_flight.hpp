@@ -12,6 +12,8 @@
 
 #include "bench/experiments/lockstep_vision_worker.hpp"
 #include "control/flight_stack.hpp"
+#include "core/frames.hpp"
+#include "drone/sim/sim_world.hpp"
 #include "localization/estimation/state_estimator.hpp"
 
 namespace labo {
@@ -55,6 +57,15 @@ struct FlightSample {
   Eigen::Vector2d estimated_velocity = Eigen::Vector2d::Zero();  // world x, y (the estimate's, m/s)
 };
 
+// The lab as it really is, which the experiments measure against: where the instruments and the
+// platform stand, the front camera's intrinsics and mounting. The flight software never sees it (it
+// flies with the configuration's); for the models' flights and a nominal world it is the configuration.
+struct TrueLab {
+  fusion::LabGeometry lab;
+  CameraIntrinsics front;
+  Eigen::Isometry3d T_body_front = T_body_cam_front();
+};
+
 class ExperimentFlight {
  public:
   static constexpr double kControlDt = 1.0 / 30.0;
@@ -73,7 +84,10 @@ class ExperimentFlight {
   // kick that turns the drone by about dyaw_rad, at once.
   virtual void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) = 0;
   virtual bool crashed() const = 0;
-  virtual const fusion::LabGeometry& lab() const = 0;
+  virtual const fusion::LabGeometry& lab() const = 0;  // the flight software's lab (the configuration's)
+  virtual const TrueLab& true_lab() const = 0;
+  // The simulated lab's world (drawn values included) for the run's output; none for the models.
+  virtual const SimWorld* world() const { return nullptr; }
   virtual const std::vector<FlightSample>& samples() const = 0;
   // What flew and what saw, for plot titles and summaries.
   virtual std::string description() const = 0;
@@ -83,8 +97,11 @@ class ExperimentFlight {
   bool run_until(const std::function<bool()>& done, double timeout_s);
   void run(double seconds);
   control::CommandResult request(const control::MissionRequest& r) { return stack().request(r, now()); }
-  // The true pose of the front camera relative to a target (z into it).
+  // The true pose of the front camera (as it is mounted) relative to a target (z into it).
   Eigen::Isometry3d true_T_cam(const Eigen::Isometry3d& T_world_target) const;
+  // The instrument `id` (or the platform) where it really is; throws std::invalid_argument when the
+  // lab has no such instrument.
+  const fusion::PlanarTarget& true_instrument(const std::string& id) const;
 };
 
 Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T);

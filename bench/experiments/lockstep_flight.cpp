@@ -11,7 +11,7 @@ constexpr int kPhysicsSubsteps = 5;
 }
 
 LockstepFlight::LockstepFlight(const control::FlightStackSetup& setup, const PerceptionModelConfig& perception, unsigned seed)
-    : lab_(setup.lab), perception_(perception, setup.lab, seed) {
+    : lab_(setup.lab), true_lab_{setup.lab, setup.cameras.front, T_body_cam_front()}, perception_(perception, setup.lab, seed) {
   drone_.p = setup.lab.base;
   drone_.yaw = setup.lab.base_yaw_rad;
   auto pipelines = std::make_unique<fusion::LabPipelines>(setup.lab, setup.estimation, setup.vision);

@@ -41,6 +41,7 @@ class LockstepFlight final : public ExperimentFlight {
   void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) override { drone_.push(dv_world_mps, dyaw_rad); }
   bool crashed() const override { return drone_.crashed; }
   const fusion::LabGeometry& lab() const override { return lab_; }
+  const TrueLab& true_lab() const override { return true_lab_; }  // the models' lab is the configuration
   const std::vector<FlightSample>& samples() const override { return samples_; }
   std::string description() const override { return "quadrotor model, perception model"; }
 
@@ -51,6 +52,7 @@ class LockstepFlight final : public ExperimentFlight {
 
  private:
   fusion::LabGeometry lab_;
+  TrueLab true_lab_;
   QuadrotorModel drone_;
   PerceptionModel perception_;
   fusion::LabPipelines* pipelines_ = nullptr;  // owned by stack_

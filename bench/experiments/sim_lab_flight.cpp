@@ -25,15 +25,17 @@ struct SimLabFlight::Listener final : DroneLinkListener {
 
 SimLabFlight::SimLabFlight(const control::FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
                            std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency)
-    : geometry_(setup.lab), link_settings_(sim.link) {
+    : geometry_(setup.lab),
+      world_(make_sim_world(lab, setup.cameras, sim)),
+      true_lab_{fusion::lab_geometry_from(world_.lab), world_.cameras.front, world_.mounts.front} {
   if (!setup.front_ends) throw std::invalid_argument("SimLabFlight: the setup has no vision front-ends");
-  lab_ = make_simulated_lab(lab, setup.cameras, sim.lab, std::move(head));
+  lab_ = make_simulated_lab(world_, std::move(head));
   auto pipelines = fusion::make_lab_pipelines(setup.lab, setup.cameras, setup.vision, setup.estimation, *setup.front_ends);
   pipelines_ = pipelines.get();
   stack_ = std::make_unique<control::FlightStack>(setup, std::move(pipelines));
   if (vision_latency) vision_worker_ = std::make_unique<LockstepVisionWorker>(*stack_, *vision_latency);
   listener_ = std::make_unique<Listener>(*stack_, vision_worker_.get(), t_);
-  link_ = std::make_unique<SimDroneLink>(*lab_, sim.link);
+  link_ = std::make_unique<SimDroneLink>(*lab_, world_.link);
   link_->set_listener(listener_.get());
   samples_.reserve(20000);
 }
@@ -53,8 +55,9 @@ std::optional<Eigen::Isometry3d> SimLabFlight::true_face() const {
 
 std::string SimLabFlight::description() const {
   char buf[160];
-  std::snprintf(buf, sizeof buf, "sim lab, %.0f fps, %.0f Hz navdata, real vision%s", link_settings_.video_fps,
-                link_settings_.full_navdata ? link_settings_.full_rate_hz : link_settings_.demo_rate_hz,
+  std::snprintf(buf, sizeof buf, "sim lab, %s world, %.0f fps, %.0f Hz navdata, real vision%s",
+                to_string(world_.mode).c_str(), world_.link.video_fps,
+                world_.link.full_navdata ? world_.link.full_rate_hz : world_.link.demo_rate_hz,
                 vision_worker_ ? " on a modelled worker" : "");
   return buf;
 }

@@ -25,7 +25,9 @@ namespace labo {
 class SimLabFlight final : public ExperimentFlight {
  public:
   // `setup.front_ends` must be set: this flight has no other perception than the rendered frames.
-  // `sim` is the lab's and the link's settings (their seeds included); `head` textures the teacher's face.
+  // `sim` is the lab's and the link's settings (their seeds included) and the world's mode: the
+  // simulated lab flies make_sim_world(lab, setup.cameras, sim), the flight stack only `setup`.
+  // `head` textures the teacher's face.
   SimLabFlight(const control::FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
                std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency = std::nullopt);
   ~SimLabFlight() override;
@@ -39,6 +41,8 @@ class SimLabFlight final : public ExperimentFlight {
   void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) override { lab_->dynamics().push(dv_world_mps, dyaw_rad); }
   bool crashed() const override { return lab_->truth().crashes > 0; }
   const fusion::LabGeometry& lab() const override { return geometry_; }
+  const TrueLab& true_lab() const override { return true_lab_; }
+  const SimWorld* world() const override { return &world_; }
   const std::vector<FlightSample>& samples() const override { return samples_; }
   std::string description() const override;
 
@@ -52,7 +56,8 @@ class SimLabFlight final : public ExperimentFlight {
   void apply(const control::FlightOutput& out);
 
   fusion::LabGeometry geometry_;
-  SimLinkSettings link_settings_;
+  SimWorld world_;
+  TrueLab true_lab_;
   std::unique_ptr<SimulatedLab> lab_;
   std::unique_ptr<control::FlightStack> stack_;
   const fusion::LabPipelines* pipelines_ = nullptr;  // owned by stack_

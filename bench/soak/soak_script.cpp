@@ -81,7 +81,7 @@ std::shared_ptr<SoakClient> SoakScript::queue_for_control(const Student& student
 void SoakScript::ready_the_drone(bool low_battery) {
   const double low_percent = config_.control.safety.low_battery_percent + 5;  // about 40 s of flight
   const DroneTruth truth = server_.drone().truth();
-  const double full_percent = config_.sim.lab.dynamics.battery_start_percent;
+  const double full_percent = config_.sim.lab.dynamics.battery.start_percent;
   if (!crash_ && truth.phase == "emergency") crash_ = truth;  // it crashed outside a mission
   if (crash_) {
     // What the lab does after a crash (which itself fails the soak): the drone back on its
@@ -292,7 +292,7 @@ void SoakScript::look_after_faults(bool now_all) {
 
 void SoakScript::swap_battery(double start_percent, const DroneTruth& where, bool restart_flight) {
   AppConfig c = config_;
-  c.sim.lab.dynamics.battery_start_percent = start_percent;
+  c.sim.lab.dynamics.battery.start_percent = start_percent;
   heartbeats(nullptr);
   server_.drone().stop();
   server_.drone().replace_lab(c, where.position_m.head<2>(), where.yaw_rad);

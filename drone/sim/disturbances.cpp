@@ -13,6 +13,7 @@ std::string to_string(Disturbance::Kind kind) {
     case Disturbance::Kind::VideoDropout: return "video_dropout";
     case Disturbance::Kind::LinkOutage: return "link_outage";
     case Disturbance::Kind::Lighting: return "lighting";
+    case Disturbance::Kind::Flicker: return "flicker";
   }
   return "?";
 }
@@ -46,6 +47,8 @@ double DisturbanceSchedule::exposure_gain_at(Seconds t) const {
   double gain = 1.0;
   for (const auto& d : items_) {
     if (d.kind == Disturbance::Kind::Lighting) gain *= 1.0 + (d.exposure_gain - 1.0) * raised_cosine(d, t);
+    if (d.kind == Disturbance::Kind::Flicker && t >= d.t_s && t < d.t_s + d.duration_s)
+      gain *= 1.0 + d.flicker_amplitude * std::sin(2.0 * std::numbers::pi * d.flicker_hz * (t - d.t_s));
   }
   return gain;
 }

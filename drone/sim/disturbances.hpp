@@ -11,7 +11,9 @@
 //  - lighting: the light changes over an interval (a lamp switched on, sun through a window, the
 //    camera's auto-exposure catching up): the frames' exposure is multiplied by a factor that rises
 //    to `exposure_gain` and falls back as a raised cosine. Vision must survive it (the planar
-//    benchmark's lighting case, in flight).
+//    benchmark's lighting case, in flight);
+//  - flicker: the lamps' mains flicker as the camera samples it: the exposure is multiplied by
+//    1 + amplitude·sin(2π·frequency·(t − t_s)) over an interval.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -21,14 +23,16 @@
 namespace labo {
 
 struct Disturbance {
-  enum class Kind { Impulse, Gust, VideoDropout, LinkOutage, Lighting };
+  enum class Kind { Impulse, Gust, VideoDropout, LinkOutage, Lighting, Flicker };
   Kind kind = Kind::Impulse;
   Seconds t_s = 0;
-  Seconds duration_s = 0;                                   // gust, video dropout, link outage
+  Seconds duration_s = 0;                                   // all but the impulse
   Eigen::Vector3d dv_heading_mps = Eigen::Vector3d::Zero();  // impulse
   double dyaw_rad = 0;                                      // impulse: the turn it causes
   Eigen::Vector3d wind_world_mps = Eigen::Vector3d::Zero();  // gust: the peak wind
   double exposure_gain = 1.0;                               // lighting: the peak exposure factor
+  double flicker_amplitude = 0;                             // flicker: relative exposure swing
+  double flicker_hz = 0;                                    // flicker: its frequency as sampled
 };
 
 std::string to_string(Disturbance::Kind kind);
@@ -45,7 +49,7 @@ class DisturbanceSchedule {
   }
   // The sum of the gusts' winds at t.
   Eigen::Vector3d wind_at(Seconds t) const;
-  // The product of the lighting changes' exposure factors at t (1 when none is active).
+  // The product of the lighting changes' and flickers' exposure factors at t (1 when none is active).
   double exposure_gain_at(Seconds t) const;
   bool video_dropout_at(Seconds t) const { return active(Disturbance::Kind::VideoDropout, t); }
   bool link_outage_at(Seconds t) const { return active(Disturbance::Kind::LinkOutage, t); }

@@ -101,7 +101,7 @@ int run_emulate_command(const ParsedArgs& args, const TeacherHeadLoader& load_he
 
   const sigset_t stop_signals = block_stop_signals();
   Logger log("labodrone", LogLevel::Info);
-  auto vehicle = make_simulated_lab(lab, cameras, in.sim.lab, load_head(lab));
+  auto vehicle = make_simulated_lab(make_sim_world(lab, cameras, in.sim), load_head(lab));
   RunningEmulator emulator = start_emulator(protocol, *vehicle, in, tello, args.value("--bind"), log.child("emulator"));
   std::cout << " (lab " << lab.source.string() << "); Ctrl-C stops" << std::endl;
   SteadyClock clock;

@@ -15,7 +15,7 @@ LabRenderer::CameraPipeline::CameraPipeline(const PinholeCamera& camera, const L
 }
 
 LabRenderer::LabRenderer(const LabDescription& lab, const CamerasConfig& cameras, std::optional<TexturedHeadModel> head,
-                         unsigned seed, LabRenderOptions options)
+                         unsigned seed, LabRenderOptions options, const CameraMounts& mounts)
     : options_(options),
       room_(lab.room),
       scene_(build_lab_scene(lab)),
@@ -27,8 +27,8 @@ LabRenderer::LabRenderer(const LabDescription& lab, const CamerasConfig& cameras
   solids_.push_back(lab.platform.box());
   validate(cameras.front, "cameras.front");
   validate(cameras.bottom, "cameras.bottom");
-  front_ = std::make_unique<CameraPipeline>(PinholeCamera(cameras.front), scene_, T_body_cam(CameraId::Front));
-  bottom_ = std::make_unique<CameraPipeline>(PinholeCamera(cameras.bottom), scene_, T_body_cam(CameraId::Bottom));
+  front_ = std::make_unique<CameraPipeline>(PinholeCamera(cameras.front), scene_, mounts.front);
+  bottom_ = std::make_unique<CameraPipeline>(PinholeCamera(cameras.bottom), scene_, mounts.bottom);
 }
 
 Eigen::Isometry3d LabRenderer::T_body_cam(CameraId id) {
@@ -92,8 +92,9 @@ int LabRenderer::rect_at(CameraId id, const Eigen::Isometry3d& T_world_body, int
 }
 
 std::unique_ptr<SceneRenderer> make_lab_renderer(const LabDescription& lab, const CamerasConfig& cameras,
-                                                 std::optional<TexturedHeadModel> head, unsigned seed, LabRenderOptions options) {
-  return std::make_unique<LabRenderer>(lab, cameras, std::move(head), seed, options);
+                                                 std::optional<TexturedHeadModel> head, unsigned seed, LabRenderOptions options,
+                                                 const CameraMounts& mounts) {
+  return std::make_unique<LabRenderer>(lab, cameras, std::move(head), seed, options, mounts);
 }
 
 }  // namespace labo

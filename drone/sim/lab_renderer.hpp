@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "core/camera_config.hpp"
+#include "core/frames.hpp"
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/head_model.hpp"
 #include "drone/sim/render_camera_rays.hpp"
@@ -30,6 +31,12 @@ struct LabRenderOptions {
   bool noise = true;
 };
 
+// Where the cameras sit on the body (core/frames.hpp's mountings unless a randomized world tilts them).
+struct CameraMounts {
+  Eigen::Isometry3d front = T_body_cam_front();
+  Eigen::Isometry3d bottom = T_body_cam_bottom();
+};
+
 class LabRenderer final : public SceneRenderer {
  public:
   // `head` is the teacher's face (localization/face/teacher_head.hpp builds it from a photograph);
@@ -37,7 +44,7 @@ class LabRenderer final : public SceneRenderer {
   // std::invalid_argument naming the problem (a missing template image, bad camera intrinsics, a bad
   // head model).
   LabRenderer(const LabDescription& lab, const CamerasConfig& cameras, std::optional<TexturedHeadModel> head,
-              unsigned seed, LabRenderOptions options = {});
+              unsigned seed, LabRenderOptions options = {}, const CameraMounts& mounts = {});
 
   void render(CameraId camera, const SceneState& scene, cv::Mat& bgr) override;
 
@@ -46,9 +53,9 @@ class LabRenderer final : public SceneRenderer {
   void set_options(const LabRenderOptions& options);
   const LabScene& scene() const { return scene_; }
   const PinholeCamera& camera(CameraId id) const;
-  // The camera's pose on the drone (core/frames.hpp mountings). A camera is never drawn lower than
-  // 1 cm above the surface under it: on the ground the bottom camera's mounting is below the hull's
-  // underside, the body frame's origin.
+  // The camera's nominal pose on the drone (core/frames.hpp mountings; a renderer draws through its
+  // CameraMounts). A camera is never drawn lower than 1 cm above the surface under it: on the ground
+  // the bottom camera's mounting is below the hull's underside, the body frame's origin.
   static Eigen::Isometry3d T_body_cam(CameraId id);
   // What the last render of `camera` did, for benchmarks.
   struct FrameStats {
@@ -88,6 +95,6 @@ class LabRenderer final : public SceneRenderer {
 
 std::unique_ptr<SceneRenderer> make_lab_renderer(const LabDescription& lab, const CamerasConfig& cameras,
                                                  std::optional<TexturedHeadModel> head, unsigned seed,
-                                                 LabRenderOptions options = {});
+                                                 LabRenderOptions options = {}, const CameraMounts& mounts = {});
 
 }  // namespace labo

@@ -8,10 +8,10 @@
 namespace labo {
 
 namespace {
-// The exact one-step factor of a first-order lag x' = rate·(ref − x).
-double lag_factor(double rate_per_s, Seconds dt) { return 1.0 - std::exp(-rate_per_s * dt); }
 double clamp_unit(double v) { return std::isfinite(v) ? std::clamp(v, -1.0, 1.0) : 0.0; }
 constexpr double kTouchdown_m = 1e-3;
+// During the spin-up the motors reach this share of the hover thrust: the drone stays on the ground.
+constexpr double kSpinupShare = 0.8;
 }  // namespace
 
 int control_state(FirmwarePhase phase) {
@@ -45,20 +45,45 @@ bool QuadrotorState::airborne() const {
          phase == FirmwarePhase::Landing;
 }
 
-QuadrotorDynamics::QuadrotorDynamics(QuadrotorParams params, CollisionModel collision,
-                                     const Eigen::Isometry3d& T_world_start)
+AirframeParams deviated_airframe(const QuadrotorParams& p) {
+  AirframeParams a = p.airframe;
+  a.mass_kg *= p.deviation.mass_factor;
+  a.inertia_kgm2 *= p.deviation.mass_factor;
+  a.rotor_drag_per_s *= p.deviation.rotor_drag_factor;
+  a.air_drag_kg_per_m *= p.deviation.air_drag_factor;
+  return a;
+}
+
+RotorParams deviated_rotors(const QuadrotorParams& p) {
+  RotorParams r = p.rotors;
+  r.lag_s *= p.deviation.motor_lag_factor;
+  for (std::size_t i = 0; i < r.efficiency.size(); ++i) r.efficiency[i] *= p.deviation.rotor_efficiency[i];
+  return r;
+}
+
+FirmwareLoopParams deviated_loops(const QuadrotorParams& p) {
+  FirmwareLoopParams l = p.loops;
+  l.attitude_loop_per_s /= p.deviation.attitude_lag_factor;
+  l.yaw_rate_loop_per_s /= p.deviation.yaw_lag_factor;
+  l.vz_reference_per_s /= p.deviation.vertical_lag_factor;
+  return l;
+}
+
+QuadrotorDynamics::QuadrotorDynamics(QuadrotorParams params, CollisionModel collision, const Eigen::Isometry3d& T_world_start)
     : p_(params),
-      collision_(std::move(collision)),
-      attitude_alpha_(lag_factor(p_.attitude_rate_per_s, p_.step_s)),
-      yaw_alpha_(lag_factor(p_.yaw_response_per_s, p_.step_s)),
-      vertical_alpha_(lag_factor(p_.vertical_response_per_s, p_.step_s)) {
+      airframe_(deviated_airframe(p_)),
+      propulsion_(deviated_rotors(p_), p_.battery),
+      loops_(deviated_loops(p_), p_.airframe, p_.rotors),
+      collision_(std::move(collision)) {
+  // The firmware's height PD feeds its vertical-speed loop, whose shaping it designs for as a lag L:
   // vz' = L·(vz_ref − vz) with vz_ref = kp·e − kd·vz gives s² + L(1 + kd)s + L·kp: place its poles.
-  const double L = p_.vertical_response_per_s, w = p_.height_hold_bandwidth_radps;
+  const double L = p_.loops.vz_reference_per_s, w = p_.height_hold_bandwidth_radps;
   height_kp_ = w * w / L;
   height_kd_ = std::max(0.0, 2.0 * p_.height_hold_damping * w / L - 1.0);
-  s_.position_m = T_world_start.translation();
-  s_.yaw_rad = ypr_from_rotation(T_world_start.linear())[0];
-  s_.battery_percent = p_.battery_start_percent;
+  body_.position_m = T_world_start.translation();
+  body_.attitude = Eigen::Quaterniond(Eigen::AngleAxisd(ypr_from_rotation(T_world_start.linear())[0], Eigen::Vector3d::UnitZ()));
+  refresh_state(body_.velocity_mps);
+  s_.acceleration_mps2.setZero();
 }
 
 // ---- commands ----------------------------------------------------------------------------------
@@ -68,6 +93,7 @@ void QuadrotorDynamics::takeoff() {
   s_.phase = FirmwarePhase::TakingOff;
   phase_start_t_ = s_.t;
   takeoff_target_z_ = collision_.support_height(s_.position_m) + p_.takeoff_height_m;
+  loops_.reset();
 }
 
 void QuadrotorDynamics::land() {
@@ -81,6 +107,7 @@ void QuadrotorDynamics::emergency() {
   if (s_.phase != FirmwarePhase::Emergency) {
     s_.phase = FirmwarePhase::Emergency;  // motors cut at once
     holding_ = false;
+    propulsion_.stop();
     return;
   }
   // The toggle clears an emergency once the drone lies on the ground.
@@ -98,10 +125,11 @@ void QuadrotorDynamics::move(const MoveCommand& c, bool hover) {
 
 void QuadrotorDynamics::push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) {
   if (!s_.airborne()) return;
-  s_.velocity_mps += dv_world_mps;
-  // The yaw-rate kick that the discrete lag (factor a per step, applied before integrating) turns
-  // into exactly dyaw: sum over k >= 1 of kick·(1 − a)^k·dt = kick·dt·(1 − a)/a.
-  s_.yaw_rate_radps += dyaw_rad * yaw_alpha_ / ((1.0 - yaw_alpha_) * p_.step_s);
+  body_.velocity_mps += dv_world_mps;
+  body_.attitude = (Eigen::Quaterniond(Eigen::AngleAxisd(dyaw_rad, Eigen::Vector3d::UnitZ())) * body_.attitude).normalized();
+  const Eigen::Vector3d a = s_.acceleration_mps2;
+  refresh_state(body_.velocity_mps);
+  s_.acceleration_mps2 = a;
 }
 
 // ---- one step ----------------------------------------------------------------------------------
@@ -110,15 +138,18 @@ void QuadrotorDynamics::step() {
   s_.t = static_cast<double>(++steps_) * p_.step_s;  // no accumulated rounding
   update_phase();
   if (s_.phase == FirmwarePhase::Landed) {
+    propulsion_.stop();
     s_.acceleration_mps2.setZero();
     s_.angular_velocity_body_radps.setZero();
   } else if (s_.phase == FirmwarePhase::Emergency) {
     fall();
   } else {
-    integrate(targets());
+    fly();
     contact_and_collisions();
   }
-  drain_battery();
+  propulsion_.drain(s_.airborne(), p_.step_s);
+  s_.battery_percent = propulsion_.charge_percent();
+  s_.battery_voltage_v = propulsion_.voltage_v();
 }
 
 void QuadrotorDynamics::update_phase() {
@@ -145,15 +176,15 @@ void QuadrotorDynamics::update_phase() {
   s_.hovering_by_firmware = s_.phase == FirmwarePhase::Hovering;
 }
 
-QuadrotorDynamics::Targets QuadrotorDynamics::firmware_hover_targets() const {
-  Targets t;
+FirmwareSetpoints QuadrotorDynamics::firmware_hover_targets() const {
+  FirmwareSetpoints t;
   if (!velocity_observable_) return t;  // blind: level out and drift
   const double c = std::cos(s_.yaw_rad), s = std::sin(s_.yaw_rad);
   const Eigen::Vector3d& v = s_.velocity_mps;
   const double forward = c * v.x() + s * v.y(), left = -s * v.x() + c * v.y();
-  const double k = p_.hover_velocity_gain_per_s / p_.gravity_mps2;
-  t.pitch = std::clamp(std::atan(-k * forward), -p_.tilt_max_rad, p_.tilt_max_rad);  // nose down = forward
-  t.roll = std::clamp(std::atan(k * left), -p_.tilt_max_rad, p_.tilt_max_rad);       // right side down = right
+  const double k = p_.hover_velocity_gain_per_s / p_.airframe.gravity_mps2;
+  t.pitch_rad = std::clamp(std::atan(-k * forward), -p_.tilt_max_rad, p_.tilt_max_rad);  // nose down = forward
+  t.roll_rad = std::clamp(std::atan(k * left), -p_.tilt_max_rad, p_.tilt_max_rad);       // right side down = right
   return t;
 }
 
@@ -162,61 +193,80 @@ double QuadrotorDynamics::height_hold_vz(double target_z) const {
   return std::clamp(vz, -p_.vz_max_mps, p_.vz_max_mps);
 }
 
-QuadrotorDynamics::Targets QuadrotorDynamics::targets() {
-  Targets t;
+FirmwareSetpoints QuadrotorDynamics::targets() {
+  FirmwareSetpoints t;
   switch (s_.phase) {
     case FirmwarePhase::TakingOff:
       t = firmware_hover_targets();
-      if (s_.t - phase_start_t_ >= p_.takeoff_spinup_s) t.vz = height_hold_vz(takeoff_target_z_);
+      t.vz_mps = height_hold_vz(takeoff_target_z_);
       return t;
     case FirmwarePhase::Landing:
       t = firmware_hover_targets();
-      t.vz = -p_.landing_speed_mps;
+      t.vz_mps = -p_.landing_speed_mps;
       return t;
     case FirmwarePhase::Hovering:
       t = firmware_hover_targets();
-      t.vz = height_hold_vz(hold_z_);
+      t.vz_mps = height_hold_vz(hold_z_);
       break;
     default:
-      t.roll = command_.roll * p_.tilt_max_rad;
-      t.pitch = command_.pitch * p_.tilt_max_rad;
-      t.yaw_rate = command_.yaw_rate * p_.yaw_rate_max_radps;
-      t.vz = command_.gaz * p_.vz_max_mps;
+      t.roll_rad = command_.roll * p_.tilt_max_rad;
+      t.pitch_rad = command_.pitch * p_.tilt_max_rad;
+      t.yaw_rate_radps = command_.yaw_rate * p_.yaw_rate_max_radps;
+      t.vz_mps = command_.gaz * p_.vz_max_mps;
       break;
   }
   // The firmware's altitude window, measured above the surface below.
   const double surface = s_.position_m.z() - height_above_surface();
-  t.vz = std::min(t.vz, height_hold_vz(surface + p_.altitude_max_m));
-  t.vz = std::max(t.vz, height_hold_vz(surface + p_.altitude_min_m));
+  t.vz_mps = std::min(t.vz_mps, height_hold_vz(surface + p_.altitude_max_m));
+  t.vz_mps = std::max(t.vz_mps, height_hold_vz(surface + p_.altitude_min_m));
   return t;
 }
 
-void QuadrotorDynamics::integrate(const Targets& ref) {
-  const double dt = p_.step_s;
-  const double roll0 = s_.roll_rad, pitch0 = s_.pitch_rad;
-  s_.roll_rad += attitude_alpha_ * (ref.roll - s_.roll_rad);
-  s_.pitch_rad += attitude_alpha_ * (ref.pitch - s_.pitch_rad);
-  double& yaw_rate = s_.yaw_rate_radps;
-  yaw_rate += yaw_alpha_ * (ref.yaw_rate - yaw_rate);
-  s_.yaw_rad = wrap_angle(s_.yaw_rad + yaw_rate * dt);
+void QuadrotorDynamics::fly() {
+  const FirmwareSetpoints set = targets();
+  RotorThrusts demand{};
+  if (s_.phase == FirmwarePhase::TakingOff && s_.t - phase_start_t_ < p_.takeoff_spinup_s) {
+    demand.fill(kSpinupShare * p_.airframe.mass_kg * p_.airframe.gravity_mps2 / 4.0);
+    loops_.reset();
+  } else {
+    FirmwareSensing sensed;
+    sensed.roll_rad = s_.roll_rad + p_.deviation.attitude_bias_rad.x();
+    sensed.pitch_rad = s_.pitch_rad + p_.deviation.attitude_bias_rad.y();
+    sensed.rates_body_radps = body_.rates_body_radps;
+    sensed.vz_mps = body_.velocity_mps.z();
+    demand = loops_.update(set, sensed, p_.step_s);
+  }
+  const Eigen::Vector3d v_before = body_.velocity_mps;
+  const Seconds h = p_.step_s / p_.substeps;
+  for (int i = 0; i < p_.substeps; ++i) {
+    const double support = collision_.support_height(body_.position_m);
+    propulsion_.step(demand, true, h);
+    airframe_.step(body_, propulsion_.thrust(), wind_, body_.position_m.z() - support, h);
+    if (body_.position_m.z() <= support && body_.velocity_mps.z() <= 0) rest_on(support);  // pressed onto it
+  }
+  refresh_state(v_before);
+}
 
-  const Eigen::Vector3d v0 = s_.velocity_mps;
-  Eigen::Vector3d v1 = v0;
-  v1.z() += vertical_alpha_ * (ref.vz - v0.z());
-  // The thrust carries the weight; its tilt accelerates horizontally.
-  const Eigen::Vector3d thrust_dir = rotation_from_ypr(s_.yaw_rad, s_.pitch_rad, s_.roll_rad).col(2);
-  const Eigen::Vector2d a_h = p_.gravity_mps2 * thrust_dir.head<2>() / thrust_dir.z() -
-                              p_.drag_per_s * (v0.head<2>() - wind_.head<2>());
-  v1.head<2>() += a_h * dt;
-  s_.position_m += 0.5 * (v0 + v1) * dt;
-  s_.velocity_mps = v1;
-  s_.acceleration_mps2 = (v1 - v0) / dt;
+// The drone sits on a surface: level, still, at its current heading.
+void QuadrotorDynamics::rest_on(double support) {
+  body_.position_m.z() = support;
+  body_.velocity_mps.setZero();
+  body_.rates_body_radps.setZero();
+  const double yaw = ypr_from_rotation(body_.attitude.toRotationMatrix())[0];
+  body_.attitude = Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+}
 
-  // Body rates from the Euler-angle rates (Z-Y-X), for the gyroscopes and motion blur.
-  const double droll = (s_.roll_rad - roll0) / dt, dpitch = (s_.pitch_rad - pitch0) / dt, dyaw = yaw_rate;
-  const double sr = std::sin(s_.roll_rad), cr = std::cos(s_.roll_rad);
-  const double sp = std::sin(s_.pitch_rad), cp = std::cos(s_.pitch_rad);
-  s_.angular_velocity_body_radps = Eigen::Vector3d(droll - dyaw * sp, dpitch * cr + dyaw * cp * sr, -dpitch * sr + dyaw * cp * cr);
+void QuadrotorDynamics::refresh_state(const Eigen::Vector3d& v_before) {
+  s_.position_m = body_.position_m;
+  s_.velocity_mps = body_.velocity_mps;
+  s_.acceleration_mps2 = (body_.velocity_mps - v_before) / p_.step_s;
+  const Eigen::Vector3d ypr = ypr_from_rotation(body_.attitude.toRotationMatrix());
+  s_.yaw_rad = ypr[0];
+  s_.pitch_rad = ypr[1];
+  s_.roll_rad = ypr[2];
+  const Eigen::Vector3d& w = body_.rates_body_radps;
+  s_.angular_velocity_body_radps = w;
+  s_.yaw_rate_radps = (w.y() * std::sin(s_.roll_rad) + w.z() * std::cos(s_.roll_rad)) / std::cos(s_.pitch_rad);
 }
 
 void QuadrotorDynamics::contact_and_collisions() {
@@ -225,47 +275,37 @@ void QuadrotorDynamics::contact_and_collisions() {
     s_.crash_reason = *hit;
     ++s_.crashes;
     holding_ = false;
-    s_.velocity_mps.head<2>().setZero();  // stopped by what it hit; then it falls
+    propulsion_.stop();
+    body_.velocity_mps.head<2>().setZero();  // stopped by what it hit; then it falls
+    s_.velocity_mps = body_.velocity_mps;
     return;
   }
   const double support = collision_.support_height(s_.position_m);
-  if (s_.position_m.z() <= support + kTouchdown_m) {
-    s_.position_m.z() = std::max(s_.position_m.z(), support);
-    if (s_.velocity_mps.z() < 0) s_.velocity_mps.z() = 0;
-    if (s_.phase == FirmwarePhase::Landing) {
-      s_.phase = FirmwarePhase::Landed;
-      s_.position_m.z() = support;
-      s_.velocity_mps.setZero();
-      s_.roll_rad = s_.pitch_rad = s_.yaw_rate_radps = 0;
-      s_.angular_velocity_body_radps.setZero();
-    }
+  if (s_.phase == FirmwarePhase::Landing && s_.position_m.z() <= support + kTouchdown_m) {
+    s_.phase = FirmwarePhase::Landed;
+    rest_on(support);
+    propulsion_.stop();
+    loops_.reset();
+    refresh_state(body_.velocity_mps);
+    s_.acceleration_mps2.setZero();
   }
 }
 
 void QuadrotorDynamics::fall() {
-  const double dt = p_.step_s;
-  const double support = collision_.support_height(s_.position_m);
-  if (s_.position_m.z() <= support + kTouchdown_m && s_.velocity_mps.norm() < 1e-6) {
+  const Seconds dt = p_.step_s;
+  const double support = collision_.support_height(body_.position_m);
+  if (body_.position_m.z() <= support + kTouchdown_m && body_.velocity_mps.norm() < 1e-6) {
     s_.acceleration_mps2.setZero();
     return;
   }
-  const Eigen::Vector3d v0 = s_.velocity_mps;
-  s_.velocity_mps.z() -= p_.gravity_mps2 * dt;
-  s_.velocity_mps.head<2>() *= 1.0 - std::min(1.0, p_.drag_per_s * dt);
-  s_.position_m += 0.5 * (v0 + s_.velocity_mps) * dt;
-  s_.acceleration_mps2 = (s_.velocity_mps - v0) / dt;
-  if (s_.position_m.z() <= support) {  // lies on the ground, level
-    s_.position_m.z() = support;
-    s_.velocity_mps.setZero();
-    s_.acceleration_mps2.setZero();
-    s_.roll_rad = s_.pitch_rad = s_.yaw_rate_radps = 0;
-    s_.angular_velocity_body_radps.setZero();
-  }
-}
-
-void QuadrotorDynamics::drain_battery() {
-  const double rate = s_.airborne() ? p_.battery_flying_drain_percent_per_s : p_.battery_idle_drain_percent_per_s;
-  s_.battery_percent = std::max(0.0, s_.battery_percent - rate * p_.step_s);
+  const Eigen::Vector3d v0 = body_.velocity_mps;
+  const AirframeParams& a = airframe_.params();
+  body_.velocity_mps += (-a.air_drag_kg_per_m / a.mass_kg * v0.norm() * v0 - Eigen::Vector3d(0, 0, a.gravity_mps2)) * dt;
+  body_.position_m += 0.5 * (v0 + body_.velocity_mps) * dt;
+  body_.rates_body_radps.setZero();
+  if (body_.position_m.z() <= support) rest_on(support);  // lies on the ground, level
+  refresh_state(v0);
+  if (body_.velocity_mps.isZero()) s_.acceleration_mps2.setZero();
 }
 
 double QuadrotorDynamics::height_above_surface() const {

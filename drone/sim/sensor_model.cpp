@@ -14,8 +14,8 @@ constexpr double kOnGround_m = 0.01;
 constexpr double kShortestEcho_m = 0.15;
 }  // namespace
 
-SensorModel::SensorModel(SensorNoise noise, const LabDescription& lab, std::uint64_t seed)
-    : noise_(noise), lab_(lab), rng_(seed) {
+SensorModel::SensorModel(SensorNoise noise, const LabDescription& lab, std::uint64_t seed, const SensorBiases& biases)
+    : noise_(noise), biases_(biases), lab_(lab), rng_(seed) {
   roll_offset_ = gaussian(noise_.attitude_offset_rad);
   pitch_offset_ = gaussian(noise_.attitude_offset_rad);
   // A gyro bias of 0.5..1.5 times the nominal drift, either way.
@@ -42,8 +42,8 @@ void SensorModel::update(const QuadrotorState& truth, Seconds dt) {
 void SensorModel::update_attitude(const QuadrotorState& truth, Seconds dt) {
   yaw_error_ += yaw_bias_radps_ * dt + gaussian(noise_.yaw_random_walk_rad_sqrt_s * std::sqrt(dt));
   NavdataSample& nav = telemetry_.nav;
-  nav.roll_rad = truth.roll_rad + roll_offset_ + gaussian(noise_.attitude_noise_rad);
-  nav.pitch_rad = truth.pitch_rad + pitch_offset_ + gaussian(noise_.attitude_noise_rad);
+  nav.roll_rad = truth.roll_rad + roll_offset_ + biases_.attitude_rad.x() + gaussian(noise_.attitude_noise_rad);
+  nav.pitch_rad = truth.pitch_rad + pitch_offset_ + biases_.attitude_rad.y() + gaussian(noise_.attitude_noise_rad);
   nav.yaw_rad = wrap_angle(truth.yaw_rad + yaw_error_ + gaussian(noise_.attitude_noise_rad));
 }
 
@@ -61,7 +61,8 @@ void SensorModel::update_velocity(const QuadrotorState& truth, Seconds dt, doubl
   if (velocity_valid_) {
     const double c = std::cos(truth.yaw_rad), s = std::sin(truth.yaw_rad);
     const Eigen::Vector3d& v = truth.velocity_mps;
-    velocity_heading_ = Eigen::Vector2d(c * v.x() + s * v.y(), -s * v.x() + c * v.y());
+    velocity_heading_ = biases_.velocity_scale * Eigen::Vector2d(c * v.x() + s * v.y(), -s * v.x() + c * v.y()) +
+                        biases_.velocity_mps;
   } else {
     velocity_heading_ *= std::exp(-noise_.velocity_dropout_decay_per_s * dt);
   }
@@ -83,8 +84,8 @@ void SensorModel::update_ultrasound(const QuadrotorState& truth, Seconds dt, dou
   } else {
     ultrasound_age_s_ = 0;
     // The sonar looks along the body's -z: a tilted drone measures a slant range.
-    double range = height_m / std::max(0.5, std::cos(truth.roll_rad) * std::cos(truth.pitch_rad)) +
-                   gaussian(noise_.ultrasound_noise_m);
+    double range = biases_.ultrasound_scale * height_m / std::max(0.5, std::cos(truth.roll_rad) * std::cos(truth.pitch_rad)) +
+                   biases_.ultrasound_offset_m + gaussian(noise_.ultrasound_noise_m);
     if (uniform_(rng_) < noise_.ultrasound_outlier_probability) {
       range = kShortestEcho_m + uniform_(rng_) * std::max(0.0, range - kShortestEcho_m);
     }
@@ -97,8 +98,8 @@ void SensorModel::update_inertial(const QuadrotorState& truth) {
   const Eigen::Matrix3d R = rotation_from_ypr(truth.yaw_rad, truth.pitch_rad, truth.roll_rad);
   // Specific force: what the accelerometers feel (1 g up at rest), in the body frame.
   const Eigen::Vector3d gravity(0, 0, 9.80665);
-  telemetry_.accel_body_mps2 = R.transpose() * (truth.acceleration_mps2 + gravity);
-  telemetry_.gyro_body_radps = truth.angular_velocity_body_radps;
+  telemetry_.accel_body_mps2 = R.transpose() * (truth.acceleration_mps2 + gravity) + biases_.accel_mps2;
+  telemetry_.gyro_body_radps = truth.angular_velocity_body_radps + biases_.gyro_radps;
   for (int i = 0; i < 3; ++i) {
     telemetry_.accel_body_mps2[i] += gaussian(noise_.accel_noise_mps2);
     telemetry_.gyro_body_radps[i] += gaussian(noise_.gyro_noise_radps);

@@ -38,9 +38,24 @@ struct SensorNoise {
   double magneto_offset_rad = 0.3;           // the lab's steel bends the field: a fixed heading error
 };
 
+// One drone's sensor biases (a randomized world draws them, drone/sim/sim_world.hpp; none by default):
+// the firmware's roll/pitch estimate off the truth after a flat trim (the firmware levels that
+// estimate, so the drone flies tilted by it: QuadrotorDynamics applies the same bias), the bottom
+// camera's velocity scale (its focal length and the height it divides by) and offset, the
+// ultrasound's scale and offset, the gyros' and accelerometers' offsets.
+struct SensorBiases {
+  Eigen::Vector2d attitude_rad = Eigen::Vector2d::Zero();  // roll, pitch
+  double velocity_scale = 1.0;
+  Eigen::Vector2d velocity_mps = Eigen::Vector2d::Zero();  // heading frame: forward, left
+  double ultrasound_scale = 1.0;
+  double ultrasound_offset_m = 0.0;
+  Eigen::Vector3d gyro_radps = Eigen::Vector3d::Zero();
+  Eigen::Vector3d accel_mps2 = Eigen::Vector3d::Zero();
+};
+
 class SensorModel {
  public:
-  SensorModel(SensorNoise noise, const LabDescription& lab, std::uint64_t seed);
+  SensorModel(SensorNoise noise, const LabDescription& lab, std::uint64_t seed, const SensorBiases& biases = {});
 
   // Samples every sensor for the true state after a physics step of `dt`.
   void update(const QuadrotorState& truth, Seconds dt);
@@ -59,6 +74,7 @@ class SensorModel {
   void update_inertial(const QuadrotorState& truth);
 
   SensorNoise noise_;
+  SensorBiases biases_;
   LabDescription lab_;
   std::mt19937_64 rng_;
   std::normal_distribution<double> normal_{0.0, 1.0};

@@ -1,6 +1,8 @@
 #include "drone/sim/sim_config.hpp"
 
+#include <array>
 #include <numbers>
+#include <string>
 
 #include "core/config_reader.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
@@ -16,22 +18,42 @@ Eigen::Vector3d read_vector(const ConfigReader& r, std::string_view key, double 
   return {v[0], v[1], v[2]};
 }
 
+// Keys of the closed-loop model the simulated drone was before it became a rigid body, with the key
+// that now sets what each one set.
+void refuse_closed_loop_keys(const ConfigReader& r) {
+  constexpr std::array<std::array<const char*, 2>, 4> kMoved{{{"attitude_rate_per_s", "attitude_loop_per_s"},
+                                                              {"yaw_response_per_s", "yaw_rate_loop_per_s"},
+                                                              {"vertical_response_per_s", "vz_reference_per_s"},
+                                                              {"drag_per_s", "rotor_drag_per_s"}}};
+  for (const auto& [old_key, new_key] : kMoved) {
+    if (r.has(old_key))
+      r.fail(old_key, std::string("no longer a sim key: the simulated drone is a rigid body under its firmware's loops "
+                                  "(docs/sim.md); the nearest key is ") + new_key);
+  }
+}
+
 void read_dynamics(const ConfigReader& r, QuadrotorParams& p) {
+  refuse_closed_loop_keys(r);
   p.tilt_max_rad = r.number_or("tilt_max_deg", p.tilt_max_rad / kDegToRad, Range::closed(1, 30)) * kDegToRad;
-  p.attitude_rate_per_s = r.number_or("attitude_rate_per_s", p.attitude_rate_per_s, Range::closed(0.5, 100));
   p.yaw_rate_max_radps = r.number_or("yaw_rate_max_deg_s", p.yaw_rate_max_radps / kDegToRad, Range::closed(10, 360)) * kDegToRad;
-  p.yaw_response_per_s = r.number_or("yaw_response_per_s", p.yaw_response_per_s, Range::closed(0.5, 100));
   p.vz_max_mps = r.number_or("vz_max_mps", p.vz_max_mps, Range::closed(0.1, 2.0));
-  p.vertical_response_per_s = r.number_or("vertical_response_per_s", p.vertical_response_per_s, Range::closed(0.1, 50));
-  p.drag_per_s = r.number_or("drag_per_s", p.drag_per_s, Range::closed(0.05, 5));
   p.takeoff_height_m = r.number_or("takeoff_height_m", p.takeoff_height_m, Range::closed(0.3, 2.5));
   p.altitude_max_m = r.number_or("altitude_max_m", p.altitude_max_m, Range::closed(0.5, 100));
   p.altitude_min_m = r.number_or("altitude_min_m", p.altitude_min_m, Range::closed(0.05, 1.0));
   p.command_timeout_s = r.number_or("command_timeout_s", p.command_timeout_s, Range::closed(0.1, 10));
-  p.battery_start_percent = r.number_or("battery_start_percent", p.battery_start_percent, Range::closed(1, 100));
-  const double minutes = r.number_or("battery_flight_minutes", 100.0 / p.battery_flying_drain_percent_per_s / 60.0,
+  p.airframe.mass_kg = r.number_or("mass_kg", p.airframe.mass_kg, Range::closed(0.2, 2.0));
+  p.airframe.rotor_drag_per_s = r.number_or("rotor_drag_per_s", p.airframe.rotor_drag_per_s, Range::closed(0, 5));
+  p.airframe.air_drag_kg_per_m = r.number_or("air_drag_kg_per_m", p.airframe.air_drag_kg_per_m, Range::closed(0, 1));
+  p.rotors.lag_s = r.number_or("motor_lag_s", p.rotors.lag_s, Range::closed(0.005, 0.5));
+  p.loops.attitude_loop_per_s = r.number_or("attitude_loop_per_s", p.loops.attitude_loop_per_s, Range::closed(1, 50));
+  p.loops.yaw_rate_loop_per_s = r.number_or("yaw_rate_loop_per_s", p.loops.yaw_rate_loop_per_s, Range::closed(1, 100));
+  p.loops.vz_reference_per_s = r.number_or("vz_reference_per_s", p.loops.vz_reference_per_s, Range::closed(0.1, 20));
+  p.battery.start_percent = r.number_or("battery_start_percent", p.battery.start_percent, Range::closed(1, 100));
+  const double minutes = r.number_or("battery_flight_minutes", 100.0 / p.battery.flying_drain_percent_per_s / 60.0,
                                      Range::closed(0.5, 120));
-  p.battery_flying_drain_percent_per_s = 100.0 / (minutes * 60.0);
+  p.battery.flying_drain_percent_per_s = 100.0 / (minutes * 60.0);
+  p.battery.internal_resistance_ohm =
+      r.number_or("battery_internal_resistance_ohm", p.battery.internal_resistance_ohm, Range::closed(0, 1));
   if (p.altitude_min_m >= p.altitude_max_m) r.fail("altitude_min_m", "must be below altitude_max_m");
   if (p.takeoff_height_m < p.altitude_min_m || p.takeoff_height_m > p.altitude_max_m) {
     r.fail("takeoff_height_m", "must lie within [altitude_min_m, altitude_max_m]");
@@ -71,7 +93,7 @@ void read_link(const ConfigReader& r, SimLinkSettings& l) {
 
 Disturbance read_disturbance(const ConfigReader& r) {
   Disturbance d;
-  const std::string kind = r.choice("kind", {"impulse", "gust", "video_dropout", "link_outage", "lighting"});
+  const std::string kind = r.choice("kind", {"impulse", "gust", "video_dropout", "link_outage", "lighting", "flicker"});
   d.t_s = r.number("t_s", Range::non_negative());
   if (kind == "impulse") {
     d.kind = Disturbance::Kind::Impulse;
@@ -82,11 +104,16 @@ Disturbance read_disturbance(const ConfigReader& r) {
     d.kind = kind == "gust"            ? Disturbance::Kind::Gust
              : kind == "video_dropout" ? Disturbance::Kind::VideoDropout
              : kind == "lighting"      ? Disturbance::Kind::Lighting
+             : kind == "flicker"       ? Disturbance::Kind::Flicker
                                        : Disturbance::Kind::LinkOutage;
     d.duration_s = r.number("duration_s", Range{0.0, 600.0, true});
     if (d.kind == Disturbance::Kind::Gust) d.wind_world_mps = read_vector(r, "wind_mps", 10.0);
     // 0.2-5: from a room going dim to a bright lamp; beyond that the 8-bit frames are mostly clipped.
     if (d.kind == Disturbance::Kind::Lighting) d.exposure_gain = r.number("gain", Range::closed(0.2, 5.0));
+    if (d.kind == Disturbance::Kind::Flicker) {
+      d.flicker_amplitude = r.number("amplitude", Range::closed(0.0, 0.5));
+      d.flicker_hz = r.number("frequency_hz", Range::closed(0.0, 100.0));
+    }
   }
   r.finish();
   return d;
@@ -100,6 +127,7 @@ SimConfig read_sim_config(const ConfigReader& r) {
   c.link.seed = c.lab.seed;
   c.lab.dynamics.step_s = r.number_or("physics_step_s", c.lab.dynamics.step_s, Range::closed(0.0005, 0.02));
   c.lab.teacher = r.boolean_or("teacher", c.lab.teacher);
+  c.world = *parse_world_mode(r.choice_or("world", to_string(c.world), {"nominal", "randomized"}));
   if (r.has("dynamics")) read_dynamics(r.object("dynamics"), c.lab.dynamics);
   if (r.has("sensors")) read_sensors(r.object("sensors"), c.lab.sensors);
   if (r.has("link")) read_link(r.object("link"), c.link);

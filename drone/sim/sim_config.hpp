@@ -6,6 +6,7 @@
 
 #include "drone/sim/sim_drone_link.hpp"
 #include "drone/sim/simulated_lab.hpp"
+#include "drone/sim/world_mode.hpp"
 
 namespace labo {
 
@@ -14,6 +15,7 @@ class ConfigReader;
 struct SimConfig {
   SimulatedLabSettings lab;  // seed, physics step, dynamics, sensors, teacher, disturbances
   SimLinkSettings link;      // lockstep link: delays, jitter, loss, H.264
+  WorldMode world = WorldMode::Nominal;  // "world": nominal, or randomized around the above per seed
 };
 
 // Throws ConfigError "<file>: sim.<key>: <value> ... expected <range>".

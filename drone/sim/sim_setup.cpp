@@ -6,14 +6,21 @@
 namespace labo {
 
 std::unique_ptr<SceneRenderer> make_scene_renderer(const LabDescription& lab, const CamerasConfig& cameras,
-                                                   std::optional<TexturedHeadModel> head, unsigned seed) {
-  return make_lab_renderer(lab, cameras, std::move(head), seed);
+                                                   std::optional<TexturedHeadModel> head, unsigned seed,
+                                                   const CameraMounts& mounts) {
+  return make_lab_renderer(lab, cameras, std::move(head), seed, {}, mounts);
 }
 
 std::unique_ptr<SimulatedLab> make_simulated_lab(const LabDescription& lab, const CamerasConfig& cameras,
                                                  const SimulatedLabSettings& settings, std::optional<TexturedHeadModel> head) {
   return std::make_unique<SimulatedLab>(lab, settings,
                                         make_scene_renderer(lab, cameras, std::move(head), static_cast<unsigned>(settings.seed)));
+}
+
+std::unique_ptr<SimulatedLab> make_simulated_lab(const SimWorld& world, std::optional<TexturedHeadModel> head) {
+  return std::make_unique<SimulatedLab>(
+      world.lab, world.settings,
+      make_scene_renderer(world.lab, world.cameras, std::move(head), static_cast<unsigned>(world.settings.seed), world.mounts));
 }
 
 SimInputs load_sim_inputs(const std::filesystem::path& config_file, const std::optional<std::filesystem::path>& lab_file) {

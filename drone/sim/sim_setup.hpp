@@ -11,6 +11,7 @@
 #include "drone/sim/sim_config.hpp"
 #include "drone/sim/head_model.hpp"
 #include "drone/sim/scene_renderer.hpp"
+#include "drone/sim/sim_world.hpp"
 #include "drone/sim/simulated_lab.hpp"
 
 namespace labo {
@@ -20,12 +21,16 @@ namespace labo {
 // (localization/face/teacher_head.hpp builds it; without it the head is drawn untextured), the sensor
 // noise drawn from `seed`.
 std::unique_ptr<SceneRenderer> make_scene_renderer(const LabDescription& lab, const CamerasConfig& cameras,
-                                                   std::optional<TexturedHeadModel> head, unsigned seed);
+                                                   std::optional<TexturedHeadModel> head, unsigned seed,
+                                                   const CameraMounts& mounts = {});
 
 // A simulated lab with make_scene_renderer()'s cameras (noise seeded by settings.seed).
 std::unique_ptr<SimulatedLab> make_simulated_lab(const LabDescription& lab, const CamerasConfig& cameras,
                                                  const SimulatedLabSettings& settings,
                                                  std::optional<TexturedHeadModel> head = std::nullopt);
+// The simulated lab of a world (drone/sim/sim_world.hpp): its lab, cameras and mountings, its drone.
+// Its link settings (world.link) are for the SimDroneLink that flies it in lockstep.
+std::unique_ptr<SimulatedLab> make_simulated_lab(const SimWorld& world, std::optional<TexturedHeadModel> head = std::nullopt);
 
 // What the simulated lab's own commands (emulate, bench sim) read from a configuration file: only
 // their sections (cameras, emulator, sim, lab); `labodrone serve` validates the whole file.

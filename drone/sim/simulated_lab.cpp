@@ -12,14 +12,21 @@ namespace {
 constexpr Seconds kTimeEpsilon = 1e-9;
 // The teacher's body as an obstacle: up to just above the head.
 constexpr double kAboveEyes_m = 0.15;
+
+// The firmware levels its own attitude estimate: the sensors' bias is the plant's too.
+QuadrotorParams with_attitude_bias(QuadrotorParams p, const SensorBiases& biases) {
+  p.deviation.attitude_bias_rad = biases.attitude_rad;
+  return p;
+}
 }  // namespace
 
 SimulatedLab::SimulatedLab(LabDescription lab, SimulatedLabSettings settings, std::unique_ptr<SceneRenderer> renderer)
     : lab_(std::move(lab)),
       settings_(settings),
       renderer_(std::move(renderer)),
-      dynamics_(settings_.dynamics, CollisionModel(lab_, settings_.dynamics.hull), lab_.T_world_base),
-      sensors_(settings_.sensors, lab_, settings_.seed) {
+      dynamics_(with_attitude_bias(settings_.dynamics, settings_.biases), CollisionModel(lab_, settings_.dynamics.hull),
+                lab_.T_world_base),
+      sensors_(settings_.sensors, lab_, settings_.seed, settings_.biases) {
   if (!renderer_) throw std::invalid_argument("SimulatedLab needs a SceneRenderer");
   if (settings_.teacher && !lab_.teacher.waypoints.empty()) teacher_.emplace(lab_.teacher);
   for (const auto& d : settings_.disturbances) disturbances_.add(d);
@@ -103,7 +110,7 @@ VehicleTelemetry SimulatedLab::telemetry() const {
   tel.flying = s.airborne();
   tel.emergency = s.phase == FirmwarePhase::Emergency;
   tel.motors_cut = tel.emergency;
-  tel.battery_low = s.battery_percent < settings_.dynamics.battery_low_percent;
+  tel.battery_low = s.battery_percent < settings_.dynamics.battery.low_percent;
   tel.wind_speed_mps = 0;
   return tel;
 }

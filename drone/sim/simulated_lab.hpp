@@ -27,6 +27,7 @@ namespace labo {
 struct SimulatedLabSettings {
   QuadrotorParams dynamics;
   SensorNoise sensors;
+  SensorBiases biases;  // their attitude bias is also the firmware's (QuadrotorDynamics flies level to it)
   std::uint64_t seed = 1;
   bool teacher = true;  // the teacher walks the lab's path: in the cameras' view and an obstacle
   std::vector<Disturbance> disturbances;

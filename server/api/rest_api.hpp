@@ -11,6 +11,8 @@
 #include "core/time.hpp"
 #include "server/api/http_reply.hpp"
 #include "server/api/instrument_store.hpp"
+#include "server/api/rest_support.hpp"
+#include "server/audit/audit_log.hpp"
 #include "server/auth/session_store.hpp"
 #include "server/lab/remote_lab.hpp"
 #include "server/lab/server_metrics.hpp"
@@ -18,12 +20,10 @@
 
 namespace labo {
 
-using HttpRequest = boost::beast::http::request<boost::beast::http::string_body>;
-
 class RestApi {
  public:
   RestApi(const ServerSettings& settings, std::filesystem::path config_file, SessionStore& sessions, RemoteLab& lab,
-          ServerMetrics& metrics, const Clock& clock);
+          ServerMetrics& metrics, const Clock& clock, AuditLog& audit);
 
   HttpReply handle(const HttpRequest& req, const std::string& remote_address);
   // The session a request (or WebSocket upgrade) carries, if valid.
@@ -31,16 +31,28 @@ class RestApi {
 
  private:
   HttpReply route(const HttpRequest& req, const std::string& path, const std::string& remote);
+  HttpReply route_admin(const HttpRequest& req, const std::string& path, const SessionInfo& session);
   HttpReply login(const HttpRequest& req, const std::string& remote);
+  HttpReply users(const SessionInfo& session);
+  HttpReply stop(const HttpRequest& req, const SessionInfo& session, MissionCommandKind kind);
+  HttpReply audit_page(const HttpRequest& req);
   HttpReply status();
   HttpReply get_config();
-  HttpReply put_config(const HttpRequest& req);
+  HttpReply put_config(const HttpRequest& req, const SessionInfo& session);
+  HttpReply save_config(const HttpRequest& req);
   HttpReply instruments();
-  HttpReply add_instrument(const HttpRequest& req);
+  HttpReply add_instrument(const HttpRequest& req, const SessionInfo& session);
+  HttpReply store_instrument(const HttpRequest& req);
+  HttpReply delete_instrument(const std::string& id, const SessionInfo& session);
   HttpReply recordings();
   HttpReply recording(const std::string& name);
   HttpReply metrics_text();
   HttpReply static_file(const std::string& path);
+  // "; Path=/; HttpOnly; SameSite=Strict", and "; Secure" over TLS.
+  std::string cookie_attributes() const;
+  // An administrative action into the audit log, with the HTTP status of its answer.
+  void audit(const SessionInfo& session, const std::string& action, const std::string& target, const HttpReply& reply,
+             const std::string& detail = {});
 
   ServerSettings settings_;
   std::filesystem::path config_file_;
@@ -48,6 +60,7 @@ class RestApi {
   RemoteLab& lab_;
   ServerMetrics& metrics_;
   const Clock& clock_;
+  AuditLog& audit_;
   InstrumentStore uploads_;
 };
 

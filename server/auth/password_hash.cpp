@@ -67,14 +67,21 @@ std::optional<std::vector<std::uint8_t>> base64_decode(const std::string& text) 
   return out;
 }
 
-std::string random_hex(std::size_t n_bytes) {
+namespace {
+std::string to_hex(const std::uint8_t* bytes, std::size_t n) {
   static constexpr char kHex[] = "0123456789abcdef";
   std::string out;
-  for (std::uint8_t b : random_bytes(n_bytes)) {
-    out.push_back(kHex[b >> 4]);
-    out.push_back(kHex[b & 15]);
+  for (std::size_t i = 0; i < n; ++i) {
+    out.push_back(kHex[bytes[i] >> 4]);
+    out.push_back(kHex[bytes[i] & 15]);
   }
   return out;
+}
+}  // namespace
+
+std::string random_hex(std::size_t n_bytes) {
+  const auto bytes = random_bytes(n_bytes);
+  return to_hex(bytes.data(), bytes.size());
 }
 
 PasswordHash PasswordHash::create(const std::string& password, int iterations) {
@@ -119,6 +126,14 @@ std::string PasswordHash::encode() const {
 bool PasswordHash::verify(const std::string& password) const {
   const auto candidate = derive(password, salt, iterations, hash.size());
   return CRYPTO_memcmp(candidate.data(), hash.data(), hash.size()) == 0;
+}
+
+std::string sha256_hex(const std::string& text) {
+  std::uint8_t digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  if (EVP_Digest(text.data(), text.size(), digest, &length, EVP_sha256(), nullptr) != 1)
+    throw std::runtime_error("OpenSSL SHA-256 failed");
+  return to_hex(digest, length);
 }
 
 }  // namespace labo

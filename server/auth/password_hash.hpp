@@ -28,5 +28,7 @@ std::string base64_encode(const std::vector<std::uint8_t>& bytes);
 std::optional<std::vector<std::uint8_t>> base64_decode(const std::string& text);
 // n random bytes from OpenSSL's CSPRNG, as lowercase hex (session tokens).
 std::string random_hex(std::size_t n_bytes);
+// SHA-256 of the text as lowercase hex: sessions are kept on disk by their token's hash only.
+std::string sha256_hex(const std::string& text);
 
 }  // namespace labo

@@ -6,7 +6,8 @@ namespace labo {
 
 enum class Permission {
   Watch,           // video, telemetry, events
-  EmergencyStop,   // at once, without control
+  Stop,            // end the mission: hover, then land (anyone watching may)
+  CutMotors,       // the emergency stop: the controller has it on top of their role
   RequestControl,  // join the queue; mission commands need control on top
   TakeOver,        // take control from whoever holds it
   ViewSessions,    // GET /api/users, sessions and queue state
@@ -16,8 +17,11 @@ enum class Permission {
 constexpr bool role_may(Role role, Permission p) {
   switch (p) {
     case Permission::Watch:
-    case Permission::EmergencyStop:
+    case Permission::Stop:
     case Permission::RequestControl: return true;
+    // In a class of thirty viewers one keypress must not drop the drone from a metre: a student
+    // cuts the motors only while holding control (RemoteLab checks that).
+    case Permission::CutMotors:
     case Permission::TakeOver:
     case Permission::ViewSessions: return role == Role::Teacher || role == Role::Admin;
     case Permission::Administer: return role == Role::Admin;

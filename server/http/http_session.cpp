@@ -3,9 +3,11 @@
 #include <boost/asio/dispatch.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
 #include <boost/beast/websocket.hpp>
 #include <optional>
 
+#include "server/http/origin_check.hpp"
 #include "server/http/server_context.hpp"
 #include "server/http/websocket_session.hpp"
 
@@ -18,23 +20,43 @@ using tcp = asio::ip::tcp;
 
 namespace {
 
-class HttpSession : public std::enable_shared_from_this<HttpSession> {
+using TlsStream = beast::ssl_stream<beast::tcp_stream>;
+
+// `Stream` is plain TCP (beast::tcp_stream) or TLS over it (TlsStream): the same session either way.
+template <class Stream>
+class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
+  static constexpr bool kTls = std::is_same_v<Stream, TlsStream>;
+
  public:
-  HttpSession(tcp::socket&& socket, std::shared_ptr<ServerContext> ctx) : stream_(std::move(socket)), ctx_(std::move(ctx)) {
+  HttpSession(Stream&& stream, std::shared_ptr<ServerContext> ctx) : stream_(std::move(stream)), ctx_(std::move(ctx)) {
     beast::error_code ec;
-    const auto ep = stream_.socket().remote_endpoint(ec);
+    const auto ep = beast::get_lowest_layer(stream_).socket().remote_endpoint(ec);
     remote_ = ec ? "unknown" : ep.address().to_string();
   }
 
-  void run() { asio::dispatch(stream_.get_executor(), beast::bind_front_handler(&HttpSession::do_read, shared_from_this())); }
+  void run() {
+    if constexpr (kTls) {
+      asio::dispatch(stream_.get_executor(), [self = this->shared_from_this()] {
+        beast::get_lowest_layer(self->stream_).expires_after(std::chrono::seconds(30));
+        self->stream_.async_handshake(asio::ssl::stream_base::server, [self](beast::error_code ec) {
+          if (ec) return self->close();  // not TLS, or a client that does not trust the certificate
+          self->do_read();
+        });
+      });
+    } else {
+      asio::dispatch(stream_.get_executor(), beast::bind_front_handler(&HttpSession::do_read, this->shared_from_this()));
+    }
+  }
 
  private:
+  std::shared_ptr<HttpSession> self() { return this->shared_from_this(); }
+
   void do_read() {
     parser_.emplace();
     parser_->header_limit(16 * 1024);
     parser_->body_limit(ctx_->settings.clients.max_body_bytes);
-    stream_.expires_after(std::chrono::seconds(30));
-    http::async_read_header(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::on_header, shared_from_this()));
+    beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(30));
+    http::async_read_header(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::on_header, self()));
   }
 
   void on_header(beast::error_code ec, std::size_t) {
@@ -49,7 +71,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       return reply_and_close(too_large());
     if (beast::websocket::is_upgrade(req)) return upgrade();
     if (parser_->is_done()) return on_body({}, 0);
-    http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::on_body, shared_from_this()));
+    http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::on_body, self()));
   }
 
   void on_body(beast::error_code ec, std::size_t) {
@@ -68,14 +90,22 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   }
 
   void upgrade() {
-    std::string path(parser_->get().target());
+    const auto& req = parser_->get();
+    std::string path(req.target());
     if (const auto q = path.find('?'); q != std::string::npos) path.resize(q);
     if (path != "/ws") return reply_and_close(HttpReply::error(http::status::not_found, "WebSocket endpoint is /ws"));
-    auto session = ctx_->api.authenticate(parser_->get());
+    const auto origin = req[http::field::origin];
+    const auto host = req[http::field::host];
+    const std::string refusal = origin_refusal({origin.data(), origin.size()}, {host.data(), host.size()}, ctx_->settings.origin);
+    if (!refusal.empty()) {
+      ctx_->log.warn(ctx_->clock.now(), "WebSocket origin refused").kv("remote", remote_).kv("origin", std::string(origin));
+      return reply_and_close(HttpReply::error(http::status::forbidden, refusal));
+    }
+    auto session = ctx_->api.authenticate(req);
     if (!session) return reply_and_close(HttpReply::error(http::status::unauthorized, "log in before opening /ws"));
     const ClientId id = ctx_->next_client++;
-    std::make_shared<WebSocketSession>(stream_.release_socket(), id, std::move(*session), ctx_->lab,
-                                       ctx_->settings.clients, ctx_->metrics)
+    std::make_shared<WebSocketSession<Stream>>(std::move(stream_), id, std::move(*session), ctx_->lab,
+                                               ctx_->settings.clients, ctx_->metrics)
         ->accept(parser_->release());
   }
 
@@ -119,12 +149,12 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void write(const std::shared_ptr<Message>& res, bool head) {
     if (head) {
       auto sr = std::make_shared<http::response_serializer<typename Message::body_type>>(*res);
-      http::async_write_header(stream_, *sr, [self = shared_from_this(), res, sr](beast::error_code ec, std::size_t) {
+      http::async_write_header(stream_, *sr, [self = self(), res, sr](beast::error_code ec, std::size_t) {
         self->on_write(ec, res->need_eof());
       });
       return;
     }
-    http::async_write(stream_, *res, [self = shared_from_this(), res](beast::error_code ec, std::size_t) {
+    http::async_write(stream_, *res, [self = self(), res](beast::error_code ec, std::size_t) {
       self->on_write(ec, res->need_eof());
     });
   }
@@ -136,10 +166,10 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
   void close() {
     beast::error_code ignored;
-    stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+    beast::get_lowest_layer(stream_).socket().shutdown(tcp::socket::shutdown_send, ignored);
   }
 
-  beast::tcp_stream stream_;
+  Stream stream_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
   std::shared_ptr<ServerContext> ctx_;
@@ -149,7 +179,12 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 }  // namespace
 
 void start_http_session(tcp::socket&& socket, std::shared_ptr<ServerContext> ctx) {
-  std::make_shared<HttpSession>(std::move(socket), std::move(ctx))->run();
+  if (ctx->tls) {
+    TlsStream stream(std::move(socket), *ctx->tls);
+    std::make_shared<HttpSession<TlsStream>>(std::move(stream), std::move(ctx))->run();
+    return;
+  }
+  std::make_shared<HttpSession<beast::tcp_stream>>(beast::tcp_stream(std::move(socket)), std::move(ctx))->run();
 }
 
 }  // namespace labo

@@ -9,8 +9,10 @@
 #include "core/log.hpp"
 #include "core/time.hpp"
 #include "server/api/rest_api.hpp"
+#include "server/audit/audit_log.hpp"
 #include "server/auth/session_store.hpp"
 #include "server/lab/remote_lab.hpp"
+#include "server/http/tls_context.hpp"
 #include "server/lab/server_metrics.hpp"
 #include "server/server_settings.hpp"
 
@@ -24,9 +26,12 @@ struct ServerContext {
         log(std::move(l)),
         acceptor(io),
         tick_timer(io),
-        sessions(settings.users, settings.clients.session_idle_timeout_s, settings.clients.login_attempts_per_min),
-        lab(std::make_shared<RemoteLab>(flight, settings, metrics, clock, log.child("lab"))),
-        api(settings, std::move(config_file), sessions, *lab, metrics, clock) {}
+        tls(make_tls_context(settings.tls)),
+        audit(settings.audit_log),
+        sessions(settings.users, settings.clients.session_idle_timeout_s, settings.clients.login_attempts_per_min,
+                 settings.sessions_file),
+        lab(std::make_shared<RemoteLab>(flight, settings, metrics, clock, audit, log.child("lab"))),
+        api(settings, std::move(config_file), sessions, *lab, metrics, clock, audit) {}
 
   // Owned by the WebServer and destroyed after the last handler lets go of this context.
   boost::asio::io_context& io;
@@ -36,6 +41,8 @@ struct ServerContext {
   ServerMetrics metrics;
   boost::asio::ip::tcp::acceptor acceptor;
   boost::asio::steady_timer tick_timer;
+  std::unique_ptr<boost::asio::ssl::context> tls;  // null: plain HTTP
+  AuditLog audit;
   SessionStore sessions;
   std::shared_ptr<RemoteLab> lab;
   RestApi api;

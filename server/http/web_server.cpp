@@ -28,6 +28,7 @@ void tick_next(const std::shared_ptr<ServerContext>& ctx) {
   ctx->tick_timer.async_wait([ctx](boost::system::error_code ec) {
     if (ec) return;
     ctx->lab->tick();
+    ctx->sessions.save_if_changed(unix_now_s());
     tick_next(ctx);
   });
 }
@@ -59,7 +60,8 @@ unsigned short WebServer::start() {
   accept_next(ctx_);
   tick_next(ctx_);
   for (int i = 0; i < ctx_->settings.threads; ++i) threads_.emplace_back([ctx = ctx_] { ctx->io.run(); });
-  ctx_->log.info(ctx_->clock.now(), "serving").kv("url", "http://" + ctx_->settings.bind_address + ":" + std::to_string(port) + "/");
+  const std::string scheme = ctx_->tls ? "https://" : "http://";
+  ctx_->log.info(ctx_->clock.now(), "serving").kv("url", scheme + ctx_->settings.bind_address + ":" + std::to_string(port) + "/");
   return port;
 }
 
@@ -89,6 +91,7 @@ void WebServer::shutdown(double land_timeout_s) {
   for (auto& t : threads_)
     if (t.joinable()) t.join();
   threads_.clear();
+  ctx_->sessions.save_if_changed(unix_now_s(), true);
 }
 
 }  // namespace labo

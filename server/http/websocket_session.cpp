@@ -2,6 +2,8 @@
 
 #include <boost/asio/dispatch.hpp>
 #include <boost/asio/post.hpp>
+#include <boost/beast/ssl.hpp>
+#include <boost/beast/websocket/ssl.hpp>
 
 #include "server/lab/lab_messages.hpp"
 #include "server/lab/remote_lab.hpp"
@@ -12,9 +14,11 @@ namespace asio = boost::asio;
 namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 
-WebSocketSession::WebSocketSession(asio::ip::tcp::socket&& socket, ClientId id, SessionInfo session,
-                                   std::shared_ptr<RemoteLab> lab, const ClientLimits& limits, ServerMetrics& metrics)
-    : ws_(std::move(socket)),
+template <class NextLayer>
+WebSocketSession<NextLayer>::WebSocketSession(NextLayer&& stream, ClientId id, SessionInfo session,
+                                              std::shared_ptr<RemoteLab> lab, const ClientLimits& limits,
+                                              ServerMetrics& metrics)
+    : ws_(std::move(stream)),
       watchdog_(ws_.get_executor()),
       id_(id),
       session_(std::move(session)),
@@ -23,14 +27,16 @@ WebSocketSession::WebSocketSession(asio::ip::tcp::socket&& socket, ClientId id, 
       metrics_(metrics),
       units_(static_cast<std::size_t>(limits.video_queue_frames)) {}
 
-WebSocketSession::~WebSocketSession() {
+template <class NextLayer>
+WebSocketSession<NextLayer>::~WebSocketSession() {
   if (joined_) {
     lab_->leave(id_);
     metrics_.ws_clients--;
   }
 }
 
-void WebSocketSession::accept(beast::http::request<beast::http::string_body> upgrade) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::accept(beast::http::request<beast::http::string_body> upgrade) {
   // tcp_stream timeouts must not apply to a websocket: the websocket's own (with pings) take over.
   beast::get_lowest_layer(ws_).expires_never();
   ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
@@ -38,24 +44,27 @@ void WebSocketSession::accept(beast::http::request<beast::http::string_body> upg
       [](websocket::response_type& res) { res.set(beast::http::field::server, "labodrone"); }));
   ws_.read_message_max(static_cast<std::size_t>(limits_.max_message_bytes));
   ws_.auto_fragment(false);
-  ws_.async_accept(upgrade, beast::bind_front_handler(&WebSocketSession::on_accept, shared_from_this()));
+  ws_.async_accept(upgrade, beast::bind_front_handler(&WebSocketSession::on_accept, this->shared_from_this()));
 }
 
-void WebSocketSession::on_accept(beast::error_code ec) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::on_accept(beast::error_code ec) {
   if (ec) return;
   joined_ = true;
   metrics_.ws_clients++;
   metrics_.ws_connections_total++;
-  lab_->join(shared_from_this());
+  lab_->join(this->shared_from_this());
   arm_watchdog();
   do_read();
 }
 
-void WebSocketSession::do_read() {
-  ws_.async_read(read_buffer_, beast::bind_front_handler(&WebSocketSession::on_read, shared_from_this()));
+template <class NextLayer>
+void WebSocketSession<NextLayer>::do_read() {
+  ws_.async_read(read_buffer_, beast::bind_front_handler(&WebSocketSession::on_read, this->shared_from_this()));
 }
 
-void WebSocketSession::on_read(beast::error_code ec, std::size_t) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::on_read(beast::error_code ec, std::size_t) {
   if (ec == websocket::error::message_too_big) {
     // Beast has already failed the stream with close code 1009 (message too big).
     close_now("message larger than " + std::to_string(limits_.max_message_bytes) + " bytes");
@@ -76,43 +85,50 @@ void WebSocketSession::on_read(beast::error_code ec, std::size_t) {
   do_read();
 }
 
-void WebSocketSession::send_event(std::shared_ptr<const std::string> json) {
-  asio::post(ws_.get_executor(), [self = shared_from_this(), json = std::move(json)]() mutable {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::send_event(std::shared_ptr<const std::string> json) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), json = std::move(json)]() mutable {
     self->queue_event(std::move(json));
   });
 }
 
-void WebSocketSession::send_frame(std::shared_ptr<const std::string> wire) {
-  asio::post(ws_.get_executor(), [self = shared_from_this(), wire = std::move(wire)]() mutable {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::send_frame(std::shared_ptr<const std::string> wire) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), wire = std::move(wire)]() mutable {
     self->store_frame(std::move(wire));
   });
 }
 
-void WebSocketSession::send_access_unit(const WireAccessUnit& unit) {
-  asio::post(ws_.get_executor(), [self = shared_from_this(), unit] { self->queue_unit(unit); });
+template <class NextLayer>
+void WebSocketSession<NextLayer>::send_access_unit(const WireAccessUnit& unit) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), unit] { self->queue_unit(unit); });
 }
 
-void WebSocketSession::send_reading_view(std::shared_ptr<const std::string> view) {
-  asio::post(ws_.get_executor(), [self = shared_from_this(), view = std::move(view)]() mutable {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::send_reading_view(std::shared_ptr<const std::string> view) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), view = std::move(view)]() mutable {
     if (self->closed_ || !self->joined_) return;
     self->reading_slot_ = std::move(view);
     self->write_next();
   });
 }
 
-void WebSocketSession::select_video(VideoPath path) {
-  asio::post(ws_.get_executor(), [self = shared_from_this(), path] {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::select_video(VideoPath path) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), path] {
     self->video_ = path;
     self->units_.restart();
     self->frame_slot_.reset();
   });
 }
 
-void WebSocketSession::disconnect(const std::string& reason) {
-  asio::post(ws_.get_executor(), [self = shared_from_this(), reason] { self->close_now(reason); });
+template <class NextLayer>
+void WebSocketSession<NextLayer>::disconnect(const std::string& reason) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), reason] { self->close_now(reason); });
 }
 
-void WebSocketSession::queue_event(std::shared_ptr<const std::string> json) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::queue_event(std::shared_ptr<const std::string> json) {
   if (closed_) return;
   if (events_.size() >= static_cast<std::size_t>(limits_.event_queue_messages)) {
     metrics_.ws_events_dropped++;
@@ -123,14 +139,16 @@ void WebSocketSession::queue_event(std::shared_ptr<const std::string> json) {
   write_next();
 }
 
-void WebSocketSession::store_frame(std::shared_ptr<const std::string> wire) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::store_frame(std::shared_ptr<const std::string> wire) {
   if (closed_ || !joined_) return;
   if (frame_slot_) metrics_.ws_frames_skipped++;
   frame_slot_ = std::move(wire);  // overwrite: only the newest frame waits
   write_next();
 }
 
-void WebSocketSession::queue_unit(const WireAccessUnit& unit) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::queue_unit(const WireAccessUnit& unit) {
   if (closed_ || !joined_ || video_ != VideoPath::H264) return;
   const AccessUnitQueue::PushResult r = units_.push(unit);
   metrics_.ws_units_skipped += r.dropped;
@@ -138,7 +156,8 @@ void WebSocketSession::queue_unit(const WireAccessUnit& unit) {
   if (r.queued) write_next();
 }
 
-void WebSocketSession::write_next() {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::write_next() {
   if (writing_ || closed_ || !joined_) return;
   // Events first (acks, emergencies, stage changes), then video: the next access unit (its geometry
   // first) or the newest JPEG frame, then the newest reading view.
@@ -167,10 +186,11 @@ void WebSocketSession::write_next() {
   writing_ = true;
   write_started_ = Clock::now();
   ws_.binary(binary);
-  ws_.async_write(asio::buffer(*in_flight_), beast::bind_front_handler(&WebSocketSession::on_write, shared_from_this()));
+  ws_.async_write(asio::buffer(*in_flight_), beast::bind_front_handler(&WebSocketSession::on_write, this->shared_from_this()));
 }
 
-void WebSocketSession::on_write(beast::error_code ec, std::size_t bytes) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::on_write(beast::error_code ec, std::size_t bytes) {
   writing_ = false;
   in_flight_.reset();
   if (ec) {
@@ -188,14 +208,16 @@ void WebSocketSession::on_write(beast::error_code ec, std::size_t bytes) {
   write_next();
 }
 
-void WebSocketSession::arm_watchdog() {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::arm_watchdog() {
   watchdog_.expires_after(std::chrono::milliseconds(250));
-  watchdog_.async_wait([self = shared_from_this()](beast::error_code ec) {
+  watchdog_.async_wait([self = this->shared_from_this()](beast::error_code ec) {
     if (!ec) self->on_watchdog();
   });
 }
 
-void WebSocketSession::on_watchdog() {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::on_watchdog() {
   if (closed_) return;
   const auto now = Clock::now();
   const auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
@@ -212,7 +234,8 @@ void WebSocketSession::on_watchdog() {
   arm_watchdog();
 }
 
-void WebSocketSession::close_now(const std::string& reason) {
+template <class NextLayer>
+void WebSocketSession<NextLayer>::close_now(const std::string& reason) {
   if (closed_) return;
   closed_ = true;
   lab_->log_disconnect(id_, reason);
@@ -226,5 +249,8 @@ void WebSocketSession::close_now(const std::string& reason) {
   beast::get_lowest_layer(ws_).socket().shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
   beast::get_lowest_layer(ws_).socket().close(ignored);
 }
+
+template class WebSocketSession<beast::tcp_stream>;
+template class WebSocketSession<beast::ssl_stream<beast::tcp_stream>>;
 
 }  // namespace labo

@@ -4,9 +4,11 @@
 // through a bounded queue of JSON events, and video by the path the client chose: a one-frame JPEG
 // slot that a newer frame overwrites, or a bounded queue of H.264 access units that drops to the
 // next IDR (AccessUnitQueue). A slow viewer loses frames, never memory. A client whose event queue
-// stays full, or whose write stays pending, past its limit is disconnected.
+// stays full, or whose write stays pending, past its limit is disconnected. `NextLayer` is the
+// connection under the WebSocket: a plain TCP stream, or TLS over it (PlainWebSocket, TlsWebSocket).
 #include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
+#include <boost/beast/ssl/ssl_stream.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 #include <chrono>
@@ -23,9 +25,10 @@ namespace labo {
 
 class RemoteLab;
 
-class WebSocketSession final : public LabClient, public std::enable_shared_from_this<WebSocketSession> {
+template <class NextLayer>
+class WebSocketSession final : public LabClient, public std::enable_shared_from_this<WebSocketSession<NextLayer>> {
  public:
-  WebSocketSession(boost::asio::ip::tcp::socket&& socket, ClientId id, SessionInfo session,
+  WebSocketSession(NextLayer&& stream, ClientId id, SessionInfo session,
                    std::shared_ptr<RemoteLab> lab, const ClientLimits& limits, ServerMetrics& metrics);
   ~WebSocketSession() override;
 
@@ -54,7 +57,7 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
   void on_watchdog();
   void close_now(const std::string& reason);
 
-  boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
+  boost::beast::websocket::stream<NextLayer> ws_;
   boost::beast::flat_buffer read_buffer_;
   boost::asio::steady_timer watchdog_;
   ClientId id_;
@@ -77,5 +80,8 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
   Clock::time_point write_started_{};
   std::optional<Clock::time_point> queue_full_since_;
 };
+
+using PlainWebSocket = WebSocketSession<boost::beast::tcp_stream>;
+using TlsWebSocket = WebSocketSession<boost::beast::ssl_stream<boost::beast::tcp_stream>>;
 
 }  // namespace labo

@@ -8,13 +8,14 @@
 namespace labo {
 
 namespace {
-constexpr std::array<std::pair<MissionCommandKind, const char*>, 7> kCommands{{
+constexpr std::array<std::pair<MissionCommandKind, const char*>, 8> kCommands{{
     {MissionCommandKind::Takeoff, "takeoff"},
     {MissionCommandKind::Inspect, "inspect"},
     {MissionCommandKind::FindTeacher, "find_teacher"},
     {MissionCommandKind::StopFaceFollow, "stop_face_follow"},
     {MissionCommandKind::ReturnHome, "return_home"},
     {MissionCommandKind::Land, "land"},
+    {MissionCommandKind::Stop, "stop"},
     {MissionCommandKind::EmergencyStop, "emergency_stop"},
 }};
 }  // namespace

@@ -14,7 +14,9 @@
 
 namespace labo {
 
-enum class MissionCommandKind { Takeoff, Inspect, FindTeacher, StopFaceFollow, ReturnHome, Land, EmergencyStop };
+// Stop ends whatever runs and lands (the drone holds, then descends): anyone watching may send it.
+// EmergencyStop cuts the motors: only the controller, a teacher or an admin.
+enum class MissionCommandKind { Takeoff, Inspect, FindTeacher, StopFaceFollow, ReturnHome, Land, Stop, EmergencyStop };
 std::string to_string(MissionCommandKind kind);
 std::optional<MissionCommandKind> parse_mission_command(const std::string& text);
 

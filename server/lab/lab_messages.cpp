@@ -91,7 +91,11 @@ Message flight_event_message(const FlightEvent& e) {
 }
 
 Message emergency_event_message(const std::string& user) {
-  return shared({{"type", "event"}, {"kind", "emergency"}, {"message", "emergency stop by " + user}});
+  return shared({{"type", "event"}, {"kind", "emergency"}, {"user", user}, {"message", "emergency stop by " + user + ": motors cut"}});
+}
+
+Message stop_event_message(const std::string& user) {
+  return shared({{"type", "event"}, {"kind", "stop"}, {"user", user}, {"message", "stop by " + user + ": hovering, then landing"}});
 }
 
 Message subscribed_message(VideoPath video) { return shared({{"type", "subscribed"}, {"video", to_string(video)}}); }

@@ -27,7 +27,9 @@ Message ack_message(std::optional<std::int64_t> id, const std::string& command, 
 Message notice_message(const ControlNotice& notice);
 Message telemetry_message(const FlightTelemetry& telemetry);
 Message flight_event_message(const FlightEvent& event);
+// {"type":"event","kind":"emergency"|"stop","user","message"}: who cut the motors, or who stopped.
 Message emergency_event_message(const std::string& user);
+Message stop_event_message(const std::string& user);
 // {"type":"subscribed","video":"h264|jpeg"}: the path this client's video now takes.
 Message subscribed_message(VideoPath video);
 

@@ -12,7 +12,7 @@ namespace {
 
 constexpr std::string_view kTypes = "command, heartbeat, request_control, release_control, take_over, subscribe";
 constexpr std::string_view kCommands =
-    "takeoff, inspect, find_teacher, stop_face_follow, return_home, land, emergency_stop";
+    "takeoff, inspect, find_teacher, stop_face_follow, return_home, land, stop, emergency_stop";
 constexpr double kMaxHoldS = 600;
 
 Refusal refuse(std::string error) { return {400, std::move(error), true}; }

@@ -6,11 +6,12 @@
 namespace labo {
 
 RemoteLab::RemoteLab(FlightService& flight, const ServerSettings& settings, ServerMetrics& metrics, const Clock& clock,
-                     Logger log)
+                     AuditLog& audit, Logger log)
     : flight_(flight),
       settings_(settings),
       metrics_(metrics),
       clock_(clock),
+      audit_(audit),
       log_(std::move(log)),
       clients_(settings.clients.commands_per_s, settings.clients.command_burst),
       control_(settings.control) {
@@ -60,23 +61,70 @@ void RemoteLab::on_message(LabClient& client, const std::string& text) {
 }
 
 void RemoteLab::execute(LabClient& client, const CommandRequest& r) {
+  const SessionInfo& session = client.session();
   const auto ack = [&](const CommandVerdict& verdict) {
     (verdict.accepted ? metrics_.commands_accepted : metrics_.commands_rejected)++;
     client.send_event(ack_message(r.id, r.name, verdict));
   };
-  const Role role = client.session().role;
-  const bool emergency = r.command.kind == MissionCommandKind::EmergencyStop;
-  if (!role_may(role, emergency ? Permission::EmergencyStop : Permission::RequestControl))
-    return ack({false, "role " + to_string(role) + " may not send " + r.name});
-  if (!emergency && !has_control(client.id())) return ack({false, "you do not have control: request it and wait for your turn"});
+  const MissionCommandKind kind = r.command.kind;
+  const bool controlling = has_control(client.id());
+  if (kind == MissionCommandKind::EmergencyStop && !may_cut_motors(session, controlling)) {
+    const CommandVerdict refused{false, "only the student holding control, a teacher or an admin may cut the motors; "
+                                        "send stop (hover, then land) instead"};
+    audit_command(session, r.name, refused);
+    client.send_event(error_message(403, refused.reason));
+    return ack(refused);
+  }
+  if (kind == MissionCommandKind::EmergencyStop || kind == MissionCommandKind::Stop) return ack(stop(session, kind, "ws"));
+  if (!role_may(session.role, Permission::RequestControl))
+    return ack({false, "role " + to_string(session.role) + " may not send " + r.name});
+  if (!controlling) {
+    const CommandVerdict refused{false, "you do not have control: request it and wait for your turn"};
+    audit_command(session, r.name, refused);
+    return ack(refused);
+  }
   const CommandVerdict verdict = flight_.request(r.command);
+  audit_command(session, r.name, verdict);
+  ack(verdict);
+}
+
+bool RemoteLab::may_cut_motors(const SessionInfo& session, bool controlling) const {
+  return controlling || role_may(session.role, Permission::CutMotors);
+}
+
+CommandVerdict RemoteLab::stop(const SessionInfo& session, MissionCommandKind kind, const std::string& via) {
+  const CommandVerdict verdict = flight_.request(MissionCommand{kind, "", 0});
+  audit_command(session, to_string(kind) + (via == "rest" ? " (REST)" : ""), verdict);
+  if (verdict.accepted)
+    clients_.send(kind == MissionCommandKind::EmergencyStop ? emergency_event_message(session.user) : stop_event_message(session.user));
+  return verdict;
+}
+
+void RemoteLab::audit_command(const SessionInfo& session, const std::string& command, const CommandVerdict& verdict) {
   log_.info(clock_.now(), "command")
-      .kv("user", client.session().user)
-      .kv("command", r.name)
+      .kv("user", session.user)
+      .kv("command", command)
       .kv("accepted", verdict.accepted)
       .kv("reason", verdict.reason);
-  ack(verdict);
-  if (emergency && verdict.accepted) clients_.send(emergency_event_message(client.session().user));
+  audit_.record({session.user, to_string(session.role), "command", command, verdict.accepted, verdict.reason});
+}
+
+RemoteLab::RestCommandResult RemoteLab::stop_from_rest(const SessionInfo& session, MissionCommandKind kind) {
+  if (kind == MissionCommandKind::EmergencyStop) {
+    bool controlling = false;
+    {
+      std::lock_guard lock(control_mutex_);
+      const ControlSnapshot snapshot = control_.snapshot(clock_.now());
+      controlling = snapshot.controller && snapshot.controller->user == session.user;
+    }
+    if (!may_cut_motors(session, controlling)) {
+      const CommandVerdict refused{false, "only the student holding control, a teacher or an admin may cut the motors; "
+                                          "POST /api/stop (hover, then land) instead"};
+      audit_command(session, "emergency_stop (REST)", refused);
+      return {403, refused};
+    }
+  }
+  return {200, stop(session, kind, "rest")};
 }
 
 void RemoteLab::execute(LabClient& client, const HeartbeatRequest&) {
@@ -95,7 +143,9 @@ void RemoteLab::execute(LabClient& client, const ReleaseControlRequest&) {
 
 void RemoteLab::execute(LabClient& client, const TakeOverRequest&) {
   const Participant who{client.id(), client.session().user, client.session().role};
-  if (!role_may(who.role, Permission::TakeOver)) return client.send_event(error_message(403, "only a teacher or an admin may take over"));
+  const bool allowed = role_may(who.role, Permission::TakeOver);
+  audit_.record({who.user, to_string(who.role), "take_over", "", allowed, allowed ? "" : "only a teacher or an admin may take over"});
+  if (!allowed) return client.send_event(error_message(403, "only a teacher or an admin may take over"));
   change_control([&who](ControlQueue& q, double now) { return q.take_over(who, now); });
 }
 

@@ -12,6 +12,7 @@
 
 #include "core/log.hpp"
 #include "core/time.hpp"
+#include "server/audit/audit_log.hpp"
 #include "server/lab/client_registry.hpp"
 #include "server/lab/control_queue.hpp"
 #include "server/lab/flight_service.hpp"
@@ -24,7 +25,7 @@ namespace labo {
 class RemoteLab final : public FlightEventSink {
  public:
   RemoteLab(FlightService& flight, const ServerSettings& settings, ServerMetrics& metrics, const Clock& clock,
-            Logger log);
+            AuditLog& audit, Logger log);
   ~RemoteLab() override;
 
   void join(const std::shared_ptr<LabClient>& client);
@@ -44,6 +45,15 @@ class RemoteLab final : public FlightEventSink {
   bool wants_access_units() const override { return clients_.watching(VideoPath::H264) > 0; }
   bool wants_reading_view() const override { return clients_.size() > 0; }
 
+  // A stop or an emergency stop sent over REST, by the same rules as over the WebSocket (the
+  // controller being the user who holds control on one of their connections). `status` is the HTTP
+  // status: 200 when the flight software answered (accepted or not), 403 when the role may not.
+  struct RestCommandResult {
+    int status = 200;
+    CommandVerdict verdict;
+  };
+  RestCommandResult stop_from_rest(const SessionInfo& session, MissionCommandKind kind);
+
   // JSON for REST: the queue and the connected clients.
   std::string control_state_json() const;
   std::size_t client_count() const { return clients_.size(); }
@@ -58,6 +68,11 @@ class RemoteLab final : public FlightEventSink {
   void execute(LabClient& client, const TakeOverRequest& request);
   void execute(LabClient& client, const SubscribeRequest& request);
   bool has_control(ClientId client) const;
+  // Whether `session` may cut the motors: a teacher, an admin, or the one holding control.
+  bool may_cut_motors(const SessionInfo& session, bool controlling) const;
+  // A stop or emergency stop that passed the checks: to the drone, audited, announced to everyone.
+  CommandVerdict stop(const SessionInfo& session, MissionCommandKind kind, const std::string& via);
+  void audit_command(const SessionInfo& session, const std::string& command, const CommandVerdict& verdict);
   // A change of the control queue (its notices), made by `change` under control_mutex_; the notices
   // and everyone's view of the new state are sent once it is released.
   template <typename Change>
@@ -69,6 +84,7 @@ class RemoteLab final : public FlightEventSink {
   ServerSettings settings_;
   ServerMetrics& metrics_;
   const Clock& clock_;
+  AuditLog& audit_;
   Logger log_;
   ClientRegistry clients_;
   mutable std::mutex control_mutex_;  // control_, control_seq_, last_control_broadcast_s_

@@ -33,8 +33,11 @@ FlightRuntimeOptions flight_runtime_options(const AppConfig& config) {
   return o;
 }
 
+// The world is the config's `sim.world`: the flight runtime is built from the config alone, and a
+// randomized world's delays are the loopback's, not drawn ones.
 std::unique_ptr<SimulatedLab> make_configured_lab(const AppConfig& config) {
-  return make_simulated_lab(config.lab, config.cameras, config.sim.lab, face::load_lab_teacher_head(config.lab, config.face));
+  return make_simulated_lab(make_sim_world(config.lab, config.cameras, config.sim),
+                            face::load_lab_teacher_head(config.lab, config.face));
 }
 
 ArdroneEmulatorSettings loopback_emulator_settings(const AppConfig& config) {

@@ -112,6 +112,8 @@ CommandVerdict FlightStackCore::request(const MissionCommand& c, Seconds t) {
     case MissionCommandKind::StopFaceFollow: r.kind = control::RequestKind::StopFaceFollow; break;
     case MissionCommandKind::ReturnHome: r.kind = control::RequestKind::ReturnHome; break;
     case MissionCommandKind::Land: r.kind = control::RequestKind::Land; break;
+    // Land cancels the mission first; the drone's own landing holds its place while it descends.
+    case MissionCommandKind::Stop: r.kind = control::RequestKind::Land; break;
     case MissionCommandKind::EmergencyStop: r.kind = control::RequestKind::EmergencyStop; break;
   }
   r.instrument_id = c.instrument;

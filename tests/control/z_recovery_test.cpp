@@ -1,7 +1,10 @@
 // The default z gains against the simulated firmware's vertical dynamics (drone/sim's
-// QuadrotorDynamics: the vertical speed follows gaz x control_vz_max with tum_ardrone's 0.8 /s lag).
-// The target: after a z impulse of about 0.5 m the drone is back within 0.1 m of the set point
-// in 5 s. The gains alone must leave time for the vision to come back, so they must do it in 4 s.
+// QuadrotorDynamics: the vertical speed follows gaz x control_vz_max through the firmware's shaped
+// set point and vertical-speed loop, about as fast as tum_ardrone's fitted 0.8 /s lag). The perturbation
+// target: after a z impulse the drone is back within 0.1 m of the set point in 5 s; the gains alone
+// must leave time for the vision to come back, so they must do it in 4 s. The firmware's own
+// vertical-speed loop stops a 0.6 m/s push within a few centimetres; a displacement of half a metre
+// (what a push did to the closed-loop model the simulation used before) is a set-point step here.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -90,9 +93,33 @@ TEST_CASE("control: the default z gains recover a 0.6 m/s vertical push on the f
     const Recovery r = push_and_watch(f, dv);
     INFO("push " << dv << " m/s: peak " << r.peak << " m, recovered after " << r.seconds << " s, overshoot "
                  << r.overshoot << " m");
-    CHECK(r.peak > 0.25);        // the push did displace it (uncontrolled: about 0.75 m)
+    CHECK(r.peak > 0.03);        // the push did displace it (the firmware's loop stops it within ~7 cm)
     CHECK(r.seconds < 4.0);      // tum_ardrone's gains (0.6/0.1, gaz >= -0.25): about 5.9 s
     CHECK(r.overshoot < 0.1);    // not through the set point towards the floor or the ceiling
+    CHECK(std::abs(f.z_error()) < 0.05);
+  }
+}
+
+TEST_CASE("control: the default z gains bring the drone 0.5 m up or down to a new set point within 4 s") {
+  for (const double step : {0.5, -0.5}) {
+    ZFlight f;
+    f.target.position.z() += step;
+    f.controller.set_target(f.target);
+    double t = 0, within_since = -1, seconds = 1e9, overshoot = 0;
+    f.fly(10.0, [&] {
+      t += 0.03;
+      const double e = f.z_error();
+      if (e * step > 0) overshoot = std::max(overshoot, std::abs(e));  // beyond the new set point
+      if (std::abs(e) < 0.1) {
+        if (within_since < 0) within_since = t;
+        if (t - within_since >= 1.0) seconds = std::min(seconds, within_since);
+      } else {
+        within_since = -1;
+      }
+    });
+    INFO("step " << step << " m: within 0.1 m after " << seconds << " s, overshoot " << overshoot << " m");
+    CHECK(seconds < 4.0);
+    CHECK(overshoot < 0.1);
     CHECK(std::abs(f.z_error()) < 0.05);
   }
 }

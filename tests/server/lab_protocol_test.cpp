@@ -70,7 +70,7 @@ TEST_CASE("lab: protocol: every refused input names what was wrong and what was 
   CHECK(verdict_of(R"({"type":"command","command":5})") == "400 'command' (string) is required");
   CHECK(verdict_of(R"({"type":"command","command":"barrel_roll"})") ==
         "400 unknown command 'barrel_roll' (expected takeoff, inspect, find_teacher, stop_face_follow, return_home, land, "
-        "emergency_stop)");
+        "stop, emergency_stop)");
   CHECK(verdict_of(R"({"type":"command","command":"land","speed":3})") == "400 unknown field 'speed' in a command");
   CHECK(verdict_of(R"({"type":"command","command":"land","id":"x"})") == "400 'id' must be an integer");
   CHECK(verdict_of(R"({"type":"command","command":"land","id":1.5})") == "400 'id' must be an integer");

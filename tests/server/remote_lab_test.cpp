@@ -43,7 +43,8 @@ struct LabFixture {
   ServerSettings settings;
   ServerMetrics metrics;
   SteadyClock clock;
-  RemoteLab lab{flight, settings, metrics, clock, Logger("test", LogLevel::Warn)};
+  AuditLog audit{{}};
+  RemoteLab lab{flight, settings, metrics, clock, audit, Logger("test", LogLevel::Warn)};
 
   std::shared_ptr<RecordingClient> join(ClientId id, const std::string& user) {
     auto client = std::make_shared<RecordingClient>(id, user, lab);

@@ -15,7 +15,7 @@ auto field_is(const std::string& key, const json& value) {
 }
 }  // namespace
 
-TEST_CASE("web: a WebSocket needs a session, and commands need control except the emergency stop") {
+TEST_CASE("web: a WebSocket needs a session, commands need control, a spectator stops but may not cut the motors") {
   ServerFixture f;
   // No cookie: the upgrade is refused with 401.
   CHECK_THROWS(WsClient(f.port, "labo_session=forged"));
@@ -51,16 +51,33 @@ TEST_CASE("web: a WebSocket needs a session, and commands need control except th
   CHECK_FALSE((*ack)["accepted"]);  // the flight side's own refusal, passed on
   CHECK((*ack)["reason"] == "no instrument 'toaster'");
 
-  // Bob is a spectator: his emergency stop acts all the same.
+  // Bob is a spectator: in a class of thirty one keypress must not drop the drone, so his motor cut
+  // is refused with 403 and never reaches the drone...
   bob.send(json{{"type", "command"}, {"id", 9}, {"command", "emergency_stop"}});
+  const auto refused = bob.wait_for("error", field_is("status", 403));
+  REQUIRE(refused);
+  CHECK((*refused)["error"].get<std::string>().find("send stop (hover, then land) instead") != std::string::npos);
   ack = bob.wait_for("ack", field_is("id", 9));
   REQUIRE(ack);
-  CHECK((*ack)["accepted"]);
-  CHECK(alice.wait_for("event", field_is("kind", "emergency")));
+  CHECK_FALSE((*ack)["accepted"]);
+  // ...but his stop acts without control, and everyone is told who stopped.
+  bob.send(json{{"type", "command"}, {"id", 10}, {"command", "stop"}});
+  REQUIRE(bob.wait_for("ack", field_is("id", 10)).value()["accepted"]);
+  const auto stopped = alice.wait_for("event", field_is("kind", "stop"));
+  REQUIRE(stopped);
+  CHECK((*stopped)["user"] == "bob");
+  CHECK((*stopped)["message"] == "stop by bob: hovering, then landing");
+  // Alice holds control: her motor cut acts.
+  alice.send(json{{"type", "command"}, {"id", 11}, {"command", "emergency_stop"}});
+  REQUIRE(alice.wait_for("ack", field_is("id", 11)).value()["accepted"]);
+  const auto cut = bob.wait_for("event", field_is("kind", "emergency"));
+  REQUIRE(cut);
+  CHECK((*cut)["user"] == "alice");
   const auto seen = f.flight.requests_seen();
-  REQUIRE(seen.size() == 4);
+  REQUIRE(seen.size() == 5);
   CHECK(seen[1].instrument == "oscilloscope");
   CHECK(seen[1].hold_s == 5);
+  CHECK(seen[3].kind == MissionCommandKind::Stop);
   CHECK(seen.back().kind == MissionCommandKind::EmergencyStop);
 }
 
@@ -90,7 +107,7 @@ TEST_CASE("web: a command flood is rate limited, but not the emergency stop") {
     s.clients.commands_per_s = 1;
     s.clients.command_burst = 3;
   });
-  WsClient c(f.port, login_cookie(f.port, "alice", "alice-pw"));
+  WsClient c(f.port, login_cookie(f.port, "tess", "tess-pw"));  // a teacher may cut the motors without control
   for (int i = 0; i < 10; ++i) c.send(json{{"type", "heartbeat"}});
   const auto limited = c.wait_for("error", field_is("status", 429));
   REQUIRE(limited);

@@ -103,6 +103,30 @@ TEST_CASE("sim sensors: the bottom camera's velocity fails over bare floor and b
   CHECK(m.velocity_valid());
 }
 
+TEST_CASE("sim sensors: a drone's biases scale and offset its velocity, ultrasound, attitude and IMU", "[sim][sensors]") {
+  SensorBiases b;
+  b.velocity_scale = 1.05;
+  b.velocity_mps = {0.02, -0.01};
+  b.ultrasound_scale = 0.98;
+  b.ultrasound_offset_m = 0.01;
+  b.attitude_rad = {0.004, -0.003};
+  b.gyro_radps = {0.01, 0.0, -0.01};
+  SensorModel biased(SensorNoise{}, test::shipped_lab(), 5, b), plain(SensorNoise{}, test::shipped_lab(), 5);
+  const auto mean_of = [](const std::vector<VehicleTelemetry>& v, auto field) {
+    double sum = 0;
+    for (const auto& t : v) sum += field(t);
+    return sum / static_cast<double>(v.size());
+  };
+  const QuadrotorState s = flying_at({1.0, -1.5, 1.0}, {0.5, 0.0, 0.0});  // heading +x, textured floor
+  const auto with = sample(biased, s, 2.0), without = sample(plain, s, 2.0);
+  CHECK(mean_of(with, [](const auto& t) { return t.nav.vx_mps; }) == Approx(1.05 * 0.5 + 0.02).margin(0.005));
+  CHECK(mean_of(with, [](const auto& t) { return t.nav.vy_mps; }) == Approx(-0.01).margin(0.005));
+  CHECK(mean_altitude(with) == Approx(0.98 * mean_altitude(without) + 0.01).margin(0.003));
+  CHECK(mean_of(with, [](const auto& t) { return t.nav.roll_rad; }) - mean_of(without, [](const auto& t) { return t.nav.roll_rad; }) ==
+        Approx(0.004).margin(1e-9));
+  CHECK(with.back().gyro_body_radps.x() - without.back().gyro_body_radps.x() == Approx(0.01).margin(1e-9));
+}
+
 TEST_CASE("sim sensors: the yaw drifts slowly, flat trim removes the roll/pitch offset on the ground", "[sim][sensors]") {
   SensorNoise noise;
   noise.attitude_offset_rad = 0.02;

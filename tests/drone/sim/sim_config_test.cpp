@@ -44,15 +44,25 @@ TEST_CASE("sim config: the shipped section loads into the documented defaults", 
   CHECK(c.lab.dynamics.step_s == d.lab.dynamics.step_s);
   CHECK(c.lab.dynamics.tilt_max_rad == Approx(12 * std::numbers::pi / 180));
   CHECK(c.lab.dynamics.yaw_rate_max_radps == Approx(d.lab.dynamics.yaw_rate_max_radps).epsilon(1e-4));
-  CHECK(c.lab.dynamics.vertical_response_per_s == d.lab.dynamics.vertical_response_per_s);
-  CHECK(c.lab.dynamics.battery_flying_drain_percent_per_s == Approx(d.lab.dynamics.battery_flying_drain_percent_per_s).epsilon(0.01));
+  CHECK(c.lab.dynamics.loops.vz_reference_per_s == d.lab.dynamics.loops.vz_reference_per_s);
+  CHECK(c.lab.dynamics.loops.attitude_loop_per_s == d.lab.dynamics.loops.attitude_loop_per_s);
+  CHECK(c.lab.dynamics.loops.yaw_rate_loop_per_s == d.lab.dynamics.loops.yaw_rate_loop_per_s);
+  CHECK(c.lab.dynamics.airframe.mass_kg == d.lab.dynamics.airframe.mass_kg);
+  CHECK(c.lab.dynamics.airframe.air_drag_kg_per_m == d.lab.dynamics.airframe.air_drag_kg_per_m);
+  CHECK(c.lab.dynamics.rotors.lag_s == d.lab.dynamics.rotors.lag_s);
+  CHECK(c.lab.dynamics.battery.internal_resistance_ohm == d.lab.dynamics.battery.internal_resistance_ohm);
+  CHECK(c.lab.dynamics.battery.flying_drain_percent_per_s == Approx(d.lab.dynamics.battery.flying_drain_percent_per_s).epsilon(0.01));
+  CHECK(c.world == WorldMode::Nominal);
   CHECK(c.lab.sensors.yaw_drift_radps == Approx(d.lab.sensors.yaw_drift_radps).epsilon(0.05));
   CHECK(c.lab.sensors.ultrasound_outlier_probability == d.lab.sensors.ultrasound_outlier_probability);
   CHECK(c.link.video_delay_s == d.link.video_delay_s);
   CHECK(c.link.seed == c.lab.seed);
   CHECK(c.lab.teacher);
   CHECK(c.lab.disturbances.empty());
-  CHECK(read(json::object()).lab.dynamics.drag_per_s == d.lab.dynamics.drag_per_s);  // every key optional
+  CHECK(read(json::object()).lab.dynamics.airframe.rotor_drag_per_s == d.lab.dynamics.airframe.rotor_drag_per_s);  // every key optional
+  json randomized = shipped_sim();
+  randomized["world"] = "randomized";
+  CHECK(read(randomized).world == WorldMode::Randomized);
 }
 
 TEST_CASE("sim config: disturbances are read with their kinds", "[sim][config]") {
@@ -61,9 +71,10 @@ TEST_CASE("sim config: disturbances are read with their kinds", "[sim][config]")
                                      {{"kind", "impulse"}, {"t_s", 25}, {"yaw_deg", 30}},
                                      {{"kind", "gust"}, {"t_s", 30}, {"duration_s", 3}, {"wind_mps", {0, 1.5, 0}}},
                                      {{"kind", "video_dropout"}, {"t_s", 40}, {"duration_s", 0.5}},
-                                     {{"kind", "lighting"}, {"t_s", 50}, {"duration_s", 4}, {"gain", 0.6}}});
+                                     {{"kind", "lighting"}, {"t_s", 50}, {"duration_s", 4}, {"gain", 0.6}},
+                                     {{"kind", "flicker"}, {"t_s", 0}, {"duration_s", 60}, {"amplitude", 0.05}, {"frequency_hz", 10}}});
   const SimConfig c = read(sim);
-  REQUIRE(c.lab.disturbances.size() == 5);
+  REQUIRE(c.lab.disturbances.size() == 6);
   CHECK(c.lab.disturbances[0].dv_heading_mps.x() == 0.5);
   CHECK(c.lab.disturbances[1].dyaw_rad == Approx(30 * std::numbers::pi / 180));
   CHECK(c.lab.disturbances[2].kind == Disturbance::Kind::Gust);
@@ -71,6 +82,9 @@ TEST_CASE("sim config: disturbances are read with their kinds", "[sim][config]")
   CHECK(c.lab.disturbances[3].kind == Disturbance::Kind::VideoDropout);
   CHECK(c.lab.disturbances[4].kind == Disturbance::Kind::Lighting);
   CHECK(c.lab.disturbances[4].exposure_gain == 0.6);
+  CHECK(c.lab.disturbances[5].kind == Disturbance::Kind::Flicker);
+  CHECK(c.lab.disturbances[5].flicker_amplitude == 0.05);
+  CHECK(c.lab.disturbances[5].flicker_hz == 10);
 }
 
 TEST_CASE("sim config: out-of-range values are refused naming the key and the expected range", "[sim][config]") {
@@ -85,7 +99,11 @@ TEST_CASE("sim config: out-of-range values are refused naming the key and the ex
       {"/seed", -3, "sim.seed", "0"},
       {"/dynamics/tilt_max_deg", 45, "sim.dynamics.tilt_max_deg", "30"},
       {"/dynamics/vz_max_mps", 0, "sim.dynamics.vz_max_mps", "0.1"},
-      {"/dynamics/drag_per_s", "fast", "sim.dynamics.drag_per_s", "0.05"},
+      {"/dynamics/rotor_drag_per_s", "fast", "sim.dynamics.rotor_drag_per_s", "5"},
+      {"/dynamics/mass_kg", 3, "sim.dynamics.mass_kg", "2"},
+      {"/dynamics/motor_lag_s", 0, "sim.dynamics.motor_lag_s", "0.005"},
+      {"/dynamics/battery_internal_resistance_ohm", -1, "sim.dynamics.battery_internal_resistance_ohm", "1"},
+      {"/world", "real", "sim.world", "randomized"},
       {"/dynamics/battery_start_percent", 120, "sim.dynamics.battery_start_percent", "100"},
       {"/sensors/ultrasound_outlier_probability", 1.5, "sim.sensors.ultrasound_outlier_probability", "1"},
       {"/sensors/velocity_noise_mps", -0.1, "sim.sensors.velocity_noise_mps", "0"},
@@ -119,6 +137,15 @@ TEST_CASE("sim config: inconsistent values, bad disturbances and unknown keys ar
   sim["link"]["video_bitrate_kbps"] = 4000;
   CHECK(error_of(sim).find("sim.link.video_bitrate_kbps: no longer a sim key") != std::string::npos);
   CHECK(error_of(sim).find("link.video_max_bitrate_kbps") != std::string::npos);
+
+  // The closed-loop model's keys say which key of the rigid body's took their place.
+  sim = shipped_sim();
+  sim["dynamics"]["attitude_rate_per_s"] = 7.0;
+  CHECK(error_of(sim).find("sim.dynamics.attitude_rate_per_s: no longer a sim key") != std::string::npos);
+  CHECK(error_of(sim).find("attitude_loop_per_s") != std::string::npos);
+  sim = shipped_sim();
+  sim["dynamics"]["drag_per_s"] = 0.58;
+  CHECK(error_of(sim).find("rotor_drag_per_s") != std::string::npos);
 
   sim = shipped_sim();
   sim["disturbances"] = json::array({{{"kind", "earthquake"}, {"t_s", 1}}});

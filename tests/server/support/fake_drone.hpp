@@ -140,6 +140,7 @@ class ScriptedCore final : public FlightCore {
         flying_ = false;
         return {true, "motors cut"};
       case MissionCommandKind::Land:
+      case MissionCommandKind::Stop:
         flying_ = false;
         mission_ = "idle";
         return {true, "landing"};

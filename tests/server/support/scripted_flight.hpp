@@ -22,7 +22,9 @@ class ScriptedFlight final : public FlightService {
     requests.push_back(command);
     if (command.kind == MissionCommandKind::Inspect && command.instrument != "oscilloscope")
       return {false, "no instrument '" + command.instrument + "'"};
-    if (command.kind == MissionCommandKind::Land || command.kind == MissionCommandKind::EmergencyStop) telemetry_.flying = false;
+    if (command.kind == MissionCommandKind::Land || command.kind == MissionCommandKind::Stop ||
+        command.kind == MissionCommandKind::EmergencyStop)
+      telemetry_.flying = false;
     if (command.kind == MissionCommandKind::Takeoff) telemetry_.flying = true;
     return {true, "started " + to_string(command.kind)};
   }

@@ -57,11 +57,14 @@ inline std::string login_cookie(unsigned short port, const std::string& user, co
 
 class WsClient {
  public:
-  WsClient(unsigned short port, const std::string& cookie) : ws_(io_) {
+  // `origin`: the Origin header a browser would send (none by default, as scripts send).
+  WsClient(unsigned short port, const std::string& cookie, const std::string& origin = {}) : ws_(io_) {
     beast::get_lowest_layer(ws_).connect(asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
-    ws_.set_option(beast::websocket::stream_base::decorator(
-        [cookie](beast::websocket::request_type& req) { req.set(http::field::cookie, cookie); }));
-    ws_.handshake("127.0.0.1", "/ws");
+    ws_.set_option(beast::websocket::stream_base::decorator([cookie, origin](beast::websocket::request_type& req) {
+      req.set(http::field::cookie, cookie);
+      if (!origin.empty()) req.set(http::field::origin, origin);
+    }));
+    ws_.handshake("127.0.0.1:" + std::to_string(port), "/ws");  // as a browser names the host
   }
 
   void send(const std::string& text) {

@@ -1,0 +1,89 @@
+#include "bench/experiments/world_report.hpp"
+
+#include <numbers>
+
+namespace labo {
+
+namespace {
+
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+
+template <typename V>
+nlohmann::json array_of(const V& v, double scale = 1.0) {
+  nlohmann::json a = nlohmann::json::array();
+  for (int i = 0; i < static_cast<int>(v.size()); ++i) a.push_back(scale * v[i]);
+  return a;
+}
+
+nlohmann::json drone_json(const QuadrotorParams& p) {
+  const PlantDeviation& d = p.deviation;
+  return {{"mass_kg", deviated_airframe(p).mass_kg},
+          {"mass_factor", d.mass_factor},
+          {"rotor_drag_factor", d.rotor_drag_factor},
+          {"air_drag_factor", d.air_drag_factor},
+          {"motor_lag_s", deviated_rotors(p).lag_s},
+          {"attitude_lag_factor", d.attitude_lag_factor},
+          {"yaw_lag_factor", d.yaw_lag_factor},
+          {"vertical_lag_factor", d.vertical_lag_factor},
+          {"rotor_efficiency", array_of(d.rotor_efficiency)},
+          {"battery_start_percent", p.battery.start_percent},
+          {"battery_internal_resistance_ohm", p.battery.internal_resistance_ohm}};
+}
+
+nlohmann::json biases_json(const SensorBiases& b) {
+  return {{"attitude_deg", array_of(b.attitude_rad, kRadToDeg)},
+          {"velocity_scale", b.velocity_scale},
+          {"velocity_mps", array_of(b.velocity_mps)},
+          {"ultrasound_scale", b.ultrasound_scale},
+          {"ultrasound_offset_m", b.ultrasound_offset_m},
+          {"gyro_radps", array_of(b.gyro_radps)},
+          {"accel_mps2", array_of(b.accel_mps2)}};
+}
+
+nlohmann::json camera_json(const CameraIntrinsics& k, const Eigen::Vector3d& tilt_rad) {
+  return {{"fx", k.fx}, {"fy", k.fy}, {"cx", k.cx}, {"cy", k.cy},
+          {"distortion", {k.k1, k.k2, k.p1, k.p2, k.k3}},
+          {"mounting_tilt_deg", tilt_rad.norm() * kRadToDeg},
+          {"mounting_rotation_deg", array_of(tilt_rad, kRadToDeg)}};
+}
+
+nlohmann::json event_json(const Disturbance& e) {
+  nlohmann::json j = {{"kind", to_string(e.kind)}, {"t_s", e.t_s}, {"duration_s", e.duration_s}};
+  switch (e.kind) {
+    case Disturbance::Kind::Impulse:
+      j["dv_mps"] = array_of(e.dv_heading_mps);
+      j["yaw_deg"] = e.dyaw_rad * kRadToDeg;
+      break;
+    case Disturbance::Kind::Gust: j["wind_mps"] = array_of(e.wind_world_mps); break;
+    case Disturbance::Kind::Lighting: j["gain"] = e.exposure_gain; break;
+    case Disturbance::Kind::Flicker:
+      j["amplitude"] = e.flicker_amplitude;
+      j["frequency_hz"] = e.flicker_hz;
+      break;
+    default: break;
+  }
+  return j;
+}
+
+}  // namespace
+
+nlohmann::json world_json(const SimWorld& w, Seconds until_s) {
+  nlohmann::json placements = nlohmann::json::array();
+  for (const PlacementDraw& p : w.placements)
+    placements.push_back({{"id", p.id}, {"offset_m", array_of(p.offset_m)}, {"offset_norm_m", p.offset_m.norm()},
+                          {"rotation_deg", array_of(p.rotation_rad, kRadToDeg)}, {"angle_deg", p.rotation_rad.norm() * kRadToDeg}});
+  nlohmann::json events = nlohmann::json::array();
+  for (const Disturbance& e : w.settings.disturbances)
+    if (e.t_s <= until_s) events.push_back(event_json(e));
+  return {{"mode", to_string(w.mode)},
+          {"seed", w.seed},
+          {"drone", drone_json(w.settings.dynamics)},
+          {"sensor_biases", biases_json(w.settings.biases)},
+          {"placements", placements},
+          {"cameras", {{"front", camera_json(w.cameras.front, w.front_tilt_rad)},
+                       {"bottom", camera_json(w.cameras.bottom, w.bottom_tilt_rad)}}},
+          {"link", {{"video_delay_s", w.link.video_delay_s}, {"navdata_delay_s", w.link.navdata_delay_s}}},
+          {"events", events}};
+}
+
+}  // namespace labo

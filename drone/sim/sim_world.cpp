@@ -1,0 +1,164 @@
+#include "drone/sim/sim_world.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "core/frames.hpp"
+
+namespace labo {
+
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+class WorldDraw {
+ public:
+  explicit WorldDraw(std::uint64_t seed) {
+    // Its own stream: the sensors and the link keep theirs (seeded with the same number).
+    std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32), 0x776f726cu};
+    rng_.seed(seq);
+  }
+  double in(double min, double max) { return min + (max - min) * unit_(rng_); }
+  double in(const WorldInterval& i) { return in(i.min, i.max); }
+  double around(double value, double fraction) { return value * in(1.0 - fraction, 1.0 + fraction); }
+  double plus_minus(double half) { return in(-half, half); }
+  // Uniform in the ball of `radius` (3D, or 2D in x, y when `planar`).
+  Eigen::Vector3d in_ball(double radius, bool planar = false) {
+    for (;;) {
+      const Eigen::Vector3d v(plus_minus(1.0), plus_minus(1.0), planar ? 0.0 : plus_minus(1.0));
+      if (v.squaredNorm() <= 1.0) return radius * v;
+    }
+  }
+  // The start times of a Poisson process of mean interval `mean_s` over [0, horizon_s).
+  std::vector<double> event_times(double mean_s, double horizon_s) {
+    std::vector<double> times;
+    for (double t = -mean_s * std::log(1.0 - unit_(rng_)); t < horizon_s; t += -mean_s * std::log(1.0 - unit_(rng_)))
+      times.push_back(t);
+    return times;
+  }
+
+ private:
+  std::mt19937_64 rng_;
+  std::uniform_real_distribution<double> unit_{0.0, 1.0};
+};
+
+Eigen::Matrix3d rotation_of(const Eigen::Vector3d& rotation_rad) {
+  const double angle = rotation_rad.norm();
+  return angle > 0 ? Eigen::AngleAxisd(angle, rotation_rad / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
+}
+
+void draw_drone(WorldDraw& d, const WorldRanges& r, QuadrotorParams& p) {
+  PlantDeviation& dev = p.deviation;
+  dev.mass_factor = d.around(1.0, r.mass);
+  dev.rotor_drag_factor = d.around(1.0, r.drag);
+  dev.air_drag_factor = d.around(1.0, r.drag);
+  dev.motor_lag_factor = d.around(1.0, r.inner_loop_lag);
+  dev.attitude_lag_factor = d.around(1.0, r.inner_loop_lag);
+  dev.yaw_lag_factor = d.around(1.0, r.inner_loop_lag);
+  dev.vertical_lag_factor = d.around(1.0, r.inner_loop_lag);
+  for (double& e : dev.rotor_efficiency) e = d.around(1.0, r.rotor_thrust);
+  p.battery.start_percent = d.in(r.battery_start_percent);
+  p.battery.internal_resistance_ohm = d.in(r.battery_resistance_ohm);
+}
+
+void draw_biases(WorldDraw& d, const WorldRanges& r, SensorBiases& b) {
+  b.attitude_rad = Eigen::Vector2d(d.plus_minus(r.attitude_bias_deg), d.plus_minus(r.attitude_bias_deg)) * kDegToRad;
+  b.velocity_scale = d.around(1.0, r.velocity_scale);
+  b.velocity_mps = Eigen::Vector2d(d.plus_minus(r.velocity_bias_mps), d.plus_minus(r.velocity_bias_mps));
+  b.ultrasound_scale = d.around(1.0, r.ultrasound_scale);
+  b.ultrasound_offset_m = d.plus_minus(r.ultrasound_bias_m);
+  for (int i = 0; i < 3; ++i) b.gyro_radps[i] = d.plus_minus(r.gyro_bias_radps);
+  for (int i = 0; i < 3; ++i) b.accel_mps2[i] = d.plus_minus(r.accel_bias_mps2);
+}
+
+PlacementDraw move_object(WorldDraw& d, const WorldRanges& r, InstrumentSpec& object, bool on_floor) {
+  PlacementDraw draw{object.id, d.in_ball(r.placement_m, on_floor), Eigen::Vector3d::Zero()};
+  draw.rotation_rad = on_floor ? Eigen::Vector3d(0, 0, d.plus_minus(r.placement_deg * kDegToRad))
+                               : d.in_ball(r.placement_deg * kDegToRad);
+  object.T_world_object.linear() = rotation_of(draw.rotation_rad) * object.T_world_object.linear();
+  object.T_world_object.translation() += draw.offset_m;
+  return draw;
+}
+
+void draw_placements(WorldDraw& d, const WorldRanges& r, SimWorld& w) {
+  for (InstrumentSpec& instrument : w.lab.instruments) w.placements.push_back(move_object(d, r, instrument, false));
+  // The drone stands on the platform where it really is.
+  const Eigen::Isometry3d T_platform_base = w.lab.platform.T_world_object.inverse() * w.lab.T_world_base;
+  w.placements.push_back(move_object(d, r, w.lab.platform, true));
+  w.lab.T_world_base = w.lab.platform.T_world_object * T_platform_base;
+}
+
+void draw_camera(WorldDraw& d, const WorldRanges& r, CameraIntrinsics& k, double k1_range) {
+  const double focal = d.around(1.0, r.focal_fraction), aspect = d.around(1.0, r.aspect_fraction);
+  k.fx *= focal * aspect;
+  k.fy *= focal;
+  k.cx += d.plus_minus(r.principal_point_px);
+  k.cy += d.plus_minus(r.principal_point_px);
+  k.k1 += d.plus_minus(k1_range);
+  k.k2 += d.plus_minus(r.k2);
+  k.p1 += d.plus_minus(r.tangential);
+  k.p2 += d.plus_minus(r.tangential);
+}
+
+void draw_cameras(WorldDraw& d, const WorldRanges& r, SimWorld& w) {
+  draw_camera(d, r, w.cameras.front, r.k1);
+  draw_camera(d, r, w.cameras.bottom, r.bottom_k1);
+  w.front_tilt_rad = d.in_ball(r.mounting_tilt_deg * kDegToRad);
+  w.bottom_tilt_rad = d.in_ball(r.mounting_tilt_deg * kDegToRad);
+  w.mounts.front.linear() = w.mounts.front.linear() * rotation_of(w.front_tilt_rad);
+  w.mounts.bottom.linear() = w.mounts.bottom.linear() * rotation_of(w.bottom_tilt_rad);
+}
+
+void draw_events(WorldDraw& d, const WorldRanges& r, std::vector<Disturbance>& events) {
+  for (double t : d.event_times(r.lighting_interval_s, r.horizon_s)) {
+    Disturbance e;
+    e.kind = Disturbance::Kind::Lighting;
+    e.t_s = t;
+    e.exposure_gain = d.in(r.lighting_gain);
+    e.duration_s = d.in(r.lighting_duration_s);
+    events.push_back(e);
+  }
+  Disturbance flicker;
+  flicker.kind = Disturbance::Kind::Flicker;
+  flicker.duration_s = r.horizon_s;
+  flicker.flicker_amplitude = d.in(r.flicker_amplitude);
+  flicker.flicker_hz = d.in(r.flicker_hz);
+  events.push_back(flicker);
+  const auto bursts = [&](double mean_s, const WorldInterval& duration, Disturbance::Kind kind) {
+    for (double t : d.event_times(mean_s, r.horizon_s)) {
+      Disturbance e;
+      e.kind = kind;
+      e.t_s = t;
+      e.duration_s = d.in(duration);
+      events.push_back(e);
+    }
+  };
+  bursts(r.link_loss_interval_s, r.link_loss_s, Disturbance::Kind::LinkOutage);
+  bursts(r.video_stall_interval_s, r.video_stall_s, Disturbance::Kind::VideoDropout);
+}
+
+}  // namespace
+
+SimWorld make_sim_world(const LabDescription& lab_file, const CamerasConfig& calibration, const SimConfig& sim,
+                        const WorldRanges& ranges) {
+  SimWorld w;
+  w.mode = sim.world;
+  w.seed = sim.lab.seed;
+  w.lab = lab_file;
+  w.cameras = calibration;
+  w.settings = sim.lab;
+  w.link = sim.link;
+  if (w.mode == WorldMode::Nominal) return w;
+  WorldDraw d(w.seed);
+  draw_drone(d, ranges, w.settings.dynamics);
+  draw_biases(d, ranges, w.settings.biases);
+  draw_placements(d, ranges, w);
+  draw_cameras(d, ranges, w);
+  w.link.video_delay_s = d.in(ranges.video_delay_s);
+  w.link.navdata_delay_s = d.in(ranges.navdata_delay_s);
+  draw_events(d, ranges, w.settings.disturbances);
+  return w;
+}
+
+}  // namespace labo

@@ -1,0 +1,190 @@
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <variant>
+
+#include "server/api/rest_api.hpp"
+#include "server/app_config.hpp"
+#include "server/auth/permissions.hpp"
+
+// The routes only an admin may use: configuration, instruments, recordings, metrics, the audit log.
+namespace labo {
+
+namespace http = boost::beast::http;
+using nlohmann::json;
+
+namespace {
+
+bool safe_file_name(const std::string& name) {
+  if (name.empty() || name.size() > 128 || name[0] == '.') return false;
+  for (char c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-')) return false;
+  return true;
+}
+
+}  // namespace
+
+HttpReply RestApi::route_admin(const HttpRequest& req, const std::string& path, const SessionInfo& session) {
+  const http::verb m = req.method();
+  const bool known = path == "/api/config" || path == "/api/instruments" || path.rfind("/api/instruments/", 0) == 0 ||
+                     path == "/api/users" || path == "/api/recordings" || path.rfind("/api/recordings/", 0) == 0 ||
+                     path == "/metrics" || path == "/api/audit";
+  if (!known) return HttpReply::error(http::status::not_found, "no route " + path);
+  if (!role_may(session.role, Permission::Administer))
+    return HttpReply::error(http::status::forbidden, "role " + to_string(session.role) + " may not do this");
+  if (path == "/api/config") {
+    if (m == http::verb::get) return get_config();
+    if (m == http::verb::put) return put_config(req, session);
+    return method_not_allowed("GET, PUT");
+  }
+  if (path == "/api/instruments") {
+    if (m != http::verb::post) return method_not_allowed("GET, POST");
+    return add_instrument(req, session);
+  }
+  if (path.rfind("/api/instruments/", 0) == 0) {
+    if (m != http::verb::delete_) return method_not_allowed("DELETE");
+    return delete_instrument(path.substr(17), session);
+  }
+  if (path == "/api/users") return method_not_allowed("GET");
+  if (path == "/api/recordings") {
+    if (m != http::verb::get) return method_not_allowed("GET");
+    return recordings();
+  }
+  if (path.rfind("/api/recordings/", 0) == 0) {
+    if (m != http::verb::get) return method_not_allowed("GET");
+    return recording(path.substr(16));
+  }
+  if (path == "/api/audit") {
+    if (m != http::verb::get) return method_not_allowed("GET");
+    return audit_page(req);
+  }
+  if (m != http::verb::get) return method_not_allowed("GET");
+  return metrics_text();
+}
+
+HttpReply RestApi::audit_page(const HttpRequest& req) {
+  const std::string_view target(req.target().data(), req.target().size());
+  const auto offset = query_integer(target, "offset", 0, 0, 1L << 40);
+  if (const auto* refused = std::get_if<HttpReply>(&offset)) return *refused;
+  const auto limit = query_integer(target, "limit", 50, 1, 500);
+  if (const auto* refused = std::get_if<HttpReply>(&limit)) return *refused;
+  const AuditPage page = audit_.read(static_cast<std::size_t>(std::get<long>(offset)), static_cast<std::size_t>(std::get<long>(limit)));
+  json entries = json::array();
+  for (const std::string& line : page.lines) entries.push_back(json::parse(line, nullptr, false));
+  return ok_json({{"total", page.total}, {"offset", std::get<long>(offset)}, {"limit", std::get<long>(limit)}, {"entries", entries}});
+}
+
+HttpReply RestApi::get_config() {
+  std::ifstream in(config_file_);
+  if (!in) return HttpReply::error(http::status::internal_server_error, "cannot read " + config_file_.string());
+  std::stringstream text;
+  text << in.rdbuf();
+  return HttpReply::json(http::status::ok, text.str());
+}
+
+HttpReply RestApi::put_config(const HttpRequest& req, const SessionInfo& session) {
+  HttpReply reply = save_config(req);
+  audit(session, "config_put", config_file_.filename().string(), reply);
+  return reply;
+}
+
+HttpReply RestApi::save_config(const HttpRequest& req) {
+  const json j = json::parse(req.body(), nullptr, false);
+  if (j.is_discarded()) return HttpReply::error(http::status::bad_request, "malformed JSON");
+  if (!j.is_object()) return HttpReply::error(http::status::bad_request, "expected the whole configuration as a JSON object");
+  try {
+    // The same validation as at start-up: types, ranges, unknown keys, users' hashes.
+    const ConfigDocument doc = ConfigDocument::parse(req.body(), "PUT /api/config");
+    read_app_config(doc.root(), config_file_.parent_path());
+  } catch (const ConfigError& e) {
+    return HttpReply::error(http::status::unprocessable_entity, e.what());
+  }
+  const std::filesystem::path tmp = config_file_.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    if (!out) return HttpReply::error(http::status::internal_server_error, "cannot write " + tmp.string());
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, config_file_, ec);  // atomic: readers see the old file or the new one
+  if (ec) return HttpReply::error(http::status::internal_server_error, "cannot replace " + config_file_.string() + ": " + ec.message());
+  return ok_json({{"saved", config_file_.string()}, {"restart_required", true}});
+}
+
+HttpReply RestApi::instruments() {
+  json lab = json::array(), uploaded = json::array();
+  for (const auto& i : lab_.flight().instruments())
+    lab.push_back({{"id", i.id}, {"name", i.name}, {"width_m", i.width_m}, {"height_m", i.height_m}});
+  for (const auto& u : uploads_.list())
+    uploaded.push_back({{"id", u.id}, {"name", u.name}, {"width_m", u.width_m}, {"height_m", u.height_m},
+                        {"position_m", {u.x_m, u.y_m, u.z_m}}, {"yaw_deg", u.yaw_deg}, {"texture_corners", u.texture_corners}});
+  return ok_json({{"lab", lab}, {"uploaded", uploaded}});
+}
+
+HttpReply RestApi::add_instrument(const HttpRequest& req, const SessionInfo& session) {
+  HttpReply reply = store_instrument(req);
+  const json body = json::parse(req.body(), nullptr, false);
+  audit(session, "instrument_add", body.is_object() && body.contains("id") && body["id"].is_string() ? body["id"].get<std::string>() : "",
+        reply);
+  return reply;
+}
+
+HttpReply RestApi::store_instrument(const HttpRequest& req) {
+  std::vector<std::string> reserved;
+  for (const auto& i : lab_.flight().instruments()) reserved.push_back(i.id);
+  auto result = uploads_.add(req.body(), reserved);
+  if (auto* err = std::get_if<InstrumentError>(&result)) return HttpReply::error(static_cast<http::status>(err->status), err->message);
+  const auto& u = std::get<UploadedInstrument>(result);
+  return HttpReply::json(http::status::created, json{{"id", u.id}, {"width_px", u.width_px}, {"height_px", u.height_px},
+                                                     {"texture_corners", u.texture_corners}}.dump());
+}
+
+HttpReply RestApi::recordings() {
+  json list = json::array();
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(settings_.recordings_dir, ec)) {
+    if (!entry.is_regular_file() || !safe_file_name(entry.path().filename().string())) continue;
+    list.push_back({{"name", entry.path().filename().string()}, {"bytes", entry.file_size()},
+                    {"url", "/api/recordings/" + entry.path().filename().string()}});
+  }
+  return ok_json({{"recordings", list}});
+}
+
+HttpReply RestApi::recording(const std::string& name) {
+  if (!safe_file_name(name)) return HttpReply::error(http::status::bad_request, "invalid recording name '" + name + "'");
+  const auto file = settings_.recordings_dir / name;
+  if (!std::filesystem::is_regular_file(file)) return HttpReply::error(http::status::not_found, "no recording '" + name + "'");
+  HttpReply r;
+  r.content_type = "application/octet-stream";
+  r.file = file;
+  r.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + name + "\"");
+  return r;
+}
+
+HttpReply RestApi::metrics_text() {
+  const FlightTelemetry t = lab_.flight().telemetry();
+  std::ostringstream extra;
+  extra << "# HELP labodrone_battery_percent Drone battery.\n# TYPE labodrone_battery_percent gauge\n"
+        << "labodrone_battery_percent " << t.battery_percent << "\n"
+        << "# HELP labodrone_link_quality Wi-Fi link quality 0..1.\n# TYPE labodrone_link_quality gauge\n"
+        << "labodrone_link_quality " << t.link_quality << "\n"
+        << "# HELP labodrone_video_fps Frames per second from the drone.\n# TYPE labodrone_video_fps gauge\n"
+        << "labodrone_video_fps " << t.video_fps << "\n";
+  HttpReply r = HttpReply::json(http::status::ok, metrics_.prometheus_text(extra.str()));
+  r.content_type = "text/plain; version=0.0.4";
+  return r;
+}
+
+HttpReply RestApi::delete_instrument(const std::string& id, const SessionInfo& session) {
+  const auto reply = [&]() {
+    if (!InstrumentStore::valid_id(id)) return HttpReply::error(http::status::bad_request, "invalid instrument id '" + id + "'");
+    for (const auto& i : lab_.flight().instruments())
+      if (i.id == id) return HttpReply::error(http::status::conflict, "instrument '" + id + "' is part of the lab description");
+    if (!uploads_.remove(id)) return HttpReply::error(http::status::not_found, "no uploaded instrument '" + id + "'");
+    return ok_json({{"deleted", id}});
+  }();
+  audit(session, "instrument_delete", id, reply);
+  return reply;
+}
+
+}  // namespace labo
