@@ -252,10 +252,15 @@ struct FlightStack::Impl {
         const double hold = r.hold_s > 0 ? r.hold_s : setup.control.mission.default_hold_s;
         const double standoff = r.standoff_m > 0 ? r.standoff_m : setup.control.mission.standoff_m;
         mission = std::make_unique<InspectMission>(inst, hold, standoff, t);
+        camera = CameraId::Front;  // its take-off and SLAM need the front camera from the first tick
         break;
       }
       case RequestKind::FindTeacher:
         mission = std::make_unique<FindTeacherMission>(t);
+        camera = CameraId::Front;
+        break;
+      case RequestKind::SelectCamera:
+        camera = r.camera;
         break;
       case RequestKind::StopFaceFollow:
         mission->stop_face_follow();

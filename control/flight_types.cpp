@@ -16,6 +16,7 @@ std::string to_string(RequestKind kind) {
     case RequestKind::StopFaceFollow: return "stop_face_follow";
     case RequestKind::ReturnHome: return "return_home";
     case RequestKind::EmergencyStop: return "emergency_stop";
+    case RequestKind::SelectCamera: return "select_camera";
   }
   return "unknown";
 }

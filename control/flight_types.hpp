@@ -23,6 +23,7 @@ enum class RequestKind {
   StopFaceFollow,
   ReturnHome,      // return to the platform and land
   EmergencyStop,
+  SelectCamera,    // camera: what the drone streams while no mission runs (a mission chooses its own)
 };
 std::string to_string(RequestKind kind);
 
@@ -32,6 +33,7 @@ struct MissionRequest {
   double hold_s = 0;
   double standoff_m = 0;
   Eigen::Vector4d target = Eigen::Vector4d::Zero();  // Goto: x, y, z, yaw; MoveBy: dx, dy, dz, dyaw
+  CameraId camera = CameraId::Front;                 // SelectCamera
 };
 
 struct CommandResult {

@@ -99,6 +99,12 @@ CommandResult check_request(const MissionRequest& r, const RequestContext& ctx, 
         return CommandResult::refused("find_teacher: battery " + number(ctx.battery_percent) + " % is below " +
                                       number(config.safety.low_battery_percent) + " %");
       return CommandResult::ok("searching for the teacher");
+    case RequestKind::SelectCamera:
+      // A mission's stages need their camera (the panel and SLAM in front, the platform below).
+      if (mission_running)
+        return CommandResult::refused("select_camera: mission '" + ctx.running_mission + "' chooses the camera while it runs (" +
+                                      ctx.running_stage + "); choose one when no mission runs");
+      return CommandResult::ok(std::string("streaming the ") + (r.camera == CameraId::Bottom ? "bottom" : "front") + " camera");
     case RequestKind::StopFaceFollow:
       if (!ctx.mission_accepts_stop_face_follow) return CommandResult::refused("stop_face_follow: no face-follow is running");
       return CommandResult::ok("face-follow stopping");

@@ -73,6 +73,9 @@ ClientLimits read_client_limits(const ConfigReader& c) {
       c.integer_or("max_body_bytes", static_cast<int>(l.max_body_bytes), 1024, 256 * 1024 * 1024));
   l.login_attempts_per_min = c.number_or("login_attempts_per_min", l.login_attempts_per_min, Range::closed(1, 10000));
   l.session_idle_timeout_s = c.number_or("session_idle_timeout_s", l.session_idle_timeout_s, Range::closed(60, 30 * 86400));
+  l.rendition_max_lag_s = c.number_or("rendition_max_lag_s", l.rendition_max_lag_s, Range::closed(0.1, 10));
+  l.send_buffer_bytes = c.integer_or("send_buffer_bytes", l.send_buffer_bytes, 0, 64 << 20);
+  l.rendition_probe_after_s = c.number_or("rendition_probe_after_s", l.rendition_probe_after_s, Range::closed(1, 600));
   c.finish();
   return l;
 }
@@ -81,6 +84,7 @@ VideoSettings read_video_settings(const ConfigReader& c) {
   VideoSettings v;
   v.jpeg_quality = c.integer_or("jpeg_quality", v.jpeg_quality, 1, 100);
   v.telemetry_hz = c.number_or("telemetry_hz", v.telemetry_hz, Range::closed(1, 50));
+  v.low_rendition_kbps = c.integer_or("low_rendition_kbps", v.low_rendition_kbps, 100, 4000);
   c.finish();
   return v;
 }

@@ -37,11 +37,19 @@ struct ClientLimits {
   std::size_t max_body_bytes = 8 * 1024 * 1024;  // HTTP request body (instrument photos)
   double login_attempts_per_min = 10;            // per remote address
   double session_idle_timeout_s = 8 * 3600;
+  // An H.264 viewer this many seconds of stream behind moves to the low rendition; one that carried
+  // it without lag for rendition_probe_after_s tries the drone's stream again (video/rendition_policy.hpp).
+  double rendition_max_lag_s = 0.5;
+  // The kernel's send buffer of each WebSocket (0: the kernel's own autotuning, which grows it to
+  // megabytes: seconds of video a slow viewer would lag behind before its queue noticed).
+  int send_buffer_bytes = 64 * 1024;
+  double rendition_probe_after_s = 15;
 };
 
 struct VideoSettings {
   int jpeg_quality = 75;     // 1..100
   double telemetry_hz = 10;  // state messages to each client
+  int low_rendition_kbps = 1000;  // the shared low rendition for viewers on slow links
 };
 
 // HTTPS and WSS on the same port when both files are set (PEM); the session cookie is then Secure.

@@ -1,6 +1,13 @@
-// The admin page: a thin client of the REST API (GET /api/status, /api/users, /api/instruments,
-// /api/recordings, GET/PUT /api/config, POST/DELETE /api/instruments).
+// The admin page: a thin client of the REST API (docs/web.md "REST"): status, a metrics panel,
+// users (add, role, new password, remove), sessions (end), the control queue, instruments,
+// recordings, the audit log and the configuration.
+import {MetricsPanel, parsePrometheus} from './admin_metrics.js';
+
 const $ = (id) => document.getElementById(id);
+const state = {me: null, auditOffset: 0, auditTotal: 0};
+const kAuditPage = 20;
+// Exposed for tests: what the page has done.
+window.labodroneAdmin = {refreshes: 0};
 
 async function api(path, options = {}) {
   const res = await fetch(path, options);
@@ -10,29 +17,96 @@ async function api(path, options = {}) {
   return {ok: res.ok, status: res.status, body};
 }
 
-function table(el, header, rows) {
+const sendJson = (path, method, body) =>
+  api(path, {method, headers: {'Content-Type': 'application/json'}, body: body === undefined ? undefined : JSON.stringify(body)});
+const refusal = (res) => `refused (${res.status}): ${res.body.error}`;
+
+function button(text, onclick) {
+  const b = document.createElement('button'); b.textContent = text; b.onclick = onclick; return b;
+}
+
+function table(el, header, rows, rowClass) {
   el.innerHTML = '<tr>' + header.map((h) => `<th>${h}</th>`).join('') + '</tr>';
-  for (const r of rows) {
+  rows.forEach((r, k) => {
     const tr = document.createElement('tr');
-    for (const cell of r) { const td = document.createElement('td'); if (cell instanceof Node) td.append(cell); else td.textContent = cell; tr.append(td); }
+    if (rowClass) tr.className = rowClass(k);
+    for (const cell of r) {
+      const td = document.createElement('td');
+      if (cell instanceof Node) td.append(cell); else td.textContent = cell;
+      tr.append(td);
+    }
     el.append(tr);
+  });
+}
+
+function showStatus(s) {
+  const rows = [['mission', `${s.mission} ${s.stage || ''}`], ['flying', s.flying ? 'yes' : 'no'],
+    ['battery', `${Math.round(s.battery_percent)} %`], ['altitude', `${s.altitude_m.toFixed(2)} m`],
+    ['link', `${s.link_state} (${Math.round(100 * s.link_quality)} %)`], ['video', `${s.video_fps.toFixed(1)} frames/s`],
+    ['source', s.source], ['pose', `x ${s.pose.x.toFixed(2)} y ${s.pose.y.toFixed(2)} z ${s.pose.z.toFixed(2)} m`],
+    ['clients', s.clients], ['controller', s.control.controller ? s.control.controller.user : 'nobody']];
+  $('status').innerHTML = '';
+  for (const [k, v] of rows) {
+    const dt = document.createElement('dt'); dt.textContent = k;
+    const dd = document.createElement('dd'); dd.textContent = v;
+    $('status').append(dt, dd);
   }
+}
+
+function userRow(u) {
+  const role = document.createElement('select');
+  for (const r of ['student', 'teacher', 'admin']) { const o = document.createElement('option'); o.textContent = r; role.append(o); }
+  role.value = u.role;
+  role.dataset.user = u.name;
+  role.onchange = async () => {
+    const res = await sendJson('/api/users/' + encodeURIComponent(u.name), 'PUT', {role: role.value});
+    $('u-result').textContent = res.ok ? `${u.name} is now ${role.value} (their sessions ended)` : refusal(res);
+    refresh();
+  };
+  const reset = button('new password', async () => {
+    const password = prompt(`New password for ${u.name} (8+ characters)`);
+    if (!password) return;
+    const res = await sendJson('/api/users/' + encodeURIComponent(u.name), 'PUT', {password});
+    $('u-result').textContent = res.ok ? `password of ${u.name} changed` : refusal(res);
+  });
+  const remove = button('remove', async () => {
+    if (!confirm(`Remove ${u.name}?`)) return;
+    const res = await sendJson('/api/users/' + encodeURIComponent(u.name), 'DELETE');
+    $('u-result').textContent = res.ok ? `${u.name} removed` : refusal(res);
+    refresh();
+  });
+  return [u.name, role, reset, remove];
+}
+
+async function refreshAudit() {
+  const a = await api(`/api/audit?offset=${state.auditOffset}&limit=${kAuditPage}`);
+  if (!a.ok) return;
+  state.auditTotal = a.body.total;
+  const entries = a.body.entries;
+  table($('audit'), ['time (UTC)', 'user', 'role', 'action', 'target', 'result', 'detail'],
+        entries.map((e) => [e.time.replace('T', ' ').replace('Z', ''), e.user, e.role, e.action, e.target, e.result, e.detail]),
+        (k) => entries[k].result === 'refused' ? 'refused' : '');
+  $('audit-page').textContent = `${state.auditOffset + 1}–${state.auditOffset + entries.length} of ${state.auditTotal}`;
 }
 
 async function refresh() {
   const s = await api('/api/status');
-  $('status').textContent = JSON.stringify(s.body, null, 2);
+  if (s.ok) showStatus(s.body);
   const u = await api('/api/users');
   if (u.ok) {
-    table($('sessions'), ['user', 'role', 'idle s'], u.body.sessions.map((x) => [x.user, x.role, x.idle_s.toFixed(0)]));
-    $('queue').textContent = JSON.stringify(u.body.control, null, 2);
+    table($('users'), ['name', 'role', '', ''], u.body.users.map(userRow));
+    table($('sessions'), ['user', 'role', 'age', 'idle s', ''], u.body.sessions.map((x) => [
+      x.user, x.role, `${Math.round(x.age_s / 60)} min`, x.idle_s.toFixed(0),
+      x.id === state.me.session ? 'this page' : button('end', async () => { await sendJson('/api/sessions/' + x.id, 'DELETE'); refresh(); }),
+    ]));
+    const q = u.body.control;
+    table($('queue'), ['controller / queued', 'role'],
+          [...(q.controller ? [[`${q.controller.user} (controls)`, q.controller.role]] : []), ...q.queue.map((p, k) => [`${k + 1}. ${p.user}`, p.role])]);
   }
   const i = await api('/api/instruments');
   const rows = i.body.lab.map((x) => [x.id, x.name, `${x.width_m} × ${x.height_m}`, 'lab']);
   for (const x of i.body.uploaded) {
-    const del = document.createElement('button'); del.textContent = 'delete';
-    del.onclick = async () => { await api('/api/instruments/' + x.id, {method: 'DELETE'}); refresh(); };
-    rows.push([x.id, x.name, `${x.width_m} × ${x.height_m}`, del]);
+    rows.push([x.id, x.name, `${x.width_m} × ${x.height_m}`, button('delete', async () => { await api('/api/instruments/' + x.id, {method: 'DELETE'}); refresh(); })]);
   }
   table($('instruments'), ['id', 'name', 'size m', ''], rows);
   const r = await api('/api/recordings');
@@ -41,11 +115,34 @@ async function refresh() {
     const li = document.createElement('li'); const a = document.createElement('a');
     a.href = x.url; a.textContent = `${x.name} (${(x.bytes / 1e6).toFixed(1)} MB)`; li.append(a); $('recordings').append(li);
   }
+  await refreshAudit();
+  window.labodroneAdmin.refreshes++;
 }
+
+const metrics = new MetricsPanel($('metrics'));
+async function pollMetrics() {
+  const res = await fetch('/metrics');
+  if (res.ok) metrics.add(parsePrometheus(await res.text()), performance.now() / 1000);
+}
+
+$('add-user').onsubmit = async (ev) => {
+  ev.preventDefault();
+  const res = await sendJson('/api/users', 'POST', {name: $('u-name').value, role: $('u-role').value, password: $('u-password').value});
+  $('u-result').textContent = res.ok ? `added ${res.body.added} (${res.body.role}): they may log in now` : refusal(res);
+  if (res.ok) { $('u-name').value = ''; $('u-password').value = ''; }
+  refresh();
+};
+
+$('audit-older').onclick = () => { if (state.auditOffset + kAuditPage < state.auditTotal) { state.auditOffset += kAuditPage; refreshAudit(); } };
+$('audit-newer').onclick = () => { state.auditOffset = Math.max(0, state.auditOffset - kAuditPage); refreshAudit(); };
 
 $('save-config').onclick = async () => {
   const res = await api('/api/config', {method: 'PUT', headers: {'Content-Type': 'application/json'}, body: $('config').value});
-  $('config-result').textContent = res.ok ? 'saved: restart the server to apply it' : `refused (${res.status}): ${res.body.error}`;
+  if (!res.ok) { $('config-result').textContent = refusal(res); return; }
+  const {applied, restart_required: restart} = res.body;
+  $('config-result').textContent = 'saved' + (applied.length ? `; applied now: ${applied.join(', ')}` : '') +
+    (restart.length ? `; applied at the next start: ${restart.join(', ')}` : '') + (applied.length + restart.length ? '' : ' (nothing changed)');
+  refresh();
 };
 
 $('add-instrument').onsubmit = async (ev) => {
@@ -57,14 +154,16 @@ $('add-instrument').onsubmit = async (ev) => {
     id: $('i-id').value, name: $('i-name').value, width_m: +$('i-w').value, height_m: +$('i-h').value,
     position_m: [+$('i-x').value, +$('i-y').value, +$('i-z').value], yaw_deg: +$('i-yaw').value, image_base64: btoa(binary),
   };
-  const res = await api('/api/instruments', {method: 'POST', headers: {'Content-Type': 'application/json'}, body: JSON.stringify(body)});
-  $('i-result').textContent = res.ok ? `added (${res.body.texture_corners} corners)` : `refused (${res.status}): ${res.body.error}`;
+  const res = await sendJson('/api/instruments', 'POST', body);
+  $('i-result').textContent = res.ok ? `added (${res.body.texture_corners} corners)` : refusal(res);
   refresh();
 };
 
-const me = await api('/api/me');
-$('who').textContent = `${me.body.user} · ${me.body.role}`;
+state.me = (await api('/api/me')).body;
+$('who').textContent = `${state.me.user} · ${state.me.role}`;
 const config = await api('/api/config');
 $('config').value = config.ok ? JSON.stringify(config.body, null, 2) : `(${config.status}) ${config.body.error}`;
 refresh();
+pollMetrics();
 setInterval(refresh, 3000);
+setInterval(pollMetrics, 2000);

@@ -1,7 +1,9 @@
 // The H.264 path in the page: access units (server/video/access_unit_wire.hpp: a 28-byte "LDH1"
 // header, then Annex-B) decoded by WebCodecs' VideoDecoder with optimizeForLatency and drawn on a
 // canvas. The decoder is configured from the first IDR's SPS (codec "avc1.PPCCLL"); until then, and
-// after an error or a backlog, delta frames are dropped up to the next IDR.
+// after an error or a backlog, delta frames are dropped up to the next IDR. The server moves a viewer
+// between the drone's stream and its shared low rendition at an IDR of the one it moves to (byte 22
+// of the header): the decoder is configured anew there, from that IDR's SPS.
 export const LDH1_HEADER_BYTES = 28;
 const MAX_DECODE_QUEUE = 8;  // units waiting in the decoder before the page drops to the next IDR
 
@@ -17,6 +19,7 @@ export function parseAccessUnit(buffer) {
   return {
     frame: dv.getUint32(4, true), captureMs: dv.getFloat64(8, true), camera: dv.getUint8(16),
     keyframe: (dv.getUint8(17) & 1) === 1, width: dv.getUint16(18, true), height: dv.getUint16(20, true),
+    rendition: dv.getUint8(22) === 1 ? 'low' : 'source',
     data: new Uint8Array(buffer, LDH1_HEADER_BYTES),
   };
 }
@@ -44,10 +47,12 @@ export class H264Player {
     this.units = new Map();  // decode timestamp -> unit header, until its frame comes out
     this.errors = 0;
     this.dropped = 0;
+    this.rendition = null;  // of the units the decoder was configured for
   }
 
   async push(unit) {
     if (this.checking) return;
+    if (this.decoder && unit.keyframe && unit.rendition !== this.rendition) this.close();  // another stream from here
     if (!this.decoder) {
       if (!unit.keyframe) return;
       this.checking = true;
@@ -64,6 +69,7 @@ export class H264Player {
 
   async configure(unit) {
     this.codec = codecFromSps(unit.data);
+    this.rendition = unit.rendition;
     if (!this.codec) { this.onUnsupported('no SPS in the first IDR'); return false; }
     const config = {codec: this.codec, optimizeForLatency: true};
     let support;
@@ -93,5 +99,7 @@ export class H264Player {
   close() {
     if (this.decoder && this.decoder.state !== 'closed') this.decoder.close();
     this.decoder = null;
+    this.units.clear();
+    this.waitingForKey = true;
   }
 }

@@ -68,6 +68,7 @@ function onMessage(msg) {
     }
     case 'overlay': video.onGeometry(msg); break;
     case 'subscribed': break;
+    case 'rendition': video.onRendition(msg); break;
     case 'telemetry':
       view.add(msg);
       $('mission').textContent = msg.mission;

@@ -1,6 +1,7 @@
 // The live video on the lab page, by one of two paths (docs/web.md "WebSocket protocol"):
 //  - h264: the drone's own stream decoded in the page (WebCodecs), the overlays drawn here from the
-//    geometry sent with each frame, each group switchable;
+//    geometry sent with each frame, each group switchable; on a link too slow for the drone's
+//    stream, the server's shared low rendition instead (chosen by the server, or by the viewer);
 //  - jpeg: frames with the overlays drawn in by the server; chosen when the browser has no
 //    VideoDecoder or cannot decode the stream's H.264 profile.
 // Measures the glass-to-browser latency: the frame's capture time (server clock) to the moment the
@@ -29,6 +30,12 @@ export class VideoView {
       this.enabled[group] = box.checked;
       box.addEventListener('change', () => { this.enabled[group] = box.checked; });
     }
+    this.cameraChoice = doc.getElementById('video-camera');
+    this.cameraChoice.addEventListener('change', () => send({type: 'command', command: 'select_camera', camera: this.cameraChoice.value}));
+    this.renditionChoice = doc.getElementById('video-rendition-choice');
+    this.renditionChoice.addEventListener('change', () => this.chooseRendition(this.renditionChoice.value));
+    Object.assign(stats, {camera: null, videoInfo: null, rendition: null, renditionTarget: null, renditionReason: '', linkKbps: null,
+                          renditionFrames: {source: 0, low: 0}});
     Object.assign(stats, {videoPath: null, videoPathReason: '', codec: null, framesDecoded: 0, lastFrameNumber: -1,
                           latencyMedianMs: null, latencyP95Ms: null, videoBytes: 0, overlaysDrawn: [], unitsDropped: 0,
                           // Restart the latency window (a measurement leaves the start-up out).
@@ -38,6 +45,7 @@ export class VideoView {
 
   // On every (re)connection: the H.264 path when the browser has WebCodecs, else JPEG.
   start() {
+    this.describeDrone();
     if (h264Available()) this.choose('h264', 'WebCodecs');
     else this.choose('jpeg', 'no WebCodecs VideoDecoder in this browser');
   }
@@ -53,7 +61,49 @@ export class VideoView {
     this.doc.getElementById('video-path').textContent =
         path === 'h264' ? 'H.264, decoded here (WebCodecs); overlays drawn here' : `JPEG, overlays drawn by the server (${reason})`;
     for (const group of OVERLAY_GROUPS) this.doc.getElementById('overlay-' + group).disabled = path !== 'h264';
-    this.send({type: 'subscribe', video: path});
+    this.renditionChoice.disabled = path !== 'h264';
+    this.send(path === 'h264' ? {type: 'subscribe', video: path, rendition: this.renditionChoice.value} : {type: 'subscribe', video: path});
+  }
+
+  // What the drone's video offers (GET /api/video): a drone without a bottom camera says so here.
+  async describeDrone() {
+    const reply = await fetch('/api/video');
+    if (!reply.ok) return;
+    const info = await reply.json();
+    this.stats.videoInfo = info;
+    const bottom = this.cameraChoice.querySelector('option[value=bottom]');
+    bottom.disabled = !info.bottom_camera;
+    this.doc.getElementById('video-camera-note').textContent = info.bottom_camera ? '' : info.no_bottom_camera;
+  }
+
+  // The camera of the frame on the canvas.
+  showCamera(camera) {
+    const name = camera === 1 ? 'bottom' : 'front';
+    if (this.stats.camera === name) return;
+    this.stats.camera = name;
+    this.doc.getElementById('video-camera-shown').textContent = name;
+  }
+
+  // auto (the server follows this viewer's link), source (the drone's stream) or low.
+  chooseRendition(choice) {
+    if (this.stats.videoPath === 'h264') this.send({type: 'subscribe', video: 'h264', rendition: choice});
+  }
+
+  // The server's word on this viewer's rendition: where it moves (at that rendition's next IDR), why,
+  // and what the link carried.
+  onRendition(msg) {
+    Object.assign(this.stats, {renditionTarget: msg.rendition, renditionReason: msg.reason, linkKbps: msg.throughput_kbps});
+    this.showRendition();
+  }
+
+  showRendition() {
+    const s = this.stats;
+    const name = (r) => r === 'low' ? 'the shared low rendition' : r === 'source' ? "the drone's stream" : '–';
+    let text = name(s.rendition);
+    if (s.renditionTarget && s.renditionTarget !== s.rendition) text += `, moving to ${name(s.renditionTarget)}`;
+    if (s.renditionReason) text += ` (${s.renditionReason})`;
+    if (s.linkKbps !== null) text += ` · link ${s.linkKbps} kbit/s`;
+    this.doc.getElementById('video-rendition').textContent = text;
   }
 
   onGeometry(msg) {
@@ -81,6 +131,12 @@ export class VideoView {
     const geometry = this.geometry.get(unit.frame);
     for (const k of this.geometry.keys()) if (k <= unit.frame) this.geometry.delete(k);
     this.stats.overlaysDrawn = geometry ? paintOverlays(this.canvas, geometry, this.enabled) : [];
+    this.stats.renditionFrames[unit.rendition]++;
+    this.showCamera(unit.camera);
+    if (this.stats.rendition !== unit.rendition) {
+      this.stats.rendition = unit.rendition;
+      this.showRendition();
+    }
     this.shown(unit.frame, unit.captureMs);
   }
 
@@ -90,6 +146,7 @@ export class VideoView {
     const bitmap = await createImageBitmap(new Blob([new Uint8Array(buffer, 24)], {type: 'image/jpeg'}));
     this.canvas.getContext('2d').drawImage(bitmap, 0, 0, this.canvas.width, this.canvas.height);
     bitmap.close();
+    this.showCamera(dv.getUint8(16));
     this.shown(dv.getUint32(4, true), dv.getFloat64(8, true));
   }
 

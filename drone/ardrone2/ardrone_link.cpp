@@ -49,7 +49,7 @@ ArdroneLinkSettings read_ardrone_link_settings(const ConfigReader& c) {
 
 ArdroneLink::ArdroneLink(ArdroneLinkSettings settings, Logger logger, const Clock* clock)
     : settings_(std::move(settings)), logger_(std::move(logger)), clock_(clock ? clock : &own_clock_), counters_(logger_),
-      status_(logger_, counters_), configs_(settings_.config_ack_timeout_s) {
+      status_(logger_, counters_), configs_(settings_.config_ack_timeout_s), video_bitrate_kbps_(settings_.video_max_bitrate_kbps) {
   at_buffer_.reserve(kMaxAtDatagramBytes);
 }
 
@@ -147,6 +147,20 @@ void ArdroneLink::set_config(const std::string& key, const std::string& value) {
 
 LinkState ArdroneLink::state() const { return status_.state(); }
 
+int ArdroneLink::video_bitrate_kbps() const {
+  std::lock_guard lock(command_mutex_);
+  return video_bitrate_kbps_;
+}
+
+void ArdroneLink::set_video_bitrate_kbps(int kbps) {
+  if (kbps < kMinVideoBitrateKbps || kbps > kMaxVideoBitrateKbps)
+    throw std::invalid_argument("AR.Drone 2.0 video bit rate: " + std::to_string(kMinVideoBitrateKbps) + ".." +
+                                std::to_string(kMaxVideoBitrateKbps) + " kbit/s expected, got " + std::to_string(kbps));
+  std::lock_guard lock(command_mutex_);
+  video_bitrate_kbps_ = kbps;
+  for (auto& [key, value] : video_bitrate_configs(kbps)) configs_.push_back({key, value});
+}
+
 LinkStatistics ArdroneLink::statistics() const { return counters_.snapshot(); }
 
 void ArdroneLink::queue_startup_config() {
@@ -158,7 +172,7 @@ void ArdroneLink::queue_startup_config() {
     configs_.push_front({"general:navdata_demo", "TRUE"});
   }
   // The video keys are K_SHALLOW in the SDK's config table (not kept across a reboot): sent every time.
-  for (auto& [key, value] : video_bitrate_configs(settings_.video_max_bitrate_kbps)) configs_.push_back({key, value});
+  for (auto& [key, value] : video_bitrate_configs(video_bitrate_kbps_)) configs_.push_back({key, value});
   if (requested_camera_ == CameraId::Bottom) configs_.push_back({"video:video_channel", "1"});
   configs_.restart();
 }

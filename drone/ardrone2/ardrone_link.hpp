@@ -72,6 +72,10 @@ class ArdroneLink final : public DroneLink {
   void select_camera(CameraId camera) override;
   void set_config(const std::string& key, const std::string& value) override;
   LinkState state() const override;
+  // The bit rate asked of the drone from now on (video_bitrate_configs) and at every reconnection;
+  // throws std::invalid_argument outside kMinVideoBitrateKbps..kMaxVideoBitrateKbps.
+  void set_video_bitrate_kbps(int kbps);
+  int video_bitrate_kbps() const;
   // AR.Drone-specific: AT*CALIB for the magnetometer (only honoured in flight).
   void calibrate_magnetometer();
   LinkStatistics statistics() const override;
@@ -115,6 +119,7 @@ class ArdroneLink final : public DroneLink {
   ardrone2::ConfigHandshake configs_;
   bool reset_sequence_ = true;
   CameraId requested_camera_ = CameraId::Front;
+  int video_bitrate_kbps_;  // sent at every connect; settings_.video_max_bitrate_kbps until changed
 
   std::atomic<std::uint32_t> drone_state_{0};
   std::atomic<double> last_navdata_t_{-1.0};

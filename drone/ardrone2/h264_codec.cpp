@@ -77,6 +77,7 @@ struct H264Encoder::Impl {
   std::unique_ptr<SwsContext, SwsDeleter> sws;
   cv::Mat resized;
   std::int64_t next_pts = 0;
+  bool idr_requested = false;
   void open(const H264EncoderSettings& s);
 };
 
@@ -131,6 +132,7 @@ H264Encoder::~H264Encoder() = default;
 H264Encoder::H264Encoder(H264Encoder&&) noexcept = default;
 H264Encoder& H264Encoder::operator=(H264Encoder&&) noexcept = default;
 const H264EncoderSettings& H264Encoder::settings() const { return impl_->settings; }
+void H264Encoder::request_idr() { impl_->idr_requested = true; }
 
 void H264Encoder::set_bitrate_kbps(int kbps) {
   if (kbps <= 0) throw std::invalid_argument("H264Encoder: bitrate must be positive");
@@ -157,7 +159,8 @@ bool H264Encoder::encode(const cv::Mat& bgr, EncodedFrame& out) {
   sws_scale(m.sws.get(), src_planes, src_stride, 0, m.settings.height, m.frame->data, m.frame->linesize);
   m.frame->pts = m.next_pts++;
   // Force the IDR cadence ourselves so it never drifts from the PaVE frame numbering.
-  const bool want_idr = m.frame->pts % m.settings.gop == 0;
+  const bool want_idr = m.frame->pts % m.settings.gop == 0 || m.idr_requested;
+  m.idr_requested = false;
   m.frame->pict_type = want_idr ? AV_PICTURE_TYPE_I : AV_PICTURE_TYPE_NONE;
   m.frame->key_frame = want_idr ? 1 : 0;
   if (avcodec_send_frame(m.ctx.get(), m.frame.get()) < 0) return false;

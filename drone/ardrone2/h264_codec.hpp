@@ -48,6 +48,9 @@ class H264Encoder {
   // Changes the target bit rate from the next frame on (AT*CONFIG video:max_bitrate): the encoder is
   // re-created, so the next frame is an IDR (with SPS/PPS) and the GOP cadence restarts there.
   void set_bitrate_kbps(int kbps);
+  // The next frame is an IDR (with SPS/PPS), whatever the GOP cadence: a server's re-encode for its
+  // viewers gives a new viewer a starting point at once. The cadence stays counted from the start.
+  void request_idr();
   const H264EncoderSettings& settings() const;
 
  private:

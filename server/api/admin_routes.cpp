@@ -4,7 +4,7 @@
 #include <variant>
 
 #include "server/api/rest_api.hpp"
-#include "server/app_config.hpp"
+#include "server/api/config_file.hpp"
 #include "server/auth/permissions.hpp"
 
 // The routes only an admin may use: configuration, instruments, recordings, metrics, the audit log.
@@ -28,7 +28,8 @@ HttpReply RestApi::route_admin(const HttpRequest& req, const std::string& path, 
   const http::verb m = req.method();
   const bool known = path == "/api/config" || path == "/api/instruments" || path.rfind("/api/instruments/", 0) == 0 ||
                      path == "/api/users" || path == "/api/recordings" || path.rfind("/api/recordings/", 0) == 0 ||
-                     path == "/metrics" || path == "/api/audit";
+                     path == "/metrics" || path == "/api/audit" || path.rfind("/api/users/", 0) == 0 ||
+                     path.rfind("/api/sessions/", 0) == 0;
   if (!known) return HttpReply::error(http::status::not_found, "no route " + path);
   if (!role_may(session.role, Permission::Administer))
     return HttpReply::error(http::status::forbidden, "role " + to_string(session.role) + " may not do this");
@@ -45,7 +46,8 @@ HttpReply RestApi::route_admin(const HttpRequest& req, const std::string& path, 
     if (m != http::verb::delete_) return method_not_allowed("DELETE");
     return delete_instrument(path.substr(17), session);
   }
-  if (path == "/api/users") return method_not_allowed("GET");
+  if (path == "/api/users" || path.rfind("/api/users/", 0) == 0 || path.rfind("/api/sessions/", 0) == 0)
+    return route_users(req, path, session);
   if (path == "/api/recordings") {
     if (m != http::verb::get) return method_not_allowed("GET");
     return recordings();
@@ -92,23 +94,15 @@ HttpReply RestApi::save_config(const HttpRequest& req) {
   const json j = json::parse(req.body(), nullptr, false);
   if (j.is_discarded()) return HttpReply::error(http::status::bad_request, "malformed JSON");
   if (!j.is_object()) return HttpReply::error(http::status::bad_request, "expected the whole configuration as a JSON object");
-  try {
-    // The same validation as at start-up: types, ranges, unknown keys, users' hashes.
-    const ConfigDocument doc = ConfigDocument::parse(req.body(), "PUT /api/config");
-    read_app_config(doc.root(), config_file_.parent_path());
-  } catch (const ConfigError& e) {
-    return HttpReply::error(http::status::unprocessable_entity, e.what());
-  }
-  const std::filesystem::path tmp = config_file_.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    if (!out) return HttpReply::error(http::status::internal_server_error, "cannot write " + tmp.string());
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, config_file_, ec);  // atomic: readers see the old file or the new one
-  if (ec) return HttpReply::error(http::status::internal_server_error, "cannot replace " + config_file_.string() + ": " + ec.message());
-  return ok_json({{"saved", config_file_.string()}, {"restart_required", true}});
+  std::lock_guard lock(config_mutex_);
+  auto before = read_config_json(config_file_);
+  if (auto* err = std::get_if<ConfigFileError>(&before)) return HttpReply::error(static_cast<http::status>(err->status), err->message);
+  auto written = replace_config(config_file_, j);
+  if (auto* err = std::get_if<ConfigFileError>(&written)) return HttpReply::error(static_cast<http::status>(err->status), err->message);
+  json applied = json::array(), restart = json::array();
+  for (const std::string& key : changed_keys(std::get<json>(before), j)) (key == "server.users" ? applied : restart).push_back(key);
+  if (!applied.empty()) apply_users(std::get<AppConfig>(written).server.users);
+  return ok_json({{"saved", config_file_.string()}, {"applied", applied}, {"restart_required", restart}});
 }
 
 HttpReply RestApi::instruments() {

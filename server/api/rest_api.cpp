@@ -6,6 +6,7 @@
 #include <sstream>
 #include <variant>
 
+#include "server/api/video_routes.hpp"
 #include "server/auth/permissions.hpp"
 
 namespace labo {
@@ -125,6 +126,7 @@ HttpReply RestApi::route(const HttpRequest& req, const std::string& path, const 
     if (m != http::verb::get) return method_not_allowed("GET");
     return status();
   }
+  if (auto video = video_route(req, path, session->role, lab_.flight(), settings_.video.low_rendition_kbps)) return *video;
   if (path == "/api/stop" || path == "/api/emergency_stop") {
     if (m != http::verb::post) return method_not_allowed("POST");
     return stop(req, *session, path == "/api/stop" ? MissionCommandKind::Stop : MissionCommandKind::EmergencyStop);

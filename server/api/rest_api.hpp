@@ -5,6 +5,8 @@
 #include <boost/beast/http/message.hpp>
 #include <boost/beast/http/string_body.hpp>
 #include <filesystem>
+#include <functional>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -34,6 +36,16 @@ class RestApi {
   HttpReply route_admin(const HttpRequest& req, const std::string& path, const SessionInfo& session);
   HttpReply login(const HttpRequest& req, const std::string& remote);
   HttpReply users(const SessionInfo& session);
+  HttpReply route_users(const HttpRequest& req, const std::string& path, const SessionInfo& session);
+  HttpReply add_user(const HttpRequest& req, const SessionInfo& session);
+  HttpReply change_user(const HttpRequest& req, const std::string& name, const SessionInfo& session);
+  HttpReply remove_user(const std::string& name, const SessionInfo& session);
+  // Reads the config file, lets `edit` change its JSON (or refuse), validates and replaces the file,
+  // applies the users; answers `answer` with `status`.
+  HttpReply edit_users(const std::function<std::optional<HttpReply>(nlohmann::json&)>& edit,
+                       boost::beast::http::status status, nlohmann::json answer);
+  // New accounts at once; the sessions and connections of removed or re-roled users end.
+  void apply_users(const std::vector<UserAccount>& users);
   HttpReply stop(const HttpRequest& req, const SessionInfo& session, MissionCommandKind kind);
   HttpReply audit_page(const HttpRequest& req);
   HttpReply status();
@@ -62,6 +74,7 @@ class RestApi {
   const Clock& clock_;
   AuditLog& audit_;
   InstrumentStore uploads_;
+  std::mutex config_mutex_;  // one change of the config file at a time
 };
 
 }  // namespace labo

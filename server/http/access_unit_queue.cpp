@@ -20,6 +20,7 @@ AccessUnitQueue::PushResult AccessUnitQueue::push(const WireAccessUnit& unit) {
   }
   waiting_for_keyframe_ = false;
   ring_[(head_ + count_) % ring_.size()] = Entry{unit.geometry, unit.wire};
+  bytes_ += (unit.geometry ? unit.geometry->size() : 0) + (unit.wire ? unit.wire->size() : 0);
   ++count_;
   result.queued = true;
   return result;
@@ -30,10 +31,12 @@ std::shared_ptr<const std::string> AccessUnitQueue::pop(bool& binary) {
   Entry& e = ring_[head_];
   if (e.geometry) {
     binary = false;
+    bytes_ -= e.geometry->size();
     return std::move(e.geometry);  // leaves e.geometry empty: the unit goes next
   }
   binary = true;
   auto wire = std::move(e.wire);
+  if (wire) bytes_ -= wire->size();
   head_ = (head_ + 1) % ring_.size();
   --count_;
   return wire;
@@ -41,7 +44,7 @@ std::shared_ptr<const std::string> AccessUnitQueue::pop(bool& binary) {
 
 void AccessUnitQueue::clear() {
   for (std::size_t i = 0; i < count_; ++i) ring_[(head_ + i) % ring_.size()] = Entry{};
-  head_ = count_ = 0;
+  head_ = count_ = bytes_ = 0;
 }
 
 void AccessUnitQueue::restart() {

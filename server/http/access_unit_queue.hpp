@@ -31,6 +31,8 @@ class AccessUnitQueue {
   bool empty() const { return count_ == 0; }
   std::size_t size() const { return count_; }
   bool waiting_for_keyframe() const { return waiting_for_keyframe_; }
+  // Bytes of the messages queued (units and their geometry): part of the viewer's backlog.
+  std::size_t bytes() const { return bytes_; }
   // Forget everything queued and wait for the next IDR (a new subscription).
   void restart();
 
@@ -41,7 +43,7 @@ class AccessUnitQueue {
   void clear();
 
   std::vector<Entry> ring_;
-  std::size_t head_ = 0, count_ = 0;
+  std::size_t head_ = 0, count_ = 0, bytes_ = 0;
   bool waiting_for_keyframe_ = true;
 };
 

@@ -4,6 +4,8 @@
 #include <boost/asio/post.hpp>
 #include <boost/beast/ssl.hpp>
 #include <boost/beast/websocket/ssl.hpp>
+#include <linux/sockios.h>
+#include <sys/ioctl.h>
 
 #include "server/lab/lab_messages.hpp"
 #include "server/lab/remote_lab.hpp"
@@ -25,7 +27,12 @@ WebSocketSession<NextLayer>::WebSocketSession(NextLayer&& stream, ClientId id, S
       lab_(std::move(lab)),
       limits_(limits),
       metrics_(metrics),
-      units_(static_cast<std::size_t>(limits.video_queue_frames)) {}
+      units_(static_cast<std::size_t>(limits.video_queue_frames)),
+      policy_(RenditionPolicySettings{.max_lag_s = limits.rendition_max_lag_s, .probe_after_s = limits.rendition_probe_after_s}) {}
+
+namespace {
+double steady_s(std::chrono::steady_clock::time_point t) { return std::chrono::duration<double>(t.time_since_epoch()).count(); }
+}  // namespace
 
 template <class NextLayer>
 WebSocketSession<NextLayer>::~WebSocketSession() {
@@ -39,6 +46,10 @@ template <class NextLayer>
 void WebSocketSession<NextLayer>::accept(beast::http::request<beast::http::string_body> upgrade) {
   // tcp_stream timeouts must not apply to a websocket: the websocket's own (with pings) take over.
   beast::get_lowest_layer(ws_).expires_never();
+  if (limits_.send_buffer_bytes > 0) {
+    beast::error_code ignored;  // a kernel that refuses keeps its own size: the backlog is measured either way
+    beast::get_lowest_layer(ws_).socket().set_option(asio::socket_base::send_buffer_size(limits_.send_buffer_bytes), ignored);
+  }
   ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
   ws_.set_option(websocket::stream_base::decorator(
       [](websocket::response_type& res) { res.set(beast::http::field::server, "labodrone"); }));
@@ -114,11 +125,21 @@ void WebSocketSession<NextLayer>::send_reading_view(std::shared_ptr<const std::s
 }
 
 template <class NextLayer>
-void WebSocketSession<NextLayer>::select_video(VideoPath path) {
-  asio::post(ws_.get_executor(), [self = this->shared_from_this(), path] {
-    self->video_ = path;
-    self->units_.restart();
-    self->frame_slot_.reset();
+void WebSocketSession<NextLayer>::select_video(VideoPath path, RenditionChoice rendition) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), path, rendition] {
+    const bool was_h264 = self->video_ == VideoPath::H264;
+    self->policy_.choose(rendition, steady_s(Clock::now()));
+    if (was_h264 && path == VideoPath::H264) {
+      self->switch_.aim(self->policy_.rendition());  // another rendition: switch at its next IDR, no gap
+    } else {
+      self->video_ = path;
+      self->units_.restart();
+      self->frame_slot_.reset();
+      self->switch_.reset(self->policy_.rendition());
+    }
+    self->publish_renditions();
+    if (path == VideoPath::H264)
+      self->queue_event(rendition_message(self->policy_.rendition(), self->policy_.choice(), self->policy_.reason(), 0, 0));
   });
 }
 
@@ -149,11 +170,41 @@ void WebSocketSession<NextLayer>::store_frame(std::shared_ptr<const std::string>
 
 template <class NextLayer>
 void WebSocketSession<NextLayer>::queue_unit(const WireAccessUnit& unit) {
-  if (closed_ || !joined_ || video_ != VideoPath::H264) return;
+  if (closed_ || !joined_ || video_ != VideoPath::H264 || !switch_.accept(unit)) return;
+  video_offered_ += (unit.wire ? unit.wire->size() : 0) + (unit.geometry ? unit.geometry->size() : 0);
   const AccessUnitQueue::PushResult r = units_.push(unit);
   metrics_.ws_units_skipped += r.dropped;
-  if (r.fell_behind) metrics_.ws_keyframe_waits++;
+  if (r.fell_behind) {
+    metrics_.ws_keyframe_waits++;
+    overflows_++;
+  }
   if (r.queued) write_next();
+  if (switch_.needed() != renditions_published_) publish_renditions();  // the switch happened at this IDR
+}
+
+template <class NextLayer>
+void WebSocketSession<NextLayer>::publish_renditions() {
+  renditions_published_ = video_ == VideoPath::H264 ? switch_.needed() : RenditionSwitch::bit(Rendition::Source);
+  lab_->set_renditions(id_, renditions_published_);
+}
+
+template <class NextLayer>
+void WebSocketSession<NextLayer>::adapt_rendition(Clock::time_point now) {
+  int unacked = 0;  // written to the socket, not yet acknowledged by the peer
+  if (::ioctl(beast::get_lowest_layer(ws_).socket().native_handle(), SIOCOUTQ, &unacked) != 0) unacked = 0;
+  const std::uint64_t pending = units_.bytes() + (writing_ && in_flight_ ? in_flight_->size() : 0);
+  const Rendition before = policy_.rendition();
+  const Rendition wanted = policy_.update({steady_s(now), video_offered_, bytes_written_,
+                                          static_cast<std::uint64_t>(std::max(unacked, 0)), pending, overflows_});
+  const bool changed = wanted != before;
+  if (changed) {
+    metrics_.ws_rendition_changes++;
+    switch_.aim(wanted);
+    publish_renditions();
+  }
+  // The page shows its rendition, why, and what its link carries: at each change and once a second.
+  if (changed || ++samples_ % 4 == 0)
+    queue_event(rendition_message(policy_.rendition(), policy_.choice(), policy_.reason(), policy_.throughput_kbps(), policy_.lag_s()));
 }
 
 template <class NextLayer>
@@ -198,6 +249,7 @@ void WebSocketSession<NextLayer>::on_write(beast::error_code ec, std::size_t byt
     return;
   }
   metrics_.ws_bytes_out += bytes;
+  bytes_written_ += bytes;
   switch (in_flight_kind_) {
     case Outgoing::Event: metrics_.ws_events_out++; break;
     case Outgoing::Frame: metrics_.ws_frames_out++; break;
@@ -231,6 +283,7 @@ void WebSocketSession<NextLayer>::on_watchdog() {
     close_now("a write pending for more than " + std::to_string(limits_.write_timeout_s) + " s");
     return;
   }
+  if (video_ == VideoPath::H264) adapt_rendition(now);
   arm_watchdog();
 }
 

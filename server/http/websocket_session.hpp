@@ -6,6 +6,9 @@
 // next IDR (AccessUnitQueue). A slow viewer loses frames, never memory. A client whose event queue
 // stays full, or whose write stays pending, past its limit is disconnected. `NextLayer` is the
 // connection under the WebSocket: a plain TCP stream, or TLS over it (PlainWebSocket, TlsWebSocket).
+// An H.264 viewer's link is measured a few times a second (its backlog: queued bytes and the socket's
+// unacknowledged send queue) and the viewer moved between the drone's stream and the shared low
+// rendition (RenditionPolicy, RenditionSwitch).
 #include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/ssl/ssl_stream.hpp>
@@ -20,6 +23,8 @@
 #include "server/lab/lab_client.hpp"
 #include "server/lab/server_metrics.hpp"
 #include "server/server_settings.hpp"
+#include "server/video/rendition_policy.hpp"
+#include "server/video/rendition_switch.hpp"
 
 namespace labo {
 
@@ -40,7 +45,7 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
   void send_frame(std::shared_ptr<const std::string> wire) override;
   void send_access_unit(const WireAccessUnit& unit) override;
   void send_reading_view(std::shared_ptr<const std::string> view) override;
-  void select_video(VideoPath path) override;
+  void select_video(VideoPath path, RenditionChoice rendition) override;
   void disconnect(const std::string& reason) override;
 
  private:
@@ -55,6 +60,9 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
   void on_write(boost::beast::error_code ec, std::size_t bytes);
   void arm_watchdog();
   void on_watchdog();
+  // The H.264 viewer's link sampled, its rendition decided; the page told now and then.
+  void adapt_rendition(Clock::time_point now);
+  void publish_renditions();
   void close_now(const std::string& reason);
 
   boost::beast::websocket::stream<NextLayer> ws_;
@@ -71,6 +79,11 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
   std::shared_ptr<const std::string> reading_slot_;  // the newest reading view
   AccessUnitQueue units_;
   VideoPath video_ = VideoPath::Jpeg;
+  RenditionPolicy policy_;
+  RenditionSwitch switch_;
+  unsigned renditions_published_ = RenditionSwitch::bit(Rendition::Source);
+  std::uint64_t video_offered_ = 0, bytes_written_ = 0, overflows_ = 0;
+  int samples_ = 0;
   enum class Outgoing { Event, Frame, Geometry, Unit, Reading };
   std::shared_ptr<const std::string> in_flight_;  // kept alive while its write runs
   Outgoing in_flight_kind_ = Outgoing::Event;

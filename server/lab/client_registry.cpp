@@ -24,10 +24,25 @@ void ClientRegistry::set_video(ClientId client, VideoPath path) {
   count_viewers();
 }
 
+bool ClientRegistry::set_renditions(ClientId client, unsigned renditions) {
+  std::lock_guard lock(mutex_);
+  const auto it = members_.find(client);
+  if (it == members_.end()) return false;
+  const unsigned low = 1u << static_cast<unsigned>(Rendition::Low);
+  const bool newly_low = (renditions & low) && !(it->second.renditions & low);
+  it->second.renditions = renditions;
+  count_viewers();
+  return newly_low;
+}
+
 void ClientRegistry::count_viewers() {
-  std::size_t h264 = 0;
-  for (const auto& [id, m] : members_) h264 += m.video == VideoPath::H264;
+  std::size_t h264 = 0, low = 0;
+  for (const auto& [id, m] : members_) {
+    h264 += m.video == VideoPath::H264;
+    low += m.video == VideoPath::H264 && (m.renditions & (1u << static_cast<unsigned>(Rendition::Low)));
+  }
   h264_viewers_ = h264;
+  low_viewers_ = low;
   jpeg_viewers_ = members_.size() - h264;
 }
 
@@ -64,16 +79,17 @@ void ClientRegistry::send_each(const std::vector<std::pair<ClientId, Message>>& 
     if (const auto client = weak.lock()) client->send_event(*message);
 }
 
-void ClientRegistry::links_watching(VideoPath path, std::vector<std::weak_ptr<LabClient>>& out) const {
+void ClientRegistry::links_watching(VideoPath path, Rendition rendition, std::vector<std::weak_ptr<LabClient>>& out) const {
   out.clear();
+  const unsigned wanted = 1u << static_cast<unsigned>(rendition);
   std::lock_guard lock(mutex_);
   for (const auto& [id, m] : members_)
-    if (m.video == path) out.push_back(m.link);
+    if (m.video == path && (path == VideoPath::Jpeg || (m.renditions & wanted))) out.push_back(m.link);
 }
 
 void ClientRegistry::send_frame(const Message& wire) {
   thread_local std::vector<std::weak_ptr<LabClient>> targets;
-  links_watching(VideoPath::Jpeg, targets);
+  links_watching(VideoPath::Jpeg, Rendition::Source, targets);
   for (const auto& weak : targets)
     if (const auto client = weak.lock()) client->send_frame(wire);
   targets.clear();  // no client kept alive by the scratch vector
@@ -81,7 +97,7 @@ void ClientRegistry::send_frame(const Message& wire) {
 
 void ClientRegistry::send_access_unit(const WireAccessUnit& unit) {
   thread_local std::vector<std::weak_ptr<LabClient>> targets;
-  links_watching(VideoPath::H264, targets);
+  links_watching(VideoPath::H264, unit.rendition, targets);
   for (const auto& weak : targets)
     if (const auto client = weak.lock()) client->send_access_unit(unit);
   targets.clear();
@@ -93,8 +109,17 @@ void ClientRegistry::send_reading_view(const Message& view) {
 }
 
 void ClientRegistry::disconnect_all(const std::string& reason) {
+  disconnect_where([](const SessionInfo&) { return true; }, reason);
+}
+
+std::size_t ClientRegistry::disconnect_where(const std::function<bool(const SessionInfo&)>& match, const std::string& reason) {
+  std::size_t n = 0;
   for (const auto& weak : links())
-    if (const auto client = weak.lock()) client->disconnect(reason);
+    if (const auto client = weak.lock(); client && match(client->session())) {
+      client->disconnect(reason);
+      ++n;
+    }
+  return n;
 }
 
 std::vector<Participant> ClientRegistry::participants() const {

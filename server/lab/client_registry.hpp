@@ -6,6 +6,7 @@
 // which takes the lock again (test "lab: a client whose last owner is a delivery leaves without a
 // deadlock"). Thread-safe; nothing here blocks on a client (LabClient's sends only queue).
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -39,11 +40,18 @@ class ClientRegistry {
   // Video, to the clients that watch its path: a JPEG frame to their video slot, an access unit (and
   // its geometry) to their H.264 queue.
   void set_video(ClientId client, VideoPath path);
+  // The H.264 renditions whose units the client needs (RenditionSwitch::needed(); the source only
+  // until it says otherwise). True when the client now needs the low rendition and did not before.
+  bool set_renditions(ClientId client, unsigned renditions);
+  // H.264 viewers that need the low rendition: its encoder runs while there is one.
+  std::size_t low_rendition_viewers() const { return low_viewers_.load(); }
   void send_frame(const Message& wire);
   void send_access_unit(const WireAccessUnit& unit);
   void send_reading_view(const Message& view);  // to every client's reading-view slot
   std::size_t watching(VideoPath path) const { return (path == VideoPath::H264 ? h264_viewers_ : jpeg_viewers_).load(); }
   void disconnect_all(const std::string& reason);
+  // Disconnects the clients whose session `match` accepts; how many.
+  std::size_t disconnect_where(const std::function<bool(const SessionInfo&)>& match, const std::string& reason);
 
   std::vector<Participant> participants() const;
   std::size_t size() const;
@@ -54,19 +62,20 @@ class ClientRegistry {
     Participant who;
     TokenBucket bucket;
     VideoPath video = VideoPath::Jpeg;
+    unsigned renditions = 1u << static_cast<unsigned>(Rendition::Source);
   };
   // The clients' weak pointers, copied under the lock: the caller locks them once it is released.
   std::vector<std::weak_ptr<LabClient>> links() const;
-  // Those of the clients watching `path`, into `out` (a per-thread scratch vector: the per-frame
-  // fan-out does not allocate once it has grown).
-  void links_watching(VideoPath path, std::vector<std::weak_ptr<LabClient>>& out) const;
+  // Those of the clients watching `path` (and for H.264, needing `rendition`), into `out` (a
+  // per-thread scratch vector: the per-frame fan-out does not allocate once it has grown).
+  void links_watching(VideoPath path, Rendition rendition, std::vector<std::weak_ptr<LabClient>>& out) const;
   void count_viewers();  // under mutex_
 
   double messages_per_s_;
   int burst_;
   mutable std::mutex mutex_;
   std::unordered_map<ClientId, Member> members_;
-  std::atomic<std::size_t> jpeg_viewers_{0}, h264_viewers_{0};
+  std::atomic<std::size_t> jpeg_viewers_{0}, h264_viewers_{0}, low_viewers_{0};
 };
 
 }  // namespace labo

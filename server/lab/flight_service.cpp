@@ -8,7 +8,7 @@
 namespace labo {
 
 namespace {
-constexpr std::array<std::pair<MissionCommandKind, const char*>, 8> kCommands{{
+constexpr std::array<std::pair<MissionCommandKind, const char*>, 9> kCommands{{
     {MissionCommandKind::Takeoff, "takeoff"},
     {MissionCommandKind::Inspect, "inspect"},
     {MissionCommandKind::FindTeacher, "find_teacher"},
@@ -17,6 +17,7 @@ constexpr std::array<std::pair<MissionCommandKind, const char*>, 8> kCommands{{
     {MissionCommandKind::Land, "land"},
     {MissionCommandKind::Stop, "stop"},
     {MissionCommandKind::EmergencyStop, "emergency_stop"},
+    {MissionCommandKind::SelectCamera, "select_camera"},
 }};
 }  // namespace
 

@@ -11,12 +11,13 @@
 
 #include "drone/drone_link.hpp"
 #include "server/runtime/runtime_timing.hpp"
+#include "server/video/rendition.hpp"
 
 namespace labo {
 
 // Stop ends whatever runs and lands (the drone holds, then descends): anyone watching may send it.
 // EmergencyStop cuts the motors: only the controller, a teacher or an admin.
-enum class MissionCommandKind { Takeoff, Inspect, FindTeacher, StopFaceFollow, ReturnHome, Land, Stop, EmergencyStop };
+enum class MissionCommandKind { Takeoff, Inspect, FindTeacher, StopFaceFollow, ReturnHome, Land, Stop, EmergencyStop, SelectCamera };
 std::string to_string(MissionCommandKind kind);
 std::optional<MissionCommandKind> parse_mission_command(const std::string& text);
 
@@ -24,6 +25,7 @@ struct MissionCommand {
   MissionCommandKind kind = MissionCommandKind::Land;
   std::string instrument;  // Inspect: the instrument's id
   double hold_s = 10;      // Inspect: how long to hold in front of the panel
+  CameraId camera = CameraId::Front;  // SelectCamera: what the drone streams while no mission runs
 };
 
 struct CommandVerdict {
@@ -75,6 +77,7 @@ struct WireAccessUnit {
   double capture_unix_ms = 0;
   CameraId camera = CameraId::Front;
   bool keyframe = false;
+  Rendition rendition = Rendition::Source;
   std::shared_ptr<const std::string> wire;
   std::shared_ptr<const std::string> geometry;
 };
@@ -103,6 +106,21 @@ class FlightEventSink {
   virtual bool wants_jpeg() const { return true; }
   virtual bool wants_access_units() const { return false; }
   virtual bool wants_reading_view() const { return false; }
+  // Whether an H.264 viewer needs the shared low rendition (video/low_rendition.hpp): its encoder runs
+  // only then. A viewer that just moved to it asks for an IDR, taken (and cleared) by the encoder.
+  virtual bool wants_low_rendition() const { return false; }
+  virtual bool take_low_keyframe_request() { return false; }
+};
+
+// What the drone's video offers beyond its front camera's stream, for the page and the admin; the
+// drone backend knows it (server/runtime/drone_backend.cpp).
+struct VideoCapabilities {
+  std::string drone;                // "AR.Drone 2.0", "Tello", "recording", ...
+  bool bottom_camera = false;       // a second camera the link can switch the stream to
+  std::string no_bottom_camera;     // why not, when not (the refusal's words)
+  bool adjustable_bitrate = false;  // the link can ask the drone for a bit rate
+  int bitrate_kbps = 0;             // what it asks for now (0: nothing)
+  int min_bitrate_kbps = 0, max_bitrate_kbps = 0;
 };
 
 struct InstrumentSummary {
@@ -123,6 +141,13 @@ class FlightService {
   virtual void land_and_stop(double timeout_s) = 0;
   // How the flight thread has kept time (control ticks, vision latency, frames); empty without one.
   virtual RuntimeTimingSummary timing() const { return {}; }
+  // The drone's video: its cameras and the bit rate the link asks of it.
+  virtual VideoCapabilities video_capabilities() const { return {}; }
+  // Refused (with the reason) outside video_capabilities()'s range or when the link cannot.
+  virtual CommandVerdict set_video_bitrate(int kbps) {
+    (void)kbps;
+    return {false, "this flight service has no drone link"};
+  }
 };
 
 }  // namespace labo

@@ -1,5 +1,6 @@
 #include "server/lab/lab_messages.hpp"
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 namespace labo {
@@ -99,6 +100,16 @@ Message stop_event_message(const std::string& user) {
 }
 
 Message subscribed_message(VideoPath video) { return shared({{"type", "subscribed"}, {"video", to_string(video)}}); }
+
+Message rendition_message(Rendition rendition, RenditionChoice choice, const std::string& reason, double throughput_kbps,
+                          double lag_s) {
+  return shared({{"type", "rendition"},
+                 {"rendition", to_string(rendition)},
+                 {"choice", to_string(choice)},
+                 {"reason", reason},
+                 {"throughput_kbps", std::round(throughput_kbps)},
+                 {"lag_s", std::round(lag_s * 100) / 100}});
+}
 
 Message control_message(const ControlSnapshot& snapshot, std::size_t spectators, std::uint64_t seq,
                         const ClientControlView& you) {

@@ -32,6 +32,11 @@ Message emergency_event_message(const std::string& user);
 Message stop_event_message(const std::string& user);
 // {"type":"subscribed","video":"h264|jpeg"}: the path this client's video now takes.
 Message subscribed_message(VideoPath video);
+// {"type":"rendition","rendition":"source|low","choice":"auto|source|low","reason","throughput_kbps","lag_s"}:
+// the H.264 rendition this client is moving to (it switches at that rendition's next IDR), why, and
+// what its link carried over the last seconds.
+Message rendition_message(Rendition rendition, RenditionChoice choice, const std::string& reason, double throughput_kbps,
+                          double lag_s);
 
 // The control state as one client sees it: who controls, the queue, and where this client stands.
 struct ClientControlView {

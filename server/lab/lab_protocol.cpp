@@ -12,14 +12,24 @@ namespace {
 
 constexpr std::string_view kTypes = "command, heartbeat, request_control, release_control, take_over, subscribe";
 constexpr std::string_view kCommands =
-    "takeoff, inspect, find_teacher, stop_face_follow, return_home, land, stop, emergency_stop";
+    "takeoff, inspect, find_teacher, stop_face_follow, return_home, land, stop, emergency_stop, select_camera";
 constexpr double kMaxHoldS = 600;
 
 Refusal refuse(std::string error) { return {400, std::move(error), true}; }
 Refusal untyped(std::string error) { return {400, std::move(error), false}; }
 
+// {"type":"command","command":"select_camera","camera":"front|bottom"}
+ParsedMessage parse_camera(const json& msg, CommandRequest r) {
+  if (msg.contains("instrument") || msg.contains("hold_s")) return refuse("'instrument' and 'hold_s' belong to inspect only");
+  const json* camera = msg.contains("camera") ? &msg["camera"] : nullptr;
+  const std::string name = camera && camera->is_string() ? camera->get<std::string>() : "";
+  if (name != "front" && name != "bottom") return refuse("select_camera needs 'camera' (string: front or bottom)");
+  r.command.camera = name == "bottom" ? CameraId::Bottom : CameraId::Front;
+  return ClientRequest{std::move(r)};
+}
+
 ParsedMessage parse_command(const json& msg) {
-  static constexpr std::array<std::string_view, 5> kFields{"type", "id", "command", "instrument", "hold_s"};
+  static constexpr std::array<std::string_view, 6> kFields{"type", "id", "command", "instrument", "hold_s", "camera"};
   for (const auto& [key, value] : msg.items())
     if (std::find(kFields.begin(), kFields.end(), key) == kFields.end())
       return refuse("unknown field '" + key + "' in a command");
@@ -33,6 +43,8 @@ ParsedMessage parse_command(const json& msg) {
   const auto kind = parse_mission_command(r.name);
   if (!kind) return refuse("unknown command '" + r.name + "' (expected " + std::string(kCommands) + ")");
   r.command = MissionCommand{*kind, "", 10};
+  if (*kind == MissionCommandKind::SelectCamera) return parse_camera(msg, std::move(r));
+  if (msg.contains("camera")) return refuse("'camera' belongs to select_camera only");
   if (*kind != MissionCommandKind::Inspect) {
     if (msg.contains("instrument") || msg.contains("hold_s")) return refuse("'instrument' and 'hold_s' belong to inspect only");
     return ClientRequest{std::move(r)};
@@ -51,12 +63,20 @@ ParsedMessage parse_command(const json& msg) {
 
 ParsedMessage parse_subscribe(const json& msg) {
   for (const auto& [key, value] : msg.items())
-    if (key != "type" && key != "video") return refuse("unknown field '" + key + "' in subscribe (expected 'video')");
+    if (key != "type" && key != "video" && key != "rendition")
+      return refuse("unknown field '" + key + "' in subscribe (expected 'video' and optionally 'rendition')");
   if (!msg.contains("video") || !msg["video"].is_string()) return refuse("subscribe needs 'video' (string: h264 or jpeg)");
   const std::string name = msg["video"].get<std::string>();
   const auto path = parse_video_path(name);
   if (!path) return refuse("unknown video path '" + name + "' (expected h264 or jpeg)");
-  return ClientRequest{SubscribeRequest{*path}};
+  SubscribeRequest r{*path, RenditionChoice::Auto};
+  if (!msg.contains("rendition")) return ClientRequest{r};
+  if (*path != VideoPath::H264) return refuse("'rendition' belongs to the h264 path only");
+  const json& rendition = msg["rendition"];
+  const auto choice = rendition.is_string() ? parse_rendition_choice(rendition.get<std::string>()) : std::nullopt;
+  if (!choice) return refuse("'rendition' must be auto, source or low");
+  r.rendition = *choice;
+  return ClientRequest{r};
 }
 
 // The messages that carry nothing but their type.

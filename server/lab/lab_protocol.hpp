@@ -23,8 +23,9 @@ struct HeartbeatRequest {};        // {"type":"heartbeat"}
 struct RequestControlRequest {};   // {"type":"request_control"}
 struct ReleaseControlRequest {};   // {"type":"release_control"}
 struct TakeOverRequest {};         // {"type":"take_over"}
-struct SubscribeRequest {          // {"type":"subscribe","video":"h264"|"jpeg"}
+struct SubscribeRequest {          // {"type":"subscribe","video":"h264"|"jpeg","rendition":"auto"|"source"|"low"}
   VideoPath video = VideoPath::Jpeg;
+  RenditionChoice rendition = RenditionChoice::Auto;  // H.264 only
 };
 
 using ClientRequest = std::variant<CommandRequest, HeartbeatRequest, RequestControlRequest, ReleaseControlRequest,

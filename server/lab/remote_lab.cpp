@@ -30,6 +30,7 @@ void RemoteLab::join(const std::shared_ptr<LabClient>& client) {
 
 void RemoteLab::leave(ClientId client) {
   clients_.leave(client);
+  metrics_.low_rendition_viewers = static_cast<std::int64_t>(clients_.low_rendition_viewers());
   change_control([client](ControlQueue& q, double now) { return q.leave(client, now); });
 }
 
@@ -150,7 +151,7 @@ void RemoteLab::execute(LabClient& client, const TakeOverRequest&) {
 }
 
 void RemoteLab::execute(LabClient& client, const SubscribeRequest& r) {
-  client.select_video(r.video);  // first: the client's H.264 queue restarts before units reach it
+  client.select_video(r.video, r.rendition);  // first: the client's H.264 queue restarts before units reach it
   clients_.set_video(client.id(), r.video);
   client.send_event(subscribed_message(r.video));
 }
@@ -206,8 +207,13 @@ void RemoteLab::on_frame(const WireFrame& frame) {
   clients_.send_frame(frame.wire);
 }
 
+void RemoteLab::set_renditions(ClientId client, unsigned renditions) {
+  if (clients_.set_renditions(client, renditions)) low_keyframe_wanted_ = true;
+  metrics_.low_rendition_viewers = static_cast<std::int64_t>(clients_.low_rendition_viewers());
+}
+
 void RemoteLab::on_access_unit(const WireAccessUnit& unit) {
-  metrics_.access_units_published++;
+  (unit.rendition == Rendition::Low ? metrics_.low_units_published : metrics_.access_units_published)++;
   clients_.send_access_unit(unit);
 }
 

@@ -4,6 +4,7 @@
 // rate limit), and the fan-out of telemetry, events and video from the FlightService. Thread-safe:
 // client sessions call in from their strands, the runtime from its threads, the server's timer from
 // the io_context. No lock is held while a message is delivered.
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -32,6 +33,10 @@ class RemoteLab final : public FlightEventSink {
   void leave(ClientId client);
   void log_disconnect(ClientId client, const std::string& reason);
   void disconnect_all(const std::string& reason);
+  // Ends the connections of the sessions `match` accepts (a session ended, a user removed); how many.
+  std::size_t disconnect_where(const std::function<bool(const SessionInfo&)>& match, const std::string& reason) {
+    return clients_.disconnect_where(match, reason);
+  }
   // One text message from a client: commands, heartbeats, control requests. Replies go to the client.
   void on_message(LabClient& client, const std::string& text);
   // Called periodically (telemetry_hz): the control queue's clock and the telemetry broadcast.
@@ -44,6 +49,10 @@ class RemoteLab final : public FlightEventSink {
   bool wants_jpeg() const override { return clients_.watching(VideoPath::Jpeg) > 0; }
   bool wants_access_units() const override { return clients_.watching(VideoPath::H264) > 0; }
   bool wants_reading_view() const override { return clients_.size() > 0; }
+  bool wants_low_rendition() const override { return clients_.low_rendition_viewers() > 0; }
+  bool take_low_keyframe_request() override { return low_keyframe_wanted_.exchange(false); }
+  // The H.264 renditions a client needs now (its session's RenditionSwitch::needed()).
+  void set_renditions(ClientId client, unsigned renditions);
 
   // A stop or an emergency stop sent over REST, by the same rules as over the WebSocket (the
   // controller being the user who holds control on one of their connections). `status` is the HTTP
@@ -91,6 +100,7 @@ class RemoteLab final : public FlightEventSink {
   ControlQueue control_;
   std::uint64_t control_seq_ = 0;
   double last_control_broadcast_s_ = -1;
+  std::atomic<bool> low_keyframe_wanted_{false};
 };
 
 }  // namespace labo

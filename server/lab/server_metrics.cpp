@@ -31,6 +31,9 @@ std::string ServerMetrics::prometheus_text(const std::string& extra) const {
   emit(o, "labodrone_ws_bytes_out_total", "counter", "Bytes written to WebSocket clients.", ws_bytes_out);
   emit(o, "labodrone_frames_published_total", "counter", "Annotated frames encoded and published.", frames_published);
   emit(o, "labodrone_access_units_published_total", "counter", "H.264 access units passed on from the drone.", access_units_published);
+  emit(o, "labodrone_low_units_published_total", "counter", "H.264 access units of the shared low rendition encoded.", low_units_published);
+  emit(o, "labodrone_ws_rendition_changes_total", "counter", "Times an H.264 viewer was moved between the drone's stream and the low rendition.", ws_rendition_changes);
+  emit(o, "labodrone_low_rendition_viewers", "gauge", "H.264 viewers that need the low rendition now.", low_rendition_viewers);
   emit(o, "labodrone_reading_views_published_total", "counter", "Rectified panel views published.", reading_views_published);
   emit(o, "labodrone_commands_accepted_total", "counter", "Mission commands accepted.", commands_accepted);
   emit(o, "labodrone_commands_rejected_total", "counter", "Mission commands rejected.", commands_rejected);

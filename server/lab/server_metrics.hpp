@@ -24,7 +24,10 @@ struct ServerMetrics {
   std::atomic<std::uint64_t> ws_slow_disconnects{0};
   std::atomic<std::uint64_t> ws_bytes_out{0};
   std::atomic<std::uint64_t> frames_published{0};
-  std::atomic<std::uint64_t> access_units_published{0};
+  std::atomic<std::uint64_t> access_units_published{0};      // the drone's own stream
+  std::atomic<std::uint64_t> low_units_published{0};         // the shared low rendition
+  std::atomic<std::uint64_t> ws_rendition_changes{0};        // a viewer moved between renditions
+  std::atomic<std::int64_t> low_rendition_viewers{0};
   std::atomic<std::uint64_t> reading_views_published{0};
   std::atomic<std::uint64_t> commands_accepted{0};
   std::atomic<std::uint64_t> commands_rejected{0};

@@ -29,7 +29,21 @@ control::FlightStackSetup flight_stack_setup(const AppConfig& config, const Came
 FlightRuntimeOptions flight_runtime_options(const AppConfig& config) {
   FlightRuntimeOptions o;
   o.jpeg_quality = config.server.video.jpeg_quality;
+  o.low_rendition.bitrate_kbps = config.server.video.low_rendition_kbps;
   o.front_camera = PinholeCamera(config.cameras.front);
+  return o;
+}
+
+FlightRuntimeOptions flight_runtime_options(const AppConfig& config, ArdroneLink& link) {
+  FlightRuntimeOptions o = flight_runtime_options(config);
+  o.video = {"AR.Drone 2.0", true, "", true, link.video_bitrate_kbps(), ardrone2::kMinVideoBitrateKbps, ardrone2::kMaxVideoBitrateKbps};
+  o.set_video_bitrate = [&link](int kbps) { link.set_video_bitrate_kbps(kbps); };
+  return o;
+}
+
+FlightRuntimeOptions flight_runtime_options(const AppConfig& config, const std::string& drone, const std::string& no_bottom_camera) {
+  FlightRuntimeOptions o = flight_runtime_options(config);
+  o.video = {drone, false, no_bottom_camera, false, 0, 0, 0};
   return o;
 }
 

@@ -20,6 +20,11 @@ control::FlightStackSetup flight_stack_setup(const AppConfig& config);
 // The same with other cameras (a Tello's in front).
 control::FlightStackSetup flight_stack_setup(const AppConfig& config, const CamerasConfig& cameras);
 FlightRuntimeOptions flight_runtime_options(const AppConfig& config);
+// The same for an AR.Drone 2.0 (or the emulator) behind `link`: both cameras, and the bit rate the
+// link asks of the drone, changed through it.
+FlightRuntimeOptions flight_runtime_options(const AppConfig& config, ArdroneLink& link);
+// The same for a drone whose video has one camera and no bit-rate setting (`no_bottom_camera` says why).
+FlightRuntimeOptions flight_runtime_options(const AppConfig& config, const std::string& drone, const std::string& no_bottom_camera);
 
 // The simulated lab of config.sim, its cameras showing the teacher's face textured from their
 // photograph (built here because drone/ cannot call localization/).

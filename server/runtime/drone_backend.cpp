@@ -28,7 +28,7 @@ class ArdroneBackend final : public DroneBackend {
           return s;
         }(), log.child("link")),
         core_(std::make_unique<control::FlightStack>(flight_stack_setup(config)), config.cameras),
-        runtime_(link_, core_, clock_, flight_runtime_options(config), log) {
+        runtime_(link_, core_, clock_, flight_runtime_options(config, link_), log) {
     runtime_.start();
     link_.start();
   }
@@ -59,7 +59,9 @@ class TelloBackend final : public DroneBackend {
           return s;
         }(), log.child("link")),
         core_(std::make_unique<control::FlightStack>(flight_stack_setup(config, cameras_)), cameras_),
-        runtime_(link_, core_, clock_, flight_runtime_options(config), log) {
+        runtime_(link_, core_, clock_,
+                 flight_runtime_options(config, "Tello", "a Tello has one camera, looking forward: there is no bottom camera to stream"),
+                 log) {
     log.warn(clock_.now(), "a Tello has no bottom camera: the platform stage lands at the estimated base")
         .kv("after_s", config.control.mission.detect_timeout_s);
     runtime_.start();
@@ -100,7 +102,9 @@ class ReplayBackend final : public DroneBackend {
         link_(spec.file, log.child("replay")),
         clock_(std::isfinite(link_.next_time()) ? link_.next_time() : 0.0),
         core_(std::make_unique<control::FlightStack>(flight_stack_setup(config, cameras_)), cameras_),
-        runtime_(link_, core_, clock_, flight_runtime_options(config), log) {
+        runtime_(link_, core_, clock_,
+                 flight_runtime_options(config, "recording", "a recording plays the camera it recorded: nothing reaches a drone"),
+                 log) {
     runtime_.start();
     player_ = std::thread([this] {
       while (running_ && link_.advance_to(clock_.now())) std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -133,7 +137,7 @@ class SimBackend final : public DroneBackend {
         emulator_(*lab_, loopback_emulator_settings(config), log.child("emulator")),
         link_(link_settings(config, emulator_), log.child("link")),
         core_(std::make_unique<control::FlightStack>(flight_stack_setup(config)), config.cameras),
-        runtime_(link_, core_, clock_, flight_runtime_options(config), log) {
+        runtime_(link_, core_, clock_, flight_runtime_options(config, link_), log) {
     // The page shows the lab's truth beside the estimate (dashed grey), as the experiments' plots do.
     core_.set_truth_source([this]() -> std::optional<Eigen::Isometry3d> {
       Eigen::Isometry3d T_world_body;

@@ -22,6 +22,7 @@ FlightRuntime::FlightRuntime(DroneLink& link, FlightCore& core, const Clock& clo
       instruments_(core.instruments()),
       encoder_(options.jpeg_quality),
       reading_view_(options.reading_view_hz, options.jpeg_quality, options.front_camera),
+      low_rendition_(options.low_rendition),
       vision_([this] {
         {
           std::lock_guard lock(input_mutex_);
@@ -106,7 +107,35 @@ void FlightRuntime::on_link_state(LinkState state, Seconds t) {
 
 // --- requests from the web threads ------------------------------------------------------------------
 
+VideoCapabilities FlightRuntime::video_capabilities() const {
+  std::lock_guard lock(video_mutex_);
+  return options_.video;
+}
+
+CommandVerdict FlightRuntime::set_video_bitrate(int kbps) {
+  std::lock_guard lock(video_mutex_);
+  const VideoCapabilities& v = options_.video;
+  if (!v.adjustable_bitrate || !options_.set_video_bitrate)
+    return {false, (v.drone.empty() ? std::string("this drone") : v.drone) + ": the link cannot ask the drone for a video bit rate"};
+  if (kbps < v.min_bitrate_kbps || kbps > v.max_bitrate_kbps)
+    return {false, v.drone + " video bit rate: " + std::to_string(v.min_bitrate_kbps) + ".." + std::to_string(v.max_bitrate_kbps) +
+                       " kbit/s expected, got " + std::to_string(kbps)};
+  try {
+    options_.set_video_bitrate(kbps);
+  } catch (const std::invalid_argument& e) {
+    return {false, e.what()};
+  }
+  options_.video.bitrate_kbps = kbps;
+  log_.info(clock_.now(), "video bit rate set").kv("kbps", kbps);
+  return {true, "the drone is asked for " + std::to_string(kbps) + " kbit/s"};
+}
+
 CommandVerdict FlightRuntime::request(const MissionCommand& command) {
+  if (command.kind == MissionCommandKind::SelectCamera && command.camera == CameraId::Bottom) {
+    // What the drone cannot do is refused here, with its reason, before the flight software sees it.
+    const VideoCapabilities video = video_capabilities();
+    if (!video.bottom_camera) return {false, "select_camera: " + video.no_bottom_camera};
+  }
   if (command.kind == MissionCommandKind::EmergencyStop) {
     link_.emergency();  // first, from this thread: nothing queued may delay the motor cut
     log_.warn(clock_.now(), "emergency stop sent to the drone");
@@ -256,20 +285,24 @@ void FlightRuntime::video_loop() {
       std::swap(frame, video_slot_.frame);
       video_slot_.fresh = false;
     }
-    bool jpeg = false, reading = false;
+    bool jpeg = false, reading = false, low = false, low_keyframe = false;
     {
       std::lock_guard lock(sink_mutex_);
       if (sink_) {
         jpeg = sink_->wants_jpeg();
         reading = sink_->wants_reading_view();
+        low = sink_->wants_low_rendition();
+        low_keyframe = low && sink_->take_low_keyframe_request();
       }
     }
-    if (!jpeg && !reading) continue;
+    if (!low && low_rendition_.running()) low_rendition_.stop();  // nobody needs it: no encoder runs
+    if (!jpeg && !reading && !low) continue;
     {
       std::lock_guard lock(snapshot_mutex_);
       overlay = snapshot_.overlay;
       telemetry = snapshot_.telemetry;
     }
+    if (low) publish_low_rendition(frame, overlay, telemetry, low_keyframe);
     if (reading) {
       reading_view_.add_frame(frame, overlay.panel);
       if (auto view = reading_view_.due(overlay.panel, frame.t, clock_to_unix_s_)) {
@@ -284,6 +317,17 @@ void FlightRuntime::video_loop() {
     std::lock_guard lock(sink_mutex_);
     if (sink_) sink_->on_frame(encoded);
   }
+}
+
+void FlightRuntime::publish_low_rendition(const VideoFrame& frame, const OverlayModel& overlay,
+                                          const FlightTelemetry& telemetry, bool keyframe) {
+  WireAccessUnit unit;
+  if (!low_rendition_.encode(frame, unix_ms_of(frame.t), keyframe, unit)) return;
+  unit.geometry = low_geometry_.write(overlay, telemetry,
+                                      {frame.frame_number, unit.capture_unix_ms, frame.camera, frame.bgr.cols, frame.bgr.rows},
+                                      clock_to_unix_s_);
+  std::lock_guard lock(sink_mutex_);
+  if (sink_) sink_->on_access_unit(unit);
 }
 
 // --- shutdown ---------------------------------------------------------------------------------------

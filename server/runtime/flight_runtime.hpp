@@ -13,11 +13,13 @@
 //    rectified to its template's front view (the reading view);
 //  - each access unit of the drone's H.264 stream goes to the sink from the link's thread as it
 //    came (no decoding, no re-encoding), with the latest snapshot's overlay geometry, while anyone
-//    watches the H.264 path.
+//    watches the H.264 path; and, while an H.264 viewer's link cannot carry it, the video thread
+//    encodes the newest frame once more into the shared low rendition (one encoder for all of them).
 // Emergency stop goes to the link from the caller's thread at once, then to the core.
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <future>
 #include <memory>
 #include <mutex>
@@ -31,6 +33,7 @@
 #include "server/runtime/vision_worker.hpp"
 #include "server/video/access_unit_wire.hpp"
 #include "server/video/frame_encoder.hpp"
+#include "server/video/low_rendition.hpp"
 #include "server/video/overlay_geometry.hpp"
 #include "server/video/panel_reading_view.hpp"
 
@@ -40,6 +43,11 @@ struct FlightRuntimeOptions {
   double control_hz = 50;
   int jpeg_quality = 75;
   double reading_view_hz = 4;  // the instrument reading view's rate while a panel is tracked
+  LowRenditionSettings low_rendition;
+  // The drone's cameras and bit rate as its backend knows them, and how to ask the drone for another
+  // bit rate (throws std::invalid_argument when refused; empty: no such setting).
+  VideoCapabilities video;
+  std::function<void(int kbps)> set_video_bitrate;
   std::optional<PinholeCamera> front_camera;  // its lens is undone in the reading view
   std::size_t navdata_ring = 256;
   double request_timeout_s = 2.0;
@@ -57,6 +65,8 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
   FlightTelemetry telemetry() const override;
   std::vector<InstrumentSummary> instruments() const override;
   void land_and_stop(double timeout_s) override;
+  VideoCapabilities video_capabilities() const override;
+  CommandVerdict set_video_bitrate(int kbps) override;
 
   double unix_ms_of(Seconds t) const { return (t + clock_to_unix_s_) * 1000.0; }
   // Tick intervals, vision latency and frame counts of the flight thread so far.
@@ -71,6 +81,9 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
   // The vision worker's results, applied; then the newest frame handed to it when it is free.
   void step_vision(VideoFrame& newest, bool& have_newest);
   void video_loop();
+  // The frame into the low rendition, with its geometry, to the sink (the video thread's).
+  void publish_low_rendition(const VideoFrame& frame, const OverlayModel& overlay, const FlightTelemetry& telemetry,
+                             bool keyframe);
   void apply(const FlightAction& action);
   void stop_threads();
 
@@ -116,10 +129,13 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
 
   std::mutex sink_mutex_;
   FlightEventSink* sink_ = nullptr;
+  mutable std::mutex video_mutex_;  // options_.video's bit rate, changed by an admin
 
   FrameEncoder encoder_;
   cv::Mat annotated_;
   PanelReadingView reading_view_;  // the video thread's
+  LowRendition low_rendition_;     // the video thread's
+  OverlayGeometryWriter low_geometry_;
   // The link's video thread's (on_encoded_video): pooled wire buffers, the snapshot copied in.
   AccessUnitPacker packer_;
   OverlayGeometryWriter geometry_;

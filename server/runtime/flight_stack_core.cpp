@@ -115,7 +115,9 @@ CommandVerdict FlightStackCore::request(const MissionCommand& c, Seconds t) {
     // Land cancels the mission first; the drone's own landing holds its place while it descends.
     case MissionCommandKind::Stop: r.kind = control::RequestKind::Land; break;
     case MissionCommandKind::EmergencyStop: r.kind = control::RequestKind::EmergencyStop; break;
+    case MissionCommandKind::SelectCamera: r.kind = control::RequestKind::SelectCamera; break;
   }
+  r.camera = c.camera;
   r.instrument_id = c.instrument;
   r.hold_s = c.hold_s;
   const control::CommandResult result = stack_->request(r, t);

@@ -22,7 +22,8 @@ void AccessUnitHeader::write(char* out) const {
   put<std::uint8_t>(out, 17, keyframe ? 1 : 0);
   put(out, 18, width);
   put(out, 20, height);
-  put<std::uint16_t>(out, 22, 0);
+  put(out, 22, static_cast<std::uint8_t>(rendition));
+  put<std::uint8_t>(out, 23, 0);
   put(out, 24, annexb_bytes);
 }
 
@@ -35,14 +36,17 @@ std::optional<AccessUnitHeader> AccessUnitHeader::read(std::string_view m) {
   h.keyframe = (get<std::uint8_t>(m, 17) & 1) != 0;
   h.width = get<std::uint16_t>(m, 18);
   h.height = get<std::uint16_t>(m, 20);
+  const auto rendition = get<std::uint8_t>(m, 22);
+  if (rendition > static_cast<std::uint8_t>(Rendition::Low)) return std::nullopt;
+  h.rendition = static_cast<Rendition>(rendition);
   h.annexb_bytes = get<std::uint32_t>(m, 24);
   if (h.annexb_bytes != m.size() - kSize) return std::nullopt;
   return h;
 }
 
-WireAccessUnit AccessUnitPacker::pack(const EncodedVideo& unit, double capture_unix_ms) {
+WireAccessUnit AccessUnitPacker::pack(const EncodedVideo& unit, double capture_unix_ms, Rendition rendition) {
   const AccessUnitHeader header{unit.frame_number, capture_unix_ms, static_cast<std::uint8_t>(unit.camera), unit.keyframe,
-                                u16(unit.width), u16(unit.height), static_cast<std::uint32_t>(unit.annexb.size())};
+                                u16(unit.width), u16(unit.height), rendition, static_cast<std::uint32_t>(unit.annexb.size())};
   auto buffer = pool_.acquire();
   buffer->resize(AccessUnitHeader::kSize + unit.annexb.size());
   header.write(buffer->data());
@@ -52,6 +56,7 @@ WireAccessUnit AccessUnitPacker::pack(const EncodedVideo& unit, double capture_u
   out.capture_unix_ms = capture_unix_ms;
   out.camera = unit.camera;
   out.keyframe = unit.keyframe;
+  out.rendition = rendition;
   out.wire = std::move(buffer);
   return out;
 }

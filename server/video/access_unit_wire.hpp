@@ -8,7 +8,8 @@
 //  17  u8  flags         bit 0: keyframe (an IDR with SPS and PPS: a decoder can start here)
 //  18  u16 width         display size in pixels
 //  20  u16 height
-//  22  u16 reserved
+//  22  u8  rendition     0 the drone's own stream, 1 the server's shared low rendition (video/rendition.hpp)
+//  23  u8  reserved
 //  24  u32 annexb_bytes
 #include <cstdint>
 #include <optional>
@@ -27,6 +28,7 @@ struct AccessUnitHeader {
   std::uint8_t camera = 0;
   bool keyframe = false;
   std::uint16_t width = 0, height = 0;
+  Rendition rendition = Rendition::Source;
   std::uint32_t annexb_bytes = 0;
 
   // Writes the header into the first kSize bytes of `out` (which must be at least that long).
@@ -39,7 +41,7 @@ struct AccessUnitHeader {
 class AccessUnitPacker {
  public:
   AccessUnitPacker() : pool_(32, 64 * 1024) {}
-  WireAccessUnit pack(const EncodedVideo& unit, double capture_unix_ms);
+  WireAccessUnit pack(const EncodedVideo& unit, double capture_unix_ms, Rendition rendition = Rendition::Source);
   std::size_t buffers() const { return pool_.size(); }  // pooled so far (bounded by the viewers' queues)
 
  private:

@@ -28,6 +28,11 @@ int main(int argc, char** argv) {
     test::ScriptedCore core(stage_s);
     FlightRuntimeOptions options;
     options.jpeg_quality = config.server.video.jpeg_quality;
+    options.low_rendition.bitrate_kbps = config.server.video.low_rendition_kbps;
+    // Like an AR.Drone 2.0: both cameras (the test card turns dark on the bottom one) and a bit rate
+    // an admin may set (the test card's encoder keeps its own).
+    options.video = {"AR.Drone 2.0 (test card)", true, "", true, 4000, 250, 4000};
+    options.set_video_bitrate = [](int) {};
     FlightRuntime runtime(link, core, clock, options, log.child("runtime"));
     WebServer server(config.server, config_file, runtime, log.child("web"));
     runtime.start();

@@ -1,6 +1,7 @@
 // End-to-end in a real browser (headless Debian chromium driven by playwright-core): what each role
 // may do on the lab and admin pages. A spectator has stop but no motor cut (the space bar stops);
-// the student holding control, a teacher and an admin may cut the motors.
+// the student holding control, a teacher and an admin may cut the motors. The admin page: status,
+// live metrics, a user added there who then logs in, the audit log naming it, the user removed.
 // Usage: node roles_flow.mjs BASE_URL OUT_DIR
 import {chromium} from 'playwright-core';
 
@@ -12,15 +13,16 @@ const browser = await chromium.launch({
          '--disable-background-networking', '--disable-component-update', '--disable-sync'],
 });
 
-async function login(user) {
+async function login(user, password = user + '-pass') {
   const context = await browser.newContext({viewport: {width: 1480, height: 900}});
   const page = await context.newPage();
   page.on('pageerror', (e) => fail(`${user}: page error: ${e.message}`));
   await page.goto(base + '/');
   await page.fill('#user', user);
-  await page.fill('#password', user + '-pass');
+  await page.fill('#password', password);
   await page.click('#login-button');
-  await page.waitForURL('**/lab.html');
+  await page.waitForURL(/\/(lab|admin)\.html$/);  // admins land on their own page
+  if (page.url().endsWith('admin.html')) return page;
   await page.waitForFunction(() => window.labodrone && window.labodrone.connected, null, {timeout: 10000});
   await page.waitForFunction(() => document.getElementById('who').textContent.includes('·'));
   return page;
@@ -53,8 +55,43 @@ async function spectatorStopsButCannotCut() {
   for (const p of [spectator, controller, teacher]) await p.context().close();
 }
 
+async function adminAddsUserWhoLogsIn() {
+  const admin = await login('admin');
+  admin.on('dialog', (d) => d.accept());
+  await admin.waitForFunction(() => window.labodroneAdmin && window.labodroneAdmin.refreshes >= 1);
+  const status = await admin.textContent('#status');
+  if (!status.includes('battery')) fail('the status panel shows no battery: ' + status);
+  // Two polls of /metrics make the first rates.
+  await admin.waitForFunction(() => [...document.querySelectorAll('.metric-value')].filter((v) => v.textContent).length >= 5,
+                              null, {timeout: 10000});
+  await admin.fill('#u-name', 'dana');
+  await admin.selectOption('#u-role', 'student');
+  await admin.fill('#u-password', 'dana-pass-1');
+  await admin.click('#u-add');
+  await admin.waitForFunction(() => document.getElementById('u-result').textContent.includes('added dana'));
+  // Refused with its reason: a second dana.
+  await admin.fill('#u-name', 'dana');
+  await admin.fill('#u-password', 'dana-pass-2');
+  await admin.click('#u-add');
+  await admin.waitForFunction(() => document.getElementById('u-result').textContent.includes('409'));
+  const dana = await login('dana', 'dana-pass-1');
+  const who = await dana.textContent('#who');
+  if (!who.includes('dana · student')) fail('the new user is not logged in as a student: ' + who);
+  await admin.waitForFunction(() => document.getElementById('audit').textContent.includes('user_add'), null, {timeout: 10000});
+  await admin.waitForFunction(() => document.getElementById('sessions').textContent.includes('dana'), null, {timeout: 10000});
+  await admin.screenshot({path: out + '/roles_admin.png', fullPage: true});
+  // Removed: dana's page goes back to the login page.
+  const row = admin.locator('#users tr', {hasText: 'dana'});
+  await row.locator('button', {hasText: 'remove'}).click();
+  await admin.waitForFunction(() => document.getElementById('u-result').textContent.includes('dana removed'));
+  await dana.waitForURL((u) => !u.pathname.endsWith('lab.html'), {timeout: 10000});
+  console.log('admin: status and metrics shown; dana added, logged in, seen in sessions and the audit log, removed');
+  for (const p of [admin, dana]) await p.context().close();
+}
+
 try {
   await spectatorStopsButCannotCut();
+  await adminAddsUserWhoLogsIn();
 } catch (e) {
   fail(e.message);
 } finally {

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs a browser test: installs Debian's chromium and the npm package when missing, starts the
 # server on a free port, drives it with the test script, stops the server.
-# Usage: run_browser_test.sh SERVER_BINARY OUT_DIR [student_flow|video_paths|roles_flow] [sim|tello]
+# Usage: run_browser_test.sh SERVER_BINARY OUT_DIR [student_flow|video_paths|roles_flow|video_controls] [sim|tello]
 #   SERVER_BINARY labo_e2e_server: the web layer over test doubles (a test card, a scripted mission);
 #   SERVER_BINARY labodrone: `labodrone serve`, i.e. the simulated lab on loopback with the real
 #   driver, flight stack and vision, as `make run` starts it; with `tello`, `labodrone emulate
@@ -26,6 +26,11 @@ if [ "$drone" = tello ]; then
   "$server" serve --port "$port" --drone tello:127.0.0.1 > "$out/server.log" 2>&1 &
 elif [ "$(basename "$server")" = labodrone ]; then
   "$server" serve --port "$port" > "$out/server.log" 2>&1 &
+elif [ "$script" = roles_flow ]; then
+  # The admin's user routes write the config file: a copy, beside the pages it serves, never the source tree's.
+  rm -rf "$out/roles" && mkdir -p "$out/roles" && cp -r "$here/../../config" "$out/roles/config"
+  ln -s "$(cd "$here/../../web" && pwd)" "$out/roles/web"
+  "$server" "$port" 1.5 30 plain "$out/roles/config/default.json" > "$out/server.log" 2>&1 &
 else
   "$server" "$port" 1.5 30 > "$out/server.log" 2>&1 &
 fi
@@ -39,6 +44,7 @@ mode=scripted; [ "$(basename "$server")" = labodrone ] && mode=sim
 case "$script" in
   student_flow) node "$here/student_flow.mjs" "http://127.0.0.1:$port" "$out/student_flow.png" ;;
   video_paths) node "$here/video_paths.mjs" "http://127.0.0.1:$port" "$out" "$mode" ;;
+  video_controls) node "$here/video_controls.mjs" "http://127.0.0.1:$port" "$out" "$mode" ;;
   roles_flow) node "$here/roles_flow.mjs" "http://127.0.0.1:$port" "$out" ;;
-  *) echo "unknown browser test '$script' (expected student_flow, video_paths or roles_flow)" >&2; exit 2 ;;
+  *) echo "unknown browser test '$script' (expected student_flow, video_paths, roles_flow or video_controls)" >&2; exit 2 ;;
 esac

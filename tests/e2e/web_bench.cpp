@@ -1,10 +1,13 @@
 // Web benchmark, against a running server (labo_e2e_server or labodrone serve):
-//   labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264]
+//   labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264] [SLOW_KBPS=0]
 // Connects CLIENTS spectators (one session, CLIENTS WebSockets) watching the VIDEO path, each
 // reading everything, and reports per-client frames/s, the bytes each receives per second (video
 // and all), the glass-to-client latency (now - the frame's capture time; same machine, same clock)
-// and the server's CPU (from /proc/PID/stat) over the run. With STUCK_SECONDS it then opens one
-// viewer of the same path that never reads and samples the server's resident memory meanwhile.
+// and the server's CPU (from /proc/PID/stat) over the run. With SLOW_KBPS (h264), one more viewer
+// reads at most SLOW_KBPS kbit/s through a 16 KiB receive buffer, as a slow link would carry it: its
+// frames/s, the frames of each rendition it got, the low rendition's bit rate and its latency are
+// reported apart. With STUCK_SECONDS it then opens one viewer of the same path that never reads and
+// samples the server's resident memory meanwhile.
 #include <algorithm>
 #include <fstream>
 #include <iostream>
@@ -57,6 +60,40 @@ std::optional<double> capture_ms(const std::string& message) {
   return std::nullopt;
 }
 
+// A viewer on a slow link: reads at most `kbps`, through a small receive buffer.
+struct SlowViewerStats {
+  int frames = 0;
+  int frames_by_rendition[2] = {0, 0};
+  double low_bytes = 0, first_low_s = -1, last_low_s = -1, first_low_after_s = -1, all_bytes = 0;
+  std::vector<double> latencies;
+};
+
+SlowViewerStats run_slow_viewer(unsigned short port, const std::string& cookie, double kbps, double seconds) {
+  SlowViewerStats out;
+  WsClient ws(port, cookie, {}, 16 * 1024);
+  ws.send(std::string(R"({"type":"subscribe","video":"h264","rendition":"auto"})"));
+  const auto start = std::chrono::steady_clock::now();
+  const auto since = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  double bytes = 0;
+  while (since() < seconds) {
+    auto m = ws.read(1.0);
+    if (!m) break;
+    bytes += static_cast<double>(m->data.size());
+    out.all_bytes = bytes;
+    std::this_thread::sleep_until(start + std::chrono::duration<double>(bytes * 8 / (kbps * 1000)));
+    const auto h = m->binary ? AccessUnitHeader::read(m->data) : std::nullopt;
+    if (!h) continue;
+    ++out.frames;
+    ++out.frames_by_rendition[static_cast<int>(h->rendition)];
+    out.latencies.push_back(unix_ms() - h->capture_unix_ms);
+    if (h->rendition != Rendition::Low) continue;
+    if (out.first_low_s < 0) out.first_low_after_s = out.first_low_s = since();
+    else out.low_bytes += static_cast<double>(m->data.size());  // from the first low unit's arrival on
+    out.last_low_s = since();
+  }
+  return out;
+}
+
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
@@ -67,7 +104,7 @@ double percentile(std::vector<double> v, double p) {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::cerr << "usage: labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264]\n";
+    std::cerr << "usage: labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264] [SLOW_KBPS=0]\n";
     return 2;
   }
   const std::string video = argc > 6 ? argv[6] : "jpeg";
@@ -81,6 +118,11 @@ int main(int argc, char** argv) {
   const int clients = argc > 3 ? std::stoi(argv[3]) : 20;
   const double seconds = argc > 4 ? std::stod(argv[4]) : 20;
   const double stuck_seconds = argc > 5 ? std::stod(argv[5]) : 0;
+  const double slow_kbps = argc > 7 ? std::stod(argv[7]) : 0;
+  if (slow_kbps > 0 && video != "h264") {
+    std::cerr << "labo_web_bench: SLOW_KBPS needs the h264 path\n";
+    return 2;
+  }
   const std::string cookie = login_cookie(port, "student1", "student1-pass");
   if (cookie.empty()) {
     std::cerr << "cannot log in as student1\n";
@@ -124,8 +166,10 @@ int main(int argc, char** argv) {
       latencies.insert(latencies.end(), mine.begin(), mine.end());
     });
   }
+  SlowViewerStats slow;
+  if (slow_kbps > 0) threads.emplace_back([&] { slow = run_slow_viewer(port, cookie, slow_kbps, seconds); });
   for (auto& t : threads) t.join();
-  if (clients == 0) std::this_thread::sleep_until(deadline);  // the server's CPU with nobody watching
+  if (clients == 0 && slow_kbps <= 0) std::this_thread::sleep_until(deadline);  // the server's CPU with nobody watching
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double server_cores = (cpu_seconds(pid) - cpu0) / wall;
   const auto kbit = [](double bytes_s) { return bytes_s * 8 / 1000; };
@@ -136,6 +180,14 @@ int main(int argc, char** argv) {
             << "glass-to-client latency ms: median " << percentile(latencies, 0.5) << ", p95 " << percentile(latencies, 0.95)
             << ", max " << percentile(latencies, 1.0) << "\n"
             << "server CPU: " << server_cores << " cores\n";
+  if (slow_kbps > 0) {
+    const double low_s = slow.last_low_s - slow.first_low_s;
+    std::cout << "slow viewer at " << slow_kbps << " kbit/s: " << slow.frames / seconds << " frames/s ("
+              << slow.frames_by_rendition[0] << " of the drone's stream, " << slow.frames_by_rendition[1] << " of the low rendition"
+              << "); first low unit after " << slow.first_low_after_s << " s; low rendition "
+              << (low_s > 0 ? slow.low_bytes * 8 / 1000 / low_s : 0) << " kbit/s (its units and headers, over " << low_s
+              << " s); everything it read " << slow.all_bytes * 8 / 1000 / seconds << " kbit/s; latency ms: median " << percentile(slow.latencies, 0.5) << ", p95 " << percentile(slow.latencies, 0.95) << "\n";
+  }
   ws.clear();
 
   if (stuck_seconds > 0) {

@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <atomic>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -28,11 +29,13 @@ struct CapturingSink final : FlightEventSink {
   }
   bool wants_jpeg() const override { return jpeg; }
   bool wants_access_units() const override { return h264; }
+  bool wants_low_rendition() const override { return low; }
+  bool take_low_keyframe_request() override { return low_keyframe.exchange(false); }
   std::mutex mutex;
   std::vector<WireFrame> frames;
   std::vector<WireAccessUnit> units;
   std::vector<FlightEvent> events;
-  bool jpeg = true, h264 = false;
+  std::atomic<bool> jpeg = true, h264 = false, low = false, low_keyframe = false;
 };
 }  // namespace
 
@@ -133,4 +136,96 @@ TEST_CASE("web: the flight runtime passes the drone's access units on as they ca
   const auto last = nlohmann::json::parse(*sink.units.back().geometry);
   CHECK(last["panel"]["corners"][0] == nlohmann::json::array({220.0, 100.0}));
   CHECK(last["source_colour"] == "#1060ff");
+}
+
+TEST_CASE("web: the flight runtime encodes the shared low rendition only while a viewer needs it, an IDR when asked") {
+  SteadyClock clock;
+  FakeDroneLink link;
+  link.set_textured(true);
+  ScriptedCore core(5.0);
+  CapturingSink sink;
+  sink.jpeg = false;
+  FlightRuntime runtime(link, core, clock, {}, Logger("test", LogLevel::Warn));
+  runtime.set_sink(&sink);
+  runtime.start();
+  const auto deliver = [&](std::uint32_t from, std::uint32_t to) {
+    for (std::uint32_t n = from; n < to; ++n) {
+      link.deliver_frame(n, clock.now());
+      std::this_thread::sleep_for(std::chrono::milliseconds(33));
+    }
+  };
+  deliver(0, 10);
+  {
+    std::lock_guard lock(sink.mutex);
+    CHECK(sink.units.empty());  // nobody needs it: nothing encoded
+  }
+  sink.low = true;
+  deliver(10, 50);
+  sink.low_keyframe = true;
+  deliver(50, 60);
+  sink.low = false;
+  deliver(60, 70);
+  runtime.land_and_stop(0.5);
+  std::lock_guard lock(sink.mutex);
+  REQUIRE(sink.units.size() >= 30);
+  ardrone2::H264Decoder decoder;
+  cv::Mat bgr;
+  int decoded = 0, keyframes_after_request = 0;
+  for (const WireAccessUnit& u : sink.units) {
+    CHECK(u.rendition == Rendition::Low);
+    CHECK(u.frame_number >= 10);
+    CHECK(u.frame_number < 60);
+    const auto h = AccessUnitHeader::read(*u.wire);
+    REQUIRE(h);
+    CHECK(h->rendition == Rendition::Low);
+    CHECK(h->width == 640);
+    REQUIRE(u.geometry);
+    CHECK(nlohmann::json::parse(*u.geometry)["frame"] == u.frame_number);  // the source frame's geometry
+    const std::span<const std::uint8_t> annexb(reinterpret_cast<const std::uint8_t*>(u.wire->data()) + AccessUnitHeader::kSize,
+                                               h->annexb_bytes);
+    decoded += decoder.decode(annexb, bgr) == ardrone2::DecodeStatus::Decoded;
+    keyframes_after_request += u.keyframe && u.frame_number >= 50 && u.frame_number < 55;
+  }
+  CHECK(sink.units.front().keyframe);  // the encoder starts with an IDR
+  CHECK(keyframes_after_request >= 1);  // frame 50-54: the IDR asked for (the 30-frame cadence has none there)
+  CHECK(decoded >= static_cast<int>(sink.units.size()) - 1);
+}
+
+TEST_CASE("web: the bottom camera: streamed when the drone has one, refused with the reason when it has not") {
+  SteadyClock clock;
+  FakeDroneLink link;
+  ScriptedCore core(5.0);
+  int asked_kbps = 0;
+  FlightRuntimeOptions ardrone;
+  ardrone.video = {"AR.Drone 2.0", true, "", true, 4000, 250, 4000};
+  ardrone.set_video_bitrate = [&](int kbps) { asked_kbps = kbps; };
+  {
+    FlightRuntime runtime(link, core, clock, ardrone, Logger("test", LogLevel::Warn));
+    runtime.start();
+    CHECK(runtime.request({MissionCommandKind::SelectCamera, "", 0, CameraId::Bottom}).accepted);
+    for (int i = 0; i < 100 && link.camera() != CameraId::Bottom; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    CHECK(link.camera() == CameraId::Bottom);
+    CHECK(runtime.request({MissionCommandKind::SelectCamera, "", 0, CameraId::Front}).accepted);
+    for (int i = 0; i < 100 && link.camera() != CameraId::Front; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    CHECK(link.camera() == CameraId::Front);
+    CHECK(runtime.set_video_bitrate(2000).accepted);
+    CHECK(asked_kbps == 2000);
+    CHECK(runtime.video_capabilities().bitrate_kbps == 2000);
+    const CommandVerdict too_high = runtime.set_video_bitrate(4001);
+    CHECK_FALSE(too_high.accepted);
+    CHECK(too_high.reason == "AR.Drone 2.0 video bit rate: 250..4000 kbit/s expected, got 4001");
+    CHECK(asked_kbps == 2000);
+    runtime.land_and_stop(0.5);
+  }
+  FlightRuntimeOptions tello;
+  tello.video = {"Tello", false, "a Tello has one camera, looking forward: there is no bottom camera to stream", false, 0, 0, 0};
+  FlightRuntime runtime(link, core, clock, tello, Logger("test", LogLevel::Warn));
+  runtime.start();
+  const CommandVerdict refused = runtime.request({MissionCommandKind::SelectCamera, "", 0, CameraId::Bottom});
+  CHECK_FALSE(refused.accepted);
+  CHECK(refused.reason == "select_camera: a Tello has one camera, looking forward: there is no bottom camera to stream");
+  CHECK(runtime.request({MissionCommandKind::SelectCamera, "", 0, CameraId::Front}).accepted);  // its one camera
+  CHECK(runtime.set_video_bitrate(2000).reason == "Tello: the link cannot ask the drone for a video bit rate");
+  runtime.land_and_stop(0.5);
+  CHECK(link.camera() == CameraId::Front);
 }

@@ -37,6 +37,8 @@ TEST_CASE("lab: protocol: each message type becomes its typed request") {
   CHECK_FALSE(request_of<CommandRequest>(land).id);
   CHECK(request_of<CommandRequest>(land).command.kind == MissionCommandKind::Land);
   CHECK(request_of<CommandRequest>(parse_client_message(R"({"type":"command","command":"inspect","instrument":"x"})")).command.hold_s == 10);
+  CHECK(request_of<CommandRequest>(parse_client_message(R"({"type":"command","command":"select_camera","camera":"bottom"})"))
+            .command.camera == CameraId::Bottom);
 
   request_of<HeartbeatRequest>(parse_client_message(R"({"type":"heartbeat"})"));
   request_of<RequestControlRequest>(parse_client_message(R"({"type":"request_control"})"));
@@ -44,6 +46,11 @@ TEST_CASE("lab: protocol: each message type becomes its typed request") {
   request_of<TakeOverRequest>(parse_client_message(R"({"type":"take_over"})"));
   CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"h264"})")).video == VideoPath::H264);
   CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"jpeg"})")).video == VideoPath::Jpeg);
+  CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"h264"})")).rendition == RenditionChoice::Auto);
+  for (const RenditionChoice c : {RenditionChoice::Auto, RenditionChoice::Source, RenditionChoice::Low})
+    CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"h264","rendition":")" +
+                                                            std::string(to_string(c)) + "\"}"))
+              .rendition == c);
 
   const ParsedMessage stop = parse_client_message(R"({"type":"command","id":1,"command":"emergency_stop"})");
   CHECK(is_emergency_stop(std::get<ClientRequest>(stop)));
@@ -70,7 +77,7 @@ TEST_CASE("lab: protocol: every refused input names what was wrong and what was 
   CHECK(verdict_of(R"({"type":"command","command":5})") == "400 'command' (string) is required");
   CHECK(verdict_of(R"({"type":"command","command":"barrel_roll"})") ==
         "400 unknown command 'barrel_roll' (expected takeoff, inspect, find_teacher, stop_face_follow, return_home, land, "
-        "stop, emergency_stop)");
+        "stop, emergency_stop, select_camera)");
   CHECK(verdict_of(R"({"type":"command","command":"land","speed":3})") == "400 unknown field 'speed' in a command");
   CHECK(verdict_of(R"({"type":"command","command":"land","id":"x"})") == "400 'id' must be an integer");
   CHECK(verdict_of(R"({"type":"command","command":"land","id":1.5})") == "400 'id' must be an integer");
@@ -84,6 +91,15 @@ TEST_CASE("lab: protocol: every refused input names what was wrong and what was 
   CHECK(verdict_of(R"({"type":"command","command":"land","instrument":"o"})") == "400 'instrument' and 'hold_s' belong to inspect only");
   CHECK(verdict_of(R"({"type":"command","command":"takeoff","hold_s":3})") == "400 'instrument' and 'hold_s' belong to inspect only");
 
+  // The camera the drone streams: front or bottom, nothing else.
+  for (const char* camera : {"", R"(,"camera":"down")", R"(,"camera":1)", R"(,"camera":null)", R"(,"camera":"Bottom")"})
+    CHECK(verdict_of(std::string(R"({"type":"command","command":"select_camera")") + camera + "}") ==
+          "400 select_camera needs 'camera' (string: front or bottom)");
+  CHECK(verdict_of(R"({"type":"command","command":"select_camera","camera":"bottom","instrument":"o"})") ==
+        "400 'instrument' and 'hold_s' belong to inspect only");
+  CHECK(verdict_of(R"({"type":"command","command":"land","camera":"bottom"})") == "400 'camera' belongs to select_camera only");
+  CHECK(verdict_of(R"({"type":"command","command":"select_camera","camera":"bottom"})") == "accepted");
+
   // The messages that carry nothing but their type.
   for (const char* type : {"heartbeat", "request_control", "release_control", "take_over"})
     CHECK(verdict_of(std::string(R"({"type":")") + type + R"(","extra":1})") == std::string("400 '") + type + "' takes no other field");
@@ -96,5 +112,10 @@ TEST_CASE("lab: protocol: every refused input names what was wrong and what was 
   CHECK(verdict_of(R"({"type":"subscribe","video":"H264"})") == "400 unknown video path 'H264' (expected h264 or jpeg)");
   CHECK(verdict_of(R"({"type":"subscribe","video":"vp8"})") == "400 unknown video path 'vp8' (expected h264 or jpeg)");
   CHECK(verdict_of(R"({"type":"subscribe","video":"h264","rate":3})") ==
-        "400 unknown field 'rate' in subscribe (expected 'video')");
+        "400 unknown field 'rate' in subscribe (expected 'video' and optionally 'rendition')");
+  // The H.264 rendition: auto (the default), source or low, on the h264 path only.
+  for (const char* bad : {"\"LOW\"", "\"medium\"", "1", "null", "[\"low\"]"})
+    CHECK(verdict_of(std::string(R"({"type":"subscribe","video":"h264","rendition":)") + bad + "}") ==
+          "400 'rendition' must be auto, source or low");
+  CHECK(verdict_of(R"({"type":"subscribe","video":"jpeg","rendition":"low"})") == "400 'rendition' belongs to the h264 path only");
 }

@@ -24,7 +24,7 @@ class RecordingClient final : public LabClient {
   void send_frame(std::shared_ptr<const std::string>) override { ++frames; }
   void send_access_unit(const WireAccessUnit&) override { ++units; }
   void send_reading_view(std::shared_ptr<const std::string>) override {}
-  void select_video(VideoPath path) override { video = path; }
+  void select_video(VideoPath path, RenditionChoice) override { video = path; }
   void disconnect(const std::string&) override {}
 
   std::vector<std::string> events;

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <opencv2/imgproc.hpp>
 #include <thread>
+#include <utility>
 
 #include "drone/ardrone2/h264_codec.hpp"
 #include "server/runtime/flight_core.hpp"
@@ -29,7 +30,14 @@ class FakeDroneLink final : public DroneLink {
   void flat_trim() override {}
   void move(const MoveCommand&) override { moves++; }
   void hover() override {}
-  void select_camera(CameraId) override {}
+  void select_camera(CameraId camera) override {
+    std::lock_guard lock(mutex_);
+    camera_ = camera;
+  }
+  CameraId camera() const {
+    std::lock_guard lock(mutex_);
+    return camera_;
+  }
   void set_config(const std::string&, const std::string&) override {}
   LinkState state() const override { return LinkState::Connected; }
   LinkStatistics statistics() const override { return {}; }
@@ -53,12 +61,16 @@ class FakeDroneLink final : public DroneLink {
     if (texture_.empty()) frame_.setTo(cv::Scalar(90, 110, 90));
     else texture_.copyTo(frame_);
     for (int x = -80; x < 640; x += 80) cv::rectangle(frame_, cv::Rect(x + static_cast<int>(n * 4 % 80), 120, 40, 120), {200, 200, 200}, cv::FILLED);
-    cv::putText(frame_, "frame " + std::to_string(n), {40, 320}, cv::FONT_HERSHEY_SIMPLEX, 1.0, {255, 255, 255}, 2);
-    VideoFrame f{t, CameraId::Front, n, frame_};
+    // The bottom camera (once selected) shows the floor: a dark card with its name on it.
+    const CameraId cam = camera();
+    if (cam == CameraId::Bottom) frame_.setTo(cv::Scalar(40, 60, 90));
+    cv::putText(frame_, (cam == CameraId::Bottom ? "bottom, frame " : "frame ") + std::to_string(n), {40, 320},
+                cv::FONT_HERSHEY_SIMPLEX, 1.0, {255, 255, 255}, 2);
+    VideoFrame f{t, cam, n, frame_};
     if (encoder_) encoder_->encode(frame_, encoded_);
     std::lock_guard lock(mutex_);
     if (!listener_) return;
-    if (encoder_) listener_->on_encoded_video({t, CameraId::Front, n, encoded_.keyframe, 640, 360, encoded_.data});
+    if (encoder_) listener_->on_encoded_video({t, cam, n, encoded_.keyframe, 640, 360, encoded_.data});
     listener_->on_video(f);
   }
   void deliver_navdata(Seconds t, double altitude_m) {
@@ -93,8 +105,9 @@ class FakeDroneLink final : public DroneLink {
   std::chrono::steady_clock::time_point emergency_at{};
 
  private:
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   DroneLinkListener* listener_ = nullptr;
+  CameraId camera_ = CameraId::Front;
   cv::Mat frame_, texture_;
   std::unique_ptr<ardrone2::H264Encoder> encoder_;
   ardrone2::EncodedFrame encoded_;
@@ -115,6 +128,7 @@ class ScriptedCore final : public FlightCore {
   FlightAction tick(Seconds t) override {
     now_ = t;
     FlightAction a;
+    a.select_camera = std::exchange(camera_wanted_, std::nullopt);
     if (mission_ == "inspect") {
       const int stage = 1 + static_cast<int>((t - started_) / stage_s_);
       stage_ = stage <= 6 ? std::to_string(stage) + " " + kStages[stage - 1] : "done";
@@ -144,6 +158,10 @@ class ScriptedCore final : public FlightCore {
         flying_ = false;
         mission_ = "idle";
         return {true, "landing"};
+      case MissionCommandKind::SelectCamera:
+        if (mission_ == "inspect") return {false, "select_camera: mission 'inspect' chooses the camera while it runs"};
+        camera_wanted_ = c.camera;
+        return {true, "select_camera"};
       default:
         flying_ = c.kind != MissionCommandKind::ReturnHome;
         return {true, to_string(c.kind)};
@@ -181,6 +199,7 @@ class ScriptedCore final : public FlightCore {
   std::string mission_ = "idle", stage_, last_stage_;
   double started_ = 0, now_ = 0, battery_ = 0, last_frame_t_ = -1;
   bool flying_ = false;
+  std::optional<CameraId> camera_wanted_;
 };
 
 }  // namespace labo::test

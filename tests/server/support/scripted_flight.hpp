@@ -34,6 +34,17 @@ class ScriptedFlight final : public FlightService {
   }
   std::vector<InstrumentSummary> instruments() const override { return {{"oscilloscope", "Oscilloscope", 0.3, 0.15, 2.0, 0.5}}; }
   void land_and_stop(double) override { landed_on_shutdown = true; }
+  VideoCapabilities video_capabilities() const override {
+    std::lock_guard lock(mutex_);
+    return video;
+  }
+  CommandVerdict set_video_bitrate(int kbps) override {
+    std::lock_guard lock(mutex_);
+    video.bitrate_kbps = kbps;
+    return {true, "asked for " + std::to_string(kbps) + " kbit/s"};
+  }
+  // Like an AR.Drone 2.0 unless the test plays another drone (set before the server starts).
+  VideoCapabilities video{"scripted AR.Drone", true, "", true, 4000, 250, 4000};
 
   void publish_frame(std::uint32_t number, int bytes_of_noise = 0) {
     cv::Mat img(360, 640, CV_8UC3, cv::Scalar(40, 80, 120));
@@ -44,14 +55,25 @@ class ScriptedFlight final : public FlightService {
   }
   // An access unit of `bytes` filler bytes (not real H.264: the server does not look inside) with
   // a one-line geometry message naming its frame.
-  void publish_access_unit(std::uint32_t number, bool keyframe, std::size_t bytes = 2000) {
+  void publish_access_unit(std::uint32_t number, bool keyframe, std::size_t bytes = 2000,
+                           Rendition rendition = Rendition::Source) {
     filler_.assign(bytes, static_cast<std::uint8_t>(number));
-    WireAccessUnit unit = packer_.pack({0, CameraId::Front, number, keyframe, 640, 360, filler_}, 1.0e12);
+    WireAccessUnit unit = packer_.pack({0, CameraId::Front, number, keyframe, 640, 360, filler_}, 1.0e12, rendition);
     unit.geometry = std::make_shared<const std::string>(R"({"type":"overlay","frame":)" + std::to_string(number) + "}");
     std::lock_guard lock(mutex_);
     if (sink_) sink_->on_access_unit(unit);
   }
   std::size_t access_unit_buffers() const { return packer_.buffers(); }
+  // What the runtime's video thread asks before each frame: run the low rendition's encoder, and
+  // make this frame an IDR.
+  bool low_rendition_wanted() {
+    std::lock_guard lock(mutex_);
+    return sink_ && sink_->wants_low_rendition();
+  }
+  bool take_low_keyframe_request() {
+    std::lock_guard lock(mutex_);
+    return sink_ && sink_->take_low_keyframe_request();
+  }
   void publish_event(const FlightEvent& e) {
     std::lock_guard lock(mutex_);
     if (sink_) sink_->on_flight_event(e);

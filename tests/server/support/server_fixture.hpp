@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <nlohmann/json.hpp>
 
 #include "server/app_config.hpp"
 #include "server/auth/password_hash.hpp"
@@ -39,6 +40,7 @@ struct ServerFixture {
     };
     settings.users = {user("alice", Role::Student), user("bob", Role::Student), user("tess", Role::Teacher), user("root", Role::Admin)};
     if (tweak) tweak(settings);
+    write_users_to_config();
     server = std::make_unique<WebServer>(settings, config_file, flight, Logger("test", LogLevel::Warn));
     port = server->start();
   }
@@ -46,6 +48,16 @@ struct ServerFixture {
     server.reset();
     std::error_code ec;
     std::filesystem::remove_all(dir, ec);
+  }
+
+  // The config file names the same users as `settings`, as it does when the server reads its users
+  // from it: the admin's user routes edit that file.
+  void write_users_to_config() {
+    nlohmann::json doc = nlohmann::json::parse(std::ifstream(config_file));
+    doc["server"]["users"] = nlohmann::json::array();
+    for (const UserAccount& u : settings.users)
+      doc["server"]["users"].push_back({{"name", u.name}, {"role", to_string(u.role)}, {"password_hash", u.password_hash}});
+    std::ofstream(config_file) << doc.dump(2) << "\n";
   }
 
   std::filesystem::path dir, config_file;

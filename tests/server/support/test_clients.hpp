@@ -58,7 +58,12 @@ inline std::string login_cookie(unsigned short port, const std::string& user, co
 class WsClient {
  public:
   // `origin`: the Origin header a browser would send (none by default, as scripts send).
-  WsClient(unsigned short port, const std::string& cookie, const std::string& origin = {}) : ws_(io_) {
+  // `receive_buffer` > 0: the socket's receive buffer, set before connecting (a small one makes a
+  // client that reads slowly look like a slow link to the server: the bytes wait on its side).
+  WsClient(unsigned short port, const std::string& cookie, const std::string& origin = {}, int receive_buffer = 0) : ws_(io_) {
+    auto& socket = beast::get_lowest_layer(ws_).socket();
+    socket.open(asio::ip::tcp::v4());
+    if (receive_buffer > 0) socket.set_option(asio::socket_base::receive_buffer_size(receive_buffer));
     beast::get_lowest_layer(ws_).connect(asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
     ws_.set_option(beast::websocket::stream_base::decorator([cookie, origin](beast::websocket::request_type& req) {
       req.set(http::field::cookie, cookie);
