@@ -3,7 +3,7 @@ JOBS ?= $(shell nproc)
 BUILD ?= build/release
 PORT ?= 8080
 
-.PHONY: run test setup build asan bench clean fuzz
+.PHONY: run run-janus run-labs test setup build asan bench clean fuzz
 
 setup:
 	@bash scripts/setup.sh
@@ -14,6 +14,14 @@ build: setup
 
 run: build
 	@$(BUILD)/labodrone serve --port $(PORT)
+
+# The lab with its video also through Janus (WebRTC fan-out for many spectators); `make run-labs
+# LABS=3`: three labs behind one front (docs/web.md "Many viewers and several labs").
+LABS ?= 3
+run-janus: build
+	@LABS=1 PORT=$(PORT) BUILD=$(BUILD) bash scripts/janus/run_labs.sh
+run-labs: build
+	@LABS=$(LABS) PORT=$(PORT) BUILD=$(BUILD) bash scripts/janus/run_labs.sh
 
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)

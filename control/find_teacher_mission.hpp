@@ -1,20 +1,20 @@
 #pragma once
-// Find the teacher and follow the face (the paper's §6.4):
-//  1 take off, climb to face height, the scale manoeuvre (SLAM's map gets its metric scale, as in
-//    inspect's stage 1, so SLAM can drive the pose while the face is only the target);
-//  2 search: when the lab knows the teacher's route, wait at the watch points along it
-//    (teacher_watch_points.hpp: beyond each leg's end, facing the oncoming teacher) for one round of
-//    the route each; otherwise a full yaw sweep, then the next viewpoint (room centre, then the room's
-//    quarters); until a face is tracked;
-//  3 follow: hold face_distance_m in front of the face, the face centred, the line of sight aligned with
-//    the teacher's heading (TeacherTrack: the walking direction while walking forwards, else where
-//    the face looks), following the teacher's motion and turns; the standoff is kept inside the
-//    geofence and reached around the teacher, never through them; a lost face -> coast along the
-//    teacher's motion, hold, then search; with a known route, a face lost at a corner of it (the
-//    teacher turning away), or a teacher reaching a corner after which the route turns back towards
-//    the drone (the standoff would have to swing round them) -> meet: go round, face_distance_m +
-//    0.3 m from the next long leg's start, to its front, facing back along it (next_leg_meeting_point()),
-//    and wait there for the teacher to turn into view along that leg.
+// Find the teacher and follow the face (the paper's §6.4), from perception alone: the flight software
+// is told nothing of where the teacher walks, where they pause or how fast they go; the lab tells it
+// the room, the benches and instruments, and the platform. Three stages:
+//  1 take off, climb to a standing adult's face height, the scale manoeuvre (SLAM's map gets its
+//    metric scale, as in inspect's stage 1, so SLAM can drive the pose while the face is only the
+//    target);
+//  2 search: a full yaw sweep where the drone is, then at each viewpoint over the free floor
+//    (face_search_viewpoints.hpp), nearest first, until a face is tracked;
+//  3 follow: hold face_distance_m in front of the face, the face centred, the line of sight aligned
+//    with the teacher's heading (TeacherTrack: the walking direction while walking forwards, else
+//    where the face looks; the walk's velocity measured from the faces), following the teacher's
+//    motion and turns; the standoff is kept inside the geofence and reached around the teacher, never
+//    through them. A face lost for a few frames is bridged along the track; longer: coast along the
+//    track's motion (the teacher walked or turned out of the detector's reach), then go round the
+//    place where it was lost, in the way they were turning, looking at it (a teacher who turned away
+//    faces the drone again once it is in front of them), then search again from there.
 // Ends on stop_face_follow (the drone hovers where it is) or when the search times out.
 #include <vector>
 
@@ -22,7 +22,6 @@
 #include "control/mission.hpp"
 #include "control/take_off_and_scale.hpp"
 #include "control/teacher_track.hpp"
-#include "control/teacher_watch_points.hpp"
 
 namespace labo::control {
 
@@ -42,32 +41,24 @@ class FindTeacherMission final : public Mission {
   void stop_face_follow() override { stop_requested_ = true; }
 
  private:
-  enum class Step { Init, Sweep, Reposition, Watch, Follow, Lost, Meet, Done };
+  enum class Step { Init, Sweep, Reposition, Follow, Lost, Done };
   void enter(Step step, Seconds t) {
     step_ = step;
     since_ = t;
     fresh_ = true;
-    corner_eta_ = -1;
   }
-  std::vector<Eigen::Vector3d> viewpoints(const MissionContext& ctx) const;
   void start_search(MissionContext& ctx);
-  void plan_transit(const MissionContext& ctx, const WatchPoint& to);
-  bool predict_from_route(const MissionContext& ctx, double corner_radius_m);
-  bool predict_from_route(const MissionContext& ctx, const std::optional<RouteLeg>& leg);
-  bool predict_walk_along_leg(const MissionContext& ctx);
-  void place_on_meeting_leg(const MissionContext& ctx);
-
-  bool walk_into_corner(MissionContext& ctx);
-  bool turning_back_ahead(const MissionContext& ctx);
-  Geofence roomy_fence(const MissionContext& ctx) const;
-  bool face_on_meeting_leg(const MissionContext& ctx) const;
-  void meet(MissionContext& ctx);
+  void sweep(MissionContext& ctx);
+  void reposition(MissionContext& ctx);
   bool face_seen(const MissionContext& ctx) const;
   void follow(MissionContext& ctx);
-  void fly_standoff(MissionContext& ctx, bool new_waypoint, const Eigen::Vector3d& orbit_centre);
-  void fly_standoff(MissionContext& ctx, bool new_waypoint, const Eigen::Vector3d& orbit_centre, const Eigen::Vector3d& look_at,
-                    const Eigen::Vector3d& look_at_velocity);
+  void bridge_brief_loss(MissionContext& ctx);
   void lost(MissionContext& ctx);
+  double go_round_sign(const MissionContext& ctx) const;
+  Geofence roomy_fence(const MissionContext& ctx) const;
+  // Stand face_distance_m (+ beyond_m) in front of the track's place, as seen facing `heading`
+  // (turning at `heading_rate`), the camera on the place.
+  void fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m = 0.0);
   void follow_estimate_corrections(const MissionContext& ctx);
   std::string describe(Seconds t) const;
 
@@ -77,42 +68,9 @@ class FindTeacherMission final : public Mission {
   bool fresh_ = true;
   bool stop_requested_ = false;
   double sweep_start_yaw_ = 0;
-  std::size_t viewpoint_ = 0;
+  std::vector<Eigen::Vector3d> viewpoints_;  // the search's tour, from where it started
+  std::size_t viewpoint_ = 0;                // the next one flown to
   TakeOffAndScale init_;
-  std::vector<WatchPoint> watch_points_;    // empty: the lab has no teacher route; sweep instead
-  WatchPoint watch_;                        // the watch point flown to / watched from
-  bool resume_track_ = false;               // the next face takes up the track's heading (after a meeting)
-  Eigen::Vector3d meet_centre_ = Eigen::Vector3d::Zero();  // gone round at a meeting: the corner and the leg's start
-  // The meeting's leg and where the teacher is on it: `meet_on_leg_m_` along it, walking at the route's
-  // speed from `meet_walk_from_` on (infinite: standing at its start).
-  RouteLeg meet_leg_;
-  double meet_on_leg_m_ = 0;
-  Seconds meet_walk_from_ = 0;
-  // Before the meeting: still walking into the corner from `walk_in_from_` (at `walk_in_t0_`) until
-  // `walk_in_until_`, followed in front as before.
-  Eigen::Vector2d walk_in_from_ = Eigen::Vector2d::Zero();
-  Seconds walk_in_t0_ = 0;
-  Seconds walk_in_until_ = -1;
-  Seconds meet_arrived_at_ = -1;  // when they reached the corner before the meeting's leg (-1: not known)
-  Seconds corner_eta_ = -1;  // following into a turn-back corner: when they reach it
-  // Met in front of a leg, the teacher standing at its start: their set-off is fed forward (the track
-  // moves at least at the route's walking velocity along the leg) from the first sign of it in the
-  // face's place, or from a little before the route's time when that is known (they were seen walking
-  // into the corner), until the face shows the walk.
-  bool set_off_armed_ = false;
-  bool set_off_timed_ = false;
-  bool set_off_from_known_ = false;
-  Eigen::Vector2d set_off_from_ = Eigen::Vector2d::Zero();  // where the face stood when taken up (or an early set-off ended)
-  Seconds set_off_armed_until_ = -1;
-  Seconds set_off_started_ = -1;  // fed forward since (-1: not yet)
-  bool set_off_by_route_ = false;      // ... started by the route's time (else by the face's first move)
-  double set_off_walked_at_start_ = 0;  // how far the face had moved along the leg then
-  bool set_off_confirmed_ = false;     // the face has walked on since: the walk is seen, not only expected
-  // Fed forward and not yet confirmed: the track's velocity along the leg is the expectation's.
-  bool set_off_unconfirmed() const { return set_off_armed_ && set_off_started_ >= 0 && !set_off_confirmed_; }
-  void expect_set_off(const MissionContext& ctx);
-  std::vector<PoseTarget> transit_;         // legs to it
-  std::size_t transit_leg_ = 0;
   Seconds last_tick_ = 0;
   // The pose estimate at the last tick (position, velocity): its corrections are not the teacher's walk.
   bool have_last_pose_ = false;
@@ -120,7 +78,9 @@ class FindTeacherMission final : public Mission {
   Eigen::Vector3d last_velocity_ = Eigen::Vector3d::Zero();
   Seconds last_face_t_ = -1;
   TeacherTrack track_;
-  double standoff_m_ = 1.0;                 // face_distance_m, farther while meeting on the next leg
+  // Going round a lost face: from this heading of the track, this way (+1 counter-clockwise).
+  double round_from_heading_ = 0;
+  double round_sign_ = 1;
   std::string stage_text_ = "1 taking off";
 };
 

@@ -19,8 +19,15 @@ constexpr double kHeadingRateTauS = 0.5;
 constexpr double kCoastRateDecayS = 1.0;
 // Walking forwards: the walking direction within this of where the face looks.
 constexpr double kForwardWalkRad = std::numbers::pi / 3;
-// A gap in walking longer than this (standing, or a lost face) ends a spell of walking.
-constexpr double kSpellGapS = 0.3;
+// Standing, the head sways about the body's heading (people look around, +-20-40 degrees): a face
+// looking within kStandingSwayRad of the heading moves it only slowly (kStandingHeadingTauS, longer
+// than a sway's half period), a face looking farther moves it by the excess at kHeadingTauS (the
+// teacher turned). Following every glance swings the drone 0.5-0.8 m sideways at 1 m, and leaves
+// it off the teacher's line when they set off (tests "control: a standing teacher's swaying head
+// does not swing the heading" and "control: a correction of the drone's pose estimate is not taken
+// for the teacher's walk").
+constexpr double kStandingSwayRad = 0.4;
+constexpr double kStandingHeadingTauS = 4.0;
 
 double blend(double dt, double tau) { return 1.0 - std::exp(-dt / tau); }
 }  // namespace
@@ -31,24 +38,10 @@ double facing_heading(const Eigen::Isometry3d& T_world_face) {
 }
 
 void TeacherTrack::reset(const Eigen::Isometry3d& T_world_face, Seconds t) {
-  walk_ = last_walk_ = WalkSpell{};
   position_ = T_world_face.translation();
   velocity_.setZero();
   heading_ = facing_heading(T_world_face);
   heading_rate_ = 0;
-  hold_heading_ = false;
-  t_ = t;
-}
-
-void TeacherTrack::resume(const Eigen::Isometry3d& T_world_face, Seconds t) {
-  walk_ = last_walk_ = WalkSpell{};
-  position_ = T_world_face.translation();
-  // The velocity stays the prediction's (place()): zeroed, the feed-forward would drop and the
-  // derivative, relative to it, would brake the drone as the face of a teacher walking at it comes
-  // back, too close. Test "control: a face taken up again after a route prediction keeps the
-  // predicted walk".
-  heading_rate_ = 0;
-  hold_heading_ = true;
   t_ = t;
 }
 
@@ -60,32 +53,20 @@ void TeacherTrack::update(const Eigen::Isometry3d& T_world_face, Seconds t) {
   Eigen::Vector3d v = (position_ - previous) / dt;
   v.z() = 0;
   velocity_ += blend(dt, kVelocityTauS) * (v - velocity_);
-  note_walking(t);
-  if (hold_heading_ && !walking()) return;
-  hold_heading_ = false;
-  const double looking = facing_heading(T_world_face);
-  double towards = looking;
-  if (walking()) {
-    const double walking_heading = std::atan2(velocity_.y(), velocity_.x());
-    if (std::abs(wrap_angle(walking_heading - looking)) < kForwardWalkRad) towards = walking_heading;
-  }
-  const double step = blend(dt, kHeadingTauS) * wrap_angle(towards - heading_);
+  const double step = heading_step(facing_heading(T_world_face), dt);
   heading_ = wrap_angle(heading_ + step);
   heading_rate_ += blend(dt, kHeadingRateTauS) * (step / dt - heading_rate_);
 }
 
-void TeacherTrack::note_walking(Seconds t) {
-  if (!walking()) return;
-  const Eigen::Vector2d direction = velocity_.head<2>().normalized();
-  // A new spell after a stop or a turn of more than 45 degrees.
-  if (!walk_.seen || t - walk_.to > kSpellGapS || direction.dot(walk_.direction) < std::cos(std::numbers::pi / 4)) {
-    walk_ = WalkSpell{true, t, t, direction, position_.head<2>()};
-  } else {
-    walk_.to = t;
-    walk_.direction = direction;
-    walk_.at = position_.head<2>();
+double TeacherTrack::heading_step(double looking, double dt) const {
+  if (walking()) {
+    const double walking_heading = std::atan2(velocity_.y(), velocity_.x());
+    if (std::abs(wrap_angle(walking_heading - looking)) < kForwardWalkRad)
+      return blend(dt, kHeadingTauS) * wrap_angle(walking_heading - heading_);
   }
-  if (walk_.to - walk_.from >= kSustainedWalkS) last_walk_ = walk_;
+  const double off = wrap_angle(looking - heading_);
+  const double excess = off - std::clamp(off, -kStandingSwayRad, kStandingSwayRad);
+  return blend(dt, kHeadingTauS) * excess + blend(dt, kStandingHeadingTauS) * (off - excess);
 }
 
 void TeacherTrack::coast(Seconds dt) {
@@ -93,21 +74,6 @@ void TeacherTrack::coast(Seconds dt) {
   heading_ = wrap_angle(heading_ + heading_rate_ * dt);
   heading_rate_ *= std::exp(-dt / kCoastRateDecayS);
   t_ += dt;
-}
-
-void TeacherTrack::place(const Eigen::Vector2d& xy, double heading_rad, const Eigen::Vector2d& velocity) {
-  position_.head<2>() = xy;
-  velocity_ = Eigen::Vector3d(velocity.x(), velocity.y(), 0.0);
-  heading_ = wrap_angle(heading_rad);
-  heading_rate_ = 0;
-}
-
-void TeacherTrack::expect_walk(const Eigen::Vector2d& velocity) {
-  const double speed = velocity.norm();
-  if (speed < 1e-9) return;
-  const Eigen::Vector2d along = velocity / speed;
-  const double now = velocity_.head<2>().dot(along);
-  if (now < speed) velocity_.head<2>() += (speed - now) * along;
 }
 
 Eigen::Isometry3d TeacherTrack::T_world_upright_face(double heading_rad) const {

@@ -13,6 +13,7 @@ PACKAGES=(
   catch2
   libdlib-dev libdlib-data
   libceres-dev
+  janus libjs-janus-gateway libjs-webrtc-adapter
 )
 
 missing=()

@@ -5,6 +5,7 @@
 #include "server/app_config.hpp"
 #include "server/http/web_server.hpp"
 #include "server/runtime/drone_backend.hpp"
+#include "server/video/rtp_video_tap.hpp"
 
 namespace labo {
 
@@ -16,7 +17,11 @@ const CommandSpec& serve_command_spec() {
       {{"--config", "FILE", "configuration file (default: config/default.json)"},
        {"--port", "N", "TCP port to listen on (default: from the config, 8080)"},
        {"--bind", "ADDR", "address to listen on (default: from the config, 127.0.0.1)"},
-       {"--drone", "SPEC", "sim (default: the simulated lab on loopback), ardrone[:HOST], tello[:HOST] or replay:FILE"}},
+       {"--drone", "SPEC", "sim (default: the simulated lab on loopback), ardrone[:HOST], tello[:HOST] or replay:FILE"},
+       {"--rtp-video", "HOST:PORT", "also forward the drone's H.264 as RTP to a media server (a Janus streaming mount point)"},
+       {"--labs", "FILE", "the lab directory of a front of several labs, served at /api/labs (needs --lab-id)"},
+       {"--lab-id", "ID", "this lab's id in the lab directory"},
+       {"--session-key", "FILE", "a secret shared by the labs of a front (at least 32 bytes): sessions valid at all of them"}},
       0,
       0};
   return spec;
@@ -27,13 +32,33 @@ int run_serve_command(const ParsedArgs& args) {
   AppConfig config = load_app_config(config_file);
   config.server.bind_address = args.value_or("--bind", config.server.bind_address);
   config.server.port = args.integer_or("--port", config.server.port, 1, 65535);
+  config.server.multi_lab.labs_file = args.value_or("--labs", "");
+  config.server.multi_lab.lab_id = args.value_or("--lab-id", "");
+  config.server.multi_lab.session_key_file = args.value_or("--session-key", "");
+  if (config.server.multi_lab.labs_file.empty() != config.server.multi_lab.lab_id.empty())
+    throw UsageError("--labs and --lab-id go together: the directory, and this lab's entry in it");
   const DroneSpec drone = parse_drone_spec(args.value_or("--drone", "sim"));  // UsageError when malformed
   Logger log("labodrone", config.log_level);
+  std::optional<RtpTarget> rtp_target;
+  if (const auto text = args.value("--rtp-video")) {
+    std::string error;
+    rtp_target = parse_rtp_target(*text, error);
+    if (!rtp_target) throw UsageError("--rtp-video " + error);
+  }
   auto backend = make_drone_backend(drone, config, log.child("runtime"));
-  WebServer server(config.server, config_file, backend->flight(), log.child("web"));
+  std::optional<RtpVideoForwarder> forwarder;
+  std::optional<RtpVideoTap> tap;
+  if (rtp_target) {
+    forwarder.emplace(*rtp_target);
+    tap.emplace(backend->flight(), *forwarder);
+  }
+  WebServer server(config.server, config_file, tap ? static_cast<FlightService&>(*tap) : backend->flight(),
+                   log.child("web"));
   server.start();
   std::cout << "LaboDrone is serving on " << (config.server.tls.enabled() ? "https://" : "http://") << config.server.bind_address << ":" << config.server.port
             << "/ (drone: " << describe(drone) << ")" << std::endl;
+  if (rtp_target)
+    std::cout << "H.264 forwarded as RTP to " << rtp_target->host << ":" << rtp_target->port << std::endl;
   server.run_until_signal();
   return 0;
 }

@@ -52,6 +52,14 @@ struct VideoSettings {
   int low_rendition_kbps = 1000;  // the shared low rendition for viewers on slow links
 };
 
+// Several labs behind one front (docs/web.md "Several labs"): given on serve's command line by the
+// scripts that start the labs (scripts/janus/run_labs.sh), not read from the configuration file.
+struct MultiLabSettings {
+  std::filesystem::path labs_file;         // the lab directory served at /api/labs; empty: this lab alone
+  std::string lab_id;                      // this server's entry in it
+  std::filesystem::path session_key_file;  // shared by the labs: a session of one is valid at all
+};
+
 // HTTPS and WSS on the same port when both files are set (PEM); the session cookie is then Secure.
 struct TlsSettings {
   std::filesystem::path cert_file;  // the certificate chain
@@ -76,6 +84,7 @@ struct ServerSettings {
   ControlRules control;
   ClientLimits clients;
   VideoSettings video;
+  MultiLabSettings multi_lab;
 };
 
 // Throws ConfigError naming the file, key path, value and expectation.

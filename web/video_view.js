@@ -1,4 +1,7 @@
-// The live video on the lab page, by one of two paths (docs/web.md "WebSocket protocol"):
+// The live video on the lab page, by one of three paths (docs/web.md "WebSocket protocol"):
+//  - janus: when this lab has a Janus mount point (janus_view.js), the drone's stream over WebRTC
+//    from Janus, the overlays drawn here from the geometry sent over the WebSocket; else, or when
+//    Janus fails, one of the WebSocket's own:
 //  - h264: the drone's own stream decoded in the page (WebCodecs), the overlays drawn here from the
 //    geometry sent with each frame, each group switchable; on a link too slow for the drone's
 //    stream, the server's shared low rendition instead (chosen by the server, or by the viewer);
@@ -7,6 +10,7 @@
 // Measures the glass-to-browser latency: the frame's capture time (server clock) to the moment the
 // frame and its overlays are on the canvas (same machine or synchronized clocks).
 import {H264Player, h264Available, parseAccessUnit} from './h264_player.js';
+import {JanusView, janusTarget} from './janus_view.js';
 import {OVERLAY_GROUPS, paintOverlays} from './overlay_painter.js';
 import {ReadingView} from './reading_view.js';
 
@@ -23,6 +27,8 @@ export class VideoView {
     this.latencies = [];
     this.frames = 0;
     this.player = null;
+    this.janus = null;
+    this.janusTarget = janusTarget();  // asked once; start() waits for it
     this.reading = new ReadingView(doc, stats);
     this.enabled = {};
     for (const group of OVERLAY_GROUPS) {
@@ -43,26 +49,40 @@ export class VideoView {
                           latencySummary: () => this.latencySummary()});
   }
 
-  // On every (re)connection: the H.264 path when the browser has WebCodecs, else JPEG.
-  start() {
+  // On every (re)connection: Janus when this lab has a mount point, else (or when it fails) the
+  // H.264 path when the browser has WebCodecs, else JPEG.
+  async start() {
     this.describeDrone();
+    const target = await this.janusTarget;
+    if (target.url) this.choose('janus', `mount point ${target.mountpoint}`, target);
+    else this.startDirect(target.reason);
+  }
+
+  startDirect(why) {
+    this.stats.janusReason = why;
     if (h264Available()) this.choose('h264', 'WebCodecs');
     else this.choose('jpeg', 'no WebCodecs VideoDecoder in this browser');
   }
 
-  choose(path, reason) {
+  choose(path, reason, janusTarget = null) {
     if (this.player) this.player.close();
+    if (this.janus) this.janus.close();
+    this.janus = path === 'janus' ? new JanusView(this.doc, this, janusTarget, (why) => this.startDirect(why)) : null;
     this.player = path === 'h264' ? new H264Player({
       onFrame: (frame, unit) => this.drawDecoded(frame, unit),
       onUnsupported: (why) => this.choose('jpeg', why),
     }) : null;
     this.geometry.clear();
     Object.assign(this.stats, {videoPath: path, videoPathReason: reason});
-    this.doc.getElementById('video-path').textContent =
-        path === 'h264' ? 'H.264, decoded here (WebCodecs); overlays drawn here' : `JPEG, overlays drawn by the server (${reason})`;
-    for (const group of OVERLAY_GROUPS) this.doc.getElementById('overlay-' + group).disabled = path !== 'h264';
+    this.doc.getElementById('video-path').textContent = {
+      janus: `H.264 through Janus (WebRTC, ${reason}); overlays drawn here`,
+      h264: 'H.264, decoded here (WebCodecs); overlays drawn here' + (this.stats.janusReason ? ` (not Janus: ${this.stats.janusReason})` : ''),
+    }[path] || `JPEG, overlays drawn by the server (${reason})`;
+    for (const group of OVERLAY_GROUPS) this.doc.getElementById('overlay-' + group).disabled = path === 'jpeg';
     this.renditionChoice.disabled = path !== 'h264';
-    this.send(path === 'h264' ? {type: 'subscribe', video: path, rendition: this.renditionChoice.value} : {type: 'subscribe', video: path});
+    this.send(path === 'h264' ? {type: 'subscribe', video: path, rendition: this.renditionChoice.value}
+                              : {type: 'subscribe', video: path === 'janus' ? 'geometry' : path});
+    if (this.janus) this.janus.start();
   }
 
   // What the drone's video offers (GET /api/video): a drone without a bottom camera says so here.
@@ -130,7 +150,7 @@ export class VideoView {
     if (!unit) return;
     const geometry = this.geometry.get(unit.frame);
     for (const k of this.geometry.keys()) if (k <= unit.frame) this.geometry.delete(k);
-    this.stats.overlaysDrawn = geometry ? paintOverlays(this.canvas, geometry, this.enabled) : [];
+    this.stats.overlaysDrawn = geometry ? this.drawOverlays(geometry) : [];
     this.stats.renditionFrames[unit.rendition]++;
     this.showCamera(unit.camera);
     if (this.stats.rendition !== unit.rendition) {
@@ -138,6 +158,10 @@ export class VideoView {
       this.showRendition();
     }
     this.shown(unit.frame, unit.captureMs);
+  }
+
+  drawOverlays(geometry) {
+    return (this.stats.overlaysDrawn = paintOverlays(this.canvas, geometry, this.enabled));
   }
 
   async drawJpeg(buffer) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 
@@ -101,18 +102,11 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
     setup.estimation.navdata_delay_s = 0;
     setup.estimation.control_delay_s = 0;
     setup.lab = model_lab();
-    if (options.model_route) {
-      LabDescription lab = load_lab_file(options.config, root);
-      if (options.teacher_speed_mps) lab.teacher.speed_mps = *options.teacher_speed_mps;
-      setup.lab = fusion::lab_geometry_from(lab);
-      e.model_route = lab.teacher;
-    }
     return e;
   }
   // SimDroneLink has the link's delays: the estimator keeps the configured ones.
   const std::filesystem::path base_dir = options.config.parent_path();
   e.lab = load_lab_file(options.config, root);
-  if (options.teacher_speed_mps) e.lab->teacher.speed_mps = *options.teacher_speed_mps;
   setup.lab = fusion::lab_geometry_from(*e.lab);
   if (root.has("cameras")) setup.cameras = read_cameras_config(root.object("cameras"));
   fusion::FrontEndSettings front_ends = fusion::read_front_end_settings(root, base_dir);
@@ -124,19 +118,19 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   if (options.video_fps) e.sim.link.video_fps = *options.video_fps;
   e.vision_latency = options.vision_latency;
   if (with_face) e.head = face::load_lab_teacher_head(*e.lab, front_ends.face);
+  // Without the face there is nothing to follow, and the flight software does not avoid a teacher
+  // walking into its way: the teacher keeps to the lab file's path, clear of the stand-offs.
+  if (!with_face) e.world_ranges.teacher_walk.reset();
   return e;
 }
 
 std::unique_ptr<ExperimentFlight> make_flight(const Experiment& experiment, unsigned seed) {
-  if (!experiment.lab) {
-    auto flight = std::make_unique<LockstepFlight>(experiment.setup, PerceptionModelConfig{}, seed);
-    if (experiment.model_route) flight->walk_route(*experiment.model_route);
-    return flight;
-  }
+  if (!experiment.lab) return std::make_unique<LockstepFlight>(experiment.setup, PerceptionModelConfig{}, seed);
   SimConfig sim = experiment.sim;
   sim.lab.seed = seed;
   sim.link.seed = seed;
-  return std::make_unique<SimLabFlight>(experiment.setup, *experiment.lab, sim, experiment.head, experiment.vision_latency);
+  return std::make_unique<SimLabFlight>(experiment.setup, *experiment.lab, sim, experiment.head, experiment.vision_latency,
+                                        experiment.world_ranges);
 }
 
 std::string world_name(const Experiment& experiment) { return experiment.lab ? to_string(experiment.sim.world) : "none"; }
@@ -165,6 +159,21 @@ void report(const ExperimentOptions& options, const std::string& name, const nlo
     return;
   }
   for (const auto& line : text_lines) std::cout << line << "\n";
+}
+
+std::string real_vision_note(const ExperimentOptions& options) {
+  return options.real_vision
+             ? "vehicle: simulated lab (drone/sim: rigid-body quadrotor under the firmware's inner loops, sensor model, "
+               "LabRenderer cameras) in the run's world, through SimDroneLink (link timing and delays); perception: the real "
+               "vision front-ends (planar, SLAM, face); estimator: StateEstimator"
+             : "vehicle: quadrotor model (bench/experiments/quadrotor_model.hpp); perception: model (no rendering); "
+               "estimator: StateEstimator";
+}
+
+std::string fmt(const char* format, double a, double b, double c) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, format, a, b, c);
+  return buf;
 }
 
 double rms(const std::vector<double>& v) {

@@ -14,6 +14,7 @@
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/head_model.hpp"
 #include "drone/sim/sim_config.hpp"
+#include "drone/sim/sim_world.hpp"
 
 namespace labo {
 
@@ -27,12 +28,6 @@ struct ExperimentOptions {
   std::optional<double> video_fps;  // --fps, with --vision real (default: the sim section's 30)
   // --vision-latency worker: the server's vision worker modelled (lockstep_vision_worker.hpp).
   std::optional<VisionLatencyModel> vision_latency;
-  // --route (sim face-follow, model vision): fly in the config's lab file with its teacher walking
-  // the lab's route, as with --vision real, instead of the model lab's 2 m back-and-forth.
-  bool model_route = false;
-  // --teacher-speed (sim face-follow): the route's walking speed, replacing the lab file's (the
-  // face-follow target is stated at 0.5 m/s; config/lab.json walks at 0.4).
-  std::optional<double> teacher_speed_mps;
   int jobs = 1;  // --jobs: seeded runs flown at once on that many threads (seed_runner.hpp)
   // --world (with --vision real): the simulated lab's world, replacing the config's sim.world.
   std::optional<WorldMode> world;
@@ -53,8 +48,9 @@ struct Experiment {
   std::optional<LabDescription> lab;       // --vision real: the lab the simulated lab is built from
   SimConfig sim;                           // its "sim" section (lab and link settings)
   std::optional<TexturedHeadModel> head;   // the teacher's face, when the experiment looks for it
-  std::optional<TeacherSpec> model_route;  // --route: the model flight's teacher walks this
   std::optional<VisionLatencyModel> vision_latency;  // --vision-latency worker
+  // What a randomized world draws: the teacher's walk only for the experiments that follow the face.
+  WorldRanges world_ranges;
 };
 // `with_face`: load the face front-end (find teacher) with --vision real.
 Experiment make_experiment(const ExperimentOptions& options, bool with_face);
@@ -70,6 +66,11 @@ void write_run_outputs(const ExperimentOptions& options, const std::string& name
 // Writes summary.json under --out, prints JSON (--json) or the text lines.
 void report(const ExperimentOptions& options, const std::string& name, const nlohmann::json& summary,
             const std::vector<std::string>& text_lines);
+
+// What the runs fly: the vehicle, the perception and the estimator, for the summaries.
+std::string real_vision_note(const ExperimentOptions& options);
+// A printf-style line of figures for the text summaries.
+std::string fmt(const char* format, double a, double b = 0, double c = 0);
 
 double rms(const std::vector<double>& v);
 double percentile(std::vector<double> v, double p);

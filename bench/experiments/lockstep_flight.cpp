@@ -39,8 +39,7 @@ void LockstepFlight::walk_teacher() {
 std::optional<Eigen::Isometry3d> LockstepFlight::true_face() const { return T_world_face_ * fusion::flip_about_y(); }
 
 void LockstepFlight::tick() {
-  if (route_) T_world_face_ = route_->pose(t_).T_world_head * fusion::flip_about_y();
-  else if (walking_) walk_teacher();
+  if (walking_) walk_teacher();
   TickRecord record;
   record.navdata = perception_.navdata(drone_, t_);
   record.focus = pipelines_->focus();

@@ -9,7 +9,6 @@
 
 #include "bench/experiments/experiment_flight.hpp"
 #include "bench/experiments/perception_model.hpp"
-#include "drone/sim/teacher_motion.hpp"
 
 namespace labo {
 
@@ -32,12 +31,8 @@ class LockstepFlight final : public ExperimentFlight {
   Eigen::Isometry3d true_pose() const override { return drone_.pose(); }
   // The face frame with z out of the face (T_world_face_ is control's convention, z into it).
   std::optional<Eigen::Isometry3d> true_face() const override;
-  // Back and forth along y between -1 and 1 m at 0.5 m/s, turning with a human 0.5 m/s^2; with
-  // walk_route(), the route walks all along and this does nothing.
+  // Back and forth along y between -1 and 1 m at 0.5 m/s, turning with a human 0.5 m/s^2.
   void start_teacher_walk() override { walking_ = true; }
-  // The teacher walks a lab file's route from t = 0 (drone/sim's TeacherMotion: pauses turning at the
-  // waypoints, the head's sway), as the simulated lab's teacher does.
-  void walk_route(const TeacherSpec& route) { route_.emplace(route); }
   void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) override { drone_.push(dv_world_mps, dyaw_rad); }
   bool crashed() const override { return drone_.crashed; }
   const fusion::LabGeometry& lab() const override { return lab_; }
@@ -61,7 +56,6 @@ class LockstepFlight final : public ExperimentFlight {
 
   Eigen::Isometry3d T_world_face_ = Eigen::Isometry3d::Identity();
   bool walking_ = false;
-  std::optional<TeacherMotion> route_;
   double walk_direction_ = 1.0, walk_speed_ = 0.0;
   std::vector<FlightSample> samples_;
   Seconds t_ = 0;

@@ -14,22 +14,6 @@ namespace labo {
 
 namespace {
 
-constexpr const char* kVehicleNote =
-    "vehicle: quadrotor model (bench/experiments/quadrotor_model.hpp); perception: model (no rendering); "
-    "estimator: StateEstimator";
-constexpr const char* kRealVisionNote =
-    "vehicle: simulated lab (drone/sim: rigid-body quadrotor under the firmware's inner loops, sensor model, LabRenderer "
-    "cameras) in the run's world, through SimDroneLink (link timing and delays); perception: the real vision front-ends "
-    "(planar, SLAM, face); estimator: StateEstimator";
-
-const char* note_of(const ExperimentOptions& o) { return o.real_vision ? kRealVisionNote : kVehicleNote; }
-
-std::string fmt(const char* f, double a, double b = 0, double c = 0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, f, a, b, c);
-  return buf;
-}
-
 control::MissionRequest inspect_request(const std::string& id, double hold_s) {
   control::MissionRequest r;
   r.kind = control::RequestKind::Inspect;
@@ -176,66 +160,6 @@ std::vector<Impulse> run_perturb(int axis, int impulses, ExperimentFlight& f, co
   return out;
 }
 
-// ---- sim face-follow ---------------------------------------------------------------------------
-
-struct FaceRun {
-  nlohmann::json world;  // the simulated lab's world, drawn values included
-  bool followed = false;
-  double found_at_s = -1;
-  int walking_ticks = 0, tracked_ticks = 0;  // followable walking ticks; of those, with the face tracked
-  int unfollowable_ticks = 0;                 // walking ticks with no standoff in front of the teacher
-  std::vector<double> distance_error, centre_error;                  // followable walking ticks (the face-follow metric)
-  std::vector<double> all_distance_error, all_centre_error;          // every walking tick
-  std::vector<double> tracked_distance_error, tracked_centre_error;  // followable walking ticks with the face tracked
-};
-
-FaceRun run_face_follow(const control::FlightStackSetup& setup, double walk_s, ExperimentFlight& f) {
-  FaceRun r;
-  control::MissionRequest req;
-  req.kind = control::RequestKind::FindTeacher;
-  f.request(req);
-  // Take-off, scale manoeuvre, then a search that may wait one round of the teacher's route per watch point.
-  r.followed = f.run_until([&] { return f.stack().status().stage == "3 face-follow"; }, 150.0);
-  if (!r.followed) return r;
-  r.found_at_s = f.now();
-  f.run(5.0);  // settle
-  f.start_teacher_walk();
-  const double end = f.now() + walk_s;
-  std::optional<Eigen::Vector3d> last_face;
-  const control::Geofence fence(setup.lab.room_min, setup.lab.room_max, setup.control.safety.geofence_margin_m);
-  while (f.now() < end) {
-    f.tick();
-    const std::optional<Eigen::Isometry3d> face = f.true_face();
-    if (!face) continue;
-    // Measured while the teacher walks (the head moves), not while they stand and turn at a waypoint.
-    const Eigen::Vector3d step = face->translation() - last_face.value_or(face->translation());
-    last_face = face->translation();
-    if (step.head<2>().norm() <= 0.1 * ExperimentFlight::kControlDt) continue;
-    const Eigen::Vector3d p = f.true_T_cam(*face).translation();
-    const double distance_error = p.z() - setup.control.mission.face_distance_m;
-    const double centre_error = p.z() > 0.1 ? centre_offset_fraction(p, f.true_lab().front) : 1.0;
-    r.all_distance_error.push_back(distance_error);
-    r.all_centre_error.push_back(centre_error);
-    // Followable: the place face_distance_m in front of the walking teacher is inside the geofence (a
-    // teacher walking at a wall cannot be watched from the front).
-    const Eigen::Vector3d ahead(step.x(), step.y(), 0.0);
-    if (!fence.contains(face->translation() + setup.control.mission.face_distance_m * ahead.normalized())) {
-      ++r.unfollowable_ticks;
-      continue;
-    }
-    ++r.walking_ticks;
-    const bool tracked = f.stack().status().face.state == fusion::TrackState::Tracking;
-    r.tracked_ticks += tracked;
-    r.distance_error.push_back(distance_error);
-    r.centre_error.push_back(centre_error);
-    if (tracked) {
-      r.tracked_distance_error.push_back(distance_error);
-      r.tracked_centre_error.push_back(centre_error);
-    }
-  }
-  return r;
-}
-
 }  // namespace
 
 const CommandSpec& sim_inspect_command_spec() {
@@ -288,7 +212,7 @@ int run_sim_inspect_command(const ParsedArgs& args) {
                                       {"frames_skipped", r.vision->frames_skipped}};
   }
   const double rate = double(ok) / o.runs;
-  nlohmann::json summary = {{"experiment", "sim inspect"}, {"note", note_of(o)}, {"world", world_name(experiment)},
+  nlohmann::json summary = {{"experiment", "sim inspect"}, {"note", real_vision_note(o)}, {"world", world_name(experiment)},
                             {"vision_latency", o.vision_latency ? "worker" : "inline"}, {"instrument", id}, {"seed", o.seed}, {"runs", o.runs},
                             {"success_rate", rate}, {"target_success_rate", 0.98},
                             {"success_rate_wide_tolerance", double(ok_wide) / o.runs},
@@ -297,7 +221,7 @@ int run_sim_inspect_command(const ParsedArgs& args) {
                             {"standoff_error_m_p95", percentile(standoff, 95)}, {"centre_offset_fraction_p95", percentile(centre, 95)},
                             {"landing_error_m_p95", percentile(landing, 95)}, {"per_run", runs}};
   std::vector<std::string> lines{
-      note_of(o), "world: " + world_name(experiment),
+      real_vision_note(o), "world: " + world_name(experiment),
       fmt("inspect: %.0f/%.0f runs succeeded (%.1f %%, target >= 98 %%)", ok, o.runs, 100 * rate),
       fmt("within the wide tolerance (standoff and centre 0.10): %.0f/%.0f (%.1f %%)", ok_wide, o.runs, 100.0 * ok_wide / o.runs),
       fmt("standoff error p95 %.3f m (target <= 0.05); centre offset p95 %.3f of the width (target <= 0.05)",
@@ -368,14 +292,14 @@ int run_sim_perturb_command(const ParsedArgs& args) {
                           {"why", std::isfinite(imp.recovery_s) ? fmt("back within 0.1 m / 5 deg after %.2f s > 5 s", imp.recovery_s)
                                                                 : fmt("not back within 0.1 m / 5 deg in 10 s (peak error %.3f)", imp.peak_error)}});
   }
-  nlohmann::json summary = {{"experiment", "sim perturb"}, {"axis", *axis_name}, {"note", note_of(o)},
+  nlohmann::json summary = {{"experiment", "sim perturb"}, {"axis", *axis_name}, {"note", real_vision_note(o)},
                             {"world", world_name(experiment)}, {"failed", failed}, {"seed", o.seed},
                             {"runs", o.runs}, {"impulses", total}, {"recovered_within_5s", recovered},
                             {"runs_not_reaching_hold", not_reached},
                             {"recovery_s_median", percentile(recovery, 50)}, {"recovery_s_p95", percentile(recovery, 95)},
                             {"target", "within 0.1 m (and 5 deg) of the set point in <= 5 s"}, {"per_run", runs}};
   std::vector<std::string> lines{
-      note_of(o), "world: " + world_name(experiment),
+      real_vision_note(o), "world: " + world_name(experiment),
       "perturb " + *axis_name + fmt(": %.0f/%.0f impulses recovered within 5 s", recovered, total),
       fmt("recovery time median %.2f s, p95 %.2f s (target <= 5 s; 99 = never)", percentile(recovery, 50), percentile(recovery, 95)),
       fmt("runs that never reached the hold: %.0f", not_reached)};
@@ -384,90 +308,6 @@ int run_sim_perturb_command(const ParsedArgs& args) {
                     (miss.contains("impulse_t") ? fmt(", impulse at %.1f s", miss["impulse_t"].get<double>()) : std::string()) +
                     ": " + miss["why"].get<std::string>());
   report(o, "perturb_" + *axis_name, summary, lines);
-  return 0;
-}
-
-const CommandSpec& sim_face_follow_command_spec() {
-  static const CommandSpec spec = [] {
-    CommandSpec s{"sim face-follow", "",
-                  "find the teacher and follow the face while they walk at 0.5 m/s (paper 6.4; the target's speed)",
-                  experiment_option_specs()};
-    s.options.push_back({"--walk", "S", "seconds of walking measured (default 30)"});
-    s.options.push_back({"--teacher-speed", "MPS",
-                         "with --route or --vision real: the teacher walks the lab's route at this speed, replacing the lab "
-                         "file's (default 0.5; the model lab's back-and-forth is always 0.5)"});
-    s.options.push_back({"--route", "",
-                         "with the model vision: fly in the config's lab file, the teacher walking its route (as with --vision real)"});
-    for (auto& option : real_vision_option_specs()) s.options.push_back(option);
-    s.options.push_back(jobs_option_spec());
-    return s;
-  }();
-  return spec;
-}
-
-int run_sim_face_follow_command(const ParsedArgs& args) {
-  ExperimentOptions o = read_experiment_options(args);
-  const double walk = args.number_or("--walk", 30.0, 1.0, 600.0);
-  o.model_route = args.flag("--route");
-  if (o.model_route && o.real_vision) throw UsageError("--route is for the model vision (--vision real always walks the route)");
-  if (args.flag("--teacher-speed") && !o.model_route && !o.real_vision)
-    throw UsageError("--teacher-speed is for --route or --vision real (the model lab's teacher walks at 0.5 m/s)");
-  if (o.model_route || o.real_vision) o.teacher_speed_mps = args.number_or("--teacher-speed", 0.5, 0.05, 2.0);
-  const Experiment experiment = make_experiment(o, true);
-  const control::FlightStackSetup& setup = experiment.setup;
-  std::vector<double> dist, centre, all_dist, all_centre, tracked_dist, tracked_centre;
-  int found = 0, walking = 0, tracked = 0, unfollowable = 0;
-  nlohmann::json runs = nlohmann::json::array();
-  const std::vector<FaceRun> results = run_seeded_flights<FaceRun>(o.runs, o.jobs, [&](int i) {
-    const auto f = make_flight(experiment, o.seed + static_cast<unsigned>(i));
-    FaceRun r = run_face_follow(setup, walk, *f);
-    r.world = run_world_json(*f);
-    write_run_outputs(o, "face_follow", i, *f);
-    return r;
-  });
-  for (int i = 0; i < o.runs; ++i) {
-    const unsigned seed = o.seed + static_cast<unsigned>(i);
-    const FaceRun& r = results[static_cast<std::size_t>(i)];
-    found += r.followed;
-    walking += r.walking_ticks;
-    tracked += r.tracked_ticks;
-    unfollowable += r.unfollowable_ticks;
-    all_dist.insert(all_dist.end(), r.all_distance_error.begin(), r.all_distance_error.end());
-    all_centre.insert(all_centre.end(), r.all_centre_error.begin(), r.all_centre_error.end());
-    dist.insert(dist.end(), r.distance_error.begin(), r.distance_error.end());
-    centre.insert(centre.end(), r.centre_error.begin(), r.centre_error.end());
-    tracked_dist.insert(tracked_dist.end(), r.tracked_distance_error.begin(), r.tracked_distance_error.end());
-    tracked_centre.insert(tracked_centre.end(), r.tracked_centre_error.begin(), r.tracked_centre_error.end());
-    runs.push_back({{"seed", seed}, {"followed", r.followed}, {"face_found_at_s", r.found_at_s},
-                    {"tracked_fraction_walking", r.walking_ticks > 0 ? double(r.tracked_ticks) / r.walking_ticks : 0.0},
-                    {"distance_error_rms_m", rms(r.distance_error)}, {"centre_error_rms", rms(r.centre_error)},
-                    {"unfollowable_walking_s", r.unfollowable_ticks * ExperimentFlight::kControlDt},
-                    {"tracked_distance_error_rms_m", rms(r.tracked_distance_error)},
-                    {"tracked_centre_error_rms", rms(r.tracked_centre_error)}, {"world", r.world}});
-  }
-  nlohmann::json summary = {{"experiment", "sim face-follow"}, {"note", note_of(o)}, {"world", world_name(experiment)},
-                            {"seed", o.seed}, {"runs", o.runs},
-                            {"runs_face_found", found}, {"walking_s", walking * ExperimentFlight::kControlDt},
-                            {"tracked_fraction_walking", walking > 0 ? double(tracked) / walking : 0.0},
-                            {"distance_error_rms_m", rms(dist)}, {"target_distance_error_rms_m", 0.10},
-                            {"centre_error_rms", rms(centre)}, {"centre_error_p95", percentile(centre, 95)},
-                            {"target_centre_error", 0.10},
-                            {"unfollowable_walking_s", unfollowable * ExperimentFlight::kControlDt},
-                            {"all_walking_distance_error_rms_m", rms(all_dist)}, {"all_walking_centre_error_rms", rms(all_centre)},
-                            {"tracked_distance_error_rms_m", rms(tracked_dist)}, {"tracked_centre_error_rms", rms(tracked_centre)},
-                            {"tracked_centre_error_p95", percentile(tracked_centre, 95)}, {"per_run", runs}};
-  report(o, "face_follow", summary,
-         {note_of(o), fmt("face found and followed in %.0f/%.0f runs", found, o.runs),
-          fmt("teacher walking %.1f s with the place in front of them inside the geofence (followable), %.1f s not; "
-              "face tracked %.1f %% of the followable time (errors below are over all of it)",
-              walking * ExperimentFlight::kControlDt, unfollowable * ExperimentFlight::kControlDt,
-              walking > 0 ? 100.0 * tracked / walking : 0.0),
-          fmt("distance error RMS %.3f m (target <= 0.10); face-centre error RMS %.3f, p95 %.3f of the width (target <= 0.10)",
-              rms(dist), rms(centre), percentile(centre, 95)),
-          fmt("over all walking ticks (followable or not): distance error RMS %.3f m, face-centre error RMS %.3f",
-              rms(all_dist), rms(all_centre)),
-          fmt("over the followable walking ticks with the face tracked only: distance error RMS %.3f m, face-centre error RMS %.3f, p95 %.3f",
-              rms(tracked_dist), rms(tracked_centre), percentile(tracked_centre, 95))});
   return 0;
 }
 

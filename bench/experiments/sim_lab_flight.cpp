@@ -24,9 +24,10 @@ struct SimLabFlight::Listener final : DroneLinkListener {
 };
 
 SimLabFlight::SimLabFlight(const control::FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
-                           std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency)
+                           std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency,
+                           const WorldRanges& ranges)
     : geometry_(setup.lab),
-      world_(make_sim_world(lab, setup.cameras, sim)),
+      world_(make_sim_world(lab, setup.cameras, sim, ranges)),
       true_lab_{fusion::lab_geometry_from(world_.lab), world_.cameras.front, world_.mounts.front} {
   if (!setup.front_ends) throw std::invalid_argument("SimLabFlight: the setup has no vision front-ends");
   lab_ = make_simulated_lab(world_, std::move(head));

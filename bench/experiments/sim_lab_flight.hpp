@@ -26,10 +26,11 @@ class SimLabFlight final : public ExperimentFlight {
  public:
   // `setup.front_ends` must be set: this flight has no other perception than the rendered frames.
   // `sim` is the lab's and the link's settings (their seeds included) and the world's mode: the
-  // simulated lab flies make_sim_world(lab, setup.cameras, sim), the flight stack only `setup`.
-  // `head` textures the teacher's face.
+  // simulated lab flies make_sim_world(lab, setup.cameras, sim, ranges), the flight stack only
+  // `setup`. `head` textures the teacher's face.
   SimLabFlight(const control::FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
-               std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency = std::nullopt);
+               std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency = std::nullopt,
+               const WorldRanges& ranges = {});
   ~SimLabFlight() override;
 
   void tick() override;
@@ -37,7 +38,7 @@ class SimLabFlight final : public ExperimentFlight {
   Seconds now() const override { return t_; }
   Eigen::Isometry3d true_pose() const override { return lab_->truth().T_world_body(); }
   std::optional<Eigen::Isometry3d> true_face() const override;
-  void start_teacher_walk() override {}  // the lab's teacher walks the lab file's path all along
+  void start_teacher_walk() override {}  // the world's teacher walks all along
   void push(const Eigen::Vector3d& dv_world_mps, double dyaw_rad) override { lab_->dynamics().push(dv_world_mps, dyaw_rad); }
   bool crashed() const override { return lab_->truth().crashes > 0; }
   const fusion::LabGeometry& lab() const override { return geometry_; }

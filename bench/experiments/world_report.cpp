@@ -65,6 +65,23 @@ nlohmann::json event_json(const Disturbance& e) {
   return j;
 }
 
+// The teacher's walk up to `until_s`: the waypoints reached by then (and the one walked to), each
+// with the pause there.
+nlohmann::json teacher_json(const TeacherSpec& t, Seconds until_s) {
+  nlohmann::json waypoints = nlohmann::json::array();
+  Seconds at = 0;
+  for (std::size_t i = 0; i < t.waypoints.size() && at <= until_s; ++i) {
+    const double pause = t.pauses_s.empty() ? t.pause_s : t.pauses_s[i];
+    waypoints.push_back({{"x", t.waypoints[i].x()}, {"y", t.waypoints[i].y()}, {"pause_s", pause}});
+    if (i + 1 < t.waypoints.size()) at += pause + (t.waypoints[i + 1] - t.waypoints[i]).norm() / t.speed_mps;
+  }
+  return {{"path", t.loop ? "the lab file's, looped" : "drawn"},
+          {"speed_mps", t.speed_mps},
+          {"head_yaw_amplitude_deg", t.head.yaw_amplitude_deg},
+          {"head_yaw_period_s", t.head.yaw_period_s},
+          {"waypoints", waypoints}};
+}
+
 }  // namespace
 
 nlohmann::json world_json(const SimWorld& w, Seconds until_s) {
@@ -83,7 +100,8 @@ nlohmann::json world_json(const SimWorld& w, Seconds until_s) {
           {"cameras", {{"front", camera_json(w.cameras.front, w.front_tilt_rad)},
                        {"bottom", camera_json(w.cameras.bottom, w.bottom_tilt_rad)}}},
           {"link", {{"video_delay_s", w.link.video_delay_s}, {"navdata_delay_s", w.link.navdata_delay_s}}},
-          {"events", events}};
+          {"events", events},
+          {"teacher", teacher_json(w.lab.teacher, until_s)}};
 }
 
 }  // namespace labo

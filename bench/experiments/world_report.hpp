@@ -1,8 +1,8 @@
 #pragma once
 // A run's world (drone/sim/sim_world.hpp) as JSON for the campaign outputs: the mode and seed, and
 // what the world is made of: the drone's deviations and battery, the sensors' biases, every object's
-// placement offset, the cameras' intrinsics and mounting tilt, the delays and the events that fell in
-// the run.
+// placement offset, the cameras' intrinsics and mounting tilt, the delays, the events that fell in
+// the run and the teacher's walk.
 #include <nlohmann/json.hpp>
 
 #include "core/time.hpp"

@@ -80,6 +80,10 @@ struct TeacherSpec {
   std::vector<Eigen::Vector2d> waypoints;  // floor positions (m), walked in order, then looped
   double speed_mps = 0.4;
   double pause_s = 3.0;                    // standing still at each waypoint
+  // A walk drawn for one run (drone/sim/teacher_walk.hpp) rather than the lab file's path: each
+  // waypoint's own pause (empty: pause_s at each), and no loop (the teacher stays at the last one).
+  std::vector<double> pauses_s;
+  bool loop = true;
   double interpupillary_distance_m = 0.063;
   double eye_height_m = 1.65;
   double body_radius_m = 0.25;

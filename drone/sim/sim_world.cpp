@@ -2,9 +2,9 @@
 
 #include <cmath>
 #include <numbers>
-#include <random>
 
 #include "core/frames.hpp"
+#include "drone/sim/seeded_draw.hpp"
 
 namespace labo {
 
@@ -12,43 +12,16 @@ namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
-class WorldDraw {
- public:
-  explicit WorldDraw(std::uint64_t seed) {
-    // Its own stream: the sensors and the link keep theirs (seeded with the same number).
-    std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32), 0x776f726cu};
-    rng_.seed(seq);
-  }
-  double in(double min, double max) { return min + (max - min) * unit_(rng_); }
-  double in(const WorldInterval& i) { return in(i.min, i.max); }
-  double around(double value, double fraction) { return value * in(1.0 - fraction, 1.0 + fraction); }
-  double plus_minus(double half) { return in(-half, half); }
-  // Uniform in the ball of `radius` (3D, or 2D in x, y when `planar`).
-  Eigen::Vector3d in_ball(double radius, bool planar = false) {
-    for (;;) {
-      const Eigen::Vector3d v(plus_minus(1.0), plus_minus(1.0), planar ? 0.0 : plus_minus(1.0));
-      if (v.squaredNorm() <= 1.0) return radius * v;
-    }
-  }
-  // The start times of a Poisson process of mean interval `mean_s` over [0, horizon_s).
-  std::vector<double> event_times(double mean_s, double horizon_s) {
-    std::vector<double> times;
-    for (double t = -mean_s * std::log(1.0 - unit_(rng_)); t < horizon_s; t += -mean_s * std::log(1.0 - unit_(rng_)))
-      times.push_back(t);
-    return times;
-  }
-
- private:
-  std::mt19937_64 rng_;
-  std::uniform_real_distribution<double> unit_{0.0, 1.0};
-};
+// The world's draws: their own stream, apart from the sensors' and the link's (seeded with the same
+// number) and the teacher's walk.
+constexpr std::uint32_t kWorldStream = 0x776f726cu;
 
 Eigen::Matrix3d rotation_of(const Eigen::Vector3d& rotation_rad) {
   const double angle = rotation_rad.norm();
   return angle > 0 ? Eigen::AngleAxisd(angle, rotation_rad / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
 }
 
-void draw_drone(WorldDraw& d, const WorldRanges& r, QuadrotorParams& p) {
+void draw_drone(SeededDraw& d, const WorldRanges& r, QuadrotorParams& p) {
   PlantDeviation& dev = p.deviation;
   dev.mass_factor = d.around(1.0, r.mass);
   dev.rotor_drag_factor = d.around(1.0, r.drag);
@@ -62,7 +35,7 @@ void draw_drone(WorldDraw& d, const WorldRanges& r, QuadrotorParams& p) {
   p.battery.internal_resistance_ohm = d.in(r.battery_resistance_ohm);
 }
 
-void draw_biases(WorldDraw& d, const WorldRanges& r, SensorBiases& b) {
+void draw_biases(SeededDraw& d, const WorldRanges& r, SensorBiases& b) {
   b.attitude_rad = Eigen::Vector2d(d.plus_minus(r.attitude_bias_deg), d.plus_minus(r.attitude_bias_deg)) * kDegToRad;
   b.velocity_scale = d.around(1.0, r.velocity_scale);
   b.velocity_mps = Eigen::Vector2d(d.plus_minus(r.velocity_bias_mps), d.plus_minus(r.velocity_bias_mps));
@@ -72,7 +45,7 @@ void draw_biases(WorldDraw& d, const WorldRanges& r, SensorBiases& b) {
   for (int i = 0; i < 3; ++i) b.accel_mps2[i] = d.plus_minus(r.accel_bias_mps2);
 }
 
-PlacementDraw move_object(WorldDraw& d, const WorldRanges& r, InstrumentSpec& object, bool on_floor) {
+PlacementDraw move_object(SeededDraw& d, const WorldRanges& r, InstrumentSpec& object, bool on_floor) {
   PlacementDraw draw{object.id, d.in_ball(r.placement_m, on_floor), Eigen::Vector3d::Zero()};
   draw.rotation_rad = on_floor ? Eigen::Vector3d(0, 0, d.plus_minus(r.placement_deg * kDegToRad))
                                : d.in_ball(r.placement_deg * kDegToRad);
@@ -81,7 +54,7 @@ PlacementDraw move_object(WorldDraw& d, const WorldRanges& r, InstrumentSpec& ob
   return draw;
 }
 
-void draw_placements(WorldDraw& d, const WorldRanges& r, SimWorld& w) {
+void draw_placements(SeededDraw& d, const WorldRanges& r, SimWorld& w) {
   for (InstrumentSpec& instrument : w.lab.instruments) w.placements.push_back(move_object(d, r, instrument, false));
   // The drone stands on the platform where it really is.
   const Eigen::Isometry3d T_platform_base = w.lab.platform.T_world_object.inverse() * w.lab.T_world_base;
@@ -89,7 +62,7 @@ void draw_placements(WorldDraw& d, const WorldRanges& r, SimWorld& w) {
   w.lab.T_world_base = w.lab.platform.T_world_object * T_platform_base;
 }
 
-void draw_camera(WorldDraw& d, const WorldRanges& r, CameraIntrinsics& k, double k1_range) {
+void draw_camera(SeededDraw& d, const WorldRanges& r, CameraIntrinsics& k, double k1_range) {
   const double focal = d.around(1.0, r.focal_fraction), aspect = d.around(1.0, r.aspect_fraction);
   k.fx *= focal * aspect;
   k.fy *= focal;
@@ -101,7 +74,7 @@ void draw_camera(WorldDraw& d, const WorldRanges& r, CameraIntrinsics& k, double
   k.p2 += d.plus_minus(r.tangential);
 }
 
-void draw_cameras(WorldDraw& d, const WorldRanges& r, SimWorld& w) {
+void draw_cameras(SeededDraw& d, const WorldRanges& r, SimWorld& w) {
   draw_camera(d, r, w.cameras.front, r.k1);
   draw_camera(d, r, w.cameras.bottom, r.bottom_k1);
   w.front_tilt_rad = d.in_ball(r.mounting_tilt_deg * kDegToRad);
@@ -110,7 +83,7 @@ void draw_cameras(WorldDraw& d, const WorldRanges& r, SimWorld& w) {
   w.mounts.bottom.linear() = w.mounts.bottom.linear() * rotation_of(w.bottom_tilt_rad);
 }
 
-void draw_events(WorldDraw& d, const WorldRanges& r, std::vector<Disturbance>& events) {
+void draw_events(SeededDraw& d, const WorldRanges& r, std::vector<Disturbance>& events) {
   for (double t : d.event_times(r.lighting_interval_s, r.horizon_s)) {
     Disturbance e;
     e.kind = Disturbance::Kind::Lighting;
@@ -150,7 +123,7 @@ SimWorld make_sim_world(const LabDescription& lab_file, const CamerasConfig& cal
   w.settings = sim.lab;
   w.link = sim.link;
   if (w.mode == WorldMode::Nominal) return w;
-  WorldDraw d(w.seed);
+  SeededDraw d(w.seed, kWorldStream);
   draw_drone(d, ranges, w.settings.dynamics);
   draw_biases(d, ranges, w.settings.biases);
   draw_placements(d, ranges, w);
@@ -158,6 +131,7 @@ SimWorld make_sim_world(const LabDescription& lab_file, const CamerasConfig& cal
   w.link.video_delay_s = d.in(ranges.video_delay_s);
   w.link.navdata_delay_s = d.in(ranges.navdata_delay_s);
   draw_events(d, ranges, w.settings.disturbances);
+  if (ranges.teacher_walk) w.lab.teacher = random_teacher_walk(lab_file, w.seed, *ranges.teacher_walk);
   return w;
 }
 

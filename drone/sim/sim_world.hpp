@@ -10,7 +10,9 @@
 //    platform where it really is);
 //  - the cameras' intrinsics and distortion off the configured calibration, their mounting tilt;
 //  - the video and navdata delays;
-//  - light: exposure changes and the lamps' flicker; Wi-Fi: link-loss bursts and video stalls.
+//  - light: exposure changes and the lamps' flicker; Wi-Fi: link-loss bursts and video stalls;
+//  - the teacher's walk (unless the ranges leave it out): random legs over the free floor, random
+//    pauses, a walking speed and a head sway (teacher_walk.hpp) instead of the lab file's path.
 // The draws come from their own generator (seeded from the run's seed), so a randomized world leaves
 // the sensors' and the link's noise streams as they are.
 #include <cstdint>
@@ -24,6 +26,7 @@
 #include "drone/sim/lab_renderer.hpp"
 #include "drone/sim/sim_config.hpp"
 #include "drone/sim/simulated_lab.hpp"
+#include "drone/sim/teacher_walk.hpp"
 
 namespace labo {
 
@@ -73,6 +76,10 @@ struct WorldRanges {
   WorldInterval link_loss_s{0.1, 0.6};
   double video_stall_interval_s = 30;   // the video stream alone stalls
   WorldInterval video_stall_s{0.2, 1.0};
+  // The teacher's walk, drawn; empty: the teacher keeps to the lab file's path (the flight software
+  // has no obstacle avoidance: inspect's and perturb's campaigns keep the teacher in the strip the lab
+  // file keeps clear of the stand-offs).
+  std::optional<TeacherWalkRanges> teacher_walk = TeacherWalkRanges{};
 };
 
 // Where one object really is: its offset (world, m) and rotation (world, axis × angle, rad) from the
@@ -86,7 +93,7 @@ struct PlacementDraw {
 struct SimWorld {
   WorldMode mode = WorldMode::Nominal;
   std::uint64_t seed = 1;
-  LabDescription lab;              // the placements as they are
+  LabDescription lab;              // the placements as they are, the teacher's walk as walked
   CamerasConfig cameras;           // the cameras as they are
   CameraMounts mounts;
   SimulatedLabSettings settings;   // the drone, its sensors' biases, the events

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 #include "core/frames.hpp"
 
@@ -33,25 +34,32 @@ TeacherMotion::TeacherMotion(const TeacherSpec& spec) : spec_(spec) {
   if (spec_.waypoints.empty()) throw std::invalid_argument("the teacher's path has no waypoint");
   if (!(spec_.speed_mps > 0)) throw std::invalid_argument("the teacher's speed must be positive");
   const std::size_t n = spec_.waypoints.size();
+  if (!spec_.pauses_s.empty() && spec_.pauses_s.size() != n)
+    throw std::invalid_argument("the teacher's path has " + std::to_string(spec_.pauses_s.size()) + " pauses for " +
+                                std::to_string(n) + " waypoints (one each expected)");
+  // A looped path walks back from the last waypoint to the first; an open one ends standing at the
+  // last (a leg of zero length, its pause lasting for ever).
   Seconds t = 0;
   for (std::size_t i = 0; i < n; ++i) {
     Leg leg;
     leg.from = spec_.waypoints[i];
-    leg.to = spec_.waypoints[(i + 1) % n];
+    const bool last = i + 1 == n;
+    leg.to = last && !spec_.loop ? leg.from : spec_.waypoints[(i + 1) % n];
     const Eigen::Vector2d d = leg.to - leg.from;
-    leg.heading_out = d.norm() > 1e-9 ? std::atan2(d.y(), d.x()) : 0.0;
+    leg.heading_out = d.norm() > 1e-9 ? std::atan2(d.y(), d.x()) : (i > 0 ? legs_.back().heading_out : 0.0);
     leg.pause_start = t;
-    leg.walk_start = t + std::max(0.0, spec_.pause_s);
+    leg.walk_start = t + std::max(0.0, spec_.pauses_s.empty() ? spec_.pause_s : spec_.pauses_s[i]);
     leg.walk_end = leg.walk_start + d.norm() / spec_.speed_mps;
     t = leg.walk_end;
     legs_.push_back(leg);
   }
   for (std::size_t i = 0; i < n; ++i) legs_[i].heading_in = legs_[(i + n - 1) % n].heading_out;
+  if (!spec_.loop) legs_.front().heading_in = legs_.front().heading_out;
   cycle_s_ = t;
 }
 
 TeacherPose TeacherMotion::pose(Seconds t) const {
-  const Seconds tau = cycle_s_ > 0 ? std::fmod(std::max(0.0, t), cycle_s_) : 0.0;
+  const Seconds tau = !spec_.loop ? std::max(0.0, t) : cycle_s_ > 0 ? std::fmod(std::max(0.0, t), cycle_s_) : 0.0;
   const Leg* leg = &legs_.back();
   for (const Leg& l : legs_) {
     if (tau < l.walk_end) {
@@ -60,7 +68,11 @@ TeacherPose TeacherMotion::pose(Seconds t) const {
     }
   }
   TeacherPose p;
-  if (tau < leg->walk_start) {
+  if (!spec_.loop && tau >= legs_.back().walk_start) {
+    // The walk is over: standing at its last waypoint, facing the way they came.
+    p.floor_xy = legs_.back().from;
+    p.heading_rad = legs_.back().heading_in;
+  } else if (tau < leg->walk_start) {
     // Standing: turn smoothly from the incoming to the outgoing direction.
     const double f = leg->walk_start > leg->pause_start ? (tau - leg->pause_start) / (leg->walk_start - leg->pause_start) : 1.0;
     const double s = f * f * (3.0 - 2.0 * f);

@@ -1,9 +1,11 @@
 #pragma once
-// TeacherMotion: the simulated teacher's scripted walk (lab.json "teacher"). The teacher stands at
-// the first waypoint, then walks the waypoints in order at `speed_mps` and loops back to the first,
-// pausing `pause_s` at each one while turning from the incoming to the outgoing direction. The head
-// turns relative to the walking direction as three sinusoids (yaw, pitch, roll). A pure function of
-// time: the same t gives the same pose, whatever was asked before.
+// TeacherMotion: the simulated teacher's walk: the lab file's scripted path (lab.json "teacher"), or
+// a walk drawn for the run (teacher_walk.hpp). The teacher stands at the first waypoint, then walks
+// the waypoints in order at `speed_mps`, pausing at each one (`pauses_s`, else `pause_s`) while
+// turning from the incoming to the outgoing direction; a looped path goes back to the first, a drawn
+// walk ends standing at its last waypoint. The head turns relative to the walking direction as three
+// sinusoids (yaw, pitch, roll). A pure function of time: the same t gives the same pose, whatever was
+// asked before.
 //
 // Head pose in the CANDIDE-3 face frame of core/candide3.hpp: origin between the eyes at eye height,
 // +x the subject's left, +y up, +z out of the face. Head yaw > 0 turns to the subject's left, pitch
@@ -25,9 +27,11 @@ struct TeacherPose {
 
 class TeacherMotion {
  public:
-  // Throws std::invalid_argument when the path has no waypoint or the speed is not positive.
+  // Throws std::invalid_argument when the path has no waypoint, the speed is not positive or the
+  // pauses are not one per waypoint.
   explicit TeacherMotion(const TeacherSpec& spec);
   TeacherPose pose(Seconds t) const;
+  // One round of a looped path; the whole walk of one that does not loop.
   Seconds cycle_s() const { return cycle_s_; }
 
  private:

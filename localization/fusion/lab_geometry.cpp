@@ -26,12 +26,6 @@ const PlanarTarget* LabGeometry::find_instrument(const std::string& id) const {
   return nullptr;
 }
 
-double TeacherRoute::cycle_s() const {
-  double walk_m = 0;
-  for (std::size_t i = 0; i < waypoints.size(); ++i) walk_m += (waypoints[(i + 1) % waypoints.size()] - waypoints[i]).norm();
-  return walk_m / speed_mps + pause_s * static_cast<double>(waypoints.size());
-}
-
 LabGeometry lab_geometry_from(const LabDescription& lab) {
   LabGeometry g;
   g.room_min = lab.room.min;
@@ -42,10 +36,6 @@ LabGeometry lab_geometry_from(const LabDescription& lab) {
   for (const auto& spec : lab.instruments) g.instruments.push_back(planar_target_of(spec));
   g.platform = planar_target_of(lab.platform);
   g.surfaces = estimation::surface_map_of(lab);
-  g.teacher.waypoints = lab.teacher.waypoints;
-  g.teacher.speed_mps = lab.teacher.speed_mps;
-  g.teacher.pause_s = lab.teacher.pause_s;
-  g.teacher.eye_height_m = lab.teacher.eye_height_m;
   return g;
 }
 

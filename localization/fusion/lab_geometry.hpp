@@ -1,9 +1,11 @@
 #pragma once
 // What flight control needs to know of the lab: the room (geofence), the base (home), the instruments
 // that can be inspected and the landing platform, each with what its vision front-end needs (template
-// image, physical size, the paper's per-object lambda and N). Built from the lab description
-// (drone/lab/lab_description.hpp) by lab_geometry_from(), so control does not depend on how the lab
-// file is laid out; tests and the model experiments build one by hand.
+// image, physical size, the paper's per-object lambda and N), and the surfaces over the floor. Built
+// from the lab description (drone/lab/lab_description.hpp) by lab_geometry_from(), so control does not
+// depend on how the lab file is laid out; tests and the model experiments build one by hand.
+// Nothing of the teacher: where they walk and how fast is no part of what the flight software knows
+// (face-follow finds and follows them from the face alone; tests/bench/experiments/world_separation_test.cpp).
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <optional>
@@ -33,16 +35,6 @@ struct PlanarTarget {
   std::optional<int> sift_min_inliers;
 };
 
-// The teacher's usual walk (the lab file's "teacher" path): where find-teacher looks for the face.
-struct TeacherRoute {
-  std::vector<Eigen::Vector2d> waypoints;  // floor positions walked in order, then looped; empty: unknown
-  double speed_mps = 0.4;
-  double pause_s = 0;                      // standing still at each waypoint
-  double eye_height_m = 1.6;
-  // One round of the path (walks and pauses): how long a watch must last to see every leg walked.
-  double cycle_s() const;
-};
-
 struct LabGeometry {
   Eigen::Vector3d room_min = Eigen::Vector3d(-3, -3, 0);
   Eigen::Vector3d room_max = Eigen::Vector3d(3, 3, 2.5);
@@ -53,7 +45,6 @@ struct LabGeometry {
   // The tops the ultrasound sees (benches, the platform, instrument housings) over the floor, for the
   // altitude tracker to tell a floor step from a climb; empty: floor only, steps told by gamma alone.
   estimation::SurfaceMap surfaces;
-  TeacherRoute teacher;
 
   const PlanarTarget* find_instrument(const std::string& id) const;
 };

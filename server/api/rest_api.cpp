@@ -53,7 +53,10 @@ RestApi::RestApi(const ServerSettings& settings, std::filesystem::path config_fi
       metrics_(metrics),
       clock_(clock),
       audit_(audit),
-      uploads_(settings.instruments_dir) {}
+      uploads_(settings.instruments_dir),
+      labs_(settings.multi_lab.labs_file.empty()
+                ? LabDirectory()
+                : LabDirectory(settings.multi_lab.labs_file, settings.multi_lab.lab_id)) {}
 
 std::optional<SessionInfo> RestApi::authenticate(const HttpRequest& req) {
   std::string token;
@@ -69,7 +72,7 @@ std::optional<SessionInfo> RestApi::authenticate(const HttpRequest& req) {
     const auto q = target.find("token=");
     if (q != std::string::npos && target.substr(0, 3) == "/ws") token = target.substr(q + 6, target.find('&', q) - q - 6);
   }
-  if (token.empty() || token.size() > 128) return std::nullopt;
+  if (token.empty() || token.size() > 256) return std::nullopt;  // a signed token names its user (session_signer.hpp)
   return sessions_.authenticate(token, unix_now_s());
 }
 
@@ -121,6 +124,10 @@ HttpReply RestApi::route(const HttpRequest& req, const std::string& path, const 
   if (path == "/api/me") {
     if (m != http::verb::get) return method_not_allowed("GET");
     return ok_json({{"user", session->user}, {"role", to_string(session->role)}, {"session", session->id}});
+  }
+  if (path == "/api/labs") {
+    if (m != http::verb::get) return method_not_allowed("GET");
+    return HttpReply::json(http::status::ok, labs_.json());
   }
   if (path == "/api/status") {
     if (m != http::verb::get) return method_not_allowed("GET");

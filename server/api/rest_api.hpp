@@ -13,6 +13,7 @@
 #include "core/time.hpp"
 #include "server/api/http_reply.hpp"
 #include "server/api/instrument_store.hpp"
+#include "server/api/lab_directory.hpp"
 #include "server/api/rest_support.hpp"
 #include "server/audit/audit_log.hpp"
 #include "server/auth/session_store.hpp"
@@ -74,6 +75,7 @@ class RestApi {
   const Clock& clock_;
   AuditLog& audit_;
   InstrumentStore uploads_;
+  LabDirectory labs_;
   std::mutex config_mutex_;  // one change of the config file at a time
 };
 

@@ -31,10 +31,11 @@ LoginResult SessionStore::login(const std::string& user, const std::string& pass
   // Hash outside the lock: it takes tens of milliseconds by design.
   const bool ok = account ? account->hash.verify(password) : (dummy_.verify(password), false);
   if (!ok) return {LoginOutcome::BadCredentials, {}};
-  const std::string token = random_hex(32);
+  std::lock_guard lock(mutex_);
+  const std::string token =
+      signer_ ? signer_->issue(user, account->account.role, now_s + idle_timeout_s_) : random_hex(32);
   const std::string key = sha256_hex(token);
   SessionInfo s{"", key.substr(0, 16), user, account->account.role, now_s, now_s};
-  std::lock_guard lock(mutex_);
   expire(now_s);
   sessions_[key] = s;
   save();
@@ -46,6 +47,13 @@ std::optional<SessionInfo> SessionStore::authenticate(const std::string& token, 
   const std::string key = sha256_hex(token);
   std::lock_guard lock(mutex_);
   auto it = sessions_.find(key);
+  if (it == sessions_.end() && signer_ && !revoked_until_s_.contains(key)) {  // a login at another lab of the front
+    const auto claims = signer_->verify(token, now_s);
+    const auto account = claims ? accounts_.find(claims->user) : accounts_.end();
+    if (account == accounts_.end() || account->second.account.role != claims->role) return std::nullopt;
+    it = sessions_.emplace(key, SessionInfo{"", key.substr(0, 16), claims->user, claims->role, now_s, now_s}).first;
+    save();
+  }
   if (it == sessions_.end()) return std::nullopt;
   if (now_s - it->second.last_seen_s > idle_timeout_s_) {
     sessions_.erase(it);
@@ -61,19 +69,36 @@ std::optional<SessionInfo> SessionStore::authenticate(const std::string& token, 
 
 void SessionStore::logout(const std::string& token) {
   std::lock_guard lock(mutex_);
-  if (sessions_.erase(sha256_hex(token))) save();
+  const std::string key = sha256_hex(token);
+  revoke(key, unix_now_s());
+  if (sessions_.erase(key)) save();
+}
+
+void SessionStore::share_with(SessionSigner signer) {
+  std::lock_guard lock(mutex_);
+  signer_ = std::move(signer);
+}
+
+void SessionStore::revoke(const std::string& key, double now_s) {
+  if (signer_) revoked_until_s_[key] = now_s + idle_timeout_s_;  // a signed token expires by then
 }
 
 bool SessionStore::end(const std::string& id) {
   std::lock_guard lock(mutex_);
-  const auto n = std::erase_if(sessions_, [&](const auto& kv) { return kv.second.id == id; });
+  const auto n = std::erase_if(sessions_, [&](const auto& kv) {
+    if (kv.second.id == id) revoke(kv.first, unix_now_s());
+    return kv.second.id == id;
+  });
   if (n) save();
   return n > 0;
 }
 
 std::size_t SessionStore::end_user(const std::string& user) {
   std::lock_guard lock(mutex_);
-  const auto n = std::erase_if(sessions_, [&](const auto& kv) { return kv.second.user == user; });
+  const auto n = std::erase_if(sessions_, [&](const auto& kv) {
+    if (kv.second.user == user) revoke(kv.first, unix_now_s());
+    return kv.second.user == user;
+  });
   if (n) save();
   return n;
 }
@@ -120,6 +145,7 @@ void SessionStore::save_if_changed(double now_s, bool force) {
 
 void SessionStore::expire(double now_s) {
   if (std::erase_if(sessions_, [&](const auto& kv) { return now_s - kv.second.last_seen_s > idle_timeout_s_; })) save();
+  std::erase_if(revoked_until_s_, [&](const auto& kv) { return kv.second <= now_s; });
 }
 
 void SessionStore::save() {

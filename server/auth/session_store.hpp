@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "server/auth/password_hash.hpp"
+#include "server/auth/session_signer.hpp"
 #include "server/auth/token_bucket.hpp"
 #include "server/server_settings.hpp"
 
@@ -53,6 +54,9 @@ class SessionStore {
   // `remote` (the client's address) is rate limited: PBKDF2 is deliberately slow.
   LoginResult login(const std::string& user, const std::string& password, const std::string& remote, double now_s);
   std::optional<SessionInfo> authenticate(const std::string& token, double now_s);
+  // From now on, logins issue tokens signed with the labs' shared key, and a token signed by another
+  // lab of the same front is a session here too (session_signer.hpp).
+  void share_with(SessionSigner signer);
   void logout(const std::string& token);
   // Ends the session named `id` (SessionInfo::id); false when there is none.
   bool end(const std::string& id);
@@ -86,6 +90,11 @@ class SessionStore {
   std::map<std::string, TokenBucket> login_buckets_;
   bool seen_changed_ = false;
   double last_save_s_ = 0;
+  std::optional<SessionSigner> signer_;
+  // Signed sessions ended here (logout, end, end_user), by their token's SHA-256, until their token
+  // has surely expired: a signature alone would bring them back.
+  std::map<std::string, double> revoked_until_s_;
+  void revoke(const std::string& key, double now_s);  // with mutex_ held
 };
 
 }  // namespace labo

@@ -31,7 +31,10 @@ struct ServerContext {
         sessions(settings.users, settings.clients.session_idle_timeout_s, settings.clients.login_attempts_per_min,
                  settings.sessions_file),
         lab(std::make_shared<RemoteLab>(flight, settings, metrics, clock, audit, log.child("lab"))),
-        api(settings, std::move(config_file), sessions, *lab, metrics, clock, audit) {}
+        api(settings, std::move(config_file), sessions, *lab, metrics, clock, audit) {
+    if (!settings.multi_lab.session_key_file.empty())
+      sessions.share_with(SessionSigner::from_key_file(settings.multi_lab.session_key_file));
+  }
 
   // Owned by the WebServer and destroyed after the last handler lets go of this context.
   boost::asio::io_context& io;

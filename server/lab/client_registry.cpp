@@ -36,14 +36,14 @@ bool ClientRegistry::set_renditions(ClientId client, unsigned renditions) {
 }
 
 void ClientRegistry::count_viewers() {
-  std::size_t h264 = 0, low = 0;
+  std::array<std::size_t, 3> count{};
+  std::size_t low = 0;
   for (const auto& [id, m] : members_) {
-    h264 += m.video == VideoPath::H264;
+    ++count[static_cast<std::size_t>(m.video)];
     low += m.video == VideoPath::H264 && (m.renditions & (1u << static_cast<unsigned>(Rendition::Low)));
   }
-  h264_viewers_ = h264;
+  for (std::size_t i = 0; i < count.size(); ++i) viewers_[i] = count[i];
   low_viewers_ = low;
-  jpeg_viewers_ = members_.size() - h264;
 }
 
 ClientRegistry::Admission ClientRegistry::admit(ClientId client, double now_s) {
@@ -100,6 +100,12 @@ void ClientRegistry::send_access_unit(const WireAccessUnit& unit) {
   links_watching(VideoPath::H264, unit.rendition, targets);
   for (const auto& weak : targets)
     if (const auto client = weak.lock()) client->send_access_unit(unit);
+  // The media server forwards the source rendition: its geometry is the one matched by RTP timestamp.
+  if (unit.geometry && unit.rendition == Rendition::Source && watching(VideoPath::Geometry) > 0) {
+    links_watching(VideoPath::Geometry, Rendition::Source, targets);
+    for (const auto& weak : targets)
+      if (const auto client = weak.lock()) client->send_event(unit.geometry);
+  }
   targets.clear();
 }
 

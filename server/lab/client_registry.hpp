@@ -5,6 +5,7 @@
 // delivery's reference may be a closing session's last, and its destructor leaves the registry,
 // which takes the lock again (test "lab: a client whose last owner is a delivery leaves without a
 // deadlock"). Thread-safe; nothing here blocks on a client (LabClient's sends only queue).
+#include <array>
 #include <atomic>
 #include <functional>
 #include <memory>
@@ -38,7 +39,7 @@ class ClientRegistry {
   void send_to(ClientId client, const Message& message);
   void send_each(const std::vector<std::pair<ClientId, Message>>& messages);  // each to its client
   // Video, to the clients that watch its path: a JPEG frame to their video slot, an access unit (and
-  // its geometry) to their H.264 queue.
+  // its geometry) to their H.264 queue, the geometry alone as an event to the Geometry path's.
   void set_video(ClientId client, VideoPath path);
   // The H.264 renditions whose units the client needs (RenditionSwitch::needed(); the source only
   // until it says otherwise). True when the client now needs the low rendition and did not before.
@@ -48,7 +49,7 @@ class ClientRegistry {
   void send_frame(const Message& wire);
   void send_access_unit(const WireAccessUnit& unit);
   void send_reading_view(const Message& view);  // to every client's reading-view slot
-  std::size_t watching(VideoPath path) const { return (path == VideoPath::H264 ? h264_viewers_ : jpeg_viewers_).load(); }
+  std::size_t watching(VideoPath path) const { return viewers_[static_cast<std::size_t>(path)].load(); }
   void disconnect_all(const std::string& reason);
   // Disconnects the clients whose session `match` accepts; how many.
   std::size_t disconnect_where(const std::function<bool(const SessionInfo&)>& match, const std::string& reason);
@@ -75,7 +76,8 @@ class ClientRegistry {
   int burst_;
   mutable std::mutex mutex_;
   std::unordered_map<ClientId, Member> members_;
-  std::atomic<std::size_t> jpeg_viewers_{0}, h264_viewers_{0}, low_viewers_{0};
+  std::array<std::atomic<std::size_t>, 3> viewers_{};  // by VideoPath
+  std::atomic<std::size_t> low_viewers_{0};
 };
 
 }  // namespace labo

@@ -65,10 +65,10 @@ ParsedMessage parse_subscribe(const json& msg) {
   for (const auto& [key, value] : msg.items())
     if (key != "type" && key != "video" && key != "rendition")
       return refuse("unknown field '" + key + "' in subscribe (expected 'video' and optionally 'rendition')");
-  if (!msg.contains("video") || !msg["video"].is_string()) return refuse("subscribe needs 'video' (string: h264 or jpeg)");
+  if (!msg.contains("video") || !msg["video"].is_string()) return refuse("subscribe needs 'video' (string: h264, jpeg or geometry)");
   const std::string name = msg["video"].get<std::string>();
   const auto path = parse_video_path(name);
-  if (!path) return refuse("unknown video path '" + name + "' (expected h264 or jpeg)");
+  if (!path) return refuse("unknown video path '" + name + "' (expected h264, jpeg or geometry)");
   SubscribeRequest r{*path, RenditionChoice::Auto};
   if (!msg.contains("rendition")) return ClientRequest{r};
   if (*path != VideoPath::H264) return refuse("'rendition' belongs to the h264 path only");

@@ -47,7 +47,9 @@ class RemoteLab final : public FlightEventSink {
   void on_reading_view(std::shared_ptr<const std::string> view) override;
   void on_flight_event(const FlightEvent& event) override;
   bool wants_jpeg() const override { return clients_.watching(VideoPath::Jpeg) > 0; }
-  bool wants_access_units() const override { return clients_.watching(VideoPath::H264) > 0; }
+  bool wants_access_units() const override {
+    return clients_.watching(VideoPath::H264) + clients_.watching(VideoPath::Geometry) > 0;
+  }
   bool wants_reading_view() const override { return clients_.size() > 0; }
   bool wants_low_rendition() const override { return clients_.low_rendition_viewers() > 0; }
   bool take_low_keyframe_request() override { return low_keyframe_wanted_.exchange(false); }

@@ -3,7 +3,7 @@
 #include "control/flight_stack.hpp"
 #include "localization/fusion/lab_geometry.hpp"
 #include "drone/lab/lab_description.hpp"
-#include "teacher_routes.hpp"
+#include "teacher_walks.hpp"
 
 using namespace labo;
 using namespace labo::control;
@@ -65,11 +65,11 @@ TEST_CASE("control: a FlightStack on the lab's geometry accepts its instruments 
   CHECK(accepted.accepted);
 }
 
-TEST_CASE("control: the find-teacher tests' lab route is config/lab.json's teacher route") {
-  // test::lab_route() pins the route's figures for the route tests; this keeps it the lab's, so a
-  // change of the lab file shows up here instead of silently leaving those tests on an old route.
-  const fusion::TeacherRoute lab = fusion::lab_geometry_from(load_lab_description(default_lab_path())).teacher;
-  const fusion::TeacherRoute pinned = test::lab_route();
+TEST_CASE("control: the face-follow tests' teacher walks config/lab.json's path") {
+  // test::lab_path() pins the path's figures for the face-follow tests; this keeps it the lab's, so a
+  // change of the lab file shows up here instead of silently leaving those tests on an old path.
+  const TeacherSpec lab = load_lab_description(default_lab_path()).teacher;
+  const TeacherSpec pinned = test::lab_path();
   REQUIRE(lab.waypoints.size() == pinned.waypoints.size());
   for (std::size_t i = 0; i < lab.waypoints.size(); ++i) CHECK(lab.waypoints[i].isApprox(pinned.waypoints[i]));
   CHECK(lab.speed_mps == Approx(pinned.speed_mps));

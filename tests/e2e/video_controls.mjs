@@ -66,11 +66,18 @@ try {
   const cdp = await context.newCDPSession(page);
   await cdp.send('Network.enable');
   await cdp.send('Network.emulateNetworkConditions', {offline: false, latency: 20, downloadThroughput: kbps * 125, uploadThroughput: kbps * 125});
-  const moved = await page.waitForFunction(() => window.labodrone.renditionTarget === 'low', null, {timeout: 10000}).then(() => true, () => false);
+  // The server sees the throttle only once the bytes between its socket and the emulation are full:
+  // the browser's TCP receive buffer, which the kernel's autotuning grew while the page read at full
+  // speed (megabytes on loopback), fills at the stream's excess over the throttle (2 Mbit/s here), so
+  // the move comes after seconds that depend on how far the autotuning went: about 10 s on a loaded
+  // machine, hence 40 s allowed. The move itself is the behaviour checked, not its delay.
+  const throttledAt = Date.now();
+  const moved = await page.waitForFunction(() => window.labodrone.renditionTarget === 'low', null, {timeout: 40000}).then(() => true, () => false);
   if (moved) {
+    const after_s = ((Date.now() - throttledAt) / 1000).toFixed(1);
     await page.waitForFunction(() => window.labodrone.rendition === 'low', null, {timeout: 5000});
     const throttled = await fps(page, 10000);
-    console.log(`throttled to ${kbps} kbit/s: moved to the low rendition (${throttled.after.renditionReason}); ` +
+    console.log(`throttled to ${kbps} kbit/s: moved to the low rendition after ${after_s} s (${throttled.after.renditionReason}); ` +
                 `${throttled.fps.toFixed(1)} frames/s in the page over 10 s`);
     if (throttled.fps < 25) fail(`a page on a ${kbps} kbit/s link kept only ${throttled.fps.toFixed(1)} frames/s`);
   } else if (mode === 'sim') {

@@ -46,6 +46,7 @@ TEST_CASE("lab: protocol: each message type becomes its typed request") {
   request_of<TakeOverRequest>(parse_client_message(R"({"type":"take_over"})"));
   CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"h264"})")).video == VideoPath::H264);
   CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"jpeg"})")).video == VideoPath::Jpeg);
+  CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"geometry"})")).video == VideoPath::Geometry);
   CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"h264"})")).rendition == RenditionChoice::Auto);
   for (const RenditionChoice c : {RenditionChoice::Auto, RenditionChoice::Source, RenditionChoice::Low})
     CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"h264","rendition":")" +
@@ -107,10 +108,10 @@ TEST_CASE("lab: protocol: every refused input names what was wrong and what was 
   CHECK(std::get<Refusal>(typed).typed);
 
   // Subscriptions: the video path, nothing else.
-  CHECK(verdict_of(R"({"type":"subscribe"})") == "400 subscribe needs 'video' (string: h264 or jpeg)");
-  CHECK(verdict_of(R"({"type":"subscribe","video":1})") == "400 subscribe needs 'video' (string: h264 or jpeg)");
-  CHECK(verdict_of(R"({"type":"subscribe","video":"H264"})") == "400 unknown video path 'H264' (expected h264 or jpeg)");
-  CHECK(verdict_of(R"({"type":"subscribe","video":"vp8"})") == "400 unknown video path 'vp8' (expected h264 or jpeg)");
+  CHECK(verdict_of(R"({"type":"subscribe"})") == "400 subscribe needs 'video' (string: h264, jpeg or geometry)");
+  CHECK(verdict_of(R"({"type":"subscribe","video":1})") == "400 subscribe needs 'video' (string: h264, jpeg or geometry)");
+  CHECK(verdict_of(R"({"type":"subscribe","video":"H264"})") == "400 unknown video path 'H264' (expected h264, jpeg or geometry)");
+  CHECK(verdict_of(R"({"type":"subscribe","video":"vp8"})") == "400 unknown video path 'vp8' (expected h264, jpeg or geometry)");
   CHECK(verdict_of(R"({"type":"subscribe","video":"h264","rate":3})") ==
         "400 unknown field 'rate' in subscribe (expected 'video' and optionally 'rendition')");
   // The H.264 rendition: auto (the default), source or low, on the h264 path only.

@@ -3,11 +3,18 @@
 // get the same setup, the configuration's, while the worlds they fly in differ; (2) no source file of
 // the flight software (localization/, control/, server/ but the simulated lab's backend) names the
 // world or anything drawn in it.
+// Nor can it see the teacher's walk (no oracle for face-follow): the lab it is given has no teacher
+// (checked at compile time), the worlds' teachers walk different paths at different speeds while the
+// stacks' setups are the same, and no source of control/ or localization/ names the walk, its
+// waypoints, speed or pauses, or the simulated teacher.
 #include <catch2/catch.hpp>
 
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "bench/experiments/experiment_common.hpp"
 #include "core/source_tree.hpp"
@@ -21,7 +28,7 @@ Experiment experiment_in(WorldMode mode) {
   o.config = source_root() / "config" / "default.json";
   o.real_vision = true;
   o.world = mode;
-  return make_experiment(o, false);
+  return make_experiment(o, true);  // with the face: the teacher walks a drawn path in a randomized world
 }
 
 // What the flight software is told about the lab and its cameras.
@@ -45,11 +52,36 @@ void check_same_setup(const control::FlightStackSetup& a, const control::FlightS
   CHECK(a.control.mission.standoff_m == b.control.mission.standoff_m);
 }
 
+// What the flight software's lab geometry is made of: the teacher is no part of it.
+template <typename Lab>
+constexpr bool names_a_teacher = requires(const Lab& lab) { lab.teacher; };
+static_assert(!names_a_teacher<fusion::LabGeometry>, "the flight software must not be told the teacher's walk");
+
 std::string read_text(const std::filesystem::path& p) {
   std::ifstream in(p);
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+// Checks that no .cpp or .hpp under `dirs` of the source tree (but `exempt`) names any of `names`;
+// returns how many files it read.
+int check_sources_never_name(std::initializer_list<const char*> dirs, const std::vector<std::string>& names,
+                             const std::filesystem::path& exempt = {}) {
+  int files = 0;
+  for (const char* dir : dirs) {
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(source_root() / dir)) {
+      const auto ext = entry.path().extension();
+      if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".hpp") || entry.path() == exempt) continue;
+      ++files;
+      const std::string text = read_text(entry.path());
+      for (const std::string& name : names) {
+        INFO(entry.path().string() << " names " << name);
+        CHECK(text.find(name) == std::string::npos);
+      }
+    }
+  }
+  return files;
 }
 
 }  // namespace
@@ -66,6 +98,10 @@ TEST_CASE("bench: the flight stacks of runs in different worlds all get the conf
   CHECK(a->true_lab().front.fx != b->true_lab().front.fx);
   CHECK_FALSE(a->true_lab().lab.platform.T_world_object.isApprox(n->true_lab().lab.platform.T_world_object));
   CHECK(a->world()->link.video_delay_s != b->world()->link.video_delay_s);
+  // The teachers walk different paths at different speeds.
+  CHECK(a->world()->lab.teacher.waypoints != b->world()->lab.teacher.waypoints);
+  CHECK(a->world()->lab.teacher.speed_mps != b->world()->lab.teacher.speed_mps);
+  CHECK(a->world()->lab.teacher.waypoints != n->world()->lab.teacher.waypoints);
   // The flight software does not: each stack holds the configuration's lab, cameras and delays.
   for (ExperimentFlight* f : {n.get(), a.get(), b.get()}) check_same_setup(f->stack().setup(), nominal.setup);
   CHECK(n->true_lab().front.fx == nominal.setup.cameras.front.fx);  // the nominal world is the configuration
@@ -73,22 +109,20 @@ TEST_CASE("bench: the flight stacks of runs in different worlds all get the conf
 
 TEST_CASE("bench: no source of the flight software names the simulated lab's world or its draws") {
   const std::filesystem::path root = source_root();
-  const std::vector<std::string> names = {"sim_world.hpp", "SimWorld", "make_sim_world", "WorldRanges", "PlantDeviation",
-                                          "SensorBiases", "world_mode.hpp", "WorldMode"};
   // The simulated lab's backend builds the world the flight runtime flies in (as emulate does).
-  const std::filesystem::path sim_backend = root / "server" / "runtime" / "backend_parts.cpp";
-  int files = 0;
-  for (const char* dir : {"localization", "control", "server"}) {
-    for (const auto& entry : std::filesystem::recursive_directory_iterator(root / dir)) {
-      const auto ext = entry.path().extension();
-      if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".hpp") || entry.path() == sim_backend) continue;
-      ++files;
-      const std::string text = read_text(entry.path());
-      for (const std::string& name : names) {
-        INFO(entry.path().string() << " names " << name);
-        CHECK(text.find(name) == std::string::npos);
-      }
-    }
-  }
+  const int files = check_sources_never_name({"localization", "control", "server"},
+                                             {"sim_world.hpp", "SimWorld", "make_sim_world", "WorldRanges", "PlantDeviation",
+                                              "SensorBiases", "world_mode.hpp", "WorldMode"},
+                                             root / "server" / "runtime" / "backend_parts.cpp");
   CHECK(files > 100);  // the scan did read the sources
+}
+
+TEST_CASE("bench: no source of control/ or localization/ names the teacher's walk, its speed or the simulated teacher") {
+  // The face front-end may know the teacher's face (their photo, the distance between their eyes):
+  // who they are, not where they walk.
+  const int files = check_sources_never_name({"localization", "control"},
+                                             {"TeacherSpec", "TeacherMotion", "TeacherRoute", "teacher_motion.hpp",
+                                              "teacher_walk.hpp", "random_teacher_walk", "TeacherWalkRanges", "HeadMotionSpec",
+                                              "waypoints", "teacher.speed", "teacher.pause", "teacher_speed", "cycle_s"});
+  CHECK(files > 80);  // the scan did read the sources
 }

@@ -51,6 +51,10 @@ TEST_CASE("sim world: the nominal world is the lab file, the calibration and the
   CHECK(w.settings.disturbances.empty());
   CHECK(w.link.video_delay_s == SimLinkSettings{}.video_delay_s);
   CHECK(w.placements.empty());
+  // The teacher walks the lab file's path.
+  CHECK(w.lab.teacher.loop);
+  CHECK(w.lab.teacher.waypoints == lab.teacher.waypoints);
+  CHECK(w.lab.teacher.speed_mps == lab.teacher.speed_mps);
 }
 
 TEST_CASE("sim world: a randomized world is the same for the same seed and differs for another", "[sim][world]") {
@@ -63,6 +67,11 @@ TEST_CASE("sim world: a randomized world is the same for the same seed and diffe
   CHECK(a.placements[0].offset_m != c.placements[0].offset_m);
   CHECK(a.cameras.front.fx != c.cameras.front.fx);
   CHECK(a.link.video_delay_s != c.link.video_delay_s);
+  // The teacher walks a path drawn for the run, not the lab file's.
+  CHECK(a.lab.teacher.waypoints == b.lab.teacher.waypoints);
+  CHECK(a.lab.teacher.waypoints != c.lab.teacher.waypoints);
+  CHECK(a.lab.teacher.waypoints != test::shipped_lab().teacher.waypoints);
+  CHECK_FALSE(a.lab.teacher.loop);
   // The sensors' and the link's noise keep the run's seed: only the world's draws come from elsewhere.
   CHECK(a.settings.seed == 11);
   CHECK(a.link.seed == 11);

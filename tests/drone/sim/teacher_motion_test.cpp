@@ -71,3 +71,25 @@ TEST_CASE("sim teacher: a path without waypoints or speed is refused", "[sim][te
   s.waypoints.clear();
   CHECK_THROWS_AS(TeacherMotion(s), std::invalid_argument);
 }
+
+TEST_CASE("sim teacher: a drawn walk pauses its own time at each waypoint and ends standing at the last", "[sim][teacher]") {
+  TeacherSpec s = square_walk();
+  s.loop = false;
+  s.pauses_s = {1.0, 0.5, 4.0};
+  const TeacherMotion m(s);
+  // Pause 1 s, walk 2 m (4 s), pause 0.5 s, walk 1 m (2 s), then stand at (2, 1) for ever (the
+  // walk's length counts the last pause).
+  CHECK(m.cycle_s() == Approx(1.0 + 4.0 + 0.5 + 2.0 + 4.0));
+  CHECK_FALSE(m.pose(0.5).walking);
+  CHECK(m.pose(0.5).heading_rad == Approx(0.0).margin(1e-12));  // facing the first leg from the start
+  CHECK(m.pose(3.0).floor_xy.isApprox(Eigen::Vector2d(1.0, 0.0)));
+  CHECK(m.pose(5.25).floor_xy.isApprox(Eigen::Vector2d(2.0, 0.0)));
+  CHECK(m.pose(6.5).floor_xy.isApprox(Eigen::Vector2d(2.0, 0.5)));
+  for (const double t : {7.5, 8.0, 100.0}) {
+    CHECK(m.pose(t).floor_xy.isApprox(Eigen::Vector2d(2.0, 1.0)));
+    CHECK_FALSE(m.pose(t).walking);
+    CHECK(m.pose(t).heading_rad == Approx(std::numbers::pi / 2));  // facing the way they came
+  }
+  s.pauses_s = {1.0, 2.0};  // one short
+  CHECK_THROWS_WITH(TeacherMotion(s), Catch::Contains("2 pauses for 3 waypoints"));
+}

@@ -1,0 +1,1 @@
+/usr/share/javascript/webrtc-adapter/adapter.js

@@ -1,0 +1,1 @@
+/usr/share/javascript/janus-gateway/janus.js
