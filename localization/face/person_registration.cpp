@@ -14,28 +14,6 @@ namespace {
 // (a ray past the mesh's rim, or a landmark detected off the face).
 constexpr double kMaxSurfaceOffsetM = 0.015;
 
-// The person's points (the shape's mapped points plus `offsets`) scaled about the face origin so that
-// their eye centres are `ipd_m` apart, returned as offsets from the mapped points. The IPD is measured
-// between the eyes themselves, which the landmarks find; the shape fit puts only the mesh's eye
-// vertices that far apart, and on a face the mesh fits loosely (2.8 px RMS at 45 px between the eyes)
-// the surface points' eyes stood a few per cent closer or farther: every distance was off by as much.
-Eigen::Matrix3Xd offsets_with_eyes_at_ipd(const FaceLandmarkModel& model, const Eigen::VectorXd& shape_params,
-                                          double ipd_m, const Eigen::Matrix3Xd& offsets) {
-  const Eigen::Matrix3Xd mapped = model.points_m(shape_params, ipd_m);
-  const Eigen::Matrix3Xd points = mapped + offsets;
-  Eigen::Vector3d right = Eigen::Vector3d::Zero(), left = Eigen::Vector3d::Zero();
-  int n_right = 0, n_left = 0;
-  for (int i = 0; i < model.size(); ++i) {
-    const int id = model.landmark_ids()[static_cast<std::size_t>(i)];
-    if (id >= 36 && id <= 41) right += points.col(i), ++n_right;
-    if (id >= 42 && id <= 47) left += points.col(i), ++n_left;
-  }
-  if (n_right == 0 || n_left == 0) return offsets;
-  const double eyes_m = (left / n_left - right / n_right).norm();
-  if (!(eyes_m > 0)) return offsets;
-  return points * (ipd_m / eyes_m) - mapped;
-}
-
 }  // namespace
 
 PersonShape register_person(FacePoseEstimator& estimator, const cv::Mat& gray, const std::string& name,
@@ -101,8 +79,6 @@ PersonShape register_person(FacePoseEstimator& estimator, const std::vector<cv::
       estimator.reset();
       if (all_seen) person.landmark_offsets_m = offsets_from(seen);
     }
-    person.landmark_offsets_m = offsets_with_eyes_at_ipd(estimator.model(), person.shape_params,
-                                                         interpupillary_distance_m, person.landmark_offsets_m);
   }
   return person;
 }
