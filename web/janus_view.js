@@ -1,6 +1,8 @@
-// The video through Janus (docs/web.md "Many viewers: Janus"): the lab's H.264 as the server
-// forwards it (RTP to a Janus streaming mount point) reaches this page over WebRTC, and the overlay
-// geometry still comes over LaboDrone's WebSocket (subscribe "geometry"). Each decoded frame is
+// The video through Janus (docs/web.md "Many viewers and several labs"): the lab's H.264 as the
+// server forwards it (RTP to a Janus streaming mount point) reaches this page over WebRTC, and the
+// overlay geometry over the same mount point's data channel (serve --geometry-udp: LaboDrone sends
+// it once for every viewer). Until the data channel delivers, or when it falls silent, the geometry
+// comes over LaboDrone's WebSocket instead (subscribe "geometry"). Each decoded frame is
 // matched to its geometry by RTP timestamp: the server stamps a frame captured at capture_ms with
 // round(capture_ms * 90) mod 2^32 (server/video/rtp_h264_packetizer.hpp), and Chromium reports the
 // timestamp of each WebRTC frame it presents (requestVideoFrameCallback's rtpTimestamp). Janus
@@ -12,6 +14,7 @@
 const FIRST_FRAME_TIMEOUT_MS = 6000;
 const OFFSET_VOTES = 3;        // frames that must agree on an offset before it is used
 const OFFSET_LOST_FRAMES = 30;  // frames without a match after which the offset is learnt again
+const DATA_SILENT_MS = 2000;    // data channel without geometry this long: back to the WebSocket's
 
 export function rtpTimestampOf(captureMs) {
   return Math.round(captureMs * 90) % 4294967296;
@@ -39,6 +42,30 @@ export class RtpOffset {
     this.votes = votes;  // only differences every recent frame shares survive
     for (const [d, n] of votes) if (n >= OFFSET_VOTES) { this.offset = d; return this.match(rtp, geometries); }
     return null;
+  }
+}
+
+// A frame's geometry from its data-channel messages (server/video/geometry_datagrams.hpp): each is
+// "LDG1 <frame> <part> <count>\n" and a part of the JSON, in order (Janus's data channel is reliable
+// and ordered); a frame whose parts stop coming is dropped when the next frame starts.
+export class GeometryParts {
+  constructor() { this.frame = null; this.parts = []; this.decoder = new TextDecoder(); }
+
+  // The frame's geometry once its last part is in, else null (also for a malformed message).
+  // Janus delivers the datagrams as text or as binary messages (ArrayBuffer) by its version; each
+  // part is whole UTF-8 either way.
+  add(message) {
+    const text = message instanceof ArrayBuffer ? this.decoder.decode(message) : message;
+    const newline = typeof text === 'string' ? text.indexOf('\n') : -1;
+    const header = newline > 0 ? text.slice(0, newline).split(' ') : [];
+    if (header.length !== 4 || header[0] !== 'LDG1') return null;
+    const [frame, part, count] = header.slice(1).map(Number);
+    if (part === 0) { this.frame = frame; this.parts = []; }
+    if (frame !== this.frame || part !== this.parts.length) return null;
+    this.parts.push(text.slice(newline + 1));
+    if (this.parts.length < count) return null;
+    this.frame = null;
+    try { return JSON.parse(this.parts.join('')); } catch (e) { return null; }
   }
 }
 
@@ -83,6 +110,8 @@ export class JanusView {
     this.matched = 0;
     this.unmatched = 0;
     this.offset = new RtpOffset();
+    this.parts = new GeometryParts();
+    this.dataGeometryAt = null;  // when the data channel last delivered a geometry (null: it does not)
   }
 
   async start() {
@@ -117,6 +146,7 @@ export class JanusView {
           },
           onmessage: (msg, jsep) => this.onMessage(msg, jsep),
           onremotetrack: (track, mid, on) => { if (on && track.kind === 'video') this.play(track); },
+          ondata: (data) => this.onData(data),
         }),
       });
     });
@@ -131,6 +161,16 @@ export class JanusView {
       success: (answer) => this.handle.send({message: {request: 'start'}, jsep: answer}),
       error: (e) => this.fail('WebRTC answer: ' + (e.message || e)),
     });
+  }
+
+  // A data-channel message: a frame's geometry once complete. The first one moves the WebSocket to
+  // the 'none' path (no per-viewer geometry from LaboDrone).
+  onData(data) {
+    const geometry = this.parts.add(data);
+    if (!geometry) return;
+    this.view.onGeometry(geometry);
+    if (this.dataGeometryAt === null) this.view.geometryFrom('data channel');
+    this.dataGeometryAt = performance.now();
   }
 
   play(track) {
@@ -151,6 +191,10 @@ export class JanusView {
   // One presented frame: on the canvas with the overlays of the same frame, found by RTP timestamp.
   draw(meta) {
     clearTimeout(this.firstFrameTimer);
+    if (this.dataGeometryAt !== null && performance.now() - this.dataGeometryAt > DATA_SILENT_MS) {
+      this.dataGeometryAt = null;  // the mount point's data went silent: the WebSocket's geometry again
+      this.view.geometryFrom('websocket');
+    }
     const v = this.view, canvas = v.canvas;
     canvas.getContext('2d').drawImage(this.video, 0, 0, canvas.width, canvas.height);
     const match = this.offset.match(meta.rtpTimestamp, [...v.geometry.values()]);

@@ -1,7 +1,7 @@
 // The live video on the lab page, by one of three paths (docs/web.md "WebSocket protocol"):
 //  - janus: when this lab has a Janus mount point (janus_view.js), the drone's stream over WebRTC
-//    from Janus, the overlays drawn here from the geometry sent over the WebSocket; else, or when
-//    Janus fails, one of the WebSocket's own:
+//    from Janus, the overlays drawn here from the geometry of the mount point's data channel (or the
+//    WebSocket's until that delivers); else, or when Janus fails, one of the WebSocket's own:
 //  - h264: the drone's own stream decoded in the page (WebCodecs), the overlays drawn here from the
 //    geometry sent with each frame, each group switchable; on a link too slow for the drone's
 //    stream, the server's shared low rendition instead (chosen by the server, or by the viewer);
@@ -73,7 +73,7 @@ export class VideoView {
       onUnsupported: (why) => this.choose('jpeg', why),
     }) : null;
     this.geometry.clear();
-    Object.assign(this.stats, {videoPath: path, videoPathReason: reason});
+    Object.assign(this.stats, {videoPath: path, videoPathReason: reason, geometrySource: path === 'janus' ? 'websocket' : null});
     this.doc.getElementById('video-path').textContent = {
       janus: `H.264 through Janus (WebRTC, ${reason}); overlays drawn here`,
       h264: 'H.264, decoded here (WebCodecs); overlays drawn here' + (this.stats.janusReason ? ` (not Janus: ${this.stats.janusReason})` : ''),
@@ -124,6 +124,14 @@ export class VideoView {
     if (s.renditionReason) text += ` (${s.renditionReason})`;
     if (s.linkKbps !== null) text += ` · link ${s.linkKbps} kbit/s`;
     this.doc.getElementById('video-rendition').textContent = text;
+  }
+
+  // Where the Janus path's geometry comes from: the mount point's data channel (the WebSocket then
+  // carries no video at all: 'none') or the WebSocket ('geometry').
+  geometryFrom(source) {
+    if (this.stats.videoPath !== 'janus') return;
+    this.stats.geometrySource = source;
+    this.send({type: 'subscribe', video: source === 'data channel' ? 'none' : 'geometry'});
   }
 
   onGeometry(msg) {

@@ -65,8 +65,8 @@ nlohmann::json event_json(const Disturbance& e) {
   return j;
 }
 
-// The teacher's walk up to `until_s`: the waypoints reached by then (and the one walked to), each
-// with the pause there.
+// The teacher's walk up to `until_s`: the waypoints the path's time reaches by then (and the one
+// walked to), each with the pause there; a teacher who gave way to the drone is behind that time.
 nlohmann::json teacher_json(const TeacherSpec& t, Seconds until_s) {
   nlohmann::json waypoints = nlohmann::json::array();
   Seconds at = 0;
@@ -79,6 +79,7 @@ nlohmann::json teacher_json(const TeacherSpec& t, Seconds until_s) {
           {"speed_mps", t.speed_mps},
           {"head_yaw_amplitude_deg", t.head.yaw_amplitude_deg},
           {"head_yaw_period_s", t.head.yaw_period_s},
+          {"give_way", {{"keep_clear_m", t.give_way.keep_clear_m}, {"side_step_m", t.give_way.side_step_m}}},
           {"waypoints", waypoints}};
 }
 

@@ -76,6 +76,16 @@ struct HeadMotionSpec {
   double roll_amplitude_deg = 8, roll_period_s = 9;
 };
 
+// How the simulated teacher keeps out of a hovering drone's way (a person stops or steps aside
+// rather than walk into one; drone/sim/teacher_walker.hpp): walking, with the drone's centre in
+// the corridor their body sweeps and within keep_clear_m ahead of its front, they stop until it is
+// clear; with side_step_m > 0 they also step up to that far aside, away from the drone, where the
+// floor is free, and walk on from there.
+struct GiveWaySpec {
+  double keep_clear_m = 0.6;
+  double side_step_m = 0.0;
+};
+
 struct TeacherSpec {
   std::vector<Eigen::Vector2d> waypoints;  // floor positions (m), walked in order, then looped
   double speed_mps = 0.4;
@@ -89,6 +99,7 @@ struct TeacherSpec {
   double body_radius_m = 0.25;
   std::string face_image;                  // the photograph the head is textured from (assets/)
   HeadMotionSpec head;
+  GiveWaySpec give_way;
 };
 
 // Floor or wall rectangles rendered without texture (the bottom camera's velocity fails above them,

@@ -67,7 +67,8 @@ void SimulatedLab::apply_disturbances(Seconds from, Seconds to) {
   });
   dynamics_.set_wind(disturbances_.wind_at(to));
   if (teacher_) {
-    const TeacherPose p = teacher_->pose(to);
+    teacher_->advance(to, dynamics_.state().position_m, lab_);
+    const TeacherPose& p = teacher_->pose();
     dynamics_.collision().set_teacher(p.floor_xy, lab_.teacher.body_radius_m, lab_.teacher.eye_height_m + kAboveEyes_m);
   }
 }
@@ -125,7 +126,7 @@ SceneState SimulatedLab::scene() const {
   scene.teacher_present = teacher_.has_value();
   scene.exposure_gain = disturbances_.exposure_gain_at(s.t);
   if (teacher_) {
-    const TeacherPose p = teacher_->pose(s.t);
+    const TeacherPose& p = teacher_->pose();
     scene.T_world_head = p.T_world_head;
     scene.teacher_floor_xy = p.floor_xy;
   }

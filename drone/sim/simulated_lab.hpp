@@ -20,7 +20,7 @@
 #include "drone/sim/quadrotor_dynamics.hpp"
 #include "drone/sim/scene_renderer.hpp"
 #include "drone/sim/sensor_model.hpp"
-#include "drone/sim/teacher_motion.hpp"
+#include "drone/sim/teacher_walker.hpp"
 
 namespace labo {
 
@@ -29,7 +29,7 @@ struct SimulatedLabSettings {
   SensorNoise sensors;
   SensorBiases biases;  // their attitude bias is also the firmware's (QuadrotorDynamics flies level to it)
   std::uint64_t seed = 1;
-  bool teacher = true;  // the teacher walks the lab's path: in the cameras' view and an obstacle
+  bool teacher = true;  // the teacher walks the lab's path: in the cameras' view, an obstacle, giving way to the drone
   std::vector<Disturbance> disturbances;
 };
 
@@ -86,7 +86,7 @@ class SimulatedLab final : public EmulatedVehicle {
   std::unique_ptr<SceneRenderer> renderer_;
   QuadrotorDynamics dynamics_;
   SensorModel sensors_;
-  std::optional<TeacherMotion> teacher_;
+  std::optional<TeacherWalker> teacher_;
   DisturbanceSchedule disturbances_;
   Seconds now_ = 0;
   CameraId camera_ = CameraId::Front;

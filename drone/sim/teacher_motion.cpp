@@ -58,8 +58,8 @@ TeacherMotion::TeacherMotion(const TeacherSpec& spec) : spec_(spec) {
   cycle_s_ = t;
 }
 
-TeacherPose TeacherMotion::pose(Seconds t) const {
-  const Seconds tau = !spec_.loop ? std::max(0.0, t) : cycle_s_ > 0 ? std::fmod(std::max(0.0, t), cycle_s_) : 0.0;
+TeacherPose TeacherMotion::pose(Seconds walk_t, Seconds head_t) const {
+  const Seconds tau = !spec_.loop ? std::max(0.0, walk_t) : cycle_s_ > 0 ? std::fmod(std::max(0.0, walk_t), cycle_s_) : 0.0;
   const Leg* leg = &legs_.back();
   for (const Leg& l : legs_) {
     if (tau < l.walk_end) {
@@ -85,9 +85,10 @@ TeacherPose TeacherMotion::pose(Seconds t) const {
     p.walking = true;
   }
   const HeadMotionSpec& h = spec_.head;
-  const Eigen::Matrix3d turn = Eigen::AngleAxisd(sinusoid(h.yaw_amplitude_deg, h.yaw_period_s, t), Eigen::Vector3d::UnitY()) *
-                               Eigen::AngleAxisd(sinusoid(h.pitch_amplitude_deg, h.pitch_period_s, t), Eigen::Vector3d::UnitX()) *
-                               Eigen::AngleAxisd(sinusoid(h.roll_amplitude_deg, h.roll_period_s, t), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(sinusoid(h.yaw_amplitude_deg, h.yaw_period_s, head_t), Eigen::Vector3d::UnitY()) *
+      Eigen::AngleAxisd(sinusoid(h.pitch_amplitude_deg, h.pitch_period_s, head_t), Eigen::Vector3d::UnitX()) *
+      Eigen::AngleAxisd(sinusoid(h.roll_amplitude_deg, h.roll_period_s, head_t), Eigen::Vector3d::UnitZ()).toRotationMatrix();
   p.T_world_head.linear() = upright_face(p.heading_rad) * turn;
   p.T_world_head.translation() = Eigen::Vector3d(p.floor_xy.x(), p.floor_xy.y(), spec_.eye_height_m);
   return p;

@@ -30,7 +30,11 @@ class TeacherMotion {
   // Throws std::invalid_argument when the path has no waypoint, the speed is not positive or the
   // pauses are not one per waypoint.
   explicit TeacherMotion(const TeacherSpec& spec);
-  TeacherPose pose(Seconds t) const;
+  TeacherPose pose(Seconds t) const { return pose(t, t); }
+  // Where the walk has got after `walk_t` seconds of walking and standing, the head turned as at
+  // `head_t` (a teacher who stopped for the drone walks on later than the path's time; the head
+  // keeps turning meanwhile).
+  TeacherPose pose(Seconds walk_t, Seconds head_t) const;
   // One round of a looped path; the whole walk of one that does not loop.
   Seconds cycle_s() const { return cycle_s_; }
 

@@ -74,6 +74,11 @@ TeacherSpec random_teacher_walk(const LabDescription& lab, std::uint64_t seed, c
     heading = out;
     at = next;
   }
+  // Drawn after the legs: the walk itself stays what it was drawn as before these were.
+  walk.give_way.keep_clear_m = d.in(ranges.min_keep_clear_m, ranges.max_keep_clear_m);
+  const bool side_steps = d.in(0.0, 1.0) < ranges.side_step_share;
+  const double side_step_m = d.in(ranges.min_side_step_m, ranges.max_side_step_m);
+  walk.give_way.side_step_m = side_steps ? side_step_m : 0.0;
   return walk;
 }
 

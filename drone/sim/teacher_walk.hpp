@@ -1,7 +1,8 @@
 #pragma once
 // The simulated teacher's walk for one run of a randomized world: from a random point of the free
 // floor to another, and on, pausing at each (turning on the spot to the next leg's direction, then
-// standing a while), at one walking speed drawn for the run, the head's sway drawn too. The free floor
+// standing a while), at one walking speed drawn for the run, the head's sway and the way they give
+// way to the drone drawn too. The free floor
 // is the room less a band along the walls and less the benches, the instruments and the platform,
 // each grown by the body's radius and a clearance; a leg is a straight line over it. Drawn from its
 // own generator seeded with the run's seed: the same seed gives the same walk.
@@ -21,6 +22,11 @@ struct TeacherWalkRanges {
   double min_head_yaw_deg = 20, max_head_yaw_deg = 40;
   double min_head_yaw_period_s = 5, max_head_yaw_period_s = 10;
   double horizon_s = 600;                           // the walk lasts at least this long
+  // Giving way to the drone (GiveWaySpec): how near it may come ahead, and whether the teacher
+  // also steps aside (this share of the walks) and how far.
+  double min_keep_clear_m = 0.4, max_keep_clear_m = 0.8;
+  double side_step_share = 0.5;
+  double min_side_step_m = 0.3, max_side_step_m = 0.6;
 };
 
 // The teacher of `lab` (face, eye height, body) walking a drawn path; throws std::runtime_error when

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/frames.hpp"
+#include "localization/fusion/face_front_end.hpp"
 #include "localization/slam/slam_system.hpp"
 
 namespace labo::fusion {
@@ -37,6 +38,17 @@ Eigen::Isometry3d flip_about_y() {
 LabPipelines::LabPipelines(LabGeometry lab, const estimation::EstimatorConfig& config, const VisionThresholds& thresholds)
     : lab_(std::move(lab)), estimator_(config, thresholds), instrument_fes_(lab_.instruments.size()) {
   if (!lab_.surfaces.empty()) estimator_.set_surface_map(lab_.surfaces);
+}
+
+void LabPipelines::set_face_front_end(std::unique_ptr<TargetFrontEnd> front_end) {
+  face_fe_ = std::move(front_end);
+  face_person_fe_ = dynamic_cast<FaceFrontEnd*>(face_fe_.get());
+}
+
+bool LabPipelines::follow_person(const face::PersonShape& person) {
+  if (!face_person_fe_) return false;
+  face_person_fe_->follow(person);
+  return true;
 }
 
 void LabPipelines::set_instrument_front_end(const std::string& id, std::unique_ptr<TargetFrontEnd> front_end) {

@@ -3,7 +3,8 @@
 # the core (only the streaming plugin and the WebSocket transport loaded, no event handlers or
 # loggers), the WebSocket transport on WS_PORT bound to BIND, and one RTP mount point per lab: mount
 # point i (1..LABS) takes the lab's H.264 as RTP on UDP RTP_BASE + 2 (i - 1), payload type 96,
-# packetization-mode 1, and keeps the last keyframe for new viewers.
+# packetization-mode 1, and keeps the last keyframe for new viewers; and the lab's overlay geometry
+# as text datagrams on UDP RTP_BASE + 2 (i - 1) + 1, relayed to each viewer's data channel.
 #   janus_config.sh OUT_DIR LABS WS_PORT RTP_BASE [BIND]
 set -euo pipefail
 
@@ -88,6 +89,11 @@ lab-$i: {
 	videocodec = "h264"
 	videofmtp = "profile-level-id=42e01f;packetization-mode=1"
 	videobufferkf = true
+	data = true
+	dataport = $((rtp_base + 2 * (i - 1) + 1))
+	dataiface = "127.0.0.1"
+	datatype = "text"
+	databuffermsg = false
 }
 CFG
   done

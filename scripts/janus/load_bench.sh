@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The Janus fan-out benchmark on loopback (docs/web.md "Many viewers and several labs"): one lab and
 # Janus started by run_labs.sh on free ports, a pilot who takes off on the direct WebSocket path, and
-# N spectators' pages in headless Chromium through Janus for each N of COUNTS, SECONDS each
-# (tests/e2e/janus_load.mjs). Bounded: at most 60 pages, 120 s a step; stopped at the end.
+# N spectators through Janus for each N of COUNTS, SECONDS each (tests/e2e/janus_load.mjs): the lab
+# page in headless Chromium and N - 1 receive-only WebRTC viewers in one Node.js process (werift,
+# tests/e2e/webrtc_viewers, installed from npm there on first use). Bounded: at most 60 viewers,
+# 120 s a step; stopped at the end.
 #   scripts/janus/load_bench.sh [COUNTS="1 5 10 20"] [SECONDS=20] [BUILD=build/release]
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -11,6 +13,8 @@ for n in $counts $seconds; do [[ "$n" =~ ^[0-9]+$ ]] || { echo "load_bench.sh: '
 for n in $counts; do ((n >= 1 && n <= 60)) || { echo "load_bench.sh: $n viewers: expected 1 to 60" >&2; exit 2; }; done
 ((seconds >= 5 && seconds <= 120)) || { echo "load_bench.sh: $seconds s: expected 5 to 120" >&2; exit 2; }
 cd "$ROOT"
+viewers_dir="$ROOT/tests/e2e/webrtc_viewers"
+[ -d "$viewers_dir/node_modules/werift" ] || (cd "$viewers_dir" && npm install --no-audit --no-fund --silent)
 build="$(cd "$build" && pwd)"
 out="$build/janus-load"
 mkdir -p "$out"

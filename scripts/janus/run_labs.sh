@@ -3,7 +3,8 @@
 # and several labs"). Everything generated goes to $BUILD/labs: the shared session key, the lab
 # directory (labs.json), Janus's configuration (janus/) and the logs. Lab i (1..LABS) serves on
 # PORT + i - 1, flies its own simulated lab, and forwards its H.264 as RTP to Janus's mount point i
-# on UDP RTP_BASE + 2 (i - 1). Without Janus installed the labs still run and the pages use the
+# on UDP RTP_BASE + 2 (i - 1), and its overlay geometry to the mount point's data port, the next
+# one. Without Janus installed the labs still run and the pages use the
 # WebSocket video.
 #   LABS=3 PORT=8080 JANUS_WS_PORT=8188 RTP_BASE=18004 BIND=127.0.0.1 BUILD=build/release \
 #     bash scripts/janus/run_labs.sh [extra serve options...]
@@ -58,7 +59,7 @@ fi
 
 for ((i = 1; i <= LABS; i++)); do
   rtp=()
-  ((have_janus)) && rtp=(--rtp-video "127.0.0.1:$((RTP_BASE + 2 * (i - 1)))")
+  ((have_janus)) && rtp=(--rtp-video "127.0.0.1:$((RTP_BASE + 2 * (i - 1)))" --geometry-udp "127.0.0.1:$((RTP_BASE + 2 * (i - 1) + 1))")
   "$labodrone" serve --port $((PORT + i - 1)) --bind "$BIND" --labs "$out/labs.json" --lab-id "lab$i" \
       --session-key "$key" "${rtp[@]}" "$@" > "$out/lab$i.log" 2>&1 &
   pids+=($!)

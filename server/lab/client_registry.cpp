@@ -36,7 +36,7 @@ bool ClientRegistry::set_renditions(ClientId client, unsigned renditions) {
 }
 
 void ClientRegistry::count_viewers() {
-  std::array<std::size_t, 3> count{};
+  std::array<std::size_t, 4> count{};
   std::size_t low = 0;
   for (const auto& [id, m] : members_) {
     ++count[static_cast<std::size_t>(m.video)];

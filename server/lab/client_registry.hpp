@@ -76,7 +76,7 @@ class ClientRegistry {
   int burst_;
   mutable std::mutex mutex_;
   std::unordered_map<ClientId, Member> members_;
-  std::array<std::atomic<std::size_t>, 3> viewers_{};  // by VideoPath
+  std::array<std::atomic<std::size_t>, 4> viewers_{};  // by VideoPath
   std::atomic<std::size_t> low_viewers_{0};
 };
 

@@ -8,7 +8,7 @@
 namespace labo {
 
 namespace {
-constexpr std::array<std::pair<MissionCommandKind, const char*>, 9> kCommands{{
+constexpr std::array<std::pair<MissionCommandKind, const char*>, 10> kCommands{{
     {MissionCommandKind::Takeoff, "takeoff"},
     {MissionCommandKind::Inspect, "inspect"},
     {MissionCommandKind::FindTeacher, "find_teacher"},
@@ -18,6 +18,7 @@ constexpr std::array<std::pair<MissionCommandKind, const char*>, 9> kCommands{{
     {MissionCommandKind::Stop, "stop"},
     {MissionCommandKind::EmergencyStop, "emergency_stop"},
     {MissionCommandKind::SelectCamera, "select_camera"},
+    {MissionCommandKind::Jog, "jog"},
 }};
 }  // namespace
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "drone/drone_link.hpp"
+#include "localization/face/person_shape.hpp"
 #include "server/runtime/runtime_timing.hpp"
 #include "server/video/rendition.hpp"
 
@@ -17,7 +18,10 @@ namespace labo {
 
 // Stop ends whatever runs and lands (the drone holds, then descends): anyone watching may send it.
 // EmergencyStop cuts the motors: only the controller, a teacher or an admin.
-enum class MissionCommandKind { Takeoff, Inspect, FindTeacher, StopFaceFollow, ReturnHome, Land, Stop, EmergencyStop, SelectCamera };
+// Jog moves by a small step (body frame) while no mission runs, inside the geofence.
+enum class MissionCommandKind {
+  Takeoff, Inspect, FindTeacher, StopFaceFollow, ReturnHome, Land, Stop, EmergencyStop, SelectCamera, Jog
+};
 std::string to_string(MissionCommandKind kind);
 std::optional<MissionCommandKind> parse_mission_command(const std::string& text);
 
@@ -26,6 +30,11 @@ struct MissionCommand {
   std::string instrument;  // Inspect: the instrument's id
   double hold_s = 10;      // Inspect: how long to hold in front of the panel
   CameraId camera = CameraId::Front;  // SelectCamera: what the drone streams while no mission runs
+  // Jog: metres forward, left, up and radians counter-clockwise, from where the drone is held now.
+  double dx_m = 0, dy_m = 0, dz_m = 0, dyaw_rad = 0;
+  // FindTeacher: the registered person to follow, attached by the lab (the teacher's choice); none:
+  // the one the flight software followed so far.
+  std::shared_ptr<const face::PersonShape> person{};
 };
 
 struct CommandVerdict {

@@ -17,7 +17,9 @@ namespace labo {
 // How a client watches the video: JPEG frames with the overlays drawn in by the server (the
 // default), or the drone's own H.264 with the overlays' geometry as data.
 // Geometry: the overlays of the H.264 path without its units (the video comes from a media server).
-enum class VideoPath { Jpeg, H264, Geometry };
+// None: no video over this connection (video and overlays both come from the media server: a Janus
+// viewer whose data channel carries the geometry); telemetry and events only.
+enum class VideoPath { Jpeg, H264, Geometry, None };
 std::string_view to_string(VideoPath path);
 std::optional<VideoPath> parse_video_path(std::string_view text);
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 namespace labo {
@@ -12,11 +13,37 @@ namespace {
 
 constexpr std::string_view kTypes = "command, heartbeat, request_control, release_control, take_over, subscribe";
 constexpr std::string_view kCommands =
-    "takeoff, inspect, find_teacher, stop_face_follow, return_home, land, stop, emergency_stop, select_camera";
+    "takeoff, inspect, find_teacher, stop_face_follow, return_home, land, stop, emergency_stop, select_camera, jog";
 constexpr double kMaxHoldS = 600;
+// A jog is a small step: the page sends one per key press, the autopilot flies it at its own speed.
+constexpr double kMaxJogM = 0.5;
+constexpr double kMaxJogYawDeg = 45;
+constexpr double kPi = 3.14159265358979323846;
 
 Refusal refuse(std::string error) { return {400, std::move(error), true}; }
 Refusal untyped(std::string error) { return {400, std::move(error), false}; }
+
+ParsedMessage parse_jog(const json& msg, CommandRequest r) {
+  if (msg.contains("instrument") || msg.contains("hold_s")) return refuse("'instrument' and 'hold_s' belong to inspect only");
+  double* const steps[] = {&r.command.dx_m, &r.command.dy_m, &r.command.dz_m};
+  const char* const names[] = {"dx_m", "dy_m", "dz_m"};
+  for (int i = 0; i < 3; ++i) {
+    if (!msg.contains(names[i])) continue;
+    const json& v = msg[names[i]];
+    if (!v.is_number() || std::abs(v.get<double>()) > kMaxJogM)
+      return refuse(std::string("'") + names[i] + "' must be a number in [-0.5, 0.5] m");
+    *steps[i] = v.get<double>();
+  }
+  if (msg.contains("dyaw_deg")) {
+    const json& v = msg["dyaw_deg"];
+    if (!v.is_number() || std::abs(v.get<double>()) > kMaxJogYawDeg) return refuse("'dyaw_deg' must be a number in [-45, 45] degrees");
+    r.command.dyaw_rad = v.get<double>() * kPi / 180;
+  }
+  const MissionCommand& c = r.command;
+  if (c.dx_m == 0 && c.dy_m == 0 && c.dz_m == 0 && c.dyaw_rad == 0)
+    return refuse("jog needs a step: 'dx_m', 'dy_m', 'dz_m' (metres) or 'dyaw_deg'");
+  return ClientRequest{std::move(r)};
+}
 
 // {"type":"command","command":"select_camera","camera":"front|bottom"}
 ParsedMessage parse_camera(const json& msg, CommandRequest r) {
@@ -29,7 +56,8 @@ ParsedMessage parse_camera(const json& msg, CommandRequest r) {
 }
 
 ParsedMessage parse_command(const json& msg) {
-  static constexpr std::array<std::string_view, 6> kFields{"type", "id", "command", "instrument", "hold_s", "camera"};
+  static constexpr std::array<std::string_view, 10> kFields{"type", "id",   "command", "instrument", "hold_s",
+                                                           "camera", "dx_m", "dy_m",    "dz_m",       "dyaw_deg"};
   for (const auto& [key, value] : msg.items())
     if (std::find(kFields.begin(), kFields.end(), key) == kFields.end())
       return refuse("unknown field '" + key + "' in a command");
@@ -43,8 +71,11 @@ ParsedMessage parse_command(const json& msg) {
   const auto kind = parse_mission_command(r.name);
   if (!kind) return refuse("unknown command '" + r.name + "' (expected " + std::string(kCommands) + ")");
   r.command = MissionCommand{*kind, "", 10};
+  const bool jog_fields = msg.contains("dx_m") || msg.contains("dy_m") || msg.contains("dz_m") || msg.contains("dyaw_deg");
+  if (*kind != MissionCommandKind::Jog && jog_fields) return refuse("'dx_m', 'dy_m', 'dz_m' and 'dyaw_deg' belong to jog only");
   if (*kind == MissionCommandKind::SelectCamera) return parse_camera(msg, std::move(r));
   if (msg.contains("camera")) return refuse("'camera' belongs to select_camera only");
+  if (*kind == MissionCommandKind::Jog) return parse_jog(msg, std::move(r));
   if (*kind != MissionCommandKind::Inspect) {
     if (msg.contains("instrument") || msg.contains("hold_s")) return refuse("'instrument' and 'hold_s' belong to inspect only");
     return ClientRequest{std::move(r)};
@@ -65,10 +96,10 @@ ParsedMessage parse_subscribe(const json& msg) {
   for (const auto& [key, value] : msg.items())
     if (key != "type" && key != "video" && key != "rendition")
       return refuse("unknown field '" + key + "' in subscribe (expected 'video' and optionally 'rendition')");
-  if (!msg.contains("video") || !msg["video"].is_string()) return refuse("subscribe needs 'video' (string: h264, jpeg or geometry)");
+  if (!msg.contains("video") || !msg["video"].is_string()) return refuse("subscribe needs 'video' (string: h264, jpeg, geometry or none)");
   const std::string name = msg["video"].get<std::string>();
   const auto path = parse_video_path(name);
-  if (!path) return refuse("unknown video path '" + name + "' (expected h264, jpeg or geometry)");
+  if (!path) return refuse("unknown video path '" + name + "' (expected h264, jpeg, geometry or none)");
   SubscribeRequest r{*path, RenditionChoice::Auto};
   if (!msg.contains("rendition")) return ClientRequest{r};
   if (*path != VideoPath::H264) return refuse("'rendition' belongs to the h264 path only");

@@ -116,10 +116,17 @@ CommandVerdict FlightStackCore::request(const MissionCommand& c, Seconds t) {
     case MissionCommandKind::Stop: r.kind = control::RequestKind::Land; break;
     case MissionCommandKind::EmergencyStop: r.kind = control::RequestKind::EmergencyStop; break;
     case MissionCommandKind::SelectCamera: r.kind = control::RequestKind::SelectCamera; break;
+    // The flight software refuses a move while a mission runs or outside the geofence; the
+    // autopilot flies it within its speed limits.
+    case MissionCommandKind::Jog:
+      r.kind = control::RequestKind::MoveBy;
+      r.target = Eigen::Vector4d(c.dx_m, c.dy_m, c.dz_m, c.dyaw_rad);
+      break;
   }
   r.camera = c.camera;
   r.instrument_id = c.instrument;
   r.hold_s = c.hold_s;
+  r.person = c.person;
   const control::CommandResult result = stack_->request(r, t);
   return {result.accepted, result.reason};
 }

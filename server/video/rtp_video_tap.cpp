@@ -2,7 +2,8 @@
 
 namespace labo {
 
-RtpVideoTap::RtpVideoTap(FlightService& inner, RtpVideoForwarder& forwarder) : inner_(inner), forwarder_(forwarder) {
+RtpVideoTap::RtpVideoTap(FlightService& inner, RtpVideoForwarder& forwarder, GeometryForwarder* geometry)
+    : inner_(inner), forwarder_(forwarder), geometry_(geometry) {
   inner_.set_sink(this);
 }
 
@@ -19,7 +20,10 @@ void RtpVideoTap::on_frame(const WireFrame& frame) {
 }
 
 void RtpVideoTap::on_access_unit(const WireAccessUnit& unit) {
-  if (unit.rendition == Rendition::Source) forwarder_.forward(unit);
+  if (unit.rendition == Rendition::Source) {
+    if (geometry_ && unit.geometry) geometry_->forward(unit.frame_number, *unit.geometry);
+    forwarder_.forward(unit);
+  }
   std::lock_guard lock(sink_mutex_);
   if (sink_ && sink_->wants_access_units()) sink_->on_access_unit(unit);
 }

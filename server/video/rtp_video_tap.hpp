@@ -3,17 +3,20 @@
 // (RtpVideoForwarder): `serve --rtp-video HOST:PORT` puts it between the drone's runtime and the web
 // server, so the lab's WebSocket fan-out is unchanged and the media server gets every unit, whether
 // or not anyone watches the WebSocket's H.264 path (the drone's own stream only: the shared low
-// rendition is for the WebSocket's slow viewers). Everything else passes through untouched.
+// rendition is for the WebSocket's slow viewers), and with a GeometryForwarder each unit's geometry
+// too, just before the unit (the page has it when the frame arrives). Everything else passes
+// through untouched.
 #include <mutex>
 
 #include "server/lab/flight_service.hpp"
+#include "server/video/geometry_forwarder.hpp"
 #include "server/video/rtp_video_forwarder.hpp"
 
 namespace labo {
 
 class RtpVideoTap final : public FlightService, private FlightEventSink {
  public:
-  RtpVideoTap(FlightService& inner, RtpVideoForwarder& forwarder);
+  RtpVideoTap(FlightService& inner, RtpVideoForwarder& forwarder, GeometryForwarder* geometry = nullptr);
   ~RtpVideoTap() override;
 
   void set_sink(FlightEventSink* sink) override;
@@ -38,6 +41,7 @@ class RtpVideoTap final : public FlightService, private FlightEventSink {
 
   FlightService& inner_;
   RtpVideoForwarder& forwarder_;
+  GeometryForwarder* geometry_;
   // The outer sink (the web server's lab) may be set and cleared while the runtime's threads call in.
   mutable std::mutex sink_mutex_;
   FlightEventSink* sink_ = nullptr;

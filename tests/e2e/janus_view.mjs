@@ -1,12 +1,13 @@
 // End-to-end in a real browser (headless Debian chromium, playwright-core): the video through Janus.
 // Against labs started by scripts/janus/run_labs.sh (Janus with a mount point per lab, each
 // `labodrone serve --rtp-video` to it, a shared session key): log in at lab 1, see the page take its
-// video from Janus over WebRTC, decode frames and draw their overlays matched by RTP timestamp
-// (the HUD and the source border are in every frame's geometry); open lab 2 with the same login
+// video from Janus over WebRTC and the overlay geometry from the mount point's data channel (the
+// page's WebSocket then on the 'none' path), decode frames and draw their overlays matched by RTP
+// timestamp (the HUD and the source border are in every frame's geometry); open lab 2 with the same login
 // (no second login: the session is valid there too) and see its video through its own mount point.
 // Prints frames/s, glass-to-browser latency and the frames presented without geometry.
 // Usage: [MEASURE_S=5] node janus_view.mjs LAB1_URL LAB2_URL OUT_DIR
-import {chromium} from 'playwright-core';
+import {launchChromium, logIn} from './browser.mjs';
 
 // The test checks that video flows; the frame-rate target (>= 25 frames/s) is checked by the
 // benchmark run of the same script with MIN_FPS=25 (docs/web.md), on a machine doing nothing else.
@@ -14,12 +15,7 @@ const minFps = Number(process.env.MIN_FPS || 5);
 
 const [lab1, lab2, outDir] = process.argv.slice(2);
 const fail = (msg) => { console.error('FAIL: ' + msg); process.exitCode = 1; };
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-         '--disable-background-networking', '--disable-component-update', '--disable-sync',
-         '--autoplay-policy=no-user-gesture-required'],
-});
+const browser = await launchChromium(['--autoplay-policy=no-user-gesture-required']);
 
 async function janusFrames(page, label) {
   await page.waitForFunction(() => window.labodrone && window.labodrone.connected, null, {timeout: 10000});
@@ -30,6 +26,8 @@ async function janusFrames(page, label) {
   const path = await page.evaluate(() => [window.labodrone.videoPath, window.labodrone.janusReason]);
   if (path[0] !== 'janus') return fail(`${label}: the page did not take the Janus path: ${path[0]} (${path[1]})`);
   await page.waitForFunction(() => window.labodrone.framesDecoded >= 30, null, {timeout: 20000});
+  await page.waitForFunction(() => window.labodrone.geometrySource === 'data channel', null, {timeout: 10000})
+      .catch(async () => fail(`${label}: the geometry did not come over Janus's data channel (from: ${await page.evaluate(() => window.labodrone.geometrySource)})`));
   const t0 = await page.evaluate(() => {
     window.labodrone.resetLatencies();
     return {n: window.labodrone.framesDecoded, t: performance.now()};
@@ -40,7 +38,8 @@ async function janusFrames(page, label) {
   const fps = (s.n - t0.n) * 1000 / (s.t - t0.t);
   console.log(`${label}: ${fps.toFixed(1)} frames/s through Janus; glass-to-browser latency median ` +
               `${s.latency.median.toFixed(0)} ms, p95 ${s.latency.p95.toFixed(0)} ms; ` +
-              `overlays matched by RTP timestamp on ${s.janusMatched || 0} frames, ${s.janusUnmatched || 0} without`);
+              `overlays (geometry from the ${s.geometrySource}) matched by RTP timestamp on ${s.janusMatched || 0} frames, ` +
+              `${s.janusUnmatched || 0} without`);
   if (fps < minFps) fail(`${label}: only ${fps.toFixed(1)} frames/s reached the page`);
   const matched = (s.janusMatched || 0) / Math.max(1, (s.janusMatched || 0) + (s.janusUnmatched || 0));
   if (matched < 0.7) fail(`${label}: only ${(100 * matched).toFixed(0)} % of the frames found their geometry`);
@@ -53,14 +52,8 @@ async function janusFrames(page, label) {
 }
 
 try {
-  const context = await browser.newContext({viewport: {width: 1480, height: 900}});
-  const page = await context.newPage();
-  page.on('pageerror', (e) => fail('page error: ' + e.message));
-  await page.goto(lab1 + '/');
-  await page.fill('#user', 'student2');
-  await page.fill('#password', 'student2-pass');
-  await page.click('#login-button');
-  await page.waitForURL('**/lab.html');
+  const {context, page} = await logIn(browser, lab1, 'student2', 'student2-pass',
+                                      {onPageError: (e) => fail('page error: ' + e.message)});
   await janusFrames(page, 'lab 1');
   await page.screenshot({path: outDir + '/janus_lab1.png'});
 

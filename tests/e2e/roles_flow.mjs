@@ -3,25 +3,21 @@
 // the student holding control, a teacher and an admin may cut the motors. The admin page: status,
 // live metrics, a user added there who then logs in, the audit log naming it, the user removed.
 // Usage: node roles_flow.mjs BASE_URL OUT_DIR
-import {chromium} from 'playwright-core';
+import {launchChromium, logIn} from './browser.mjs';
 
 const [base, out] = process.argv.slice(2);
 const fail = (msg) => { console.error('FAIL: ' + msg); process.exitCode = 1; };
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-         '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-});
+const browser = await launchChromium();
 
 async function login(user, password = user + '-pass') {
-  const context = await browser.newContext({viewport: {width: 1480, height: 900}});
-  const page = await context.newPage();
-  page.on('pageerror', (e) => fail(`${user}: page error: ${e.message}`));
-  await page.goto(base + '/');
-  await page.fill('#user', user);
-  await page.fill('#password', password);
-  await page.click('#login-button');
-  await page.waitForURL(/\/(lab|admin)\.html$/);  // admins land on their own page
+  const {page} = await logIn(browser, base, user, password, {
+    onPageError: (e) => fail(`${user}: page error: ${e.message}`),
+    prepare: (p) => {
+      p.sent = [];  // the JSON this page sent on its WebSocket
+      p.on('websocket', (ws) => ws.on('framesent', (f) => { if (typeof f.payload === 'string') p.sent.push(f.payload); }));
+    },
+    landing: /\/(lab|admin)\.html$/,  // admins land on their own page
+  });
   if (page.url().endsWith('admin.html')) return page;
   await page.waitForFunction(() => window.labodrone && window.labodrone.connected, null, {timeout: 10000});
   await page.waitForFunction(() => document.getElementById('who').textContent.includes('·'));
@@ -89,7 +85,27 @@ async function adminAddsUserWhoLogsIn() {
   for (const p of [admin, dana]) await p.context().close();
 }
 
+async function studentJogsAndSetsHoldTime() {
+  const student = await login('student3');
+  await student.click('#request-control');
+  await student.waitForFunction(() => document.getElementById('turn').textContent.includes('your turn'));
+  await student.click('button[data-jog="dz_m:0.2"]');
+  await student.waitForFunction(() => window.labodrone.acks.some((a) => a.command === 'jog'));
+  await student.fill('#hold-s', '25');
+  await student.click('#inspect');
+  await student.waitForFunction(() => window.labodrone.acks.some((a) => a.command === 'inspect'));
+  const acks = await student.evaluate(() => window.labodrone.acks.map((a) => `${a.command} ${a.accepted} ${a.reason}`));
+  const sent = student.sent.map((t) => JSON.parse(t));
+  if (!sent.some((m) => m.command === 'jog' && m.dz_m === 0.2)) fail('no jog up was sent');
+  if (!sent.some((m) => m.command === 'inspect' && m.hold_s === 25)) fail('the hold time was not sent with inspect');
+  if (!acks.some((a) => a.startsWith('jog true'))) fail('the jog was not accepted: ' + acks.join('; '));
+  console.log('student: ' + acks.join('; '));
+  await student.click('#release-control');
+  await student.context().close();
+}
+
 try {
+  await studentJogsAndSetsHoldTime();
   await spectatorStopsButCannotCut();
   await adminAddsUserWhoLogsIn();
 } catch (e) {

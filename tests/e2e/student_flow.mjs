@@ -2,7 +2,7 @@
 // in, takes control, starts an inspection, sees video frames arrive and the stages advance, presses
 // the emergency stop and sees it accepted; the page is saved as a screenshot.
 // Usage: node student_flow.mjs BASE_URL SCREENSHOT.png
-import {chromium} from 'playwright-core';
+import {launchChromium} from './browser.mjs';
 
 // The test checks that video flows; the frame-rate target (>= 25 frames/s) is checked by the
 // benchmark run of the same script with MIN_FPS=25 (docs/web.md), on a machine doing nothing else.
@@ -10,11 +10,7 @@ const minFps = Number(process.env.MIN_FPS || 5);
 
 const [base, screenshot] = process.argv.slice(2);
 const fail = (msg) => { console.error('FAIL: ' + msg); process.exitCode = 1; };
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-         '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-});
+const browser = await launchChromium();
 try {
   const page = await browser.newPage({viewport: {width: 1480, height: 900}});
   page.on('pageerror', (e) => fail('page error: ' + e.message));

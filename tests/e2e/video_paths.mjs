@@ -9,7 +9,7 @@
 //   scripted: labo_e2e_server, whose scripted flight always reports a panel at (220,100)-(420,220):
 //             the outline is checked in the canvas' pixels; sim: labodrone serve (no panel in view
 //             on the platform, so only the decoding, the border and the HUD are checked).
-import {chromium} from 'playwright-core';
+import {launchChromium, logIn} from './browser.mjs';
 
 // The test checks that video flows; the frame-rate target (>= 25 frames/s) is checked by the
 // benchmark run of the same script with MIN_FPS=25 (docs/web.md), on a machine doing nothing else.
@@ -17,22 +17,11 @@ const minFps = Number(process.env.MIN_FPS || 5);
 
 const [base, outDir, mode] = process.argv.slice(2);
 const fail = (msg) => { console.error('FAIL: ' + msg); process.exitCode = 1; };
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-         '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-});
+const browser = await launchChromium();
 
 async function openLab(initScript) {
-  const context = await browser.newContext({viewport: {width: 1480, height: 900}});
-  if (initScript) await context.addInitScript(initScript);
-  const page = await context.newPage();
-  page.on('pageerror', (e) => fail('page error: ' + e.message));
-  await page.goto(base + '/');
-  await page.fill('#user', 'student2');
-  await page.fill('#password', 'student2-pass');
-  await page.click('#login-button');
-  await page.waitForURL('**/lab.html');
+  const {context, page} = await logIn(browser, base, 'student2', 'student2-pass',
+                                      {onPageError: (e) => fail('page error: ' + e.message), initScript});
   await page.waitForFunction(() => window.labodrone && window.labodrone.connected, null, {timeout: 10000});
   return {context, page};
 }

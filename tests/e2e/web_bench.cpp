@@ -1,6 +1,8 @@
 // Web benchmark, against a running server (labo_e2e_server or labodrone serve):
-//   labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264] [SLOW_KBPS=0]
-// Connects CLIENTS spectators (one session, CLIENTS WebSockets) watching the VIDEO path, each
+//   labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264|geometry|none] [SLOW_KBPS=0]
+// Connects CLIENTS spectators (one session, CLIENTS WebSockets) watching the VIDEO path (geometry: a
+// spectator whose video comes from Janus, its frames the overlay messages it gets; none: one whose
+// overlays come from Janus too, telemetry and events only), each
 // reading everything, and reports per-client frames/s, the bytes each receives per second (video
 // and all), the glass-to-client latency (now - the frame's capture time; same machine, same clock)
 // and the server's CPU (from /proc/PID/stat) over the run. With SLOW_KBPS (h264), one more viewer
@@ -104,15 +106,16 @@ double percentile(std::vector<double> v, double p) {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::cerr << "usage: labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264] [SLOW_KBPS=0]\n";
+    std::cerr << "usage: labo_web_bench PORT SERVER_PID [CLIENTS=20] [SECONDS=20] [STUCK_SECONDS=0] [VIDEO=jpeg|h264|geometry|none] [SLOW_KBPS=0]\n";
     return 2;
   }
   const std::string video = argc > 6 ? argv[6] : "jpeg";
-  if (video != "jpeg" && video != "h264") {
-    std::cerr << "labo_web_bench: VIDEO must be jpeg or h264, not '" << video << "'\n";
+  if (video != "jpeg" && video != "h264" && video != "geometry" && video != "none") {
+    std::cerr << "labo_web_bench: VIDEO must be jpeg, h264, geometry or none, not '" << video << "'\n";
     return 2;
   }
   const std::string subscribe = R"({"type":"subscribe","video":")" + video + R"("})";
+  const bool geometry_only = video == "geometry";
   const auto port = static_cast<unsigned short>(std::stoi(argv[1]));
   const int pid = std::stoi(argv[2]);
   const int clients = argc > 3 ? std::stoi(argv[3]) : 20;
@@ -149,8 +152,14 @@ int main(int argc, char** argv) {
         auto m = ws[i]->read(1.0);
         if (!m) break;
         all_bytes += static_cast<double>(m->data.size());
-        if (!m->binary) {  // the H.264 path's geometry is part of its video
-          if (m->data.rfind(R"({"type":"overlay")", 0) == 0) video_bytes += static_cast<double>(m->data.size());
+        if (!m->binary) {  // the H.264 path's geometry is part of its video; the geometry path's is all of it
+          if (m->data.rfind(R"({"type":"overlay")", 0) != 0) continue;
+          video_bytes += static_cast<double>(m->data.size());
+          if (!geometry_only) continue;
+          const auto overlay = nlohmann::json::parse(m->data, nullptr, false);
+          if (!overlay.is_object() || !overlay.contains("capture_ms")) continue;
+          ++frames;
+          mine.push_back(unix_ms() - overlay["capture_ms"].get<double>());
           continue;
         }
         const auto t = capture_ms(m->data);

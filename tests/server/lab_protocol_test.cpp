@@ -47,6 +47,7 @@ TEST_CASE("lab: protocol: each message type becomes its typed request") {
   CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"h264"})")).video == VideoPath::H264);
   CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"jpeg"})")).video == VideoPath::Jpeg);
   CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"geometry"})")).video == VideoPath::Geometry);
+  CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"none"})")).video == VideoPath::None);
   CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"h264"})")).rendition == RenditionChoice::Auto);
   for (const RenditionChoice c : {RenditionChoice::Auto, RenditionChoice::Source, RenditionChoice::Low})
     CHECK(request_of<SubscribeRequest>(parse_client_message(R"({"type":"subscribe","video":"h264","rendition":")" +
@@ -78,7 +79,7 @@ TEST_CASE("lab: protocol: every refused input names what was wrong and what was 
   CHECK(verdict_of(R"({"type":"command","command":5})") == "400 'command' (string) is required");
   CHECK(verdict_of(R"({"type":"command","command":"barrel_roll"})") ==
         "400 unknown command 'barrel_roll' (expected takeoff, inspect, find_teacher, stop_face_follow, return_home, land, "
-        "stop, emergency_stop, select_camera)");
+        "stop, emergency_stop, select_camera, jog)");
   CHECK(verdict_of(R"({"type":"command","command":"land","speed":3})") == "400 unknown field 'speed' in a command");
   CHECK(verdict_of(R"({"type":"command","command":"land","id":"x"})") == "400 'id' must be an integer");
   CHECK(verdict_of(R"({"type":"command","command":"land","id":1.5})") == "400 'id' must be an integer");
@@ -108,10 +109,10 @@ TEST_CASE("lab: protocol: every refused input names what was wrong and what was 
   CHECK(std::get<Refusal>(typed).typed);
 
   // Subscriptions: the video path, nothing else.
-  CHECK(verdict_of(R"({"type":"subscribe"})") == "400 subscribe needs 'video' (string: h264, jpeg or geometry)");
-  CHECK(verdict_of(R"({"type":"subscribe","video":1})") == "400 subscribe needs 'video' (string: h264, jpeg or geometry)");
-  CHECK(verdict_of(R"({"type":"subscribe","video":"H264"})") == "400 unknown video path 'H264' (expected h264, jpeg or geometry)");
-  CHECK(verdict_of(R"({"type":"subscribe","video":"vp8"})") == "400 unknown video path 'vp8' (expected h264, jpeg or geometry)");
+  CHECK(verdict_of(R"({"type":"subscribe"})") == "400 subscribe needs 'video' (string: h264, jpeg, geometry or none)");
+  CHECK(verdict_of(R"({"type":"subscribe","video":1})") == "400 subscribe needs 'video' (string: h264, jpeg, geometry or none)");
+  CHECK(verdict_of(R"({"type":"subscribe","video":"H264"})") == "400 unknown video path 'H264' (expected h264, jpeg, geometry or none)");
+  CHECK(verdict_of(R"({"type":"subscribe","video":"vp8"})") == "400 unknown video path 'vp8' (expected h264, jpeg, geometry or none)");
   CHECK(verdict_of(R"({"type":"subscribe","video":"h264","rate":3})") ==
         "400 unknown field 'rate' in subscribe (expected 'video' and optionally 'rendition')");
   // The H.264 rendition: auto (the default), source or low, on the h264 path only.
@@ -119,4 +120,23 @@ TEST_CASE("lab: protocol: every refused input names what was wrong and what was 
     CHECK(verdict_of(std::string(R"({"type":"subscribe","video":"h264","rendition":)") + bad + "}") ==
           "400 'rendition' must be auto, source or low");
   CHECK(verdict_of(R"({"type":"subscribe","video":"jpeg","rendition":"low"})") == "400 'rendition' belongs to the h264 path only");
+}
+
+TEST_CASE("lab: protocol: a jog is one bounded step, and its refusals say the bounds") {
+  // Held by name: request_of returns a reference into the parsed message, which must outlive it.
+  const ParsedMessage parsed = parse_client_message(R"({"type":"command","command":"jog","dz_m":0.2,"dyaw_deg":-15})");
+  const auto& jog = request_of<CommandRequest>(parsed);
+  CHECK(jog.command.kind == MissionCommandKind::Jog);
+  CHECK(jog.command.dz_m == 0.2);
+  CHECK(jog.command.dyaw_rad == Approx(-15 * 3.14159265358979 / 180));
+  const auto refusal = [](const std::string& text) { return std::get<Refusal>(parse_client_message(text)).error; };
+  CHECK(refusal(R"({"type":"command","command":"jog"})") == "jog needs a step: 'dx_m', 'dy_m', 'dz_m' (metres) or 'dyaw_deg'");
+  CHECK(refusal(R"({"type":"command","command":"jog","dx_m":0.6})") == "'dx_m' must be a number in [-0.5, 0.5] m");
+  CHECK(refusal(R"({"type":"command","command":"jog","dy_m":"1"})") == "'dy_m' must be a number in [-0.5, 0.5] m");
+  CHECK(refusal(R"({"type":"command","command":"jog","dyaw_deg":90})") == "'dyaw_deg' must be a number in [-45, 45] degrees");
+  CHECK(refusal(R"({"type":"command","command":"jog","dx_m":0.1,"hold_s":3})") == "'instrument' and 'hold_s' belong to inspect only");
+  CHECK(refusal(R"({"type":"command","command":"land","dx_m":0.1})") == "'dx_m', 'dy_m', 'dz_m' and 'dyaw_deg' belong to jog only");
+  CHECK(refusal(R"({"type":"command","command":"select_camera","camera":"front","dz_m":0.1})") ==
+        "'dx_m', 'dy_m', 'dz_m' and 'dyaw_deg' belong to jog only");
+  CHECK(refusal(R"({"type":"command","command":"jog","dz_m":0.1,"camera":"front"})") == "'camera' belongs to select_camera only");
 }

@@ -147,15 +147,15 @@ TEST_CASE("web: RTP: refused packetizer options and forwarding targets name what
   CHECK_THROWS_WITH(RtpH264Packetizer({.max_packet_bytes = 14}), Catch::Contains("expected 15 to 65507"));
   CHECK_THROWS_WITH(RtpH264Packetizer({.payload_type = 200}), Catch::Contains("expected 0 to 127"));
   std::string error;
-  CHECK(parse_rtp_target("127.0.0.1:20000", error)->port == 20000);
-  CHECK(parse_rtp_target("[::1]:5004", error)->host == "::1");
-  CHECK_FALSE(parse_rtp_target("127.0.0.1", error));
+  CHECK(parse_udp_target("127.0.0.1:20000", error)->port == 20000);
+  CHECK(parse_udp_target("[::1]:5004", error)->host == "::1");
+  CHECK_FALSE(parse_udp_target("127.0.0.1", error));
   CHECK(error.find("expected HOST:PORT") != std::string::npos);
-  CHECK_FALSE(parse_rtp_target("janus.local:5004", error));
+  CHECK_FALSE(parse_udp_target("janus.local:5004", error));
   CHECK(error.find("not an IP address") != std::string::npos);
-  CHECK_FALSE(parse_rtp_target("127.0.0.1:0", error));
-  CHECK_FALSE(parse_rtp_target("127.0.0.1:70000", error));
-  CHECK_FALSE(parse_rtp_target("127.0.0.1:50x", error));
+  CHECK_FALSE(parse_udp_target("127.0.0.1:0", error));
+  CHECK_FALSE(parse_udp_target("127.0.0.1:70000", error));
+  CHECK_FALSE(parse_udp_target("127.0.0.1:50x", error));
   CHECK(error.find("expected 1 to 65535") != std::string::npos);
 }
 
@@ -193,6 +193,33 @@ TEST_CASE("web: RTP: the tap forwards every access unit of the drone's stream ov
   CHECK(forwarder.counters().units == 1);
 }
 
+TEST_CASE("web: RTP: with a geometry forwarder the tap sends each unit's geometry to the data port, the low rendition's not") {
+  namespace asio = boost::asio;
+  asio::io_context io;
+  asio::ip::udp::socket video(io, {asio::ip::make_address("127.0.0.1"), 0});
+  asio::ip::udp::socket data(io, {asio::ip::make_address("127.0.0.1"), 0});
+  RtpVideoForwarder forwarder({"127.0.0.1", video.local_endpoint().port()});
+  GeometryForwarder geometry({"127.0.0.1", data.local_endpoint().port()});
+  SinkOnlyFlight flight;
+  RtpVideoTap tap(flight, forwarder, &geometry);
+  REQUIRE(flight.sink_);
+
+  AccessUnitPacker packer;
+  const Bytes unit = annexb({nal(0x67, 10), nal(0x68, 4), nal(0x65, 300)});
+  WireAccessUnit source = packer.pack({0, CameraId::Front, 42, true, 640, 360, unit}, 1764838800000.0);
+  source.geometry = std::make_shared<const std::string>(R"({"type":"overlay","frame":42})");
+  WireAccessUnit low = packer.pack({0, CameraId::Front, 42, true, 640, 360, unit}, 1764838800000.0, Rendition::Low);
+  low.geometry = source.geometry;
+  flight.sink_->on_access_unit(source);
+  flight.sink_->on_access_unit(low);
+
+  std::vector<char> datagram(2048);
+  const std::size_t n = data.receive(asio::buffer(datagram));
+  CHECK(std::string(datagram.data(), n) == "LDG1 42 0 1\n" + *source.geometry);
+  CHECK(geometry.counters().frames == 1);
+  CHECK(forwarder.counters().units == 1);
+}
+
 TEST_CASE("web: a geometry viewer gets each access unit's overlay as JSON and no video") {
   ServerFixture f;
   WsClient viewer(f.port, login_cookie(f.port, "alice", "alice-pw"));
@@ -217,4 +244,28 @@ TEST_CASE("web: a geometry viewer gets each access unit's overlay as JSON and no
   }
   CHECK(overlays == std::vector<int>{7, 8});
   CHECK(binary == 0);
+}
+
+TEST_CASE("web: a viewer on the none path (video and overlays from the media server) gets telemetry and no video or overlay") {
+  ServerFixture f;
+  WsClient viewer(f.port, login_cookie(f.port, "alice", "alice-pw"));
+  viewer.send(json{{"type", "subscribe"}, {"video", "none"}});
+  const auto subscribed = viewer.wait_for("subscribed");
+  REQUIRE(subscribed);
+  CHECK((*subscribed)["video"] == "none");
+  f.flight.publish_frame(6);
+  f.flight.publish_access_unit(7, true);
+  f.flight.publish_access_unit(8, false);
+  int binary = 0, overlays = 0, telemetry = 0;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(1500);
+  while (std::chrono::steady_clock::now() < end) {
+    const auto m = viewer.read(0.5);
+    if (!m) continue;
+    if (m->binary) ++binary;
+    else if (const std::string type = m->json().value("type", ""); type == "overlay") ++overlays;
+    else telemetry += type == "telemetry";
+  }
+  CHECK(binary == 0);
+  CHECK(overlays == 0);
+  CHECK(telemetry > 0);
 }

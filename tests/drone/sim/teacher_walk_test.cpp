@@ -15,6 +15,7 @@ TEST_CASE("sim teacher walk: legs over the free floor, speed and pauses in their
   const TeacherWalkRanges r;
   const double radius = lab.teacher.body_radius_m;
   double slowest = 10, fastest = 0, shortest_leg = 10, longest_leg = 0;
+  int side_steppers = 0;
   for (std::uint64_t seed = 1; seed <= 40; ++seed) {
     const TeacherSpec w = random_teacher_walk(lab, seed, r);
     INFO("seed " << seed);
@@ -27,6 +28,13 @@ TEST_CASE("sim teacher walk: legs over the free floor, speed and pauses in their
     CHECK(w.head.yaw_amplitude_deg <= r.max_head_yaw_deg);
     CHECK(w.face_image == lab.teacher.face_image);  // the same teacher, walking elsewhere
     CHECK(w.eye_height_m == lab.teacher.eye_height_m);
+    CHECK(w.give_way.keep_clear_m >= r.min_keep_clear_m);
+    CHECK(w.give_way.keep_clear_m <= r.max_keep_clear_m);
+    if (w.give_way.side_step_m > 0) {
+      ++side_steppers;
+      CHECK(w.give_way.side_step_m >= r.min_side_step_m);
+      CHECK(w.give_way.side_step_m <= r.max_side_step_m);
+    }
     slowest = std::min(slowest, w.speed_mps);
     fastest = std::max(fastest, w.speed_mps);
     for (std::size_t i = 0; i < w.waypoints.size(); ++i) {
@@ -49,6 +57,8 @@ TEST_CASE("sim teacher walk: legs over the free floor, speed and pauses in their
   CHECK(shortest_leg >= r.min_leg_m - 1e-9);
   CHECK(longest_leg <= r.max_leg_m + 1e-9);
   CHECK(longest_leg > r.max_leg_m - 0.3);
+  CHECK(side_steppers > 5);  // some stop, some step aside
+  CHECK(side_steppers < 35);
 }
 
 TEST_CASE("sim teacher walk: the same seed walks the same path, another seed another", "[sim][teacher]") {

@@ -73,6 +73,8 @@ TEST_CASE("tello: the link takes off, flies, streams and lands a vehicle through
   auto& [vehicle, emulator, rec, link_ptr] = f;
   TelloLink& link = *link_ptr;
   REQUIRE(test::eventually([&] { return link.state() == LinkState::Connected; }, 5.0));
+  // The state thread marks the link alive before its listener hears the sample: wait for the sample.
+  REQUIRE(test::eventually([&] { return rec.last().battery_percent > 0; }, 2.0));
   CHECK(rec.last().battery_percent == Approx(80));
   CHECK(rec.last().control_state == 2);
   REQUIRE(test::eventually([&] { return rec.frame_count() >= 5; }, 10.0));
