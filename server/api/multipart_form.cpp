@@ -1,18 +1,12 @@
 #include "server/api/multipart_form.hpp"
 
-#include <algorithm>
-#include <cctype>
 #include <optional>
+
+#include "core/ascii_text.hpp"
 
 namespace labo {
 
 namespace {
-
-std::string lower(std::string_view text) {
-  std::string out(text);
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return out;
-}
 
 std::string_view trim(std::string_view text) {
   while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
@@ -28,7 +22,7 @@ std::optional<std::string> header_parameter(std::string_view header, std::string
     const std::size_t end = rest.find(';');
     std::string_view item = trim(rest.substr(0, end));
     const std::size_t eq = item.find('=');
-    if (eq != std::string_view::npos && lower(trim(item.substr(0, eq))) == key) {
+    if (eq != std::string_view::npos && ascii_lower(trim(item.substr(0, eq))) == key) {
       std::string_view value = trim(item.substr(eq + 1));
       if (value.size() >= 2 && value.front() == '"' && value.back() == '"') value = value.substr(1, value.size() - 2);
       return std::string(value);
@@ -47,17 +41,17 @@ std::string read_part_headers(std::string_view headers, FormPart& part) {
     headers = eol == std::string_view::npos ? std::string_view{} : headers.substr(eol + 2);
     const std::size_t colon = line.find(':');
     if (colon == std::string_view::npos) return "a part's header line has no ':'";
-    const std::string name = lower(trim(line.substr(0, colon)));
+    const std::string name = ascii_lower(trim(line.substr(0, colon)));
     const std::string_view value = trim(line.substr(colon + 1));
     if (name == "content-disposition") {
-      if (lower(value.substr(0, value.find(';'))) != "form-data") return "a part's Content-Disposition is not form-data";
+      if (ascii_lower(value.substr(0, value.find(';'))) != "form-data") return "a part's Content-Disposition is not form-data";
       const auto field = header_parameter(value, "name");
       if (!field || field->empty()) return "a part has no field name";
       part.name = *field;
       part.filename = header_parameter(value, "filename").value_or("");
       disposition = true;
     } else if (name == "content-type") {
-      part.content_type = lower(trim(value.substr(0, value.find(';'))));
+      part.content_type = ascii_lower(trim(value.substr(0, value.find(';'))));
     }
   }
   return disposition ? std::string() : "a part has no Content-Disposition";
@@ -66,7 +60,7 @@ std::string read_part_headers(std::string_view headers, FormPart& part) {
 }  // namespace
 
 bool is_multipart_form(std::string_view content_type) {
-  return lower(trim(content_type.substr(0, content_type.find(';')))) == "multipart/form-data";
+  return ascii_lower(trim(content_type.substr(0, content_type.find(';')))) == "multipart/form-data";
 }
 
 std::variant<std::vector<FormPart>, std::string> parse_multipart_form(std::string_view content_type, std::string_view body,

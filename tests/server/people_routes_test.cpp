@@ -89,17 +89,6 @@ ServerFixture people_server(std::size_t max_body_bytes = 8 * 1024 * 1024) {
   });
 }
 
-int raw_status(unsigned short port, const std::string& bytes) {
-  asio::io_context io;
-  asio::ip::tcp::socket s(io);
-  s.connect({asio::ip::make_address("127.0.0.1"), port});
-  asio::write(s, asio::buffer(bytes));
-  std::string reply(256, '\0');
-  beast::error_code ec;
-  const std::size_t n = s.read_some(asio::buffer(reply), ec);
-  return n < 12 ? 0 : std::stoi(reply.substr(9, 3));
-}
-
 std::vector<std::string> audit_actions(const ServerFixture& f) {
   std::vector<std::string> out;
   std::ifstream in(f.settings.audit_log);
