@@ -132,6 +132,10 @@ void FacePoseEstimator::reset() {
   last_box_.reset();
   frames_since_detection_ = 0;
   lost_frames_ = 0;
+  // The full-frame search starts again at its first scale, so that what follows a reset does not
+  // depend on how many frames were searched before it (test: face: after a reset the estimator
+  // starts a track as a new one does).
+  lost_search_cycle_ = 0;
   solver_.reset();
 }
 

@@ -71,6 +71,21 @@ TEST_CASE("face: bad frames are lost with a reason, never a pose") {
   for (int i = 0; i < 3; ++i) CHECK_FALSE(estimator.process(noise, 0.2 + i).tracking());
 }
 
+TEST_CASE("face: after a reset the estimator starts a track as a new one does") {
+  // The full-frame search cycles its scales over lost frames (0.5, 1, 2); a head at 0.8 m is found at
+  // 1, not at 0.5. Frames searched before a reset must not change what the frames after it give.
+  RenderedHeadFixture fresh, used;
+  used.estimator.process(blank(), 0);  // searched at 0.5: the next search would be at 1
+  used.estimator.reset();
+  const cv::Mat frame = fresh.render({pose(0, 0, 0, {0, -0.02, 0.8})});
+  for (int i = 0; i < 3; ++i) {
+    const FaceResult a = fresh.estimator.process(frame, i / 30.0), b = used.estimator.process(frame, i / 30.0);
+    CHECK(a.faces_found == b.faces_found);
+    CHECK(a.tracking() == b.tracking());
+    if (a.tracking() && b.tracking()) CHECK(a.T_cam_face.isApprox(b.T_cam_face, 1e-12));
+  }
+}
+
 TEST_CASE("face: config and person files are validated") {
   const auto doc = ConfigDocument::parse(R"({"pnp_method": "posit"})", "test.json");
   CHECK_THROWS_AS(read_face_config(doc.root(), "."), ConfigError);
