@@ -56,7 +56,9 @@ RestApi::RestApi(const ServerSettings& settings, std::filesystem::path config_fi
       uploads_(settings.instruments_dir),
       labs_(settings.multi_lab.labs_file.empty()
                 ? LabDirectory()
-                : LabDirectory(settings.multi_lab.labs_file, settings.multi_lab.lab_id)) {}
+                : LabDirectory(settings.multi_lab.labs_file, settings.multi_lab.lab_id)) {
+  place_stored_instruments();
+}
 
 std::optional<SessionInfo> RestApi::authenticate(const HttpRequest& req) {
   std::string token;
