@@ -11,6 +11,7 @@ PidGains read_pid(const ConfigReader& node, PidGains g) {
   g.ki = node.number_or("ki", g.ki, Range::non_negative());
   g.kd = node.number_or("kd", g.kd, Range::non_negative());
   g.integral_limit = node.number_or("integral_limit", g.integral_limit, Range::non_negative());
+  g.integral_zone = node.number_or("integral_zone", g.integral_zone, Range::non_negative());
   g.out_min = node.number_or("out_min", g.out_min, Range::closed(-1.0, 0.0));
   g.out_max = node.number_or("out_max", g.out_max, Range::closed(0.0, 1.0));
   node.finish();
@@ -48,6 +49,11 @@ MissionParameters read_mission(const ConfigReader& node, MissionParameters m) {
   m.return_altitude_m = node.number_or("return_altitude_m", m.return_altitude_m, Range::closed(0.3, 5.0));
   m.platform_hover_altitude_m =
       node.number_or("platform_hover_altitude_m", m.platform_hover_altitude_m, Range::closed(0.3, 5.0));
+  m.landing_centre_tolerance_m =
+      node.number_or("landing_centre_tolerance_m", m.landing_centre_tolerance_m, Range::closed(0.005, 0.5));
+  m.landing_settle_s = node.number_or("landing_settle_s", m.landing_settle_s, Range::closed(0.0, 10.0));
+  m.platform_settle_timeout_s =
+      node.number_or("platform_settle_timeout_s", m.platform_settle_timeout_s, Range::closed(1.0, 120.0));
   m.scale_manoeuvre_m = node.number_or("scale_manoeuvre_m", m.scale_manoeuvre_m, Range::closed(0.0, 2.0));
   m.scale_manoeuvre_speed_mps =
       node.number_or("scale_manoeuvre_speed_mps", m.scale_manoeuvre_speed_mps, Range::closed(0.05, 1.0));

@@ -42,12 +42,33 @@ constexpr double kMaxApproachStepM = 0.6;
 // runs on dead reckoning, and over a bare floor the navdata velocity drops out, the estimate stops
 // while the drone drifts on, and the brake comes too late.
 constexpr double kWallClearanceM = 0.5;
+// ... and, flying on an estimate, this many of its 1-sigma position uncertainties more, in the
+// geofence too (it holds the estimate, not the drone: on navdata odometry a follow drifts a few
+// tenths of a metre; test "control: a lost face is gone round clear of the walls by the estimate's
+// uncertainty").
+constexpr double kWallClearanceSigmas = 2.0;
 // A face found again within this time and distance of the lost one continues the track (its heading
 // and velocity): a few lost frames must not reset the heading to where the swaying head looks.
 constexpr double kKeepTrackS = 1.0;
 constexpr double kKeepTrackM = 0.5;
 constexpr double kMaxOrbitStepRad = std::numbers::pi / 3;  // the standoff's bearing leads the drone's by at most this
+constexpr double kOnBoundM = 0.01;  // a standoff this near a fence's bound is held at it
 constexpr double kMinAimDistanceM = 0.2;  // nearer than this the bearing to the face has no useful rate
+
+// Moving towards a bound, the set point stays this many seconds of that motion inside it, so the
+// drone brakes before the bound rather than overshooting it: swept round a lost face at 0.8 m/s, it
+// overshot a set point held at the bound by a third of a metre (test "control: a lost face is gone
+// round clear of the walls by the estimate's uncertainty").
+constexpr double kBrakeLeadS = 0.5;
+constexpr double kMaxBrakeLeadM = 0.5;
+
+void brake_before_bounds(PoseTarget& target, const Geofence& fence, const Eigen::Vector3d& velocity) {
+  for (int i = 0; i < 2; ++i) {
+    const double lead = std::min(kMaxBrakeLeadM, kBrakeLeadS * std::abs(velocity[i]));
+    if (velocity[i] < 0) target.position[i] = std::max(target.position[i], std::min(fence.min()[i] + lead, fence.max()[i]));
+    if (velocity[i] > 0) target.position[i] = std::min(target.position[i], std::max(fence.max()[i] - lead, fence.min()[i]));
+  }
+}
 
 double bearing(const Eigen::Vector3d& from, const Eigen::Vector3d& to) { return std::atan2(to.y() - from.y(), to.x() - from.x()); }
 }  // namespace
@@ -84,11 +105,19 @@ bool FindTeacherMission::face_seen(const MissionContext& ctx) const {
   return f.state == fusion::TrackState::Tracking && ctx.t - f.t < kFreshObservationS;
 }
 
-Geofence FindTeacherMission::roomy_fence(const MissionContext& ctx) const {
+Geofence FindTeacherMission::inset_fence(const MissionContext& ctx, double clearance_m) const {
   const Geofence& fence = ctx.autopilot.fence();
   // A small room keeps what room it has (the margin never more than half its narrowest extent).
-  const double margin = std::min(kWallClearanceM, 0.45 * (fence.max() - fence.min()).minCoeff());
+  const double margin = std::min(clearance_m, 0.45 * (fence.max() - fence.min()).minCoeff());
   return Geofence(fence.min(), fence.max(), std::max(margin, 0.0));
+}
+
+Geofence FindTeacherMission::roomy_fence(const MissionContext& ctx) const {
+  return inset_fence(ctx, kWallClearanceM + uncertainty_clearance(ctx));
+}
+
+double FindTeacherMission::uncertainty_clearance(const MissionContext& ctx) const {
+  return ctx.pose.valid ? kWallClearanceSigmas * ctx.pose.position_sigma_m : 0.0;
 }
 
 void FindTeacherMission::start_search(MissionContext& ctx) {
@@ -182,11 +211,19 @@ void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, do
   const double d = ctx.config.mission.face_distance_m + beyond_m;
   const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
   const Eigen::Vector3d& face = track_.position();
+  const Geofence roomy = roomy_fence(ctx);
   PoseTarget next = follow_standoff(standoff_target(track_.T_world_upright_face(heading), d, ctx.centre_ray_front), face, here,
-                                    roomy_fence(ctx), kMaxOrbitStepRad);
-  if (!ctx.autopilot.fence().contains(next.position)) next.position = ctx.autopilot.fence().clamp(next.position);
-  // Feed-forward: the standoff moves with the teacher and swings round them as they turn.
+                                    roomy, kMaxOrbitStepRad);
+  // The hard limit: the geofence inset by the estimate's uncertainty (where the drone may really be).
+  const Geofence hard = inset_fence(ctx, uncertainty_clearance(ctx));
+  if (!hard.contains(next.position)) next.position = hard.clamp(next.position);
+  // Feed-forward: the standoff moves with the teacher and swings round them as they turn; not out
+  // through a bound the standoff was held at (the drone overshot it into the wall).
   next.velocity = track_.velocity() + d * heading_rate * Eigen::Vector3d(-std::sin(heading), std::cos(heading), 0.0);
+  for (int i = 0; i < 2; ++i)
+    if ((next.position[i] <= hard.min()[i] + kOnBoundM && next.velocity[i] < 0) ||
+        (next.position[i] >= hard.max()[i] - kOnBoundM && next.velocity[i] > 0))
+      next.velocity[i] = 0;
   // Point the camera at the face from where the drone is (the same as the line of sight once in
   // place; it keeps a walking teacher in view while the drone catches up), with the face on the ray
   // through the image centre rather than the principal point.
@@ -202,6 +239,8 @@ void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, do
   // overshoots into the teacher's face.
   const Eigen::Vector3d to_standoff = next.position - here;
   if (to_standoff.norm() > kMaxApproachStepM) next.position = here + kMaxApproachStepM * to_standoff.normalized();
+  if (!hard.contains(next.position)) next.position = hard.clamp(next.position);  // from a drone outside it
+  brake_before_bounds(next, hard, ctx.pose.velocity_world);
   ctx.autopilot.go_to(next, ctx.t, new_waypoint);
 }
 

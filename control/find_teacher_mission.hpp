@@ -55,7 +55,11 @@ class FindTeacherMission final : public Mission {
   void bridge_brief_loss(MissionContext& ctx);
   void lost(MissionContext& ctx);
   double go_round_sign(const MissionContext& ctx) const;
+  // The geofence inset by clearance_m more; the follow's soft fence (the walls' clearance and the
+  // estimate's uncertainty); that uncertainty as a clearance.
+  Geofence inset_fence(const MissionContext& ctx, double clearance_m) const;
   Geofence roomy_fence(const MissionContext& ctx) const;
+  double uncertainty_clearance(const MissionContext& ctx) const;
   // Stand face_distance_m (+ beyond_m) in front of the track's place, as seen facing `heading`
   // (turning at `heading_rate`), the camera on the place.
   void fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m = 0.0);

@@ -261,9 +261,17 @@ struct FlightStack::Impl {
         break;
       }
       case RequestKind::FindTeacher:
+        if (r.person) {
+          if (!pipelines->follow_person(*r.person)) {
+            const std::string why = "find_teacher: these pipelines have no face front-end to follow " + r.person->name;
+            last_event = "refused: " + why;
+            return CommandResult::refused(why);
+          }
+          last_event = "searching for " + r.person->name;
+        }
         mission = std::make_unique<FindTeacherMission>(t);
         camera = CameraId::Front;
-        break;
+        return {true, last_event};
       case RequestKind::SelectCamera:
         camera = r.camera;
         break;

@@ -20,7 +20,7 @@ enum class RequestKind {
   Goto,            // x, y, z (m, world), yaw (rad)
   MoveBy,          // dx, dy, dz in the body frame, dyaw
   Inspect,         // instrument_id, hold_s (<= 0: config default), standoff_m (<= 0: config default)
-  FindTeacher,
+  FindTeacher,     // person: the registered face to follow (none: the one followed so far)
   StopFaceFollow,
   ReturnHome,      // return to the platform and land
   EmergencyStop,
@@ -35,6 +35,7 @@ struct MissionRequest {
   double standoff_m = 0;
   Eigen::Vector4d target = Eigen::Vector4d::Zero();  // Goto: x, y, z, yaw; MoveBy: dx, dy, dz, dyaw
   CameraId camera = CameraId::Front;                 // SelectCamera
+  std::shared_ptr<const face::PersonShape> person{};  // FindTeacher
 };
 
 struct CommandResult {

@@ -7,6 +7,10 @@ namespace labo::control {
 namespace {
 constexpr double kPlatformSettleS = 0.5;  // platform seen this long before centring on it
 constexpr double kLandedWaitS = 12.0;     // land sent; give up waiting after this
+// Settled above the platform: the firmware's descent keeps the horizontal speed it starts with for a
+// moment, and a climb or descent still under way ends below or above the hover height.
+constexpr double kSettledSpeedMps = 0.05;
+constexpr double kSettledAltitudeM = 0.1;
 }  // namespace
 
 int HomeLanding::paper_stage() const {
@@ -89,12 +93,18 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
         ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad},
                             ctx.t, false);
       }
-      const Eigen::Vector2d off = (here - platform_world_).head<2>();
-      if (ctx.autopilot.done() || (ctx.autopilot.reached() && off.norm() < 0.05 && ctx.t - since_ > 3.0)) {
+      const double off_m = (here - platform_world_).head<2>().norm();
+      const bool centred = off_m < m.landing_centre_tolerance_m &&
+                           ctx.pose.velocity_world.head<2>().norm() < kSettledSpeedMps &&
+                           std::abs(here.z() - m.platform_hover_altitude_m) < kSettledAltitudeM;
+      if (!centred) centred_since_ = -1;
+      else if (centred_since_ < 0) centred_since_ = ctx.t;
+      if (centred_since_ >= 0 && ctx.t - centred_since_ >= m.landing_settle_s) {
         ctx.phase_action = ctx.autopilot.land(ctx.t);
         enter(Step::Land, ctx.t);
-      } else if (ctx.t - since_ > 30.0) {
-        failure_ = "could not settle above the platform in 30 s; landing";
+      } else if (ctx.t - since_ > m.platform_settle_timeout_s) {
+        failure_ = "not settled within " + format_seconds(m.landing_centre_tolerance_m * 100) + " cm of the platform's centre in " +
+                   format_seconds(m.platform_settle_timeout_s) + " s; landed from " + format_seconds(off_m * 100) + " cm off";
         ctx.phase_action = ctx.autopilot.land(ctx.t);
         enter(Step::Land, ctx.t);
       }

@@ -25,11 +25,13 @@ class HomeLanding {
   void enter(Step step, Seconds t) {
     step_ = step;
     since_ = t;
+    centred_since_ = -1;
   }
   void step_now(MissionContext& ctx, const Eigen::Vector3d& here, double yaw, const Eigen::Vector3d& base);
 
   Step step_ = Step::Climb;
   Seconds since_ = 0;
+  Seconds centred_since_ = -1;  // Centre: settled above the platform's centre since then (-1: not)
   bool fresh_ = true;  // the step was just entered: set its target
   std::string failure_;
   bool platform_placed_ = false;

@@ -9,13 +9,16 @@ namespace labo::control {
 
 namespace {
 constexpr double kOpposingUnwindFactor = 2.5;
+// A set point moving slower than this is still for the xy integral (a face followed, a leg flown
+// move it faster).
+constexpr double kStillSetPointMps = 0.05;
 }
 
 double PidAxis::unclipped(double error, double rate) const {
   return gains_.kp * error + gains_.ki * integral_ - gains_.kd * rate;
 }
 
-void PidAxis::integrate(double error, double dt, bool saturated_in_error_direction) {
+void PidAxis::integrate(double error, double dt, bool saturated_in_error_direction, bool accumulate) {
   if (gains_.ki <= 0 || gains_.integral_limit <= 0 || dt <= 0) return;
   const bool opposes = integral_ * error < 0;
   if (opposes) {
@@ -24,14 +27,14 @@ void PidAxis::integrate(double error, double dt, bool saturated_in_error_directi
     integral_ = (next * integral_ < 0) ? 0.0 : next;
     return;
   }
-  if (saturated_in_error_direction) return;  // conditional integration: no windup at the limit
+  if (saturated_in_error_direction || !accumulate) return;  // conditional integration: no windup at the limit
   integral_ = std::clamp(integral_ + error * dt, -gains_.integral_limit, gains_.integral_limit);
 }
 
 double PidAxis::update(double error, double rate, double dt) {
   const double raw = unclipped(error, rate);
   const bool saturated = (raw >= gains_.out_max && error > 0) || (raw <= gains_.out_min && error < 0);
-  integrate(error, dt, saturated);
+  integrate(error, dt, saturated, in_zone(error));
   return std::clamp(unclipped(error, rate), gains_.out_min, gains_.out_max);
 }
 
@@ -69,8 +72,9 @@ MoveCommand PoseController::update(const fusion::PoseEstimate& pose, double dt) 
   const Eigen::Vector2d raw = Eigen::Vector2d(x_.unclipped(e.x(), v.x()), y_.unclipped(e.y(), v.y())) + feed_forward;
   const double limit = gains_.max_tilt_command;
   const bool saturated = raw.norm() >= limit;
-  x_.integrate(e.x(), dt, saturated && raw.x() * e.x() > 0);
-  y_.integrate(e.y(), dt, saturated && raw.y() * e.y() > 0);
+  const bool near_still_set_point = x_.in_zone(e.head<2>().norm()) && target_.velocity.head<2>().norm() < kStillSetPointMps;
+  x_.integrate(e.x(), dt, saturated && raw.x() * e.x() > 0, near_still_set_point);
+  y_.integrate(e.y(), dt, saturated && raw.y() * e.y() > 0, near_still_set_point);
   Eigen::Vector2d u = Eigen::Vector2d(x_.unclipped(e.x(), v.x()), y_.unclipped(e.y(), v.y())) + feed_forward;
   if (u.norm() > limit) u *= limit / u.norm();
   const Eigen::Vector2d u_body = world_to_body_xy(u, yaw);

@@ -8,6 +8,8 @@
 // the integral stays consistent while the drone turns. Outputs are clipped to the PCMD range.
 #include <Eigen/Core>
 
+#include <cmath>
+
 #include "control/control_config.hpp"
 #include "localization/fusion/localization_pipelines.hpp"
 #include "drone/drone_link.hpp"
@@ -21,7 +23,13 @@ class PidAxis {
   double update(double error, double rate, double dt);
   // Unclipped output for a given integral state (used by the x/y pair before the joint clip).
   double unclipped(double error, double rate) const;
-  void integrate(double error, double dt, bool saturated_in_error_direction);
+  // The integral follows the error unless saturated in its direction or told not to accumulate; it
+  // always unwinds when the error opposes it.
+  void integrate(double error, double dt, bool saturated_in_error_direction, bool accumulate = true);
+  // Whether an error of this magnitude lies in the integral's zone (gains' integral_zone, 0: any).
+  bool in_zone(double error_magnitude) const {
+    return gains_.integral_zone <= 0 || std::abs(error_magnitude) <= gains_.integral_zone;
+  }
   void reset() { integral_ = 0; }
   double integral() const { return integral_; }
   const PidGains& gains() const { return gains_; }

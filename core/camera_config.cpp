@@ -18,6 +18,7 @@ CameraIntrinsics read_camera_intrinsics(const ConfigReader& node) {
     k.p2 = d[3];
     k.k3 = d[4];
   }
+  k.calibration_error_px = node.number_or("calibration_error_px", 0.0, Range::closed(0, 50));
   node.finish();
   return k;
 }

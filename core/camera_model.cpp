@@ -7,9 +7,10 @@ namespace labo {
 
 void validate(const CameraIntrinsics& k, const std::string& name) {
   auto fail = [&](const std::string& what) { throw std::invalid_argument("camera '" + name + "': " + what); };
-  for (double v : {k.fx, k.fy, k.cx, k.cy, k.k1, k.k2, k.p1, k.p2, k.k3}) {
+  for (double v : {k.fx, k.fy, k.cx, k.cy, k.k1, k.k2, k.p1, k.p2, k.k3, k.calibration_error_px}) {
     if (!std::isfinite(v)) fail("intrinsics must be finite numbers");
   }
+  if (k.calibration_error_px < 0) fail("calibration_error_px must be zero or positive");
   if (k.width <= 0 || k.height <= 0) {
     fail("image size " + std::to_string(k.width) + "x" + std::to_string(k.height) + " must be positive");
   }

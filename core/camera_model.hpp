@@ -13,6 +13,11 @@ struct CameraIntrinsics {
   int height = 360;
   double fx = 0, fy = 0, cx = 0, cy = 0;
   double k1 = 0, k2 = 0, p1 = 0, p2 = 0, k3 = 0;
+  // How far this model may put a point at the image's corner from where the lens really images it:
+  // a calibration shared by every drone of a model differs from each unit's lens (focal length by a
+  // few per cent, distortion), and a camera configured without distortion has some. Checks that
+  // compare two fits of the same image widen by it, in proportion to the distance from the centre.
+  double calibration_error_px = 0;
 };
 
 // Throws std::invalid_argument naming the bad field (non-positive size or focal length, principal

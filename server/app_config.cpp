@@ -32,6 +32,7 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
   c.lab_file = resolve(base_dir, root.string_or("lab", "lab.json"));
   c.sim = root.has("sim") ? read_sim_config(root.object("sim")) : SimConfig{};
   c.sim.link.video_bitrate_kbps = c.link.video_max_bitrate_kbps;  // the simulated drone streams at what the driver sets
+  c.server.people = {c.face, c.cameras.front};
   root.finish();
   // The lab is read last, so a misspelt key of this file is reported before a problem in the lab's.
   if (!std::filesystem::is_regular_file(c.lab_file))

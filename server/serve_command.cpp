@@ -53,6 +53,8 @@ int run_serve_command(const ParsedArgs& args) {
   if (config.server.multi_lab.labs_file.empty() != config.server.multi_lab.lab_id.empty())
     throw UsageError("--labs and --lab-id go together: the directory, and this lab's entry in it");
   const DroneSpec drone = parse_drone_spec(args.value_or("--drone", "sim"));  // UsageError when malformed
+  // Faces are registered from photos taken with the front camera of the drone that flies.
+  if (drone.kind == DroneSpec::Kind::Tello) config.server.people.front_camera = tello_cameras(config.tello, config.cameras).front;
   Logger log("labodrone", config.log_level);
   const std::optional<UdpTarget> rtp_target = udp_target_option(args, "--rtp-video");
   const std::optional<UdpTarget> geometry_target = udp_target_option(args, "--geometry-udp");

@@ -6,7 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "core/camera_config.hpp"
 #include "core/config_reader.hpp"
+#include "localization/face/face_config.hpp"
 
 namespace labo {
 
@@ -67,6 +69,15 @@ struct TlsSettings {
   bool enabled() const { return !cert_file.empty(); }
 };
 
+// Faces registered from the teacher's page (docs/web.md "Registered people"): the "face" section
+// (people_dir, the models, the registration's limits) and the front camera the photos are taken
+// with. Filled from those sections by read_app_config(), not from "server".
+struct PeopleSettings {
+  face::FaceConfig face;
+  CameraIntrinsics front_camera;
+  bool enabled() const { return !face.people_dir.empty(); }
+};
+
 struct ServerSettings {
   std::string bind_address = "127.0.0.1";
   int port = 8080;
@@ -85,6 +96,7 @@ struct ServerSettings {
   ClientLimits clients;
   VideoSettings video;
   MultiLabSettings multi_lab;
+  PeopleSettings people;  // empty people_dir: the people routes answer 503
 };
 
 // Throws ConfigError naming the file, key path, value and expectation.

@@ -3,6 +3,7 @@
 // events (text) and video (binary: H.264 access units or JPEG frames; docs/web.md).
 import {MapView} from './map_view.js';
 import {StageTimelineView} from './stage_timeline.js';
+import {formatDuration, TeacherPanel} from './teacher_panel.js';
 import {TelemetryView} from './telemetry_view.js';
 import {VideoView} from './video_view.js';
 
@@ -11,6 +12,7 @@ const view = new TelemetryView(document);
 const map = new MapView($('map'));
 const timeline = new StageTimelineView($('timeline'), $('timeline-title'));
 const state = {ws: null, role: null, controlling: false, nextId: 1, lastFpsT: performance.now(), heartbeat: null, controlSeq: -1};
+let teacher = null;  // the teacher's panel (teacher_panel.js), for teachers and admins
 // Exposed for tests and curious users: what the page has seen.
 window.labodrone = {stages: [], acks: [], connected: false, timeline: null, slamMap: null, lab: null, send: (obj) => send(obj)};
 
@@ -47,13 +49,16 @@ function onControl(msg) {
   state.controlling = !!(msg.you && msg.you.controlling);
   showStopButtons();
   const c = msg.controller;
-  $('control-state').textContent = c ? `${c.user} (${c.role}) has control` : 'nobody controls the drone';
+  $('control-state').textContent = c
+    ? `${c.user} (${c.role}) has control for ${formatDuration(msg.held_s)}` + (msg.remaining_s >= 0 ? `, ${formatDuration(msg.remaining_s)} left` : '')
+    : 'nobody controls the drone';
   $('turn').textContent = msg.you && msg.you.controlling
     ? (msg.remaining_s >= 0 ? `your turn: ${Math.round(msg.remaining_s)} s left` : 'you have control (no time limit)')
     : (msg.you && msg.you.position ? `you are number ${msg.you.position} in the queue` : 'you are watching');
   const q = $('queue');
   q.innerHTML = '';
-  for (const p of msg.queue) { const li = document.createElement('li'); li.textContent = `${p.user} (${p.role})`; q.append(li); }
+  for (const p of msg.queue) { const li = document.createElement('li'); li.textContent = `${p.user} (${p.role}), waiting ${formatDuration(p.waited_s)}`; q.append(li); }
+  if (teacher) teacher.onControl(msg);
 }
 
 function onMessage(msg) {
@@ -63,6 +68,7 @@ function onMessage(msg) {
       $('who').textContent = `${msg.user} · ${msg.role}`;
       for (const el of document.querySelectorAll('.teacher-only')) el.hidden = msg.role === 'student';
       $('admin-link').hidden = msg.role !== 'admin';
+      if (msg.role !== 'student' && !teacher) teacher = new TeacherPanel({send, command, logEvent});
       showStopButtons();
       const sel = $('instrument'); sel.innerHTML = '';
       for (const i of msg.instruments) { const o = document.createElement('option'); o.value = i.id; o.textContent = i.name || i.id; sel.append(o); }
@@ -104,7 +110,7 @@ function onMessage(msg) {
     case 'notice':
       if (msg.kind === 'granted') logEvent('you have control' + (msg.remaining_s > 0 ? ` for ${Math.round(msg.remaining_s)} s` : ''));
       if (msg.kind === 'warning') logEvent(`your turn ends in ${Math.round(msg.remaining_s)} s`, 'rejected');
-      if (msg.kind === 'ended') logEvent(`your turn ended: ${msg.reason}`, 'rejected');
+      if (msg.kind === 'ended') logEvent(msg.by ? `your turn was ended by ${msg.by}: ${msg.reason}` : `your turn ended: ${msg.reason}`, 'rejected');
       break;
     case 'error': logEvent(`error ${msg.status}: ${msg.error}`, 'rejected'); break;
   }

@@ -32,6 +32,7 @@ FlightSample sample_of(const control::FlightStatus& s, const control::FlightOutp
   sample.t = t;
   sample.estimated = xyz_yaw(s.pose.T_world_body);
   sample.estimated_velocity = s.pose.velocity_world.head<2>();
+  sample.position_sigma_m = s.pose.position_sigma_m;
   sample.truth = xyz_yaw(truth);
   sample.desired = s.desired;
   sample.source = s.source;

@@ -55,6 +55,7 @@ struct FlightSample {
   std::string alerts;
   EstimatorCounts estimator;
   Eigen::Vector2d estimated_velocity = Eigen::Vector2d::Zero();  // world x, y (the estimate's, m/s)
+  double position_sigma_m = 0;  // the estimate's 1-sigma position uncertainty
 };
 
 // The lab as it really is, which the experiments measure against: where the instruments and the

@@ -41,7 +41,7 @@ void write_flight_csv(const std::filesystem::path& file, const std::vector<Fligh
          "face_x_m,face_y_m,face_z_m,face_heading_rad,face_cam_x_m,face_cam_y_m,face_cam_z_m,"
          "face_meas_cam_x_m,face_meas_cam_y_m,face_meas_cam_z_m,cmd_roll,cmd_pitch,cmd_gaz,cmd_yaw_rate,action,alerts,"
          "object_fused,slam_fused,rejected_reacquisition,reacquisition_confirmed,rejected_innovation,rejected_jump,"
-         "velocity_dropouts,velocity_dropout_packets,est_vx_mps,est_vy_mps\n";
+         "velocity_dropouts,velocity_dropout_packets,est_vx_mps,est_vy_mps,est_sigma_m\n";
   for (const auto& s : samples) {
     out << s.t;
     for (int i = 0; i < 4; ++i) out << ',' << s.estimated[i];
@@ -65,7 +65,7 @@ void write_flight_csv(const std::filesystem::path& file, const std::vector<Fligh
     out << ',' << s.action << ",\"" << alerts << "\"," << e.object_fused << ',' << e.slam_fused << ','
         << e.rejected_reacquisition << ',' << e.reacquisition_confirmed << ',' << e.rejected_innovation << ','
         << e.rejected_jump << ',' << e.velocity_dropouts << ',' << e.velocity_dropout_packets << ','
-        << s.estimated_velocity.x() << ',' << s.estimated_velocity.y() << '\n';
+        << s.estimated_velocity.x() << ',' << s.estimated_velocity.y() << ',' << s.position_sigma_m << '\n';
   }
 }
 

@@ -24,7 +24,20 @@ void FaceFrontEnd::reset() {
   observation_.state = TrackState::Off;
 }
 
+void FaceFrontEnd::follow(const face::PersonShape& person) {
+  std::lock_guard lock(pending_mutex_);
+  pending_person_ = person;
+}
+
 const TargetObservation& FaceFrontEnd::process(const cv::Mat& gray, Seconds t, std::optional<double>) {
+  {
+    std::lock_guard lock(pending_mutex_);
+    if (pending_person_) {
+      estimator_->set_person(*pending_person_, true);
+      estimator_->reset();
+      pending_person_.reset();
+    }
+  }
   if (last_t_ && t - *last_t_ > kMaxTrackingGapS) estimator_->reset();
   last_t_ = t;
   result_ = estimator_->process(gray, t);

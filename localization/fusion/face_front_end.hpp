@@ -4,6 +4,7 @@
 // the 68 landmarks as image points. face/ puts the face frame's z out of the face (towards a viewer);
 // control's convention is z into the target, so the pose is turned about y here (flip_about_y()).
 #include <memory>
+#include <mutex>
 #include <optional>
 
 #include "localization/fusion/vision_front_end.hpp"
@@ -18,6 +19,11 @@ class FaceFrontEnd final : public TargetFrontEnd {
   const TargetObservation& process(const cv::Mat& gray, Seconds t, std::optional<double> expected_distance_m) override;
   void reset() override;
 
+  // The registered person to follow from the next frame on. Called from the flight thread while
+  // process() may run on the vision worker: the shape waits here and process() takes it before its
+  // frame (the estimator is never touched from two threads), and the track restarts with it.
+  void follow(const face::PersonShape& person);
+
   const face::FaceResult& last_result() const { return result_; }
   face::FacePoseEstimator& estimator() { return *estimator_; }
 
@@ -26,6 +32,8 @@ class FaceFrontEnd final : public TargetFrontEnd {
   face::FaceResult result_;
   TargetObservation observation_;
   std::optional<Seconds> last_t_;
+  std::mutex pending_mutex_;  // pending_person_
+  std::optional<face::PersonShape> pending_person_;
 };
 
 }  // namespace labo::fusion

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/frames.hpp"
+#include "localization/fusion/face_front_end.hpp"
 #include "localization/slam/slam_system.hpp"
 
 namespace labo::fusion {
@@ -40,6 +41,17 @@ LabPipelines::LabPipelines(LabGeometry lab, const estimation::EstimatorConfig& c
       instrument_fes_(lab_.instruments.size()),
       slam_points_(Eigen::AlignedBox3d(lab_.room_min, lab_.room_max)) {
   if (!lab_.surfaces.empty()) estimator_.set_surface_map(lab_.surfaces);
+}
+
+void LabPipelines::set_face_front_end(std::unique_ptr<TargetFrontEnd> front_end) {
+  face_fe_ = std::move(front_end);
+  face_person_fe_ = dynamic_cast<FaceFrontEnd*>(face_fe_.get());
+}
+
+bool LabPipelines::follow_person(const face::PersonShape& person) {
+  if (!face_person_fe_) return false;
+  face_person_fe_->follow(person);
+  return true;
 }
 
 void LabPipelines::set_instrument_front_end(const std::string& id, std::unique_ptr<TargetFrontEnd> front_end) {

@@ -27,6 +27,8 @@
 
 namespace labo::fusion {
 
+class FaceFrontEnd;
+
 class LabPipelines final : public LocalizationPipelines {
  public:
   LabPipelines(LabGeometry lab, const estimation::EstimatorConfig& config, const VisionThresholds& thresholds);
@@ -35,7 +37,7 @@ class LabPipelines final : public LocalizationPipelines {
   // Throws std::invalid_argument for an instrument id the lab does not have.
   void set_instrument_front_end(const std::string& id, std::unique_ptr<TargetFrontEnd> front_end);
   void set_platform_front_end(std::unique_ptr<TargetFrontEnd> front_end) { platform_fe_ = std::move(front_end); }
-  void set_face_front_end(std::unique_ptr<TargetFrontEnd> front_end) { face_fe_ = std::move(front_end); }
+  void set_face_front_end(std::unique_ptr<TargetFrontEnd> front_end);
   void set_slam_front_end(std::unique_ptr<SlamFrontEnd> front_end) { slam_fe_ = std::move(front_end); }
   // How add_instrument() makes an instrument's front-end (make_lab_pipelines sets it; unset: an added
   // instrument has none, its results only come through add_instrument_result()).
@@ -57,6 +59,7 @@ class LabPipelines final : public LocalizationPipelines {
   bool prepare_vision(const VideoFrame& frame, VisionJob& job) override;
   void apply_vision(const VisionResults& results) override;
   void set_focus(const PerceptionFocus& focus) override { focus_ = focus; }
+  bool follow_person(const face::PersonShape& person) override;
   void reset(const Eigen::Isometry3d& T_world_body, Seconds t) override;
   void start_at_first_navdata(const Eigen::Isometry3d& T_world_body) override;
 
@@ -96,6 +99,7 @@ class LabPipelines final : public LocalizationPipelines {
   int slam_fe_map_id_ = SlamFrame{}.map_id;  // the map of the last SLAM result applied, good or not
   std::vector<std::unique_ptr<TargetFrontEnd>> instrument_fes_;  // parallel to lab_.instruments
   std::unique_ptr<TargetFrontEnd> platform_fe_, face_fe_;
+  FaceFrontEnd* face_person_fe_ = nullptr;  // face_fe_ when it is the face pose estimator's
   std::unique_ptr<SlamFrontEnd> slam_fe_;
   InstrumentFrontEndFactory make_instrument_fe_;
   AttitudeHistory attitude_;  // navdata roll/pitch at their measurement times

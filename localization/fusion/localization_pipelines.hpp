@@ -15,6 +15,7 @@
 
 #include "core/time.hpp"
 #include "drone/drone_link.hpp"
+#include "localization/face/person_shape.hpp"
 
 namespace labo::fusion {
 
@@ -92,6 +93,9 @@ class LocalizationPipelines {
   virtual bool prepare_vision(const VideoFrame&, VisionJob&) { return false; }
   virtual void apply_vision(const VisionResults&) {}
   virtual void set_focus(const PerceptionFocus& focus) = 0;
+  // The registered person face-follow follows from the next frame on; false when these pipelines
+  // have no face front-end to give the shape to.
+  virtual bool follow_person(const face::PersonShape&) { return false; }
   // Re-anchors the filter (on the platform before take-off): world pose known.
   virtual void reset(const Eigen::Isometry3d& T_world_body, Seconds t) = 0;
   // The same at the first navdata sample's time: what a flight that has not heard from the drone

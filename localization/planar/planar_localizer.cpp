@@ -33,9 +33,10 @@ constexpr double kMinBlurMotionPx = 2.0;
 constexpr Seconds kMaxBlurIntervalS = 0.1;
 constexpr std::array<double, 4> kExposureFractions{1.0 / 3.0, 2.0 / 3.0, 1.0, 4.0 / 3.0};
 
-Se3RefinerSettings se3_settings(const PlanarConfig& config, double min_correlation) {
+Se3RefinerSettings se3_settings(const PlanarConfig& config, double min_correlation, const PinholeCamera& camera) {
   Se3RefinerSettings s = config.se3;
   s.min_correlation = min_correlation;
+  s.calibration_error_px = camera.intrinsics().calibration_error_px;
   return s;
 }
 
@@ -203,9 +204,9 @@ PlanarObjectLocalizer::PlanarObjectLocalizer(PlanarTemplate planar_template, con
       feature_detector_(template_.working(), cv::Size(camera.width(), camera.height()), config, thresholds.sift_min_inliers),
       pose_solver_(camera.K(), template_.object_corners()),
       pose_refiner_(template_.working(), template_.width_m(), template_.height_m(), camera.K(),
-                    se3_settings(config, thresholds.min_correlation)) {
+                    se3_settings(config, thresholds.min_correlation, camera)) {
   if (config.pose_refinement == PoseRefinement::Se3 && config.se3_footprint_model) {
-    footprint_refiner_.emplace(template_.original(), template_.width_m(), template_.height_m(), camera, se3_settings(config, thresholds.min_correlation));
+    footprint_refiner_.emplace(template_.original(), template_.width_m(), template_.height_m(), camera, se3_settings(config, thresholds.min_correlation, camera));
   }
   if (camera_.has_distortion()) {
     const cv::Size size(camera_.width(), camera_.height());
@@ -561,7 +562,7 @@ bool PlanarObjectLocalizer::refine_pose(const cv::Mat& image, PlanarPose& pose, 
       r.rotation_sigma_rad = refined.rotation_sigma_rad;
       return true;
     }
-    if (refined.contradicts_start) { if (std::getenv("DBG")) std::fprintf(stderr, "contradiction: %s corr %.3f\n", refined.failure, refined.correlation); return false; }
+    if (refined.contradicts_start) return false;
   }
   // From the corners alone, with a corner noise growing as the correlation margin shrinks (0.3 px when
   // aligned perfectly): depth from the apparent size, sigma_Z = Z sigma_px / size_px; the tilt of a

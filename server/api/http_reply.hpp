@@ -3,6 +3,7 @@
 // stream) and headers. The HTTP session turns it into a Beast message.
 #include <boost/beast/http/status.hpp>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -16,6 +17,10 @@ struct HttpReply {
   std::string body;
   std::optional<std::filesystem::path> file;  // streamed instead of body
   std::vector<std::pair<std::string, std::string>> headers;
+  // Set: the answer is work the connection's I/O thread must not do (a face registration). The
+  // session calls `deferred` with a function that takes the final reply, callable once from any
+  // thread; everything else in this reply is ignored.
+  std::function<void(std::function<void(HttpReply)>)> deferred;
 
   static HttpReply json(boost::beast::http::status status, std::string body);
   // {"status": <code>, "error": <message>}

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <variant>
 
+#include "core/candide3.hpp"
 #include "server/api/video_routes.hpp"
 #include "server/auth/permissions.hpp"
 
@@ -57,7 +58,17 @@ RestApi::RestApi(const ServerSettings& settings, std::filesystem::path config_fi
       labs_(settings.multi_lab.labs_file.empty()
                 ? LabDirectory()
                 : LabDirectory(settings.multi_lab.labs_file, settings.multi_lab.lab_id)) {
+  if (settings.people.enabled()) {
+    const auto units = static_cast<int>(Candide3Model::load(settings.people.face.model).shape_units().size());
+    people_ = std::make_unique<PeopleStore>(settings.people.face.people_dir, units);
+    registrar_ = std::make_unique<FaceRegistrar>(settings.people, *people_);
+    if (!settings.people.face.teacher.empty()) lab_.followed_person().set(people_->load(settings.people.face.teacher));
+  }
   place_stored_instruments();
+}
+
+void RestApi::stop_workers() {
+  if (registrar_) registrar_->stop();
 }
 
 std::optional<SessionInfo> RestApi::authenticate(const HttpRequest& req) {
@@ -88,10 +99,24 @@ HttpReply RestApi::handle(const HttpRequest& req, const std::string& remote) {
   } catch (const std::exception& e) {
     reply = HttpReply::error(http::status::internal_server_error, std::string("internal error: ") + e.what());
   }
+  if (reply.deferred) {
+    // Counted when the final reply is known.
+    reply.deferred = [this, work = std::move(reply.deferred)](std::function<void(HttpReply)> done) {
+      work([this, done = std::move(done)](HttpReply final_reply) {
+        count_errors(final_reply);
+        done(std::move(final_reply));
+      });
+    };
+    return reply;
+  }
+  count_errors(reply);
+  return reply;
+}
+
+void RestApi::count_errors(const HttpReply& reply) {
   const int code = static_cast<int>(reply.status);
   if (code >= 500) metrics_.http_errors_5xx++;
   else if (code >= 400) metrics_.http_errors_4xx++;
-  return reply;
 }
 
 HttpReply RestApi::route(const HttpRequest& req, const std::string& path, const std::string& remote) {
@@ -112,6 +137,8 @@ HttpReply RestApi::route(const HttpRequest& req, const std::string& path, const 
   // Everything below needs a session.
   const auto session = authenticate(req);
   if (!session) return HttpReply::error(http::status::unauthorized, "log in first: missing, unknown or expired session");
+  if (path == "/api/people" || path.rfind("/api/people/", 0) == 0 || path == "/api/face_follow" || path == "/api/control/end_turn")
+    return route_teacher(req, path, *session);  // its photos come as multipart/form-data
   const bool has_body = m == http::verb::post || m == http::verb::put;
   if (has_body && !req.body().empty() && !is_json(req))
     return HttpReply::error(http::status::unsupported_media_type, "send the body as application/json");

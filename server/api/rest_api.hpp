@@ -12,9 +12,11 @@
 #include <string>
 
 #include "core/time.hpp"
+#include "server/api/face_registrar.hpp"
 #include "server/api/http_reply.hpp"
 #include "server/api/instrument_store.hpp"
 #include "server/api/lab_directory.hpp"
+#include "server/api/people_store.hpp"
 #include "server/api/rest_support.hpp"
 #include "server/audit/audit_log.hpp"
 #include "server/auth/session_store.hpp"
@@ -32,6 +34,8 @@ class RestApi {
   HttpReply handle(const HttpRequest& req, const std::string& remote_address);
   // The session a request (or WebSocket upgrade) carries, if valid.
   std::optional<SessionInfo> authenticate(const HttpRequest& req);
+  // Stops the face registration worker (what waits is refused); before the io threads are gone.
+  void stop_workers();
 
  private:
   HttpReply route(const HttpRequest& req, const std::string& path, const std::string& remote);
@@ -66,6 +70,17 @@ class RestApi {
   HttpReply recordings();
   HttpReply recording(const std::string& name);
   HttpReply metrics_text();
+  // The teacher's routes (teacher_routes.cpp): registered people, the person face-follow follows,
+  // ending a student's turn.
+  HttpReply route_teacher(const HttpRequest& req, const std::string& path, const SessionInfo& session);
+  HttpReply people();
+  HttpReply register_person(const HttpRequest& req, const SessionInfo& session);
+  HttpReply delete_person(const std::string& name, const SessionInfo& session);
+  HttpReply followed_person();
+  HttpReply follow_person(const HttpRequest& req, const SessionInfo& session);
+  HttpReply choose_followed(const HttpRequest& req);
+  HttpReply end_turn(const HttpRequest& req, const SessionInfo& session);
+  void count_errors(const HttpReply& reply);
   HttpReply static_file(const std::string& path);
   // "; Path=/; HttpOnly; SameSite=Strict", and "; Secure" over TLS.
   std::string cookie_attributes() const;
@@ -85,6 +100,10 @@ class RestApi {
   std::mutex config_mutex_;  // one change of the config file at a time
   std::mutex instruments_mutex_;  // one change of the instruments at a time; removed_instruments_
   std::set<std::string> removed_instruments_;  // placed, then removed: ids the flight software keeps until a restart
+  // With settings.people: the registered people and their registration worker (declared last:
+  // stopped first, while everything its jobs' answers use still exists).
+  std::unique_ptr<PeopleStore> people_;
+  std::unique_ptr<FaceRegistrar> registrar_;
 };
 
 }  // namespace labo

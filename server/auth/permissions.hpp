@@ -11,6 +11,8 @@ enum class Permission {
   RequestControl,  // join the queue; mission commands need control on top
   TakeOver,        // take control from whoever holds it
   ViewSessions,    // GET /api/users, sessions and queue state
+  ManagePeople,    // register faces from photos, delete them, choose whom face-follow follows
+  EndTurn,         // end a student's turn with a reason
   Administer,      // config, instruments, recordings
 };
 
@@ -23,7 +25,9 @@ constexpr bool role_may(Role role, Permission p) {
     // cuts the motors only while holding control (RemoteLab checks that).
     case Permission::CutMotors:
     case Permission::TakeOver:
-    case Permission::ViewSessions: return role == Role::Teacher || role == Role::Admin;
+    case Permission::ViewSessions:
+    case Permission::ManagePeople:
+    case Permission::EndTurn: return role == Role::Teacher || role == Role::Admin;
     case Permission::Administer: return role == Role::Admin;
   }
   return false;

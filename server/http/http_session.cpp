@@ -1,6 +1,7 @@
 #include "server/http/http_session.hpp"
 
 #include <boost/asio/dispatch.hpp>
+#include <boost/asio/post.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/ssl.hpp>
@@ -81,7 +82,19 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
     const HttpRequest req = parser_->release();
     HttpReply reply = ctx_->api.handle(req, remote_);
     const bool head = req.method() == http::verb::head;
+    if (reply.deferred) return answer_later(std::move(reply.deferred), req.keep_alive(), req.version(), head);
     send(std::move(reply), req.keep_alive(), req.version(), head);
+  }
+
+  // The reply comes from another thread: it is sent on this connection's strand, with a fresh
+  // timeout (the read's has run on while the work was done). Nothing is read meanwhile.
+  void answer_later(std::function<void(std::function<void(HttpReply)>)> work, bool keep_alive, unsigned version, bool head) {
+    work([self = self(), keep_alive, version, head](HttpReply reply) {
+      asio::post(self->stream_.get_executor(), [self, reply = std::move(reply), keep_alive, version, head]() mutable {
+        beast::get_lowest_layer(self->stream_).expires_after(std::chrono::seconds(30));
+        self->send(std::move(reply), keep_alive, version, head);
+      });
+    });
   }
 
   HttpReply too_large() const {

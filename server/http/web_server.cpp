@@ -91,6 +91,7 @@ void WebServer::shutdown(double land_timeout_s) {
   for (auto& t : threads_)
     if (t.joinable()) t.join();
   threads_.clear();
+  ctx_->api.stop_workers();
   ctx_->sessions.save_if_changed(unix_now_s(), true);
 }
 

@@ -27,13 +27,16 @@ struct ControlNotice {
   Kind kind = Kind::Granted;
   ClientId client = 0;
   double remaining_s = 0;  // Warning: time left
-  std::string reason;      // Ended: "time limit", "heartbeat lost", "taken over by <user>", "released"
+  std::string reason;      // Ended: "time limit", "heartbeat lost", "taken over by <user>", "released", or a teacher's words
+  std::string by{};        // Ended by a teacher or an admin (end_turn): who
 };
 
 struct ControlSnapshot {
   std::optional<Participant> controller;
   double remaining_s = -1;  // -1: no time limit
+  double held_s = 0;        // how long the controller has held control
   std::vector<Participant> queue;
+  std::vector<double> waited_s;  // parallel to queue: how long each has waited
 };
 
 class ControlQueue {
@@ -45,6 +48,9 @@ class ControlQueue {
   std::vector<ControlNotice> release(ClientId client, double now_s);
   // Teacher or admin only (the caller checks the role; this refuses students too).
   std::vector<ControlNotice> take_over(const Participant& p, double now_s);
+  // A teacher or an admin (`by`; the caller checks the role) ends the controller's turn with their
+  // reason; the next in line is granted control. Nothing when nobody controls.
+  std::vector<ControlNotice> end_turn(const std::string& by, const std::string& reason, double now_s);
   // The client left (socket closed): out of the queue, control passed on.
   std::vector<ControlNotice> leave(ClientId client, double now_s);
   void heartbeat(ClientId client, double now_s);
@@ -63,13 +69,18 @@ class ControlQueue {
     double last_heartbeat_s = 0;
     std::size_t warnings_sent = 0;
   };
+  struct Waiting {
+    Participant who;
+    double since_s = 0;
+  };
   void grant(const Participant& p, double now_s, std::vector<ControlNotice>& out);
-  void end_turn(const std::string& reason, double now_s, std::vector<ControlNotice>& out);
+  void end_turn(const std::string& reason, const std::string& by, std::vector<ControlNotice>& out);
+  void dequeue(ClientId client);
   void grant_next(double now_s, std::vector<ControlNotice>& out);
 
   ControlRules rules_;
   std::optional<Turn> controller_;
-  std::deque<Participant> queue_;
+  std::deque<Waiting> queue_;
 };
 
 }  // namespace labo

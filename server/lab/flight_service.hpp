@@ -11,6 +11,7 @@
 
 #include "drone/drone_link.hpp"
 #include "drone/lab/lab_description.hpp"
+#include "localization/face/person_shape.hpp"
 #include "localization/fusion/slam_points_top_down.hpp"
 #include "server/lab/stage_timeline.hpp"
 #include "server/runtime/runtime_timing.hpp"
@@ -34,6 +35,9 @@ struct MissionCommand {
   CameraId camera = CameraId::Front;  // SelectCamera: what the drone streams while no mission runs
   // Jog: metres forward, left, up and radians counter-clockwise, from where the drone is held now.
   double dx_m = 0, dy_m = 0, dz_m = 0, dyaw_rad = 0;
+  // FindTeacher: the registered person to follow, attached by the lab (the teacher's choice); none:
+  // the one the flight software followed so far.
+  std::shared_ptr<const face::PersonShape> person{};
 };
 
 struct CommandVerdict {

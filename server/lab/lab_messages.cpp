@@ -46,9 +46,14 @@ json participant_json(const Participant& p) { return {{"user", p.user}, {"role",
 
 json control_json(const ControlSnapshot& s, std::size_t spectators) {
   json queue = json::array();
-  for (const Participant& p : s.queue) queue.push_back(participant_json(p));
+  for (std::size_t i = 0; i < s.queue.size(); ++i) {
+    json entry = participant_json(s.queue[i]);
+    entry["waited_s"] = i < s.waited_s.size() ? s.waited_s[i] : 0.0;
+    queue.push_back(std::move(entry));
+  }
   return {{"controller", s.controller ? participant_json(*s.controller) : json(nullptr)},
           {"remaining_s", s.remaining_s},
+          {"held_s", s.held_s},
           {"queue", queue},
           {"spectators", spectators}};
 }
@@ -88,7 +93,11 @@ Message notice_message(const ControlNotice& n) {
   switch (n.kind) {
     case ControlNotice::Kind::Granted: j["kind"] = "granted"; j["remaining_s"] = n.remaining_s; break;
     case ControlNotice::Kind::Warning: j["kind"] = "warning"; j["remaining_s"] = n.remaining_s; break;
-    case ControlNotice::Kind::Ended: j["kind"] = "ended"; j["reason"] = n.reason; break;
+    case ControlNotice::Kind::Ended:
+      j["kind"] = "ended";
+      j["reason"] = n.reason;
+      if (!n.by.empty()) j["by"] = n.by;
+      break;
   }
   return shared(j);
 }

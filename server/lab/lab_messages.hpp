@@ -24,7 +24,8 @@ Message hello_message(ClientId client, const SessionInfo& session, const std::ve
 Message error_message(int status, const std::string& error);
 // {"type":"ack","id","command","accepted","reason"}; `id` null when the command had none.
 Message ack_message(std::optional<std::int64_t> id, const std::string& command, const CommandVerdict& verdict);
-// {"type":"notice","kind":"granted|warning|ended",...}
+// {"type":"notice","kind":"granted|warning|ended",...}; an ended turn has its "reason", and "by" when a
+// teacher or an admin ended it.
 Message notice_message(const ControlNotice& notice);
 Message telemetry_message(const FlightTelemetry& telemetry);
 // {"type":"slam_map","revision","map_id","cell_m","points":[[x,y],...]}: the SLAM map from above, world
@@ -48,7 +49,8 @@ struct ClientControlView {
   bool controlling = false;
   std::optional<std::size_t> position;  // 1-based place in the queue
 };
-// {"type":"control","seq","controller","remaining_s","queue","spectators","you"}. `seq` grows with
+// {"type":"control","seq","controller","remaining_s","held_s","queue","spectators","you"}, each queued
+// participant with the seconds it has waited ("waited_s"). `seq` grows with
 // every state published: states may reach a client out of order (they are sent after the lab's lock
 // is released), and the page keeps the newest.
 Message control_message(const ControlSnapshot& snapshot, std::size_t spectators, std::uint64_t seq,

@@ -85,7 +85,9 @@ void RemoteLab::execute(LabClient& client, const CommandRequest& r) {
     audit_command(session, r.name, refused);
     return ack(refused);
   }
-  const CommandVerdict verdict = flight_.request(r.command);
+  MissionCommand command = r.command;
+  if (kind == MissionCommandKind::FindTeacher) command.person = followed_.get();
+  const CommandVerdict verdict = flight_.request(command);
   audit_command(session, r.name, verdict);
   ack(verdict);
 }
@@ -127,6 +129,24 @@ RemoteLab::RestCommandResult RemoteLab::stop_from_rest(const SessionInfo& sessio
     }
   }
   return {200, stop(session, kind, "rest")};
+}
+
+RemoteLab::EndTurnResult RemoteLab::end_turn(const SessionInfo& by, const std::string& user, const std::string& reason) {
+  EndTurnResult result;
+  change_control([&](ControlQueue& q, double now) {
+    const ControlSnapshot s = q.snapshot(now);
+    if (!s.controller || s.controller->user != user) {
+      result = {409, "'" + user + "' does not hold control" + (s.controller ? " ('" + s.controller->user + "' does)" : std::string())};
+      return std::vector<ControlNotice>{};
+    }
+    if (s.controller->role != Role::Student) {
+      result = {409, "'" + user + "' is a " + to_string(s.controller->role) + ": take over instead"};
+      return std::vector<ControlNotice>{};
+    }
+    result.message = "ended the turn of " + user;
+    return q.end_turn(by.user, reason, now);
+  });
+  return result;
 }
 
 void RemoteLab::execute(LabClient& client, const HeartbeatRequest&) {

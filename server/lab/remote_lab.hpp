@@ -17,6 +17,7 @@
 #include "server/lab/client_registry.hpp"
 #include "server/lab/control_queue.hpp"
 #include "server/lab/flight_service.hpp"
+#include "server/lab/followed_person.hpp"
 #include "server/lab/lab_protocol.hpp"
 #include "server/lab/server_metrics.hpp"
 #include "server/server_settings.hpp"
@@ -65,11 +66,21 @@ class RemoteLab final : public FlightEventSink {
   };
   RestCommandResult stop_from_rest(const SessionInfo& session, MissionCommandKind kind);
 
+  // A teacher or an admin ends the turn of `user`, the student holding control, with `reason`; the
+  // student's notice names who and why. `status`: 200, or 409 when `user` does not hold control or
+  // is not a student (a teacher's control is taken over, not ended).
+  struct EndTurnResult {
+    int status = 200;
+    std::string message;
+  };
+  EndTurnResult end_turn(const SessionInfo& by, const std::string& user, const std::string& reason);
+
   // JSON for REST: the queue and the connected clients.
   std::string control_state_json() const;
   std::size_t client_count() const { return clients_.size(); }
 
   FlightService& flight() { return flight_; }
+  FollowedPerson& followed_person() { return followed_; }
 
  private:
   void execute(LabClient& client, const CommandRequest& request);
@@ -104,6 +115,7 @@ class RemoteLab final : public FlightEventSink {
   double last_control_broadcast_s_ = -1;
   std::uint64_t slam_map_sent_ = 0;  // tick()'s only: the revision of the SLAM map last sent
   std::atomic<bool> low_keyframe_wanted_{false};
+  FollowedPerson followed_;
 };
 
 }  // namespace labo

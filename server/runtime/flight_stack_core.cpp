@@ -140,6 +140,7 @@ CommandVerdict FlightStackCore::request(const MissionCommand& c, Seconds t) {
   r.camera = c.camera;
   r.instrument_id = c.instrument;
   r.hold_s = c.hold_s;
+  r.person = c.person;
   const control::CommandResult result = stack_->request(r, t);
   return {result.accepted, result.reason};
 }

@@ -18,6 +18,7 @@ struct ModelWorld {
   bool face_visible = true;
   bool slam_available = true;
   Eigen::Vector3d estimate_offset = Eigen::Vector3d::Zero();  // a bad estimate: truth + this
+  double position_sigma_m = 0;  // the uncertainty the estimate reports
   double airborne_since = -1;
   Eigen::Isometry3d T_world_face = facing_base({2.5, -0.5, 1.6});  // z into the head, looking at the base
 };
@@ -48,6 +49,7 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
     e.velocity_world = world_->drone.v;
     e.yaw_rate = world_->drone.yaw_rate;
     e.quality = 1;
+    e.position_sigma_m = world_->position_sigma_m;
     const bool slam_ok = slam().state == fusion::SlamState::Good;
     switch (focus_.feedback) {
       case fusion::FeedbackSource::Homography:

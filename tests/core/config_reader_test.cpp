@@ -105,4 +105,11 @@ TEST_CASE("config: camera intrinsics are read and checked") {
   CHECK_THAT(error_of(R"({"width": 640, "height": 360, "fx": 1, "fy": 1, "cx": 700, "cy": 1})",
                       [](const ConfigReader& r) { read_camera_intrinsics(r); }),
              Catch::Contains("cx: found 700 (integer), expected a number in [0, 640]"));
+  CHECK(k.calibration_error_px == 0.0);  // optional: a calibration taken as this unit's own
+  const ConfigDocument with_error = ConfigDocument::parse(
+      R"({"width": 640, "height": 360, "fx": 700, "fy": 700, "cx": 320, "cy": 180, "calibration_error_px": 6})", "cam.json");
+  CHECK(read_camera_intrinsics(with_error.root()).calibration_error_px == 6.0);
+  CHECK_THAT(error_of(R"({"width": 640, "height": 360, "fx": 1, "fy": 1, "cx": 1, "cy": 1, "calibration_error_px": -2})",
+                      [](const ConfigReader& r) { read_camera_intrinsics(r); }),
+             Catch::Contains("calibration_error_px: found -2 (integer), expected a number in [0, 50]"));
 }

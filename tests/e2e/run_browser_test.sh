@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs a browser test: installs Debian's chromium and the npm package when missing, starts the
 # server on a free port, drives it with the test script, stops the server.
-# Usage: run_browser_test.sh SERVER_BINARY OUT_DIR [student_flow|video_paths|roles_flow|video_controls] [sim|tello]
+# Usage: run_browser_test.sh SERVER_BINARY OUT_DIR [student_flow|video_paths|roles_flow|video_controls|teacher_flow] [sim|tello]
 #   SERVER_BINARY labo_e2e_server: the web layer over test doubles (a test card, a scripted mission);
 #   SERVER_BINARY labodrone: `labodrone serve`, i.e. the simulated lab on loopback with the real
 #   driver, flight stack and vision, as `make run` starts it; with `tello`, `labodrone emulate
@@ -24,6 +24,16 @@ if [ "$drone" = tello ]; then
   "$server" emulate --protocol tello > "$out/emulator.log" 2>&1 &
   emulator=$!
   "$server" serve --port "$port" --drone tello:127.0.0.1 > "$out/server.log" 2>&1 &
+elif [ "$script" = teacher_flow ]; then
+  # Registered faces are written where face.people_dir says: a copy of the config, never the source
+  # tree's. The photo is the simulated teacher's face through the front camera, 0.8 m in front of
+  # them; the portrait it is textured with is a photo of the wrong size.
+  rm -rf "$out/teacher" && mkdir -p "$out/teacher/photos" && cp -r "$here/../../config" "$out/teacher/config"
+  ln -s "$(cd "$here/../../web" && pwd)" "$out/teacher/web"
+  ln -s "$(cd "$here/../../assets" && pwd)" "$out/teacher/assets"
+  "$server" sim render --pose 2.8,-2,1.62,180 --teacher 2,-2,0 --sharp --config "$out/teacher/config/default.json" \
+    --out "$out/teacher/photos/teacher" > "$out/render.log" 2>&1
+  "$server" serve --port "$port" --config "$out/teacher/config/default.json" > "$out/server.log" 2>&1 &
 elif [ "$(basename "$server")" = labodrone ]; then
   "$server" serve --port "$port" > "$out/server.log" 2>&1 &
 elif [ "$script" = roles_flow ]; then
@@ -46,5 +56,7 @@ case "$script" in
   video_paths) node "$here/video_paths.mjs" "http://127.0.0.1:$port" "$out" "$mode" ;;
   video_controls) node "$here/video_controls.mjs" "http://127.0.0.1:$port" "$out" "$mode" ;;
   roles_flow) node "$here/roles_flow.mjs" "http://127.0.0.1:$port" "$out" ;;
-  *) echo "unknown browser test '$script' (expected student_flow, video_paths, roles_flow or video_controls)" >&2; exit 2 ;;
+  teacher_flow) node "$here/teacher_flow.mjs" "http://127.0.0.1:$port" "$out" "$out/teacher/photos/teacher_front.png" \
+                  "$out/teacher/assets/astronaut.png" ;;
+  *) echo "unknown browser test '$script' (expected student_flow, video_paths, roles_flow, video_controls or teacher_flow)" >&2; exit 2 ;;
 esac

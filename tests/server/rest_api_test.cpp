@@ -13,18 +13,6 @@ using http::verb;
 
 namespace {
 
-// Sends raw bytes and returns the status line's code (0 when the server closed without answering).
-int raw_status(unsigned short port, const std::string& bytes) {
-  asio::io_context io;
-  asio::ip::tcp::socket s(io);
-  s.connect({asio::ip::make_address("127.0.0.1"), port});
-  asio::write(s, asio::buffer(bytes));
-  std::string reply(256, '\0');
-  beast::error_code ec;
-  const std::size_t n = s.read_some(asio::buffer(reply), ec);
-  if (n < 12) return 0;
-  return std::stoi(reply.substr(9, 3));
-}
 
 std::string textured_png_base64(int size) {
   cv::Mat img(size, size, CV_8UC3, cv::Scalar(200, 200, 200));

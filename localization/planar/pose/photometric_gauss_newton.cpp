@@ -23,11 +23,17 @@ double max_corner_shift_px(const Eigen::Isometry3d& a, const Eigen::Isometry3d& 
 namespace {
 
 // The largest image motion between poses a and b of the panel's points (a 5 x 5 grid, corners
-// included) that b shows inside the image; all of them when none is inside.
-double max_visible_shift_px(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double width_m, double height_m, double fx,
-                            double fy, double cx, double cy, cv::Size image) {
+// included) that b shows inside the image, all of them when none is inside; and the farthest of those
+// points from the principal point, as a fraction of the half diagonal.
+struct VisibleShift {
+  double shift_px = 0;
+  double radius_fraction = 0;
+};
+
+VisibleShift max_visible_shift(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double width_m, double height_m,
+                               double fx, double fy, double cx, double cy, cv::Size image) {
   constexpr int kGrid = 5;
-  double visible = -1, any = 0;
+  double visible = -1, any = 0, radius = 0, any_radius = 0;
   for (int j = 0; j < kGrid; ++j) {
     for (int i = 0; i < kGrid; ++i) {
       const Eigen::Vector3d p((static_cast<double>(i) / (kGrid - 1) - 0.5) * width_m, (static_cast<double>(j) / (kGrid - 1) - 0.5) * height_m, 0);
@@ -35,11 +41,18 @@ double max_visible_shift_px(const Eigen::Isometry3d& a, const Eigen::Isometry3d&
       const double ua = fx * pa.x() / pa.z() + cx, va = fy * pa.y() / pa.z() + cy;
       const double ub = fx * pb.x() / pb.z() + cx, vb = fy * pb.y() / pb.z() + cy;
       const double shift = std::hypot(ua - ub, va - vb);
+      const double r = std::hypot(ub - cx, vb - cy);
       any = std::max(any, shift);
-      if (pb.z() > 0 && ub >= 0 && vb >= 0 && ub <= image.width - 1 && vb <= image.height - 1) visible = std::max(visible, shift);
+      any_radius = std::max(any_radius, r);
+      if (pb.z() > 0 && ub >= 0 && vb >= 0 && ub <= image.width - 1 && vb <= image.height - 1) {
+        visible = std::max(visible, shift);
+        radius = std::max(radius, r);
+      }
     }
   }
-  return visible >= 0 ? visible : any;
+  const double half_diagonal = 0.5 * std::hypot(image.width, image.height);
+  if (visible < 0) return {any, std::min(1.0, any_radius / half_diagonal)};
+  return {visible, std::min(1.0, radius / half_diagonal)};
 }
 
 }  // namespace
@@ -66,7 +79,8 @@ bool finish_refinement(const GaussNewtonRun& run, const Eigen::Isometry3d& T_sta
     out.contradicts_start = true;
     return false;
   }
-  if (max_visible_shift_px(run.T, T_start, width_m, height_m, fx, fy, cx, cy, image) > leash_px) {
+  const VisibleShift moved = max_visible_shift(run.T, T_start, width_m, height_m, fx, fy, cx, cy, image);
+  if (moved.shift_px > leash_px + settings.calibration_error_px * moved.radius_fraction) {
     out.failure = "the pose moved too far from the homography's";
     out.contradicts_start = true;
     return false;

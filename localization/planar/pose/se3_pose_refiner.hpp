@@ -51,6 +51,11 @@ struct Se3RefinerSettings {
   int max_samples = 1500;              // per template level
   double convergence_px = 0.002;       // stop when no panel corner moves more than this
   double max_corner_shift_px = 1.5;    // refused when a corner moves farther from the starting pose
+  // The camera's calibration error at the image's corner (CameraIntrinsics::calibration_error_px): the
+  // leash grows by it times the panel's farthest point's distance from the principal point over the
+  // half diagonal. The homography bends with the lens the configured model lacks; the rigid plane
+  // cannot, so the two fits of one frame part by about that much.
+  double calibration_error_px = 0.0;
   double covariance_inflation = 3.0;   // on the Gauss-Newton standard deviations
   double rotation_sigma_floor_rad = 0.0026;  // 0.15 deg, added in quadrature (model errors)
   double smoothing_sigma_px = 0.5;     // Gaussian on frame and template before the fit; 0 = none

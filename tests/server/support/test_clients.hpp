@@ -47,6 +47,18 @@ inline HttpResult http_call(unsigned short port, http::verb method, const std::s
           std::string(res[http::field::content_type])};
 }
 
+// Sends raw bytes and returns the status line's code (0 when the server closed without answering).
+inline int raw_status(unsigned short port, const std::string& bytes) {
+  asio::io_context io;
+  asio::ip::tcp::socket s(io);
+  s.connect({asio::ip::make_address("127.0.0.1"), port});
+  asio::write(s, asio::buffer(bytes));
+  std::string reply(256, '\0');
+  beast::error_code ec;
+  const std::size_t n = s.read_some(asio::buffer(reply), ec);
+  return n < 12 ? 0 : std::stoi(reply.substr(9, 3));
+}
+
 // "labo_session=<token>" for the Cookie header.
 inline std::string login_cookie(unsigned short port, const std::string& user, const std::string& password) {
   const HttpResult r = http_call(port, http::verb::post, "/api/login",
