@@ -60,6 +60,18 @@ TEST_CASE("web: an uploaded instrument is stored unplaced, then placed live and 
   CHECK(place({{"position_m", {1, 2, 1}}}, root).status == 400);
   CHECK(place({{"position_m", {1, 2, 1}}, {"yaw_deg", 0}, {"colour", "red"}}, root).status == 400);
   CHECK(place(json::object(), root).status == 400);
+  // Wrong types: each refusal names the field and what it expects.
+  const auto refusal = [&](const json& body) {
+    const HttpResult r = place(body, root);
+    CHECK(r.status == 400);
+    return r.json()["error"].get<std::string>();
+  };
+  CHECK(refusal({{"position_m", "by the window"}, {"yaw_deg", 0}}).find("'position_m' must be [x, y, z] in metres") != std::string::npos);
+  CHECK(refusal({{"position_m", {"5.6", -0.8, 1.05}}, {"yaw_deg", 0}}).find("'position_m' values must be numbers") != std::string::npos);
+  CHECK(refusal({{"position_m", {5.6, -0.8, 1.05}}, {"yaw_deg", "west"}}).find("'yaw_deg'") != std::string::npos);
+  CHECK(refusal({{"position_m", {5.6, -0.8, 1.05}}, {"yaw_deg", 270}}).find("[-180, 180]") != std::string::npos);
+  CHECK(refusal({{"position_m", {5.6, -0.8, 1e9}}, {"yaw_deg", 180}}).find("within 100 m") != std::string::npos);
+  CHECK(place(where, root, "nothing").json()["error"] == "no uploaded instrument 'nothing'");
   CHECK(http_call(f.port, verb::put, "/api/instruments/dmm/placement", "[1, 2]", root).status == 400);
   // Outside the room, into the east bench (its top at 0.9 m), onto the platform: 422, saying where.
   const HttpResult outside = place({{"position_m", {7.5, 0, 1}}, {"yaw_deg", 180}}, root);

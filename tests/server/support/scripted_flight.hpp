@@ -33,6 +33,12 @@ class ScriptedFlight final : public FlightService {
     std::lock_guard lock(mutex_);
     return telemetry_;
   }
+  // Changes what telemetry() answers from now on, as the runtime's control tick would.
+  template <typename Edit>
+  void edit_telemetry(Edit edit) {
+    std::lock_guard lock(mutex_);
+    edit(telemetry_);
+  }
   std::vector<InstrumentSummary> instruments() const override {
     std::lock_guard lock(mutex_);
     return instruments_;
