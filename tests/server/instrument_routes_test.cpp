@@ -108,7 +108,7 @@ TEST_CASE("web: an uploaded instrument is stored unplaced, then placed live and 
   CHECK(http_call(f.port, verb::get, "/api/instruments/dmm/elsewhere", {}, root).status == 404);
 }
 
-TEST_CASE("web: an upload placed as it comes is inspectable at once; refused there, nothing is stored") {
+TEST_CASE("web: an upload placed as it comes is inspectable at once, and refused there nothing is stored") {
   ServerFixture f;
   const std::string root = login_cookie(f.port, "root", "root-pw");
   json body = upload("scope2");
@@ -148,11 +148,7 @@ TEST_CASE("web: an uploaded template too weak to track, of the wrong aspect or s
 }
 
 TEST_CASE("instrument placement: inside the room, clear of benches and the platform, on a bench's top") {
-  LabOutline lab;
-  lab.known = true;
-  lab.room = {"room", -1.5, -3.0, 6.5, 3.0, 0.0, 3.0};
-  lab.benches = {{"bench_east", 5.7, -2.2, 6.5, 1.2, 0.0, 0.9}};
-  lab.platform = {"platform", -0.3, -0.3, 0.3, 0.3, 0.0, 0.1};
+  const LabOutline lab = scripted_lab_outline();
   InstrumentSpec s;
   s.width_m = 0.3;
   s.height_m = 0.2;

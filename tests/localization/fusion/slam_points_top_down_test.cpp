@@ -81,7 +81,7 @@ TEST_CASE("SLAM points from above: the map is placed in the world with the estim
   CHECK(snapshot->revision == 1);
 }
 
-TEST_CASE("SLAM points from above: a snapshot a reader holds is never rewritten; all held, the refresh waits") {
+TEST_CASE("SLAM points from above: a snapshot a reader holds is never rewritten, and with all held the refresh waits") {
   SlamPointsTopDown top_down(kRoom);
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
   REQUIRE(top_down.update({{1, 1, 1}}, I, 1.0, Eigen::Vector3d::Zero(), 1));

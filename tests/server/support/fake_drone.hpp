@@ -211,13 +211,13 @@ class ScriptedCore final : public FlightCore {
   double started_ = 0, now_ = 0, battery_ = 0, last_frame_t_ = -1;
   int stage_index_ = 0, missions_ended_ = 0;
   std::string last_result_;
-  // The SLAM map from above: a ring of 120 points 2 m round the base, one revision.
+  // The SLAM map from above: a ring of 120 points 1.2 m round the base (inside the lab file's room), one revision.
   std::shared_ptr<const fusion::SlamPointsXy> slam_points_ = [] {
     auto p = std::make_shared<fusion::SlamPointsXy>();
     p->revision = 1;
     p->map_id = 1;
     p->cell_m = 0.10;
-    for (int i = 0; i < 120; ++i) p->xy_world.emplace_back(2.0f * std::cos(i * 0.0524f), 2.0f * std::sin(i * 0.0524f));
+    for (int i = 0; i < 120; ++i) p->xy_world.emplace_back(1.2f * std::cos(i * 0.0524f), 1.2f * std::sin(i * 0.0524f));
     return p;
   }();
   bool flying_ = false;

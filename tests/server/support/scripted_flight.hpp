@@ -12,6 +12,16 @@
 
 namespace labo::test {
 
+// A room 8 x 6 m with one bench 0.9 m high along its east wall, as the lab file would state it.
+inline LabOutline scripted_lab_outline() {
+  LabOutline o;
+  o.known = true;
+  o.room = {"room", -1.5, -3.0, 6.5, 3.0, 0.0, 3.0};
+  o.benches = {{"bench_east", 5.7, -2.2, 6.5, 1.2, 0.0, 0.9}};
+  o.platform = {"platform", -0.3, -0.3, 0.3, 0.3, 0.0, 0.1};
+  return o;
+}
+
 class ScriptedFlight final : public FlightService {
  public:
   void set_sink(FlightEventSink* sink) override {
@@ -43,15 +53,7 @@ class ScriptedFlight final : public FlightService {
     std::lock_guard lock(mutex_);
     return instruments_;
   }
-  // A room 8 x 6 m with one bench 0.9 m high along its east wall, as the lab file would state it.
-  LabOutline lab_outline() const override {
-    LabOutline o;
-    o.known = true;
-    o.room = {"room", -1.5, -3.0, 6.5, 3.0, 0.0, 3.0};
-    o.benches = {{"bench_east", 5.7, -2.2, 6.5, 1.2, 0.0, 0.9}};
-    o.platform = {"platform", -0.3, -0.3, 0.3, 0.3, 0.0, 0.1};
-    return o;
-  }
+  LabOutline lab_outline() const override { return scripted_lab_outline(); }
   // Accepts a new id (the flight software's own checks are tested in tests/control); an instrument
   // being "inspected" may not be removed.
   CommandVerdict add_instrument(const InstrumentSpec& spec) override {
