@@ -27,6 +27,9 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
   c.link = root.has("link") ? read_ardrone_link_settings(root.object("link")) : ArdroneLinkSettings{};
   c.emulator = root.has("emulator") ? read_ardrone_emulator_settings(root.object("emulator")) : ArdroneEmulatorSettings{};
   c.tello = read_tello_config_of(root);
+  c.tello_estimation = root.has("tello") && root.object("tello").has("estimation")
+                           ? estimation::read_estimation_config(root.object("tello").object("estimation"), c.estimation)
+                           : c.estimation;
   c.planar = root.has("planar") ? planar::read_planar_config(root.object("planar")) : planar::PlanarConfig{};
   c.slam = root.has("slam") ? slam::read_slam_settings(root.object("slam")) : slam::SlamSettings{};
   c.lab_file = resolve(base_dir, root.string_or("lab", "lab.json"));

@@ -27,6 +27,8 @@ struct AppConfig {
   CamerasConfig cameras;
   VisionThresholds vision;
   estimation::EstimatorConfig estimation;
+  // What a Tello flies with: the tello section's "estimation" read over the estimation section.
+  estimation::EstimatorConfig tello_estimation;
   control::ControlConfig control;
   planar::PlanarConfig planar;
   slam::SlamSettings slam;

@@ -16,6 +16,7 @@
 #include "core/config_reader.hpp"
 #include "localization/face/teacher_head.hpp"
 #include "core/source_tree.hpp"
+#include "drone/tello/tello_config.hpp"
 
 namespace labo {
 
@@ -36,6 +37,11 @@ std::vector<OptionSpec> real_vision_option_specs() {
            "with --vision real: the simulated lab's world: nominal, the configuration exactly; randomized, a world drawn "
            "around it per seed (the drone, sensor biases, placements, cameras, delays, light, Wi-Fi losses; docs/sim.md) "
            "that the flight software does not see (default: the config's sim.world)"},
+          {"--drone-model", "ardrone|tello",
+           "with --vision real: the drone the lab is flown as: ardrone (default), the AR.Drone 2.0 (SimDroneLink); tello, a "
+           "Tello in SDK mode (SimTelloLink: its state string at 10 Hz in whole degrees and dm/s, its sticks, its one "
+           "camera from the config's tello section, no bottom camera), the flight software with the tello section's "
+           "estimation settings"},
           {"--vision-latency", "inline|worker",
            "with --vision real: inline (default): each frame's vision is done before the next control tick; worker: as "
            "labodrone serve runs it, a frame's results reach the estimator after the worker's modelled time and frames "
@@ -65,6 +71,12 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args) {
     o.world = parse_world_mode(*world);
     if (!o.world) throw UsageError("--world must be nominal or randomized (got '" + *world + "')");
     if (!o.real_vision) throw UsageError("--world needs --vision real (the models fly no simulated lab)");
+  }
+  if (const auto model = args.value("--drone-model")) {
+    if (*model != "ardrone" && *model != "tello")
+      throw UsageError("--drone-model must be ardrone or tello (got '" + *model + "')");
+    if (!o.real_vision) throw UsageError("--drone-model needs --vision real (the models fly no simulated lab)");
+    o.tello = *model == "tello";
   }
   o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
   o.runs = args.integer_or("--runs", 1, 1, 10000);
@@ -109,6 +121,14 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   e.lab = load_lab_file(options.config, root);
   setup.lab = fusion::lab_geometry_from(*e.lab);
   if (root.has("cameras")) setup.cameras = read_cameras_config(root.object("cameras"));
+  if (options.tello) {
+    // What `serve --drone tello` flies with: the Tello's camera in front, its estimation settings.
+    const TelloConfig tello = read_tello_config_of(root);
+    setup.cameras = tello_cameras(tello, setup.cameras);
+    if (root.has("tello") && root.object("tello").has("estimation"))
+      setup.estimation = estimation::read_estimation_config(root.object("tello").object("estimation"), setup.estimation);
+    e.tello = sim_tello_settings(tello);
+  }
   fusion::FrontEndSettings front_ends = fusion::read_front_end_settings(root, base_dir);
   front_ends.slam.mapping_mode = slam::MappingMode::Synchronous;  // lockstep: the same flight every time
   front_ends.with_face = with_face;
@@ -130,7 +150,7 @@ std::unique_ptr<ExperimentFlight> make_flight(const Experiment& experiment, unsi
   sim.lab.seed = seed;
   sim.link.seed = seed;
   return std::make_unique<SimLabFlight>(experiment.setup, *experiment.lab, sim, experiment.head, experiment.vision_latency,
-                                        experiment.world_ranges);
+                                        experiment.world_ranges, experiment.tello);
 }
 
 std::string world_name(const Experiment& experiment) { return experiment.lab ? to_string(experiment.sim.world) : "none"; }
@@ -162,6 +182,10 @@ void report(const ExperimentOptions& options, const std::string& name, const nlo
 }
 
 std::string real_vision_note(const ExperimentOptions& options) {
+  if (options.real_vision && options.tello)
+    return "vehicle: simulated lab (drone/sim) in the run's world, flown as a Tello through SimTelloLink (TelloFirmware, "
+           "the state string at 10 Hz, rc sticks, the Tello's front camera only, link timing and delays); perception: the "
+           "real vision front-ends (planar, SLAM, face); estimator: StateEstimator with the tello section's settings";
   return options.real_vision
              ? "vehicle: simulated lab (drone/sim: rigid-body quadrotor under the firmware's inner loops, sensor model, "
                "LabRenderer cameras) in the run's world, through SimDroneLink (link timing and delays); perception: the real "

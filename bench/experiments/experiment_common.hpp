@@ -14,6 +14,7 @@
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/head_model.hpp"
 #include "drone/sim/sim_config.hpp"
+#include "drone/sim/sim_tello_link.hpp"
 #include "drone/sim/sim_world.hpp"
 
 namespace labo {
@@ -31,6 +32,9 @@ struct ExperimentOptions {
   int jobs = 1;  // --jobs: seeded runs flown at once on that many threads (seed_runner.hpp)
   // --world (with --vision real): the simulated lab's world, replacing the config's sim.world.
   std::optional<WorldMode> world;
+  // --drone-model tello (with --vision real): the lab flown as a Tello (SimTelloLink), the flight
+  // software set up for one (the Tello's camera and estimation section, docs/tello.md).
+  bool tello = false;
 };
 
 std::vector<OptionSpec> experiment_option_specs();
@@ -51,6 +55,7 @@ struct Experiment {
   std::optional<VisionLatencyModel> vision_latency;  // --vision-latency worker
   // What a randomized world draws: the teacher's walk only for the experiments that follow the face.
   WorldRanges world_ranges;
+  std::optional<SimTelloSettings> tello;   // --drone-model tello: the lockstep Tello's settings
 };
 // `with_face`: load the face front-end (find teacher) with --vision real.
 Experiment make_experiment(const ExperimentOptions& options, bool with_face);

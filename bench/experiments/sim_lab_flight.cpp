@@ -25,7 +25,7 @@ struct SimLabFlight::Listener final : DroneLinkListener {
 
 SimLabFlight::SimLabFlight(const control::FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
                            std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency,
-                           const WorldRanges& ranges)
+                           const WorldRanges& ranges, std::optional<SimTelloSettings> tello)
     : geometry_(setup.lab),
       world_(make_sim_world(lab, setup.cameras, sim, ranges)),
       true_lab_{fusion::lab_geometry_from(world_.lab), world_.cameras.front, world_.mounts.front} {
@@ -36,7 +36,10 @@ SimLabFlight::SimLabFlight(const control::FlightStackSetup& setup, const LabDesc
   stack_ = std::make_unique<control::FlightStack>(setup, std::move(pipelines));
   if (vision_latency) vision_worker_ = std::make_unique<LockstepVisionWorker>(*stack_, *vision_latency);
   listener_ = std::make_unique<Listener>(*stack_, vision_worker_.get(), t_);
-  link_ = std::make_unique<SimDroneLink>(*lab_, world_.link);
+  if (tello) link_ = std::make_unique<SimTelloLink>(*lab_, world_.link, *tello);
+  else link_ = std::make_unique<SimDroneLink>(*lab_, world_.link);
+  tello_ = tello.has_value();
+  telemetry_hz_ = tello ? tello->state_rate_hz : world_.link.full_navdata ? world_.link.full_rate_hz : world_.link.demo_rate_hz;
   link_->set_listener(listener_.get());
   samples_.reserve(20000);
 }
@@ -56,10 +59,10 @@ std::optional<Eigen::Isometry3d> SimLabFlight::true_face() const {
 
 std::string SimLabFlight::description() const {
   char buf[160];
-  std::snprintf(buf, sizeof buf, "sim lab, %s world, %.0f fps, %.0f Hz navdata, real vision%s",
-                to_string(world_.mode).c_str(), world_.link.video_fps,
-                world_.link.full_navdata ? world_.link.full_rate_hz : world_.link.demo_rate_hz,
-                vision_worker_ ? " on a modelled worker" : "");
+  std::snprintf(buf, sizeof buf, "sim lab as %s, %s world, %.0f fps, %.0f Hz %s, real vision%s",
+                tello_ ? "a Tello" : "an AR.Drone 2.0", to_string(world_.mode).c_str(), world_.link.video_fps,
+                telemetry_hz_,
+                tello_ ? "state" : "navdata", vision_worker_ ? " on a modelled worker" : "");
   return buf;
 }
 

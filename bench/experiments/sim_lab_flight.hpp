@@ -8,6 +8,8 @@
 // the link, exactly as the server's runtime does with the real driver. Each frame's vision runs before
 // the next tick, or, given a latency model, as the server's vision worker runs it: its results applied
 // after the worker's modelled time, frames skipped while it is busy (lockstep_vision_worker.hpp).
+// Given Tello settings, the lab is flown through SimTelloLink instead (drone/sim/sim_tello_link.hpp:
+// the Tello's firmware, state string, sticks and single camera); `setup` then describes a Tello.
 #include <memory>
 #include <optional>
 
@@ -18,6 +20,7 @@
 #include "drone/sim/head_model.hpp"
 #include "drone/sim/sim_config.hpp"
 #include "drone/sim/sim_drone_link.hpp"
+#include "drone/sim/sim_tello_link.hpp"
 #include "drone/sim/simulated_lab.hpp"
 
 namespace labo {
@@ -30,7 +33,7 @@ class SimLabFlight final : public ExperimentFlight {
   // `setup`. `head` textures the teacher's face.
   SimLabFlight(const control::FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
                std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency = std::nullopt,
-               const WorldRanges& ranges = {});
+               const WorldRanges& ranges = {}, std::optional<SimTelloSettings> tello = std::nullopt);
   ~SimLabFlight() override;
 
   void tick() override;
@@ -48,7 +51,7 @@ class SimLabFlight final : public ExperimentFlight {
   std::string description() const override;
 
   SimulatedLab& simulated_lab() { return *lab_; }
-  const SimDroneLink& link() const { return *link_; }
+  const LockstepDroneLink& link() const { return *link_; }
   // With a latency model: the modelled worker's frame counts.
   std::optional<LockstepVisionStats> vision_stats() const override;
 
@@ -64,7 +67,9 @@ class SimLabFlight final : public ExperimentFlight {
   const fusion::LabPipelines* pipelines_ = nullptr;  // owned by stack_
   std::unique_ptr<LockstepVisionWorker> vision_worker_;  // with a latency model
   std::unique_ptr<Listener> listener_;
-  std::unique_ptr<SimDroneLink> link_;
+  std::unique_ptr<LockstepDroneLink> link_;
+  bool tello_ = false;
+  double telemetry_hz_ = 0;  // navdata or state strings per second
   Seconds t_ = 0;
   std::vector<FlightSample> samples_;
 };

@@ -18,17 +18,6 @@ struct SimDroneLink::VideoStream {
   explicit VideoStream(const ardrone2::H264EncoderSettings& s) : encoder(s) {}
 };
 
-template <typename T>
-std::size_t SimDroneLink::Pool<T>::acquire() {
-  if (free.empty()) {
-    items.emplace_back();
-    return items.size() - 1;
-  }
-  const std::size_t i = free.back();
-  free.pop_back();
-  return i;
-}
-
 namespace {
 
 double clip_unit(double v) { return std::clamp(v, -1.0, 1.0); }
@@ -108,9 +97,8 @@ void SimDroneLink::advance_to(Seconds t) {
     if (next > t) break;
     now_ = next;
     if (delivery == next) {
-      const Delivery d = queue_.top();
-      queue_.pop();
-      deliver(d);
+      const auto d = queue_.pop();
+      deliver(d.channel, d.slot, d.t);
     } else if (next_command_ == next) {
       send_commands(next);
       next_command_ = next + settings_.command_interval_s;
@@ -227,26 +215,26 @@ void SimDroneLink::render_frame(CameraId camera, Seconds arrive) {
   schedule(arrive, Channel::Video, slot);
 }
 
-void SimDroneLink::deliver(const Delivery& d) {
-  switch (d.channel) {
+void SimDroneLink::deliver(Channel channel, std::size_t slot, Seconds t) {
+  switch (channel) {
     case Channel::Command:
-      apply_commands(commands_.items[d.slot], d.t);
-      commands_.release(d.slot);
+      apply_commands(commands_.items[slot], t);
+      commands_.release(slot);
       break;
     case Channel::Navdata:
       ++counters_.navdata_packets;
-      last_navdata_arrival_ = d.t;
+      last_navdata_arrival_ = t;
       if (state_ != LinkState::Connected) {
         state_ = LinkState::Connected;
-        if (listener_) listener_->on_link_state(state_, d.t);
+        if (listener_) listener_->on_link_state(state_, t);
       }
-      if (listener_) listener_->on_navdata(navdata_.items[d.slot]);
-      navdata_.release(d.slot);
+      if (listener_) listener_->on_navdata(navdata_.items[slot]);
+      navdata_.release(slot);
       break;
     case Channel::Video:
       ++counters_.video_frames;
-      if (listener_) listener_->on_video(frames_.items[d.slot]);
-      frames_.release(d.slot);
+      if (listener_) listener_->on_video(frames_.items[slot]);
+      frames_.release(slot);
       break;
   }
 }

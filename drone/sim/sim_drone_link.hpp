@@ -32,12 +32,13 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
-#include <queue>
 #include <random>
 #include <vector>
 
 #include "drone/ardrone2/video_bitrate.hpp"
 #include "drone/drone_link.hpp"
+#include "drone/sim/lockstep_link.hpp"
+#include "drone/sim/lockstep_queue.hpp"
 #include "drone/sim/simulated_lab.hpp"
 
 namespace labo {
@@ -77,7 +78,7 @@ struct SimLinkProfile {
   long encoded = 0;
 };
 
-class SimDroneLink final : public DroneLink {
+class SimDroneLink final : public LockstepDroneLink {
  public:
   // The lab must outlive the link. The link owns the lab's clock from now on: drive it only through
   // advance_to().
@@ -87,8 +88,8 @@ class SimDroneLink final : public DroneLink {
   SimDroneLink& operator=(const SimDroneLink&) = delete;
 
   // Lockstep: runs the drone, the link and the listener's callbacks up to simulated time t.
-  void advance_to(Seconds t);
-  Seconds now() const { return now_; }
+  void advance_to(Seconds t) override;
+  Seconds now() const override { return now_; }
   SimulatedLab& lab() { return lab_; }
   const SimLinkProfile& profile() const { return profile_; }
   // The bit rate the simulated drone streams at now (kbit/s).
@@ -119,20 +120,6 @@ class SimDroneLink final : public DroneLink {
     std::optional<ardrone2::VideoBitrateControl> video_bitrate;  // the driver's requested state
   };
   enum class Channel { Command, Navdata, Video };
-  struct Delivery {
-    Seconds t;
-    std::uint64_t order;  // ties: first scheduled, first delivered
-    Channel channel;
-    std::size_t slot;
-    bool operator>(const Delivery& o) const { return t != o.t ? t > o.t : order > o.order; }
-  };
-  template <typename T>
-  struct Pool {
-    std::vector<T> items;
-    std::vector<std::size_t> free;
-    std::size_t acquire();
-    void release(std::size_t i) { free.push_back(i); }
-  };
   struct Counters {
     std::uint64_t navdata_packets = 0, navdata_lost = 0, video_frames = 0, video_lost = 0, video_dropout = 0,
                   video_waiting_for_idr = 0, commands_sent = 0, commands_lost = 0, config_ignored = 0,
@@ -144,13 +131,13 @@ class SimDroneLink final : public DroneLink {
   void generate_navdata(Seconds t);
   void generate_video(Seconds t);
   void render_frame(CameraId camera, Seconds arrival);
-  void deliver(const Delivery& d);
+  void deliver(Channel channel, std::size_t slot, Seconds t);
   void apply_commands(const CommandPacket& p, Seconds t);
   void supervise(Seconds t);
   Seconds arrival(Seconds t, Seconds delay, Seconds& last_arrival);
   bool lost(double probability) { return probability > 0 && uniform_(rng_) < probability; }
   std::uint32_t state_bits(const VehicleTelemetry& tel) const;
-  void schedule(Seconds t, Channel channel, std::size_t slot) { queue_.push({t, next_order_++, channel, slot}); }
+  void schedule(Seconds t, Channel channel, std::size_t slot) { queue_.schedule(t, channel, slot); }
 
   SimulatedLab& lab_;
   SimLinkSettings settings_;
@@ -180,11 +167,10 @@ class SimDroneLink final : public DroneLink {
 
   Seconds next_command_ = 0, next_navdata_ = 0, next_frame_ = 0;
   Seconds last_command_arrival_ = 0, last_navdata_arrival_sent_ = 0, last_video_arrival_ = 0;
-  std::priority_queue<Delivery, std::vector<Delivery>, std::greater<>> queue_;
-  std::uint64_t next_order_ = 0;
-  Pool<CommandPacket> commands_;
-  Pool<NavdataSample> navdata_;
-  Pool<VideoFrame> frames_;
+  DeliveryQueue<Channel> queue_;
+  SlotPool<CommandPacket> commands_;
+  SlotPool<NavdataSample> navdata_;
+  SlotPool<VideoFrame> frames_;
   std::vector<std::unique_ptr<VideoStream>> streams_;  // per camera, with h264
   cv::Mat rendered_;
   Counters counters_;

@@ -28,6 +28,9 @@ TelloConfig read_tello_config(const ConfigReader& c) {
   if (c.has("link")) t.link = read_tello_link_settings(c.object("link"));
   if (c.has("emulator")) t.emulator = read_tello_emulator_settings(c.object("emulator"));
   if (c.has("camera")) t.camera = read_camera_intrinsics(c.object("camera"));
+  // The estimator's settings for a Tello: the estimation section's keys, read over that section by
+  // the layers that fly one (localization's read_estimation_config); here only an object is required.
+  if (c.has("estimation")) c.object("estimation");
   c.finish();
   return t;
 }

@@ -23,8 +23,10 @@ struct TelloConfig {
   CameraIntrinsics camera = tello_front_camera();
 };
 
-// Reads {"link": {...}, "emulator": {...}, "camera": {width, height, fx, fy, cx, cy, distortion}},
-// every key optional; refuses unknown keys.
+// Reads {"link": {...}, "emulator": {...}, "camera": {width, height, fx, fy, cx, cy, distortion},
+// "estimation": {...}}, every key optional; refuses unknown keys. "estimation" (the estimation
+// section's keys, for a Tello's sensors: docs/tello.md) is only required to be an object here: the
+// flight software's layers read it over the estimation section (server, bench).
 TelloConfig read_tello_config(const ConfigReader& section);
 // The config's "tello" section, or the defaults without one.
 TelloConfig read_tello_config_of(const ConfigReader& root);

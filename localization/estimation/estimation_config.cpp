@@ -63,8 +63,10 @@ void read_velocity_dropout(const ConfigReader& n, VelocityDropoutSettings& d) {
 }
 }  // namespace
 
-EstimatorConfig read_estimation_config(const ConfigReader& node) {
-  EstimatorConfig c;
+EstimatorConfig read_estimation_config(const ConfigReader& node) { return read_estimation_config(node, EstimatorConfig{}); }
+
+EstimatorConfig read_estimation_config(const ConfigReader& node, const EstimatorConfig& base) {
+  EstimatorConfig c = base;
   const auto ms = [&](const char* key, Seconds& v, double max_ms) {
     v = node.number_or(key, v * 1000.0, Range::closed(0.0, max_ms)) / 1000.0;
   };
@@ -94,6 +96,7 @@ EstimatorConfig read_estimation_config(const ConfigReader& node) {
   if (c.scale_interval_max_s <= c.scale_interval_min_s) {
     node.fail("scale_interval_max_s", "must be greater than scale_interval_min_s");
   }
+  c.scale_max_navdata_gap_s = node.number_or("scale_max_navdata_gap_s", c.scale_max_navdata_gap_s, Range::closed(0.01, 1.0));
   c.scale_weight_xy = node.number_or("scale_weight_xy", c.scale_weight_xy, Range::non_negative());
   c.scale_weight_z = node.number_or("scale_weight_z", c.scale_weight_z, Range::non_negative());
   c.scale.initial_scale = node.number_or("initial_scale", c.scale.initial_scale, Range::positive());

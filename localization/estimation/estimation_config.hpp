@@ -104,6 +104,9 @@ struct EstimatorConfig {
   ScaleSettings scale;
   Seconds scale_interval_min_s = 1.0;
   Seconds scale_interval_max_s = 3.0;
+  // A pair whose odometry saw a longer navdata interval is not used (scale_pair_sampler.hpp): 1.5
+  // periods of the telemetry (the AR.Drone's 15 Hz demo navdata; a Tello's 10 Hz state: 0.15).
+  Seconds scale_max_navdata_gap_s = 0.1;
   // Axis weights (world axes) of the pairs. tum_ardrone weighs xy 0.05 (its pairs come from the
   // up/down manoeuvre); here any motion counts, the bottom-camera odometry is trusted a third of the
   // ultrasound.
@@ -117,5 +120,8 @@ struct EstimatorConfig {
 
 // Reads the "estimation" section; every key optional, defaults above, delays in ms at this edge.
 EstimatorConfig read_estimation_config(const ConfigReader& node);
+// The same keys read over `base`: a key absent keeps base's value. For a drone's own estimation
+// section (the tello section's "estimation", docs/tello.md) over the estimation section.
+EstimatorConfig read_estimation_config(const ConfigReader& node, const EstimatorConfig& base);
 
 }  // namespace labo::estimation

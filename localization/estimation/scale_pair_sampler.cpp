@@ -47,7 +47,7 @@ std::optional<ScalePair> ScalePairSampler::add(const ScaleSample& sample) {
   pair.map_displacement = now.p_map - start_->p_map;
   pair.metric_displacement = now.metric - start_->metric;
   pair.z_corrupted = now.floor_steps_last != start_->floor_steps_first;
-  pair.coverage_ok = gap_since_start_ <= 0.1;
+  pair.coverage_ok = gap_since_start_ <= max_navdata_gap_;
   pair.interval = interval;
   Eigen::Vector3d w = weights_;
   if (pair.z_corrupted) w.z() = 0.0;

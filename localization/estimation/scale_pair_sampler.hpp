@@ -6,7 +6,10 @@
 // same frames. A pair closes once its interval is at least `min_interval` and its weighted metric
 // displacement reaches `min_displacement` (any motion, not only the up/down manoeuvre: a pair that
 // closed after a fixed interval was mostly too short to count, and was thrown away); an interval
-// longer than `max_interval` without enough motion restarts (odometry drift grows with time).
+// longer than `max_interval` without enough motion restarts (odometry drift grows with time). A pair
+// whose odometry has a navdata gap longer than `max_navdata_gap` is marked without coverage: the gap
+// allowed depends on the telemetry's rate (1.5 periods: 0.1 s at the AR.Drone's 15 Hz demo navdata,
+// 0.15 s at a Tello's 10 Hz state; the estimation section's scale_max_navdata_gap_s).
 #include <Eigen/Core>
 #include <array>
 #include <optional>
@@ -37,8 +40,10 @@ class ScalePairSampler {
 
   // `weights`: per world axis (x, y, z), as the ScaleEstimator will see the pair (z counts 0 once a
   // floor step corrupted it).
-  ScalePairSampler(Seconds min_interval, Seconds max_interval, const Eigen::Vector3d& weights, double min_displacement)
-      : min_(min_interval), max_(max_interval), weights_(weights), min_displacement_(min_displacement) {}
+  ScalePairSampler(Seconds min_interval, Seconds max_interval, const Eigen::Vector3d& weights, double min_displacement,
+                   Seconds max_navdata_gap = 0.1)
+      : min_(min_interval), max_(max_interval), weights_(weights), min_displacement_(min_displacement),
+        max_navdata_gap_(max_navdata_gap) {}
   void reset() { count_ = 0; start_.reset(); }
   // Adds a fused SLAM frame; returns a pair when one completes.
   std::optional<ScalePair> add(const ScaleSample& sample);
@@ -60,6 +65,7 @@ class ScalePairSampler {
   Seconds max_;
   Eigen::Vector3d weights_;
   double min_displacement_;
+  Seconds max_navdata_gap_;
   std::array<ScaleSample, kWindow> window_{};
   int count_ = 0;  // samples in the window (consecutive)
   std::optional<WindowMean> start_;

@@ -94,7 +94,7 @@ struct StateEstimator::Impl {
         reacquisition{ReacquisitionGate(c.reacquisition), ReacquisitionGate(c.reacquisition),
                       ReacquisitionGate(c.reacquisition)},
         scale(c.scale), pair_sampler(c.scale_interval_min_s, c.scale_interval_max_s, scale_weights(c),
-                                               c.scale.min_displacement_m) {}
+                                               c.scale.min_displacement_m, c.scale_max_navdata_gap_s) {}
 
   EstimatorConfig config;
   VisionThresholds thresholds;

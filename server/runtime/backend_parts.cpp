@@ -21,9 +21,11 @@ control::FlightStackSetup flight_stack_setup(const AppConfig& config) {
   return setup;
 }
 
-control::FlightStackSetup flight_stack_setup(const AppConfig& config, const CamerasConfig& cameras) {
+control::FlightStackSetup flight_stack_setup(const AppConfig& config, const CamerasConfig& cameras,
+                                             const estimation::EstimatorConfig& estimation) {
   control::FlightStackSetup setup = flight_stack_setup(config);
   setup.cameras = cameras;
+  setup.estimation = estimation;
   return setup;
 }
 

@@ -17,8 +17,9 @@ namespace labo {
 // The lab's geometry, the control, camera, vision and estimation sections, and the real vision
 // front-ends on the drone's frames.
 control::FlightStackSetup flight_stack_setup(const AppConfig& config);
-// The same with other cameras (a Tello's in front).
-control::FlightStackSetup flight_stack_setup(const AppConfig& config, const CamerasConfig& cameras);
+// The same with other cameras and estimation settings (a Tello's: its camera in front, tello_estimation).
+control::FlightStackSetup flight_stack_setup(const AppConfig& config, const CamerasConfig& cameras,
+                                             const estimation::EstimatorConfig& estimation);
 FlightRuntimeOptions flight_runtime_options(const AppConfig& config);
 // The same for an AR.Drone 2.0 (or the emulator) behind `link`: both cameras, and the bit rate the
 // link asks of the drone, changed through it.

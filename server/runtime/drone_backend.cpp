@@ -58,7 +58,7 @@ class TelloBackend final : public DroneBackend {
           s.host = spec.host;
           return s;
         }(), log.child("link")),
-        core_(std::make_unique<control::FlightStack>(flight_stack_setup(config, cameras_)), cameras_),
+        core_(std::make_unique<control::FlightStack>(flight_stack_setup(config, cameras_, config.tello_estimation)), cameras_),
         runtime_(link_, core_, clock_,
                  flight_runtime_options(config, "Tello", "a Tello has one camera, looking forward: there is no bottom camera to stream"),
                  log) {
@@ -101,7 +101,10 @@ class ReplayBackend final : public DroneBackend {
                                                                    : config.cameras),
         link_(spec.file, log.child("replay")),
         clock_(std::isfinite(link_.next_time()) ? link_.next_time() : 0.0),
-        core_(std::make_unique<control::FlightStack>(flight_stack_setup(config, cameras_)), cameras_),
+        core_(std::make_unique<control::FlightStack>(flight_stack_setup(
+                  config, cameras_,
+                  recorded_drone(spec.file) == RecordedDrone::Tello ? config.tello_estimation : config.estimation)),
+              cameras_),
         runtime_(link_, core_, clock_,
                  flight_runtime_options(config, "recording", "a recording plays the camera it recorded: nothing reaches a drone"),
                  log) {

@@ -20,6 +20,10 @@ TEST_CASE("app config: the shipped default.json loads with the paper's threshold
   CHECK(c.cameras.front.fx == Approx(569.9));
   CHECK(c.cameras.bottom.cy == Approx(218.7));
   CHECK(c.server.port == 8080);
+  // A Tello's estimator: the tello section's "estimation" over the estimation section.
+  CHECK(c.estimation.scale_max_navdata_gap_s == Approx(0.1));
+  CHECK(c.tello_estimation.scale_max_navdata_gap_s == Approx(0.15));
+  CHECK(c.tello_estimation.navdata_delay_s == Approx(c.estimation.navdata_delay_s));
 }
 
 TEST_CASE("app config: bad sections are refused with the key path") {
@@ -42,6 +46,8 @@ TEST_CASE("app config: bad sections are refused with the key path") {
   CHECK_THAT(error_of(R"({"servre": {}})"), Catch::Contains("bad.json: unknown key servre"));
   CHECK_THAT(error_of(R"({"log_level": "loud"})"), Catch::Contains("log_level: found \"loud\""));
   CHECK_THAT(error_of(R"({"cameras": {"front": {}}})"), Catch::Contains("cameras.front.width: missing"));
+  CHECK_THAT(error_of(R"({"tello": {"estimation": 3}})"), Catch::Contains("tello.estimation"));
+  CHECK_THAT(error_of(R"({"tello": {"estimation": {"scale_weight_z": -1}}})"), Catch::Contains("tello.estimation.scale_weight_z"));
 }
 
 TEST_CASE("app config: the lab description it names is loaded and validated") {

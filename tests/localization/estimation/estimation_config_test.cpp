@@ -46,3 +46,17 @@ TEST_CASE("estimation: config reads the velocity dropout detector, refuses bad v
   refuses(R"({"velocity_dropout": {"confirm_packets": 0}})", "confirm_packets");
   refuses(R"({"velocity_dropout": {"window": 0.4}})", "window");
 }
+
+TEST_CASE("estimation: a drone's own section is read over the estimation section") {
+  const ConfigDocument doc = ConfigDocument::parse(R"({"navdata_delay_ms": 30, "scale_sigma_metric_m": 0.03})", "e.json");
+  const EstimatorConfig base = read_estimation_config(doc.root());
+  const ConfigDocument over = ConfigDocument::parse(R"({"scale_max_navdata_gap_s": 0.15, "scale_weight_xy": 0.5})", "t.json");
+  const EstimatorConfig c = read_estimation_config(over.root(), base);
+  CHECK(c.navdata_delay_s == Approx(0.030));        // kept from the base
+  CHECK(c.scale.sigma_metric_m == Approx(0.03));    // kept from the base
+  CHECK(c.scale_max_navdata_gap_s == Approx(0.15));  // replaced
+  CHECK(c.scale_weight_xy == Approx(0.5));
+  CHECK(base.scale_max_navdata_gap_s == Approx(0.1));
+  const ConfigDocument bad = ConfigDocument::parse(R"({"scale_max_navdata_gap_s": 0})", "bad.json");
+  CHECK_THROWS_WITH(read_estimation_config(bad.root(), base), Catch::Contains("scale_max_navdata_gap_s"));
+}

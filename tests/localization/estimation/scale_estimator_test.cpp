@@ -157,3 +157,25 @@ TEST_CASE("estimation: a scale pair closes on enough motion, not after a fixed t
   CHECK(pair->metric_displacement.z() == Approx(0.06 * pair->interval).epsilon(0.05));
   CHECK(pair->map_displacement.z() == Approx(pair->metric_displacement.z() / 7.0).epsilon(1e-9));
 }
+
+// A Tello's state comes every 0.1 s with jitter: its pairs must not all count as navdata gaps, and the
+// AR.Drone's 0.1 s limit must still refuse a real gap.
+TEST_CASE("estimation: a pair's navdata coverage is judged by the telemetry's rate (scale_max_navdata_gap_s)") {
+  const auto first_pair = [](Seconds max_gap, Seconds navdata_gap) {
+    estimation::ScalePairSampler sampler(1.0, 3.0, Eigen::Vector3d(1.0, 1.0, 3.0), 0.3, max_gap);
+    std::optional<estimation::ScalePair> pair;
+    for (Seconds t = 0; t < 5.0 && !pair; t += 1.0 / 30.0) {
+      estimation::ScaleSample s;
+      s.t = t;
+      s.metric = Eigen::Vector3d(0, 0, 1.0 + 0.1 * t);
+      s.p_map = s.metric / 7.0;
+      s.navdata_gap = navdata_gap;
+      pair = sampler.add(s);
+    }
+    REQUIRE(pair.has_value());
+    return pair->coverage_ok;
+  };
+  CHECK_FALSE(first_pair(0.1, 0.104));  // a 10 Hz state a little late: over the AR.Drone's 1.5 periods
+  CHECK(first_pair(0.15, 0.104));       // within a Tello's
+  CHECK_FALSE(first_pair(0.15, 0.2));   // a lost state string is a gap either way
+}
