@@ -8,6 +8,7 @@
 #include "bench/experiments/bench_vision_command.hpp"
 #include "bench/experiments/sim_commands.hpp"
 #include "bench/face/bench_face_command.hpp"
+#include "bench/face/bench_faces_command.hpp"
 #include "bench/link/bench_link_command.hpp"
 #include "bench/planar/bench_planar_command.hpp"
 #include "bench/realtime/sim_realtime_command.hpp"
@@ -31,6 +32,7 @@ labo::Program program() {
               {bench_planar_command_spec(), run_bench_planar_command},
               {bench_slam_command_spec(), run_bench_slam_command},
               {face_bench_command_spec(), run_face_bench_command},
+              {faces_bench_command_spec(), run_faces_bench_command},
               {bench_vision_command_spec(), run_bench_vision_command},
               {bench_render_command_spec(), run_bench_render_command},
               {bench_sim_command_spec(), run_bench_sim_command},

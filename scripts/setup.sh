@@ -47,6 +47,21 @@ if [ ! -f "$ROOT/assets/astronaut.png" ]; then
   echo "setup: assets/astronaut.png extracted from python3-skimage"
 fi
 
+# The face benchmark's other people (`labodrone-bench bench faces`, docs/face.md): the 1927 Solvay
+# conference photograph (public domain) from the Debian package visp-images-data, its 2126 x 1463 PNG
+# only, unpacked without installing the package's 225 MB into assets/ (git-ignored). The faces are cut
+# from it by the detector when the benchmark starts.
+if [ ! -f "$ROOT/assets/solvay_1927.png" ]; then
+  tmp="$(mktemp -d)"
+  (cd "$tmp" && apt-get download -qq visp-images-data >/dev/null 2>&1 || { apt-get update -qq && apt-get download -qq visp-images-data; })
+  dpkg-deb --fsys-tarfile "$tmp"/visp-images-data_*.deb |
+    tar -x -C "$tmp" --wildcards '*/Solvay/Solvay_conference_1927_Version2_2126x1463.png'
+  mkdir -p "$ROOT/assets"
+  cp "$(find "$tmp" -name Solvay_conference_1927_Version2_2126x1463.png | head -n 1)" "$ROOT/assets/solvay_1927.png"
+  rm -rf "$tmp"
+  echo "setup: assets/solvay_1927.png extracted from visp-images-data"
+fi
+
 # The browser test (tests/e2e): Node.js with npm, and playwright-core from the npm registry. Debian's
 # chromium (above) is the browser; playwright never downloads one.
 if ! command -v npm >/dev/null; then

@@ -12,8 +12,8 @@
 #include <stdexcept>
 
 #include "core/candide3.hpp"
-#include "drone/ardrone2/h264_codec.hpp"
 #include "localization/face/face_pose_estimator.hpp"
+#include "bench/face/frame_degrader.hpp"
 #include "bench/face/head_pose_sequences.hpp"
 #include "localization/face/person_registration.hpp"
 #include "drone/lab/lab_description.hpp"
@@ -60,44 +60,7 @@ cv::Mat make_background(const PinholeCamera& camera, unsigned seed) {
   return out;
 }
 
-// Blur, sensor noise, then the AR.Drone's video path: H.264 (baseline, zero latency, IDR every 15
-// frames, 1 Mbit/s by default) encoded and decoded in process with the link's codec.
-class FrameDegrader {
- public:
-  FrameDegrader(const FaceBenchOptions& o, const PinholeCamera& camera, unsigned seed)
-      : options_(o), rng_(seed), encoder_(encoder_settings(o, camera)) {}
-  void apply(double blur_sigma, double noise_sigma, cv::Mat& frame) {
-    if (blur_sigma > 0) cv::GaussianBlur(frame, frame, cv::Size(), blur_sigma);
-    frame.convertTo(work_, CV_16S);
-    noise_.create(frame.size(), CV_16S);
-    rng_.fill(noise_, cv::RNG::NORMAL, 0, noise_sigma);
-    work_ += noise_;
-    work_.convertTo(frame, CV_8U);  // saturates
-    if (options_.lossy_video) {
-      cv::cvtColor(frame, bgr_, cv::COLOR_GRAY2BGR);
-      if (!encoder_.encode(bgr_, packet_)) throw std::runtime_error("face bench: H.264 encoder error");
-      if (decoder_.decode(packet_.data, decoded_) != ardrone2::DecodeStatus::Decoded) {
-        throw std::runtime_error("face bench: H.264 decoder gave no picture");
-      }
-      cv::cvtColor(decoded_, frame, cv::COLOR_BGR2GRAY);
-    }
-  }
-
- private:
-  static ardrone2::H264EncoderSettings encoder_settings(const FaceBenchOptions& o, const PinholeCamera& camera) {
-    ardrone2::H264EncoderSettings s;
-    s.width = camera.width();
-    s.height = camera.height();
-    s.bitrate_kbps = o.video_bitrate_kbps;
-    return s;
-  }
-  FaceBenchOptions options_;
-  cv::RNG rng_;
-  cv::Mat work_, noise_, bgr_, decoded_;
-  ardrone2::H264Encoder encoder_;
-  ardrone2::H264Decoder decoder_;
-  ardrone2::EncodedFrame packet_;
-};
+FrameDegradation degradation_of(const FaceBenchOptions& o) { return {o.lossy_video, o.video_bitrate_kbps}; }
 
 // The registration's head turn: at 0.8 m, yaw 0 -> +a -> -a -> 0 degrees over the first half,
 // then pitch 0 -> +b -> -b -> 0 over the second, degraded like the frontal picture.
@@ -106,7 +69,7 @@ std::vector<cv::Mat> render_turn_frames(TexturedHeadRenderer& renderer, const Pi
   const double kYawDeg = options.turn_yaw_deg, kPitchDeg = options.turn_pitch_deg;
   const double rad = std::numbers::pi / 180.0;
   const cv::Mat background = make_background(camera, options.seed + 1000);
-  FrameDegrader degrader(options, camera, options.seed + 1);
+  FrameDegrader degrader(degradation_of(options), camera, options.seed + 1);
   std::vector<cv::Mat> frames;
   const int n = options.turn_frames;
   for (int i = 0; i < n; ++i) {
@@ -252,10 +215,13 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
   FacePoseEstimator estimator(config, camera,
                               make_face_landmark_model(candide, load_ibug68_mapping(config.mapping)));
 
-  const cv::Mat photo = cv::imread(options.texture.string(), cv::IMREAD_GRAYSCALE);
-  if (photo.empty()) {
+  const cv::Mat photo_bgr =
+      options.texture_bgr.empty() ? cv::imread(options.texture.string(), cv::IMREAD_COLOR) : options.texture_bgr;
+  if (photo_bgr.empty()) {
     throw std::runtime_error(options.texture.string() + ": cannot read the head texture (run scripts/setup.sh)");
   }
+  cv::Mat photo;
+  cv::cvtColor(photo_bgr, photo, cv::COLOR_BGR2GRAY);
   TexturedHeadRenderer renderer(candide, texture_head_from_photo(estimator, candide, photo, options.interpupillary_distance_m),
                                 camera);
   FaceBenchReport report;
@@ -269,17 +235,15 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
     renderer.render(T, frontal);
     // Consecutive frames of the still head: the first is the picture a one-picture registration uses
     // (same seed), the others the same video's next frames.
-    std::vector<cv::Mat> pictures;
-    FrameDegrader reg_degrader(options, camera, options.seed);
-    for (int k = 0; k < std::max(options.registration_frames, 1); ++k) {
-      cv::Mat pic = frontal.clone();
-      reg_degrader.apply(0.5, 2.0, pic);
-      pictures.push_back(pic);
-    }
+    const std::vector<cv::Mat> pictures =
+        degraded_registration_pictures(frontal, options.registration_frames, degradation_of(options), camera, options.seed);
     frontal = pictures.front();
     const PersonShape teacher = register_person(estimator, pictures, "teacher", options.interpupillary_distance_m);
     PersonShape used = teacher;
-    if (options.true_shape) used.shape_params = renderer.head().shape_params;
+    if (options.true_shape) {
+      used.shape_params = renderer.head().shape_params;
+      used.interpupillary_distance_m = options.interpupillary_distance_m * renderer.head().scale;
+    }
     estimator.set_person(used, true);
     report.shape_fit_rms_px = teacher.fit_rms_px;
     report.registration_frames = static_cast<int>(pictures.size());
@@ -331,7 +295,6 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
   auto sequences = make_head_pose_sequences(options.sequences, options.frames, options.seed);
   std::optional<LabHeadScene> lab_scene;
   if (options.lab_sequences > 0 && !options.lab.empty()) {
-    const cv::Mat photo_bgr = cv::imread(options.texture.string(), cv::IMREAD_COLOR);
     lab_scene.emplace(load_lab_description(options.lab), options.cameras,
                       to_head_model(candide, renderer.head(), photo_bgr), options.seed);
     for (auto& q : make_head_pose_sequences(options.lab_sequences, options.frames, options.seed + 101)) {
@@ -371,7 +334,7 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
     const HeadPoseSequence& seq = sequences[s];
     if (!options.only_sequence.empty() && seq.name != options.only_sequence) continue;
     const cv::Mat background = make_background(camera, options.seed + static_cast<unsigned>(s));
-    FrameDegrader degrader(options, camera, options.seed * 7919u + static_cast<unsigned>(s));
+    FrameDegrader degrader(degradation_of(options), camera, options.seed * 7919u + static_cast<unsigned>(s));
     estimator.reset();
     std::vector<FacePoseSolver> solvers;
     for (PnpMethod m : kMethods) {
@@ -444,6 +407,7 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
               angle_error_deg(ea.pitch, ta.pitch), ms);
         if (kMethods[m] == PnpMethod::LmTracking) {
           by_renderer[summary.renderer].add(dt, dt_abs, a.roll.back(), a.yaw.back(), a.pitch.back(), ms);
+          report.lm_frame_errors.push_back({a.tx.back(), a.ty.back(), a.tz.back(), a.roll.back(), a.yaw.back(), a.pitch.back()});
           seq_yaw.push_back(a.yaw.back());
           seq_tz.push_back(a.tz.back());
           if (csv.is_open()) {
@@ -496,6 +460,7 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
   }
   for (PnpMethod m : kMethods) report.methods.push_back(summarise(m, acc[m]));
   for (const auto& [name, a] : by_renderer) report.lm_by_renderer.emplace_back(name, summarise(PnpMethod::LmTracking, a));
+  report.frame_ms = frame_ms;
   report.frame_ms_median = median(frame_ms);
   report.frame_ms_mean = mean(frame_ms);
   report.frame_ms_p95 = percentile(frame_ms, 0.95);

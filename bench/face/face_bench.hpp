@@ -3,7 +3,9 @@
 // CANDIDE-3 head, degraded (noise, blur, lossy video), run through the whole pipeline once per frame;
 // each PnP method of Table 1 then solves the same landmarks, against the known pose.
 #include <filesystem>
+#include <array>
 #include <functional>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
@@ -19,6 +21,7 @@ struct FaceBenchOptions {
   int frames = 300;
   unsigned seed = 1;
   std::filesystem::path texture;  // photograph with one face (assets/astronaut.png)
+  cv::Mat texture_bgr;            // the photograph itself, when set (then `texture` only names it)
   double interpupillary_distance_m = 0.063;
   bool lossy_video = true;        // H.264 round trip through the link's codec
   int video_bitrate_kbps = 1000;  // the AR.Drone 2.0's default video:max_bitrate
@@ -87,6 +90,11 @@ struct FaceBenchReport {
   double depth_error_mm = 0, depth_error_turned_mm = 0;
   double depth_error_untilted_mm = 0, depth_error_untilted_turned_mm = 0;
   std::vector<std::pair<std::string, int>> lost_reasons;
+  // LM tracking's errors per posed frame, as MethodErrors accumulates them: |tx|, |ty|, |tz| mm
+  // (relative motion), |roll|, |yaw|, |pitch| degrees (medians, figures pooled over several faces).
+  std::vector<std::array<double, 6>> lm_frame_errors;
+  // Whole pipeline CPU time per frame, ms.
+  std::vector<double> frame_ms;
 };
 
 // Throws std::runtime_error when the texture has no single face or the registration fails.

@@ -58,6 +58,8 @@ FaceConfig read_face_config(const ConfigReader& node, const std::filesystem::pat
   c.detector.adjust_threshold = node.number_or("detector_adjust_threshold", 0.0, Range::closed(-1.0, 2.0));
   c.shape_fit.regularisation = node.number_or("shape_regularisation", c.shape_fit.regularisation, Range::non_negative());
   c.frontal_max_angle_rad = node.number_or("frontal_max_angle_deg", 15.0, Range::closed(1, 45)) * kDeg;
+  c.portrait_min_interocular_px =
+      node.number_or("portrait_min_interocular_px", c.portrait_min_interocular_px, Range::closed(8, 500));
   if (node.has("depth_refinement")) {
     const ConfigReader d = node.object("depth_refinement");
     auto& D = c.depth_refinement;

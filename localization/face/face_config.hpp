@@ -74,6 +74,9 @@ struct FaceConfig {
   std::vector<double> lost_search_scales{0.5, 1.0, 2.0};  // cycled over frames while lost
   ShapeFitOptions shape_fit;
   double frontal_max_angle_rad = 0.26;    // a registration picture must be within 15° of frontal
+  // A portrait (registration picture, head texture) whose eye centres are closer than this is refused:
+  // its shape would come from a few pixels per landmark.
+  double portrait_min_interocular_px = 20;
   // The landmarks' depth refined from frames of the head turning (`face register --turns`).
   DepthRefinementOptions depth_refinement;
   FaceLimits limits;

@@ -1,4 +1,5 @@
 #include "localization/face/face_pose_estimator.hpp"
+#include "localization/face/portrait.hpp"
 
 #include "drone/sim/cpu_time.hpp"
 #include "localization/face/landmark_weights.hpp"
@@ -131,6 +132,10 @@ void FacePoseEstimator::reset() {
   last_box_.reset();
   frames_since_detection_ = 0;
   lost_frames_ = 0;
+  // The full-frame search starts again at its first scale, so that what follows a reset does not
+  // depend on how many frames were searched before it (test: face: after a reset the estimator
+  // starts a track as a new one does).
+  lost_search_cycle_ = 0;
   solver_.reset();
 }
 
@@ -150,11 +155,7 @@ Eigen::Matrix2Xd FacePoseEstimator::ideal_pixels(const Eigen::Matrix2Xd& lm) con
   return out;
 }
 
-double FacePoseEstimator::interocular_px(const Eigen::Matrix2Xd& lm) const {
-  const Eigen::Vector2d right = lm.middleCols(36, 6).rowwise().mean();
-  const Eigen::Vector2d left = lm.middleCols(42, 6).rowwise().mean();
-  return (left - right).norm();
-}
+double FacePoseEstimator::interocular_px(const Eigen::Matrix2Xd& lm) const { return face::interocular_px(lm); }
 
 void FacePoseEstimator::remember_box_relation(const cv::Rect2d& box, const Eigen::Matrix2Xd& lm, double distance_m) {
   const auto [c, spread] = centroid_and_spread(lm);

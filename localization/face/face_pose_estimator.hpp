@@ -74,7 +74,7 @@ class FacePoseEstimator {
 
   // One grey frame (the camera's size) stamped `t`.
   FaceResult process(const cv::Mat& gray, Seconds t);
-  // Forget the track (e.g. the drone turned away on purpose).
+  // Forget the track (e.g. the drone turned away on purpose) and start the full-frame search over.
   void reset();
 
   // The person whose shape is used; `registered` marks them as the teacher to follow among several.

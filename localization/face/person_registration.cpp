@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "localization/face/depth_refinement.hpp"
+#include "localization/face/portrait.hpp"
 #include "localization/face/surface_landmarks.hpp"
 
 namespace labo::face {
@@ -12,6 +13,7 @@ namespace {
 // A landmark whose surface point is farther than this from its mapped point keeps the mapped point
 // (a ray past the mesh's rim, or a landmark detected off the face).
 constexpr double kMaxSurfaceOffsetM = 0.015;
+
 }  // namespace
 
 PersonShape register_person(FacePoseEstimator& estimator, const cv::Mat& gray, const std::string& name,
@@ -26,26 +28,23 @@ PersonShape register_person(FacePoseEstimator& estimator, const std::vector<cv::
   const IdealPinhole cam = estimator.ideal_camera();
   Eigen::Matrix2Xd landmarks = Eigen::Matrix2Xd::Zero(2, 68);
   std::vector<cv::Rect2d> boxes;
+  const PortraitLimits limits = portrait_limits(estimator.config());
+  const auto which = [&](std::size_t k) {
+    return pictures.size() > 1 ? "frontal picture " + std::to_string(k) : std::string("frontal picture");
+  };
   for (std::size_t k = 0; k < pictures.size(); ++k) {
-    const cv::Mat& gray = pictures[k];
-    const std::string which = pictures.size() > 1 ? "frontal picture " + std::to_string(k) : "frontal picture";
-    if (gray.empty() || gray.type() != CV_8UC1) throw RegistrationError(which + ": expected a non-empty 8-bit grey image");
-    const auto faces = estimator.find_faces(gray);
-    if (faces.empty()) throw RegistrationError(which + " refused: no face found");
-    if (faces.size() > 1) {
-      throw RegistrationError(which + " refused: " + std::to_string(faces.size()) + " faces found, expected one");
-    }
-    boxes.push_back(faces.front().box);
-    landmarks += estimator.landmarks_in(gray, faces.front().box) / static_cast<double>(pictures.size());
+    const PortraitFace face = find_portrait_face(estimator, pictures[k], limits);
+    if (!face.serves()) throw RegistrationError(which(k) + " refused: " + face.reason);
+    boxes.push_back(face.box);
+    landmarks += face.landmarks / static_cast<double>(pictures.size());
   }
   const ShapeFit fit = fit_shape(estimator.model(), estimator.ideal_pixels(landmarks), cam, interpupillary_distance_m,
                                  estimator.config().shape_fit);
-  const HeadAngles a = head_angles(fit.T_cam_face.linear());
-  const double limit = estimator.config().frontal_max_angle_rad;
-  if (std::abs(a.yaw) > limit || std::abs(a.pitch) > limit) {
-    const double deg = 180.0 / std::numbers::pi;
-    throw RegistrationError("frontal picture refused: head turned (yaw " + std::to_string(a.yaw * deg) + "°, pitch " +
-                            std::to_string(a.pitch * deg) + "°), expected within " + std::to_string(limit * deg) + "°");
+  PortraitFace averaged;
+  check_portrait_angles(averaged, head_angles(fit.T_cam_face.linear()), limits);
+  if (!averaged.serves()) {
+    throw RegistrationError(std::string(pictures.size() > 1 ? "frontal pictures" : "frontal picture") +
+                            " refused: " + averaged.reason);
   }
   PersonShape person;
   person.name = name;

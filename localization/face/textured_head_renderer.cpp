@@ -7,6 +7,8 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "localization/face/portrait.hpp"
+
 namespace labo::face {
 
 namespace {
@@ -40,19 +42,28 @@ Eigen::Vector3d mesh_point_under(const Eigen::Vector2d& p, const Eigen::Matrix2X
 
 }  // namespace
 
+IdealPinhole portrait_lens(const cv::Size& size, double interocular_px, double ipd_m) {
+  // The photographer's distance is unknown; a portrait is taken from a metre or more, where the
+  // perspective is weak. Placing the face at kPortraitDistanceM whatever the picture's size keeps a
+  // tight crop of a group photograph from being textured as if seen from a few centimetres.
+  constexpr double kPortraitDistanceM = 1.5;
+  const double f = kPortraitDistanceM * interocular_px / ipd_m;
+  return {f, f, size.width / 2.0, size.height / 2.0};
+}
+
 TexturedHead texture_head_from_photo(FacePoseEstimator& estimator, const Candide3Model& candide,
                                      const cv::Mat& photo_gray, double ipd_m) {
-  const auto faces = estimator.find_faces(photo_gray);
-  // The most confident face (astronaut.png also yields a weak second detection).
-  if (faces.empty()) throw std::runtime_error("head texture: no face found in the photograph");
-  const Eigen::Matrix2Xd lm68 = estimator.landmarks_in(photo_gray, faces.front().box);
-  // A portrait lens for the photograph: f = 1.5 x width, centred, no distortion.
-  const double f = 1.5 * photo_gray.cols;
-  const IdealPinhole cam{f, f, photo_gray.cols / 2.0, photo_gray.rows / 2.0};
+  const PortraitLimits limits = portrait_limits(estimator.config());
+  PortraitFace face = find_portrait_face(estimator, photo_gray, limits);
+  if (!face.serves()) throw std::runtime_error("head texture refused: " + face.reason);
+  const Eigen::Matrix2Xd& lm68 = face.landmarks;
+  const IdealPinhole cam = portrait_lens(photo_gray.size(), face.interocular_px, ipd_m);
   const FaceLandmarkModel& model = estimator.model();
   Eigen::Matrix2Xd pixels(2, model.size());
   for (int i = 0; i < model.size(); ++i) pixels.col(i) = lm68.col(model.landmark_ids()[static_cast<std::size_t>(i)]);
   const ShapeFit fit = fit_shape(model, pixels, cam, ipd_m);
+  check_portrait_angles(face, head_angles(fit.T_cam_face.linear()), limits);
+  if (!face.serves()) throw std::runtime_error("head texture refused: " + face.reason);
 
   TexturedHead head;
   head.texture = photo_gray.clone();
@@ -74,6 +85,17 @@ TexturedHead texture_head_from_photo(FacePoseEstimator& estimator, const Candide
   for (Eigen::Index i = 0; i < lm68.cols(); ++i) {
     head.landmarks_face_m.col(i) = mesh_point_under(lm68.col(i), head.uv, cam_m, face_m, candide.triangles());
   }
+  // The head's metric scale: the photograph's eyes, where its landmarks lie on the mesh, `ipd_m` apart.
+  // The fit places the mesh's eye vertices, not the eyes themselves, at that distance; on a small or
+  // unusual face they miss the photograph's eyes by a few pixels, and the drawn eyes then stood up to
+  // 6 % closer or farther than the person's interpupillary distance, a scale no registration can see
+  // (every distance off by as much).
+  const Eigen::Vector3d right = head.landmarks_face_m.middleCols(36, 6).rowwise().mean();
+  const Eigen::Vector3d left = head.landmarks_face_m.middleCols(42, 6).rowwise().mean();
+  if (right.allFinite() && left.allFinite() && (left - right).norm() > 0) {
+    head.scale = ipd_m / (left - right).norm();
+    head.landmarks_face_m *= head.scale;
+  }
   return head;
 }
 
@@ -83,7 +105,7 @@ std::vector<Eigen::Vector3d> head_vertices_m(const Candide3Model& candide, const
   // The same metric scale as the estimator's landmark model: eye centres `ipd` apart.
   const FaceLandmarkModel lm = make_face_landmark_model(candide, load_ibug68_mapping(default_ibug68_mapping_path()));
   const double mpu = lm.metres_per_unit(head.shape_params, head.interpupillary_distance_m);
-  for (auto& v : vertices) v *= mpu;
+  for (auto& v : vertices) v *= mpu * head.scale;
   return vertices;
 }
 

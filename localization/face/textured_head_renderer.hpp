@@ -20,15 +20,23 @@ struct TexturedHead {
   Eigen::Matrix2Xd uv;             // texture pixel of each CANDIDE-3 vertex
   Eigen::VectorXd shape_params;    // fitted to the photograph
   double interpupillary_distance_m = 0.063;
+  // On top of the shape's metric scale, so that the photograph's eyes (not the mesh's eye vertices)
+  // are interpupillary_distance_m apart on the drawn head.
+  double scale = 1.0;
   // Where the photograph's 68 landmarks lie on the textured mesh (face frame, metres; NaN where a
   // landmark falls on no triangle): the rendered head's true landmark positions, for the benchmark's
   // analysis of landmark errors apart from the model's.
   Eigen::Matrix3Xd landmarks_face_m;
 };
 
-// Uses the most confident face; throws std::runtime_error when the photograph has none.
+// The photograph must serve as a portrait (portrait.hpp: one face, large enough, whole, within
+// frontal_max_angle of frontal); otherwise throws std::runtime_error with the reason.
 TexturedHead texture_head_from_photo(FacePoseEstimator& estimator, const Candide3Model& candide,
                                      const cv::Mat& photo_gray, double interpupillary_distance_m);
+
+// The lens a portrait is taken to be seen through: centred, no distortion, the face 1.5 m away
+// (`interocular_px` apart at `ipd_m`).
+IdealPinhole portrait_lens(const cv::Size& size, double interocular_px, double ipd_m);
 
 // The head's CANDIDE-3 vertices in the face frame, metres: the fitted shape at the estimator's metric
 // scale (eye centres `interpupillary_distance_m` apart).

@@ -115,7 +115,10 @@ TEST_CASE("web: a teacher registers a face from frontal photos, lists it, replac
   REQUIRE(added.status == 201);
   CHECK(added.json()["name"] == "ada");
   CHECK(added.json()["fit_rms_px"].get<double>() > 0);
-  CHECK(added.json()["fit_rms_px"].get<double>() < 3);
+  // The textured astronaut seen at 0.8 m fits CANDIDE-3 at ~2.8-3.0 px RMS (its portrait lens puts
+  // the photograph's landmarks where the mesh fits them loosely; bench faces: 2.79 px); a wrong fit
+  // is tens of pixels.
+  CHECK(added.json()["fit_rms_px"].get<double>() < 4);
   CHECK(added.json()["interpupillary_distance_mm"].get<double>() == Approx(64));
   CHECK(added.json()["head_turn"].is_null());
   CHECK(std::filesystem::is_regular_file(people_dir_of(f.settings) / "ada.json"));
@@ -160,7 +163,7 @@ TEST_CASE("web: a face registration refuses bad photos and bad forms with their 
   const std::string blank = HeadPhotos::encode(cv::Mat(360, 640, CV_8UC1, cv::Scalar(120)), ".png");
   CHECK(error_of(post({{"name", "ada"}, photo(blank)})) == "422 frontal picture refused: no face found");
   CHECK(error_of(post({{"name", "ada"}, photo(photos.png(0, 0, {-0.2, 0.2}))})) ==
-        "422 frontal picture refused: 2 faces found, expected one");
+        "422 frontal picture refused: 2 faces found, expected one person");
   CHECK_THAT(error_of(post({{"name", "ada"}, photo(photos.png(35))})), Catch::StartsWith("422 frontal picture refused: head turned"));
   CHECK_THAT(error_of(post({{"name", "ada"}, photo(frontal), photo(blank)})),
              Catch::StartsWith("422 frontal picture 1 refused: no face found"));

@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "bench/face/frame_degrader.hpp"
 #include "core/candide3.hpp"
 #include "localization/face/face_pose_estimator.hpp"
 #include "localization/face/landmark_detector.hpp"
@@ -69,6 +70,21 @@ TEST_CASE("face: bad frames are lost with a reason, never a pose") {
   cv::Mat noise(360, 640, CV_8UC1);
   cv::randu(noise, 0, 255);
   for (int i = 0; i < 3; ++i) CHECK_FALSE(estimator.process(noise, 0.2 + i).tracking());
+}
+
+TEST_CASE("face: after a reset the estimator starts a track as a new one does") {
+  // The full-frame search cycles its scales over lost frames (0.5, 1, 2); a head at 0.8 m is found at
+  // 1, not at 0.5. Frames searched before a reset must not change what the frames after it give.
+  RenderedHeadFixture fresh, used;
+  used.estimator.process(blank(), 0);  // searched at 0.5: the next search would be at 1
+  used.estimator.reset();
+  const cv::Mat frame = fresh.render({pose(0, 0, 0, {0, -0.02, 0.8})});
+  for (int i = 0; i < 3; ++i) {
+    const FaceResult a = fresh.estimator.process(frame, i / 30.0), b = used.estimator.process(frame, i / 30.0);
+    CHECK(a.faces_found == b.faces_found);
+    CHECK(a.tracking() == b.tracking());
+    if (a.tracking() && b.tracking()) CHECK(a.T_cam_face.isApprox(b.T_cam_face, 1e-12));
+  }
 }
 
 TEST_CASE("face: config and person files are validated") {
@@ -323,15 +339,25 @@ TEST_CASE("face: a turned face's first pose is made on views with its far side m
   // crop's pose (~12° short of the turn) leaves the face seen less turned and farther, and under the
   // relative-motion protocol every later frame's motion is measured from it. The views of a start,
   // iterated with the far side mirrored (seen obliquely, it is stretched from few pixels), get the
-  // distance. The person is registered as the benchmark's (surface landmarks from the frontal view);
-  // the blur is the benchmark's middle.
+  // distance. The person is registered as the benchmark's: from 8 frames of the still frontal head,
+  // blurred, noisy and through H.264 (surface landmarks from the frontal view); the blur is the
+  // benchmark's middle.
+  //
+  // The bounds come from the spread over registration videos, seeds 1000-1059 (the same test with
+  // `degraded_registration_pictures`' seed varied; the test runs seed 1): with the mirrored,
+  // iterated views the three starts are +12 ± 9 mm (-2 to +47; 3 of 60 beyond 30), +14 ± 4 (-1 to
+  // +22) and +13 ± 4 mm (+2 to +22) off; with one view +78 ± 3 (71 to 85), +26 ± 4 and +13 ± 4 mm; the
+  // mirrored starts' summed error is 0.11-0.68 of the one view's. The bounds are those maxima with
+  // about two standard deviations of margin. The remaining +13 mm at 44.7° is the start's own: the
+  // renderer's true shape (no registration) gives +17 mm at 1.0 m; at 0°, 20° and 32° of yaw the same
+  // registrations start within 10 mm.
   struct Case {
     Eigen::Isometry3d truth;
-    double max_error_m;  // with the mirrored, iterated views (without: 82, 19, 16 mm)
+    double max_error_m;  // with the mirrored, iterated views
   };
-  const Case cases[] = {{pose(-44.7, 6.4, -20.6, {0.05, -0.03, 1.30}), 0.040},
-                        {pose(-44.7, 0, 0, {0.05, -0.03, 1.30}), 0.016},
-                        {pose(-44.7, 0, 0, {0.05, -0.03, 1.00}), 0.010}};
+  const Case cases[] = {{pose(-44.7, 6.4, -20.6, {0.05, -0.03, 1.30}), 0.060},
+                        {pose(-44.7, 0, 0, {0.05, -0.03, 1.30}), 0.030},
+                        {pose(-44.7, 0, 0, {0.05, -0.03, 1.00}), 0.030}};
   std::array<double, 2> sum_error_m{};
   for (const bool mirrored : {false, true}) {
     FaceConfig config = default_face_config();
@@ -340,7 +366,9 @@ TEST_CASE("face: a turned face's first pose is made on views with its far side m
     config.start_view_passes = mirrored ? 6 : 1;
     config.start_mirror_yaw_rad = mirrored ? 25 * kDeg : 0.0;
     RenderedHeadFixture f(config);
-    f.estimator.set_person(register_person(f.estimator, f.render({pose(0, 0, 0, {0, -0.02, 0.8})}), "teacher", 0.063), true);
+    const auto pictures = degraded_registration_pictures(f.render({pose(0, 0, 0, {0, -0.02, 0.8})}), 8, {},
+                                                         test_camera(), 1);
+    f.estimator.set_person(register_person(f.estimator, pictures, "teacher", 0.063), true);
     for (const Case& c : cases) {
       f.estimator.reset();
       cv::Mat frame = f.render({c.truth});
@@ -356,7 +384,7 @@ TEST_CASE("face: a turned face's first pose is made on views with its far side m
   }
   WARN("first frames' distance error, sum: " << sum_error_m[0] << " m with one view, " << sum_error_m[1] << " m mirrored and iterated");
   CHECK(sum_error_m[0] > 0.08);  // the bias this is about
-  CHECK(sum_error_m[1] < 0.5 * sum_error_m[0]);
+  CHECK(sum_error_m[1] < 0.8 * sum_error_m[0]);
 }
 
 TEST_CASE("face: the registered points are where tracking's frontal-view landmarks lie") {

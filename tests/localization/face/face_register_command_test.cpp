@@ -16,6 +16,7 @@
 #include "localization/face/teacher_head.hpp"
 #include "localization/face/textured_head_renderer.hpp"
 #include "tests/support/scratch_dir.hpp"
+#include "tests/support/cli_run.hpp"
 #include "tests/support/cout_capture.hpp"
 
 using namespace labo;
@@ -39,9 +40,11 @@ class HeadPictures {
     REQUIRE_FALSE(photo.empty());  // run scripts/setup.sh
     renderer_.emplace(candide_, texture_head_from_photo(estimator_, candide_, photo, 0.063), camera_);
   }
-  cv::Mat render(double yaw_deg, double pitch_deg) {
+  cv::Mat render(double yaw_deg, double pitch_deg) { return render_at({testing::pose(yaw_deg, pitch_deg, 0, {0, -0.02, 0.8})}); }
+  // One head per pose, over a plain background.
+  cv::Mat render_at(const std::vector<Eigen::Isometry3d>& poses) {
     cv::Mat img(camera_.height(), camera_.width(), CV_8UC1, cv::Scalar(120));
-    renderer_->render(testing::pose(yaw_deg, pitch_deg, 0, {0, -0.02, 0.8}), img);
+    for (const auto& T : poses) renderer_->render(T, img);
     return img;
   }
 
@@ -101,4 +104,33 @@ TEST_CASE("face register: a head turn refines the person, bad --turns folders ar
   CHECK(std::filesystem::exists(several_out));
   CHECK_THROWS_WITH(run_register({frontal, (dir / "small" / "a.png").string(), "--name", "ada", "--out", several_out}),
                     Catch::Contains("a.png: picture is 100x100"));
+}
+
+TEST_CASE("face register: a picture that cannot serve as a portrait is refused with the reason, exit 2") {
+  const ScratchDir dir("face_register_refusals");
+  HeadPictures pictures;
+  const auto refusal = [&](const std::string& file, const cv::Mat& picture) {
+    const std::string path = (dir / file).string(), out = (dir / (file + ".json")).string();
+    cv::imwrite(path, picture);
+    const test::CliRun r = test::run_command(run_face_register_command, face_register_command_spec(),
+                                             {path, "--name", "ada", "--out", out});
+    CHECK(r.code == 2);
+    CHECK_FALSE(std::filesystem::exists(out));  // nothing registered silently wrong
+    return r.err;
+  };
+  using testing::pose;
+  CHECK_THAT(refusal("blank.png", pictures.render_at({})), Catch::Contains("refused: no face found"));
+  CHECK_THAT(refusal("two.png", pictures.render_at({pose(0, 0, 0, {-0.2, -0.02, 0.9}), pose(0, 0, 0, {0.2, -0.02, 0.9})})),
+             Catch::Contains("2 faces found, expected one person"));
+  // At 2.2 m the eye centres are ~16 px apart in the front camera: found, but too small to register.
+  CHECK_THAT(refusal("far.png", pictures.render_at({pose(0, 0, 0, {0, -0.02, 2.2})})),
+             Catch::Contains("face too small: eye centres") && Catch::Contains("expected at least 20 px"));
+  CHECK_THAT(refusal("turned.png", pictures.render(32, 0)),
+             Catch::Contains("head turned too far (yaw") && Catch::Contains("expected within 15° of frontal"));
+  CHECK_THAT(refusal("nodding.png", pictures.render(0, 25)), Catch::Contains("head turned too far"));
+  // The same head frontal at 0.8 m serves.
+  const std::string ok = (dir / "ok.png").string();
+  cv::imwrite(ok, pictures.render(0, 0));
+  CHECK(test::run_command(run_face_register_command, face_register_command_spec(),
+                          {ok, "--name", "ada", "--out", (dir / "ok.json").string()}).code == 0);
 }
