@@ -84,7 +84,7 @@ int FindTeacherMission::stage_index() const {
 
 std::string FindTeacherMission::describe(Seconds t) const {
   switch (step_) {
-    case Step::Init: return "1 " + init_.describe();
+    case Step::Init: return "1 init: " + init_.describe();
     case Step::Sweep:
       return viewpoint_ == 0 ? "2 search: yaw sweep where the drone is"
                              : "2 search: yaw sweep at viewpoint " + std::to_string(viewpoint_) + "/" +

@@ -88,7 +88,7 @@ class FindTeacherMission final : public Mission {
   // Going round a lost face: from this heading of the track, this way (+1 counter-clockwise).
   double round_from_heading_ = 0;
   double round_sign_ = 1;
-  std::string stage_text_ = "1 taking off";
+  std::string stage_text_ = "1 init: taking off";
 };
 
 // Return home and land from wherever the drone is: stages of HomeLanding (4 return, 5 platform,

@@ -1,5 +1,6 @@
 #include "control/flight_stack.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "control/autopilot.hpp"
@@ -42,6 +43,8 @@ struct FlightStack::Impl {
   bool have_nav = false;
   std::optional<Eigen::Isometry3d> ground_truth;
   std::string last_event;
+  int missions_ended = 0;
+  std::string last_mission_result;
   std::vector<std::string> alerts;
   std::optional<FlightOutput> pending;  // an action decided by a request, sent at the next tick
   std::optional<PoseTarget> level_hold;  // altitude and yaw the safety's level hold keeps, while it lasts
@@ -50,6 +53,8 @@ struct FlightStack::Impl {
   void finish_mission(const std::string& why) {
     if (!mission) return;
     last_event = "mission '" + mission->name() + "' ended: " + why;
+    last_mission_result = why;
+    ++missions_ended;
     mission.reset();
   }
 
@@ -319,6 +324,36 @@ CommandResult FlightStack::request(const MissionRequest& request, Seconds t) { r
 
 const FlightStackSetup& FlightStack::setup() const { return impl_->setup; }
 
+CommandResult FlightStack::add_instrument(const fusion::PlanarTarget& instrument) {
+  Impl& m = *impl_;
+  fusion::LabGeometry& lab = m.setup.lab;
+  if (lab.find_instrument(instrument.id)) return CommandResult::refused("instrument '" + instrument.id + "' is in the lab already");
+  const Eigen::Vector3d c = instrument.T_world_object.translation();
+  if ((c.array() < lab.room_min.array()).any() || (c.array() > lab.room_max.array()).any())
+    return CommandResult::refused("instrument '" + instrument.id + "': its panel's centre is outside the room");
+  try {
+    if (!m.pipelines->add_instrument(instrument))
+      return CommandResult::refused("instrument '" + instrument.id + "': these localization pipelines cannot add instruments");
+  } catch (const std::exception& e) {
+    return CommandResult::refused("instrument '" + instrument.id + "': " + e.what());
+  }
+  lab.instruments.push_back(instrument);
+  m.last_event = "instrument '" + instrument.id + "' placed in the lab";
+  return CommandResult::ok(m.last_event);
+}
+
+CommandResult FlightStack::remove_instrument(const std::string& id) {
+  Impl& m = *impl_;
+  auto& instruments = m.setup.lab.instruments;
+  const auto it = std::find_if(instruments.begin(), instruments.end(), [&](const fusion::PlanarTarget& p) { return p.id == id; });
+  if (it == instruments.end()) return CommandResult::refused("no instrument '" + id + "' in the lab");
+  if (m.mission && m.mission->inspected_instrument() == id)
+    return CommandResult::refused("instrument '" + id + "' is being inspected: stop the mission first");
+  instruments.erase(it);
+  m.last_event = "instrument '" + id + "' removed from the lab";
+  return CommandResult::ok(m.last_event);
+}
+
 FlightStatus FlightStack::status() const {
   const Impl& m = *impl_;
   FlightStatus s;
@@ -329,6 +364,8 @@ FlightStatus FlightStack::status() const {
   s.stage_index = m.mission ? m.mission->stage_index() : 0;
   s.stage_count = m.mission ? m.mission->stage_count() : 0;
   s.last_event = m.last_event;
+  s.missions_ended = m.missions_ended;
+  s.last_mission_result = m.last_mission_result;
   s.pose = m.pipelines->predict(m.last_tick);
   if (const auto& tg = m.autopilot.target()) s.desired = Eigen::Vector4d(tg->position.x(), tg->position.y(), tg->position.z(), tg->yaw);
   s.source = s.pose.source;
@@ -339,6 +376,7 @@ FlightStatus FlightStack::status() const {
   s.link = m.link;
   s.safety_alerts = m.alerts;
   s.slam = m.pipelines->slam();
+  s.slam_points = m.pipelines->slam_points();
   s.instrument = m.pipelines->instrument();
   s.platform = m.pipelines->platform();
   s.face = m.pipelines->face();

@@ -63,6 +63,13 @@ class FlightStack {
   // Accepted or refused with the reason. EmergencyStop is always accepted.
   CommandResult request(const MissionRequest& request, Seconds t);
   FlightStatus status() const;
+  // Places an instrument in the lab (an admin's upload): inspectable from now on, its front-end made
+  // like the lab file's instruments'. Refused (with the reason) for an id the lab has, a panel
+  // outside the room, or pipelines that cannot add one (their template refused, ...).
+  CommandResult add_instrument(const fusion::PlanarTarget& instrument);
+  // No longer inspectable: refused while a mission inspects it. Its id stays taken until the stack is
+  // rebuilt (its front-end may still be on a vision job: it is kept, unused).
+  CommandResult remove_instrument(const std::string& id);
 
   const FlightStackSetup& setup() const;
 

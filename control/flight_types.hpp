@@ -65,6 +65,8 @@ struct FlightStatus {
   int stage_index = 0;      // 1..stage_count, 0 when idle
   int stage_count = 0;
   std::string last_event;   // latest transition, refusal or safety action, for the UI log
+  int missions_ended = 0;           // missions ended so far (a change: one has just ended)
+  std::string last_mission_result;  // how the last one ended: "succeeded: ...", "failed: ...", "emergency stop", ...
 
   fusion::PoseEstimate pose;                       // fused, predicted to t
   std::optional<Eigen::Vector4d> desired;  // x, y, z, yaw the controller is driving to
@@ -78,6 +80,7 @@ struct FlightStatus {
   std::vector<std::string> safety_alerts;  // active: "link lost 2.1 s", "battery 18 %", ...
 
   fusion::SlamSummary slam;
+  std::shared_ptr<const fusion::SlamPointsXy> slam_points;  // the map seen from above, refreshed once a second
   fusion::TargetObservation instrument;  // panel corners for the overlay
   fusion::TargetObservation platform;
   fusion::TargetObservation face;        // landmarks for the overlay

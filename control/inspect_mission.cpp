@@ -58,10 +58,12 @@ std::string InspectMission::describe(Seconds t) const {
   const std::string id = " '" + instrument_.id + "'";
   switch (step_) {
     case Step::Init: return "1 init: " + init_.describe();
-    case Step::Detect: return "2 detect: searching for" + id + " (" + format_seconds(t - since_) + " s)";
-    case Step::Approach: return "3 inspect: approaching" + id;
-    case Step::Hold: return "3 inspect: holding at " + format_seconds(standoff_m_) + " m, " + format_seconds(held_s_) +
-                            "/" + format_seconds(hold_s_) + " s";
+    case Step::Detect:
+      return "2 detect: searching for" + id + ": placed " + std::to_string(placements_) + "/" +
+             std::to_string(kPlacementsToAverage) + " detections (" + format_seconds(t - since_) + " s)";
+    case Step::Approach: return "3 inspect: approaching" + id + " to " + format_seconds(standoff_m_) + " m";
+    case Step::Hold: return "3 inspect: holding " + format_seconds(held_s_) + " s of " + format_seconds(hold_s_) +
+                            " s at " + format_seconds(standoff_m_) + " m";
     case Step::Redetect: return "3 inspect: instrument lost, re-detecting (" + format_seconds(t - since_) + " s)";
     case Step::Leave: return "4 return: backing away from" + id;
     case Step::Home: return home_.describe(t);

@@ -43,6 +43,8 @@ class Mission {
   // return_dead_reckoning_s before it escalates.
   virtual bool tolerates_dead_reckoning() const { return false; }
   virtual bool accepts_stop_face_follow() const { return false; }
+  // The instrument this mission inspects (empty: none); it may not be removed meanwhile.
+  virtual std::string inspected_instrument() const { return ""; }
   virtual void stop_face_follow() {}
   // Why it failed, or what it achieved.
   const std::string& result() const { return result_; }

@@ -15,18 +15,24 @@ constexpr double kLegTimeoutS = 8.0;       // the forward or back leg is given u
 }  // namespace
 
 std::string TakeOffAndScale::describe() const {
+  const std::string scale = slam_.scale_estimated ? "scale fixed"
+                                                   : "waiting for scale: " + std::to_string(slam_.scale_pairs) + "/" +
+                                                         std::to_string(slam_.scale_pairs_needed) + " pairs";
   switch (step_) {
     case Step::TakeOff: return "taking off";
-    case Step::Climb: return "climbing";
-    case Step::SlamInit: return "initializing SLAM";
-    case Step::Forward: return "scale manoeuvre (forward)";
-    case Step::Back: return "scale manoeuvre (back)";
+    case Step::Climb: return "climbing to " + format_seconds(altitude_m_) + " m";
+    case Step::SlamInit:
+      return "initializing SLAM: waiting for a map (" + format_seconds(last_t_ - since_) + " s of " +
+             format_seconds(kSlamInitTimeoutS) + " s)";
+    case Step::Forward: return "scale manoeuvre (forward): " + scale;
+    case Step::Back: return "scale manoeuvre (back): " + scale;
     case Step::Up:
     case Step::Down: {
       const std::string leg = step_ == Step::Up ? "scale manoeuvre (up" : "scale manoeuvre (down";
-      return round_ > 0 ? leg + ", again: no scale yet)" : leg + ")";
+      return (round_ > 0 ? leg + ", round " + std::to_string(round_ + 1) + " of " + std::to_string(kMaxRounds) + ")" : leg + ")") +
+             ": " + scale;
     }
-    case Step::Done: return "scale manoeuvre done";
+    case Step::Done: return "scale manoeuvre done: " + scale;
   }
   return "";
 }
@@ -36,6 +42,9 @@ bool TakeOffAndScale::step(MissionContext& ctx, double altitude_m) {
   const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
   const double yaw = ypr_from_rotation(ctx.pose.T_world_body.linear())[0];
   ctx.focus.slam = true;
+  altitude_m_ = altitude_m;
+  last_t_ = ctx.t;
+  slam_ = ctx.perception.slam();
   switch (step_) {
     case Step::TakeOff:
       if (ctx.autopilot.phase() == FlightPhase::Landed) ctx.phase_action = ctx.autopilot.takeoff(ctx.t);

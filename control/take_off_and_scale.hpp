@@ -25,7 +25,8 @@ class TakeOffAndScale {
   // manoeuvre skipped or timed out).
   bool step(MissionContext& ctx, double altitude_m);
   bool done() const { return step_ == Step::Done; }
-  // "taking off", "climbing", "initializing SLAM", "scale manoeuvre (up)", ... for the stage line.
+  // What the stage does and waits for, for the stage line: "climbing to 1.20 m", "initializing SLAM:
+  // waiting for a map (2.0 s of 8 s)", "scale manoeuvre (up): waiting for scale: 1/3 pairs", ...
   std::string describe() const;
 
  private:
@@ -42,6 +43,10 @@ class TakeOffAndScale {
   double start_z_ = 0;
   PoseTarget leg_start_;  // where the forward leg started (and the back leg ends)
   int round_ = 0;
+  // What describe() reports, as of the last step.
+  double altitude_m_ = 0;
+  Seconds last_t_ = 0;
+  fusion::SlamSummary slam_;
 };
 
 }  // namespace labo::control

@@ -104,11 +104,23 @@ async function refresh() {
           [...(q.controller ? [[`${q.controller.user} (controls)`, q.controller.role]] : []), ...q.queue.map((p, k) => [`${k + 1}. ${p.user}`, p.role])]);
   }
   const i = await api('/api/instruments');
-  const rows = i.body.lab.map((x) => [x.id, x.name, `${x.width_m} × ${x.height_m}`, 'lab']);
+  const rows = i.body.lab.map((x) => [x.id, x.name, `${x.width_m} × ${x.height_m}`, 'lab file', 'inspectable', '']);
   for (const x of i.body.uploaded) {
-    rows.push([x.id, x.name, `${x.width_m} × ${x.height_m}`, button('delete', async () => { await api('/api/instruments/' + x.id, {method: 'DELETE'}); refresh(); })]);
+    const where = x.placed ? `[${x.position_m.map((v) => v.toFixed(2)).join(', ')}] m, facing ${x.yaw_deg}°` : 'not placed';
+    const place = button('place', async () => {
+      const res = await sendJson(`/api/instruments/${x.id}/placement`, 'PUT', placementFromForm());
+      $('i-result').textContent = res.ok ? `${x.id} placed: inspectable now` : refusal(res);
+      refresh();
+    });
+    const remove = button('delete', async () => {
+      const res = await api('/api/instruments/' + x.id, {method: 'DELETE'});
+      if (!res.ok) $('i-result').textContent = refusal(res);
+      refresh();
+    });
+    const actions = document.createElement('span'); if (!x.placed) actions.append(place, ' '); actions.append(remove);
+    rows.push([x.id, x.name, `${x.width_m} × ${x.height_m}`, strengthText(x.strength), x.inspectable ? `inspectable at ${where}` : where, actions]);
   }
-  table($('instruments'), ['id', 'name', 'size m', ''], rows);
+  table($('instruments'), ['id', 'name', 'size m', 'template strength', 'in the lab', ''], rows);
   const r = await api('/api/recordings');
   $('recordings').innerHTML = '';
   for (const x of r.body.recordings || []) {
@@ -145,6 +157,14 @@ $('save-config').onclick = async () => {
   refresh();
 };
 
+// How well the template can be found and tracked (the server refuses one below its limits).
+function strengthText(s) {
+  return `SIFT ${s.sift_keypoints} keypoints · ${s.strong_corners} corners · ${Math.round(s.textured_fraction * 100)} % textured`;
+}
+function placementFromForm() {
+  return {position_m: [+$('i-x').value, +$('i-y').value, +$('i-z').value], yaw_deg: +$('i-yaw').value};
+}
+
 $('add-instrument').onsubmit = async (ev) => {
   ev.preventDefault();
   const file = $('i-photo').files[0];
@@ -152,10 +172,12 @@ $('add-instrument').onsubmit = async (ev) => {
   let binary = ''; for (const b of bytes) binary += String.fromCharCode(b);
   const body = {
     id: $('i-id').value, name: $('i-name').value, width_m: +$('i-w').value, height_m: +$('i-h').value,
-    position_m: [+$('i-x').value, +$('i-y').value, +$('i-z').value], yaw_deg: +$('i-yaw').value, image_base64: btoa(binary),
+    image_base64: btoa(binary), ...($('i-place').checked ? placementFromForm() : {}),
   };
   const res = await sendJson('/api/instruments', 'POST', body);
-  $('i-result').textContent = res.ok ? `added (${res.body.texture_corners} corners)` : refusal(res);
+  $('i-result').textContent = res.ok
+    ? `added ${res.body.id} (${strengthText(res.body.strength)}): ${res.body.inspectable ? 'placed, inspectable now' : 'stored, place it to inspect it'}`
+    : refusal(res);
   refresh();
 };
 

@@ -1,16 +1,20 @@
 // The lab page: live video (video_view.js) with the measured glass-to-browser latency, mission
 // commands, the control queue, events, telemetry plots and the map. One WebSocket (/ws) carries JSON
 // events (text) and video (binary: H.264 access units or JPEG frames; docs/web.md).
+import {MapView} from './map_view.js';
+import {StageTimelineView} from './stage_timeline.js';
 import {formatDuration, TeacherPanel} from './teacher_panel.js';
 import {TelemetryView} from './telemetry_view.js';
 import {VideoView} from './video_view.js';
 
 const $ = (id) => document.getElementById(id);
 const view = new TelemetryView(document);
+const map = new MapView($('map'));
+const timeline = new StageTimelineView($('timeline'), $('timeline-title'));
 const state = {ws: null, role: null, controlling: false, nextId: 1, lastFpsT: performance.now(), heartbeat: null, controlSeq: -1};
 let teacher = null;  // the teacher's panel (teacher_panel.js), for teachers and admins
 // Exposed for tests and curious users: what the page has seen.
-window.labodrone = {stages: [], acks: [], connected: false, send: (obj) => send(obj)};
+window.labodrone = {stages: [], acks: [], connected: false, timeline: null, slamMap: null, lab: null, send: (obj) => send(obj)};
 
 function logEvent(text, cls) {
   const li = document.createElement('li');
@@ -68,15 +72,22 @@ function onMessage(msg) {
       showStopButtons();
       const sel = $('instrument'); sel.innerHTML = '';
       for (const i of msg.instruments) { const o = document.createElement('option'); o.value = i.id; o.textContent = i.name || i.id; sel.append(o); }
-      view.instruments = msg.instruments;
+      map.setLab(msg.lab, msg.instruments);
+      window.labodrone.lab = msg.lab;
       video.start();
       break;
     }
     case 'overlay': video.onGeometry(msg); break;
     case 'subscribed': break;
     case 'rendition': video.onRendition(msg); break;
+    case 'slam_map':
+      map.setSlamMap(msg);
+      window.labodrone.slamMap = {revision: msg.revision, points: msg.points.length};
+      break;
     case 'telemetry':
       view.add(msg);
+      timeline.render(msg.timeline, msg.t);
+      window.labodrone.timeline = msg.timeline;
       $('mission').textContent = msg.mission;
       $('stage').textContent = msg.stage || '–';
       $('source').textContent = msg.source;
@@ -152,6 +163,6 @@ setInterval(() => {
   $('fps').textContent = (video.takeFrameCount() * 1000 / (now - state.lastFpsT)).toFixed(1);
   state.lastFpsT = now;
 }, 1000);
-(function redraw() { view.draw(); requestAnimationFrame(redraw); })();
+(function redraw() { view.draw(); map.draw(view.last); requestAnimationFrame(redraw); })();
 
 fetch('/api/me').then((r) => { if (r.status === 401) location.href = '/'; else connect(); });

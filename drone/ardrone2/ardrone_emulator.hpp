@@ -71,6 +71,13 @@ class ArdroneEmulator {
     std::lock_guard lock(vehicle_mutex_);
     f(static_cast<const EmulatedVehicle&>(vehicle_));
   }
+  // The same for a change to the vehicle's world while it runs (an instrument placed in the
+  // simulated lab); f may take longer, the drone's streams pause meanwhile.
+  template <typename F>
+  void change_vehicle(F&& f) {
+    std::lock_guard lock(vehicle_mutex_);
+    f(vehicle_);
+  }
 
  private:
   void at_loop();

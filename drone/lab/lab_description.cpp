@@ -50,7 +50,8 @@ Box3 read_box(const ConfigReader& r) {
   return b;
 }
 
-// Panel pose from its centre and the yaw of its outward normal (the direction a viewer looks from).
+}  // namespace
+
 Eigen::Isometry3d panel_pose(const Eigen::Vector3d& centre, double facing_rad, double tilt_rad) {
   const Eigen::Vector3d n(std::cos(facing_rad), std::sin(facing_rad), 0.0);
   const Eigen::Vector3d view = -n;                                   // the viewer looks along -n
@@ -66,6 +67,8 @@ Eigen::Isometry3d panel_pose(const Eigen::Vector3d& centre, double facing_rad, d
   T.translation() = centre;
   return T;
 }
+
+namespace {
 
 // Loads the template to check it exists, decodes, and has the panel's aspect ratio.
 void check_template(const ConfigReader& r, const InstrumentSpec& s) {

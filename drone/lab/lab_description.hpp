@@ -127,6 +127,10 @@ struct LabDescription {
   bool floor_is_bare(double x, double y) const;
 };
 
+// A panel's object frame from its centre, the yaw of its outward normal (the direction a viewer looks
+// from, the lab file's facing_deg) and its tilt (top leaning away from the viewer).
+Eigen::Isometry3d panel_pose(const Eigen::Vector3d& centre, double facing_rad, double tilt_rad = 0.0);
+
 // Throws ConfigError "<file>: <key path>: <reason>".
 LabDescription load_lab_description(const std::filesystem::path& file);
 LabDescription read_lab_description(const ConfigReader& root, const std::filesystem::path& base_dir);

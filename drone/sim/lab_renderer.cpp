@@ -31,6 +31,15 @@ LabRenderer::LabRenderer(const LabDescription& lab, const CamerasConfig& cameras
   bottom_ = std::make_unique<CameraPipeline>(PinholeCamera(cameras.bottom), scene_, mounts.bottom);
 }
 
+void LabRenderer::add_instrument(const InstrumentSpec& instrument) {
+  // Housing textures from the renderer's seed and the scene's size: the same uploads in the same
+  // order draw the same lab.
+  append_instrument(scene_, instrument, seed_ * 2654435761u + static_cast<unsigned>(scene_.rects.size()));
+  solids_.push_back(instrument.bounds());
+  front_ = std::make_unique<CameraPipeline>(front_->rays.camera(), scene_, front_->T_body_cam);
+  bottom_ = std::make_unique<CameraPipeline>(bottom_->rays.camera(), scene_, bottom_->T_body_cam);
+}
+
 Eigen::Isometry3d LabRenderer::T_body_cam(CameraId id) {
   return id == CameraId::Front ? T_body_cam_front() : T_body_cam_bottom();
 }

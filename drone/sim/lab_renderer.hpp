@@ -47,6 +47,8 @@ class LabRenderer final : public SceneRenderer {
               unsigned seed, LabRenderOptions options = {}, const CameraMounts& mounts = {});
 
   void render(CameraId camera, const SceneState& scene, cv::Mat& bgr) override;
+  // Its panel and housing appended to the scene; the cameras' tracers are rebuilt over it.
+  void add_instrument(const InstrumentSpec& instrument) override;
 
   const LabRenderOptions& options() const { return options_; }
   // Redraws the noise table when noise_sigma changes (not per frame).

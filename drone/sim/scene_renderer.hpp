@@ -7,6 +7,7 @@
 
 #include "core/time.hpp"
 #include "drone/drone_link.hpp"
+#include "drone/lab/lab_description.hpp"
 
 namespace labo {
 
@@ -30,6 +31,9 @@ class SceneRenderer {
   // size or type differ, so a caller reusing one Mat does not allocate per frame).
   // Motion blur integrates the scene's velocities over the camera's shutter time.
   virtual void render(CameraId camera, const SceneState& scene, cv::Mat& bgr) = 0;
+  // An instrument placed in the lab after the renderer was built: drawn from the next frame on. A
+  // renderer that draws no lab has nothing to add.
+  virtual void add_instrument(const InstrumentSpec& instrument) { (void)instrument; }
 };
 
 }  // namespace labo

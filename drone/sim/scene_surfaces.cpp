@@ -180,4 +180,9 @@ LabScene build_lab_scene(const LabDescription& lab) {
   return scene;
 }
 
+void append_instrument(LabScene& scene, const InstrumentSpec& instrument, unsigned seed) {
+  add_template(scene, panel_face(instrument), instrument.template_path);
+  for (SceneRect r : housing_faces(instrument)) add_procedural(scene, r, SurfaceMaterial::Housing, seed = seed * 1103515245u + 12345u);
+}
+
 }  // namespace labo

@@ -56,6 +56,8 @@ struct SensorBiases {
 class SensorModel {
  public:
   SensorModel(SensorNoise noise, const LabDescription& lab, std::uint64_t seed, const SensorBiases& biases = {});
+  // An instrument placed while the lab runs: a surface the ultrasound sees from then on.
+  void add_instrument(const InstrumentSpec& instrument) { lab_.instruments.push_back(instrument); }
 
   // Samples every sensor for the true state after a physics step of `dt`.
   void update(const QuadrotorState& truth, Seconds dt);

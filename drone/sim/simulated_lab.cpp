@@ -116,6 +116,13 @@ VehicleTelemetry SimulatedLab::telemetry() const {
   return tel;
 }
 
+void SimulatedLab::add_instrument(const InstrumentSpec& instrument) {
+  renderer_->add_instrument(instrument);  // first: it throws for a template it cannot read
+  lab_.instruments.push_back(instrument);
+  dynamics_.collision() = CollisionModel(lab_, settings_.dynamics.hull);
+  sensors_.add_instrument(instrument);
+}
+
 SceneState SimulatedLab::scene() const {
   const QuadrotorState& s = dynamics_.state();
   SceneState scene;

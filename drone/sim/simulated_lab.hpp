@@ -64,6 +64,10 @@ class SimulatedLab final : public EmulatedVehicle {
   const QuadrotorState& truth() const { return dynamics_.state(); }
   SceneState scene() const;
   const LabDescription& lab() const { return lab_; }
+  // An instrument placed while the lab runs (an admin's upload): an obstacle, a surface under the
+  // ultrasound and a panel in the cameras' view from the next step. Throws std::runtime_error when its
+  // template cannot be read (the lab is left as it was).
+  void add_instrument(const InstrumentSpec& instrument);
   // Disturbances from now on (in addition to the settings' ones).
   void schedule(const Disturbance& disturbance) { disturbances_.add(disturbance); }
   bool video_dropout() const { return disturbances_.video_dropout_at(dynamics_.state().t); }

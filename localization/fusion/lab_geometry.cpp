@@ -5,7 +5,6 @@
 
 namespace labo::fusion {
 
-namespace {
 PlanarTarget planar_target_of(const InstrumentSpec& spec) {
   PlanarTarget t;
   t.id = spec.id;
@@ -18,7 +17,6 @@ PlanarTarget planar_target_of(const InstrumentSpec& spec) {
   t.sift_min_inliers = spec.sift_min_inliers;
   return t;
 }
-}  // namespace
 
 const PlanarTarget* LabGeometry::find_instrument(const std::string& id) const {
   for (const auto& i : instruments)

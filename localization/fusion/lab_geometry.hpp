@@ -16,6 +16,7 @@
 
 namespace labo {
 struct LabDescription;
+struct InstrumentSpec;
 }  // namespace labo
 
 namespace labo::fusion {
@@ -53,5 +54,7 @@ struct LabGeometry {
 // the platform's top as planar targets with their templates and per-object thresholds, and the
 // surfaces under the drone (bench, platform and housing tops).
 LabGeometry lab_geometry_from(const LabDescription& lab);
+// One instrument of a lab description as a planar target.
+PlanarTarget planar_target_of(const InstrumentSpec& spec);
 
 }  // namespace labo::fusion

@@ -36,7 +36,10 @@ Eigen::Isometry3d flip_about_y() {
 }
 
 LabPipelines::LabPipelines(LabGeometry lab, const estimation::EstimatorConfig& config, const VisionThresholds& thresholds)
-    : lab_(std::move(lab)), estimator_(config, thresholds), instrument_fes_(lab_.instruments.size()) {
+    : lab_(std::move(lab)),
+      estimator_(config, thresholds),
+      instrument_fes_(lab_.instruments.size()),
+      slam_points_(Eigen::AlignedBox3d(lab_.room_min, lab_.room_max)) {
   if (!lab_.surfaces.empty()) estimator_.set_surface_map(lab_.surfaces);
 }
 
@@ -55,6 +58,16 @@ void LabPipelines::set_instrument_front_end(const std::string& id, std::unique_p
   const int index = instrument_index(id);
   if (index < 0) throw std::invalid_argument("LabPipelines: no instrument '" + id + "' in the lab");
   instrument_fes_[static_cast<std::size_t>(index - 1)] = std::move(front_end);
+}
+
+bool LabPipelines::add_instrument(const PlanarTarget& instrument) {
+  if (instrument_index(instrument.id) >= 0) throw std::invalid_argument("LabPipelines: instrument '" + instrument.id + "' is in the lab already");
+  // The front-end first: a template it refuses leaves the lab as it was. Front-ends already handed to
+  // a vision job stay where they are (the vector holds pointers).
+  std::unique_ptr<TargetFrontEnd> front_end = make_instrument_fe_ && !instrument.template_path.empty() ? make_instrument_fe_(instrument) : nullptr;
+  lab_.instruments.push_back(instrument);
+  instrument_fes_.push_back(std::move(front_end));
+  return true;
 }
 
 int LabPipelines::instrument_index(const std::string& id) const {
@@ -159,6 +172,7 @@ void LabPipelines::apply_vision(const VisionResults& r) {
   if (r.has_slam) {
     slam_fe_map_id_ = r.slam.map_id;
     add_slam_result(r.slam.T_map_cam, r.slam.summary, r.slam.map_id, r.t);
+    if (r.has_slam_points) apply_slam_points(r);
   }
   if (r.has_instrument) apply_instrument(r.instrument_id, r.instrument);
   if (r.has_platform) add_platform_result(r.platform);
@@ -232,11 +246,21 @@ void LabPipelines::add_slam_result(const Eigen::Isometry3d& T_map_cam, const Sla
   estimator_.add_slam_pose(s);
 }
 
+void LabPipelines::apply_slam_points(const VisionResults& r) {
+  // Until the estimator has placed this map with a scale, its points have no place in the world: the
+  // page keeps the last placed ones.
+  const estimation::MapToWorld& map = estimator_.map_to_world();
+  if (r.slam.map_id != slam_map_id_ || !map.initialized() || !estimator_.scale_status().estimated) return;
+  slam_points_.update(r.slam_points_map, map.R_world_map(), map.scale(), map.t_world_map(), r.slam.map_id);
+}
+
 SlamSummary LabPipelines::slam() const {
   SlamSummary s = slam_;
   const estimation::ScaleStatus& scale = estimator_.scale_status();
   s.scale_estimated = scale.estimated;
   s.scale = scale.scale;
+  s.scale_pairs = scale.inliers;
+  s.scale_pairs_needed = estimation::ScaleEstimator::kMinInliers;
   return s;
 }
 

@@ -12,6 +12,7 @@
 // (lab_pipelines_factory.hpp) attaches the real front-ends.
 // Convention: every TargetObservation's T_cam_target has z pointing into the target (away from a viewer
 // in front of it), for panels and faces alike; faces are converted at this edge.
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "localization/fusion/attitude_history.hpp"
 #include "localization/fusion/lab_geometry.hpp"
 #include "localization/fusion/localization_pipelines.hpp"
+#include "localization/fusion/slam_points_top_down.hpp"
 #include "localization/fusion/vision_front_end.hpp"
 #include "localization/fusion/vision_job.hpp"
 #include "localization/estimation/state_estimator.hpp"
@@ -37,6 +39,13 @@ class LabPipelines final : public LocalizationPipelines {
   void set_platform_front_end(std::unique_ptr<TargetFrontEnd> front_end) { platform_fe_ = std::move(front_end); }
   void set_face_front_end(std::unique_ptr<TargetFrontEnd> front_end);
   void set_slam_front_end(std::unique_ptr<SlamFrontEnd> front_end) { slam_fe_ = std::move(front_end); }
+  // How add_instrument() makes an instrument's front-end (make_lab_pipelines sets it; unset: an added
+  // instrument has none, its results only come through add_instrument_result()).
+  using InstrumentFrontEndFactory = std::function<std::unique_ptr<TargetFrontEnd>(const PlanarTarget&)>;
+  void set_instrument_front_end_factory(InstrumentFrontEndFactory factory) { make_instrument_fe_ = std::move(factory); }
+  // Throws std::invalid_argument for an id the lab has already, or what the factory throws (a
+  // template that cannot be used).
+  bool add_instrument(const PlanarTarget& instrument) override;
 
   // Vision results (frame-stamped). The estimator is corrected only by the chosen source.
   void add_instrument_result(const TargetObservation& obs);
@@ -59,6 +68,7 @@ class LabPipelines final : public LocalizationPipelines {
   TargetObservation platform() const override { return platform_; }
   TargetObservation face() const override { return face_; }
   SlamSummary slam() const override;
+  std::shared_ptr<const SlamPointsXy> slam_points() const override { return slam_points_.latest(); }
 
   const estimation::StateEstimator& estimator() const { return estimator_; }
   const PerceptionFocus& focus() const { return focus_; }
@@ -77,6 +87,8 @@ class LabPipelines final : public LocalizationPipelines {
   void prepare_front_camera(VisionJob& job);
   void prepare_bottom_camera(VisionJob& job);
   void apply_instrument(const std::string& id, const TargetObservation& obs);
+  // A sample of SLAM's map, placed in the world once the estimator has placed that map.
+  void apply_slam_points(const VisionResults& results);
 
   LabGeometry lab_;
   estimation::StateEstimator estimator_;
@@ -89,7 +101,9 @@ class LabPipelines final : public LocalizationPipelines {
   std::unique_ptr<TargetFrontEnd> platform_fe_, face_fe_;
   FaceFrontEnd* face_person_fe_ = nullptr;  // face_fe_ when it is the face pose estimator's
   std::unique_ptr<SlamFrontEnd> slam_fe_;
+  InstrumentFrontEndFactory make_instrument_fe_;
   AttitudeHistory attitude_;  // navdata roll/pitch at their measurement times
+  SlamPointsTopDown slam_points_;
   VisionJob job_;              // on_video's, reused
   VisionResults results_;
 };

@@ -15,6 +15,10 @@ std::unique_ptr<LabPipelines> make_lab_pipelines(const LabGeometry& lab, const C
     pipelines->set_instrument_front_end(instrument.id,
                                         std::make_unique<PlanarFrontEnd>(instrument, front, vision, settings.planar));
   }
+  // Instruments placed while flying get the same front-end (the settings are copied: the caller's may go).
+  pipelines->set_instrument_front_end_factory([front, vision, planar = settings.planar](const PlanarTarget& instrument) {
+    return std::make_unique<PlanarFrontEnd>(instrument, front, vision, planar);
+  });
   if (!lab.platform.template_path.empty())
     pipelines->set_platform_front_end(std::make_unique<PlanarFrontEnd>(lab.platform, bottom, vision, settings.planar));
   pipelines->set_slam_front_end(std::make_unique<SlamSystemFrontEnd>(std::make_unique<slam::SlamSystem>(front, settings.slam)));

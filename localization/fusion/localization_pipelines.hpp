@@ -9,6 +9,7 @@
 // face-follow; LocalizationSwitch) and tells the pipelines through set_focus().
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,8 @@ namespace labo::fusion {
 
 struct VisionJob;
 struct VisionResults;
+struct SlamPointsXy;
+struct PlanarTarget;
 
 // Which visual source drives the pose (the paper's colour code, docs/control.md).
 enum class FeedbackSource { Slam, Homography, Face, DeadReckoning };
@@ -66,6 +69,8 @@ struct SlamSummary {
   int map_points = 0;
   bool scale_estimated = false;
   double scale = 1.0;  // metres per map unit
+  int scale_pairs = 0;         // inlier displacement pairs behind the scale
+  int scale_pairs_needed = 0;  // pairs the scale needs before SLAM poses are fused
 };
 
 // What control asks localization to look for right now (vision costs time: do only what is needed).
@@ -103,6 +108,14 @@ class LocalizationPipelines {
   virtual TargetObservation platform() const = 0;
   virtual TargetObservation face() const = 0;
   virtual SlamSummary slam() const = 0;
+  // An instrument placed in the lab while flying (an admin's upload): its front-end from now on. The
+  // caller has checked that its id is new. False: these pipelines cannot add instruments.
+  virtual bool add_instrument(const PlanarTarget& instrument) {
+    (void)instrument;
+    return false;
+  }
+  // The SLAM map seen from above (slam_points_top_down.hpp); null without one.
+  virtual std::shared_ptr<const SlamPointsXy> slam_points() const { return nullptr; }
 };
 
 }  // namespace labo::fusion

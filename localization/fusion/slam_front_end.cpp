@@ -25,6 +25,13 @@ void SlamSystemFrontEnd::restart_map() {
   frame_.summary = SlamSummary{};
 }
 
+bool SlamSystemFrontEnd::sample_map_points(Seconds t, std::vector<Eigen::Vector3d>& out) {
+  if (points_sampled_t_ && t - *points_sampled_t_ < kMapPointsPeriodS && t >= *points_sampled_t_) return false;
+  points_sampled_t_ = t;
+  slam_->sample_points(out, kMaxMapPoints);
+  return true;
+}
+
 const SlamFrame& SlamSystemFrontEnd::pause() {
   frame_.has_pose = false;
   frame_.summary.state = SlamState::Off;

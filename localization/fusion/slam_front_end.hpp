@@ -19,6 +19,10 @@ class SlamSystemFrontEnd final : public SlamFrontEnd {
                            const std::optional<Eigen::Vector3d>& gravity_down_cam = std::nullopt) override;
   const SlamFrame& pause() override;
   int map_id() const override { return frame_.map_id; }
+  // Once every kMapPointsPeriodS of frame time, at most kMaxMapPoints points.
+  bool sample_map_points(Seconds t, std::vector<Eigen::Vector3d>& out) override;
+  static constexpr double kMapPointsPeriodS = 1.0;
+  static constexpr std::size_t kMaxMapPoints = 3000;
 
   // Drops the map; the next map gets a new id (the estimator restarts its map-to-world placement).
   void restart_map();
@@ -29,6 +33,7 @@ class SlamSystemFrontEnd final : public SlamFrontEnd {
   std::unique_ptr<slam::SlamSystem> slam_;
   slam::SlamResult result_;
   SlamFrame frame_;
+  std::optional<Seconds> points_sampled_t_;
 };
 
 SlamState slam_state_of(slam::TrackingState state);

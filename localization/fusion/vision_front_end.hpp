@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 #include <optional>
+#include <vector>
 
 #include "localization/fusion/localization_pipelines.hpp"
 #include "core/time.hpp"
@@ -47,6 +48,13 @@ class SlamFrontEnd {
   // Frames stopped coming (the bottom camera streams): report SLAM off until the next frame.
   virtual const SlamFrame& pause() = 0;
   virtual int map_id() const = 0;
+  // At a low rate (the map grows with keyframes, the lab page redraws it once a second): a bounded
+  // sample of the current map's points (map units) into `out`, reused; false when not due.
+  virtual bool sample_map_points(Seconds t, std::vector<Eigen::Vector3d>& out) {
+    (void)t;
+    (void)out;
+    return false;
+  }
 };
 
 }  // namespace labo::fusion

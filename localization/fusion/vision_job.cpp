@@ -25,9 +25,11 @@ void run_vision_job(const VisionJob& job, VisionResults& out) {
   out.camera = job.camera;
   out.failure.clear();
   out.has_slam = job.slam != nullptr;
+  out.has_slam_points = false;
   if (job.slam) {
     out.slam = job.slam_pause ? job.slam->pause()
                               : job.slam->process(job.gray, job.t, job.slam_prior_T_cam_map, job.gravity_down_cam);
+    if (!job.slam_pause) out.has_slam_points = job.slam->sample_map_points(job.t, out.slam_points_map);
   }
   out.has_instrument = job.instrument != nullptr;
   if (job.instrument) {

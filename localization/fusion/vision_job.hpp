@@ -15,6 +15,7 @@
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/time.hpp"
 #include "drone/drone_link.hpp"
@@ -51,6 +52,10 @@ struct VisionResults {
   std::string instrument_id;
   TargetObservation instrument, platform, face;
   SlamFrame slam;
+  // Once a second while SLAM runs: a bounded sample of its map's points (map units, map slam.map_id),
+  // for the lab page's map; the buffer is reused.
+  bool has_slam_points = false;
+  std::vector<Eigen::Vector3d> slam_points_map;
   std::string failure;  // set by a runner whose front-end threw: the frame yielded nothing
   // Whether a detector (template matching, SIFT, the face detector) ran, rather than only a tracker
   // following its last result: a detection costs several times a tracked frame.

@@ -250,6 +250,18 @@ SlamStatus SlamSystem::status() const {
   return s;
 }
 
+void SlamSystem::sample_points(std::vector<Eigen::Vector3d>& out, std::size_t max_points) const {
+  out.clear();
+  if (max_points == 0) return;
+  std::shared_lock lock(impl_->map.mutex());
+  const std::size_t n = impl_->map.points().size();
+  const std::size_t stride = (n + max_points - 1) / max_points;
+  std::size_t i = 0;
+  for (const auto& [id, p] : impl_->map.points()) {
+    if (i++ % stride == 0 && out.size() < max_points) out.push_back(p.p_map);
+  }
+}
+
 MappingStatistics SlamSystem::mapping_statistics() const {
   const MapperStats stats = impl_->mapper->stats();
   MappingStatistics out;

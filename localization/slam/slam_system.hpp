@@ -152,6 +152,10 @@ class SlamSystem {
                    const std::optional<GravityMeasurement>& gravity = std::nullopt);
 
   SlamStatus status() const;
+  // Every stride-th map point (map units) into `out`, at most `max_points` of them (the lab page's
+  // top-down view). Reuses `out`'s buffer: allocates nothing once it holds max_points. The map's own
+  // lock is held while copying; the mapper may run meanwhile.
+  void sample_points(std::vector<Eigen::Vector3d>& out, std::size_t max_points) const;
   MappingStatistics mapping_statistics() const;
   // Drops the map and starts initializing again.
   void reset();

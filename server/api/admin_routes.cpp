@@ -38,14 +38,7 @@ HttpReply RestApi::route_admin(const HttpRequest& req, const std::string& path, 
     if (m == http::verb::put) return put_config(req, session);
     return method_not_allowed("GET, PUT");
   }
-  if (path == "/api/instruments") {
-    if (m != http::verb::post) return method_not_allowed("GET, POST");
-    return add_instrument(req, session);
-  }
-  if (path.rfind("/api/instruments/", 0) == 0) {
-    if (m != http::verb::delete_) return method_not_allowed("DELETE");
-    return delete_instrument(path.substr(17), session);
-  }
+  if (path == "/api/instruments" || path.rfind("/api/instruments/", 0) == 0) return route_instruments(req, path, session);
   if (path == "/api/users" || path.rfind("/api/users/", 0) == 0 || path.rfind("/api/sessions/", 0) == 0)
     return route_users(req, path, session);
   if (path == "/api/recordings") {
@@ -105,34 +98,6 @@ HttpReply RestApi::save_config(const HttpRequest& req) {
   return ok_json({{"saved", config_file_.string()}, {"applied", applied}, {"restart_required", restart}});
 }
 
-HttpReply RestApi::instruments() {
-  json lab = json::array(), uploaded = json::array();
-  for (const auto& i : lab_.flight().instruments())
-    lab.push_back({{"id", i.id}, {"name", i.name}, {"width_m", i.width_m}, {"height_m", i.height_m}});
-  for (const auto& u : uploads_.list())
-    uploaded.push_back({{"id", u.id}, {"name", u.name}, {"width_m", u.width_m}, {"height_m", u.height_m},
-                        {"position_m", {u.x_m, u.y_m, u.z_m}}, {"yaw_deg", u.yaw_deg}, {"texture_corners", u.texture_corners}});
-  return ok_json({{"lab", lab}, {"uploaded", uploaded}});
-}
-
-HttpReply RestApi::add_instrument(const HttpRequest& req, const SessionInfo& session) {
-  HttpReply reply = store_instrument(req);
-  const json body = json::parse(req.body(), nullptr, false);
-  audit(session, "instrument_add", body.is_object() && body.contains("id") && body["id"].is_string() ? body["id"].get<std::string>() : "",
-        reply);
-  return reply;
-}
-
-HttpReply RestApi::store_instrument(const HttpRequest& req) {
-  std::vector<std::string> reserved;
-  for (const auto& i : lab_.flight().instruments()) reserved.push_back(i.id);
-  auto result = uploads_.add(req.body(), reserved);
-  if (auto* err = std::get_if<InstrumentError>(&result)) return HttpReply::error(static_cast<http::status>(err->status), err->message);
-  const auto& u = std::get<UploadedInstrument>(result);
-  return HttpReply::json(http::status::created, json{{"id", u.id}, {"width_px", u.width_px}, {"height_px", u.height_px},
-                                                     {"texture_corners", u.texture_corners}}.dump());
-}
-
 HttpReply RestApi::recordings() {
   json list = json::array();
   std::error_code ec;
@@ -167,18 +132,6 @@ HttpReply RestApi::metrics_text() {
   HttpReply r = HttpReply::json(http::status::ok, metrics_.prometheus_text(extra.str()));
   r.content_type = "text/plain; version=0.0.4";
   return r;
-}
-
-HttpReply RestApi::delete_instrument(const std::string& id, const SessionInfo& session) {
-  const auto reply = [&]() {
-    if (!InstrumentStore::valid_id(id)) return HttpReply::error(http::status::bad_request, "invalid instrument id '" + id + "'");
-    for (const auto& i : lab_.flight().instruments())
-      if (i.id == id) return HttpReply::error(http::status::conflict, "instrument '" + id + "' is part of the lab description");
-    if (!uploads_.remove(id)) return HttpReply::error(http::status::not_found, "no uploaded instrument '" + id + "'");
-    return ok_json({{"deleted", id}});
-  }();
-  audit(session, "instrument_delete", id, reply);
-  return reply;
 }
 
 }  // namespace labo

@@ -64,6 +64,7 @@ RestApi::RestApi(const ServerSettings& settings, std::filesystem::path config_fi
     registrar_ = std::make_unique<FaceRegistrar>(settings.people, *people_);
     if (!settings.people.face.teacher.empty()) lab_.followed_person().set(people_->load(settings.people.face.teacher));
   }
+  place_stored_instruments();
 }
 
 void RestApi::stop_workers() {

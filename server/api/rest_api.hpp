@@ -8,6 +8,7 @@
 #include <functional>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "core/time.hpp"
@@ -58,9 +59,14 @@ class RestApi {
   HttpReply put_config(const HttpRequest& req, const SessionInfo& session);
   HttpReply save_config(const HttpRequest& req);
   HttpReply instruments();
+  HttpReply route_instruments(const HttpRequest& req, const std::string& path, const SessionInfo& session);
   HttpReply add_instrument(const HttpRequest& req, const SessionInfo& session);
-  HttpReply store_instrument(const HttpRequest& req);
+  HttpReply place_instrument(const HttpRequest& req, const std::string& id, const SessionInfo& session);
   HttpReply delete_instrument(const std::string& id, const SessionInfo& session);
+  // Validated against the lab's outline, then handed to the flight software; the refusal otherwise.
+  std::optional<HttpReply> place_upload(const UploadedInstrument& u);
+  // At start: the stored uploads that were placed, placed again.
+  void place_stored_instruments();
   HttpReply recordings();
   HttpReply recording(const std::string& name);
   HttpReply metrics_text();
@@ -92,6 +98,8 @@ class RestApi {
   InstrumentStore uploads_;
   LabDirectory labs_;
   std::mutex config_mutex_;  // one change of the config file at a time
+  std::mutex instruments_mutex_;  // one change of the instruments at a time; removed_instruments_
+  std::set<std::string> removed_instruments_;  // placed, then removed: ids the flight software keeps until a restart
   // With settings.people: the registered people and their registration worker (declared last:
   // stopped first, while everything its jobs' answers use still exists).
   std::unique_ptr<PeopleStore> people_;

@@ -10,7 +10,10 @@
 #include <vector>
 
 #include "drone/drone_link.hpp"
+#include "drone/lab/lab_description.hpp"
 #include "localization/face/person_shape.hpp"
+#include "localization/fusion/slam_points_top_down.hpp"
+#include "server/lab/stage_timeline.hpp"
 #include "server/runtime/runtime_timing.hpp"
 #include "server/video/rendition.hpp"
 
@@ -55,6 +58,7 @@ struct FlightTelemetry {
   double t_unix_s = 0;
   std::string mission = "idle";
   std::string stage;
+  MissionTimeline timeline;  // the current or last mission's stages (stage_timeline.hpp)
   PoseXyzYaw pose;
   std::optional<PoseXyzYaw> desired;
   std::optional<PoseXyzYaw> ground_truth;  // simulated lab only
@@ -66,7 +70,9 @@ struct FlightTelemetry {
   std::string link_state = "disconnected";
   bool flying = false;
   std::string slam_state;
-  std::vector<std::pair<double, double>> slam_points_xy;  // map points seen from above, world m (bounded)
+  // The SLAM map seen from above (world m, bounded, decimated), refreshed about once a second; the
+  // clients get it in its own message when its revision changes (lab_messages.hpp).
+  std::shared_ptr<const fusion::SlamPointsXy> slam_points;
   std::optional<std::pair<double, double>> teacher_xy;
   double video_fps = 0;
 };
@@ -136,6 +142,23 @@ struct InstrumentSummary {
   std::string id, name;
   double width_m = 0, height_m = 0;
   double x_m = 0, y_m = 0;  // panel centre in the world, for the map
+  double facing_rad = 0;    // the direction the panel faces (its viewer stands that way), about z
+};
+
+// The lab as its file states it, for the page's map: the room's walls, the benches and the base with
+// its platform, seen from above. What a real deployment knows, never the simulated lab's true
+// placements. (The instruments come apart: InstrumentSummary.)
+struct LabFootprint {
+  std::string id;
+  double min_x_m = 0, min_y_m = 0, max_x_m = 0, max_y_m = 0;
+  double min_z_m = 0, max_z_m = 0;  // its height (a bench's top), to check a placement against
+};
+struct LabOutline {
+  bool known = false;  // false: the flight service knows no lab file
+  LabFootprint room;
+  std::vector<LabFootprint> benches;
+  LabFootprint platform;
+  double base_x_m = 0, base_y_m = 0, base_yaw_rad = 0;
 };
 
 class FlightService {
@@ -146,6 +169,18 @@ class FlightService {
   virtual CommandVerdict request(const MissionCommand& command) = 0;
   virtual FlightTelemetry telemetry() const = 0;
   virtual std::vector<InstrumentSummary> instruments() const = 0;
+  virtual LabOutline lab_outline() const { return {}; }
+  // Places an instrument in the lab, live: inspectable once accepted (and, in the simulated lab, its
+  // panel drawn where `spec` says). Refused with the reason: an id the lab has, a panel outside the
+  // room, a template the vision cannot use, or a flight service that cannot.
+  virtual CommandVerdict add_instrument(const InstrumentSpec& spec) {
+    return {false, "instrument '" + spec.id + "': this flight service cannot add instruments"};
+  }
+  // No longer inspectable (refused while a mission inspects it). The simulated lab keeps drawing its
+  // panel, as a real lab keeps the instrument on its bench.
+  virtual CommandVerdict remove_instrument(const std::string& id) {
+    return {false, "instrument '" + id + "': this flight service cannot remove instruments"};
+  }
   // Graceful shutdown: land (waiting up to timeout_s for touchdown), then stop the threads.
   virtual void land_and_stop(double timeout_s) = 0;
   // How the flight thread has kept time (control ticks, vision latency, frames); empty without one.

@@ -13,6 +13,35 @@ Message shared(const json& j) { return std::make_shared<const std::string>(j.dum
 
 json pose_json(const PoseXyzYaw& p) { return {{"x", p.x_m}, {"y", p.y_m}, {"z", p.z_m}, {"yaw", p.yaw_rad}}; }
 
+json footprint_json(const LabFootprint& f) {
+  return {{"id", f.id}, {"min", {f.min_x_m, f.min_y_m}}, {"max", {f.max_x_m, f.max_y_m}}};
+}
+
+json outline_json(const LabOutline& lab) {
+  if (!lab.known) return nullptr;
+  json benches = json::array();
+  for (const LabFootprint& b : lab.benches) benches.push_back(footprint_json(b));
+  return {{"room", footprint_json(lab.room)},
+          {"benches", std::move(benches)},
+          {"platform", footprint_json(lab.platform)},
+          {"base", {{"x", lab.base_x_m}, {"y", lab.base_y_m}, {"yaw", lab.base_yaw_rad}}}};
+}
+
+double centimetres(float v) { return std::round(static_cast<double>(v) * 100.0) / 100.0; }
+
+json optional_time(const std::optional<Seconds>& t) { return t ? json(*t) : json(nullptr); }
+
+json timeline_json(const MissionTimeline& m) {
+  if (m.mission.empty()) return nullptr;
+  json stages = json::array();
+  for (const TimelineStage& s : m.stages)
+    stages.push_back({{"index", s.index}, {"name", s.name}, {"started", s.started}, {"ended", optional_time(s.ended)},
+                      {"waiting_for", s.waiting_for}});
+  return {{"mission", m.mission},   {"stage_count", m.stage_count}, {"started", m.started},
+          {"ended", optional_time(m.ended)}, {"result", m.result}, {"succeeded", m.succeeded},
+          {"dropped", m.dropped},   {"stages", std::move(stages)}};
+}
+
 json participant_json(const Participant& p) { return {{"user", p.user}, {"role", to_string(p.role)}, {"client", p.client}}; }
 
 json control_json(const ControlSnapshot& s, std::size_t spectators) {
@@ -32,15 +61,17 @@ json control_json(const ControlSnapshot& s, std::size_t spectators) {
 }  // namespace
 
 Message hello_message(ClientId client, const SessionInfo& session, const std::vector<InstrumentSummary>& instruments,
-                      const ControlRules& rules) {
+                      const LabOutline& lab, const ControlRules& rules) {
   json list = json::array();
   for (const InstrumentSummary& i : instruments)
-    list.push_back({{"id", i.id}, {"name", i.name}, {"width_m", i.width_m}, {"height_m", i.height_m}, {"x", i.x_m}, {"y", i.y_m}});
+    list.push_back({{"id", i.id}, {"name", i.name}, {"width_m", i.width_m}, {"height_m", i.height_m}, {"x", i.x_m}, {"y", i.y_m},
+                    {"facing_rad", i.facing_rad}});
   return shared({{"type", "hello"},
                  {"client", client},
                  {"user", session.user},
                  {"role", to_string(session.role)},
                  {"instruments", list},
+                 {"lab", outline_json(lab)},
                  {"heartbeat_timeout_s", rules.heartbeat_timeout_s},
                  {"time_limit_s", rules.time_limit_s}});
 }
@@ -90,10 +121,14 @@ Message telemetry_message(const FlightTelemetry& t) {
   j["desired"] = t.desired ? pose_json(*t.desired) : json(nullptr);
   j["ground_truth"] = t.ground_truth ? pose_json(*t.ground_truth) : json(nullptr);
   j["teacher"] = t.teacher_xy ? json{t.teacher_xy->first, t.teacher_xy->second} : json(nullptr);
-  json points = json::array();
-  for (const auto& [x, y] : t.slam_points_xy) points.push_back({x, y});
-  j["slam_points"] = std::move(points);
+  j["timeline"] = timeline_json(t.timeline);
   return shared(j);
+}
+
+Message slam_map_message(const fusion::SlamPointsXy& p) {
+  json points = json::array();
+  for (const Eigen::Vector2f& xy : p.xy_world) points.push_back({centimetres(xy.x()), centimetres(xy.y())});
+  return shared({{"type", "slam_map"}, {"revision", p.revision}, {"map_id", p.map_id}, {"cell_m", p.cell_m}, {"points", std::move(points)}});
 }
 
 Message flight_event_message(const FlightEvent& e) {

@@ -16,9 +16,10 @@ namespace labo {
 
 using Message = std::shared_ptr<const std::string>;
 
-// {"type":"hello","client","user","role","instruments","heartbeat_timeout_s","time_limit_s"}
+// {"type":"hello","client","user","role","instruments","lab","heartbeat_timeout_s","time_limit_s"}; "lab":
+// the room outline (null when unknown).
 Message hello_message(ClientId client, const SessionInfo& session, const std::vector<InstrumentSummary>& instruments,
-                      const ControlRules& rules);
+                      const LabOutline& lab, const ControlRules& rules);
 // {"type":"error","status":..,"error":..}
 Message error_message(int status, const std::string& error);
 // {"type":"ack","id","command","accepted","reason"}; `id` null when the command had none.
@@ -27,6 +28,9 @@ Message ack_message(std::optional<std::int64_t> id, const std::string& command, 
 // teacher or an admin ended it.
 Message notice_message(const ControlNotice& notice);
 Message telemetry_message(const FlightTelemetry& telemetry);
+// {"type":"slam_map","revision","map_id","cell_m","points":[[x,y],...]}: the SLAM map from above, world
+// m to the centimetre.
+Message slam_map_message(const fusion::SlamPointsXy& points);
 Message flight_event_message(const FlightEvent& event);
 // {"type":"event","kind":"emergency"|"stop","user","message"}: who cut the motors, or who stopped.
 Message emergency_event_message(const std::string& user);

@@ -22,7 +22,8 @@ RemoteLab::~RemoteLab() { flight_.set_sink(nullptr); }
 
 void RemoteLab::join(const std::shared_ptr<LabClient>& client) {
   const SessionInfo& s = client->session();
-  client->send_event(hello_message(client->id(), s, flight_.instruments(), settings_.control));
+  client->send_event(hello_message(client->id(), s, flight_.instruments(), flight_.lab_outline(), settings_.control));
+  if (const auto points = flight_.telemetry().slam_points) client->send_event(slam_map_message(*points));
   clients_.join(client);
   log_.info(clock_.now(), "client joined").kv("client", client->id()).kv("user", s.user).kv("role", to_string(s.role));
   change_control([](ControlQueue&, double) { return std::vector<ControlNotice>{}; });
@@ -219,7 +220,13 @@ void RemoteLab::tick() {
     if (changed || now - last_control_broadcast_s_ >= 1.0) add_control_views(out);
   }
   clients_.send_each(out);
-  clients_.send(telemetry_message(flight_.telemetry()));
+  const FlightTelemetry telemetry = flight_.telemetry();
+  clients_.send(telemetry_message(telemetry));
+  // The SLAM map changes about once a second: sent when it does, not with every telemetry message.
+  if (telemetry.slam_points && telemetry.slam_points->revision != slam_map_sent_) {
+    slam_map_sent_ = telemetry.slam_points->revision;
+    clients_.send(slam_map_message(*telemetry.slam_points));
+  }
 }
 
 void RemoteLab::on_frame(const WireFrame& frame) {

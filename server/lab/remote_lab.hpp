@@ -113,6 +113,7 @@ class RemoteLab final : public FlightEventSink {
   ControlQueue control_;
   std::uint64_t control_seq_ = 0;
   double last_control_broadcast_s_ = -1;
+  std::uint64_t slam_map_sent_ = 0;  // tick()'s only: the revision of the SLAM map last sent
   std::atomic<bool> low_keyframe_wanted_{false};
   FollowedPerson followed_;
 };

@@ -3,6 +3,7 @@
 #include "drone/sim/sim_setup.hpp"
 #include "localization/face/teacher_head.hpp"
 #include "localization/fusion/lab_geometry.hpp"
+#include "server/runtime/lab_outline.hpp"
 
 namespace labo {
 
@@ -33,6 +34,7 @@ FlightRuntimeOptions flight_runtime_options(const AppConfig& config) {
   o.jpeg_quality = config.server.video.jpeg_quality;
   o.low_rendition.bitrate_kbps = config.server.video.low_rendition_kbps;
   o.front_camera = PinholeCamera(config.cameras.front);
+  o.lab_outline = lab_outline_from(config.lab);
   return o;
 }
 

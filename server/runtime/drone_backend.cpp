@@ -140,7 +140,7 @@ class SimBackend final : public DroneBackend {
         emulator_(*lab_, loopback_emulator_settings(config), log.child("emulator")),
         link_(link_settings(config, emulator_), log.child("link")),
         core_(std::make_unique<control::FlightStack>(flight_stack_setup(config)), config.cameras),
-        runtime_(link_, core_, clock_, flight_runtime_options(config, link_), log) {
+        runtime_(link_, core_, clock_, sim_runtime_options(config), log) {
     // The page shows the lab's truth beside the estimate (dashed grey), as the experiments' plots do.
     core_.set_truth_source([this]() -> std::optional<Eigen::Isometry3d> {
       Eigen::Isometry3d T_world_body;
@@ -158,6 +158,14 @@ class SimBackend final : public DroneBackend {
   FlightService& flight() override { return runtime_; }
 
  private:
+  // An instrument the flight software has placed is drawn in the simulated lab where it said.
+  FlightRuntimeOptions sim_runtime_options(const AppConfig& config) {
+    FlightRuntimeOptions o = flight_runtime_options(config, link_);
+    o.place_in_world = [this](const InstrumentSpec& instrument) {
+      emulator_.change_vehicle([&](EmulatedVehicle&) { lab_->add_instrument(instrument); });
+    };
+    return o;
+  }
   // Starts the emulator (its ports are known once bound) and points the driver at it.
   static ArdroneLinkSettings link_settings(const AppConfig& config, ArdroneEmulator& emulator) {
     emulator.start();

@@ -24,7 +24,8 @@ struct FlightAction {
 };
 
 struct FlightSnapshot {
-  FlightTelemetry telemetry;  // t_unix_s, link state and fps are filled by the runtime
+  FlightTelemetry telemetry;  // t_unix_s, link state, fps and the timeline are filled by the runtime
+  MissionProgress progress;   // the mission's stage and how the last one ended, for the timeline
   OverlayModel overlay;       // in the pixels of the last frame given to on_video
   std::vector<FlightEvent> events;  // stage changes and errors since the previous status()
 };
@@ -47,6 +48,13 @@ class FlightCore {
   virtual CommandVerdict request(const MissionCommand& command, Seconds t) = 0;
   virtual FlightSnapshot status() = 0;
   virtual std::vector<InstrumentSummary> instruments() const = 0;
+  // An instrument placed in the lab while the server runs (FlightService::add_instrument).
+  virtual CommandVerdict add_instrument(const InstrumentSpec& spec) {
+    return {false, "instrument '" + spec.id + "': this flight software cannot add instruments"};
+  }
+  virtual CommandVerdict remove_instrument(const std::string& id) {
+    return {false, "instrument '" + id + "': this flight software cannot remove instruments"};
+  }
 };
 
 }  // namespace labo

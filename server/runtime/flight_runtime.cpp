@@ -48,7 +48,10 @@ void FlightRuntime::set_sink(FlightEventSink* sink) {
   sink_ = sink;
 }
 
-std::vector<InstrumentSummary> FlightRuntime::instruments() const { return instruments_; }
+std::vector<InstrumentSummary> FlightRuntime::instruments() const {
+  std::lock_guard lock(instruments_mutex_);
+  return instruments_;
+}
 
 // --- link threads: copy in, wake a consumer, return -------------------------------------------------
 
@@ -142,17 +145,56 @@ CommandVerdict FlightRuntime::request(const MissionCommand& command) {
   }
   auto pending = std::make_shared<PendingRequest>();
   pending->command = command;
+  if (auto verdict = queue_request(pending)) return *verdict;
+  if (command.kind == MissionCommandKind::EmergencyStop) return {true, "emergency sent to the drone"};
+  return {false, "the flight software did not answer within " + std::to_string(options_.request_timeout_s) + " s"};
+}
+
+CommandVerdict FlightRuntime::add_instrument(const InstrumentSpec& spec) {
+  const CommandVerdict verdict = change_lab([spec](FlightCore& core) { return core.add_instrument(spec); });
+  if (!verdict.accepted || !options_.place_in_world) return verdict;
+  try {
+    options_.place_in_world(spec);
+  } catch (const std::exception& e) {
+    return {false, "instrument '" + spec.id + "' placed for the flight software but not in the simulated lab: " + e.what()};
+  }
+  log_.info(clock_.now(), "instrument placed").kv("id", spec.id);
+  return verdict;
+}
+
+CommandVerdict FlightRuntime::remove_instrument(const std::string& id) {
+  return change_lab([id](FlightCore& core) { return core.remove_instrument(id); });
+}
+
+CommandVerdict FlightRuntime::change_lab(std::function<CommandVerdict(FlightCore&)> change) {
+  auto pending = std::make_shared<PendingRequest>();
+  pending->change_lab = std::move(change);
+  return queue_request(pending).value_or(
+      CommandVerdict{false, "the flight software did not answer within " + std::to_string(options_.request_timeout_s) + " s"});
+}
+
+// Queued for the flight thread; empty when it did not answer within request_timeout_s.
+std::optional<CommandVerdict> FlightRuntime::queue_request(std::shared_ptr<PendingRequest> pending) {
   auto verdict = pending->verdict.get_future();
   {
     std::lock_guard lock(input_mutex_);
-    requests_.push_back(pending);
+    requests_.push_back(std::move(pending));
   }
   input_cv_.notify_one();
-  if (verdict.wait_for(std::chrono::duration<double>(options_.request_timeout_s)) != std::future_status::ready) {
-    if (command.kind == MissionCommandKind::EmergencyStop) return {true, "emergency sent to the drone"};
-    return {false, "the flight software did not answer within " + std::to_string(options_.request_timeout_s) + " s"};
-  }
+  if (verdict.wait_for(std::chrono::duration<double>(options_.request_timeout_s)) != std::future_status::ready)
+    return std::nullopt;
   return verdict.get();
+}
+
+// The flight thread's.
+CommandVerdict FlightRuntime::execute(const PendingRequest& r) {
+  if (!r.change_lab) return core_.request(r.command, clock_.now());
+  CommandVerdict verdict = r.change_lab(core_);
+  if (verdict.accepted) {
+    std::lock_guard lock(instruments_mutex_);
+    instruments_ = core_.instruments();
+  }
+  return verdict;
 }
 
 FlightTelemetry FlightRuntime::telemetry() const {
@@ -216,7 +258,7 @@ void FlightRuntime::flight_loop() {
       told_state = state;
     }
     for (const auto& s : samples) core_.on_navdata(s);
-    for (auto& r : requests) r->verdict.set_value(core_.request(r->command, clock_.now()));
+    for (auto& r : requests) r->verdict.set_value(execute(*r));
     requests.clear();
     step_vision(frame, have_frame);
     if (const auto tick_time = clock::now(); tick_time >= next_tick) {
@@ -235,6 +277,8 @@ void FlightRuntime::flight_loop() {
       snap.telemetry.t_unix_s = now + clock_to_unix_s_;
       snap.telemetry.link_state = to_string(link_state_.load());
       snap.telemetry.video_fps = fps;
+      timeline_.observe(snap.telemetry.t_unix_s, snap.progress);
+      snap.telemetry.timeline = timeline_.timeline();
       if (!snap.events.empty()) {
         std::lock_guard lock(sink_mutex_);
         if (sink_)

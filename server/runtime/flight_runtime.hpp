@@ -49,6 +49,11 @@ struct FlightRuntimeOptions {
   VideoCapabilities video;
   std::function<void(int kbps)> set_video_bitrate;
   std::optional<PinholeCamera> front_camera;  // its lens is undone in the reading view
+  LabOutline lab_outline;  // the lab file's room, benches and base, for the page's map
+  // After the flight software has placed an instrument: the same in the world the drone flies (the
+  // simulated lab draws its panel; throws std::exception naming what failed). Empty: a real lab,
+  // where the admin has put the instrument there.
+  std::function<void(const InstrumentSpec&)> place_in_world;
   std::size_t navdata_ring = 256;
   double request_timeout_s = 2.0;
 };
@@ -64,6 +69,9 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
   CommandVerdict request(const MissionCommand& command) override;
   FlightTelemetry telemetry() const override;
   std::vector<InstrumentSummary> instruments() const override;
+  LabOutline lab_outline() const override { return options_.lab_outline; }
+  CommandVerdict add_instrument(const InstrumentSpec& spec) override;
+  CommandVerdict remove_instrument(const std::string& id) override;
   void land_and_stop(double timeout_s) override;
   VideoCapabilities video_capabilities() const override;
   CommandVerdict set_video_bitrate(int kbps) override;
@@ -89,8 +97,13 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
 
   struct PendingRequest {
     MissionCommand command;
+    // Set: a change to the lab (an instrument placed or removed) rather than the command.
+    std::function<CommandVerdict(FlightCore&)> change_lab;
     std::promise<CommandVerdict> verdict;
   };
+  std::optional<CommandVerdict> queue_request(std::shared_ptr<PendingRequest> pending);
+  CommandVerdict change_lab(std::function<CommandVerdict(FlightCore&)> change);
+  CommandVerdict execute(const PendingRequest& request);
 
   DroneLink& link_;
   FlightCore& core_;
@@ -98,7 +111,8 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
   FlightRuntimeOptions options_;
   Logger log_;
   double clock_to_unix_s_ = 0;
-  std::vector<InstrumentSummary> instruments_;
+  mutable std::mutex instruments_mutex_;
+  std::vector<InstrumentSummary> instruments_;  // under instruments_mutex_: the flight thread adds
 
   std::mutex input_mutex_;  // navdata ring, frame slots, requests
   std::condition_variable input_cv_;
@@ -122,6 +136,7 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
   RateLimiter vision_log_limit_{5.0};
   fusion::VisionJob vision_job_;          // the flight thread's, swapped with the worker's
   fusion::VisionResults vision_results_;  // likewise
+  StageTimeline timeline_;                // the flight thread's, copied into each snapshot
 
   mutable std::mutex snapshot_mutex_;
   FlightSnapshot snapshot_;

@@ -59,12 +59,26 @@ const std::vector<std::pair<int, int>>& face_landmark_edges() {
 
 FlightStackCore::FlightStackCore(std::unique_ptr<control::FlightStack> stack, const CamerasConfig& cameras)
     : stack_(std::move(stack)), front_(cameras.front), bottom_(cameras.bottom) {
-  // The templates' sizes, for the reading view (the front-ends own the images themselves).
-  for (const fusion::PlanarTarget& p : stack_->setup().lab.instruments) {
-    if (p.template_path.empty()) continue;
-    const cv::Mat image = cv::imread(p.template_path.string(), cv::IMREAD_UNCHANGED);
-    if (!image.empty()) template_px_[p.id] = image.size();
-  }
+  for (const fusion::PlanarTarget& p : stack_->setup().lab.instruments) note_template_size(p);
+}
+
+// The templates' sizes, for the reading view (the front-ends own the images themselves).
+void FlightStackCore::note_template_size(const fusion::PlanarTarget& p) {
+  if (p.template_path.empty()) return;
+  const cv::Mat image = cv::imread(p.template_path.string(), cv::IMREAD_UNCHANGED);
+  if (!image.empty()) template_px_[p.id] = image.size();
+}
+
+CommandVerdict FlightStackCore::add_instrument(const InstrumentSpec& spec) {
+  const fusion::PlanarTarget target = fusion::planar_target_of(spec);
+  const control::CommandResult result = stack_->add_instrument(target);
+  if (result.accepted) note_template_size(target);
+  return {result.accepted, result.reason};
+}
+
+CommandVerdict FlightStackCore::remove_instrument(const std::string& id) {
+  const control::CommandResult result = stack_->remove_instrument(id);
+  return {result.accepted, result.reason};
 }
 
 void FlightStackCore::apply_vision(const fusion::VisionResults& results) {
@@ -148,6 +162,7 @@ FlightSnapshot FlightStackCore::status() {
   t.link_quality = s.link == LinkState::Connected ? 1.0 : s.link == LinkState::Degraded ? 0.5 : 0.0;
   t.flying = s.phase != control::FlightPhase::Landed && s.phase != control::FlightPhase::Emergency;
   t.slam_state = to_string(s.slam.state);
+  t.slam_points = s.slam_points;
   if (s.face.placed_in_world) t.teacher_xy = std::pair{s.face.T_world_target.translation().x(), s.face.T_world_target.translation().y()};
 
   const PinholeCamera& camera = camera_ == CameraId::Front ? front_ : bottom_;
@@ -167,10 +182,14 @@ FlightSnapshot FlightStackCore::status() {
     face.measured_t = s.face.t;
   }
 
-  if (s.mission != last_mission_ || s.stage != last_stage_) {
+  snap.progress = {s.mission, s.stage_index, s.stage_count, s.stage, s.missions_ended, s.last_mission_result};
+  // An event when a stage begins, not whenever its words change (its counters do at every tick: the
+  // timeline carries them).
+  const std::string stage_name = split_stage_line(s.stage).name;
+  if (s.mission != last_mission_ || stage_name != last_stage_) {
     snap.events.push_back({"stage", s.mission, s.stage, s.mission + ": " + s.stage});
     last_mission_ = s.mission;
-    last_stage_ = s.stage;
+    last_stage_ = stage_name;
   }
   if (!s.last_event.empty() && s.last_event != last_event_) {
     snap.events.push_back({"log", s.mission, s.stage, s.last_event});
@@ -181,7 +200,11 @@ FlightSnapshot FlightStackCore::status() {
 
 std::vector<InstrumentSummary> FlightStackCore::instruments() const {
   std::vector<InstrumentSummary> out;
-  for (const fusion::PlanarTarget& p : stack_->setup().lab.instruments) out.push_back({p.id, p.name, p.width_m, p.height_m, p.T_world_object.translation().x(), p.T_world_object.translation().y()});
+  for (const fusion::PlanarTarget& p : stack_->setup().lab.instruments) {
+    const Eigen::Vector3d into = p.T_world_object.linear().col(2);  // object z points into the panel
+    out.push_back({p.id, p.name, p.width_m, p.height_m, p.T_world_object.translation().x(), p.T_world_object.translation().y(),
+                   std::atan2(-into.y(), -into.x())});
+  }
   return out;
 }
 

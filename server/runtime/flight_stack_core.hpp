@@ -26,6 +26,8 @@ class FlightStackCore final : public FlightCore {
   CommandVerdict request(const MissionCommand& command, Seconds t) override;
   FlightSnapshot status() override;
   std::vector<InstrumentSummary> instruments() const override;
+  CommandVerdict add_instrument(const InstrumentSpec& spec) override;
+  CommandVerdict remove_instrument(const std::string& id) override;
 
   control::FlightStack& stack() { return *stack_; }
   // Where the drone truly is, asked at every tick and shown beside the estimate (the simulated lab
@@ -34,11 +36,13 @@ class FlightStackCore final : public FlightCore {
   void set_truth_source(TruthSource source) { truth_ = std::move(source); }
 
  private:
+  void note_template_size(const fusion::PlanarTarget& target);
+
   std::unique_ptr<control::FlightStack> stack_;
   PinholeCamera front_, bottom_;
   CameraId camera_ = CameraId::Front;
   TruthSource truth_;
-  std::string last_mission_, last_stage_, last_event_;
+  std::string last_mission_, last_stage_, last_event_;  // last_stage_: the stage's name (its words change)
   std::map<std::string, cv::Size> template_px_;  // each instrument's template resolution
   std::string measured_instrument_;              // the instrument of the last vision result
 };

@@ -105,7 +105,7 @@ TEST_CASE("control: find teacher sweeps where it is, then from viewpoints over t
     return it - stages.begin();
   };
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(stages.size());
-  CHECK(first("1 scale manoeuvre") < first("2 search: yaw sweep where the drone is"));  // SLAM gets its scale first
+  CHECK(first("1 init: scale manoeuvre") < first("2 search: yaw sweep where the drone is"));  // SLAM gets its scale first
   CHECK(first("2 search: yaw sweep where the drone is") < first("2 search: moving to viewpoint"));  // here first
   CHECK(first("2 search: moving to viewpoint") < n);  // then on over the floor
   f.run(8.0);

@@ -8,6 +8,7 @@
 #include "server/app_config.hpp"
 #include "server/http/web_server.hpp"
 #include "server/runtime/flight_runtime.hpp"
+#include "server/runtime/lab_outline.hpp"
 #include "tests/server/support/fake_drone.hpp"
 
 int main(int argc, char** argv) {
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
     // an admin may set (the test card's encoder keeps its own).
     options.video = {"AR.Drone 2.0 (test card)", true, "", true, 4000, 250, 4000};
     options.set_video_bitrate = [](int) {};
+    options.lab_outline = lab_outline_from(config.lab);
     FlightRuntime runtime(link, core, clock, options, log.child("runtime"));
     WebServer server(config.server, config_file, runtime, log.child("web"));
     runtime.start();

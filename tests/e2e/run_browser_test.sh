@@ -52,7 +52,7 @@ for _ in $(seq 300); do  # the simulated lab loads the teacher's face first
 done
 mode=scripted; [ "$(basename "$server")" = labodrone ] && mode=sim
 case "$script" in
-  student_flow) node "$here/student_flow.mjs" "http://127.0.0.1:$port" "$out/student_flow.png" ;;
+  student_flow) node "$here/student_flow.mjs" "http://127.0.0.1:$port" "$out/student_flow.png" "$mode" ;;
   video_paths) node "$here/video_paths.mjs" "http://127.0.0.1:$port" "$out" "$mode" ;;
   video_controls) node "$here/video_controls.mjs" "http://127.0.0.1:$port" "$out" "$mode" ;;
   roles_flow) node "$here/roles_flow.mjs" "http://127.0.0.1:$port" "$out" ;;

@@ -53,6 +53,13 @@ TEST_CASE("web: the flight runtime annotates and encodes frames, and passes stag
     link.deliver_frame(n, clock.now());
     std::this_thread::sleep_for(std::chrono::milliseconds(40));
   }
+  // The timeline is built from the core's progress at every tick: stages begin as the mission's do.
+  const MissionTimeline timeline = runtime.telemetry().timeline;
+  CHECK(timeline.mission == "inspect");
+  REQUIRE(timeline.stages.size() >= 2);
+  CHECK(timeline.stages[0].name == "take off");
+  CHECK(timeline.stages[0].ended);
+  CHECK(timeline.stages[1].index == 2);
   runtime.land_and_stop(1.0);
   std::lock_guard lock(sink.mutex);
   REQUIRE(sink.frames.size() >= 10);

@@ -17,7 +17,7 @@ namespace {
 std::string textured_png_base64(int size) {
   cv::Mat img(size, size, CV_8UC3, cv::Scalar(200, 200, 200));
   cv::RNG rng(7);
-  for (int i = 0; i < 120; ++i)
+  for (int i = 0; i < 400; ++i)
     cv::rectangle(img, cv::Rect(rng.uniform(0, size - 20), rng.uniform(0, size - 20), rng.uniform(5, 20), rng.uniform(5, 20)),
                   cv::Scalar(rng.uniform(0, 255), rng.uniform(0, 255), rng.uniform(0, 255)), cv::FILLED);
   std::vector<std::uint8_t> png;
@@ -136,7 +136,7 @@ TEST_CASE("web: REST instruments are validated before they are stored") {
   ServerFixture f;
   const std::string root = login_cookie(f.port, "root", "root-pw");
   const std::string alice = login_cookie(f.port, "alice", "alice-pw");
-  json body{{"id", "psu"}, {"name", "Power supply"}, {"width_m", 0.3}, {"height_m", 0.15},
+  json body{{"id", "psu"}, {"name", "Power supply"}, {"width_m", 0.3}, {"height_m", 0.3},
             {"position_m", {2.0, -1.0, 1.0}}, {"yaw_deg", 180}, {"image_base64", textured_png_base64(256)}};
   CHECK(http_call(f.port, verb::post, "/api/instruments", body.dump(), alice).status == 403);
   const auto post = [&](const json& j) { return http_call(f.port, verb::post, "/api/instruments", j.dump(), root); };
@@ -154,6 +154,7 @@ TEST_CASE("web: REST instruments are validated before they are stored") {
   CHECK(post(b).status == 400);
   b = body;
   b["image_base64"] = base64_encode({1, 2, 3, 4});
+  CHECK(post(b).status == 415);
   CHECK(post(b).json()["error"] == "'image_base64' is not a PNG or JPEG image");
   b = body;
   {
@@ -161,14 +162,16 @@ TEST_CASE("web: REST instruments are validated before they are stored") {
     cv::imencode(".png", cv::Mat(200, 200, CV_8UC3, cv::Scalar(128, 128, 128)), png);
     b["image_base64"] = base64_encode(png);
   }
-  CHECK(post(b).json()["error"].get<std::string>().find("too little texture") != std::string::npos);
+  CHECK(post(b).status == 422);
+  CHECK(post(b).json()["error"].get<std::string>().find("too weak to be found and tracked") != std::string::npos);
   b = body;
   b["id"] = "oscilloscope";
   CHECK(post(b).status == 409);
 
   const HttpResult created = post(body);
   REQUIRE(created.status == 201);
-  CHECK(created.json()["texture_corners"].get<int>() >= InstrumentStore::kMinTextureCorners);
+  CHECK(created.json()["strength"]["strong_corners"].get<int>() >= planar::TemplateStrengthLimits{}.min_strong_corners);
+  CHECK(created.json()["inspectable"] == true);
   CHECK(post(body).status == 409);
   const json list = http_call(f.port, verb::get, "/api/instruments", {}, alice).json();
   CHECK(list["lab"].size() == 1);

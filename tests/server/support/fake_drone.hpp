@@ -2,7 +2,9 @@
 // Test doubles for the runtime: a DroneLink that records what it is told and delivers frames and
 // navdata when asked (or from its own 30 fps thread), and a FlightCore that walks a scripted
 // inspection through its stages. Tests and the browser test's fixture server only.
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
@@ -131,8 +133,13 @@ class ScriptedCore final : public FlightCore {
     a.select_camera = std::exchange(camera_wanted_, std::nullopt);
     if (mission_ == "inspect") {
       const int stage = 1 + static_cast<int>((t - started_) / stage_s_);
+      stage_index_ = std::min(stage, 6);
       stage_ = stage <= 6 ? std::to_string(stage) + " " + kStages[stage - 1] : "done";
-      if (stage > 6) mission_ = "idle";
+      if (stage > 6) {
+        mission_ = "idle";
+        ++missions_ended_;
+        last_result_ = "succeeded: inspected 'oscilloscope' and landed";
+      }
       a.kind = FlightAction::Kind::Move;
       a.move.pitch = 0.1;
     }
@@ -178,6 +185,10 @@ class ScriptedCore final : public FlightCore {
     s.telemetry.desired = PoseXyzYaw{1.2, 0.0, 1.0, 0.0};
     s.telemetry.source = mission_ == "inspect" ? PoseSource::Homography : PoseSource::Slam;
     s.telemetry.link_quality = 0.9;
+    // Progress as the flight stack reports it: a stage count only while the inspection runs; an
+    // emergency ends it uncounted (the timeline names it from the mission).
+    s.progress = {mission_, stage_index_, mission_ == "inspect" ? 6 : 0, stage_, missions_ended_, last_result_};
+    s.telemetry.slam_points = slam_points_;
     s.overlay.panel.corners = {{220, 100}, {420, 100}, {420, 220}, {220, 220}};
     s.overlay.panel.axes = AxesPx{{320, 160}, {380, 160}, {320, 220}, {300, 140}};
     s.overlay.panel.measured_t = last_frame_t_;  // "tracked" on the newest frame
@@ -198,6 +209,17 @@ class ScriptedCore final : public FlightCore {
   double stage_s_, request_delay_s_;
   std::string mission_ = "idle", stage_, last_stage_;
   double started_ = 0, now_ = 0, battery_ = 0, last_frame_t_ = -1;
+  int stage_index_ = 0, missions_ended_ = 0;
+  std::string last_result_;
+  // The SLAM map from above: a ring of 120 points 1.2 m round the base (inside the lab file's room), one revision.
+  std::shared_ptr<const fusion::SlamPointsXy> slam_points_ = [] {
+    auto p = std::make_shared<fusion::SlamPointsXy>();
+    p->revision = 1;
+    p->map_id = 1;
+    p->cell_m = 0.10;
+    for (int i = 0; i < 120; ++i) p->xy_world.emplace_back(1.2f * std::cos(i * 0.0524f), 1.2f * std::sin(i * 0.0524f));
+    return p;
+  }();
   bool flying_ = false;
   std::optional<CameraId> camera_wanted_;
 };

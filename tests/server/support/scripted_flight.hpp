@@ -1,6 +1,7 @@
 #pragma once
 // Test double of the FlightService: records requests, answers with scripted verdicts, and lets the
 // test publish frames and events as the runtime would. Tests only.
+#include <algorithm>
 #include <mutex>
 #include <opencv2/core.hpp>
 #include <vector>
@@ -10,6 +11,16 @@
 #include "server/video/frame_encoder.hpp"
 
 namespace labo::test {
+
+// A room 8 x 6 m with one bench 0.9 m high along its east wall, as the lab file would state it.
+inline LabOutline scripted_lab_outline() {
+  LabOutline o;
+  o.known = true;
+  o.room = {"room", -1.5, -3.0, 6.5, 3.0, 0.0, 3.0};
+  o.benches = {{"bench_east", 5.7, -2.2, 6.5, 1.2, 0.0, 0.9}};
+  o.platform = {"platform", -0.3, -0.3, 0.3, 0.3, 0.0, 0.1};
+  return o;
+}
 
 class ScriptedFlight final : public FlightService {
  public:
@@ -32,7 +43,36 @@ class ScriptedFlight final : public FlightService {
     std::lock_guard lock(mutex_);
     return telemetry_;
   }
-  std::vector<InstrumentSummary> instruments() const override { return {{"oscilloscope", "Oscilloscope", 0.3, 0.15, 2.0, 0.5}}; }
+  // Changes what telemetry() answers from now on, as the runtime's control tick would.
+  template <typename Edit>
+  void edit_telemetry(Edit edit) {
+    std::lock_guard lock(mutex_);
+    edit(telemetry_);
+  }
+  std::vector<InstrumentSummary> instruments() const override {
+    std::lock_guard lock(mutex_);
+    return instruments_;
+  }
+  LabOutline lab_outline() const override { return scripted_lab_outline(); }
+  // Accepts a new id (the flight software's own checks are tested in tests/control); an instrument
+  // being "inspected" may not be removed.
+  CommandVerdict add_instrument(const InstrumentSpec& spec) override {
+    std::lock_guard lock(mutex_);
+    for (const auto& i : instruments_)
+      if (i.id == spec.id) return {false, "instrument '" + spec.id + "' is in the lab already"};
+    instruments_.push_back({spec.id, spec.name, spec.width_m, spec.height_m, spec.T_world_object.translation().x(),
+                            spec.T_world_object.translation().y()});
+    placed.push_back(spec);
+    return {true, "instrument '" + spec.id + "' placed in the lab"};
+  }
+  CommandVerdict remove_instrument(const std::string& id) override {
+    std::lock_guard lock(mutex_);
+    if (id == inspecting) return {false, "instrument '" + id + "' is being inspected: stop the mission first"};
+    const auto it = std::find_if(instruments_.begin(), instruments_.end(), [&](const auto& i) { return i.id == id; });
+    if (it == instruments_.end()) return {false, "no instrument '" + id + "' in the lab"};
+    instruments_.erase(it);
+    return {true, "instrument '" + id + "' removed from the lab"};
+  }
   void land_and_stop(double) override { landed_on_shutdown = true; }
   VideoCapabilities video_capabilities() const override {
     std::lock_guard lock(mutex_);
@@ -85,11 +125,14 @@ class ScriptedFlight final : public FlightService {
 
   std::vector<MissionCommand> requests;
   bool landed_on_shutdown = false;
+  std::vector<InstrumentSpec> placed;  // what add_instrument accepted
+  std::string inspecting;              // an instrument remove_instrument refuses
 
  private:
   mutable std::mutex mutex_;
   FlightEventSink* sink_ = nullptr;
   FlightTelemetry telemetry_;
+  std::vector<InstrumentSummary> instruments_{{"oscilloscope", "Oscilloscope", 0.3, 0.15, 2.0, 0.5}};
   FrameEncoder encoder_{70};
   AccessUnitPacker packer_;
   std::vector<std::uint8_t> filler_;

@@ -1,0 +1,10 @@
+#pragma once
+// The page's room outline from the lab description the server loaded (its lab file).
+#include "drone/lab/lab_description.hpp"
+#include "server/lab/flight_service.hpp"
+
+namespace labo {
+
+LabOutline lab_outline_from(const LabDescription& lab);
+
+}  // namespace labo
