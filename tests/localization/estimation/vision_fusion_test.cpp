@@ -36,6 +36,15 @@ struct FakeSlamMap {
     return o;
   }
 };
+// Object 1 at T_world_object as the front camera of `truth` sees it now, surveyed where it is.
+estimation::ObjectObservation object_seen(const SyntheticFlight& truth, const Eigen::Isometry3d& T_world_object) {
+  estimation::ObjectObservation o;
+  o.t = truth.t;
+  o.object_index = 1;
+  o.T_cam_object = (truth.T_world_body() * T_body_cam_front()).inverse() * T_world_object;
+  o.T_world_object_surveyed = T_world_object;
+  return o;
+}
 }  // namespace
 
 TEST_CASE("estimation: the up/down manoeuvre fixes the SLAM map's scale") {
@@ -90,12 +99,8 @@ TEST_CASE("estimation: an object placed at first sighting drives the estimate, b
   const auto deliver = [&](const NavdataSample& nav) {
     est.add_navdata(nav);
     if (truth.t >= next_frame && visible) {
-      estimation::ObjectObservation o;
-      o.t = truth.t;
-      o.object_index = 1;
-      o.T_cam_object = (truth.T_world_body() * T_body_cam_front()).inverse() * T_world_object;
+      estimation::ObjectObservation o = object_seen(truth, T_world_object);
       o.T_cam_object.translation() += Eigen::Vector3d(n(rng), n(rng), n(rng));
-      o.T_world_object_surveyed = T_world_object;
       est.add_object_pose(o);
       ++seen;
       if (seen == 2) CHECK(est.source() == estimation::LocalizationSource::DeadReckoning);  // hysteresis: 3 frames
@@ -313,12 +318,7 @@ TEST_CASE("estimation: dead reckoning reports a drift bound that grows with time
   const auto deliver = [&](const NavdataSample& nav) {
     est.add_navdata(nav);
     if (truth.t >= next_frame && visible) {
-      estimation::ObjectObservation o;
-      o.t = truth.t;
-      o.object_index = 1;
-      o.T_cam_object = (truth.T_world_body() * T_body_cam_front()).inverse() * T_world_object;
-      o.T_world_object_surveyed = T_world_object;
-      est.add_object_pose(o);
+      est.add_object_pose(object_seen(truth, T_world_object));
       next_frame += 1.0 / 30.0;
     }
   };
