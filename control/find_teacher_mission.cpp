@@ -45,7 +45,7 @@ constexpr double kWallClearanceM = 0.5;
 // ... and, flying on an estimate, this many of its 1-sigma position uncertainties more, in the
 // geofence too (it holds the estimate, not the drone: on navdata odometry a follow drifts a few
 // tenths of a metre; test "control: a lost face is gone round clear of the walls by the estimate's
-// uncertainty").
+// uncertainty and drift").
 constexpr double kWallClearanceSigmas = 2.0;
 // A face found again within this time and distance of the lost one continues the track (its heading
 // and velocity): a few lost frames must not reset the heading to where the swaying head looks.
@@ -58,7 +58,7 @@ constexpr double kMinAimDistanceM = 0.2;  // nearer than this the bearing to the
 // Moving towards a bound, the set point stays this many seconds of that motion inside it, so the
 // drone brakes before the bound rather than overshooting it: swept round a lost face at 0.8 m/s, it
 // overshot a set point held at the bound by a third of a metre (test "control: a lost face is gone
-// round clear of the walls by the estimate's uncertainty").
+// round clear of the walls by the estimate's uncertainty and drift").
 constexpr double kBrakeLeadS = 0.5;
 constexpr double kMaxBrakeLeadM = 0.5;
 
