@@ -230,6 +230,9 @@ TEST_CASE("control: config section is validated with the key path") {
   CHECK_THROWS_WITH(read(R"({"gains": {"xy": {"kq": 1}}})"), Catch::Contains("kq"));
   CHECK_THROWS_WITH(read(R"({"mission": {"standoff_m": 0.3}})"), Catch::Contains("min_standoff_m"));
   CHECK_THROWS_WITH(read(R"({"mission": {"far_to_near_m": 2.5}})"), Catch::Contains("hysteresis"));
+  CHECK(read(R"({"mission": {"face_blind_altitude_m": 2.2}})").mission.face_blind_altitude_m == 2.2);
+  CHECK_THROWS_WITH(read(R"({"mission": {"face_blind_altitude_m": 0.1}})"), Catch::Contains("mission.face_blind_altitude_m"));
+  CHECK_THROWS_WITH(read(R"({"mission": {"face_blind_altitude_m": "high"}})"), Catch::Contains("face_blind_altitude_m"));
   CHECK_THROWS_WITH(read(R"({"safety": {"link_loss_land_s": "soon"}})"), Catch::Contains("link_loss_land_s"));
   const control::ControlConfig net = read(R"({"safety": {"min_clearance_m": 0.5, "estimate_jump_m": 0.4, "estimate_jump_hold_s": 2}})");
   CHECK(net.safety.min_clearance_m == 0.5);
