@@ -39,8 +39,9 @@ std::vector<OptionSpec> real_vision_option_specs() {
            "that the flight software does not see (default: the config's sim.world)"},
           {"--drone-model", "ardrone|tello",
            "with --vision real: the drone the lab is flown as: ardrone (default), the AR.Drone 2.0 (SimDroneLink); tello, a "
-           "Tello in SDK mode (SimTelloLink: its state string at 10 Hz in whole degrees and dm/s, its sticks, its one "
-           "camera from the config's tello section, no bottom camera), the flight software with the tello section's "
+           "Tello in SDK mode (SimTelloLink: its state string at 10 Hz in whole degrees and dm/s, its sticks, its "
+           "cameras from the config's tello section: the front one, and the Tello EDU's downward one with "
+           "tello.link.downvision and tello.emulator.downvision), the flight software with the tello section's "
            "estimation settings"},
           {"--vision-latency", "inline|worker",
            "with --vision real: inline (default): each frame's vision is done before the next control tick; worker: as "
@@ -184,7 +185,7 @@ void report(const ExperimentOptions& options, const std::string& name, const nlo
 std::string real_vision_note(const ExperimentOptions& options) {
   if (options.real_vision && options.tello)
     return "vehicle: simulated lab (drone/sim) in the run's world, flown as a Tello through SimTelloLink (TelloFirmware, "
-           "the state string at 10 Hz, rc sticks, the Tello's front camera only, link timing and delays); perception: the "
+           "the state string at 10 Hz, rc sticks, the Tello's front camera and the Tello EDU's downward camera (downvision), link timing and delays); perception: the "
            "real vision front-ends (planar, SLAM, face); estimator: StateEstimator with the tello section's settings";
   return options.real_vision
              ? "vehicle: simulated lab (drone/sim: rigid-body quadrotor under the firmware's inner loops, sensor model, "

@@ -43,6 +43,7 @@ SimTelloSettings sim_tello_settings(const TelloConfig& tello) {
   s.degraded_after_s = tello.link.degraded_after_s;
   s.lost_after_s = tello.link.lost_after_s;
   s.video = tello.link.video;
+  s.downvision = tello.link.downvision;
   s.video_gop = tello.emulator.video_gop;
   s.video_bitrate_kbps = tello.emulator.video_bitrate_kbps;
   return s;
@@ -62,6 +63,7 @@ SimTelloLink::SimTelloLink(SimulatedLab& lab, const SimLinkSettings& link, const
       now_(lab.now()),
       counters_(quiet_logger()),
       channel_(tello.timing),
+      camera_switch_(tello.downvision),
       drone_counters_(quiet_logger()),
       firmware_(tello.firmware, drone_counters_) {
   if (!(tello_.state_rate_hz > 0) || !(link_.video_fps > 0) || !(tello_.rc_interval_s > 0))
@@ -101,7 +103,9 @@ void SimTelloLink::emergency() {
 void SimTelloLink::move(const MoveCommand& command) { sticks_ = rc_from_move(command, tello_.rc_limit_percent); }
 
 void SimTelloLink::select_camera(CameraId camera) {
-  if (camera != CameraId::Front) counters_.add("tello_bottom_camera_unavailable");
+  const TelloCameraSwitch::Decision decision = camera_switch_.select(camera);
+  if (decision.command) push(*decision.command);
+  if (decision.unavailable) counters_.add("tello_bottom_camera_unavailable");
 }
 
 void SimTelloLink::set_config(const std::string& key, const std::string& value) {
@@ -118,7 +122,9 @@ LinkStatistics SimTelloLink::statistics() const {
   LinkStatistics s = counters_.snapshot();
   if (now_ > 0) {
     s.navdata_rate_hz = static_cast<double>(counters_.get("state_packets")) / now_;
-    s.video_fps = static_cast<double>(counters_.get("video_frames")) / now_;
+    // Without H.264 each delivered frame is counted as it reaches the listener; with it, each frame
+    // TelloVideoReceiver decodes (its "video_frames" counts access units, decodable or not).
+    s.video_fps = static_cast<double>(counters_.get(link_.h264 ? "video_decoded" : "video_frames")) / now_;
   }
   return s;
 }
@@ -249,19 +255,19 @@ void SimTelloLink::video_tick(Seconds t) {
     if (drop) return;
     const std::size_t slot = frames_.acquire();
     VideoFrame& f = frames_.items[slot];
-    lab_.render(CameraId::Front, f.bgr);  // SDK mode streams the front camera only
+    firmware_.render_stream(lab_, f.bgr);
     if (f.bgr.empty()) {
       frames_.release(slot);
       return;
     }
-    f.camera = CameraId::Front;
+    f.camera = firmware_.down_vision() ? CameraId::Bottom : CameraId::Front;
     f.frame_number = frame_number_++;
     f.t = arrival(t, link_.video_delay_s, last_video_);
     queue_.schedule(f.t, Channel::Video, slot);
     return;
   }
   // H.264: a lost frame is a hole in the stream the decoder sees, as on the wire.
-  lab_.render(CameraId::Front, rendered_);
+  firmware_.render_stream(lab_, rendered_);
   if (rendered_.empty()) return;
   if (!encoder_) {
     ardrone2::H264EncoderSettings es;
@@ -341,10 +347,12 @@ void SimTelloLink::finish(const CommandOutcome& o, Seconds t) {
   else if (o.result == Result::Abandoned) counters_.add("tello_command_abandoned");
   else if (o.result == Result::Error) counters_.add("tello_command_refused");
   else counters_.add("tello_command_ok");
+  if (camera_switch_.finished(o)) counters_.add("tello_downvision_refused");
   if (o.command != "command") return;
   if (o.result == Result::Ok) {
     sdk_mode_ = true;
     if (tello_.video) channel_.push("streamon");
+    if (const auto down = camera_switch_.after_sdk_mode(); down && tello_.video) channel_.push(*down);
     video_receiver_->reset();
   } else if (!sdk_mode_) {
     channel_.push("command");  // keep knocking until the drone answers

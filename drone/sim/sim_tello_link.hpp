@@ -14,8 +14,10 @@
 //    rounded: whole stick percents), SDK mode entered with "command" then "streamon", and every state
 //    datagram through TelloStateReceiver (the parser, sample_from_state, TelloFlightPhase's
 //    control_state), so the flight software reads exactly what TelloLink would hand it;
-//  - video: the front camera only (SDK mode has no bottom camera: select_camera(Bottom) is counted,
-//    `tello_bottom_camera_unavailable`, and the frames stay Front), after "streamon"; with `h264` each
+//  - video: after "streamon", the camera the firmware streams: the front one, or after "downvision 1"
+//    (select_camera(Bottom) through TelloCameraSwitch, as TelloLink) the Tello EDU's downward camera,
+//    grey, 320x240; a drone without it (`firmware.downvision` false) answers "error" and the frames
+//    stay Front (`tello_downvision_refused`, then `tello_bottom_camera_unavailable`); with `h264` each
 //    frame goes through the encoder, is cut into 1460-byte datagrams and is reassembled and decoded by
 //    TelloVideoReceiver, as the emulator sends it and the link receives it;
 //  - the network: each datagram delayed (SimLinkSettings: command_delay_s to the drone and for the
@@ -37,6 +39,7 @@
 #include "drone/sim/lockstep_queue.hpp"
 #include "drone/sim/sim_drone_link.hpp"
 #include "drone/sim/simulated_lab.hpp"
+#include "drone/tello/tello_camera_switch.hpp"
 #include "drone/tello/tello_command.hpp"
 #include "drone/tello/tello_firmware.hpp"
 #include "drone/tello/tello_receivers.hpp"
@@ -55,6 +58,7 @@ struct SimTelloSettings {
   int rc_limit_percent = 100;                // tello.link.rc_limit_percent
   Seconds degraded_after_s = 0.5, lost_after_s = 2.0;
   bool video = true;                         // send streamon
+  bool downvision = true;                    // tello.link.downvision: ask for the downward camera
   int video_gop = 30, video_bitrate_kbps = 2000;  // the encoder's, with SimLinkSettings::h264
 };
 SimTelloSettings sim_tello_settings(const TelloConfig& tello);
@@ -126,6 +130,7 @@ class SimTelloLink final : public LockstepDroneLink {
   std::unique_ptr<tello::TelloVideoReceiver> video_receiver_;
   tello::RcSticks sticks_;
   bool sdk_mode_ = false;
+  tello::TelloCameraSwitch camera_switch_;
   LinkState state_ = LinkState::Disconnected;
   Seconds last_state_arrival_ = -1;
   std::string datagram_;

@@ -8,6 +8,7 @@
 #include "core/config_reader.hpp"
 #include "drone/ardrone2/h264_codec.hpp"
 #include "drone/tello/annexb_assembler.hpp"
+#include "drone/tello/tello_camera_switch.hpp"
 #include "drone/tello/tello_command.hpp"
 
 namespace labo {
@@ -53,6 +54,7 @@ TelloEmulatorSettings read_tello_emulator_settings(const ConfigReader& c) {
   s.firmware.reply_delay_s = c.number_or("reply_delay_s", s.firmware.reply_delay_s, Range::closed(0, 5));
   s.firmware.watchdog_s = c.number_or("watchdog_s", s.firmware.watchdog_s, Range::closed(0.5, 600));
   s.firmware.motion_timeout_s = c.number_or("motion_timeout_s", s.firmware.motion_timeout_s, Range::closed(1, 60));
+  s.firmware.downvision = c.boolean_or("downvision", s.firmware.downvision);
   c.finish();
   return s;
 }
@@ -192,11 +194,16 @@ void TelloEmulator::video_loop() {
       if (!firmware_.streaming()) continue;
       if (firmware_.take_stream_restart()) encoder.reset();
       vehicle_.advance_to(t);
-      vehicle_.render(CameraId::Front, image);  // SDK mode streams the front camera only
+      firmware_.render_stream(vehicle_, image);  // the front camera, or the downward one after "downvision 1"
     }
     if (!client(state_to, video_to)) continue;
     if (image.empty() || image.type() != CV_8UC3) continue;  // a scheduled video dropout: no frame
-    if (!encoder) encoder = std::make_unique<ardrone2::H264Encoder>(es);  // a new stream starts with an IDR
+    if (!encoder) {  // a new stream starts with an IDR, at its camera's size
+      const bool down = image.cols == kDownvisionWidth && image.rows == kDownvisionHeight;
+      es.width = down ? kDownvisionWidth : settings_.video_width;
+      es.height = down ? kDownvisionHeight : settings_.video_height;
+      encoder = std::make_unique<ardrone2::H264Encoder>(es);
+    }
     if (!encoder->encode(image, encoded)) {
       counters_.add("video_encode_failed");
       continue;

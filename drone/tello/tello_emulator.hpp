@@ -3,7 +3,8 @@
 // TelloLink (or any Tello client) can fly a simulated vehicle. Commands arrive on `command_port` and
 // are answered to their sender (TelloFirmware plays the drone's side); once "command" has put it in
 // SDK mode the state string goes to the sender's host at `client_state_port` every 1/state_rate_hz,
-// and after "streamon" the front camera goes to `client_video_port` as raw H.264 (Baseline, an IDR
+// and after "streamon" the streamed camera (the front one, or the downward one after "downvision 1" on an
+// emulated Tello EDU) goes to `client_video_port` as raw H.264 (Baseline, an IDR
 // every `video_gop` frames with SPS/PPS in band) cut into datagrams of 1460 bytes, the last of each
 // frame shorter (as the drone does). Three threads: commands, state, video.
 #include <atomic>

@@ -5,6 +5,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include <opencv2/imgproc.hpp>
+
+#include "drone/tello/tello_camera_switch.hpp"
+
 namespace labo::tello {
 
 namespace {
@@ -105,6 +109,7 @@ std::optional<TelloFirmware::Reply> TelloFirmware::handle(std::string_view word,
     speed_cmps_ = speed;
     return after_delay("ok", t);
   }
+  if (word == "downvision") return downvision(args, t);
   if (word.ends_with('?') && args.empty()) {
     if (auto reply = read(word, tel, t)) return reply;
   }
@@ -116,6 +121,42 @@ std::optional<TelloFirmware::Reply> TelloFirmware::handle(std::string_view word,
   }
   counters_.bad_input("unknown_command", t, std::string(word) + " (expected an SDK 2.0 command)");
   return after_delay("error", t);
+}
+
+std::optional<TelloFirmware::Reply> TelloFirmware::downvision(std::string_view args, Seconds t) {
+  if (!settings_.downvision) {
+    counters_.add("downvision_unsupported");  // a plain Tello: no downward camera to stream
+    return after_delay("error", t);
+  }
+  if (args != "0" && args != "1") {
+    counters_.bad_input("bad_arguments", t, "downvision " + std::string(args) + " (expected 0 or 1)");
+    return after_delay("error", t);
+  }
+  const bool down = args == "1";
+  if (down != down_vision_ && streaming_) stream_restart_ = true;  // a new picture size: the stream starts over
+  down_vision_ = down;
+  counters_.add(down ? "downvision_on" : "downvision_off");
+  return after_delay("ok", t);
+}
+
+void TelloFirmware::render_stream(EmulatedVehicle& vehicle, cv::Mat& bgr) {
+  if (!down_vision_) {
+    vehicle.render(CameraId::Front, bgr);
+    return;
+  }
+  vehicle.render(CameraId::Bottom, down_render_);
+  if (down_render_.empty() || down_render_.type() != CV_8UC3) {
+    bgr.release();  // a scheduled video dropout: no frame
+    return;
+  }
+  const cv::Size size(kDownvisionWidth, kDownvisionHeight);
+  const cv::Mat* src = &down_render_;
+  if (down_render_.size() != size) {
+    cv::resize(down_render_, down_sized_, size, 0, 0, cv::INTER_AREA);
+    src = &down_sized_;
+  }
+  cv::cvtColor(*src, down_grey_, cv::COLOR_BGR2GRAY);  // the downward camera sees in grey only
+  cv::cvtColor(down_grey_, bgr, cv::COLOR_GRAY2BGR);
 }
 
 std::optional<TelloFirmware::Reply> TelloFirmware::rc(std::string_view args, EmulatedVehicle& vehicle, Seconds t) {

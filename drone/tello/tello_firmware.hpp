@@ -8,12 +8,16 @@
 //   - "rc a b c d" moves the vehicle (centred sticks: hover) and is never answered;
 //   - the 15 s watchdog: a flying vehicle without any command for `watchdog_s` lands;
 //   - while a take-off or landing runs, other commands get "error" (emergency and rc excepted);
+//   - "downvision 0|1" (a Tello EDU) switches the stream between the front and the downward camera
+//     (render_stream), answered "ok"; a plain Tello (`downvision` false) answers "error";
 //   - unknown commands, bad arguments and the SDK's moves this emulator does not fly (up/down/left/
 //     right/forward/back/cw/ccw/flip/go/curve/jump, mission pads) get "error", counted.
 // The caller serialises every call (one lock with the vehicle's).
 #include <optional>
 #include <string>
 #include <string_view>
+
+#include <opencv2/core.hpp>
 
 #include "drone/ardrone2/link_counters.hpp"
 #include "drone/emulated_vehicle.hpp"
@@ -25,6 +29,7 @@ struct TelloFirmwareSettings {
   Seconds reply_delay_s = 0.02;     // a setup or read command's answer
   Seconds watchdog_s = 15.0;        // a flying Tello without commands this long lands
   Seconds motion_timeout_s = 10.0;  // a take-off or landing not done by then is answered "error"
+  bool downvision = true;           // a Tello EDU: "downvision 0|1" switches to the downward camera
 };
 
 class TelloFirmware {
@@ -46,6 +51,10 @@ class TelloFirmware {
   bool streaming() const { return streaming_; }
   // A new "streamon" since the last call: the video starts over with an IDR.
   bool take_stream_restart();
+  bool down_vision() const { return down_vision_; }
+  // The streamed camera's picture now: the front camera's, or after "downvision 1" the downward
+  // camera's, grey, kDownvisionWidth x kDownvisionHeight. `bgr` is reused when its size fits.
+  void render_stream(EmulatedVehicle& vehicle, cv::Mat& bgr);
   // The state string now.
   TelloState state(const VehicleTelemetry& telemetry) const;
 
@@ -53,6 +62,7 @@ class TelloFirmware {
   enum class Motion { None, TakingOff, Landing };
   std::optional<Reply> handle(std::string_view word, std::string_view args, EmulatedVehicle& vehicle, Seconds t);
   std::optional<Reply> rc(std::string_view args, EmulatedVehicle& vehicle, Seconds t);
+  std::optional<Reply> downvision(std::string_view args, Seconds t);
   std::optional<Reply> read(std::string_view word, const VehicleTelemetry& telemetry, Seconds t) const;
   Reply after_delay(std::string text, Seconds t) const { return Reply{std::move(text), t + settings_.reply_delay_s}; }
 
@@ -61,6 +71,8 @@ class TelloFirmware {
   bool sdk_mode_ = false;
   bool streaming_ = false;
   bool stream_restart_ = false;
+  bool down_vision_ = false;
+  cv::Mat down_render_, down_sized_, down_grey_;  // render_stream's scratch
   int speed_cmps_ = 10;
   Motion motion_ = Motion::None;
   Seconds motion_since_ = 0;

@@ -42,6 +42,7 @@ TelloLinkSettings read_tello_link_settings(const ConfigReader& c) {
   s.degraded_after_s = c.number_or("degraded_after_s", s.degraded_after_s, Range::closed(0.05, 10.0));
   s.lost_after_s = c.number_or("lost_after_s", s.lost_after_s, Range::closed(0.1, 60.0));
   s.video = c.boolean_or("video", s.video);
+  s.downvision = c.boolean_or("downvision", s.downvision);
   const std::string rec = c.string_or("recording", "");
   if (!rec.empty()) s.recording = rec;
   if (s.lost_after_s <= s.degraded_after_s) c.fail("lost_after_s", "must be greater than degraded_after_s");
@@ -52,7 +53,8 @@ TelloLinkSettings read_tello_link_settings(const ConfigReader& c) {
 TelloLink::TelloLink(TelloLinkSettings settings, Logger logger, const Clock* clock)
     : settings_(std::move(settings)), logger_(std::move(logger)), clock_(clock ? clock : &own_clock_),
       counters_(logger_), status_(logger_, counters_),
-      channel_(TelloCommandTiming{settings_.reply_timeout_s, settings_.motion_timeout_s, settings_.command_retries}) {
+      channel_(TelloCommandTiming{settings_.reply_timeout_s, settings_.motion_timeout_s, settings_.command_retries}),
+      camera_switch_(settings_.downvision) {
   datagram_.reserve(kMaxCommandBytes);
   state_receiver_ = std::make_unique<TelloStateReceiver>(counters_, [this](const NavdataSample& s, const TelloState&) {
     last_state_t_ = s.t;
@@ -137,12 +139,25 @@ void TelloLink::hover() {
 }
 
 void TelloLink::select_camera(CameraId camera) {
-  if (camera == CameraId::Front) return;
+  TelloCameraSwitch::Decision decision;
+  {
+    std::lock_guard lock(command_mutex_);
+    decision = camera_switch_.select(camera);
+    if (decision.command && !channel_.push(*decision.command)) counters_.add("tello_command_queue_full");
+  }
+  if (decision.unavailable)
+    refuse_bottom_camera(clock_->now(), settings_.downvision ? "the drone refused downvision (not a Tello EDU)"
+                                                             : "tello.link.downvision is off");
+}
+
+// The documented fallback (docs/tello.md "Landing without a bottom camera"): counted, logged at most
+// once a second, frames stay front.
+void TelloLink::refuse_bottom_camera(Seconds t, std::string_view why) {
   counters_.add("tello_bottom_camera_unavailable");
-  const Seconds t = clock_->now();
   std::size_t suppressed = 0;
   if (refusals_.allow("bottom_camera", t, &suppressed)) {
-    logger_.warn(t, "bottom camera refused: a Tello in SDK mode streams its front camera only; frames stay front")
+    logger_.warn(t, "bottom camera refused: the Tello streams its front camera only; frames stay front")
+        .kv("why", why)
         .kv("suppressed", suppressed);
   }
 }
@@ -296,11 +311,17 @@ void TelloLink::finish(const CommandOutcome& o, Seconds t) {
   } else {
     counters_.add("tello_command_ok");
   }
-  if (o.command != "command") return;
   std::lock_guard lock(command_mutex_);
+  if (camera_switch_.finished(o)) {
+    counters_.add("tello_downvision_refused");
+    logger_.warn(t, "the Tello has no downward camera: the platform stage lands at the estimated base")
+        .kv("command", o.command).kv("result", to_string(o.result)).kv("reply", o.reply);
+  }
+  if (o.command != "command") return;
   if (o.result == Result::Ok) {
     sdk_mode_ = true;
     if (settings_.video) channel_.push("streamon");
+    if (const auto down = camera_switch_.after_sdk_mode(); down && settings_.video) channel_.push(*down);
     reset_video_ = true;
   } else if (!sdk_mode_) {
     channel_.push("command");  // keep knocking until the drone answers

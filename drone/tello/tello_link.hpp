@@ -7,9 +7,12 @@
 // parse) and video (receive, reassemble, decode). Events reach the listener from those threads, one at
 // a time. SteadyClock times unless a clock is given.
 //
-// What the Tello cannot do is refused in the open, never faked: it streams the front camera only
+// The bottom camera is the Tello EDU's downward camera: select_camera() sends "downvision 1|0"
+// (TelloCameraSwitch) and frames of the downward camera's size come labelled Bottom. What the drone
+// cannot do is refused in the open, never faked: a Tello that answers "downvision 1" with "error" (or
+// not at all), or a link configured without `downvision`, streams the front camera only
 // (select_camera(Bottom) is counted and logged, frames stay Front: the mission's platform search then
-// lands at the estimated base when it times out, docs/tello.md "Landing without a bottom camera"),
+// lands at the estimated base when it times out, docs/tello.md "Landing without a bottom camera");
 // and it has no flat trim in SDK mode.
 #include <atomic>
 #include <filesystem>
@@ -24,6 +27,7 @@
 #include "drone/drone_link.hpp"
 #include "drone/link_status.hpp"
 #include "drone/replay/recording.hpp"
+#include "drone/tello/tello_camera_switch.hpp"
 #include "drone/tello/tello_command.hpp"
 #include "drone/tello/tello_receivers.hpp"
 #include "drone/tello/tello_wire.hpp"
@@ -45,6 +49,7 @@ struct TelloLinkSettings {
   Seconds degraded_after_s = 0.5;     // state silence -> Degraded
   Seconds lost_after_s = 2.0;         // state silence -> Lost (then SDK mode is entered again)
   bool video = true;                  // send "streamon" after "command"
+  bool downvision = true;             // ask for the downward camera ("downvision 1") when the bottom camera is selected
   std::filesystem::path recording;    // empty: no recording
 };
 
@@ -92,6 +97,7 @@ class TelloLink final : public DroneLink {
   void send_sticks(Seconds t);
   void receive_replies(Seconds wait_s);
   void finish(const tello::CommandOutcome& outcome, Seconds t);
+  void refuse_bottom_camera(Seconds t, std::string_view why);
   void supervise(Seconds t);
   void set_state(LinkState s, Seconds t);
   void enter_sdk_mode();
@@ -117,6 +123,7 @@ class TelloLink final : public DroneLink {
   tello::TelloCommandChannel channel_;
   tello::RcSticks sticks_;
   bool sdk_mode_ = false;              // "command" answered ok since the last connect
+  tello::TelloCameraSwitch camera_switch_;
 
   // Orders what the flight phase learns with what the recording holds (a command sent, a reply, a
   // state string), so that a replay derives the same control_state for every sample.

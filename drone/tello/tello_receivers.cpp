@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "drone/tello/tello_camera_switch.hpp"
 #include "drone/tello/tello_wire.hpp"
 
 namespace labo::tello {
@@ -82,7 +83,7 @@ void TelloVideoReceiver::decode(std::span<const std::uint8_t> unit) {
   const std::uint32_t number = frame_number_++;
   forward_seen_idr_ = forward_seen_idr_ || keyframe;
   if (encoded_ && forward_seen_idr_)
-    encoded_(EncodedVideo{t_, CameraId::Front, number, keyframe, decoder_.width(), decoder_.height(), unit});
+    encoded_(EncodedVideo{t_, camera_of(decoder_.width(), decoder_.height()), number, keyframe, decoder_.width(), decoder_.height(), unit});
   if (decoded == ardrone2::DecodeStatus::Error) {
     counters_.bad_input(to_string(decoded), t_, "access unit of " + std::to_string(unit.size()) + " bytes");
     return;
@@ -93,9 +94,14 @@ void TelloVideoReceiver::decode(std::span<const std::uint8_t> unit) {
   }
   counters_.add("video_decoded");
   frame_.t = t_;
-  frame_.camera = CameraId::Front;  // SDK mode streams the front camera only
+  frame_.camera = camera_of(frame_.bgr.cols, frame_.bgr.rows);
   frame_.frame_number = number;
   if (handler_) handler_(frame_);
+}
+
+// The stream carries one camera at a time; the downward camera's pictures are its own size.
+CameraId TelloVideoReceiver::camera_of(int width, int height) {
+  return width == kDownvisionWidth && height == kDownvisionHeight ? CameraId::Bottom : CameraId::Front;
 }
 
 void TelloVideoReceiver::reset() {

@@ -49,6 +49,8 @@ class TelloStateReceiver {
   std::uint32_t sequence_ = 0;
 };
 
+// Frames are labelled by their size: the downward camera's (kDownvisionWidth x kDownvisionHeight,
+// after "downvision 1" on a Tello EDU) Bottom, any other Front.
 class TelloVideoReceiver {
  public:
   using Handler = std::function<void(const VideoFrame&)>;
@@ -63,6 +65,7 @@ class TelloVideoReceiver {
 
  private:
   void decode(std::span<const std::uint8_t> access_unit);
+  static CameraId camera_of(int width, int height);
 
   LinkCounters& counters_;
   Handler handler_;

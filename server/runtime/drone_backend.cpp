@@ -46,9 +46,20 @@ class ArdroneBackend final : public DroneBackend {
   FlightRuntime runtime_;
 };
 
-// A Tello (or Tello EDU) in SDK 2.0 mode over Wi-Fi, with its own camera in front. It has no
-// bottom camera: the link refuses the switch and the platform search lands at the estimated base when
-// it times out (docs/tello.md "Landing without a bottom camera"); said once at start.
+// A Tello (or Tello EDU) in SDK 2.0 mode over Wi-Fi, with its own camera in front. The bottom camera
+// is the Tello EDU's downward camera ("downvision", with tello.link.downvision); a plain Tello refuses
+// it, and without it the platform search lands at the estimated base when it times out (docs/tello.md
+// "Landing without a bottom camera"); said once at start.
+FlightRuntimeOptions tello_runtime_options(const AppConfig& config) {
+  FlightRuntimeOptions o = flight_runtime_options(
+      config, "Tello", "tello.link.downvision is off: the Tello streams its front camera only, there is no bottom camera");
+  if (config.tello.link.downvision) {
+    o.video.bottom_camera = true;  // a Tello that refuses "downvision 1" falls back in the link, counted and logged
+    o.video.no_bottom_camera.clear();
+  }
+  return o;
+}
+
 class TelloBackend final : public DroneBackend {
  public:
   TelloBackend(const DroneSpec& spec, const AppConfig& config, Logger log)
@@ -59,11 +70,14 @@ class TelloBackend final : public DroneBackend {
           return s;
         }(), log.child("link")),
         core_(std::make_unique<control::FlightStack>(flight_stack_setup(config, cameras_, config.tello_estimation)), cameras_),
-        runtime_(link_, core_, clock_,
-                 flight_runtime_options(config, "Tello", "a Tello has one camera, looking forward: there is no bottom camera to stream"),
-                 log) {
-    log.warn(clock_.now(), "a Tello has no bottom camera: the platform stage lands at the estimated base")
-        .kv("after_s", config.control.mission.detect_timeout_s);
+        runtime_(link_, core_, clock_, tello_runtime_options(config), log) {
+    if (config.tello.link.downvision)
+      log.info(clock_.now(), "bottom camera: the Tello EDU's downward camera (downvision); a Tello that refuses it "
+                             "streams its front camera and the platform stage lands at the estimated base")
+          .kv("after_s", config.control.mission.detect_timeout_s);
+    else
+      log.warn(clock_.now(), "tello.link.downvision is off: no bottom camera, the platform stage lands at the estimated base")
+          .kv("after_s", config.control.mission.detect_timeout_s);
     runtime_.start();
     link_.start();
   }

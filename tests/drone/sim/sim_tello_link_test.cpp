@@ -1,5 +1,5 @@
 // SimTelloLink: the simulated lab seen through what a Tello gives, in lockstep. Its rates, the state's
-// resolution (whole degrees, dm/s, cm), the sticks, no bottom camera, the flight phase from the
+// resolution (whole degrees, dm/s, cm), the sticks, the downward camera, the flight phase from the
 // commands, and the same flight bit for bit.
 #include <catch2/catch.hpp>
 
@@ -115,18 +115,68 @@ TEST_CASE("sim tello link: the state has the drone's resolution: whole degrees, 
   CHECK(rig.link->drone_counters().get("rc_malformed") == 0);
 }
 
-TEST_CASE("sim tello link: no bottom camera: the switch is counted, every frame stays Front", "[sim][tello]") {
-  Rig rig;
-  rig.run_to(1.0);
-  rig.link->select_camera(CameraId::Bottom);
-  rig.link->flat_trim();
-  rig.run_to(4.0);
-  REQUIRE_FALSE(rig.rec.frames.empty());
-  CHECK(std::all_of(rig.rec.frames.begin(), rig.rec.frames.end(), [](const VideoFrame& f) { return f.camera == CameraId::Front; }));
-  const LinkStatistics s = rig.link->statistics();
+TEST_CASE("sim tello link: the bottom camera is the Tello EDU's downward one: downvision, grey 320x240 frames labelled Bottom", "[sim][tello]") {
+  for (const bool h264 : {false, true}) {
+    CAPTURE(h264);
+    SimLinkSettings ls;
+    ls.h264 = h264;
+    Rig rig(ls, 1, true);
+    rig.run_to(1.0);
+    rig.link->select_camera(CameraId::Bottom);
+    rig.run_to(2.0);
+    REQUIRE_FALSE(rig.rec.frames.empty());
+    CHECK(rig.rec.frames.back().camera == CameraId::Bottom);
+    CHECK(rig.rec.size == cv::Size(320, 240));
+    rig.link->select_camera(CameraId::Front);
+    rig.run_to(3.0);
+    CHECK(rig.rec.frames.back().camera == CameraId::Front);
+    CHECK(rig.rec.size == cv::Size(960, 720));
+    // Labels follow the pictures: no frame of one camera's size carries the other's label.
+    const LinkStatistics s = rig.link->statistics();
+    CHECK(s.counters.count("tello_bottom_camera_unavailable") == 0);
+    CHECK(rig.link->drone_counters().get("downvision_on") == 1);
+    CHECK(rig.link->drone_counters().get("downvision_off") == 1);
+  }
+}
+
+TEST_CASE("sim tello link: a Tello without the downward camera refuses it: counted, every frame stays Front", "[sim][tello]") {
+  SimLinkSettings ls;
+  SimulatedLabSettings labs;
+  labs.seed = 1;
+  SimulatedLab lab(test::shipped_lab(), labs, std::make_unique<test::GreyRenderer>());
+  SimTelloSettings ts = sim_tello_settings(TelloConfig{});
+  ts.firmware.downvision = false;  // a plain Tello answers "error"
+  SimTelloLink link(lab, ls, ts);
+  Recorder rec;
+  link.set_listener(&rec);
+  for (Seconds t = 0.02; t <= 1.0; t += 0.02) link.advance_to(t);
+  link.select_camera(CameraId::Bottom);
+  link.flat_trim();
+  for (Seconds t = 1.02; t <= 4.0; t += 0.02) link.advance_to(t);
+  link.select_camera(CameraId::Bottom);  // the link knows now: refused without asking the drone again
+  for (Seconds t = 4.02; t <= 5.0; t += 0.02) link.advance_to(t);
+  REQUIRE_FALSE(rec.frames.empty());
+  CHECK(std::all_of(rec.frames.begin(), rec.frames.end(), [](const VideoFrame& f) { return f.camera == CameraId::Front; }));
+  const LinkStatistics s = link.statistics();
+  CHECK(s.counters.at("tello_downvision_refused") == 1);
   CHECK(s.counters.at("tello_bottom_camera_unavailable") == 1);
   CHECK(s.counters.at("tello_flat_trim_not_in_sdk") == 1);
-  CHECK_THROWS_AS(rig.link->set_config("video:video_channel", "1"), std::invalid_argument);
+  CHECK(link.drone_counters().get("downvision_unsupported") == 1);
+  CHECK_THROWS_AS(link.set_config("video:video_channel", "1"), std::invalid_argument);
+}
+
+TEST_CASE("sim tello link: video_fps counts the frames the link decoded, with H.264 as without", "[sim][tello]") {
+  for (const bool h264 : {false, true}) {
+    CAPTURE(h264);
+    SimLinkSettings ls;
+    ls.h264 = h264;
+    Rig rig(ls, 1, true);
+    rig.run_to(10.0);
+    const LinkStatistics s = rig.link->statistics();
+    // 30 fps from the reply to "streamon" on (a few frames after t = 0), over the 10 s.
+    CHECK(s.video_fps == Approx(static_cast<double>(rig.rec.frames.size()) / 10.0).margin(1e-9));
+    CHECK(s.video_fps == Approx(30.0).margin(1.0));
+  }
 }
 
 TEST_CASE("sim tello link: take-off, landing and the flight phase from the replies", "[sim][tello]") {

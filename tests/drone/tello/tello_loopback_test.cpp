@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <mutex>
 #include <opencv2/core.hpp>
 #include <string>
@@ -104,11 +105,19 @@ TEST_CASE("tello: the link takes off, flies, streams and lands a vehicle through
   link.hover();
   REQUIRE(test::eventually([&] { return vehicle.snapshot().hovering; }, 2.0));
 
-  // No bottom camera in SDK mode: refused in the open, frames stay front.
+  // The bottom camera is the Tello EDU's downward camera: "downvision 1", then its grey 320x240
+  // pictures labelled Bottom; "downvision 0" brings the front camera back.
   link.select_camera(CameraId::Bottom);
-  const std::size_t frames_before = rec.frame_count();
-  REQUIRE(test::eventually([&] { return rec.frame_count() > frames_before + 3; }, 5.0));
-  CHECK(rec.last_frame().camera == CameraId::Front);
+  REQUIRE(test::eventually([&] { return rec.last_frame().camera == CameraId::Bottom; }, 5.0));
+  {
+    std::lock_guard l(rec.m);
+    CHECK(rec.frames.back().width == 320);
+    CHECK(rec.frames.back().height == 240);
+    const cv::Scalar mean = cv::mean(rec.last_pixels);
+    CHECK(std::abs(mean[0] - mean[2]) < 3.0);  // grey: the tiny vehicle's green bottom view without its colour
+  }
+  link.select_camera(CameraId::Front);
+  REQUIRE(test::eventually([&] { return rec.last_frame().camera == CameraId::Front && rec.last_frame().width == 480; }, 5.0));
   CHECK_THROWS_WITH(link.set_config("video:video_channel", "1"), Catch::Contains("'speed'"));
   link.set_config("speed", "50");
 
@@ -116,7 +125,7 @@ TEST_CASE("tello: the link takes off, flies, streams and lands a vehicle through
   REQUIRE(test::eventually([&] { return rec.last().control_state == 2; }, 5.0));
   CHECK(rec.last().altitude_m == Approx(0.0).margin(0.01));
   const auto stats = link.statistics();
-  CHECK(count(stats, "tello_bottom_camera_unavailable") == 1);
+  CHECK(count(stats, "tello_bottom_camera_unavailable") == 0);
   CHECK(count(stats, "tello_flat_trim_not_in_sdk") == 1);
   CHECK(count(stats, "state_packets") > 10);
   CHECK(count(stats, "rc_sent") > 10);
@@ -129,6 +138,30 @@ TEST_CASE("tello: the link takes off, flies, streams and lands a vehicle through
   std::lock_guard l(rec.m);
   CHECK(rec.states.front().first == LinkState::Connecting);
   CHECK(rec.states.back().first == LinkState::Disconnected);
+}
+
+TEST_CASE("tello: a Tello without the downward camera refuses downvision: counted, logged, frames stay front", "[tello][loopback]") {
+  test::TinyVehicle vehicle;
+  TelloEmulatorSettings es = emulator_settings();
+  es.firmware.downvision = false;  // a plain Tello
+  TelloEmulator emulator(vehicle, es, quiet());
+  emulator.start();
+  Recorder rec;
+  TelloLink link(link_settings(emulator), quiet());
+  link.set_listener(&rec);
+  connect(link, emulator);
+  REQUIRE(test::eventually([&] { return rec.frame_count() >= 3; }, 10.0));
+  link.select_camera(CameraId::Bottom);
+  REQUIRE(test::eventually([&] { return count(link.statistics(), "tello_downvision_refused") == 1; }, 5.0));
+  link.select_camera(CameraId::Bottom);  // from now on refused by the link itself, nothing sent
+  const std::size_t frames_before = rec.frame_count();
+  REQUIRE(test::eventually([&] { return rec.frame_count() > frames_before + 3; }, 5.0));
+  CHECK(rec.last_frame().camera == CameraId::Front);
+  const auto stats = link.statistics();
+  CHECK(count(stats, "tello_bottom_camera_unavailable") == 1);
+  CHECK(count(emulator.statistics(), "downvision_unsupported") == 1);
+  link.stop();
+  emulator.stop();
 }
 
 TEST_CASE("tello: supervision marks the link degraded, lost, and enters SDK mode again", "[tello][loopback]") {

@@ -139,7 +139,7 @@ TEST_CASE("tello: the video receiver decodes the stream and counts what it refus
   REQUIRE(frames.size() == 10);
   CHECK(frames.front().bgr.cols == 320);
   CHECK(frames.front().bgr.rows == 240);
-  CHECK(frames.front().camera == CameraId::Front);
+  CHECK(frames.front().camera == CameraId::Bottom);  // 320x240: the downward camera's pictures (downvision)
   CHECK(frames.front().t == Approx(1.0));  // the receive time of the unit's last datagram
   CHECK(frames.back().frame_number == frames.front().frame_number + 9);
   CHECK(count(stats, "video_keyframes") == 1);  // unit 10
