@@ -17,9 +17,7 @@ constexpr double kAirDensity = 1.225;  // kg/m³, for the height above the take-
 constexpr double kG = 9.80665;
 constexpr int kControlLandedState = 2, kControlFlyingState = 3, kControlHoveringState = 4;
 
-constexpr std::array<std::string_view, 16> kUnflownMoves = {"up", "down", "left", "right", "forward", "back",
-                                                            "cw", "ccw", "flip", "go", "curve", "jump",
-                                                            "mon", "moff", "mdirection", "wifi"};
+constexpr std::array<std::string_view, 5> kUnflownCommands = {"jump", "mon", "moff", "mdirection", "wifi"};
 
 bool parse_int(std::string_view text, int& value) {
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
@@ -65,15 +63,26 @@ std::optional<TelloFirmware::Reply> TelloFirmware::handle(std::string_view word,
   if (word == "rc") return rc(args, vehicle, t);
   if (word == "emergency") {
     if (!vehicle.telemetry().emergency) vehicle.emergency(t);
-    motion_ = Motion::None;  // a take-off or landing under way is never answered
+    motion_ = Motion::None;  // a take-off, landing or move under way is never answered
+    move_.reset();
     counters_.add("emergencies");
     return Reply{"ok", t};
+  }
+  if (motion_ == Motion::Moving && word == "stop" && args.empty()) {
+    // "stop" works at any time: the move ends unfinished ("error", in order), then stop's "ok".
+    move_.reset();
+    motion_ = Motion::None;
+    vehicle.move(MoveCommand{}, true, t);
+    counters_.add("moves_stopped");
+    deferred_ = after_delay("ok", t);
+    return Reply{"error", t};
   }
   if (motion_ != Motion::None) {
     counters_.add("busy_refusals");
     return after_delay("error", t);
   }
   const VehicleTelemetry tel = vehicle.telemetry();
+  if (const MoveParse move = parse_distance_move(word, args, speed_cmps_); move.is_move) return start_move(move, tel, t);
   if (word == "command") return after_delay("ok", t);
   if (word == "takeoff" && args.empty()) {
     if (tel.flying) return after_delay("error", t);
@@ -113,8 +122,8 @@ std::optional<TelloFirmware::Reply> TelloFirmware::handle(std::string_view word,
   if (word.ends_with('?') && args.empty()) {
     if (auto reply = read(word, tel, t)) return reply;
   }
-  for (std::string_view move : kUnflownMoves) {
-    if (word == move) {
+  for (std::string_view unflown : kUnflownCommands) {
+    if (word == unflown) {
       counters_.add("unflown_commands");
       return after_delay("error", t);
     }
@@ -159,6 +168,54 @@ void TelloFirmware::render_stream(EmulatedVehicle& vehicle, cv::Mat& bgr) {
   cv::cvtColor(down_grey_, bgr, cv::COLOR_GRAY2BGR);
 }
 
+std::optional<TelloFirmware::Reply> TelloFirmware::start_move(const MoveParse& move, const VehicleTelemetry& tel, Seconds t) {
+  if (!move.plan) {
+    counters_.add("move_refused");
+    return after_delay("error " + move.error, t);
+  }
+  if (!tel.flying) {
+    counters_.add("move_refused");
+    return after_delay("error not flying", t);
+  }
+  if (move.plan->flip && tel.nav.battery_percent < kMinFlipBatteryPercent) {
+    counters_.add("move_refused");
+    return after_delay("error battery below 50 %", t);
+  }
+  counters_.add(move.plan->flip ? "flips" : "moves");
+  move_.emplace(*move.plan, odometry_, t);
+  motion_ = Motion::Moving;
+  motion_since_ = t;
+  return std::nullopt;  // answered once done (advance)
+}
+
+// One step of the move: its sticks to the vehicle; "ok" once done, "error" when out of time.
+std::optional<TelloFirmware::Reply> TelloFirmware::fly_move(EmulatedVehicle& vehicle, Seconds t) {
+  MoveCommand sticks;
+  const MoveFlight::Status status = move_->step(odometry_, t, sticks);
+  if (status == MoveFlight::Status::Flying) {
+    vehicle.move(sticks, false, t);
+    return std::nullopt;
+  }
+  vehicle.move(MoveCommand{}, true, t);
+  move_.reset();
+  motion_ = Motion::None;
+  last_command_t_ = t;  // the watchdog counts from the end of the command
+  if (status == MoveFlight::Status::TimedOut) counters_.add("moves_timed_out");
+  return Reply{status == MoveFlight::Status::Done ? "ok" : "error", t};
+}
+
+// Dead reckoning as the drone's own vision positioning gives it: the velocities over the ground
+// integrated in the heading, the altitude and heading as measured.
+void TelloFirmware::update_odometry(const VehicleTelemetry& tel, Seconds t) {
+  const double dt = last_advance_t_ >= 0 ? t - last_advance_t_ : 0.0;
+  const double c = std::cos(tel.nav.yaw_rad), s = std::sin(tel.nav.yaw_rad);
+  odometry_.position_m.x() += (c * tel.nav.vx_mps - s * tel.nav.vy_mps) * dt;
+  odometry_.position_m.y() += (s * tel.nav.vx_mps + c * tel.nav.vy_mps) * dt;
+  odometry_.position_m.z() = tel.nav.altitude_m;
+  odometry_.yaw_rad = tel.nav.yaw_rad;
+  odometry_.velocity_body_mps = {tel.nav.vx_mps, tel.nav.vy_mps, tel.nav.vz_mps};
+}
+
 std::optional<TelloFirmware::Reply> TelloFirmware::rc(std::string_view args, EmulatedVehicle& vehicle, Seconds t) {
   RcSticks s;
   if (!parse_rc_arguments(args, s)) {
@@ -166,6 +223,10 @@ std::optional<TelloFirmware::Reply> TelloFirmware::rc(std::string_view args, Emu
     return std::nullopt;
   }
   counters_.add("rc_received");
+  if (motion_ == Motion::Moving) {
+    counters_.add("rc_ignored_during_move");  // the move flies the vehicle until it is done or stopped
+    return std::nullopt;
+  }
   vehicle.move(move_from_rc(s), s.centred(), t);
   return std::nullopt;
 }
@@ -185,8 +246,15 @@ std::optional<TelloFirmware::Reply> TelloFirmware::advance(EmulatedVehicle& vehi
   vehicle.advance_to(t);
   const VehicleTelemetry tel = vehicle.telemetry();
   if (last_advance_t_ >= 0 && tel.flying) motors_s_ += t - last_advance_t_;
+  update_odometry(tel, t);
   last_advance_t_ = t;
   height_m_ = takeoff_pressure_pa_ > 0 ? (takeoff_pressure_pa_ - tel.pressure_pa) / (kAirDensity * kG) : 0.0;
+  if (deferred_) {
+    std::optional<Reply> reply = std::move(deferred_);
+    deferred_.reset();
+    return reply;
+  }
+  if (motion_ == Motion::Moving) return fly_move(vehicle, t);
   if (motion_ == Motion::None) {
     if (sdk_mode_ && tel.flying && t - last_command_t_ > settings_.watchdog_s) {
       counters_.add("watchdog_landings");

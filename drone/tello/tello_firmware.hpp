@@ -10,8 +10,12 @@
 //   - while a take-off or landing runs, other commands get "error" (emergency and rc excepted);
 //   - "downvision 0|1" (a Tello EDU) switches the stream between the front and the downward camera
 //     (render_stream), answered "ok"; a plain Tello (`downvision` false) answers "error";
-//   - unknown commands, bad arguments and the SDK's moves this emulator does not fly (up/down/left/
-//     right/forward/back/cw/ccw/flip/go/curve/jump, mission pads) get "error", counted.
+//   - the SDK's distance moves (up/down/left/right/forward/back/cw/ccw/go/curve/flip, tello_moves.hpp)
+//     are flown over the vehicle's own odometry and answered "ok" once done ("error" with the reason
+//     for arguments out of range, "error" after the move's time); "stop" ends one, "rc" is ignored
+//     while one runs;
+//   - unknown commands, bad arguments and what this emulator does not fly (jump, the mission pads,
+//     wifi) get "error", counted.
 // The caller serialises every call (one lock with the vehicle's).
 #include <optional>
 #include <string>
@@ -21,6 +25,7 @@
 
 #include "drone/ardrone2/link_counters.hpp"
 #include "drone/emulated_vehicle.hpp"
+#include "drone/tello/tello_moves.hpp"
 #include "drone/tello/tello_wire.hpp"
 
 namespace labo::tello {
@@ -59,10 +64,13 @@ class TelloFirmware {
   TelloState state(const VehicleTelemetry& telemetry) const;
 
  private:
-  enum class Motion { None, TakingOff, Landing };
+  enum class Motion { None, TakingOff, Landing, Moving };
   std::optional<Reply> handle(std::string_view word, std::string_view args, EmulatedVehicle& vehicle, Seconds t);
   std::optional<Reply> rc(std::string_view args, EmulatedVehicle& vehicle, Seconds t);
   std::optional<Reply> downvision(std::string_view args, Seconds t);
+  std::optional<Reply> start_move(const MoveParse& move, const VehicleTelemetry& tel, Seconds t);
+  std::optional<Reply> fly_move(EmulatedVehicle& vehicle, Seconds t);
+  void update_odometry(const VehicleTelemetry& tel, Seconds t);
   std::optional<Reply> read(std::string_view word, const VehicleTelemetry& telemetry, Seconds t) const;
   Reply after_delay(std::string text, Seconds t) const { return Reply{std::move(text), t + settings_.reply_delay_s}; }
 
@@ -81,6 +89,9 @@ class TelloFirmware {
   double motors_s_ = 0;
   double takeoff_pressure_pa_ = -1;  // latched at take-off: the height's reference
   double height_m_ = 0;
+  MoveOdometry odometry_;             // the vehicle's own account of where it is, for the moves
+  std::optional<MoveFlight> move_;    // the distance move flown (motion_ Moving)
+  std::optional<Reply> deferred_;     // a reply advance() sends (stop's, after the move it ended)
 };
 
 }  // namespace labo::tello

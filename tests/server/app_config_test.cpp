@@ -26,6 +26,26 @@ TEST_CASE("app config: the shipped default.json loads with the paper's threshold
   CHECK(c.tello_estimation.navdata_delay_s == Approx(c.estimation.navdata_delay_s));
 }
 
+TEST_CASE("app config: tello config: the cameras' defaults and the downward camera") {
+  // The defaults in code and the shipped file agree: the Tello's front camera from its specification
+  // with the allowance of an uncalibrated lens (9 px at the corner), the Tello EDU's downward camera
+  // 320x240 with the AR.Drone bottom camera's field of view (4 px), asked for and answered.
+  for (const TelloConfig& t : {TelloConfig{}, load_app_config(default_config_path()).tello}) {
+    CHECK(t.camera.width == 960);
+    CHECK(t.camera.fx == Approx(682.96).margin(0.01));
+    CHECK(t.camera.calibration_error_px == Approx(9.0));
+    CHECK(t.bottom_camera.width == 320);
+    CHECK(t.bottom_camera.height == 240);
+    CHECK(t.bottom_camera.fx == Approx(350.0));
+    CHECK(t.bottom_camera.calibration_error_px == Approx(4.0));
+    CHECK(t.link.downvision);
+    CHECK(t.emulator.firmware.downvision);
+  }
+  const CamerasConfig cameras = tello_cameras(TelloConfig{}, load_app_config(default_config_path()).cameras);
+  CHECK(cameras.front.width == 960);
+  CHECK(cameras.bottom.width == 320);
+}
+
 TEST_CASE("app config: bad sections are refused with the key path") {
   auto error_of = [](const std::string& text) -> std::string {
     try {
@@ -47,6 +67,12 @@ TEST_CASE("app config: bad sections are refused with the key path") {
   CHECK_THAT(error_of(R"({"log_level": "loud"})"), Catch::Contains("log_level: found \"loud\""));
   CHECK_THAT(error_of(R"({"cameras": {"front": {}}})"), Catch::Contains("cameras.front.width: missing"));
   CHECK_THAT(error_of(R"({"tello": {"estimation": 3}})"), Catch::Contains("tello.estimation"));
+  // Frames are told apart by their size: the downward camera's is 320x240, and only its.
+  CHECK_THAT(error_of(R"({"tello": {"bottom_camera": {"width": 640, "height": 480, "fx": 500, "fy": 500, "cx": 320, "cy": 240}}})"),
+             Catch::Contains("tello.bottom_camera: must be 320x240, the downward camera's stream (got 640x480)"));
+  CHECK_THAT(error_of(R"({"tello": {"camera": {"width": 320, "height": 240, "fx": 300, "fy": 300, "cx": 160, "cy": 120}}})"),
+             Catch::Contains("tello.camera: must not be 320x240"));
+  CHECK_THAT(error_of(R"({"tello": {"link": {"downvision": 1}}})"), Catch::Contains("tello.link.downvision"));
   CHECK_THAT(error_of(R"({"tello": {"estimation": {"scale_weight_z": -1}}})"), Catch::Contains("tello.estimation.scale_weight_z"));
 }
 

@@ -1,8 +1,7 @@
 // The inspect mission flown as a Tello in lockstep (SimTelloLink, `--drone-model tello`) with the
 // shipped config and the real vision front-ends: what a Tello's flight must do from take-off to
-// landing. The landing is checked against the limit a Tello has (no bottom camera: it lands at the
-// base as estimated, which SLAM's map placement leaves a few decimetres off; docs/tello.md, Known
-// limits), not against the platform's 0.10 m.
+// landing on the platform, found with the Tello EDU's downward camera (downvision) as the AR.Drone
+// finds it with its bottom camera, within the campaign's 0.10 m.
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
@@ -25,7 +24,7 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 // The take-off's manoeuvre gives SLAM's map its scale in one round: with the estimation section's
 // 0.1 s navdata gap limit every scale pair of a 10 Hz state was dropped and the manoeuvre repeated
 // ("again: no scale yet") until the flight went on dead reckoning; tello.estimation's 0.15 s fixes it.
-TEST_CASE("control: a Tello in the simulated lab scales its map in one round then holds at the panel and lands at the estimated base") {
+TEST_CASE("control: a Tello in the simulated lab scales its map in one round then holds at the panel and lands on the platform with its downward camera") {
   ExperimentOptions o;
   o.config = labo::source_root() / "config" / "default.json";
   o.real_vision = true;
@@ -73,17 +72,17 @@ TEST_CASE("control: a Tello in the simulated lab scales its map in one round the
   // The panel: reached and held, the standoff within the campaign's 0.10 m over the hold's last second.
   REQUIRE(standoff.size() >= 30);  // 30 control ticks a second
   for (std::size_t i = standoff.size() - 30; i < standoff.size(); ++i) CHECK(standoff[i] < 0.10);
-  // The landing: the platform search with the front camera only finds nothing, so it lands at the
-  // base as estimated, on the ground, within the map placement's error.
+  // The landing: the platform found with the downward camera, landed on within the campaign's 0.10 m.
   CHECK(contains(s.last_event, "succeeded"));
-  CHECK(contains(s.last_event, "landing at the estimated base"));
+  CHECK_FALSE(contains(s.last_event, "landing at the estimated base"));
   CHECK(s.phase == control::FlightPhase::Landed);
   CHECK(f->true_pose().translation().z() < resting_z_m + 0.05);
   const double landing_m =
       (f->true_pose().translation() - f->true_lab().lab.platform.T_world_object.translation()).head<2>().norm();
-  CHECK(landing_m < 0.5);
+  CHECK(landing_m < 0.10);
   CHECK_FALSE(f->crashed());
   const LinkStatistics link = sim->link().statistics();
-  CHECK(link.counters.at("tello_bottom_camera_unavailable") >= 1);
+  CHECK_FALSE(link.counters.contains("tello_bottom_camera_unavailable"));
+  CHECK_FALSE(link.counters.contains("tello_downvision_refused"));
   CHECK_FALSE(link.counters.contains("reconnects"));  // the state never went silent for 2 s
 }
