@@ -226,8 +226,10 @@ TEST_CASE("tello: the emulated drone answers as a Tello and lands by itself afte
   CHECK(vehicle.snapshot().flying);
   send("takeoff");
   CHECK(reply() == "error");  // already flying
-  send("flip l");
-  CHECK(reply() == "error");  // a move this emulator does not fly: refused, counted
+  send("forward 19");
+  CHECK(reply() == "error distance out of range [20, 500]");  // the SDK's range, with the reason
+  send("jump 100 100 100 40 90 m1 m2");
+  CHECK(reply() == "error");  // the mission pads' moves this emulator does not fly: refused, counted
   send("hello");
   CHECK(reply() == "error");
   send("rc 1 2");
