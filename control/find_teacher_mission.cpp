@@ -144,8 +144,8 @@ void FindTeacherMission::sweep(MissionContext& ctx) {
   if (fresh_) sweep_start_yaw_ = ctx.autopilot.target() ? ctx.autopilot.target()->yaw : yaw;
   const double swept = ctx.config.mission.face_search_yaw_rate * (ctx.t - since_);
   Eigen::Vector3d hold = ctx.autopilot.target() ? ctx.autopilot.target()->position : ctx.pose.T_world_body.translation();
-  // Down from the blind altitude to sweep at face height: the detector needs a face seen from about
-  // its own height.
+  // Down from the blind altitude to sweep at face height: from 2 m a face nearer than about 1 m is
+  // below the camera's field, and a teacher walking past is not found.
   if (fresh_) hold.z() = std::clamp(kFaceHeightM, ctx.autopilot.fence().min().z(), ctx.autopilot.fence().max().z());
   ctx.autopilot.go_to({hold, sweep_start_yaw_ + swept}, ctx.t, fresh_);
   fresh_ = false;
@@ -209,7 +209,8 @@ void FindTeacherMission::lost(MissionContext& ctx) {
   fresh_ = false;
   if (lost_for < kCoastS) {
     track_.coast(ctx.t - last_tick_);
-    fly_standoff(ctx, false, track_.heading(), track_.heading_rate(), kLostBeyondM);
+    // Blind too: the teacher may have turned and be walking at the drone.
+    fly_standoff(ctx, false, track_.heading(), track_.heading_rate(), kLostBeyondM, true);
     round_from_heading_ = track_.heading();
   } else if (lost_for < kCoastS + kGoRoundS) {
     // How far a lost teacher walks on is not known: the place is held, the heading swept round it.

@@ -1,6 +1,6 @@
 // The admin page: a thin client of the REST API (docs/web.md "REST"): status, a metrics panel,
-// users (add, role, new password, remove), sessions (end), the control queue, instruments,
-// recordings, the audit log and the configuration.
+// users (add, role, new password, remove), sessions (end), the control queue, instruments, the
+// drone's video bit rate, recordings, the audit log and the configuration.
 import {MetricsPanel, parsePrometheus} from './admin_metrics.js';
 
 const $ = (id) => document.getElementById(id);
@@ -145,6 +145,27 @@ $('add-user').onsubmit = async (ev) => {
   refresh();
 };
 
+// The drone's video (GET /api/video): what the link asks of it, within the drone's range.
+async function refreshVideo() {
+  const v = await api('/api/video');
+  if (!v.ok) { $('video-info').textContent = refusal(v); return; }
+  const info = v.body;
+  $('video-info').textContent = info.adjustable_bitrate
+    ? `${info.drone}: ${info.bitrate_kbps} kbit/s (${info.min_bitrate_kbps}-${info.max_bitrate_kbps}); slow viewers get the shared ${info.low_rendition_kbps} kbit/s rendition`
+    : `${info.drone}: its link cannot ask the drone for a bit rate`;
+  Object.assign($('v-kbps'), {min: info.min_bitrate_kbps, max: info.max_bitrate_kbps, disabled: !info.adjustable_bitrate});
+  $('v-set').disabled = !info.adjustable_bitrate;
+  if (!$('v-kbps').value) $('v-kbps').value = info.bitrate_kbps;
+}
+
+$('set-bitrate').onsubmit = async (ev) => {
+  ev.preventDefault();
+  const res = await sendJson('/api/video/bitrate', 'PUT', {kbps: Math.round(+$('v-kbps').value)});
+  $('v-result').textContent = res.ok ? `the drone is asked for ${res.body.bitrate_kbps} kbit/s` : refusal(res);
+  refreshVideo();
+  refreshAudit();
+};
+
 $('audit-older').onclick = () => { if (state.auditOffset + kAuditPage < state.auditTotal) { state.auditOffset += kAuditPage; refreshAudit(); } };
 $('audit-newer').onclick = () => { state.auditOffset = Math.max(0, state.auditOffset - kAuditPage); refreshAudit(); };
 
@@ -186,6 +207,7 @@ $('who').textContent = `${state.me.user} · ${state.me.role}`;
 const config = await api('/api/config');
 $('config').value = config.ok ? JSON.stringify(config.body, null, 2) : `(${config.status}) ${config.body.error}`;
 refresh();
+refreshVideo();
 pollMetrics();
 setInterval(refresh, 3000);
 setInterval(pollMetrics, 2000);

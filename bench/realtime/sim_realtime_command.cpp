@@ -26,6 +26,7 @@ nlohmann::json to_json(const RealtimeRun& r) {
           {"landing_error_m", r.landing_error_m},
           {"tick_interval_ms", to_json(r.timing.tick_interval_ms)},
           {"vision_latency_ms", to_json(r.timing.vision_latency_ms)},
+          {"vision_latency_tracking_ms", to_json(r.timing.vision_latency_tracking_ms)},
           {"vision_run_ms", to_json(r.timing.vision_run_ms)},
           {"frames_in", r.timing.frames_in},
           {"frames_to_vision", r.timing.frames_to_vision},
@@ -86,6 +87,7 @@ int run_sim_realtime_command(const ParsedArgs& args) {
   const auto ok = std::count_if(runs.begin(), runs.end(), [](const RealtimeRun& r) { return r.success; });
   const double tick_p99 = worst(runs, [](const RealtimeRun& r) { return r.timing.tick_interval_ms.p99; });
   const double latency_p95 = worst(runs, [](const RealtimeRun& r) { return r.timing.vision_latency_ms.p95; });
+  const double tracking_p95 = worst(runs, [](const RealtimeRun& r) { return r.timing.vision_latency_tracking_ms.p95; });
   if (args.flag("--json")) {
     nlohmann::json per_run = nlohmann::json::array();
     for (const auto& r : runs) per_run.push_back(to_json(r));
@@ -96,18 +98,21 @@ int run_sim_realtime_command(const ParsedArgs& args) {
                                 {"succeeded", ok},
                                 {"worst_tick_interval_p99_ms", tick_p99},
                                 {"worst_vision_latency_p95_ms", latency_p95},
+                                {"worst_vision_latency_tracking_p95_ms", tracking_p95},
                                 {"per_run", per_run}}
                      .dump(2)
               << "\n";
   } else {
     std::cout << mission << " in real time: " << ok << "/" << o.runs << " runs succeeded\n"
               << line("control tick interval p99 %.1f ms at worst (nominal period 20 ms; target <= 30)\n", tick_p99)
-              << line("vision latency, capture to estimate, p95 %.1f ms at worst (target <= 60)\n", latency_p95);
+              << line("vision latency, capture to estimate, p95 %.1f ms at worst; ", latency_p95)
+              << line("of the frames with a target tracked %.1f ms (target <= 60)\n", tracking_p95);
     for (const auto& r : runs)
       std::cout << "  seed " << r.seed << (r.success ? " ok: " : " FAILED: ") << r.result
                 << line(" (%.0f s; ticks median %.1f ms p99 %.1f ms; ", r.duration_s, r.timing.tick_interval_ms.median,
                         r.timing.tick_interval_ms.p99)
-                << line("vision latency median %.1f ms p95 %.1f ms; ", r.timing.vision_latency_ms.median, r.timing.vision_latency_ms.p95)
+                << line("vision latency median %.1f ms p95 %.1f ms, ", r.timing.vision_latency_ms.median, r.timing.vision_latency_ms.p95)
+                << line("tracking p95 %.1f ms; ", r.timing.vision_latency_tracking_ms.p95)
                 << r.timing.frames_skipped << " of " << r.timing.frames_in << " frames skipped)\n";
   }
   return ok == o.runs ? 0 : 3;

@@ -49,7 +49,8 @@ ArdroneLinkSettings read_ardrone_link_settings(const ConfigReader& c) {
 
 ArdroneLink::ArdroneLink(ArdroneLinkSettings settings, Logger logger, const Clock* clock)
     : settings_(std::move(settings)), logger_(std::move(logger)), clock_(clock ? clock : &own_clock_), counters_(logger_),
-      status_(logger_, counters_), configs_(settings_.config_ack_timeout_s), video_bitrate_kbps_(settings_.video_max_bitrate_kbps) {
+      status_(logger_, counters_), configs_(settings_.config_ack_timeout_s), video_bitrate_kbps_(settings_.video_max_bitrate_kbps),
+      restart_watch_(!settings_.full_navdata) {
   at_buffer_.reserve(kMaxAtDatagramBytes);
 }
 
@@ -212,19 +213,21 @@ void ArdroneLink::control_loop() {
 void ArdroneLink::supervise(Seconds t) {
   const LinkState s = state_after_silence(last_navdata_t_.load(), t, settings_.degraded_after_s, settings_.lost_after_s);
   const LinkState before = state();
-  if (s == LinkState::Lost && before != LinkState::Lost) {
-    // Reconnect without restarting: AT seq 1 resets the drone's counter, navdata restarts from the
-    // kick packet (the navdata thread repeats it while silent), the configuration is sent again and
-    // the video connection is reopened.
-    counters_.add("reconnects");
-    {
-      std::lock_guard lock(command_mutex_);
-      reset_sequence_ = true;
-    }
-    queue_startup_config();
-    reset_video_ = true;
-  }
+  // Reconnect without restarting: navdata restarts from the kick packet (the navdata thread repeats
+  // it while silent).
+  if (s == LinkState::Lost && before != LinkState::Lost) redo_startup("reconnects");
   set_state(s, t);
+}
+
+void ArdroneLink::redo_startup(const char* counter) {
+  counters_.add(counter);
+  {
+    std::lock_guard lock(command_mutex_);
+    reset_sequence_ = true;  // AT seq 1 resets the drone's counter
+  }
+  queue_startup_config();
+  restart_watch_reset_ = true;
+  reset_video_ = true;
 }
 
 void ArdroneLink::send_commands(Seconds t) {
@@ -323,6 +326,14 @@ void ArdroneLink::navdata_loop() {
 void ArdroneLink::on_navdata(const NavdataSample& sample, const NavdataPacket& packet) {
   drone_state_ = sample.state;
   last_navdata_t_ = sample.t;
+  if (restart_watch_reset_.exchange(false)) restart_watch_.configuring();
+  // A drone that restarted faster than lost_after_s keeps the link Connected with its bootstrap
+  // packets: only the packets tell (test "link: a drone restarted faster than the link's loss is
+  // configured again").
+  if (restart_watch_.restarted(packet, navdata_receiver_->sequence_restarted())) {
+    if (recorder_) recorder_->note(sample.t, "drone_restarted");
+    redo_startup("drone_restarts");
+  }
   // A bootstrap packet (no demo option) keeps the link alive but has no values: its sample would
   // say battery 0 and control state 0. Test "link conformance: the AR.Drone link ...".
   if (!packet.has(kTagDemo)) return;

@@ -13,6 +13,7 @@
 #include "core/log.hpp"
 #include "drone/ardrone2/at_command.hpp"
 #include "drone/ardrone2/config_handshake.hpp"
+#include "drone/ardrone2/drone_restart_watch.hpp"
 #include "drone/ardrone2/link_counters.hpp"
 #include "drone/ardrone2/link_receiver.hpp"
 #include "drone/ardrone2/socket.hpp"
@@ -94,6 +95,9 @@ class ArdroneLink final : public DroneLink {
   void on_navdata(const NavdataSample& sample, const ardrone2::NavdataPacket& packet);
   void on_video(const VideoFrame& frame);
   void queue_startup_config();
+  // A reconnection (the link was lost) or a drone that restarted under it: AT sequence from 1, the
+  // start-up configuration again, the video connection reopened.
+  void redo_startup(const char* counter);
   void record(RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes);
 
   ArdroneLinkSettings settings_;
@@ -126,6 +130,8 @@ class ArdroneLink final : public DroneLink {
   std::atomic<bool> reset_video_{false};          // reopen the TCP connection
   std::atomic<bool> reset_video_decoder_{false};  // camera switched: wait for the next IDR
   std::atomic<CameraId> active_camera_{CameraId::Front};
+  ardrone2::DroneRestartWatch restart_watch_;          // navdata thread only
+  std::atomic<bool> restart_watch_reset_{false};      // the start-up config was queued: restart_watch_ waits for it
 
   ardrone2::AtCommandEncoder encoder_;  // control thread only
   std::string at_buffer_;

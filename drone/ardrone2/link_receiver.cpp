@@ -25,6 +25,7 @@ bool NavdataReceiver::datagram(std::span<const std::uint8_t> bytes, Seconds t) {
     return false;
   }
   counters_.add("navdata_packets");
+  if (sequence_.restarted()) counters_.add("navdata_sequence_restarts");
   sample_from_packet(packet_, t, sample_);
   if (handler_) handler_(sample_, packet_);
   return true;

@@ -22,6 +22,8 @@ class NavdataReceiver {
   // One UDP 5554 datagram. True when it was valid and in order (the link is alive).
   bool datagram(std::span<const std::uint8_t> bytes, Seconds t);
   void reset_sequence() { sequence_.reset(); }
+  // The last datagram's sequence started counting again (NavdataSequenceFilter::restarted()).
+  bool sequence_restarted() const { return sequence_.restarted(); }
 
  private:
   LinkCounters& counters_;

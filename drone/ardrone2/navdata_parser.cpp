@@ -117,7 +117,8 @@ NavdataParseResult NavdataParser::parse(std::span<const std::uint8_t> data, Navd
 
 bool NavdataSequenceFilter::accept(const NavdataPacket& packet) {
   if (packet.state_bit(kStateComWatchdog)) have_last_ = false;
-  if (have_last_ && packet.sequence <= last_) return false;
+  restarted_ = have_last_ && packet.sequence <= kRestartedSequenceMax && last_ >= packet.sequence + kRestartedSequenceMax;
+  if (have_last_ && packet.sequence <= last_ && !restarted_) return false;
   have_last_ = true;
   last_ = packet.sequence;
   return true;

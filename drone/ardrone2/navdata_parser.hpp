@@ -42,14 +42,19 @@ class NavdataParser {
 };
 
 // Client-side ordering: drop packets whose sequence does not increase; the com-watchdog bit (the
-// drone restarted its count) resets the expectation.
+// drone restarted its count) resets the expectation. A count that starts again (a sequence of at most
+// kRestartedSequenceMax after one at least that much higher: a drone rebooted under a link that stayed
+// up, not a packet overtaken by the next) is accepted, and restarted() says so until the next packet.
 class NavdataSequenceFilter {
  public:
+  static constexpr std::uint32_t kRestartedSequenceMax = 64;
   bool accept(const NavdataPacket& packet);
   void reset() { have_last_ = false; }
+  bool restarted() const { return restarted_; }
 
  private:
   bool have_last_ = false;
+  bool restarted_ = false;
   std::uint32_t last_ = 0;
 };
 

@@ -20,6 +20,11 @@ bool VisionResults::detected() const {
   return (has_instrument && by_detector(instrument)) || (has_platform && by_detector(platform));
 }
 
+bool VisionResults::tracking() const {
+  const auto tracked = [](bool has, const TargetObservation& o) { return has && o.state == TrackState::Tracking; };
+  return tracked(has_instrument, instrument) || tracked(has_platform, platform) || tracked(has_face, face);
+}
+
 void run_vision_job(const VisionJob& job, VisionResults& out) {
   out.t = job.t;
   out.camera = job.camera;

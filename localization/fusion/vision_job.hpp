@@ -60,6 +60,8 @@ struct VisionResults {
   // Whether a detector (template matching, SIFT, the face detector) ran, rather than only a tracker
   // following its last result: a detection costs several times a tracked frame.
   bool detected() const;
+  // Whether a target (instrument, platform, face) was tracked in this frame, rather than searched for.
+  bool tracking() const;
 };
 
 // Runs the job's front-ends on its frame into `out` (reused). Touches the job's front-ends only.

@@ -4,12 +4,14 @@
 # N spectators through Janus for each N of COUNTS, SECONDS each (tests/e2e/janus_load.mjs): the lab
 # page in headless Chromium and N - 1 receive-only WebRTC viewers in one Node.js process (werift,
 # tests/e2e/webrtc_viewers, installed from npm there on first use). Bounded: at most 60 viewers,
-# 120 s a step; stopped at the end.
-#   scripts/janus/load_bench.sh [COUNTS="1 5 10 20"] [SECONDS=20] [BUILD=build/release]
+# 120 s a step; stopped at the end. KBPS: the bit rate the admin asks of the drone first
+# (PUT /api/video/bitrate, 250-4000): the viewers' SRTP decryption in Node.js grows with it, and on the
+# machine that runs them it is what saturates first.
+#   [KBPS=1000] scripts/janus/load_bench.sh [COUNTS="1 5 10 20"] [SECONDS=20] [BUILD=build/release]
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 counts="${1:-1 5 10 20}" seconds="${2:-20}" build="${BUILD:-build/release}"
-for n in $counts $seconds; do [[ "$n" =~ ^[0-9]+$ ]] || { echo "load_bench.sh: '$n' is not a number" >&2; exit 2; }; done
+for n in $counts $seconds ${KBPS:-}; do [[ "$n" =~ ^[0-9]+$ ]] || { echo "load_bench.sh: '$n' is not a number" >&2; exit 2; }; done
 for n in $counts; do ((n >= 1 && n <= 60)) || { echo "load_bench.sh: $n viewers: expected 1 to 60" >&2; exit 2; }; done
 ((seconds >= 5 && seconds <= 120)) || { echo "load_bench.sh: $seconds s: expected 5 to 120" >&2; exit 2; }
 cd "$ROOT"
@@ -28,6 +30,14 @@ for _ in $(seq 300); do curl -sf "http://127.0.0.1:$port/api/health" >/dev/null 
 labo_pid=$(sed -n 's/^lab1: .*pid \([0-9]*\))$/\1/p' "$out/run_labs.log")
 janus_pid=$(sed -n 's/^Janus: .*pid \([0-9]*\))$/\1/p' "$out/run_labs.log")
 [ -n "$labo_pid" ] && [ -n "$janus_pid" ] || { echo "load_bench.sh: the lab or Janus did not start: $out/run_labs.log" >&2; exit 1; }
+if [ -n "${KBPS:-}" ]; then
+  jar="$out/admin.cookies"
+  curl -sf -c "$jar" -H 'Content-Type: application/json' -d '{"user": "admin", "password": "admin-pass"}' \
+    "http://127.0.0.1:$port/api/login" > /dev/null
+  curl -sS -f -b "$jar" -X PUT -H 'Content-Type: application/json' -d "{\"kbps\": $KBPS}" \
+    "http://127.0.0.1:$port/api/video/bitrate" > /dev/null || { echo "load_bench.sh: KBPS=$KBPS refused" >&2; exit 2; }
+  echo "the drone's video at $KBPS kbit/s"
+fi
 echo "load: $(uptime)"
 NODE_PATH="$ROOT/tests/e2e/node_modules" node "$ROOT/tests/e2e/janus_load.mjs" "http://127.0.0.1:$port" "$labo_pid" "$janus_pid" \
   "$build/tests/e2e/labo_web_bench" "$counts" "$seconds"

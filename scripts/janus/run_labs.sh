@@ -4,15 +4,15 @@
 # directory (labs.json), Janus's configuration (janus/) and the logs. Lab i (1..LABS) serves on
 # PORT + i - 1, flies its own simulated lab, and forwards its H.264 as RTP to Janus's mount point i
 # on UDP RTP_BASE + 2 (i - 1), and its overlay geometry to the mount point's data port, the next
-# one. Without Janus installed the labs still run and the pages use the
-# WebSocket video.
+# one; the labs listed in NO_GEOMETRY_UDP (e.g. "2 3") send no geometry there, and their pages take it
+# from the WebSocket. Without Janus installed the labs still run and the pages use the WebSocket video.
 #   LABS=3 PORT=8080 JANUS_WS_PORT=8188 RTP_BASE=18004 BIND=127.0.0.1 BUILD=build/release \
-#     bash scripts/janus/run_labs.sh [extra serve options...]
+#     [NO_GEOMETRY_UDP="2"] bash scripts/janus/run_labs.sh [extra serve options...]
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 LABS="${LABS:-1}" PORT="${PORT:-8080}" JANUS_WS_PORT="${JANUS_WS_PORT:-8188}" RTP_BASE="${RTP_BASE:-18004}"
-BIND="${BIND:-127.0.0.1}" BUILD="${BUILD:-build/release}"
-for n in "$LABS" "$PORT" "$JANUS_WS_PORT" "$RTP_BASE"; do
+BIND="${BIND:-127.0.0.1}" BUILD="${BUILD:-build/release}" NO_GEOMETRY_UDP="${NO_GEOMETRY_UDP:-}"
+for n in "$LABS" "$PORT" "$JANUS_WS_PORT" "$RTP_BASE" $NO_GEOMETRY_UDP; do
   [[ "$n" =~ ^[0-9]+$ ]] || { echo "run_labs.sh: '$n' is not a number" >&2; exit 2; }
 done
 ((LABS >= 1 && LABS <= 16)) || { echo "run_labs.sh: LABS=$LABS: expected 1 to 16" >&2; exit 2; }
@@ -59,7 +59,8 @@ fi
 
 for ((i = 1; i <= LABS; i++)); do
   rtp=()
-  ((have_janus)) && rtp=(--rtp-video "127.0.0.1:$((RTP_BASE + 2 * (i - 1)))" --geometry-udp "127.0.0.1:$((RTP_BASE + 2 * (i - 1) + 1))")
+  ((have_janus)) && rtp=(--rtp-video "127.0.0.1:$((RTP_BASE + 2 * (i - 1)))")
+  ((have_janus)) && [[ " $NO_GEOMETRY_UDP " != *" $i "* ]] && rtp+=(--geometry-udp "127.0.0.1:$((RTP_BASE + 2 * (i - 1) + 1))")
   "$labodrone" serve --port $((PORT + i - 1)) --bind "$BIND" --labs "$out/labs.json" --lab-id "lab$i" \
       --session-key "$key" "${rtp[@]}" "$@" > "$out/lab$i.log" 2>&1 &
   pids+=($!)

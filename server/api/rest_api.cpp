@@ -162,7 +162,11 @@ HttpReply RestApi::route(const HttpRequest& req, const std::string& path, const 
     if (m != http::verb::get) return method_not_allowed("GET");
     return status();
   }
-  if (auto video = video_route(req, path, session->role, lab_.flight(), settings_.video.low_rendition_kbps)) return *video;
+  if (auto video = video_route(req, path, session->role, lab_.flight(), settings_.video.low_rendition_kbps)) {
+    // The drone's bit rate is every viewer's picture: who asked for which, refusals included, is kept.
+    if (path == "/api/video/bitrate" && m == http::verb::put) audit(*session, "video_bitrate", requested_kbps(req), *video);
+    return *video;
+  }
   if (path == "/api/stop" || path == "/api/emergency_stop") {
     if (m != http::verb::post) return method_not_allowed("POST");
     return stop(req, *session, path == "/api/stop" ? MissionCommandKind::Stop : MissionCommandKind::EmergencyStop);

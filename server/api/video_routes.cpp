@@ -67,4 +67,10 @@ std::optional<HttpReply> video_route(const HttpRequest& req, const std::string& 
   return std::nullopt;
 }
 
+std::string requested_kbps(const HttpRequest& req) {
+  const json j = json::parse(req.body(), nullptr, false);
+  if (!j.is_object() || !j.contains("kbps") || !j["kbps"].is_number()) return "";
+  return j["kbps"].dump();
+}
+
 }  // namespace labo

@@ -16,4 +16,8 @@ namespace labo {
 std::optional<HttpReply> video_route(const HttpRequest& req, const std::string& path, Role role, FlightService& flight,
                                      int low_rendition_kbps);
 
+// The bit rate a PUT /api/video/bitrate body asks for, as its text ("2000"), or "" when the body
+// names none: the audit log's target, for refused requests too.
+std::string requested_kbps(const HttpRequest& req);
+
 }  // namespace labo

@@ -306,7 +306,7 @@ void FlightRuntime::step_vision(VideoFrame& newest, bool& have_newest) {
             .kv("suppressed", suppressed);
     }
     core_.apply_vision(vision_results_);
-    timing_.add_vision((clock_.now() - vision_results_.t) * 1000.0, run_ms);
+    timing_.add_vision((clock_.now() - vision_results_.t) * 1000.0, run_ms, vision_results_.tracking());
   }
   if (!have_newest || !vision_.idle()) return;
   have_newest = false;

@@ -5,7 +5,7 @@
 namespace labo {
 
 RuntimeTiming::RuntimeTiming(std::size_t window) {
-  for (Ring* r : {&ticks_, &latency_, &run_}) r->values.assign(std::max<std::size_t>(window, 1), 0.0);
+  for (Ring* r : {&ticks_, &latency_, &latency_tracking_, &run_}) r->values.assign(std::max<std::size_t>(window, 1), 0.0);
 }
 
 void RuntimeTiming::Ring::add(double v) {
@@ -33,9 +33,10 @@ void RuntimeTiming::add_tick_interval(double ms) {
   ticks_.add(ms);
 }
 
-void RuntimeTiming::add_vision(double latency_ms, double run_ms) {
+void RuntimeTiming::add_vision(double latency_ms, double run_ms, bool tracking) {
   std::lock_guard lock(mutex_);
   latency_.add(latency_ms);
+  if (tracking) latency_tracking_.add(latency_ms);
   run_.add(run_ms);
 }
 
@@ -64,6 +65,7 @@ RuntimeTimingSummary RuntimeTiming::summary() const {
   RuntimeTimingSummary s = counts_;
   s.tick_interval_ms = ticks_.percentiles();
   s.vision_latency_ms = latency_.percentiles();
+  s.vision_latency_tracking_ms = latency_tracking_.percentiles();
   s.vision_run_ms = run_.percentiles();
   return s;
 }

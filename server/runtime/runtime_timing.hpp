@@ -17,6 +17,9 @@ struct Percentiles {
 struct RuntimeTimingSummary {
   Percentiles tick_interval_ms;
   Percentiles vision_latency_ms;  // capture (the link's stamp) to the result applied
+  // ... of the frames in which a target was tracked (the control loop flies on those; a search's
+  // frames, full-frame detections with nothing to control on, are left out)
+  Percentiles vision_latency_tracking_ms;
   Percentiles vision_run_ms;      // the worker's time on the frame's front-ends
   std::uint64_t frames_in = 0;         // frames the link delivered
   std::uint64_t frames_to_vision = 0;  // frames given to the vision worker
@@ -29,7 +32,8 @@ class RuntimeTiming {
   explicit RuntimeTiming(std::size_t window = 4096);
 
   void add_tick_interval(double ms);
-  void add_vision(double latency_ms, double run_ms);
+  // `tracking`: a target was tracked in the frame (VisionResults::tracking()).
+  void add_vision(double latency_ms, double run_ms, bool tracking);
   void count_frame_in();
   void count_frame_to_vision();
   void count_frame_skipped();
@@ -46,7 +50,7 @@ class RuntimeTiming {
     Percentiles percentiles() const;
   };
   mutable std::mutex mutex_;
-  Ring ticks_, latency_, run_;
+  Ring ticks_, latency_, latency_tracking_, run_;
   RuntimeTimingSummary counts_;
 };
 

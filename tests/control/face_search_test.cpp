@@ -267,7 +267,8 @@ TEST_CASE("control: a lost face is gone round clear of the walls by the estimate
 
 TEST_CASE("control: a lost face is gone round over the teacher's head, and the search flies over it to its viewpoints") {
   // Blind, the drone cannot know where a teacher who walked on from the lost place went: going round
-  // that place at face height, it flew into a teacher standing on the circle. Over their head it
+  // that place at face height, it flew into a teacher standing on the circle, and following the lost
+  // face's motion at face height, into a teacher who had turned and walked at it. Over their head it
   // cannot; it comes down to face height only to sweep, and to follow a face it sees.
   fusion::LabGeometry lab = model_lab();
   test::ModelFlight f({}, lab);
@@ -278,14 +279,17 @@ TEST_CASE("control: a lost face is gone round over the teacher's head, and the s
   f.run(5.0);
   CHECK(std::abs(f.world->drone.p.z() - 1.6) < 0.15);  // following at face height
   f.world->face_visible = false;
-  bool went_round = false, swept = false, repositioned = false;
-  double highest_going_round = 0, lowest_set_point_moving = 10, sweep_set_point_z = 0;
+  bool coasted = false, went_round = false, swept = false, repositioned = false;
+  double highest_coast_set_point = 0, highest_going_round = 0, lowest_set_point_moving = 10, sweep_set_point_z = 0;
   for (const double end = f.t + 40.0; f.t < end && !(swept && repositioned);) {
     f.run(0.1);
     const control::FlightStatus s = f.stack->status();
     if (!s.desired) continue;
     const double set_z = (*s.desired)(2);
-    if (s.stage.find("going round") != std::string::npos) {
+    if (s.stage.find("following its motion") != std::string::npos) {
+      coasted = true;
+      highest_coast_set_point = std::max(highest_coast_set_point, set_z);
+    } else if (s.stage.find("going round") != std::string::npos) {
       went_round = true;
       highest_going_round = std::max(highest_going_round, f.world->drone.p.z());
       lowest_set_point_moving = std::min(lowest_set_point_moving, set_z);
@@ -297,11 +301,14 @@ TEST_CASE("control: a lost face is gone round over the teacher's head, and the s
       sweep_set_point_z = set_z;
     }
   }
-  INFO("drone's highest going round " << highest_going_round << " m; lowest set point moving blind " << lowest_set_point_moving
+  INFO("highest set point following the lost face's motion " << highest_coast_set_point << " m; drone's highest going round "
+                                                               << highest_going_round << " m; lowest set point moving blind " << lowest_set_point_moving
                                       << " m; sweep at " << sweep_set_point_z << " m");
+  REQUIRE(coasted);
   REQUIRE(went_round);
   REQUIRE(swept);
   REQUIRE(repositioned);
+  CHECK(highest_coast_set_point > blind_z - 0.1);
   CHECK(highest_going_round > blind_z - 0.1);
   CHECK(lowest_set_point_moving > blind_z - 0.1);  // a step-limited set point starts a little below it
   CHECK(sweep_set_point_z == Approx(1.6));

@@ -24,16 +24,20 @@ struct ModelWorld {
   Eigen::Isometry3d T_world_face = facing_base({2.5, -0.5, 1.6});  // z into the head, looking at the base
 };
 
-inline bool in_front_view(const Eigen::Isometry3d& T_cam_target, double max_range) {
+// In the camera's image (its principal point is off-centre: the AR.Drone's front camera sees 0.39 m
+// below its axis per metre of range and only 0.24 above), in range, facing the camera.
+inline bool in_front_view(const Eigen::Isometry3d& T_cam_target, double max_range, const CameraIntrinsics& k) {
   const Eigen::Vector3d p = T_cam_target.translation();
   if (p.z() <= 0.1 || p.z() > max_range) return false;
-  if (std::abs(p.x() / p.z()) > 0.5 || std::abs(p.y() / p.z()) > 0.3) return false;
+  const double u = k.cx + k.fx * p.x() / p.z(), v = k.cy + k.fy * p.y() / p.z();
+  if (u < 0 || u > k.width || v < 0 || v > k.height) return false;
   return T_cam_target.linear().col(2).z() > 0.3;  // the panel's z (into it) points away from the camera
 }
 
 class ModelPipelines final : public fusion::LocalizationPipelines {
  public:
-  ModelPipelines(std::shared_ptr<ModelWorld> world, fusion::LabGeometry lab) : world_(std::move(world)), lab_(std::move(lab)) {}
+  ModelPipelines(std::shared_ptr<ModelWorld> world, fusion::LabGeometry lab, CameraIntrinsics front)
+      : world_(std::move(world)), lab_(std::move(lab)), front_(front) {}
   void on_navdata(const NavdataSample& s) override { t_ = s.t; }
   void on_command(const MoveCommand&, Seconds) override {}
   void on_video(const VideoFrame&) override {}
@@ -76,7 +80,7 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
     if (!inst) return o;
     const Eigen::Isometry3d T_world_cam = world_->drone.pose() * T_body_cam_front();
     o.T_cam_target = T_world_cam.inverse() * inst->T_world_object;
-    o.state = world_->instrument_visible && in_front_view(o.T_cam_target, 5.0) ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
+    o.state = world_->instrument_visible && in_front_view(o.T_cam_target, 5.0, front_) ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
     o.t = t_;
     return o;
   }
@@ -96,7 +100,7 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
     if (!focus_.face) return o;
     const Eigen::Isometry3d T_world_cam = world_->drone.pose() * T_body_cam_front();
     o.T_cam_target = T_world_cam.inverse() * world_->T_world_face;
-    o.state = world_->face_visible && in_front_view(o.T_cam_target, 4.0) ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
+    o.state = world_->face_visible && in_front_view(o.T_cam_target, 4.0, front_) ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
     o.t = t_;
     return o;
   }
@@ -111,6 +115,7 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
  private:
   std::shared_ptr<ModelWorld> world_;
   fusion::LabGeometry lab_;
+  CameraIntrinsics front_;
   fusion::PerceptionFocus focus_;
   Seconds t_ = 0;
 };
@@ -122,7 +127,7 @@ class ModelFlight {
     control::FlightStackSetup setup;
     setup.control = config;
     setup.lab = lab;
-    stack = std::make_unique<control::FlightStack>(setup, std::make_unique<ModelPipelines>(world, lab));
+    stack = std::make_unique<control::FlightStack>(setup, std::make_unique<ModelPipelines>(world, lab, setup.cameras.front));
   }
   // Advances `seconds` in 1/30 s control ticks, 5 physics sub-steps each.
   void run(double seconds) {

@@ -1,7 +1,8 @@
 // End-to-end in a real browser (headless Debian chromium driven by playwright-core): what each role
 // may do on the lab and admin pages. A spectator has stop but no motor cut (the space bar stops);
 // the student holding control, a teacher and an admin may cut the motors. The admin page: status,
-// live metrics, a user added there who then logs in, the audit log naming it, the user removed.
+// live metrics, the drone's bit rate set (and refused out of range), a user added there who then logs
+// in, the audit log naming both, the user removed.
 // Usage: node roles_flow.mjs BASE_URL OUT_DIR
 import {launchChromium, logIn} from './browser.mjs';
 
@@ -75,13 +76,25 @@ async function adminAddsUserWhoLogsIn() {
   if (!who.includes('dana · student')) fail('the new user is not logged in as a student: ' + who);
   await admin.waitForFunction(() => document.getElementById('audit').textContent.includes('user_add'), null, {timeout: 10000});
   await admin.waitForFunction(() => document.getElementById('sessions').textContent.includes('dana'), null, {timeout: 10000});
+  // The drone's bit rate: shown with its range, set, refused out of range with the server's reason, audited.
+  await admin.waitForFunction(() => document.getElementById('video-info').textContent.includes('4000 kbit/s (250-4000)'));
+  await admin.fill('#v-kbps', '1500');
+  await admin.click('#v-set');
+  await admin.waitForFunction(() => document.getElementById('v-result').textContent.includes('asked for 1500 kbit/s'));
+  await admin.waitForFunction(() => document.getElementById('video-info').textContent.includes(': 1500 kbit/s'));
+  await admin.fill('#v-kbps', '100');
+  await admin.click('#v-set');
+  await admin.waitForFunction(() => document.getElementById('v-result').textContent.includes('refused (400)'));
+  const refused = await admin.textContent('#v-result');
+  if (!refused.includes('must be in [250, 4000]')) fail('the refused bit rate does not say the range: ' + refused);
+  await admin.waitForFunction(() => document.getElementById('audit').textContent.includes('video_bitrate'), null, {timeout: 10000});
   await admin.screenshot({path: out + '/roles_admin.png', fullPage: true});
   // Removed: dana's page goes back to the login page.
   const row = admin.locator('#users tr', {hasText: 'dana'});
   await row.locator('button', {hasText: 'remove'}).click();
   await admin.waitForFunction(() => document.getElementById('u-result').textContent.includes('dana removed'));
   await dana.waitForURL((u) => !u.pathname.endsWith('lab.html'), {timeout: 10000});
-  console.log('admin: status and metrics shown; dana added, logged in, seen in sessions and the audit log, removed');
+  console.log('admin: status and metrics shown; the bit rate set and refused out of range; dana added, logged in, seen in sessions and the audit log, removed');
   for (const p of [admin, dana]) await p.context().close();
 }
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The browser test of the video through Janus: two labs behind one front started by
 # scripts/janus/run_labs.sh on free ports (Janus, two `labodrone serve --rtp-video`, a shared session
-# key), driven by janus_view.mjs; everything stopped at the end.
+# key; lab 2 without --geometry-udp, so that its page takes the geometry from the WebSocket), driven by
+# janus_view.mjs; everything stopped at the end.
 # Usage: run_janus_test.sh BUILD_DIR OUT_DIR
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -17,7 +18,7 @@ for _ in $(seq 20); do
 done
 ws_port=$(free_port)
 rtp_base=$(python3 -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1",0)); print(s.getsockname()[1] & ~1)')
-LABS=2 PORT=$port JANUS_WS_PORT=$ws_port RTP_BASE=$rtp_base BUILD="$build" \
+LABS=2 PORT=$port JANUS_WS_PORT=$ws_port RTP_BASE=$rtp_base BUILD="$build" NO_GEOMETRY_UDP=2 \
   bash "$here/../../scripts/janus/run_labs.sh" > "$out/run_labs.log" 2>&1 &
 labs=$!
 trap 'kill -TERM $labs 2>/dev/null; wait $labs 2>/dev/null || true' EXIT

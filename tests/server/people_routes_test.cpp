@@ -89,16 +89,6 @@ ServerFixture people_server(std::size_t max_body_bytes = 8 * 1024 * 1024) {
   });
 }
 
-std::vector<std::string> audit_actions(const ServerFixture& f) {
-  std::vector<std::string> out;
-  std::ifstream in(f.settings.audit_log);
-  for (std::string line; std::getline(in, line);) {
-    const json j = json::parse(line, nullptr, false);
-    out.push_back(j.value("action", "") + " " + j.value("target", "") + " " + (j.value("result", "") == "accepted" ? "ok" : "refused"));
-  }
-  return out;
-}
-
 bool contains(const std::vector<std::string>& lines, const std::string& line) {
   return std::find(lines.begin(), lines.end(), line) != lines.end();
 }

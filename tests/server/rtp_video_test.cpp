@@ -4,6 +4,7 @@
 #include <map>
 #include <vector>
 
+#include "server/serve_command.hpp"
 #include "server/video/access_unit_wire.hpp"
 #include "server/video/rtp_video_tap.hpp"
 #include "tests/server/support/server_fixture.hpp"
@@ -157,6 +158,22 @@ TEST_CASE("web: RTP: refused packetizer options and forwarding targets name what
   CHECK_FALSE(parse_udp_target("127.0.0.1:70000", error));
   CHECK_FALSE(parse_udp_target("127.0.0.1:50x", error));
   CHECK(error.find("expected 1 to 65535") != std::string::npos);
+}
+
+TEST_CASE("web: RTP: serve refuses --geometry-udp without --rtp-video, and a target that is no IP:PORT, naming the option") {
+  const auto refusal = [](const std::vector<std::string>& argv) {
+    try {
+      run_serve_command(parse_args(serve_command_spec(), argv));
+    } catch (const UsageError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  CHECK(refusal({"--geometry-udp", "127.0.0.1:20001"}) ==
+        "--geometry-udp needs --rtp-video: the geometry goes with the video it overlays");
+  CHECK_THAT(refusal({"--rtp-video", "janus.local:20000"}), Catch::StartsWith("--rtp-video ") && Catch::Contains("not an IP address"));
+  CHECK_THAT(refusal({"--rtp-video", "127.0.0.1:20000", "--geometry-udp", "127.0.0.1"}),
+             Catch::StartsWith("--geometry-udp ") && Catch::Contains("expected HOST:PORT"));
 }
 
 TEST_CASE("web: RTP: the tap forwards every access unit of the drone's stream over UDP, whether or not a WebSocket viewer wants it") {

@@ -51,6 +51,14 @@ TEST_CASE("web: REST video: anyone logged in reads the drone's video, only an ad
   REQUIRE(ok.status == 200);
   CHECK(ok.json()["bitrate_kbps"] == 2000);
   CHECK(f.flight.video_capabilities().bitrate_kbps == 2000);
+
+  // Every request of an admin or not, accepted or refused, is in the audit log with the rate asked.
+  const auto actions = audit_actions(f);
+  const auto count = [&](const std::string& line) { return std::count(actions.begin(), actions.end(), line); };
+  CHECK(count("video_bitrate 2000 ok") == 1);
+  CHECK(count("video_bitrate 2000 refused") == 3);  // the student, the teacher, the unknown field
+  CHECK(count("video_bitrate 249 refused") == 1);
+  CHECK(count("video_bitrate  refused") == 6);  // no number in the body: malformed, an array, {}, "2000", null, true
 }
 
 TEST_CASE("web: REST video: a drone whose link has no bit-rate setting refuses it with 409 and says why") {

@@ -12,6 +12,9 @@
 
 #include "drone/ardrone2/ardrone_emulator.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
+#include "drone/ardrone2/drone_restart_watch.hpp"
+#include "drone/ardrone2/navdata_parser.hpp"
+#include "drone/ardrone2/navdata_schema.hpp"
 #include "tests/drone/ardrone2/tiny_vehicle.hpp"
 #include "tests/drone/link_events.hpp"
 
@@ -140,6 +143,78 @@ TEST_CASE("link: supervision marks the link degraded, lost, and reconnects", "[l
   REQUIRE(wait_until([&] { return (rec.last().state & (1u << 11)) == 0; }, 5.0));  // config sent again
   CHECK(link.statistics().counters.at("reconnects") == 1);
   link.stop();
+}
+
+TEST_CASE("link: a drone restarted faster than the link's loss is configured again", "[link][loopback]") {
+  test::TinyVehicle vehicle;
+  ArdroneEmulatorSettings es;
+  es.at_port = es.navdata_port = es.video_port = 0;
+  es.com_watchdog_s = 0.5;
+  auto emulator = std::make_unique<ArdroneEmulator>(vehicle, es, quiet());
+  emulator->start();
+  ArdroneLinkSettings ls = test::link_settings_for(*emulator);
+  ls.video = false;
+  ls.lost_after_s = 10.0;  // the restart below is over long before the link would count as lost
+  ArdroneLink link(ls, quiet());
+  Recorder rec;
+  link.set_listener(&rec);
+  link.start();
+  REQUIRE(wait_until([&] { return rec.last().battery_percent > 0; }, 5.0));
+  const std::size_t before = rec.navdata.size();
+  // A battery swap: the drone is off for a moment and boots again on the same ports, in bootstrap mode.
+  es.at_port = ls.at_port;
+  es.navdata_port = ls.navdata_port;
+  es.video_port = ls.video_port;
+  emulator.reset();
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  emulator = std::make_unique<ArdroneEmulator>(vehicle, es, quiet());
+  emulator->start();
+  // The driver sees the bootstrap packets, configures the drone again, and demo navdata (with the
+  // battery) comes back; the link was never lost.
+  REQUIRE(wait_until([&] { return link.statistics().counters.count("drone_restarts") == 1; }, 5.0));
+  REQUIRE(wait_until(
+      [&] {
+        std::lock_guard l(rec.m);
+        return rec.navdata.size() > before + 5 && (rec.navdata.back().state & (1u << 10)) && rec.navdata.back().battery_percent > 0;
+      },
+      5.0));
+  CHECK_FALSE(rec.saw(LinkState::Lost));
+  CHECK(link.statistics().counters.count("reconnects") == 0);
+  CHECK(link.statistics().counters.at("drone_restarts") == 1);
+  link.stop();
+}
+
+TEST_CASE("link: navdata whose sequence starts again is a restarted drone, a packet overtaken is not", "[link]") {
+  ardrone2::NavdataSequenceFilter f;
+  ardrone2::NavdataPacket p;
+  p.sequence = 5000;
+  REQUIRE(f.accept(p));
+  p.sequence = 4990;  // overtaken by a later one
+  CHECK_FALSE(f.accept(p));
+  CHECK_FALSE(f.restarted());
+  p.sequence = 1;  // a drone counting from the start again
+  CHECK(f.accept(p));
+  CHECK(f.restarted());
+  p.sequence = 2;
+  CHECK(f.accept(p));
+  CHECK_FALSE(f.restarted());
+}
+
+TEST_CASE("link: the restart watch fires once when a configured drone streams in bootstrap mode again", "[link]") {
+  ardrone2::DroneRestartWatch watch(true);
+  ardrone2::NavdataPacket bootstrap;
+  bootstrap.state = ardrone2::state_mask(ardrone2::kStateBootstrap);
+  ardrone2::NavdataPacket demo;
+  demo.add_option(ardrone2::kTagDemo);
+  CHECK_FALSE(watch.restarted(bootstrap, false));  // start-up: not yet configured
+  CHECK_FALSE(watch.restarted(demo, false));
+  CHECK(watch.configured());
+  CHECK(watch.restarted(bootstrap, false));        // the drone rebooted
+  CHECK_FALSE(watch.restarted(bootstrap, false));  // once, not at every bootstrap packet
+  CHECK_FALSE(watch.restarted(demo, false));       // configured again
+  CHECK(watch.restarted(demo, true));              // its sequence started again
+  watch.configuring();
+  CHECK_FALSE(watch.restarted(bootstrap, false));  // a reconnection queued the configuration already
 }
 
 TEST_CASE("link: the com-watchdog bit gets COMWDG answers and CALIB reaches the drone", "[link][loopback]") {

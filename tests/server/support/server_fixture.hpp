@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <string>
+#include <vector>
 #include <nlohmann/json.hpp>
 
 #include "server/app_config.hpp"
@@ -66,5 +68,16 @@ struct ServerFixture {
   std::unique_ptr<WebServer> server;
   unsigned short port = 0;
 };
+
+// The audit log's entries as "action target ok|refused", oldest first.
+inline std::vector<std::string> audit_actions(const ServerFixture& f) {
+  std::vector<std::string> out;
+  std::ifstream in(f.settings.audit_log);
+  for (std::string line; std::getline(in, line);) {
+    const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+    out.push_back(j.value("action", "") + " " + j.value("target", "") + " " + (j.value("result", "") == "accepted" ? "ok" : "refused"));
+  }
+  return out;
+}
 
 }  // namespace labo::test
