@@ -22,6 +22,7 @@ struct RealtimeCampaignOptions {
   std::string instrument;       // inspect: empty = the lab's first
   double hold_s = 5.0;          // inspect: the hold in front of the panel
   double follow_s = 20.0;       // find teacher: how long to follow once found
+  double min_following = 0.9;   // find teacher: the share of that time the face must be followed
   double timeout_s = 180.0;     // a run that has not ended by then fails
 };
 
@@ -32,6 +33,9 @@ struct RealtimeRun {
   double duration_s = 0;         // wall time from the request to the end
   double landing_error_m = -1;   // inspect: true distance to the platform's centre after landing
   bool landed = false;
+  // find teacher: the share of the follow's time in stage "3 face-follow" itself (the face followed,
+  // not its lost phases or a new search), sampled every 50 ms
+  double following = 0;
   RuntimeTimingSummary timing;
 };
 

@@ -24,6 +24,7 @@ nlohmann::json to_json(const RealtimeRun& r) {
           {"duration_s", r.duration_s},
           {"landed", r.landed},
           {"landing_error_m", r.landing_error_m},
+          {"following", r.following},
           {"tick_interval_ms", to_json(r.timing.tick_interval_ms)},
           {"vision_latency_ms", to_json(r.timing.vision_latency_ms)},
           {"vision_latency_tracking_ms", to_json(r.timing.vision_latency_tracking_ms)},
