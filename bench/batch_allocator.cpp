@@ -2,7 +2,7 @@
 
 #include <malloc.h>
 
-namespace labo {
+namespace labo::bench {
 
 bool keep_freed_memory_for_batch_runs() {
   constexpr int kMmapThresholdBytes = 32 << 20;  // glibc's largest allowed value on 64-bit
@@ -13,4 +13,4 @@ bool keep_freed_memory_for_batch_runs() {
          mallopt(M_TOP_PAD, kTopPadBytes) == 1;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

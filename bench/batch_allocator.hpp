@@ -11,10 +11,10 @@
 // The price: the process keeps its peak heap until it exits, which a batch command can afford and a
 // long-running server should not, so `serve` keeps glibc's defaults.
 
-namespace labo {
+namespace labo::bench {
 
 // Large blocks come from the heap (mmap only above 32 MB), and free() no longer trims the heap.
 // Returns false when the C library refused a setting (then nothing is guaranteed).
 bool keep_freed_memory_for_batch_runs();
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -4,7 +4,7 @@
 #include <chrono>
 #include <ctime>
 
-namespace labo {
+namespace labo::bench {
 
 double thread_cpu_ms() {
   timespec ts{};
@@ -29,4 +29,4 @@ double quantile_of(std::vector<double> values, double q) {
   return values[std::min(values.size() - 1, static_cast<std::size_t>(rank))];
 }
 
-}  // namespace labo
+}  // namespace labo::bench

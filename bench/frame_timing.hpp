@@ -5,7 +5,7 @@
 #include <functional>
 #include <vector>
 
-namespace labo {
+namespace labo::bench {
 
 // This thread's CPU time, ms.
 double thread_cpu_ms();
@@ -27,4 +27,4 @@ struct FrameTimes {
   std::size_t size() const { return wall_ms.size(); }
 };
 
-}  // namespace labo
+}  // namespace labo::bench

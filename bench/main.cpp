@@ -22,6 +22,7 @@ namespace {
 
 labo::Program program() {
   using namespace labo;
+  using namespace labo::bench;
   return {
       .name = "labodrone-bench",
       .about = "LaboDrone's lab bench: benchmarks of each stage and the paper's experiments, in lockstep on the\n"
@@ -55,6 +56,6 @@ int main(int argc, char** argv) {
   // Every command here but the soak is a batch run: reuse freed memory (bench/batch_allocator.hpp).
   // The soak measures the server's memory as `labodrone serve` has it, with glibc's defaults.
   const bool soak = args.size() >= 2 && args[0] == "sim" && args[1] == "soak";
-  if (!soak) labo::keep_freed_memory_for_batch_runs();
+  if (!soak) labo::bench::keep_freed_memory_for_batch_runs();
   return labo::run_program(program(), args);
 }

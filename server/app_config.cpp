@@ -3,7 +3,7 @@
 #include "localization/slam/slam_config.hpp"
 #include "core/source_tree.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 std::filesystem::path resolve(const std::filesystem::path& base, const std::string& p) {
@@ -51,4 +51,4 @@ AppConfig load_app_config(const std::filesystem::path& file) {
   return c;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -19,7 +19,7 @@
 #include "localization/vision_thresholds.hpp"
 #include "server/server_settings.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct AppConfig {
   std::filesystem::path source;
@@ -49,4 +49,4 @@ AppConfig read_app_config(const ConfigReader& root, const std::filesystem::path&
 // config/default.json of the source tree.
 std::filesystem::path default_config_path();
 
-}  // namespace labo
+}  // namespace labo::server

@@ -5,7 +5,7 @@
 
 #include "server/auth/password_hash.hpp"
 
-namespace labo {
+namespace labo::server {
 
 const CommandSpec& hash_password_command_spec() {
   static const CommandSpec spec{
@@ -23,4 +23,4 @@ int run_hash_password_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -23,6 +23,7 @@ labo::TexturedHeadModel teacher_head(const labo::LabDescription& lab) { return l
 
 labo::Program program() {
   using namespace labo;
+  using namespace labo::server;
   return {
       .name = "labodrone",
       .about = "LaboDrone flies an AR.Drone 2.0 or a Tello (or the simulated lab) through a remote electronics lab.\n"

@@ -7,7 +7,7 @@
 #include "server/runtime/drone_backend.hpp"
 #include "server/video/rtp_video_tap.hpp"
 
-namespace labo {
+namespace labo::server {
 
 const CommandSpec& serve_command_spec() {
   static const CommandSpec spec{
@@ -81,4 +81,4 @@ int run_serve_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -4,9 +4,9 @@
 
 #include "core/cli_args.hpp"
 
-namespace labo {
+namespace labo::server {
 
 const CommandSpec& serve_command_spec();
 int run_serve_command(const ParsedArgs& args);
 
-}  // namespace labo
+}  // namespace labo::server

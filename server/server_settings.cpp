@@ -5,7 +5,7 @@
 
 #include "server/auth/password_hash.hpp"
 
-namespace labo {
+namespace labo::server {
 
 std::string to_string(Role role) {
   switch (role) {
@@ -140,4 +140,4 @@ ServerSettings read_server_settings(const ConfigReader& server, const std::files
   return s;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -10,7 +10,7 @@
 #include "core/config_reader.hpp"
 #include "localization/face/face_config.hpp"
 
-namespace labo {
+namespace labo::server {
 
 enum class Role { Student, Teacher, Admin };
 std::string to_string(Role role);
@@ -103,4 +103,4 @@ struct ServerSettings {
 ServerSettings read_server_settings(const ConfigReader& server, const std::filesystem::path& base_dir);
 ServerSettings default_server_settings(const std::filesystem::path& base_dir);
 
-}  // namespace labo
+}  // namespace labo::server

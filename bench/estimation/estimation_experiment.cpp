@@ -7,7 +7,7 @@
 #include "core/frames.hpp"
 #include "bench/estimation/flight_run.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 constexpr double kRadToDeg = 180.0 / M_PI;
@@ -346,4 +346,4 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

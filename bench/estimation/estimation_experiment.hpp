@@ -13,7 +13,7 @@
 #include "localization/estimation/estimation_config.hpp"
 #include "bench/estimation/estimation_pipeline.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 struct ImpulseResult {
   double push_mps = 0;              // the upward velocity change applied
@@ -112,4 +112,4 @@ EstimationResults run_estimation_experiments(const PlantFactory& make_plant, con
                                              const estimation::EstimatorConfig& config,
                                              ExperimentPhases phases = ExperimentPhases::All);
 
-}  // namespace labo
+}  // namespace labo::bench

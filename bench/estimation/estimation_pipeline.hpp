@@ -14,7 +14,7 @@
 #include "bench/estimation/estimation_plant.hpp"
 #include "localization/estimation/state_estimator.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 // Which visual sources the experiment phase wants fused.
 struct VisionWanted {
@@ -60,4 +60,4 @@ struct PipelineKind {
   PipelineFactory make;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

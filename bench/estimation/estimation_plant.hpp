@@ -12,7 +12,7 @@
 #include "drone/drone_link.hpp"
 #include "localization/estimation/surface_map.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 struct GroundTruth {
   Seconds t = 0;
@@ -65,4 +65,4 @@ class EstimationPlant {
   virtual Seconds navdata_delay() const = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

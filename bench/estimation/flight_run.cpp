@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 constexpr double kG = 9.81;
@@ -92,4 +92,4 @@ void FlightRun::run_until(Seconds t) {
   while (plant_.now() < t - 1e-9) tick();
 }
 
-}  // namespace labo
+}  // namespace labo::bench

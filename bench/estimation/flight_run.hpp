@@ -10,7 +10,7 @@
 #include "localization/estimation/command_lag_estimator.hpp"
 #include "bench/estimation/estimation_pipeline.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 class FlightRun {
  public:
@@ -72,4 +72,4 @@ class FlightRun {
   int input_error_n_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

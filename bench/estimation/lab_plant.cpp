@@ -4,7 +4,7 @@
 
 #include "drone/sim/sim_setup.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 constexpr Seconds kTakeoffLimit = 10.0;
@@ -85,4 +85,4 @@ Seconds LabPlant::command_latency() const {
   return link_settings_.command_delay_s + 0.5 * link_settings_.command_interval_s;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -16,7 +16,7 @@
 #include "drone/sim/simulated_lab.hpp"
 #include "bench/estimation/estimation_plant.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 // What a LabPlant is built from (config/default.json's lab file, cameras and sim section).
 struct LabPlantInputs {
@@ -67,4 +67,4 @@ class LabPlant final : public EstimationPlant, private DroneLinkListener {
   std::vector<VideoFrame> frames_;                  // the last step's frames (headers onto pixels_)
 };
 
-}  // namespace labo
+}  // namespace labo::bench

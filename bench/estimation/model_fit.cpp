@@ -8,7 +8,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 struct Sample {
@@ -151,4 +151,4 @@ ModelFitReport fit_motion_model(EstimationPlant& plant, const estimation::Motion
   return report;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

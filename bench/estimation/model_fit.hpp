@@ -15,7 +15,7 @@
 #include "localization/estimation/estimation_config.hpp"
 #include "bench/estimation/estimation_plant.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 struct ModelFitLaw {
   std::string name;
@@ -35,4 +35,4 @@ struct ModelFitReport {
 ModelFitReport fit_motion_model(EstimationPlant& plant, const estimation::MotionModelConstants& before, Seconds duration = 120.0,
                                 unsigned seed = 1);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -8,7 +8,7 @@
 #include "localization/fusion/planar_front_end.hpp"
 #include "localization/fusion/slam_front_end.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -86,4 +86,4 @@ PipelineKind real_vision_pipelines(const std::filesystem::path& config_file) {
           }};
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -8,10 +8,10 @@
 
 #include "bench/estimation/estimation_pipeline.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 // The configuration's lab, cameras, "vision", "planar" and "slam" sections (SLAM in synchronous
 // mapping, so a seed gives the same flight every time). Throws ConfigError naming the file and key.
 PipelineKind real_vision_pipelines(const std::filesystem::path& config_file);
 
-}  // namespace labo
+}  // namespace labo::bench

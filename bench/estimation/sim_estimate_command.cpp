@@ -17,7 +17,7 @@
 #include "bench/estimation/truth_vision_pipeline.hpp"
 #include "localization/face/teacher_head.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 nlohmann::json impulse_json(const ImpulseResult& r) {
@@ -270,4 +270,4 @@ int run_sim_estimate_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

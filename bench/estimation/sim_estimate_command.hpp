@@ -4,9 +4,9 @@
 // targets beside each figure.
 #include "core/cli_args.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 const CommandSpec& sim_estimate_command_spec();
 int run_sim_estimate_command(const ParsedArgs& args);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 constexpr double kG = 9.81;
@@ -124,4 +124,4 @@ GroundTruth SurrogatePlant::truth() const {
   return g;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

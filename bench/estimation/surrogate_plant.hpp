@@ -12,7 +12,7 @@
 
 #include "bench/estimation/estimation_plant.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 struct SurrogatePlantOptions {
   Seconds navdata_period = 1.0 / 200.0;
@@ -65,4 +65,4 @@ class SurrogatePlant final : public EstimationPlant {
   std::vector<VideoFrame> no_frames_;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

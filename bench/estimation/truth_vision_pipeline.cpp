@@ -4,7 +4,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 Eigen::Isometry3d perturbed(const Eigen::Isometry3d& T, double sigma_t, double sigma_r, std::mt19937& rng) {
@@ -70,4 +70,4 @@ void TruthVisionPipeline::deliver(Seconds t_arrival, const Eigen::Isometry3d& T_
   }
 }
 
-}  // namespace labo
+}  // namespace labo::bench

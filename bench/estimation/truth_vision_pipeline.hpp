@@ -8,7 +8,7 @@
 
 #include "bench/estimation/estimation_pipeline.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 class TruthVisionPipeline final : public EstimationPipeline {
  public:
@@ -40,4 +40,4 @@ class TruthVisionPipeline final : public EstimationPipeline {
   std::vector<SlamTrackPoint> slam_track_;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -24,7 +24,7 @@
 #include "bench/slam/bench_flights.hpp"
 #include "bench/slam/synthetic_room.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -215,4 +215,4 @@ int run_bench_vision_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

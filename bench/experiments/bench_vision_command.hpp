@@ -4,9 +4,9 @@
 // platform tracking, SLAM tracking, face tracking - as median, p95 and max wall time per frame.
 #include "core/cli_args.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 const CommandSpec& bench_vision_command_spec();
 int run_bench_vision_command(const ParsedArgs& args);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -13,7 +13,7 @@
 #include "control/mission.hpp"
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -152,4 +152,4 @@ int run_sim_compare_slam_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

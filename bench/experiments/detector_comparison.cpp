@@ -10,7 +10,7 @@
 #include "bench/planar/synthetic_scene.hpp"
 #include "localization/fusion/planar_front_end.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -104,4 +104,4 @@ std::vector<DetectorRow> compare_detectors(const fusion::PlanarTarget& target, c
   return rows;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -16,7 +16,7 @@
 #include "localization/planar/planar_config.hpp"
 #include "localization/vision_thresholds.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 struct DetectorRow {
   std::string range;    // "far" or "near"
@@ -31,4 +31,4 @@ struct DetectorRow {
 std::vector<DetectorRow> compare_detectors(const fusion::PlanarTarget& target, const PinholeCamera& camera,
                                            const VisionThresholds& vision, const planar::PlanarConfig& config, int frames);
 
-}  // namespace labo
+}  // namespace labo::bench

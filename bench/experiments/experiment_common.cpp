@@ -18,7 +18,7 @@
 #include "core/source_tree.hpp"
 #include "drone/tello/tello_config.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 std::vector<OptionSpec> experiment_option_specs() {
   return {{"--seed", "N", "first random seed (default 1); run i uses seed + i"},
@@ -220,4 +220,4 @@ double centre_offset_fraction(const Eigen::Vector3d& p_cam, const CameraIntrinsi
   return std::hypot(u - 0.5 * k.width, v - 0.5 * k.height) / k.width;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

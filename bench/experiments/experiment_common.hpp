@@ -17,7 +17,7 @@
 #include "drone/sim/sim_tello_link.hpp"
 #include "drone/sim/sim_world.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 struct ExperimentOptions {
   unsigned seed = 1;
@@ -82,4 +82,4 @@ double percentile(std::vector<double> v, double p);
 // Pixel offset of a camera-frame point from the image centre, as a fraction of the image width.
 double centre_offset_fraction(const Eigen::Vector3d& p_cam, const CameraIntrinsics& k);
 
-}  // namespace labo
+}  // namespace labo::bench

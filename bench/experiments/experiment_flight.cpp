@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T) {
   const Eigen::Vector3d p = T.translation();
@@ -80,4 +80,4 @@ bool ExperimentFlight::run_until(const std::function<bool()>& done, double timeo
   return false;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

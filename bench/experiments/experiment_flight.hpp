@@ -16,7 +16,7 @@
 #include "drone/sim/sim_world.hpp"
 #include "localization/estimation/state_estimator.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 // The estimator's counters a recovery's timeline needs (StateEstimator::statistics(), running totals).
 struct EstimatorCounts {
@@ -112,4 +112,4 @@ Eigen::Vector4d xyz_yaw(const Eigen::Isometry3d& T);
 FlightSample sample_of(const control::FlightStatus& status, const control::FlightOutput& out, const estimation::StateEstimator& estimator,
                        const Eigen::Isometry3d& truth, Seconds t, const std::optional<Eigen::Isometry3d>& true_face);
 
-}  // namespace labo
+}  // namespace labo::bench

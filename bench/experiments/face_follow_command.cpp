@@ -17,7 +17,7 @@
 #include "bench/experiments/seed_runner.hpp"
 #include "bench/experiments/sim_commands.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -163,4 +163,4 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

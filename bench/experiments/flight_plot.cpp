@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -121,4 +121,4 @@ void write_flight_svg(const std::filesystem::path& file, const std::vector<Fligh
   out << "<text x='" << W / 2 << "' y='" << H - 8 << "'>t (s)</text>\n</svg>\n";
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -7,9 +7,9 @@
 
 #include "bench/experiments/lockstep_flight.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 void write_flight_csv(const std::filesystem::path& file, const std::vector<FlightSample>& samples);
 void write_flight_svg(const std::filesystem::path& file, const std::vector<FlightSample>& samples, const std::string& title);
 
-}  // namespace labo
+}  // namespace labo::bench

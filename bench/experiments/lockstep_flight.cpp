@@ -4,7 +4,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 constexpr int kPhysicsSubsteps = 5;
@@ -67,4 +67,4 @@ void LockstepFlight::tick() {
   t_ += kControlDt;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -10,7 +10,7 @@
 #include "bench/experiments/experiment_flight.hpp"
 #include "bench/experiments/perception_model.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 // Everything the localization saw in one tick, for offline replays.
 struct TickRecord {
@@ -63,4 +63,4 @@ class LockstepFlight final : public ExperimentFlight {
   std::vector<TickRecord> records_;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

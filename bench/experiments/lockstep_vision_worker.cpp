@@ -1,6 +1,6 @@
 #include "bench/experiments/lockstep_vision_worker.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 bool tracked_by_tracker(const fusion::TargetObservation& o) { return o.method == "ic" || o.method == "ecc"; }
@@ -51,4 +51,4 @@ void LockstepVisionWorker::start(const VideoFrame& frame, Seconds now) {
   ready_at_ = now + model_.latency_of(results_);
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -10,7 +10,7 @@
 #include "control/flight_stack.hpp"
 #include "localization/fusion/vision_job.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 struct VisionLatencyModel {
   double template_detection_ms = 3.9;   // planar_detect_far
@@ -54,4 +54,4 @@ class LockstepVisionWorker {
   LockstepVisionStats stats_;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -1,6 +1,6 @@
 #include "bench/experiments/model_lab.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 Eigen::Isometry3d facing_base(const Eigen::Vector3d& at) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -29,4 +29,4 @@ fusion::LabGeometry model_lab() {
   return lab;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

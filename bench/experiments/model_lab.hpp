@@ -4,10 +4,10 @@
 // oscilloscope panel 3.5 m ahead facing the base at 1.0 m height.
 #include "localization/fusion/lab_geometry.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 // A pose whose z axis points along +x (away from a viewer at the base), x = -world y, y down.
 Eigen::Isometry3d facing_base(const Eigen::Vector3d& at);
 fusion::LabGeometry model_lab();
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -4,7 +4,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 bool in_view(const Eigen::Isometry3d& T_cam_target, double max_range, double half_w, double half_h) {
@@ -111,4 +111,4 @@ PerceptionFrame PerceptionModel::observe(const QuadrotorModel& drone, const Eige
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

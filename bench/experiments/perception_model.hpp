@@ -11,7 +11,7 @@
 #include "bench/experiments/quadrotor_model.hpp"
 #include "localization/fusion/lab_pipelines.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 struct PerceptionModelConfig {
   double instrument_range_m = 4.5;
@@ -57,4 +57,4 @@ class PerceptionModel {
   Eigen::Isometry3d T_map_world_ = Eigen::Isometry3d::Identity();
 };
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -10,7 +10,7 @@
 #include "core/frames.hpp"
 #include "drone/drone_link.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 class QuadrotorModel {
  public:
@@ -117,4 +117,4 @@ class QuadrotorModel {
   double phase_t_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

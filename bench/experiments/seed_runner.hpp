@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-namespace labo {
+namespace labo::bench {
 
 // The first exception a flight throws is rethrown here, after every started flight has ended.
 template <typename Result>
@@ -48,4 +48,4 @@ std::vector<Result> run_seeded_flights(int runs, int jobs, const std::function<R
   return results;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -10,7 +10,7 @@
 #include "bench/experiments/seed_runner.hpp"
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -311,4 +311,4 @@ int run_sim_perturb_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

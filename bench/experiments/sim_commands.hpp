@@ -4,7 +4,7 @@
 // plus a summary), and prints its figures against their targets.
 #include "core/cli_args.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 const CommandSpec& sim_inspect_command_spec();
 int run_sim_inspect_command(const ParsedArgs& args);
@@ -15,4 +15,4 @@ int run_sim_face_follow_command(const ParsedArgs& args);
 const CommandSpec& sim_compare_slam_command_spec();
 int run_sim_compare_slam_command(const ParsedArgs& args);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -6,7 +6,7 @@
 #include "localization/fusion/lab_pipelines_factory.hpp"
 #include "drone/sim/sim_setup.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 // The link's events go straight to the flight stack, frames through the modelled worker when there
 // is one (a frame's pixels are valid during on_video only: the stack or the worker takes them there).
@@ -93,4 +93,4 @@ void SimLabFlight::tick() {
   t_ += kControlDt;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

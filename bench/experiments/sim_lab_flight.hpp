@@ -23,7 +23,7 @@
 #include "drone/sim/sim_tello_link.hpp"
 #include "drone/sim/simulated_lab.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 class SimLabFlight final : public ExperimentFlight {
  public:
@@ -74,4 +74,4 @@ class SimLabFlight final : public ExperimentFlight {
   std::vector<FlightSample> samples_;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

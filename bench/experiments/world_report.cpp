@@ -2,7 +2,7 @@
 
 #include <numbers>
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -105,4 +105,4 @@ nlohmann::json world_json(const SimWorld& w, Seconds until_s) {
           {"teacher", teacher_json(w.lab.teacher, until_s)}};
 }
 
-}  // namespace labo
+}  // namespace labo::bench

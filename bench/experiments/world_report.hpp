@@ -8,9 +8,9 @@
 #include "core/time.hpp"
 #include "drone/sim/sim_world.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 // `until_s`: events starting after it (the run's end) are left out.
 nlohmann::json world_json(const SimWorld& world, Seconds until_s);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -7,7 +7,7 @@
 #include "core/source_tree.hpp"
 #include "localization/face/face_commands.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -169,4 +169,4 @@ int run_face_bench_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

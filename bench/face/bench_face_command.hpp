@@ -3,9 +3,9 @@
 // sequences with a known pose. docs/face.md.
 #include "core/cli_args.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 const CommandSpec& face_bench_command_spec();
 int run_face_bench_command(const ParsedArgs& args);
 
-}  // namespace labo
+}  // namespace labo::bench

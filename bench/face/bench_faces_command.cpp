@@ -9,7 +9,7 @@
 #include "core/source_tree.hpp"
 #include "localization/face/face_commands.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -161,4 +161,4 @@ int run_faces_bench_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

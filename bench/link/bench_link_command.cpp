@@ -15,7 +15,7 @@
 #include "drone/tello/tello_state.hpp"
 #include "drone/tello/tello_wire.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 using namespace ardrone2;
 
@@ -191,4 +191,4 @@ int run_bench_link_command(const ParsedArgs& args) {
   return decoded == frames && demuxed == static_cast<std::size_t>(frames) && out["tello_decoded"] == frames ? 0 : 1;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -10,7 +10,7 @@
 #include "localization/planar/planar_commands.hpp"
 #include "bench/planar/sequence_bench.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -235,4 +235,4 @@ int run_bench_planar_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -4,9 +4,9 @@
 // docs/planar.md.
 #include "core/cli_args.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 const CommandSpec& bench_planar_command_spec();
 int run_bench_planar_command(const ParsedArgs& args);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -5,7 +5,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-namespace labo {
+namespace labo::bench {
 
 ardrone2::H264EncoderSettings drone_stream_settings(cv::Size size, int fps, int bitrate_kbps) {
   ardrone2::H264EncoderSettings s;  // the GOP and everything else as SimDroneLink leaves them
@@ -42,4 +42,4 @@ std::vector<cv::Mat> h264_roundtrip(const std::vector<cv::Mat>& frames, const ar
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -10,7 +10,7 @@
 
 #include "drone/ardrone2/h264_codec.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 // The encoder settings of a simulated drone's stream for frames of `size` at `fps` and `bitrate_kbps`.
 ardrone2::H264EncoderSettings drone_stream_settings(cv::Size size, int fps, int bitrate_kbps);
@@ -20,4 +20,4 @@ ardrone2::H264EncoderSettings drone_stream_settings(cv::Size size, int fps, int 
 // codec fails.
 std::vector<cv::Mat> h264_roundtrip(const std::vector<cv::Mat>& frames, const ardrone2::H264EncoderSettings& settings);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -10,7 +10,7 @@
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/lab_renderer.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 constexpr double kFps = 30.0;
@@ -109,4 +109,4 @@ PlanarSequence render_lab_platform_pass(const std::string& name, double min_visi
   return s;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

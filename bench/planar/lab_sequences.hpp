@@ -7,7 +7,7 @@
 
 #include "bench/planar/planar_sequence.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 // The oscilloscope approached in the front camera: 3 m -> 0.6 m with a lateral sway, a height wobble
 // and a yaw wobble of the camera (150 frames).
@@ -19,4 +19,4 @@ PlanarSequence render_lab_approach(const std::string& name, double min_visible);
 // (0.60 m) overfills the image: at 0.3 m a sixth of it is in view. The platform's own lambda and N.
 PlanarSequence render_lab_platform_pass(const std::string& name, double min_visible);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -10,7 +10,7 @@
 #include "localization/planar/planar_template.hpp"
 #include "bench/planar/synthetic_scene.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -102,4 +102,4 @@ std::vector<PerturbationRow> run_perturbation_sweep(const PerturbationSettings& 
   return rows;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -9,7 +9,7 @@
 
 #include "localization/planar/planar_config.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 struct PerturbationSettings {
   int template_side_px = 200;
@@ -36,4 +36,4 @@ struct PerturbationRow {
 
 std::vector<PerturbationRow> run_perturbation_sweep(const PerturbationSettings& settings, const planar::PlanarConfig& config);
 
-}  // namespace labo
+}  // namespace labo::bench

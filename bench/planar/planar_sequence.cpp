@@ -1,6 +1,6 @@
 #include "bench/planar/planar_sequence.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 double visible_fraction(const PinholeCamera& camera, const PanelModel& panel, const Eigen::Isometry3d& T_cam_object) {
   int inside = 0;
@@ -14,4 +14,4 @@ double visible_fraction(const PinholeCamera& camera, const PanelModel& panel, co
   return inside / 81.0;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

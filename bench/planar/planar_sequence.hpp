@@ -10,7 +10,7 @@
 
 #include "core/camera_model.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 struct PanelModel {
   cv::Mat image;
@@ -34,4 +34,4 @@ struct PlanarSequence {
 // The fraction of a 9x9 grid of panel points that project inside the image.
 double visible_fraction(const PinholeCamera& camera, const PanelModel& panel, const Eigen::Isometry3d& T_cam_object);
 
-}  // namespace labo
+}  // namespace labo::bench

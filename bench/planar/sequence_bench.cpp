@@ -20,7 +20,7 @@
 #include "localization/planar/pose/planar_pose_filter.hpp"
 #include "bench/planar/synthetic_scene.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -331,4 +331,4 @@ SequenceBenchResult run_sequence_bench(const planar::PlanarConfig& config, const
   return result;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -14,7 +14,7 @@
 #include "localization/planar/planar_config.hpp"
 #include "localization/vision_thresholds.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 struct RangeBinStats {
   std::string tracker;
@@ -94,4 +94,4 @@ SequenceBenchResult run_sequence_bench(const planar::PlanarConfig& config, const
                                                                                    planar::TrackerKind::Ecc},
                                        int h264_kbps = kDefaultH264Kbps, int h264_seeds = 1);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -6,7 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-namespace labo {
+namespace labo::bench {
 
 cv::Mat make_procedural_panel(cv::Size size, std::uint32_t seed) {
   cv::RNG rng(seed);
@@ -276,4 +276,4 @@ Eigen::Isometry3d look_at_object(const Eigen::Vector3d& camera_in_object, const 
   return T_object_cam.inverse();
 }
 
-}  // namespace labo
+}  // namespace labo::bench

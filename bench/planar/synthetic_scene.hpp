@@ -10,7 +10,7 @@
 
 #include "core/camera_model.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 // A grey front panel: display with a trace, knobs, buttons, labels, screws.
 cv::Mat make_procedural_panel(cv::Size size, std::uint32_t seed);
@@ -46,4 +46,4 @@ class PlanarViewRenderer {
 Eigen::Isometry3d look_at_object(const Eigen::Vector3d& camera_in_object, const Eigen::Vector3d& target,
                                  double roll_rad = 0.0);
 
-}  // namespace labo
+}  // namespace labo::bench

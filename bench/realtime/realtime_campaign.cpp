@@ -9,7 +9,20 @@
 #include "server/app_config.hpp"
 #include "server/runtime/drone_backend.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::AppConfig;
+using server::CommandVerdict;
+using server::DroneSpec;
+using server::FlightEvent;
+using server::FlightEventSink;
+using server::FlightService;
+using server::MissionCommand;
+using server::MissionCommandKind;
+using server::WireFrame;
+using server::load_app_config;
+using server::make_drone_backend;
+
 
 namespace {
 
@@ -130,4 +143,4 @@ std::vector<RealtimeRun> run_realtime_campaign(const RealtimeCampaignOptions& o)
   return runs;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -10,7 +10,10 @@
 
 #include "server/runtime/runtime_timing.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::RuntimeTimingSummary;
+
 
 enum class RealtimeMission { Inspect, FindTeacher };
 
@@ -43,4 +46,4 @@ struct RealtimeRun {
 // lab that cannot be flown.
 std::vector<RealtimeRun> run_realtime_campaign(const RealtimeCampaignOptions& options);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -9,7 +9,10 @@
 #include "bench/realtime/realtime_campaign.hpp"
 #include "core/source_tree.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::Percentiles;
+
 
 namespace {
 
@@ -119,4 +122,4 @@ int run_sim_realtime_command(const ParsedArgs& args) {
   return ok == o.runs ? 0 : 3;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

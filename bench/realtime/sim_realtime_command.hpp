@@ -4,9 +4,9 @@
 // (realtime_campaign.hpp), with each run's success and the control loop's timing.
 #include "core/cli_args.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 const CommandSpec& sim_realtime_command_spec();
 int run_sim_realtime_command(const ParsedArgs& args);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -16,7 +16,7 @@
 #include "drone/sim/render_commands.hpp"
 #include "localization/face/teacher_head.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -110,4 +110,4 @@ int run_bench_render_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -4,9 +4,9 @@
 // docs/sim_rendering.md.
 #include "core/cli_args.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 const CommandSpec& bench_render_command_spec();
 int run_bench_render_command(const ParsedArgs& args);
 
-}  // namespace labo
+}  // namespace labo::bench

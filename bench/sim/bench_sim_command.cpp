@@ -17,7 +17,7 @@
 #include "drone/sim/sim_setup.hpp"
 #include "localization/face/teacher_head.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -170,4 +170,4 @@ int run_bench_sim_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -13,7 +13,7 @@
 #include "bench/slam/synthetic_room.hpp"
 #include "localization/slam/slam_config.hpp"
 
-namespace labo {
+namespace labo::bench {
 namespace {
 
 nlohmann::json to_json(const slam::FlightReport& r) {
@@ -200,4 +200,4 @@ int run_bench_slam_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -3,7 +3,7 @@
 #include "drone/replay/recording.hpp"
 #include "drone/replay/replay_link.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 namespace {
 
@@ -57,4 +57,4 @@ RecordingCheck check_recording(const std::filesystem::path& file) {
   return c;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-namespace labo {
+namespace labo::bench {
 
 struct RecordingCheck {
   std::uint64_t file_bytes = 0;
@@ -18,4 +18,4 @@ struct RecordingCheck {
 
 RecordingCheck check_recording(const std::filesystem::path& file);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -4,7 +4,12 @@
 
 #include "server/runtime/backend_parts.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::AppConfig;
+using server::loopback_emulator_settings;
+using server::make_configured_lab;
+
 
 RestartableDrone::RestartableDrone(const AppConfig& config, Logger log)
     : config_(config), log_(std::move(log)), lab_(make_configured_lab(config)) {
@@ -90,4 +95,4 @@ int RestartableDrone::starts() const {
   return starts_;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

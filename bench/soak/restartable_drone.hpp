@@ -14,7 +14,10 @@
 #include "drone/sim/simulated_lab.hpp"
 #include "server/app_config.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::AppConfig;
+
 
 // The lab's truth, for the soak's checks (the flight software never sees it).
 struct DroneTruth {
@@ -62,4 +65,4 @@ class RestartableDrone {
   int starts_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

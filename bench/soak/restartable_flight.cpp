@@ -4,7 +4,20 @@
 
 #include "server/runtime/backend_parts.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::AppConfig;
+using server::CommandVerdict;
+using server::FlightEventSink;
+using server::FlightRuntime;
+using server::FlightStackCore;
+using server::FlightTelemetry;
+using server::InstrumentSummary;
+using server::MissionCommand;
+using server::RuntimeTimingSummary;
+using server::flight_runtime_options;
+using server::flight_stack_setup;
+
 
 RestartableFlight::RestartableFlight(DroneLink& link, const Clock& clock, const AppConfig& config,
                                      FlightStackCore::TruthSource truth, Logger log)
@@ -70,4 +83,4 @@ RuntimeTimingSummary RestartableFlight::timing() const {
   return runtime_->timing();
 }
 
-}  // namespace labo
+}  // namespace labo::bench

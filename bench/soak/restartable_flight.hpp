@@ -14,7 +14,19 @@
 #include "server/runtime/flight_runtime.hpp"
 #include "server/runtime/flight_stack_core.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::AppConfig;
+using server::CommandVerdict;
+using server::FlightEventSink;
+using server::FlightRuntime;
+using server::FlightService;
+using server::FlightStackCore;
+using server::FlightTelemetry;
+using server::InstrumentSummary;
+using server::MissionCommand;
+using server::RuntimeTimingSummary;
+
 
 class RestartableFlight final : public FlightService {
  public:
@@ -48,4 +60,4 @@ class RestartableFlight final : public FlightService {
   int restarts_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

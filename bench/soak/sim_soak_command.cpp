@@ -7,7 +7,7 @@
 #include "bench/soak/soak_run.hpp"
 #include "core/source_tree.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 const CommandSpec& sim_soak_command_spec() {
   static const CommandSpec spec{
@@ -60,4 +60,4 @@ int run_sim_soak_command(const ParsedArgs& args) {
   return failures.empty() ? 0 : 3;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

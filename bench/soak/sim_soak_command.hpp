@@ -5,9 +5,9 @@
 // (bench/soak/soak_run.hpp); prints the summary and exits 3 when a check failed.
 #include "core/cli_args.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 const CommandSpec& sim_soak_command_spec();
 int run_sim_soak_command(const ParsedArgs& args);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-namespace labo {
+namespace labo::bench {
 
 SoakAudience::SoakAudience(boost::asio::io_context& io, unsigned short port, std::vector<std::string> cookies,
                            AudienceOptions options)
@@ -104,4 +104,4 @@ void SoakAudience::drive_slow_reader(double now_s) {
   slow_switch_at_s_ = now_s + options_.slow_read_s;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

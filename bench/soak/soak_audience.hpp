@@ -15,7 +15,7 @@
 
 #include "bench/soak/soak_client.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 struct AudienceOptions {
   int max_spectators = 4;
@@ -65,4 +65,4 @@ class SoakAudience {
   std::thread thread_;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -6,7 +6,7 @@
 #include <boost/beast/http.hpp>
 #include <chrono>
 
-namespace labo {
+namespace labo::bench {
 
 namespace asio = boost::asio;
 namespace beast = boost::beast;
@@ -184,4 +184,4 @@ ClientView SoakClient::view() const {
   return view_;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

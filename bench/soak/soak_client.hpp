@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-namespace labo {
+namespace labo::bench {
 
 // HTTP on loopback: the status, or 0 when the server did not answer.
 struct HttpAnswer {
@@ -75,4 +75,4 @@ class SoakClient : public std::enable_shared_from_this<SoakClient> {
   ClientView view_;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -5,7 +5,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-namespace labo {
+namespace labo::bench {
+
+using server::Percentiles;
+
 
 namespace {
 
@@ -159,4 +162,4 @@ std::string to_text(const SoakSummary& s, const std::vector<std::string>& failur
   return out.str();
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -10,7 +10,10 @@
 
 #include "server/runtime/runtime_timing.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::RuntimeTimingSummary;
+
 
 // One fault and the drone's state once it was over and the flight software had time to act.
 struct FaultRecord {
@@ -74,4 +77,4 @@ std::vector<std::string> soak_failures(const SoakSummary& summary, const SoakLim
 nlohmann::json to_json(const SoakSummary& summary, const std::vector<std::string>& failures);
 std::string to_text(const SoakSummary& summary, const std::vector<std::string>& failures);
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -10,7 +10,13 @@
 #include "bench/soak/soak_server.hpp"
 #include "bench/soak/soak_watch.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::AppConfig;
+using server::Role;
+using server::ServerMetrics;
+using server::load_app_config;
+
 
 namespace {
 
@@ -118,4 +124,4 @@ SoakSummary run_soak(const SoakOptions& o) {
   return s;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -8,7 +8,7 @@
 #include "bench/soak/soak_report.hpp"
 #include "core/log.hpp"
 
-namespace labo {
+namespace labo::bench {
 
 struct SoakOptions {
   std::filesystem::path config_file;  // its students log in with the demo password "<name>-pass"
@@ -24,4 +24,4 @@ struct SoakOptions {
 // Throws ConfigError for a bad configuration, std::runtime_error when a student cannot log in.
 SoakSummary run_soak(const SoakOptions& options);
 
-}  // namespace labo
+}  // namespace labo::bench

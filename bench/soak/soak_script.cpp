@@ -8,7 +8,11 @@
 #include "core/frames.hpp"
 #include "localization/fusion/lab_geometry.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::AppConfig;
+using server::FlightTelemetry;
+
 
 namespace {
 
@@ -323,4 +327,4 @@ void SoakScript::report(SoakSummary& s) const {
   s.battery_swaps = battery_swaps_;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -16,7 +16,10 @@
 #include "bench/soak/soak_server.hpp"
 #include "bench/soak/soak_watch.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::AppConfig;
+
 
 struct Student {
   std::string name;
@@ -96,4 +99,4 @@ class SoakScript {
   std::vector<std::string> results_;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

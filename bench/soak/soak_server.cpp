@@ -2,7 +2,12 @@
 
 #include "server/runtime/backend_parts.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::AppConfig;
+using server::ServerSettings;
+using server::loopback_link_settings;
+
 
 namespace {
 ServerSettings loopback_server(const AppConfig& config) {
@@ -41,4 +46,4 @@ void SoakServer::shutdown(double land_timeout_s) {
   drone_.stop();
 }
 
-}  // namespace labo
+}  // namespace labo::bench

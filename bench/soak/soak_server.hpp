@@ -13,7 +13,14 @@
 #include "drone/ardrone2/ardrone_link.hpp"
 #include "server/http/web_server.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::AppConfig;
+using server::FlightRuntime;
+using server::FlightService;
+using server::ServerMetrics;
+using server::WebServer;
+
 
 class SoakServer {
  public:
@@ -49,4 +56,4 @@ class SoakServer {
   bool stopped_ = false;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -6,7 +6,11 @@
 
 #include "bench/soak/soak_client.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::FlightService;
+using server::FlightTelemetry;
+
 
 double resident_mib() {
   std::ifstream in("/proc/self/status");
@@ -85,4 +89,4 @@ std::vector<RssSample> SoakWatch::rss() const {
   return rss_;
 }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -12,7 +12,11 @@
 #include "bench/soak/restartable_drone.hpp"
 #include "server/lab/flight_service.hpp"
 
-namespace labo {
+namespace labo::bench {
+
+using server::FlightService;
+using server::FlightTelemetry;
+
 
 struct RssSample {
   double t_s = 0;
@@ -57,4 +61,4 @@ class SoakWatch {
   std::thread thread_;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

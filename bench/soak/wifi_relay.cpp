@@ -5,7 +5,7 @@
 #include <boost/asio/write.hpp>
 #include <vector>
 
-namespace labo {
+namespace labo::bench {
 
 namespace asio = boost::asio;
 using asio::ip::tcp;
@@ -158,4 +158,4 @@ void WifiRelay::cut_for(double seconds) {
 
 bool WifiRelay::cut() const { return Clock::now().time_since_epoch().count() < cut_until_.load(); }
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -16,7 +16,7 @@
 #include <memory>
 #include <thread>
 
-namespace labo {
+namespace labo::bench {
 
 class WifiRelay {
  public:
@@ -51,4 +51,4 @@ class WifiRelay {
   std::thread thread_;
 };
 
-}  // namespace labo
+}  // namespace labo::bench

@@ -8,7 +8,7 @@
 #include "server/auth/permissions.hpp"
 
 // The routes only an admin may use: configuration, instruments, recordings, metrics, the audit log.
-namespace labo {
+namespace labo::server {
 
 namespace http = boost::beast::http;
 using nlohmann::json;
@@ -134,4 +134,4 @@ HttpReply RestApi::metrics_text() {
   return r;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -3,7 +3,7 @@
 #include <fstream>
 #include <set>
 
-namespace labo {
+namespace labo::server {
 
 using nlohmann::json;
 
@@ -54,4 +54,4 @@ std::vector<std::string> changed_keys(const json& before, const json& after) {
   return {keys.begin(), keys.end()};
 }
 
-}  // namespace labo
+}  // namespace labo::server

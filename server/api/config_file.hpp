@@ -11,7 +11,7 @@
 
 #include "server/app_config.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct ConfigFileError {
   int status = 500;  // 422 when the document is refused, 500 when the file cannot be read or written
@@ -27,4 +27,4 @@ std::variant<AppConfig, ConfigFileError> replace_config(const std::filesystem::p
 // server section.
 std::vector<std::string> changed_keys(const nlohmann::json& before, const nlohmann::json& after);
 
-}  // namespace labo
+}  // namespace labo::server

@@ -4,7 +4,7 @@
 
 #include "server/auth/session_store.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 
@@ -106,4 +106,4 @@ RegistrationOutcome FaceRegistrar::register_person(const Job& job) {
   return outcome;
 }
 
-}  // namespace labo
+}  // namespace labo::server

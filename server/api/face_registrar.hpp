@@ -18,7 +18,7 @@
 #include "server/api/registration_form.hpp"
 #include "server/server_settings.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct RegistrationOutcome {
   int status = 201;   // 201 registered; 409 registered meanwhile; 422 refused by the face code; 500; 503
@@ -62,4 +62,4 @@ class FaceRegistrar {
   std::thread worker_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -2,7 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace labo {
+namespace labo::server {
 
 HttpReply HttpReply::json(boost::beast::http::status status, std::string body) {
   HttpReply r;
@@ -28,4 +28,4 @@ std::string content_type_for(const std::filesystem::path& file) {
   return "application/octet-stream";
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-namespace labo {
+namespace labo::server {
 
 struct HttpReply {
   boost::beast::http::status status = boost::beast::http::status::ok;
@@ -30,4 +30,4 @@ struct HttpReply {
 // Content type from a file extension (".html" -> "text/html; charset=utf-8").
 std::string content_type_for(const std::filesystem::path& file);
 
-}  // namespace labo
+}  // namespace labo::server

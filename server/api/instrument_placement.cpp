@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 
@@ -31,4 +31,4 @@ std::string placement_problem(const InstrumentSpec& instrument, const LabOutline
   return {};
 }
 
-}  // namespace labo
+}  // namespace labo::server

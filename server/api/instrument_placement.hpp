@@ -7,9 +7,9 @@
 #include "drone/lab/lab_description.hpp"
 #include "server/lab/flight_service.hpp"
 
-namespace labo {
+namespace labo::server {
 
 // Empty when it fits; else what it runs into.
 std::string placement_problem(const InstrumentSpec& instrument, const LabOutline& lab);
 
-}  // namespace labo
+}  // namespace labo::server

@@ -9,7 +9,7 @@
 // tracked), stored, and once placed (in the upload or later by PUT .../placement) handed to the
 // flight software, inspectable at once; in the simulated lab its panel is drawn where it was placed.
 // Stored placed uploads are placed again when the server starts.
-namespace labo {
+namespace labo::server {
 
 namespace http = boost::beast::http;
 using nlohmann::json;
@@ -162,4 +162,4 @@ void RestApi::place_stored_instruments() {
   }
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -11,7 +11,7 @@
 
 #include "server/auth/password_hash.hpp"
 
-namespace labo {
+namespace labo::server {
 
 using nlohmann::json;
 
@@ -225,4 +225,4 @@ InstrumentSpec instrument_spec_of(const UploadedInstrument& u, const std::filesy
   return s;
 }
 
-}  // namespace labo
+}  // namespace labo::server

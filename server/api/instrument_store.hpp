@@ -15,7 +15,7 @@
 #include "drone/lab/lab_description.hpp"
 #include "localization/planar/template_strength.hpp"
 
-namespace labo {
+namespace labo::server {
 
 // Where an instrument's panel is: its centre in the world and the direction it faces (the lab
 // file's facing_deg: the way a viewer in front of it looks from), degrees about z.
@@ -70,4 +70,4 @@ class InstrumentStore {
 // The lab description's instrument for a placed upload (its template at `template_path`).
 InstrumentSpec instrument_spec_of(const UploadedInstrument& u, const std::filesystem::path& template_path);
 
-}  // namespace labo
+}  // namespace labo::server

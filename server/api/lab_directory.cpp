@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace labo {
+namespace labo::server {
 namespace {
 
 using Json = nlohmann::json;
@@ -82,4 +82,4 @@ LabDirectory LabDirectory::parse(const std::string& text, const std::string& sel
   return d;
 }
 
-}  // namespace labo
+}  // namespace labo::server

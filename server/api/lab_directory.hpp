@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-namespace labo {
+namespace labo::server {
 
 class LabDirectory {
  public:
@@ -25,4 +25,4 @@ class LabDirectory {
   std::shared_ptr<const std::string> json_ = std::make_shared<const std::string>(R"({"self":null,"labs":[]})");
 };
 
-}  // namespace labo
+}  // namespace labo::server

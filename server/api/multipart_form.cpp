@@ -4,7 +4,7 @@
 
 #include "core/ascii_text.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 
@@ -92,4 +92,4 @@ std::variant<std::vector<FormPart>, std::string> parse_multipart_form(std::strin
   }
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -8,7 +8,7 @@
 #include <variant>
 #include <vector>
 
-namespace labo {
+namespace labo::server {
 
 struct FormPart {
   std::string name;          // Content-Disposition's name
@@ -25,4 +25,4 @@ std::variant<std::vector<FormPart>, std::string> parse_multipart_form(std::strin
 // Whether `content_type` (a request's header) is multipart/form-data.
 bool is_multipart_form(std::string_view content_type);
 
-}  // namespace labo
+}  // namespace labo::server

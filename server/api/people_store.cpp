@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-namespace labo {
+namespace labo::server {
 
 using nlohmann::json;
 
@@ -99,4 +99,4 @@ bool PeopleStore::remove(const std::string& name) {
   return std::filesystem::remove(face::person_shape_path(dir_, name), ec);
 }
 
-}  // namespace labo
+}  // namespace labo::server

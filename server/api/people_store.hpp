@@ -11,7 +11,7 @@
 
 #include "localization/face/person_shape.hpp"
 
-namespace labo {
+namespace labo::server {
 
 // How a shape was registered from the page, kept beside the shape in its file ("registration"); a
 // file written by `labodrone face register` has none.
@@ -51,4 +51,4 @@ class PeopleStore {
   mutable std::mutex mutex_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

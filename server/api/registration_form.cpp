@@ -6,7 +6,7 @@
 #include "localization/face/person_shape.hpp"
 #include "server/api/multipart_form.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 
@@ -123,4 +123,4 @@ std::variant<RegistrationForm, FormRefusal> read_registration_form(std::string_v
   return form;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -10,7 +10,7 @@
 #include <variant>
 #include <vector>
 
-namespace labo {
+namespace labo::server {
 
 struct RegistrationForm {
   std::string name;
@@ -35,4 +35,4 @@ struct FormLimits {
 std::variant<RegistrationForm, FormRefusal> read_registration_form(std::string_view content_type, std::string_view body,
                                                                    const FormLimits& limits);
 
-}  // namespace labo
+}  // namespace labo::server

@@ -10,7 +10,7 @@
 #include "server/api/video_routes.hpp"
 #include "server/auth/permissions.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace http = boost::beast::http;
 using nlohmann::json;
@@ -279,4 +279,4 @@ void RestApi::audit(const SessionInfo& session, const std::string& action, const
   audit_.record({session.user, to_string(session.role), action, target, code < 400, what});
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -24,7 +24,7 @@
 #include "server/lab/server_metrics.hpp"
 #include "server/server_settings.hpp"
 
-namespace labo {
+namespace labo::server {
 
 class RestApi {
  public:
@@ -106,4 +106,4 @@ class RestApi {
   std::unique_ptr<FaceRegistrar> registrar_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

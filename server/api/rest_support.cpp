@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <charconv>
 
-namespace labo {
+namespace labo::server {
 
 namespace http = boost::beast::http;
 using nlohmann::json;
@@ -57,4 +57,4 @@ std::variant<json, HttpReply> json_object_body(const HttpRequest& req, std::init
   return j;
 }
 
-}  // namespace labo
+}  // namespace labo::server

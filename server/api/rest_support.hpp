@@ -11,7 +11,7 @@
 
 #include "server/api/http_reply.hpp"
 
-namespace labo {
+namespace labo::server {
 
 using HttpRequest = boost::beast::http::request<boost::beast::http::string_body>;
 
@@ -27,4 +27,4 @@ std::variant<long, HttpReply> query_integer(std::string_view target, std::string
 // The body as a JSON object whose keys are all in `allowed`; a 400 naming what was wrong otherwise.
 std::variant<nlohmann::json, HttpReply> json_object_body(const HttpRequest& req, std::initializer_list<std::string_view> allowed);
 
-}  // namespace labo
+}  // namespace labo::server

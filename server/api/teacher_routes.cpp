@@ -6,7 +6,7 @@
 
 // The teacher's routes (teachers and admins): faces registered from photos, the person face-follow
 // follows, and ending a student's turn with a reason (docs/web.md "The teacher's routes").
-namespace labo {
+namespace labo::server {
 
 namespace http = boost::beast::http;
 using nlohmann::json;
@@ -201,4 +201,4 @@ HttpReply RestApi::end_turn(const HttpRequest& req, const SessionInfo& session) 
   return reply;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -8,7 +8,7 @@
 // The admin's user and session management: users are added, removed, re-roled and given a new
 // password in the configuration file itself (validated, replaced atomically) and applied at once;
 // the sessions of a removed or re-roled user end, and their WebSockets close.
-namespace labo {
+namespace labo::server {
 
 namespace http = boost::beast::http;
 using nlohmann::json;
@@ -143,4 +143,4 @@ void RestApi::apply_users(const std::vector<UserAccount>& users) {
     lab_.disconnect_where([&](const SessionInfo& s) { return s.user == ended; }, "user " + ended + " removed or given another role");
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -4,7 +4,7 @@
 
 #include "server/auth/permissions.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace http = boost::beast::http;
 using nlohmann::json;
@@ -73,4 +73,4 @@ std::string requested_kbps(const HttpRequest& req) {
   return j["kbps"].dump();
 }
 
-}  // namespace labo
+}  // namespace labo::server

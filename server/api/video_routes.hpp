@@ -10,7 +10,7 @@
 #include "server/api/http_reply.hpp"
 #include "server/api/rest_api.hpp"
 
-namespace labo {
+namespace labo::server {
 
 // The reply when `path` is one of the video routes, nullopt otherwise.
 std::optional<HttpReply> video_route(const HttpRequest& req, const std::string& path, Role role, FlightService& flight,
@@ -20,4 +20,4 @@ std::optional<HttpReply> video_route(const HttpRequest& req, const std::string& 
 // names none: the audit log's target, for refused requests too.
 std::string requested_kbps(const HttpRequest& req);
 
-}  // namespace labo
+}  // namespace labo::server

@@ -4,7 +4,7 @@
 #include <ctime>
 #include <nlohmann/json.hpp>
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 
@@ -57,4 +57,4 @@ AuditPage AuditLog::read(std::size_t offset, std::size_t limit) const {
   return page;
 }
 
-}  // namespace labo
+}  // namespace labo::server

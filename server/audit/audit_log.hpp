@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace labo {
+namespace labo::server {
 
 struct AuditRecord {
   std::string user;
@@ -42,4 +42,4 @@ class AuditLog {
   std::ofstream out_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -6,7 +6,7 @@
 
 #include <stdexcept>
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 
@@ -136,4 +136,4 @@ std::string sha256_hex(const std::string& text) {
   return to_hex(digest, length);
 }
 
-}  // namespace labo
+}  // namespace labo::server

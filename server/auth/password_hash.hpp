@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace labo {
+namespace labo::server {
 
 struct PasswordHash {
   int iterations = 0;
@@ -31,4 +31,4 @@ std::string random_hex(std::size_t n_bytes);
 // SHA-256 of the text as lowercase hex: sessions are kept on disk by their token's hash only.
 std::string sha256_hex(const std::string& text);
 
-}  // namespace labo
+}  // namespace labo::server

@@ -2,7 +2,7 @@
 // What each role may do: the single table every WebSocket message and REST route is checked against.
 #include "server/server_settings.hpp"
 
-namespace labo {
+namespace labo::server {
 
 enum class Permission {
   Watch,           // video, telemetry, events
@@ -33,4 +33,4 @@ constexpr bool role_may(Role role, Permission p) {
   return false;
 }
 
-}  // namespace labo
+}  // namespace labo::server

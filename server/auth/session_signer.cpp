@@ -13,7 +13,7 @@
 
 #include "server/auth/password_hash.hpp"
 
-namespace labo {
+namespace labo::server {
 namespace {
 
 std::string to_hex(const unsigned char* bytes, std::size_t n) {
@@ -101,4 +101,4 @@ std::optional<SessionClaims> SessionSigner::verify(const std::string& token, dou
   }
 }
 
-}  // namespace labo
+}  // namespace labo::server

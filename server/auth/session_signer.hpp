@@ -11,7 +11,7 @@
 
 #include "server/server_settings.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct SessionClaims {
   std::string user;
@@ -36,4 +36,4 @@ class SessionSigner {
   std::vector<unsigned char> key_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -3,7 +3,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-namespace labo {
+namespace labo::server {
 
 using nlohmann::json;
 
@@ -185,4 +185,4 @@ void SessionStore::load() {
   }
 }
 
-}  // namespace labo
+}  // namespace labo::server

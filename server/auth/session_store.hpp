@@ -21,7 +21,7 @@
 #include "server/auth/token_bucket.hpp"
 #include "server/server_settings.hpp"
 
-namespace labo {
+namespace labo::server {
 
 // The clock sessions are kept on: Unix seconds, so that a session's times mean the same after a restart.
 inline double unix_now_s() {
@@ -97,4 +97,4 @@ class SessionStore {
   void revoke(const std::string& key, double now_s);  // with mutex_ held
 };
 
-}  // namespace labo
+}  // namespace labo::server

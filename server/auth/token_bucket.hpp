@@ -3,7 +3,7 @@
 // passed in (seconds on any monotonic clock) so tests can drive it.
 #include <algorithm>
 
-namespace labo {
+namespace labo::server {
 
 class TokenBucket {
  public:
@@ -23,4 +23,4 @@ class TokenBucket {
   double last_s_ = -1;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace labo {
+namespace labo::server {
 
 AccessUnitQueue::AccessUnitQueue(std::size_t capacity) : ring_(std::max<std::size_t>(capacity, 1)) {}
 
@@ -52,4 +52,4 @@ void AccessUnitQueue::restart() {
   waiting_for_keyframe_ = true;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -13,7 +13,7 @@
 
 #include "server/lab/flight_service.hpp"
 
-namespace labo {
+namespace labo::server {
 
 class AccessUnitQueue {
  public:
@@ -47,4 +47,4 @@ class AccessUnitQueue {
   bool waiting_for_keyframe_ = true;
 };
 
-}  // namespace labo
+}  // namespace labo::server

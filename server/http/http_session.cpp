@@ -12,7 +12,7 @@
 #include "server/http/server_context.hpp"
 #include "server/http/websocket_session.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace asio = boost::asio;
 namespace beast = boost::beast;
@@ -200,4 +200,4 @@ void start_http_session(tcp::socket&& socket, std::shared_ptr<ServerContext> ctx
   std::make_shared<HttpSession<beast::tcp_stream>>(beast::tcp_stream(std::move(socket)), std::move(ctx))->run();
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -6,10 +6,10 @@
 #include <boost/asio/ip/tcp.hpp>
 #include <memory>
 
-namespace labo {
+namespace labo::server {
 
 struct ServerContext;
 
 void start_http_session(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<ServerContext> ctx);
 
-}  // namespace labo
+}  // namespace labo::server

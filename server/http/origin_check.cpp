@@ -2,7 +2,7 @@
 
 #include "core/ascii_text.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 
@@ -27,4 +27,4 @@ std::string origin_refusal(std::string_view origin, std::string_view host, std::
   return {};
 }
 
-}  // namespace labo
+}  // namespace labo::server

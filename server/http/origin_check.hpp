@@ -5,7 +5,7 @@
 #include <string>
 #include <string_view>
 
-namespace labo {
+namespace labo::server {
 
 // Empty when the upgrade may proceed, otherwise why not. `origin` is the request's Origin header
 // (empty when absent: scripts and non-browser clients send none, and carry their token themselves);
@@ -13,4 +13,4 @@ namespace labo {
 // to accept only an origin naming the host the request names.
 std::string origin_refusal(std::string_view origin, std::string_view host, std::string_view configured);
 
-}  // namespace labo
+}  // namespace labo::server

@@ -16,7 +16,7 @@
 #include "server/lab/server_metrics.hpp"
 #include "server/server_settings.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct ServerContext {
   ServerContext(boost::asio::io_context& io_context, ServerSettings s, std::filesystem::path config_file,
@@ -52,4 +52,4 @@ struct ServerContext {
   std::atomic<ClientId> next_client{1};
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace labo {
+namespace labo::server {
 
 namespace ssl = boost::asio::ssl;
 
@@ -22,4 +22,4 @@ std::unique_ptr<ssl::context> make_tls_context(const TlsSettings& tls) {
   return context;
 }
 
-}  // namespace labo
+}  // namespace labo::server

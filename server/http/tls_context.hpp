@@ -6,9 +6,9 @@
 
 #include "server/server_settings.hpp"
 
-namespace labo {
+namespace labo::server {
 
 // Null when TLS is off. Throws std::runtime_error naming the file that could not be used.
 std::unique_ptr<boost::asio::ssl::context> make_tls_context(const TlsSettings& tls);
 
-}  // namespace labo
+}  // namespace labo::server

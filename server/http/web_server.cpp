@@ -6,7 +6,7 @@
 #include "server/http/http_session.hpp"
 #include "server/http/server_context.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace asio = boost::asio;
 using tcp = asio::ip::tcp;
@@ -95,4 +95,4 @@ void WebServer::shutdown(double land_timeout_s) {
   ctx_->sessions.save_if_changed(unix_now_s(), true);
 }
 
-}  // namespace labo
+}  // namespace labo::server

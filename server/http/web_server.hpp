@@ -15,7 +15,7 @@
 #include "server/lab/server_metrics.hpp"
 #include "server/server_settings.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct ServerContext;
 
@@ -44,4 +44,4 @@ class WebServer {
   std::atomic<bool> stopped_{false};
 };
 
-}  // namespace labo
+}  // namespace labo::server

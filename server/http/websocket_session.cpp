@@ -10,7 +10,7 @@
 #include "server/lab/lab_messages.hpp"
 #include "server/lab/remote_lab.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace asio = boost::asio;
 namespace beast = boost::beast;
@@ -306,4 +306,4 @@ void WebSocketSession<NextLayer>::close_now(const std::string& reason) {
 template class WebSocketSession<beast::tcp_stream>;
 template class WebSocketSession<beast::ssl_stream<beast::tcp_stream>>;
 
-}  // namespace labo
+}  // namespace labo::server

@@ -26,7 +26,7 @@
 #include "server/video/rendition_policy.hpp"
 #include "server/video/rendition_switch.hpp"
 
-namespace labo {
+namespace labo::server {
 
 class RemoteLab;
 
@@ -97,4 +97,4 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
 using PlainWebSocket = WebSocketSession<boost::beast::tcp_stream>;
 using TlsWebSocket = WebSocketSession<boost::beast::ssl_stream<boost::beast::tcp_stream>>;
 
-}  // namespace labo
+}  // namespace labo::server

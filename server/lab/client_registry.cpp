@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace labo {
+namespace labo::server {
 
 void ClientRegistry::join(const std::shared_ptr<LabClient>& client) {
   const SessionInfo& s = client->session();
@@ -142,4 +142,4 @@ std::size_t ClientRegistry::size() const {
   return members_.size();
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -19,7 +19,7 @@
 #include "server/lab/control_queue.hpp"
 #include "server/lab/lab_client.hpp"
 
-namespace labo {
+namespace labo::server {
 
 class ClientRegistry {
  public:
@@ -80,4 +80,4 @@ class ClientRegistry {
   std::atomic<std::size_t> low_viewers_{0};
 };
 
-}  // namespace labo
+}  // namespace labo::server

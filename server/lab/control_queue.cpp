@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace labo {
+namespace labo::server {
 
 void ControlQueue::grant(const Participant& p, double now_s, std::vector<ControlNotice>& out) {
   Turn turn{p, now_s, -1, now_s, 0};
@@ -134,4 +134,4 @@ ControlSnapshot ControlQueue::snapshot(double now_s) const {
   return s;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -11,7 +11,7 @@
 
 #include "server/server_settings.hpp"
 
-namespace labo {
+namespace labo::server {
 
 using ClientId = std::uint64_t;
 
@@ -83,4 +83,4 @@ class ControlQueue {
   std::deque<Waiting> queue_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -5,7 +5,7 @@
 
 #include "localization/fusion/localization_pipelines.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 constexpr std::array<std::pair<MissionCommandKind, const char*>, 10> kCommands{{
@@ -58,4 +58,4 @@ std::string colour_of(PoseSource source) {
   return "#e00000";
 }
 
-}  // namespace labo
+}  // namespace labo::server

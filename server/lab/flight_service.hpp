@@ -17,7 +17,7 @@
 #include "server/runtime/runtime_timing.hpp"
 #include "server/video/rendition.hpp"
 
-namespace labo {
+namespace labo::server {
 
 // Stop ends whatever runs and lands (the drone holds, then descends): anyone watching may send it.
 // EmergencyStop cuts the motors: only the controller, a teacher or an admin.
@@ -194,4 +194,4 @@ class FlightService {
   }
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -8,7 +8,7 @@
 
 #include "localization/face/person_shape.hpp"
 
-namespace labo {
+namespace labo::server {
 
 class FollowedPerson {
  public:
@@ -31,4 +31,4 @@ class FollowedPerson {
   std::shared_ptr<const face::PersonShape> person_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -1,6 +1,6 @@
 #include "server/lab/lab_client.hpp"
 
-namespace labo {
+namespace labo::server {
 
 std::string_view to_string(VideoPath path) {
   switch (path) {
@@ -20,4 +20,4 @@ std::optional<VideoPath> parse_video_path(std::string_view text) {
   return std::nullopt;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -12,7 +12,7 @@
 #include "server/lab/control_queue.hpp"
 #include "server/lab/flight_service.hpp"
 
-namespace labo {
+namespace labo::server {
 
 // How a client watches the video: JPEG frames with the overlays drawn in by the server (the
 // default), or the drone's own H.264 with the overlays' geometry as data.
@@ -39,4 +39,4 @@ class LabClient {
   virtual void disconnect(const std::string& reason) = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-namespace labo {
+namespace labo::server {
 
 using nlohmann::json;
 
@@ -172,4 +172,4 @@ std::string control_summary_json(const ControlSnapshot& snapshot, const std::vec
   return j.dump();
 }
 
-}  // namespace labo
+}  // namespace labo::server

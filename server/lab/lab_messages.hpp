@@ -12,7 +12,7 @@
 #include "server/lab/lab_client.hpp"
 #include "server/server_settings.hpp"
 
-namespace labo {
+namespace labo::server {
 
 using Message = std::shared_ptr<const std::string>;
 
@@ -58,4 +58,4 @@ Message control_message(const ControlSnapshot& snapshot, std::size_t spectators,
 // For REST: the same without "type", "seq" and "you", with every connected client.
 std::string control_summary_json(const ControlSnapshot& snapshot, const std::vector<Participant>& clients);
 
-}  // namespace labo
+}  // namespace labo::server

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-namespace labo {
+namespace labo::server {
 
 using nlohmann::json;
 
@@ -145,4 +145,4 @@ bool is_emergency_stop(const ClientRequest& request) {
   return c && c->command.kind == MissionCommandKind::EmergencyStop;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -11,7 +11,7 @@
 #include "server/lab/flight_service.hpp"
 #include "server/lab/lab_client.hpp"
 
-namespace labo {
+namespace labo::server {
 
 // {"type":"command","id":7,"command":"inspect","instrument":"oscilloscope","hold_s":10}
 struct CommandRequest {
@@ -45,4 +45,4 @@ ParsedMessage parse_client_message(std::string_view text);
 // An emergency stop acts at once: it is never rate limited and needs no control.
 bool is_emergency_stop(const ClientRequest& request);
 
-}  // namespace labo
+}  // namespace labo::server

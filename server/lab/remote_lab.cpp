@@ -3,7 +3,7 @@
 #include "server/auth/permissions.hpp"
 #include "server/lab/lab_messages.hpp"
 
-namespace labo {
+namespace labo::server {
 
 RemoteLab::RemoteLab(FlightService& flight, const ServerSettings& settings, ServerMetrics& metrics, const Clock& clock,
                      AuditLog& audit, Logger log)
@@ -256,4 +256,4 @@ std::string RemoteLab::control_state_json() const {
   return control_summary_json(control_.snapshot(clock_.now()), clients_.participants());
 }
 
-}  // namespace labo
+}  // namespace labo::server

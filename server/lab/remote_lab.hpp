@@ -22,7 +22,7 @@
 #include "server/lab/server_metrics.hpp"
 #include "server/server_settings.hpp"
 
-namespace labo {
+namespace labo::server {
 
 class RemoteLab final : public FlightEventSink {
  public:
@@ -118,4 +118,4 @@ class RemoteLab final : public FlightEventSink {
   FollowedPerson followed_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

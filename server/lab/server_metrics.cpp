@@ -2,7 +2,7 @@
 
 #include <sstream>
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 template <typename T>
@@ -44,4 +44,4 @@ std::string ServerMetrics::prometheus_text(const std::string& extra) const {
   return o.str() + extra;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string>
 
-namespace labo {
+namespace labo::server {
 
 struct ServerMetrics {
   std::atomic<std::uint64_t> http_requests{0};
@@ -40,4 +40,4 @@ struct ServerMetrics {
   std::string prometheus_text(const std::string& extra = {}) const;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -2,7 +2,7 @@
 
 #include <cctype>
 
-namespace labo {
+namespace labo::server {
 
 StageWords split_stage_line(const std::string& line) {
   std::size_t start = 0;
@@ -58,4 +58,4 @@ void StageTimeline::end_mission(Seconds t, const std::string& result) {
   timeline_.succeeded = result.rfind("succeeded", 0) == 0;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -13,7 +13,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::server {
 
 // What the flight software reports of its mission at a tick.
 struct MissionProgress {
@@ -71,4 +71,4 @@ class StageTimeline {
   std::optional<int> missions_ended_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

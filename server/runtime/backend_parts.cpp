@@ -5,7 +5,7 @@
 #include "localization/fusion/lab_geometry.hpp"
 #include "server/runtime/lab_outline.hpp"
 
-namespace labo {
+namespace labo::server {
 
 control::FlightStackSetup flight_stack_setup(const AppConfig& config) {
   // The lab's geometry (room, base, instruments, platform) from the lab description the config
@@ -74,4 +74,4 @@ ArdroneLinkSettings loopback_link_settings(const AppConfig& config, int at_port,
   return s;
 }
 
-}  // namespace labo
+}  // namespace labo::server

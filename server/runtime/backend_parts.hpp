@@ -12,7 +12,7 @@
 #include "server/app_config.hpp"
 #include "server/runtime/flight_runtime.hpp"
 
-namespace labo {
+namespace labo::server {
 
 // The lab's geometry, the control, camera, vision and estimation sections, and the real vision
 // front-ends on the drone's frames.
@@ -35,4 +35,4 @@ ArdroneEmulatorSettings loopback_emulator_settings(const AppConfig& config);
 // config.link pointed at an emulator (or anything speaking for it) on 127.0.0.1 at these ports.
 ArdroneLinkSettings loopback_link_settings(const AppConfig& config, int at_port, int navdata_port, int video_port);
 
-}  // namespace labo
+}  // namespace labo::server

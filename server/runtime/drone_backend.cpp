@@ -14,7 +14,7 @@
 #include "server/runtime/flight_runtime.hpp"
 #include "server/runtime/flight_stack_core.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 
@@ -206,4 +206,4 @@ std::unique_ptr<DroneBackend> make_drone_backend(const DroneSpec& spec, const Ap
   throw std::logic_error("unknown drone kind");
 }
 
-}  // namespace labo
+}  // namespace labo::server

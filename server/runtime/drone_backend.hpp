@@ -9,7 +9,7 @@
 #include "server/app_config.hpp"
 #include "server/lab/flight_service.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct DroneSpec {
   enum class Kind { Sim, Ardrone, Tello, Replay };
@@ -31,4 +31,4 @@ class DroneBackend {
 // Builds and starts the backend; throws std::runtime_error when a part is missing or cannot start.
 std::unique_ptr<DroneBackend> make_drone_backend(const DroneSpec& spec, const AppConfig& config, Logger log);
 
-}  // namespace labo
+}  // namespace labo::server

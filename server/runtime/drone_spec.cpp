@@ -3,7 +3,7 @@
 #include "core/cli_args.hpp"
 #include "server/runtime/drone_backend.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 
@@ -51,4 +51,4 @@ std::string describe(const DroneSpec& spec) {
   return "?";
 }
 
-}  // namespace labo
+}  // namespace labo::server

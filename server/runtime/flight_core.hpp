@@ -13,7 +13,7 @@ struct VisionJob;
 struct VisionResults;
 }  // namespace labo::fusion
 
-namespace labo {
+namespace labo::server {
 
 // What the flight software wants sent to the drone after a tick.
 struct FlightAction {
@@ -57,4 +57,4 @@ class FlightCore {
   }
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -4,7 +4,7 @@
 
 #include "server/video/overlay_renderer.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 double unix_now_s() {
@@ -403,4 +403,4 @@ void FlightRuntime::stop_threads() {
   requests_.clear();
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -37,7 +37,7 @@
 #include "server/video/overlay_geometry.hpp"
 #include "server/video/panel_reading_view.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct FlightRuntimeOptions {
   double control_hz = 50;
@@ -161,4 +161,4 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
   VisionWorker vision_;  // last: its thread calls back into input_cv_
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -4,7 +4,7 @@
 
 #include "localization/fusion/vision_job.hpp"
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 
@@ -208,4 +208,4 @@ std::vector<InstrumentSummary> FlightStackCore::instruments() const {
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -11,7 +11,7 @@
 #include "core/camera_model.hpp"
 #include "server/runtime/flight_core.hpp"
 
-namespace labo {
+namespace labo::server {
 
 class FlightStackCore final : public FlightCore {
  public:
@@ -50,4 +50,4 @@ class FlightStackCore final : public FlightCore {
 // The 68-landmark face outline as edges (jaw, brows, nose, eyes, lips), for the overlay.
 const std::vector<std::pair<int, int>>& face_landmark_edges();
 
-}  // namespace labo
+}  // namespace labo::server

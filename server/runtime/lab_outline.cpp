@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 
@@ -25,4 +25,4 @@ LabOutline lab_outline_from(const LabDescription& lab) {
   return o;
 }
 
-}  // namespace labo
+}  // namespace labo::server

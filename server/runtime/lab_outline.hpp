@@ -3,8 +3,8 @@
 #include "drone/lab/lab_description.hpp"
 #include "server/lab/flight_service.hpp"
 
-namespace labo {
+namespace labo::server {
 
 LabOutline lab_outline_from(const LabDescription& lab);
 
-}  // namespace labo
+}  // namespace labo::server

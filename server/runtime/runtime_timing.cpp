@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace labo {
+namespace labo::server {
 
 RuntimeTiming::RuntimeTiming(std::size_t window) {
   for (Ring* r : {&ticks_, &latency_, &latency_tracking_, &run_}) r->values.assign(std::max<std::size_t>(window, 1), 0.0);
@@ -70,4 +70,4 @@ RuntimeTimingSummary RuntimeTiming::summary() const {
   return s;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -7,7 +7,7 @@
 #include <mutex>
 #include <vector>
 
-namespace labo {
+namespace labo::server {
 
 struct Percentiles {
   std::size_t count = 0;  // samples in the window
@@ -54,4 +54,4 @@ class RuntimeTiming {
   RuntimeTimingSummary counts_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

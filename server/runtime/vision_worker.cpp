@@ -3,7 +3,7 @@
 #include <chrono>
 #include <stdexcept>
 
-namespace labo {
+namespace labo::server {
 
 VisionWorker::VisionWorker(std::function<void()> on_done) : on_done_(std::move(on_done)), thread_([this] { loop(); }) {}
 
@@ -65,4 +65,4 @@ void VisionWorker::loop() {
   }
 }
 
-}  // namespace labo
+}  // namespace labo::server

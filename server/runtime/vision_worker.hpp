@@ -11,7 +11,7 @@
 
 #include "localization/fusion/vision_job.hpp"
 
-namespace labo {
+namespace labo::server {
 
 class VisionWorker {
  public:
@@ -45,4 +45,4 @@ class VisionWorker {
   std::thread thread_;  // last: started once the members above exist
 };
 
-}  // namespace labo
+}  // namespace labo::server

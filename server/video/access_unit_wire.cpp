@@ -5,7 +5,7 @@
 
 #include "server/video/wire_bytes.hpp"
 
-namespace labo {
+namespace labo::server {
 
 using wire::get;
 using wire::put;
@@ -61,4 +61,4 @@ WireAccessUnit AccessUnitPacker::pack(const EncodedVideo& unit, double capture_u
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -19,7 +19,7 @@
 #include "server/lab/flight_service.hpp"
 #include "server/video/wire_buffer_pool.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct AccessUnitHeader {
   static constexpr std::size_t kSize = 28;
@@ -48,4 +48,4 @@ class AccessUnitPacker {
   WireBufferPool pool_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

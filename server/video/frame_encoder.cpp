@@ -5,7 +5,7 @@
 
 #include "server/video/frame_header.hpp"
 
-namespace labo {
+namespace labo::server {
 
 FrameEncoder::FrameEncoder(int jpeg_quality, std::size_t pool_size)
     : params_{cv::IMWRITE_JPEG_QUALITY, jpeg_quality}, pool_(pool_size) {
@@ -24,4 +24,4 @@ WireFrame FrameEncoder::encode(const cv::Mat& bgr, std::uint32_t frame_number, d
   return WireFrame{frame_number, capture_unix_ms, camera, buffer};
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -9,7 +9,7 @@
 #include "server/lab/flight_service.hpp"
 #include "server/video/wire_buffer_pool.hpp"
 
-namespace labo {
+namespace labo::server {
 
 class FrameEncoder {
  public:
@@ -24,4 +24,4 @@ class FrameEncoder {
   double last_encode_ms_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -2,7 +2,7 @@
 
 #include "server/video/wire_bytes.hpp"
 
-namespace labo {
+namespace labo::server {
 
 using wire::get;
 using wire::put;
@@ -28,4 +28,4 @@ std::optional<FrameHeader> FrameHeader::read(std::string_view m, std::string_vie
   return h;
 }
 
-}  // namespace labo
+}  // namespace labo::server

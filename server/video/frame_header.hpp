@@ -14,7 +14,7 @@
 #include <string>
 #include <string_view>
 
-namespace labo {
+namespace labo::server {
 
 struct FrameHeader {
   static constexpr std::size_t kSize = 24;
@@ -28,4 +28,4 @@ struct FrameHeader {
   static std::optional<FrameHeader> read(std::string_view message, std::string_view magic = "LDV1");
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <cstring>
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 constexpr std::size_t kMaxParts = 65535;
@@ -35,4 +35,4 @@ std::span<const char> GeometryDatagrams::datagram(std::uint32_t frame, std::size
   return {buffer_.data(), n + slice.size()};
 }
 
-}  // namespace labo
+}  // namespace labo::server

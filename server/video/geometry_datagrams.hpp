@@ -11,7 +11,7 @@
 #include <span>
 #include <string_view>
 
-namespace labo {
+namespace labo::server {
 
 class GeometryDatagrams {
  public:
@@ -44,4 +44,4 @@ class GeometryDatagrams {
   std::array<char, kMaxDatagram> buffer_{};
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -10,7 +10,7 @@
 #include "server/video/geometry_datagrams.hpp"
 #include "server/video/udp_sender.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct GeometryForwarderCounters {
   std::uint64_t frames = 0, datagrams = 0, bytes = 0, dropped = 0;
@@ -36,4 +36,4 @@ class GeometryForwarder {
   std::atomic<std::uint64_t> frames_{0};
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <stdexcept>
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 // The frame's size, scaled to at most `max_width` wide, both sides even (4:2:0).
@@ -34,4 +34,4 @@ bool LowRendition::encode(const VideoFrame& frame, double capture_unix_ms, bool 
   return true;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -15,7 +15,7 @@
 #include "server/lab/flight_service.hpp"
 #include "server/video/access_unit_wire.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct LowRenditionSettings {
   int bitrate_kbps = 1000;
@@ -46,4 +46,4 @@ class LowRendition {
   double last_encode_ms_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::server

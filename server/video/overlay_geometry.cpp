@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 
@@ -122,4 +122,4 @@ std::shared_ptr<const std::string> OverlayGeometryWriter::write(const OverlayMod
   return buffer;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -19,7 +19,7 @@
 #include "server/video/overlay_model.hpp"
 #include "server/video/wire_buffer_pool.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct FrameStamp {
   std::uint32_t frame_number = 0;
@@ -39,4 +39,4 @@ class OverlayGeometryWriter {
   WireBufferPool pool_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

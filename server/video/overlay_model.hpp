@@ -10,7 +10,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct AxesPx {
   cv::Point2f origin, x, y, z;  // projections of the origin and of the three unit-axis tips
@@ -37,4 +37,4 @@ struct OverlayModel {
   FaceOverlay face;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 
@@ -56,4 +56,4 @@ void draw_overlays(cv::Mat& img, const OverlayModel& o, const FlightTelemetry& t
   cv::circle(img, {img.cols - 14, 11}, 7, {255, 255, 255}, 1, cv::LINE_AA);
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -8,11 +8,11 @@
 #include "server/lab/flight_service.hpp"
 #include "server/video/overlay_model.hpp"
 
-namespace labo {
+namespace labo::server {
 
 void draw_overlays(cv::Mat& bgr, const OverlayModel& overlay, const FlightTelemetry& telemetry);
 
 // "#1060ff" -> BGR scalar; black for anything malformed.
 cv::Scalar bgr_of(const std::string& hex_colour);
 
-}  // namespace labo
+}  // namespace labo::server

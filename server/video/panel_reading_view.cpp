@@ -7,7 +7,7 @@
 
 #include "server/video/frame_header.hpp"
 
-namespace labo {
+namespace labo::server {
 
 void rectify_panel(const cv::Mat& bgr, const std::vector<cv::Point2f>& corners, cv::Size size,
                    const PinholeCamera* camera, cv::Mat& out, cv::Mat& map) {
@@ -75,4 +75,4 @@ std::shared_ptr<const std::string> PanelReadingView::due(const OutlineOverlay& p
   return buffer;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -20,7 +20,7 @@
 #include "server/video/overlay_model.hpp"
 #include "server/video/wire_buffer_pool.hpp"
 
-namespace labo {
+namespace labo::server {
 
 // `corners` (tl, tr, br, bl: the panel's outer corners in `bgr`'s pixels) mapped onto a `size`
 // image whose pixel centres sit half a pixel inside its edges, as the template's do, into `out`.
@@ -59,4 +59,4 @@ class PanelReadingView {
   WireBufferPool pool_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -1,6 +1,6 @@
 #include "server/video/rendition.hpp"
 
-namespace labo {
+namespace labo::server {
 
 std::string_view to_string(Rendition rendition) { return rendition == Rendition::Low ? "low" : "source"; }
 
@@ -19,4 +19,4 @@ std::optional<RenditionChoice> parse_rendition_choice(std::string_view text) {
   return std::nullopt;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string_view>
 
-namespace labo {
+namespace labo::server {
 
 enum class Rendition : std::uint8_t { Source = 0, Low = 1 };
 std::string_view to_string(Rendition rendition);
@@ -17,4 +17,4 @@ enum class RenditionChoice { Auto, Source, Low };
 std::string_view to_string(RenditionChoice choice);
 std::optional<RenditionChoice> parse_rendition_choice(std::string_view text);
 
-}  // namespace labo
+}  // namespace labo::server

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
-namespace labo {
+namespace labo::server {
 
 namespace {
 std::string format(const char* pattern, double a, double b = 0) {
@@ -86,4 +86,4 @@ Rendition RenditionPolicy::update(const ViewerSample& s) {
   return rendition_;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -20,7 +20,7 @@
 
 #include "server/video/rendition.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct RenditionPolicySettings {
   double window_s = 2.0;           // throughput and offered rate measured over
@@ -76,4 +76,4 @@ class RenditionPolicy {
   std::string reason_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -4,7 +4,7 @@
 // its decoder never waits with nothing to show. Single-threaded (the session's strand).
 #include "server/lab/flight_service.hpp"
 
-namespace labo {
+namespace labo::server {
 
 class RenditionSwitch {
  public:
@@ -30,4 +30,4 @@ class RenditionSwitch {
   Rendition current_ = Rendition::Source, target_ = Rendition::Source;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace labo {
+namespace labo::server {
 namespace {
 
 constexpr std::size_t kRtpHeaderBytes = 12;
@@ -114,4 +114,4 @@ std::size_t RtpH264Packetizer::send_nal(std::span<const std::uint8_t> nal, bool 
   return packets;
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -11,7 +11,7 @@
 #include <span>
 #include <vector>
 
-namespace labo {
+namespace labo::server {
 
 // The 90 kHz RTP timestamp of a frame captured at `capture_unix_ms` (Unix epoch milliseconds, the
 // value the overlay geometry carries as `capture_ms`), modulo 2^32. web/janus_view.js computes the
@@ -51,4 +51,4 @@ class RtpH264Packetizer {
 // unit dropped), in order. Calls `each` with each one's bytes from its header on.
 void for_each_nal_unit(std::span<const std::uint8_t> annexb, const std::function<void(std::span<const std::uint8_t>)>& each);
 
-}  // namespace labo
+}  // namespace labo::server

@@ -2,7 +2,7 @@
 
 #include "server/video/access_unit_wire.hpp"
 
-namespace labo {
+namespace labo::server {
 
 RtpVideoForwarder::RtpVideoForwarder(const UdpTarget& target, RtpPacketizerOptions options)
     : sender_(target), packetizer_(options) {}
@@ -21,4 +21,4 @@ RtpForwarderCounters RtpVideoForwarder::counters() const {
   return {units_.load(), c.datagrams, c.bytes, c.dropped};
 }
 
-}  // namespace labo
+}  // namespace labo::server

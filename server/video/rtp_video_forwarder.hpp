@@ -11,7 +11,7 @@
 #include "server/video/rtp_h264_packetizer.hpp"
 #include "server/video/udp_sender.hpp"
 
-namespace labo {
+namespace labo::server {
 
 struct RtpForwarderCounters {
   std::uint64_t units = 0, packets = 0, bytes = 0, packets_dropped = 0;
@@ -33,4 +33,4 @@ class RtpVideoForwarder {
   std::atomic<std::uint64_t> units_{0};
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -1,6 +1,6 @@
 #include "server/video/rtp_video_tap.hpp"
 
-namespace labo {
+namespace labo::server {
 
 RtpVideoTap::RtpVideoTap(FlightService& inner, RtpVideoForwarder& forwarder, GeometryForwarder* geometry)
     : inner_(inner), forwarder_(forwarder), geometry_(geometry) {
@@ -58,4 +58,4 @@ bool RtpVideoTap::take_low_keyframe_request() {
   return sink_ && sink_->take_low_keyframe_request();
 }
 
-}  // namespace labo
+}  // namespace labo::server

@@ -12,7 +12,7 @@
 #include "server/video/geometry_forwarder.hpp"
 #include "server/video/rtp_video_forwarder.hpp"
 
-namespace labo {
+namespace labo::server {
 
 class RtpVideoTap final : public FlightService, private FlightEventSink {
  public:
@@ -47,4 +47,4 @@ class RtpVideoTap final : public FlightService, private FlightEventSink {
   FlightEventSink* sink_ = nullptr;
 };
 
-}  // namespace labo
+}  // namespace labo::server

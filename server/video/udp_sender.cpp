@@ -4,7 +4,7 @@
 #include <charconv>
 #include <stdexcept>
 
-namespace labo {
+namespace labo::server {
 
 std::optional<UdpTarget> parse_udp_target(const std::string& text, std::string& error) {
   const std::size_t colon = text.rfind(':');
@@ -55,4 +55,4 @@ bool UdpSender::send(std::span<const char> datagram) {
   return send(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(datagram.data()), datagram.size()));
 }
 
-}  // namespace labo
+}  // namespace labo::server

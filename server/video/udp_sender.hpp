@@ -11,7 +11,7 @@
 #include <span>
 #include <string>
 
-namespace labo {
+namespace labo::server {
 
 struct UdpTarget {
   std::string host = "127.0.0.1";
@@ -43,4 +43,4 @@ class UdpSender {
   std::atomic<std::uint64_t> datagrams_{0}, bytes_{0}, dropped_{0};
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -1,6 +1,6 @@
 #include "server/video/wire_buffer_pool.hpp"
 
-namespace labo {
+namespace labo::server {
 
 WireBufferPool::WireBufferPool(std::size_t size, std::size_t reserve_bytes) : pool_(size), reserve_bytes_(reserve_bytes) {
   for (auto& b : pool_) {
@@ -17,4 +17,4 @@ std::shared_ptr<std::string> WireBufferPool::acquire() {
   return pool_.back();
 }
 
-}  // namespace labo
+}  // namespace labo::server

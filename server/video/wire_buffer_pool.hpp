@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace labo {
+namespace labo::server {
 
 class WireBufferPool {
  public:
@@ -22,4 +22,4 @@ class WireBufferPool {
   std::size_t reserve_bytes_;
 };
 
-}  // namespace labo
+}  // namespace labo::server

@@ -9,6 +9,7 @@
 #include "bench/batch_allocator.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 
 TEST_CASE("batch allocator: large blocks come from the heap and stay there after free") {
 #if defined(__SANITIZE_ADDRESS__)

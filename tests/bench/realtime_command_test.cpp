@@ -5,6 +5,7 @@
 #include "bench/realtime/sim_realtime_command.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 
 namespace {
 int run(const std::vector<std::string>& args) {

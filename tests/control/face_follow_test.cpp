@@ -13,6 +13,7 @@
 
 using namespace labo;
 using namespace labo::control;
+using namespace labo::bench;
 
 namespace {
 

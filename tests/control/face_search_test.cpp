@@ -16,6 +16,7 @@
 
 using namespace labo;
 using namespace labo::control;
+using namespace labo::bench;
 using labo::test::turn_back_path;
 
 namespace {

@@ -10,6 +10,7 @@
 #include "bench/experiments/quadrotor_model.hpp"
 
 namespace labo::test {
+using namespace labo::bench;
 
 struct ModelWorld {
   QuadrotorModel drone;

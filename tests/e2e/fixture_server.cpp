@@ -13,6 +13,7 @@
 
 int main(int argc, char** argv) {
   using namespace labo;
+  using namespace labo::server;
   if (argc < 2) {
     std::cerr << "usage: labo_e2e_server PORT [STAGE_SECONDS] [FPS] [textured|plain] [CONFIG_FILE]\n";
     return 2;

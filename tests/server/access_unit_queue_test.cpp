@@ -3,6 +3,7 @@
 #include "server/http/access_unit_queue.hpp"
 
 using namespace labo;
+using namespace labo::server;
 
 namespace {
 

@@ -7,6 +7,7 @@
 #include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using namespace labo::server;
 using labo::test::ScratchDir;
 
 TEST_CASE("app config: the shipped default.json loads with the paper's thresholds") {

@@ -7,6 +7,7 @@
 #include "server/server_settings.hpp"
 
 using namespace labo;
+using namespace labo::server;
 
 TEST_CASE("web: a PBKDF2 hash verifies its password only, and malformed hashes are refused") {
   const PasswordHash h = PasswordHash::create("s3cret", PasswordHash::kMinIterations);

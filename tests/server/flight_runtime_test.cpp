@@ -11,7 +11,8 @@
 #include "tests/server/support/fake_drone.hpp"
 
 using namespace labo;
-using namespace labo::test;
+using namespace labo::server;
+using namespace labo::server::test;
 
 namespace {
 struct CapturingSink final : FlightEventSink {

@@ -7,6 +7,7 @@
 #include "server/video/geometry_forwarder.hpp"
 
 using namespace labo;
+using namespace labo::server;
 
 namespace {
 

@@ -3,6 +3,7 @@
 #include "server/lab/lab_protocol.hpp"
 
 using namespace labo;
+using namespace labo::server;
 
 namespace {
 

@@ -5,6 +5,7 @@
 #include "server/video/overlay_geometry.hpp"
 
 using namespace labo;
+using namespace labo::server;
 using nlohmann::json;
 
 TEST_CASE("web: the overlay geometry of a frame is JSON with the frame's stamp, every group and the HUD") {

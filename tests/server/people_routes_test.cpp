@@ -15,7 +15,8 @@
 // scripts/setup.sh) rendered through the AR.Drone 2.0's front camera.
 
 using namespace labo;
-using namespace labo::test;
+using namespace labo::server;
+using namespace labo::server::test;
 using nlohmann::json;
 using http::verb;
 

@@ -5,7 +5,8 @@
 #include "tests/server/support/scripted_flight.hpp"
 
 using namespace labo;
-using namespace labo::test;
+using namespace labo::server;
+using namespace labo::server::test;
 
 namespace {
 

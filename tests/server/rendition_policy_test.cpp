@@ -6,6 +6,7 @@
 #include "server/video/rendition_policy.hpp"
 
 using namespace labo;
+using namespace labo::server;
 
 namespace {
 

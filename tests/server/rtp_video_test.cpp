@@ -11,7 +11,8 @@
 #include "tests/server/support/test_clients.hpp"
 
 using namespace labo;
-using namespace labo::test;
+using namespace labo::server;
+using namespace labo::server::test;
 using nlohmann::json;
 using Bytes = std::vector<std::uint8_t>;
 

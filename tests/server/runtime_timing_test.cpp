@@ -4,6 +4,7 @@
 #include "server/runtime/runtime_timing.hpp"
 
 using namespace labo;
+using namespace labo::server;
 
 TEST_CASE("runtime timing: the vision latency of frames with a target tracked is kept apart from a search's") {
   RuntimeTiming timing(16);

@@ -6,6 +6,7 @@
 #include "server/lab/stage_timeline.hpp"
 
 using namespace labo;
+using namespace labo::server;
 
 namespace {
 

@@ -12,7 +12,9 @@
 #include "tests/support/instrument_job.hpp"
 
 using namespace labo;
+using namespace labo::server;
 using namespace labo::test;
+using namespace labo::server::test;
 
 namespace {
 
@@ -67,7 +69,7 @@ class GatedVisionCore final : public FlightCore {
   explicit GatedVisionCore(GatedFrontEnd& fe) : fe_(fe) {}
   void on_navdata(const NavdataSample&) override {}
   void on_video(const VideoFrame&) override {}
-  bool prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) override { return test::instrument_job(frame, fe_, job); }
+  bool prepare_vision(const VideoFrame& frame, fusion::VisionJob& job) override { return labo::test::instrument_job(frame, fe_, job); }
   void apply_vision(const fusion::VisionResults& r) override {
     if (r.has_instrument && r.instrument.state == fusion::TrackState::Tracking) ++applied;
   }

@@ -6,6 +6,7 @@
 #include "core/frames.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 
 namespace {
 control::FlightStackSetup lockstep_setup() {

@@ -5,6 +5,7 @@
 #include "tests/support/instrument_job.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 
 namespace {
 

@@ -9,6 +9,7 @@
 #include "core/source_tree.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 
 TEST_CASE("seed runner: results come back in run order whatever finishes first") {
   for (const int jobs : {1, 2, 5}) {

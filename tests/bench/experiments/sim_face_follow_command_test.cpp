@@ -9,6 +9,7 @@
 #include "core/cli_args.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 
 namespace {
 std::string usage_error(const std::vector<std::string>& args) {

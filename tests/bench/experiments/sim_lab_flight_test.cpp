@@ -6,6 +6,7 @@
 #include "core/source_tree.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 
 // The inspect mission in the simulated lab with rendered cameras and the real vision pipelines: it
 // must reach the 0.80 m hold in front of the oscilloscope's panel, centred, on the panel's homography.

@@ -14,6 +14,7 @@
 #include "drone/sim/sim_tello_link.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 
 namespace {
 

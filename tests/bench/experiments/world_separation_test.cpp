@@ -20,6 +20,7 @@
 #include "core/source_tree.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 
 namespace {
 

@@ -7,6 +7,7 @@
 #include "bench/planar/bench_planar_command.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 
 namespace {
 

@@ -10,6 +10,7 @@
 #include "bench/planar/synthetic_scene.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 
 namespace {
 

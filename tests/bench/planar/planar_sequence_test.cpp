@@ -8,6 +8,7 @@
 #include "bench/planar/sequence_bench.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 
 namespace {
 

@@ -6,6 +6,7 @@
 #include "tests/localization/planar/supersampled_pixel.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 
 namespace {
 

@@ -19,6 +19,7 @@
 #include "bench/slam/trajectory_metrics.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 using namespace labo::fusion;
 
 namespace {

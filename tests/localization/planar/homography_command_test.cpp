@@ -15,6 +15,7 @@
 #include "tests/support/cout_capture.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 using namespace labo::planar;
 
 namespace {

@@ -7,6 +7,7 @@
 #include "bench/planar/synthetic_scene.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 using namespace labo::planar;
 
 namespace {

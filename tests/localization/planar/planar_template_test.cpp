@@ -11,6 +11,7 @@
 #include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 using namespace labo::planar;
 using labo::test::ScratchDir;
 

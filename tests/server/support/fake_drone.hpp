@@ -14,7 +14,7 @@
 #include "drone/ardrone2/h264_codec.hpp"
 #include "server/runtime/flight_core.hpp"
 
-namespace labo::test {
+namespace labo::server::test {
 
 class FakeDroneLink final : public DroneLink {
  public:
@@ -224,4 +224,4 @@ class ScriptedCore final : public FlightCore {
   std::optional<CameraId> camera_wanted_;
 };
 
-}  // namespace labo::test
+}  // namespace labo::server::test

@@ -10,7 +10,7 @@
 #include "server/video/access_unit_wire.hpp"
 #include "server/video/frame_encoder.hpp"
 
-namespace labo::test {
+namespace labo::server::test {
 
 // A room 8 x 6 m with one bench 0.9 m high along its east wall, as the lab file would state it.
 inline LabOutline scripted_lab_outline() {
@@ -138,4 +138,4 @@ class ScriptedFlight final : public FlightService {
   std::vector<std::uint8_t> filler_;
 };
 
-}  // namespace labo::test
+}  // namespace labo::server::test

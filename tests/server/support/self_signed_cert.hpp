@@ -11,7 +11,7 @@
 #include <memory>
 #include <stdexcept>
 
-namespace labo::test {
+namespace labo::server::test {
 
 struct SelfSignedCert {
   std::filesystem::path cert_file, key_file;
@@ -47,4 +47,4 @@ inline SelfSignedCert make_self_signed_cert(const std::filesystem::path& dir) {
   return out;
 }
 
-}  // namespace labo::test
+}  // namespace labo::server::test

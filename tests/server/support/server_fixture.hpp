@@ -14,7 +14,7 @@
 #include "tests/server/support/scripted_flight.hpp"
 #include "core/source_tree.hpp"
 
-namespace labo::test {
+namespace labo::server::test {
 
 inline std::filesystem::path fresh_temp_dir(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / ("labo_web_" + name + "_" + random_hex(4));
@@ -80,4 +80,4 @@ inline std::vector<std::string> audit_actions(const ServerFixture& f) {
   return out;
 }
 
-}  // namespace labo::test
+}  // namespace labo::server::test

@@ -10,7 +10,7 @@
 #include <optional>
 #include <string>
 
-namespace labo::test {
+namespace labo::server::test {
 
 namespace beast = boost::beast;
 namespace http = beast::http;
@@ -166,4 +166,4 @@ class StuckViewer {
   beast::websocket::stream<beast::tcp_stream> ws_;
 };
 
-}  // namespace labo::test
+}  // namespace labo::server::test

@@ -11,6 +11,7 @@
 #include "tests/localization/planar/supersampled_pixel.hpp"
 
 using namespace labo;
+using namespace labo::bench;
 using namespace labo::planar;
 
 namespace {
