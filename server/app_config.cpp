@@ -5,6 +5,10 @@
 
 namespace labo::server {
 
+using sim::SimConfig;
+using sim::read_sim_config;
+
+
 namespace {
 std::filesystem::path resolve(const std::filesystem::path& base, const std::string& p) {
   std::filesystem::path path(p);

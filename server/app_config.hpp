@@ -21,6 +21,9 @@
 
 namespace labo::server {
 
+using sim::SimConfig;
+
+
 struct AppConfig {
   std::filesystem::path source;
   LogLevel log_level = LogLevel::Info;

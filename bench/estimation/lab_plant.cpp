@@ -6,6 +6,14 @@
 
 namespace labo::bench {
 
+using sim::Disturbance;
+using sim::FirmwarePhase;
+using sim::QuadrotorState;
+using sim::SimDroneLink;
+using sim::SimulatedLabSettings;
+using sim::make_simulated_lab;
+
+
 namespace {
 constexpr Seconds kTakeoffLimit = 10.0;
 constexpr Seconds kWholeRun = 1e6;

@@ -18,6 +18,13 @@
 
 namespace labo::bench {
 
+using sim::SimConfig;
+using sim::SimDroneLink;
+using sim::SimLinkSettings;
+using sim::SimulatedLab;
+using sim::TexturedHeadModel;
+
+
 // What a LabPlant is built from (config/default.json's lab file, cameras and sim section).
 struct LabPlantInputs {
   LabDescription lab;

@@ -19,6 +19,12 @@
 
 namespace labo::bench {
 
+using sim::SimDroneLink;
+using sim::SimInputs;
+using sim::SimulatedLab;
+using sim::load_sim_inputs;
+
+
 namespace {
 nlohmann::json impulse_json(const ImpulseResult& r) {
   return {{"push_mps", r.push_mps},

@@ -20,6 +20,16 @@
 
 namespace labo::bench {
 
+using sim::LabRenderer;
+using sim::SimConfig;
+using sim::SimDroneLink;
+using sim::SimTelloLink;
+using sim::parse_world_mode;
+using sim::read_sim_config_of;
+using sim::sim_tello_settings;
+using sim::to_string;
+
+
 std::vector<OptionSpec> experiment_option_specs() {
   return {{"--seed", "N", "first random seed (default 1); run i uses seed + i"},
           {"--runs", "N", "number of seeded runs (default 1)"},

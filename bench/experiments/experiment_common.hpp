@@ -19,6 +19,14 @@
 
 namespace labo::bench {
 
+using sim::SimConfig;
+using sim::SimTelloLink;
+using sim::SimTelloSettings;
+using sim::TexturedHeadModel;
+using sim::WorldMode;
+using sim::WorldRanges;
+
+
 struct ExperimentOptions {
   unsigned seed = 1;
   int runs = 1;

@@ -18,6 +18,9 @@
 
 namespace labo::bench {
 
+using sim::SimWorld;
+
+
 // The estimator's counters a recovery's timeline needs (StateEstimator::statistics(), running totals).
 struct EstimatorCounts {
   std::uint64_t object_fused = 0;

@@ -8,6 +8,18 @@
 
 namespace labo::bench {
 
+using sim::SceneState;
+using sim::SimConfig;
+using sim::SimDroneLink;
+using sim::SimTelloLink;
+using sim::SimTelloSettings;
+using sim::TexturedHeadModel;
+using sim::WorldRanges;
+using sim::make_sim_world;
+using sim::make_simulated_lab;
+using sim::to_string;
+
+
 // The link's events go straight to the flight stack, frames through the modelled worker when there
 // is one (a frame's pixels are valid during on_video only: the stack or the worker takes them there).
 struct SimLabFlight::Listener final : DroneLinkListener {

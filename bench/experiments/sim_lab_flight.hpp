@@ -25,6 +25,19 @@
 
 namespace labo::bench {
 
+using sim::LabRenderer;
+using sim::LockstepDroneLink;
+using sim::SimConfig;
+using sim::SimDroneLink;
+using sim::SimTelloLink;
+using sim::SimTelloSettings;
+using sim::SimWorld;
+using sim::SimulatedLab;
+using sim::TexturedHeadModel;
+using sim::WorldRanges;
+using sim::make_sim_world;
+
+
 class SimLabFlight final : public ExperimentFlight {
  public:
   // `setup.front_ends` must be set: this flight has no other perception than the rendered frames.

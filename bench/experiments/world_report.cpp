@@ -4,6 +4,17 @@
 
 namespace labo::bench {
 
+using sim::Disturbance;
+using sim::PlacementDraw;
+using sim::PlantDeviation;
+using sim::QuadrotorParams;
+using sim::SensorBiases;
+using sim::SimWorld;
+using sim::deviated_airframe;
+using sim::deviated_rotors;
+using sim::to_string;
+
+
 namespace {
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;

@@ -10,6 +10,9 @@
 
 namespace labo::bench {
 
+using sim::SimWorld;
+
+
 // `until_s`: events starting after it (the run's end) are left out.
 nlohmann::json world_json(const SimWorld& world, Seconds until_s);
 

@@ -17,12 +17,18 @@
 #include "bench/face/head_pose_sequences.hpp"
 #include "localization/face/person_registration.hpp"
 #include "drone/lab/lab_description.hpp"
-#include "drone/sim/cpu_time.hpp"
+#include "core/cpu_time.hpp"
 #include "drone/sim/lab_renderer.hpp"
 #include "localization/face/teacher_head.hpp"
 #include "localization/face/textured_head_renderer.hpp"
 
 namespace labo::face {
+
+using sim::LabRenderOptions;
+using sim::LabRenderer;
+using sim::SceneState;
+using sim::TexturedHeadModel;
+
 
 namespace {
 

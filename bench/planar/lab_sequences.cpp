@@ -12,6 +12,10 @@
 
 namespace labo::bench {
 
+using sim::LabRenderer;
+using sim::SceneState;
+
+
 namespace {
 constexpr double kFps = 30.0;
 constexpr double kPi = 3.14159265358979323846;

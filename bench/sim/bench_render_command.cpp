@@ -18,6 +18,15 @@
 
 namespace labo::bench {
 
+using sim::LabRenderOptions;
+using sim::LabRenderer;
+using sim::RenderSetup;
+using sim::SceneState;
+using sim::TexturedHeadModel;
+using sim::load_render_setup;
+using sim::teacher_head_pose;
+
+
 namespace {
 
 // A flight through the lab for the benchmark: an ellipse around the room's middle at 0.85-1.35 m, the

@@ -11,13 +11,25 @@
 #include <opencv2/core.hpp>
 
 #include "core/source_tree.hpp"
-#include "drone/sim/cpu_time.hpp"
+#include "core/cpu_time.hpp"
 #include "drone/sim/ground_truth_log.hpp"
 #include "drone/sim/sim_drone_link.hpp"
 #include "drone/sim/sim_setup.hpp"
 #include "localization/face/teacher_head.hpp"
 
 namespace labo::bench {
+
+using sim::GroundTruthLog;
+using sim::SimConfig;
+using sim::SimDroneLink;
+using sim::SimInputs;
+using sim::SimLinkProfile;
+using sim::SimLinkSettings;
+using sim::SimProfile;
+using sim::TexturedHeadModel;
+using sim::load_sim_inputs;
+using sim::make_simulated_lab;
+
 
 namespace {
 

@@ -8,6 +8,11 @@
 #include "drone/sim/lab_renderer.hpp"
 
 namespace labo::slam {
+
+using sim::LabRenderOptions;
+using sim::LabRenderer;
+using sim::SceneState;
+
 namespace {
 
 constexpr double kGravity = 9.81;

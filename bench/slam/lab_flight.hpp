@@ -11,9 +11,9 @@
 #include "drone/lab/lab_description.hpp"
 #include "bench/slam/bench_flights.hpp"
 
-namespace labo {
+namespace labo::sim {
 class LabRenderer;
-}
+}  // namespace labo::sim
 
 namespace labo::slam {
 
@@ -32,7 +32,7 @@ class SimulatedLabFrames {
   cv::Mat render(const Flight& flight, std::size_t i);
 
  private:
-  std::unique_ptr<LabRenderer> renderer_;
+  std::unique_ptr<sim::LabRenderer> renderer_;
   cv::Mat bgr_;
 };
 

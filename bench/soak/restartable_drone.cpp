@@ -6,6 +6,11 @@
 
 namespace labo::bench {
 
+using sim::QuadrotorState;
+using sim::SimulatedLab;
+using sim::to_string;
+
+
 using server::AppConfig;
 using server::loopback_emulator_settings;
 using server::make_configured_lab;

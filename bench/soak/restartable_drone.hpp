@@ -16,6 +16,9 @@
 
 namespace labo::bench {
 
+using sim::SimulatedLab;
+
+
 using server::AppConfig;
 
 

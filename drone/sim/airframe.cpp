@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-namespace labo {
+namespace labo::sim {
 
 Airframe::Airframe(const AirframeParams& params) : p_(params) {
   constexpr double kPi = std::numbers::pi;
@@ -53,4 +53,4 @@ Eigen::Vector3d Airframe::step(RigidBodyState& s, const RotorThrusts& thrust_n, 
   return a;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -13,7 +13,7 @@
 #include <Eigen/Geometry>
 #include <array>
 
-namespace labo {
+namespace labo::sim {
 
 struct AirframeParams {
   double mass_kg = 0.42;                                        // with the indoor hull
@@ -56,4 +56,4 @@ class Airframe {
   Eigen::Matrix4d mixer_;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

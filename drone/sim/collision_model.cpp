@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 // A top face up to this far above the underside still counts as below it (resting contact).
@@ -56,4 +56,4 @@ double CollisionModel::support_height(const Eigen::Vector3d& p) const {
   return h;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

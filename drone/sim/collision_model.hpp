@@ -12,7 +12,7 @@
 
 #include "drone/lab/lab_description.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 struct HullShape {
   double radius_m = 0.26;  // indoor hull, 0.52 m across
@@ -50,4 +50,4 @@ class CollisionModel {
   double teacher_radius_m_ = 0, teacher_height_m_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-namespace labo {
+namespace labo::sim {
 
 std::string to_string(Disturbance::Kind kind) {
   switch (kind) {
@@ -59,4 +59,4 @@ bool DisturbanceSchedule::active(Disturbance::Kind kind, Seconds t) const {
   });
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -20,7 +20,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 struct Disturbance {
   enum class Kind { Impulse, Gust, VideoDropout, LinkOutage, Lighting, Flicker };
@@ -61,4 +61,4 @@ class DisturbanceSchedule {
   std::vector<Disturbance> items_;  // sorted by t_s
 };
 
-}  // namespace labo
+}  // namespace labo::sim

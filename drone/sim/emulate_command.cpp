@@ -12,7 +12,7 @@
 #include "drone/sim/sim_setup.hpp"
 #include "drone/tello/tello_config.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -117,4 +117,4 @@ int run_emulate_command(const ParsedArgs& args, const TeacherHeadLoader& load_he
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -8,9 +8,9 @@
 #include "core/cli_args.hpp"
 #include "drone/sim/head_model.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 const CommandSpec& emulate_command_spec();
 int run_emulate_command(const ParsedArgs& args, const TeacherHeadLoader& load_head);
 
-}  // namespace labo
+}  // namespace labo::sim

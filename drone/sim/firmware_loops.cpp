@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 double follow(double rate_per_s, Seconds dt) { return 1.0 - std::exp(-rate_per_s * dt); }
@@ -67,4 +67,4 @@ RotorThrusts FirmwareLoops::allocate(double collective_n, const Eigen::Vector3d&
   return thrust;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

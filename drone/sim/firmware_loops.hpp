@@ -21,7 +21,7 @@
 #include "drone/sim/airframe.hpp"
 #include "drone/sim/propulsion.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 struct FirmwareLoopParams {
   double attitude_loop_per_s = 7.5;       // roll/pitch error → rate set point
@@ -73,4 +73,4 @@ class FirmwareLoops {
   Eigen::Vector3d rate_integral_ = Eigen::Vector3d::Zero();
 };
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -62,4 +62,4 @@ void GroundTruthLog::record(const QuadrotorState& d, const SceneState& scene) {
   ++rows_;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -12,7 +12,7 @@
 #include "drone/sim/quadrotor_dynamics.hpp"
 #include "drone/sim/scene_renderer.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 class GroundTruthLog {
  public:
@@ -28,4 +28,4 @@ class GroundTruthLog {
   std::size_t rows_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace labo {
+namespace labo::sim {
 
 void validate(const TexturedHeadModel& head) {
   auto fail = [](const std::string& what) { throw std::invalid_argument("teacher head model: " + what); };
@@ -26,4 +26,4 @@ void validate(const TexturedHeadModel& head) {
   if (head.texture_bgr.empty() || head.texture_bgr.type() != CV_8UC3) fail("the texture must be a non-empty 8-bit BGR image");
 }
 
-}  // namespace labo
+}  // namespace labo::sim

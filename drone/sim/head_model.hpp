@@ -11,6 +11,10 @@
 #include <vector>
 
 namespace labo {
+struct LabDescription;
+}  // namespace labo
+
+namespace labo::sim {
 
 struct TexturedHeadModel {
   std::vector<Eigen::Vector3d> vertices_face_m;
@@ -23,9 +27,8 @@ struct TexturedHeadModel {
 // not one per vertex, a triangle index out of range, a non-finite vertex, an empty or non-BGR texture.
 void validate(const TexturedHeadModel& head);
 
-struct LabDescription;
 // Builds the lab's teacher head (from the photograph of the lab's teacher spec); commands in drone/
 // take one from their caller, since only localization/ can make it.
 using TeacherHeadLoader = std::function<TexturedHeadModel(const LabDescription&)>;
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -4,7 +4,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 LabRenderer::CameraPipeline::CameraPipeline(const PinholeCamera& camera, const LabScene& scene, Eigen::Isometry3d T_bc)
     : rays(camera), tracer(rays, scene), blur(rays), T_body_cam(T_bc) {
@@ -106,4 +106,4 @@ std::unique_ptr<SceneRenderer> make_lab_renderer(const LabDescription& lab, cons
   return std::make_unique<LabRenderer>(lab, cameras, std::move(head), seed, options, mounts);
 }
 
-}  // namespace labo
+}  // namespace labo::sim

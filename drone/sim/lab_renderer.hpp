@@ -22,7 +22,7 @@
 #include "drone/sim/scene_surfaces.hpp"
 #include "drone/sim/scene_teacher.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 struct LabRenderOptions {
   double shutter_s = 0.010;     // exposure time: motion blur integrates over it
@@ -99,4 +99,4 @@ std::unique_ptr<SceneRenderer> make_lab_renderer(const LabDescription& lab, cons
                                                  std::optional<TexturedHeadModel> head, unsigned seed,
                                                  LabRenderOptions options = {}, const CameraMounts& mounts = {});
 
-}  // namespace labo
+}  // namespace labo::sim

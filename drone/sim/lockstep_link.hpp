@@ -4,7 +4,7 @@
 // experiments fly either model through it (SimDroneLink: the AR.Drone 2.0; SimTelloLink: the Tello).
 #include "drone/drone_link.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 class LockstepDroneLink : public DroneLink {
  public:
@@ -12,4 +12,4 @@ class LockstepDroneLink : public DroneLink {
   virtual Seconds now() const = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -9,7 +9,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 template <typename T>
 struct SlotPool {
@@ -51,4 +51,4 @@ class DeliveryQueue {
   std::uint64_t next_order_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

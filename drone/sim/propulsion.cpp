@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace labo {
+namespace labo::sim {
 
 Propulsion::Propulsion(const RotorParams& rotors, const BatteryParams& battery)
     : rotors_(rotors), battery_(battery), percent_(battery.start_percent) {
@@ -30,4 +30,4 @@ void Propulsion::drain(bool airborne, Seconds dt) {
   percent_ = std::max(0.0, percent_ - rate * dt);
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -11,7 +11,7 @@
 #include "core/time.hpp"
 #include "drone/sim/airframe.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 struct RotorParams {
   double max_thrust_n = 2.0;    // per rotor, at the reference voltage (thrust to weight about 1.9)
@@ -57,4 +57,4 @@ class Propulsion {
   double voltage_;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

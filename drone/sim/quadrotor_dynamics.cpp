@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 double clamp_unit(double v) { return std::isfinite(v) ? std::clamp(v, -1.0, 1.0) : 0.0; }
@@ -312,4 +312,4 @@ double QuadrotorDynamics::height_above_surface() const {
   return s_.position_m.z() - collision_.support_height(s_.position_m);
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -32,7 +32,7 @@
 #include "drone/sim/firmware_loops.hpp"
 #include "drone/sim/propulsion.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 // How the drone differs from the nominal one its firmware assumes (the identity in the nominal world).
 struct PlantDeviation {
@@ -164,4 +164,4 @@ class QuadrotorDynamics {
   Eigen::Vector3d wind_ = Eigen::Vector3d::Zero();
 };
 
-}  // namespace labo
+}  // namespace labo::sim

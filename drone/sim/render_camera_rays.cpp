@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -102,4 +102,4 @@ CameraRays::CameraRays(const PinholeCamera& camera) : camera_(camera) {
   }
 }
 
-}  // namespace labo
+}  // namespace labo::sim

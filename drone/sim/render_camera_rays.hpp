@@ -8,7 +8,7 @@
 
 #include "core/camera_model.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 struct RenderTile {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;   // pixels [x0, x1) x [y0, y1)
@@ -61,4 +61,4 @@ class CameraRays {
   float pixel_angle_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -14,7 +14,7 @@
 #include "core/source_tree.hpp"
 #include "drone/sim/lab_renderer.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -146,4 +146,4 @@ int run_sim_render_command(const ParsedArgs& args, const TeacherHeadLoader& load
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -10,7 +10,7 @@
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/head_model.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 const CommandSpec& sim_render_command_spec();
 int run_sim_render_command(const ParsedArgs& args, const TeacherHeadLoader& load_head);
@@ -26,4 +26,4 @@ RenderSetup load_render_setup(const ParsedArgs& args);
 // The teacher standing at (x, y) on the floor, facing yaw (rad), eyes at the lab's eye height.
 Eigen::Isometry3d teacher_head_pose(const LabDescription& lab, double x, double y, double yaw);
 
-}  // namespace labo
+}  // namespace labo::sim

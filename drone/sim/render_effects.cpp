@@ -9,7 +9,7 @@
 
 #include "drone/sim/render_vector_clones.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -255,4 +255,4 @@ std::uint64_t frame_key(Seconds t, CameraId camera) {
   return mix(std::bit_cast<std::uint64_t>(t) ^ (static_cast<std::uint64_t>(camera) << 61));
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -21,7 +21,7 @@
 #include "drone/sim/render_camera_rays.hpp"
 #include "drone/sim/scene_renderer.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 class MotionBlur {
  public:
@@ -78,4 +78,4 @@ class SensorResponse {
 // A frame's key for the noise: the time's bits and the camera.
 std::uint64_t frame_key(Seconds t, CameraId camera);
 
-}  // namespace labo
+}  // namespace labo::sim

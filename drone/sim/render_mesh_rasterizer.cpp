@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -150,4 +150,4 @@ void rasterize_mesh(const RenderMesh& mesh, const ProjectedMesh& pm, FrameTarget
   }
 }
 
-}  // namespace labo
+}  // namespace labo::sim

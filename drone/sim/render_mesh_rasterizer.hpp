@@ -11,7 +11,7 @@
 #include "core/camera_model.hpp"
 #include "drone/sim/texture_map.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 struct RenderMesh {
   enum class Culling {
@@ -59,4 +59,4 @@ void project_mesh(const RenderMesh& mesh, const Eigen::Isometry3d& T_cam_mesh, c
 // Draws the front-facing triangles whose three vertices are valid, where nearer than `target.depth`.
 void rasterize_mesh(const RenderMesh& mesh, const ProjectedMesh& projected, FrameTarget target);
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -6,7 +6,7 @@
 
 #include "drone/sim/render_vector_clones.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -418,4 +418,4 @@ int SceneTracer::rect_at(const Eigen::Isometry3d& T_world_cam, int px, int py) {
   return k < 0 ? -1 : views_[static_cast<std::size_t>(k)].rect;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

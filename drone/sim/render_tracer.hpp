@@ -15,7 +15,7 @@
 #include "drone/sim/render_camera_rays.hpp"
 #include "drone/sim/scene_surfaces.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 class SceneTracer {
  public:
@@ -81,4 +81,4 @@ class SceneTracer {
   Stats stats_;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -9,7 +9,7 @@
 #include "drone/drone_link.hpp"
 #include "drone/lab/lab_description.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 // Everything that moves in the lab at one instant, in the world frame (x, y on the floor, z up).
 struct SceneState {
@@ -36,4 +36,4 @@ class SceneRenderer {
   virtual void add_instrument(const InstrumentSpec& instrument) { (void)instrument; }
 };
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -5,7 +5,7 @@
 
 #include "drone/sim/texture_procedural.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -185,4 +185,4 @@ void append_instrument(LabScene& scene, const InstrumentSpec& instrument, unsign
   for (SceneRect r : housing_faces(instrument)) add_procedural(scene, r, SurfaceMaterial::Housing, seed = seed * 1103515245u + 12345u);
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -9,7 +9,7 @@
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/texture_map.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 // A rectangle seen from the side its normal points to: point = origin + a * axis_u + b * axis_v with
 // a in [0, size_u], b in [0, size_v]. Texel of (a, b): (a * texels_per_m_u - 0.5, b * texels_per_m_v - 0.5).
@@ -39,4 +39,4 @@ LabScene build_lab_scene(const LabDescription& lab);
 // the housing's textures drawn from `seed`. Throws as build_lab_scene does.
 void append_instrument(LabScene& scene, const InstrumentSpec& instrument, unsigned seed);
 
-}  // namespace labo
+}  // namespace labo::sim

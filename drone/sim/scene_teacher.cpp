@@ -5,7 +5,7 @@
 #include <numbers>
 #include <vector>
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -164,4 +164,4 @@ void TeacherFigure::draw(const TeacherProjection& p, FrameTarget target) const {
   if (face_ && p.has_face) rasterize_mesh(*face_, p.face, target);
 }
 
-}  // namespace labo
+}  // namespace labo::sim

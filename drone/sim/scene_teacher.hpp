@@ -11,7 +11,7 @@
 #include "drone/sim/render_mesh_rasterizer.hpp"
 #include "drone/sim/scene_renderer.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 // The teacher's meshes in one camera for one frame.
 struct TeacherProjection {
@@ -40,4 +40,4 @@ class TeacherFigure {
   std::optional<RenderMesh> face_;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-namespace labo {
+namespace labo::sim {
 
 class SeededDraw {
  public:
@@ -44,4 +44,4 @@ class SeededDraw {
   std::uniform_real_distribution<double> unit_{0.0, 1.0};
 };
 
-}  // namespace labo
+}  // namespace labo::sim

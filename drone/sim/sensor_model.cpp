@@ -5,7 +5,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 constexpr double kSeaLevelPressure_pa = 101325.0;
@@ -110,4 +110,4 @@ void SensorModel::update_inertial(const QuadrotorState& truth) {
       wrap_angle(truth.yaw_rad + noise_.magneto_offset_rad + gaussian(10 * noise_.attitude_noise_rad));
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -17,7 +17,7 @@
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/quadrotor_dynamics.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 struct SensorNoise {
   double attitude_noise_rad = 0.0015;        // per sample (0.09 deg)
@@ -90,4 +90,4 @@ class SensorModel {
   double ultrasound_m_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -7,7 +7,7 @@
 #include "core/config_reader.hpp"
 #include "drone/ardrone2/ardrone_link.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -145,4 +145,4 @@ SimConfig read_sim_config_of(const ConfigReader& root) {
   return c;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

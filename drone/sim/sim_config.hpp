@@ -9,8 +9,10 @@
 #include "drone/sim/world_mode.hpp"
 
 namespace labo {
-
 class ConfigReader;
+}  // namespace labo
+
+namespace labo::sim {
 
 struct SimConfig {
   SimulatedLabSettings lab;  // seed, physics step, dynamics, sensors, teacher, disturbances
@@ -24,4 +26,4 @@ SimConfig read_sim_config(const ConfigReader& section);
 // driver's "link" section (link.video_max_bitrate_kbps, validated with the rest of that section).
 SimConfig read_sim_config_of(const ConfigReader& root);
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -5,9 +5,9 @@
 
 #include "drone/ardrone2/h264_codec.hpp"
 #include "drone/ardrone2/navdata_schema.hpp"
-#include "drone/sim/cpu_time.hpp"
+#include "core/cpu_time.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 using ardrone2::state_mask;
 
@@ -288,4 +288,4 @@ std::uint32_t SimDroneLink::state_bits(const VehicleTelemetry& tel) const {
   return s;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -41,12 +41,13 @@
 #include "drone/sim/lockstep_queue.hpp"
 #include "drone/sim/simulated_lab.hpp"
 
-namespace labo {
-
-namespace ardrone2 {
+namespace labo::ardrone2 {
 class H264Encoder;
 class H264Decoder;
-}  // namespace ardrone2
+}  // namespace labo::ardrone2
+
+namespace labo::sim {
+
 
 struct SimLinkSettings {
   bool full_navdata = false;         // 200 Hz with every option, else 15 Hz demo
@@ -177,4 +178,4 @@ class SimDroneLink final : public LockstepDroneLink {
   SimLinkProfile profile_;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

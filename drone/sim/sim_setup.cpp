@@ -3,7 +3,7 @@
 #include "core/config_reader.hpp"
 #include "drone/sim/lab_renderer.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 std::unique_ptr<SceneRenderer> make_scene_renderer(const LabDescription& lab, const CamerasConfig& cameras,
                                                    std::optional<TexturedHeadModel> head, unsigned seed,
@@ -35,4 +35,4 @@ SimInputs load_sim_inputs(const std::filesystem::path& config_file, const std::o
   return in;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -14,7 +14,7 @@
 #include "drone/sim/sim_world.hpp"
 #include "drone/sim/simulated_lab.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 // The renderer of the simulated lab's cameras, at the sizes and intrinsics of `cameras`: LabRenderer
 // (drone/sim/lab_renderer.hpp, docs/sim_rendering.md), the teacher's face textured from `head`
@@ -44,4 +44,4 @@ struct SimInputs {
 SimInputs load_sim_inputs(const std::filesystem::path& config_file,
                           const std::optional<std::filesystem::path>& lab_file = std::nullopt);
 
-}  // namespace labo
+}  // namespace labo::sim

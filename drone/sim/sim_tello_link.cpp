@@ -11,7 +11,7 @@
 #include "drone/tello/tello_config.hpp"
 #include "drone/tello/tello_wire.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 using namespace tello;
 
@@ -371,4 +371,4 @@ void SimTelloLink::supervise(Seconds t) {
   if (listener_) listener_->on_link_state(state_, t);
 }
 
-}  // namespace labo
+}  // namespace labo::sim

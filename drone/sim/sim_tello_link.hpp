@@ -45,8 +45,11 @@
 #include "drone/tello/tello_receivers.hpp"
 
 namespace labo {
-
 struct TelloConfig;
+}  // namespace labo
+
+namespace labo::sim {
+
 
 // What differs from the AR.Drone's lockstep link: the Tello's rates, its firmware and the driver's
 // settings (from the `tello` section: sim_tello_settings()).
@@ -152,4 +155,4 @@ class SimTelloLink final : public LockstepDroneLink {
   SlotPool<std::vector<std::uint8_t>> units_;    // with h264: an access unit's bytes
 };
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -6,7 +6,7 @@
 #include "core/frames.hpp"
 #include "drone/sim/seeded_draw.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -135,4 +135,4 @@ SimWorld make_sim_world(const LabDescription& lab_file, const CamerasConfig& cal
   return w;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -28,7 +28,7 @@
 #include "drone/sim/simulated_lab.hpp"
 #include "drone/sim/teacher_walk.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 // A symmetric range is ± the value; an interval is [min, max].
 struct WorldInterval {
@@ -108,4 +108,4 @@ struct SimWorld {
 SimWorld make_sim_world(const LabDescription& lab_file, const CamerasConfig& calibration, const SimConfig& sim,
                         const WorldRanges& ranges = {});
 
-}  // namespace labo
+}  // namespace labo::sim

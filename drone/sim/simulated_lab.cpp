@@ -3,9 +3,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "drone/sim/cpu_time.hpp"
+#include "core/cpu_time.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 // A time within this of a step boundary counts as reaching it (the emulator's clock is a double).
@@ -153,4 +153,4 @@ void SimulatedLab::render(CameraId camera, cv::Mat& bgr) {
   }
 }
 
-}  // namespace labo
+}  // namespace labo::sim

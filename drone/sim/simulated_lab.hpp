@@ -22,7 +22,7 @@
 #include "drone/sim/sensor_model.hpp"
 #include "drone/sim/teacher_walker.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 struct SimulatedLabSettings {
   QuadrotorParams dynamics;
@@ -98,4 +98,4 @@ class SimulatedLab final : public EmulatedVehicle {
   SimProfile profile_;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -7,7 +7,7 @@
 
 #include "core/frames.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -94,4 +94,4 @@ TeacherPose TeacherMotion::pose(Seconds walk_t, Seconds head_t) const {
   return p;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

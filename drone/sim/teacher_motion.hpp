@@ -16,7 +16,7 @@
 #include "core/time.hpp"
 #include "drone/lab/lab_description.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 struct TeacherPose {
   Eigen::Vector2d floor_xy = Eigen::Vector2d::Zero();
@@ -49,4 +49,4 @@ class TeacherMotion {
   Seconds cycle_s_ = 0;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

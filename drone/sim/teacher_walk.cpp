@@ -7,7 +7,7 @@
 #include "core/frames.hpp"
 #include "drone/sim/seeded_draw.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -82,4 +82,4 @@ TeacherSpec random_teacher_walk(const LabDescription& lab, std::uint64_t seed, c
   return walk;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -10,7 +10,7 @@
 
 #include "drone/lab/lab_description.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 struct TeacherWalkRanges {
   double min_speed_mps = 0.3, max_speed_mps = 0.7;  // one speed for the whole run
@@ -38,4 +38,4 @@ TeacherSpec random_teacher_walk(const LabDescription& lab, std::uint64_t seed, c
 bool on_free_floor(const LabDescription& lab, const Eigen::Vector2d& xy, double body_radius_m, double wall_clearance_m,
                    double object_clearance_m);
 
-}  // namespace labo
+}  // namespace labo::sim

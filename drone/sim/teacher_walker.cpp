@@ -5,7 +5,7 @@
 
 #include "drone/sim/teacher_walk.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 // A teacher giving way walks on once the drone is this much farther than keep_clear_m (it hovers
@@ -74,4 +74,4 @@ TeacherPose TeacherWalker::place(Seconds head_t) const {
   return p;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

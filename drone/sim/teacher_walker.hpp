@@ -13,7 +13,7 @@
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/teacher_motion.hpp"
 
-namespace labo {
+namespace labo::sim {
 
 class TeacherWalker {
  public:
@@ -45,4 +45,4 @@ class TeacherWalker {
   TeacherPose pose_;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

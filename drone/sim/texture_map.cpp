@@ -5,7 +5,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -126,4 +126,4 @@ std::uint32_t TextureMap::mean_colour() const {
   return pack_bgr(static_cast<int>(b / n), static_cast<int>(g / n), static_cast<int>(r / n));
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -6,7 +6,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-namespace labo {
+namespace labo::sim {
 
 // Channel access of a packed texel (B in the low byte).
 inline std::uint32_t pack_bgr(int b, int g, int r) {
@@ -92,4 +92,4 @@ class TextureMap {
   std::vector<std::uint32_t> area_;
 };
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace labo {
+namespace labo::sim {
 
 namespace {
 
@@ -269,4 +269,4 @@ cv::Mat draw_surface_texture(const SurfaceTextureRequest& q) {
   return c.img;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -7,7 +7,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-namespace labo {
+namespace labo::sim {
 
 enum class SurfaceMaterial { Wall, Floor, Ceiling, BenchTop, BenchSide, Housing, PlatformSide };
 
@@ -26,4 +26,4 @@ cv::Mat draw_surface_texture(const SurfaceTextureRequest& request);
 // The texel size used for each material (finer where the drone flies close).
 double metres_per_texel(SurfaceMaterial material);
 
-}  // namespace labo
+}  // namespace labo::sim

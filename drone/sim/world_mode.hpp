@@ -5,7 +5,7 @@
 #include <string>
 #include <string_view>
 
-namespace labo {
+namespace labo::sim {
 
 enum class WorldMode { Nominal, Randomized };
 
@@ -18,4 +18,4 @@ inline std::optional<WorldMode> parse_world_mode(std::string_view text) {
   return std::nullopt;
 }
 
-}  // namespace labo
+}  // namespace labo::sim

@@ -1,7 +1,7 @@
 #include "localization/face/face_pose_estimator.hpp"
 #include "localization/face/portrait.hpp"
 
-#include "drone/sim/cpu_time.hpp"
+#include "core/cpu_time.hpp"
 #include "localization/face/landmark_weights.hpp"
 
 #include <algorithm>

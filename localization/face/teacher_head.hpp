@@ -11,6 +11,8 @@
 
 namespace labo::face {
 
+using sim::TexturedHeadModel;
+
 struct TexturedHead;
 // The simulated lab's head model of a textured CANDIDE-3 head: the same mesh (vertices, triangles,
 // texture coordinates), textured with the colour photograph `photo_bgr` the head was fitted to.

@@ -7,6 +7,11 @@
 
 namespace labo::server {
 
+using sim::SimulatedLab;
+using sim::make_sim_world;
+using sim::make_simulated_lab;
+
+
 control::FlightStackSetup flight_stack_setup(const AppConfig& config) {
   // The lab's geometry (room, base, instruments, platform) from the lab description the config
   // names (validated when the config was loaded).

@@ -14,6 +14,9 @@
 
 namespace labo::server {
 
+using sim::SimulatedLab;
+
+
 // The lab's geometry, the control, camera, vision and estimation sections, and the real vision
 // front-ends on the drone's frames.
 control::FlightStackSetup flight_stack_setup(const AppConfig& config);

@@ -16,6 +16,9 @@
 
 namespace labo::server {
 
+using sim::SimulatedLab;
+
+
 namespace {
 
 // A real AR.Drone 2.0 over Wi-Fi.

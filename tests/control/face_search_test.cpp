@@ -15,6 +15,7 @@
 #include "teacher_walks.hpp"
 
 using namespace labo;
+using namespace labo::sim;
 using namespace labo::control;
 using namespace labo::bench;
 using labo::test::turn_back_path;

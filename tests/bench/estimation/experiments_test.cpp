@@ -9,6 +9,7 @@
 #include "bench/estimation/truth_vision_pipeline.hpp"
 
 using namespace labo;
+using namespace labo::sim;
 using namespace labo::bench;
 
 namespace {

@@ -14,6 +14,7 @@
 #include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using namespace labo::sim;
 using labo::test::ScratchDir;
 
 namespace {

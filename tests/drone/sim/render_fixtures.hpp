@@ -12,6 +12,7 @@
 #include "drone/sim/lab_renderer.hpp"
 
 namespace labo::test {
+using namespace labo::sim;
 
 inline CamerasConfig ardrone_cameras() {
   return ardrone2_cameras();

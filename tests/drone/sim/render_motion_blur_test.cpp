@@ -12,6 +12,7 @@
 #include "drone/sim/render_effects.hpp"
 
 using namespace labo;
+using namespace labo::sim;
 
 namespace {
 

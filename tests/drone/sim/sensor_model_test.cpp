@@ -12,6 +12,7 @@
 #include "tests/drone/sim/sim_fixtures.hpp"
 
 using namespace labo;
+using namespace labo::sim;
 
 namespace {
 

@@ -11,6 +11,7 @@
 #include "drone/sim/sim_config.hpp"
 
 using namespace labo;
+using namespace labo::sim;
 using nlohmann::json;
 
 namespace {

@@ -8,6 +8,7 @@
 #include "drone/sim/scene_renderer.hpp"
 
 namespace labo::test {
+using namespace labo::sim;
 
 inline const LabDescription& shipped_lab() {
   static const LabDescription lab = load_lab_description(default_lab_path());

@@ -11,6 +11,7 @@
 #include "tests/drone/sim/loopback_support.hpp"
 
 using namespace labo;
+using namespace labo::sim;
 
 namespace {
 

@@ -9,6 +9,7 @@
 #include "tests/drone/sim/sim_fixtures.hpp"
 
 using namespace labo;
+using namespace labo::sim;
 
 namespace {
 // Along +x at y = 0 in the shipped lab's free middle (x 0.5 -> 3.5), at 0.5 m/s.

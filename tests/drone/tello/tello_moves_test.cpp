@@ -14,6 +14,7 @@
 #include "tests/drone/sim/sim_fixtures.hpp"
 
 using namespace labo;
+using namespace labo::sim;
 using namespace labo::tello;
 
 namespace {
