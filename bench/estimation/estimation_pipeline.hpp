@@ -34,8 +34,6 @@ class EstimationPipeline {
   virtual ~EstimationPipeline() = default;
   // What produced the visual poses, for the report.
   virtual std::string vision_input() const = 0;
-  // Whether the plant must render and deliver camera frames.
-  virtual bool wants_frames() const = 0;
   virtual void reset(const Eigen::Isometry3d& T_world_body, Seconds t) = 0;
   virtual void on_navdata(const NavdataSample& sample) = 0;
   virtual void on_command(const MoveCommand& command, Seconds t) = 0;

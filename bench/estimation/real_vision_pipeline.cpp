@@ -50,7 +50,6 @@ class RealVisionPipeline final : public EstimationPipeline {
     return "the real front-ends on LabRenderer's frames through SimDroneLink: SlamSystem (synchronous mapping) while "
            "hovering, PlanarFrontEnd on '" + instrument_id_ + "' while servoing, via control's LabPipelines";
   }
-  bool wants_frames() const override { return true; }
   void reset(const Eigen::Isometry3d& T_world_body, Seconds t) override { pipelines_.reset(T_world_body, t); }
   void on_navdata(const NavdataSample& sample) override { pipelines_.on_navdata(sample); }
   void on_command(const MoveCommand& command, Seconds t) override { pipelines_.on_command(command, t); }

@@ -16,7 +16,6 @@ class TruthVisionPipeline final : public EstimationPipeline {
                       unsigned seed);
 
   std::string vision_input() const override;
-  bool wants_frames() const override { return false; }
   void reset(const Eigen::Isometry3d& T_world_body, Seconds t) override { estimator_.reset(T_world_body, t); }
   void on_navdata(const NavdataSample& sample) override { estimator_.add_navdata(sample); }
   void on_command(const MoveCommand& command, Seconds t) override { estimator_.add_command(command, t); }

@@ -16,8 +16,5 @@ int run_navdata_command(const ParsedArgs& args);
 const CommandSpec& video_command_spec();
 int run_video_command(const ParsedArgs& args);
 
-// One packet as a single-line JSON object: sequence, state flags by name, checksum_ok, and every
-// option (snake_case keys, unit in the name, in the drone's own sign conventions) with its raw values.
-std::string navdata_packet_json(const ardrone2::NavdataPacket& packet);
 
 }  // namespace labo

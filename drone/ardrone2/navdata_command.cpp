@@ -104,7 +104,6 @@ int print_recording(const std::filesystem::path& file) {
 
 }  // namespace
 
-std::string navdata_packet_json(const NavdataPacket& packet) { return packet_json(packet).dump(); }
 
 const CommandSpec& navdata_command_spec() {
   static const CommandSpec spec{

@@ -111,19 +111,4 @@ std::uint32_t TextureMap::box_mean(std::int32_t x0, std::int32_t y0, std::int32_
   return pack_bgr(mean[0], mean[1], mean[2]);
 }
 
-std::uint32_t TextureMap::mean_colour() const {
-  const Level& l = levels_.back();
-  long b = 0, g = 0, r = 0;
-  for (int y = 0; y < l.height; ++y) {
-    for (int x = 0; x < l.width; ++x) {
-      const std::uint32_t c = l.origin()[y * l.stride + x];
-      b += texel_b(c);
-      g += texel_g(c);
-      r += texel_r(c);
-    }
-  }
-  const long n = static_cast<long>(l.width) * l.height;
-  return pack_bgr(static_cast<int>(b / n), static_cast<int>(g / n), static_cast<int>(r / n));
-}
-
 }  // namespace labo::sim

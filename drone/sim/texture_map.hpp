@@ -70,8 +70,6 @@ class TextureMap {
     return sample_fixed(l, to_fixed((u + 0.5f) * l.scale_x - 0.5f, l.width), to_fixed((v + 0.5f) * l.scale_y - 0.5f, l.height));
   }
 
-  // The mean colour of level 0 (for untextured stand-ins).
-  std::uint32_t mean_colour() const;
 
   // Area filtering (docs/sim_rendering.md, "Instrument panels: the pixel's area"): a summed-area table
   // of level 0, so that a pixel can record the exact mean of the texels its footprint covers, as a

@@ -94,6 +94,7 @@ double ScaleEstimator::weighted_median_scale() {
     sorted_.emplace_back(pairs_[i].alpha, weights_[i]);
     total += weights_[i];
   }
+  if (sorted_.empty()) return 0.0;  // no pair: no reference, and nothing to gate
   std::sort(sorted_.begin(), sorted_.end());
   double below = 0;
   for (const auto& [alpha, w] : sorted_) {

@@ -360,17 +360,6 @@ void StateEstimator::set_surface_map(const SurfaceMap& map) {
   impl_->has_surfaces = true;
 }
 
-void StateEstimator::set_delays(Seconds video_delay, Seconds navdata_delay, Seconds control_delay) {
-  for (Seconds d : {video_delay, navdata_delay, control_delay}) {
-    if (!std::isfinite(d) || d < 0 || d > 2.0) {
-      throw std::invalid_argument("estimator delays must be finite and in [0, 2] s");
-    }
-  }
-  impl_->config.video_delay_s = video_delay;
-  impl_->config.navdata_delay_s = navdata_delay;
-  impl_->config.control_delay_s = control_delay;
-}
-
 bool StateEstimator::add_navdata(const NavdataSample& n) {
   Impl& m = *impl_;
   for (double v : {n.roll_rad, n.pitch_rad, n.yaw_rad, n.altitude_m, n.vx_mps, n.vy_mps, n.vz_mps}) {

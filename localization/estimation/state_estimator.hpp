@@ -93,8 +93,6 @@ class StateEstimator {
   // like an input from the future and the filter would never move.
   void start_at_first_navdata(const Eigen::Isometry3d& T_world_body);
   void set_surface_map(const SurfaceMap& map);
-  // Updates the link delays (measured on the link); negative or non-finite values are refused.
-  void set_delays(Seconds video_delay, Seconds navdata_delay, Seconds control_delay);
 
   // Inputs; each returns whether it was accepted (rejections are counted by reason).
   bool add_navdata(const NavdataSample& sample);

@@ -30,12 +30,6 @@ std::optional<PnpMethod> parse_pnp_method(std::string_view text) {
   return std::nullopt;
 }
 
-std::string pnp_method_choices() {
-  std::string out;
-  for (const auto& m : kMethodNames) out += (out.empty() ? "" : ", ") + std::string(m.name);
-  return out;
-}
-
 FacePoseSolver::FacePoseSolver(FacePoseSolverOptions options) : options_(options), rng_(options.seed) {}
 
 std::optional<FacePoseEstimate> FacePoseSolver::initialise(const PnpProblem& problem, const LmOptions& lm) {

@@ -16,8 +16,6 @@ enum class PnpMethod { Epnp, RansacP3p, EpnpLm, RansacP3pLm, LmTracking };
 std::string_view to_string(PnpMethod method);
 // "epnp", "ransac_p3p", "epnp_lm", "ransac_p3p_lm", "lm_tracking"; empty for anything else.
 std::optional<PnpMethod> parse_pnp_method(std::string_view text);
-// Names in Table 1's order, for help texts and config validation messages.
-std::string pnp_method_choices();
 
 struct FacePoseSolverOptions {
   PnpMethod method = PnpMethod::LmTracking;

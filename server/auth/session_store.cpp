@@ -93,16 +93,6 @@ bool SessionStore::end(const std::string& id) {
   return n > 0;
 }
 
-std::size_t SessionStore::end_user(const std::string& user) {
-  std::lock_guard lock(mutex_);
-  const auto n = std::erase_if(sessions_, [&](const auto& kv) {
-    if (kv.second.user == user) revoke(kv.first, unix_now_s());
-    return kv.second.user == user;
-  });
-  if (n) save();
-  return n;
-}
-
 std::vector<SessionInfo> SessionStore::sessions(double now_s) {
   std::lock_guard lock(mutex_);
   expire(now_s);

@@ -60,8 +60,6 @@ class SessionStore {
   void logout(const std::string& token);
   // Ends the session named `id` (SessionInfo::id); false when there is none.
   bool end(const std::string& id);
-  // Ends every session of `user`; how many there were.
-  std::size_t end_user(const std::string& user);
   std::vector<SessionInfo> sessions(double now_s);
   std::vector<UserAccount> users() const;
   // Replaces the accounts (users added, removed, re-roled or given a new password). The sessions of
@@ -91,7 +89,7 @@ class SessionStore {
   bool seen_changed_ = false;
   double last_save_s_ = 0;
   std::optional<SessionSigner> signer_;
-  // Signed sessions ended here (logout, end, end_user), by their token's SHA-256, until their token
+  // Signed sessions ended here (logout, end, a removed user), by their token's SHA-256, until their token
   // has surely expired: a signature alone would bring them back.
   std::map<std::string, double> revoked_until_s_;
   void revoke(const std::string& key, double now_s);  // with mutex_ held
