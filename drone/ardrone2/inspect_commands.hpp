@@ -3,10 +3,7 @@
 // inside a raw capture or a flight recording with the driver's own parsers (a Tello's video with the
 // Tello link's, drone/tello/). Exit 0 on success, 2 on unreadable or invalid input with a one-line
 // reason on stderr.
-#include <string>
-
 #include "core/cli_args.hpp"
-#include "drone/ardrone2/navdata_packet.hpp"
 
 namespace labo {
 
@@ -15,6 +12,5 @@ int run_navdata_command(const ParsedArgs& args);
 
 const CommandSpec& video_command_spec();
 int run_video_command(const ParsedArgs& args);
-
 
 }  // namespace labo

@@ -104,7 +104,6 @@ int print_recording(const std::filesystem::path& file) {
 
 }  // namespace
 
-
 const CommandSpec& navdata_command_spec() {
   static const CommandSpec spec{
       "navdata", "FILE",

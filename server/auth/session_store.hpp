@@ -89,8 +89,9 @@ class SessionStore {
   bool seen_changed_ = false;
   double last_save_s_ = 0;
   std::optional<SessionSigner> signer_;
-  // Signed sessions ended here (logout, end, a removed user), by their token's SHA-256, until their token
-  // has surely expired: a signature alone would bring them back.
+  // Signed sessions ended here (logout, end), by their token's SHA-256, until their token has surely
+  // expired: a signature alone would bring them back. A removed or re-roled user's tokens need no
+  // entry: authenticate() checks the claims against the accounts.
   std::map<std::string, double> revoked_until_s_;
   void revoke(const std::string& key, double now_s);  // with mutex_ held
 };
