@@ -4,6 +4,10 @@
 
 namespace labo {
 
+using replay::RecordingWriter;
+using replay::kNoteLinkStatePrefix;
+
+
 LinkState state_after_silence(Seconds last_t, Seconds t, Seconds degraded_after_s, Seconds lost_after_s) {
   if (last_t < 0) return LinkState::Connecting;
   const Seconds silent = t - last_t;

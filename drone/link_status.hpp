@@ -23,7 +23,7 @@ class LinkStatus {
   LinkStatus(const Logger& logger, ardrone2::LinkCounters& counters) : logger_(logger), counters_(counters) {}
   LinkState state() const;
   // A change is reported: logged, counted, noted in `recorder` (may be null), then `notify(s, t)`.
-  void set(LinkState s, Seconds t, RecordingWriter* recorder, const std::function<void(LinkState, Seconds)>& notify);
+  void set(LinkState s, Seconds t, replay::RecordingWriter* recorder, const std::function<void(LinkState, Seconds)>& notify);
   // Call often: once a second sets the counters' rates from `packets_kind` and "video_decoded".
   void update_rates(Seconds t, std::string_view packets_kind);
 

@@ -5,6 +5,13 @@
 
 namespace labo::server {
 
+using ardrone2::ArdroneEmulatorSettings;
+using ardrone2::ArdroneLinkSettings;
+using ardrone2::read_ardrone_emulator_settings;
+using ardrone2::read_ardrone_link_settings;
+using lab::load_lab_description;
+using tello::read_tello_config_of;
+
 using sim::SimConfig;
 using sim::read_sim_config;
 

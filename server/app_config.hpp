@@ -36,12 +36,12 @@ struct AppConfig {
   planar::PlanarConfig planar;
   slam::SlamSettings slam;
   ServerSettings server;
-  ArdroneLinkSettings link;          // the AR.Drone 2.0 driver (docs/ardrone2.md)
-  ArdroneEmulatorSettings emulator;  // the AR.Drone 2.0 protocol emulator on loopback
-  TelloConfig tello;                 // the Tello link, its emulator and camera (docs/tello.md)
-  std::filesystem::path lab_file;  // "lab": the lab description, relative to the config file
-  LabDescription lab;              // loaded from lab_file and validated (docs/sim.md)
-  SimConfig sim;                   // the simulated lab's physics, sensors, link, disturbances (docs/sim.md)
+  ardrone2::ArdroneLinkSettings link;          // the AR.Drone 2.0 driver (docs/ardrone2.md)
+  ardrone2::ArdroneEmulatorSettings emulator;  // the AR.Drone 2.0 protocol emulator on loopback
+  tello::TelloConfig tello;                    // the Tello link, its emulator and camera (docs/tello.md)
+  std::filesystem::path lab_file;              // "lab": the lab description, relative to the config file
+  lab::LabDescription lab;                     // loaded from lab_file and validated (docs/sim.md)
+  SimConfig sim;                               // the simulated lab's physics, sensors, link, disturbances (docs/sim.md)
   face::FaceConfig face;
 };
 

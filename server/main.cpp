@@ -19,12 +19,15 @@ namespace {
 
 // The simulated teacher's face for the commands that run the simulated lab (drone/ cannot call
 // localization/).
-labo::sim::TexturedHeadModel teacher_head(const labo::LabDescription& lab) { return labo::face::load_lab_teacher_head(lab); }
+labo::sim::TexturedHeadModel teacher_head(const labo::lab::LabDescription& lab) { return labo::face::load_lab_teacher_head(lab); }
 
 labo::Program program() {
   using namespace labo;
   using namespace labo::server;
   using namespace labo::sim;
+  using namespace labo::lab;
+  using namespace labo::ardrone2;
+  using namespace labo::tello;
   return {
       .name = "labodrone",
       .about = "LaboDrone flies an AR.Drone 2.0 or a Tello (or the simulated lab) through a remote electronics lab.\n"

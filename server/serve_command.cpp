@@ -9,6 +9,9 @@
 
 namespace labo::server {
 
+using tello::tello_cameras;
+
+
 const CommandSpec& serve_command_spec() {
   static const CommandSpec spec{
       "serve",

@@ -6,6 +6,8 @@
 
 namespace labo::bench {
 
+using lab::InstrumentSpec;
+
 using sim::Disturbance;
 using sim::FirmwarePhase;
 using sim::QuadrotorState;

@@ -27,7 +27,7 @@ using sim::TexturedHeadModel;
 
 // What a LabPlant is built from (config/default.json's lab file, cameras and sim section).
 struct LabPlantInputs {
-  LabDescription lab;
+  lab::LabDescription lab;
   CamerasConfig cameras;
   SimConfig sim;
   std::optional<TexturedHeadModel> head;     // the teacher's face texture (untextured without)

@@ -26,6 +26,10 @@
 
 namespace labo::bench {
 
+using lab::default_lab_path;
+using lab::load_lab_description;
+
+
 namespace {
 
 struct Timing {

@@ -20,6 +20,12 @@
 
 namespace labo::bench {
 
+using lab::LabDescription;
+using lab::load_lab_description;
+using tello::TelloConfig;
+using tello::read_tello_config_of;
+using tello::tello_cameras;
+
 using sim::LabRenderer;
 using sim::SimConfig;
 using sim::SimDroneLink;

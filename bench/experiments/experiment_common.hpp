@@ -57,7 +57,7 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args);
 // real, the lab description the simulated lab is built from.
 struct Experiment {
   control::FlightStackSetup setup;
-  std::optional<LabDescription> lab;       // --vision real: the lab the simulated lab is built from
+  std::optional<lab::LabDescription> lab;       // --vision real: the lab the simulated lab is built from
   SimConfig sim;                           // its "sim" section (lab and link settings)
   std::optional<TexturedHeadModel> head;   // the teacher's face, when the experiment looks for it
   std::optional<VisionLatencyModel> vision_latency;  // --vision-latency worker

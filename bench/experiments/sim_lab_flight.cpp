@@ -8,6 +8,8 @@
 
 namespace labo::bench {
 
+using lab::LabDescription;
+
 using sim::SceneState;
 using sim::SimConfig;
 using sim::SimDroneLink;

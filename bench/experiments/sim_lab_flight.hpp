@@ -44,7 +44,7 @@ class SimLabFlight final : public ExperimentFlight {
   // `sim` is the lab's and the link's settings (their seeds included) and the world's mode: the
   // simulated lab flies make_sim_world(lab, setup.cameras, sim, ranges), the flight stack only
   // `setup`. `head` textures the teacher's face.
-  SimLabFlight(const control::FlightStackSetup& setup, const LabDescription& lab, const SimConfig& sim,
+  SimLabFlight(const control::FlightStackSetup& setup, const lab::LabDescription& lab, const SimConfig& sim,
                std::optional<TexturedHeadModel> head, std::optional<VisionLatencyModel> vision_latency = std::nullopt,
                const WorldRanges& ranges = {}, std::optional<SimTelloSettings> tello = std::nullopt);
   ~SimLabFlight() override;

@@ -4,6 +4,8 @@
 
 namespace labo::bench {
 
+using lab::TeacherSpec;
+
 using sim::Disturbance;
 using sim::PlacementDraw;
 using sim::PlantDeviation;

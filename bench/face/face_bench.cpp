@@ -24,6 +24,9 @@
 
 namespace labo::face {
 
+using lab::LabDescription;
+using lab::load_lab_description;
+
 using sim::LabRenderOptions;
 using sim::LabRenderer;
 using sim::SceneState;

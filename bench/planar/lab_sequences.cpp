@@ -12,6 +12,12 @@
 
 namespace labo::bench {
 
+using lab::InstrumentSpec;
+using lab::LabDescription;
+using lab::PlatformSpec;
+using lab::default_lab_path;
+using lab::load_lab_description;
+
 using sim::LabRenderer;
 using sim::SceneState;
 

@@ -18,6 +18,8 @@
 
 namespace labo::bench {
 
+using lab::LabDescription;
+
 using sim::LabRenderOptions;
 using sim::LabRenderer;
 using sim::RenderSetup;

@@ -19,6 +19,8 @@
 
 namespace labo::bench {
 
+using lab::LabDescription;
+
 using sim::GroundTruthLog;
 using sim::SimConfig;
 using sim::SimDroneLink;

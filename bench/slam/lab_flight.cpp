@@ -9,6 +9,9 @@
 
 namespace labo::slam {
 
+using lab::InstrumentSpec;
+using lab::LabDescription;
+
 using sim::LabRenderOptions;
 using sim::LabRenderer;
 using sim::SceneState;

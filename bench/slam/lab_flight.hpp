@@ -18,12 +18,12 @@ class LabRenderer;
 namespace labo::slam {
 
 // The inspect mission's path towards `instrument`, front-camera poses at `fps`.
-Flight lab_inspect_flight(const LabDescription& lab, const InstrumentSpec& instrument, double fps = 30.0);
+Flight lab_inspect_flight(const lab::LabDescription& lab, const lab::InstrumentSpec& instrument, double fps = 30.0);
 
 // Renders a flight's front-camera frames in the simulated lab, 8-bit grey.
 class SimulatedLabFrames {
  public:
-  SimulatedLabFrames(const LabDescription& lab, const CamerasConfig& cameras, bool noise);
+  SimulatedLabFrames(const lab::LabDescription& lab, const CamerasConfig& cameras, bool noise);
   ~SimulatedLabFrames();
   SimulatedLabFrames(const SimulatedLabFrames&) = delete;
   SimulatedLabFrames& operator=(const SimulatedLabFrames&) = delete;

@@ -14,6 +14,10 @@
 #include "localization/slam/slam_config.hpp"
 
 namespace labo::bench {
+
+using lab::LabDescription;
+using lab::load_lab_description;
+
 namespace {
 
 nlohmann::json to_json(const slam::FlightReport& r) {

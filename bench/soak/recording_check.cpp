@@ -5,6 +5,10 @@
 
 namespace labo::bench {
 
+using replay::Record;
+using replay::RecordingReader;
+using replay::ReplayLink;
+
 namespace {
 
 constexpr std::uint64_t kSignatureBytes = 12, kRecordHeaderBytes = 16;

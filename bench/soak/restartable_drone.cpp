@@ -6,10 +6,12 @@
 
 namespace labo::bench {
 
+using ardrone2::ArdroneEmulator;
+using ardrone2::ArdroneEmulatorSettings;
+
 using sim::QuadrotorState;
 using sim::SimulatedLab;
 using sim::to_string;
-
 
 using server::AppConfig;
 using server::loopback_emulator_settings;

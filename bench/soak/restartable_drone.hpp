@@ -63,7 +63,7 @@ class RestartableDrone {
   Logger log_;
   mutable std::mutex mutex_;  // guards lab_ and emulator_ against the soak's and the server's threads
   std::unique_ptr<SimulatedLab> lab_;
-  std::unique_ptr<ArdroneEmulator> emulator_;
+  std::unique_ptr<ardrone2::ArdroneEmulator> emulator_;
   int at_port_ = 0, navdata_port_ = 0, video_port_ = 0;
   int starts_ = 0;
 };

@@ -4,6 +4,8 @@
 
 namespace labo::bench {
 
+using ardrone2::ArdroneLinkSettings;
+
 using server::AppConfig;
 using server::ServerSettings;
 using server::loopback_link_settings;

@@ -49,7 +49,7 @@ class SoakServer {
   RestartableDrone drone_;
   WifiRelay relay_;
   SteadyClock clock_;
-  ArdroneLink link_;
+  ardrone2::ArdroneLink link_;
   RestartableFlight flight_;
   WebServer web_;
   unsigned short port_ = 0;

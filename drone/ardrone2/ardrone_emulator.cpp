@@ -11,7 +11,7 @@
 #include "drone/ardrone2/pave.hpp"
 #include "drone/ardrone2/wire_signs.hpp"
 
-namespace labo {
+namespace labo::ardrone2 {
 
 using namespace ardrone2;
 
@@ -363,4 +363,4 @@ void ArdroneEmulator::video_loop() {
   }
 }
 
-}  // namespace labo
+}  // namespace labo::ardrone2

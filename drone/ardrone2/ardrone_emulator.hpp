@@ -23,8 +23,10 @@
 #include "drone/emulated_vehicle.hpp"
 
 namespace labo {
-
 class ConfigReader;
+}  // namespace labo
+
+namespace labo::ardrone2 {
 
 struct ArdroneEmulatorSettings {
   std::string bind_host = "127.0.0.1";
@@ -119,4 +121,4 @@ class ArdroneEmulator {
   std::thread at_thread_, navdata_thread_, video_thread_;
 };
 
-}  // namespace labo
+}  // namespace labo::ardrone2

@@ -8,7 +8,13 @@
 #include "drone/ardrone2/navdata_schema.hpp"
 #include "drone/ardrone2/wire_signs.hpp"
 
-namespace labo {
+namespace labo::ardrone2 {
+
+using replay::RecordChannel;
+using replay::RecordingWriter;
+using replay::kNoteCameraBottom;
+using replay::kNoteCameraFront;
+using replay::kNoteVideoConnected;
 
 using namespace ardrone2;
 
@@ -395,4 +401,4 @@ void ArdroneLink::on_video(const VideoFrame& frame) {
   if (listener_) listener_->on_video(frame);
 }
 
-}  // namespace labo
+}  // namespace labo::ardrone2

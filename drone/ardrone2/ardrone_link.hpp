@@ -23,8 +23,10 @@
 #include "drone/replay/recording.hpp"
 
 namespace labo {
-
 class ConfigReader;
+}  // namespace labo
+
+namespace labo::ardrone2 {
 
 struct ArdroneLinkSettings {
   std::string host = "192.168.1.1";
@@ -98,7 +100,7 @@ class ArdroneLink final : public DroneLink {
   // A reconnection (the link was lost) or a drone that restarted under it: AT sequence from 1, the
   // start-up configuration again, the video connection reopened.
   void redo_startup(const char* counter);
-  void record(RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes);
+  void record(replay::RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes);
 
   ArdroneLinkSettings settings_;
   Logger logger_;
@@ -106,7 +108,7 @@ class ArdroneLink final : public DroneLink {
   const Clock* clock_;
   ardrone2::LinkCounters counters_;
   LinkStatus status_;
-  std::unique_ptr<RecordingWriter> recorder_;
+  std::unique_ptr<replay::RecordingWriter> recorder_;
   ardrone2::Endpoint at_endpoint_, navdata_endpoint_, video_endpoint_;
   ardrone2::Socket at_socket_, navdata_socket_;
 
@@ -141,4 +143,4 @@ class ArdroneLink final : public DroneLink {
   std::unique_ptr<ardrone2::VideoReceiver> video_receiver_;
 };
 
-}  // namespace labo
+}  // namespace labo::ardrone2

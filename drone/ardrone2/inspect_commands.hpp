@@ -5,7 +5,7 @@
 // reason on stderr.
 #include "core/cli_args.hpp"
 
-namespace labo {
+namespace labo::ardrone2 {
 
 const CommandSpec& navdata_command_spec();
 int run_navdata_command(const ParsedArgs& args);
@@ -13,4 +13,4 @@ int run_navdata_command(const ParsedArgs& args);
 const CommandSpec& video_command_spec();
 int run_video_command(const ParsedArgs& args);
 
-}  // namespace labo
+}  // namespace labo::ardrone2

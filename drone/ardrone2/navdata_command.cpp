@@ -9,7 +9,12 @@
 #include "drone/ardrone2/navdata_parser.hpp"
 #include "drone/replay/recording.hpp"
 
-namespace labo {
+namespace labo::ardrone2 {
+
+using replay::Record;
+using replay::RecordChannel;
+using replay::RecordingError;
+using replay::RecordingReader;
 
 using namespace ardrone2;
 
@@ -143,4 +148,4 @@ int run_navdata_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::ardrone2

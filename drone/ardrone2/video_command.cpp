@@ -10,7 +10,11 @@
 #include "drone/replay/replay_link.hpp"
 #include "drone/tello/tello_receivers.hpp"
 
-namespace labo {
+namespace labo::ardrone2 {
+
+using replay::RecordingError;
+using replay::RecordingReader;
+using replay::ReplayLink;
 
 using namespace ardrone2;
 
@@ -153,4 +157,4 @@ int run_video_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::ardrone2

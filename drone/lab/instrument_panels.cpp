@@ -6,7 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
-namespace labo {
+namespace labo::lab {
 
 namespace {
 
@@ -168,4 +168,4 @@ std::vector<std::filesystem::path> write_instrument_templates(const std::filesys
   return out;
 }
 
-}  // namespace labo
+}  // namespace labo::lab

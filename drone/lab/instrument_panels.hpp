@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace labo {
+namespace labo::lab {
 
 cv::Mat draw_oscilloscope_panel();        // 800 x 400 (0.40 x 0.20 m)
 cv::Mat draw_signal_generator_panel();    // 720 x 240 (0.36 x 0.12 m)
@@ -18,4 +18,4 @@ cv::Mat draw_landing_pattern();           // 600 x 600 (0.60 x 0.60 m)
 // Writes every template as <dir>/<name>.png; returns the paths written.
 std::vector<std::filesystem::path> write_instrument_templates(const std::filesystem::path& dir);
 
-}  // namespace labo
+}  // namespace labo::lab

@@ -6,7 +6,7 @@
 #include "drone/lab/lab_description.hpp"
 #include "core/source_tree.hpp"
 
-namespace labo {
+namespace labo::lab {
 
 const CommandSpec& sim_textures_command_spec() {
   static const CommandSpec spec{"sim textures",
@@ -48,4 +48,4 @@ int run_sim_lab_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::lab

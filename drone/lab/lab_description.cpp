@@ -10,7 +10,7 @@
 #include "core/config_reader.hpp"
 #include "core/source_tree.hpp"
 
-namespace labo {
+namespace labo::lab {
 
 namespace {
 
@@ -402,4 +402,4 @@ LabDescription load_lab_description(const std::filesystem::path& file) {
 
 std::filesystem::path default_lab_path() { return labo::source_root() / "config" / "lab.json"; }
 
-}  // namespace labo
+}  // namespace labo::lab

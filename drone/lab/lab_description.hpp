@@ -15,8 +15,10 @@
 #include <vector>
 
 namespace labo {
-
 class ConfigReader;
+}  // namespace labo
+
+namespace labo::lab {
 
 // An axis-aligned box in world coordinates (m).
 struct Box3 {
@@ -137,4 +139,4 @@ LabDescription read_lab_description(const ConfigReader& root, const std::filesys
 // config/lab.json of the source tree.
 std::filesystem::path default_lab_path();
 
-}  // namespace labo
+}  // namespace labo::lab

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstring>
 
-namespace labo {
+namespace labo::replay {
 
 namespace {
 constexpr char kSignature[8] = {'L', 'A', 'B', 'O', 'R', 'E', 'C', '1'};
@@ -118,4 +118,4 @@ RecordedDrone recorded_drone(const std::filesystem::path& file) {
   return RecordedDrone::Unknown;
 }
 
-}  // namespace labo
+}  // namespace labo::replay

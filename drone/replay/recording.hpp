@@ -20,7 +20,7 @@
 
 #include "core/time.hpp"
 
-namespace labo {
+namespace labo::replay {
 
 enum class RecordChannel : std::uint8_t {
   AtOut = 1,
@@ -98,4 +98,4 @@ class RecordingReader {
 enum class RecordedDrone { Unknown, Ardrone, Tello };
 RecordedDrone recorded_drone(const std::filesystem::path& file);
 
-}  // namespace labo
+}  // namespace labo::replay

@@ -5,7 +5,7 @@
 
 #include "drone/tello/tello_rc.hpp"
 
-namespace labo {
+namespace labo::replay {
 
 ReplayLink::ReplayLink(const std::filesystem::path& recording, Logger logger)
     : logger_(std::move(logger)), counters_(logger_), reader_(recording) {
@@ -139,4 +139,4 @@ void ReplayLink::play_tello_reply(std::span<const std::uint8_t> bytes, Seconds t
   tello_state_->command_finished(outcome, t);
 }
 
-}  // namespace labo
+}  // namespace labo::replay

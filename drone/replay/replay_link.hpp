@@ -16,7 +16,7 @@
 #include "drone/replay/recording.hpp"
 #include "drone/tello/tello_receivers.hpp"
 
-namespace labo {
+namespace labo::replay {
 
 class ReplayLink final : public DroneLink {
  public:
@@ -63,4 +63,4 @@ class ReplayLink final : public DroneLink {
   std::string tello_awaiting_;  // the Tello command sent and not answered yet
 };
 
-}  // namespace labo
+}  // namespace labo::replay

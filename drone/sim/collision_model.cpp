@@ -4,6 +4,10 @@
 
 namespace labo::sim {
 
+using lab::Box3;
+using lab::LabDescription;
+
+
 namespace {
 // A top face up to this far above the underside still counts as below it (resting contact).
 constexpr double kRestTolerance_m = 0.02;

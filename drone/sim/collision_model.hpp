@@ -21,7 +21,7 @@ struct HullShape {
 
 class CollisionModel {
  public:
-  CollisionModel(const LabDescription& lab, HullShape hull);
+  CollisionModel(const lab::LabDescription& lab, HullShape hull);
 
   // The teacher's body, a vertical cylinder on the floor; absent by default.
   void set_teacher(const std::optional<Eigen::Vector2d>& floor_xy, double radius_m, double height_m);
@@ -34,17 +34,17 @@ class CollisionModel {
   double support_height(const Eigen::Vector3d& p) const;
 
   const HullShape& hull() const { return hull_; }
-  const Box3& room() const { return room_; }
+  const lab::Box3& room() const { return room_; }
 
  private:
   struct Obstacle {
     std::string id;
-    Box3 box;
+    lab::Box3 box;
   };
-  bool footprint_overlaps(const Eigen::Vector3d& p, const Box3& box) const;
+  bool footprint_overlaps(const Eigen::Vector3d& p, const lab::Box3& box) const;
 
   HullShape hull_;
-  Box3 room_;
+  lab::Box3 room_;
   std::vector<Obstacle> obstacles_;
   std::optional<Eigen::Vector2d> teacher_xy_;
   double teacher_radius_m_ = 0, teacher_height_m_ = 0;

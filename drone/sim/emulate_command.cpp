@@ -14,6 +14,16 @@
 
 namespace labo::sim {
 
+using ardrone2::ArdroneEmulator;
+using ardrone2::ArdroneEmulatorSettings;
+using lab::LabDescription;
+using tello::TelloConfig;
+using tello::TelloEmulator;
+using tello::TelloEmulatorSettings;
+using tello::read_tello_config_of;
+using tello::tello_cameras;
+
+
 namespace {
 
 // Blocks SIGINT and SIGTERM in this thread and in the threads it starts afterwards, so that they

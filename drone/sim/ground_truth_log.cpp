@@ -7,6 +7,9 @@
 
 namespace labo::sim {
 
+using lab::LabDescription;
+
+
 namespace {
 
 void write_pose(std::ostream& out, const Eigen::Isometry3d& T) {

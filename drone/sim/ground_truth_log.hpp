@@ -17,7 +17,7 @@ namespace labo::sim {
 class GroundTruthLog {
  public:
   // Creates both files (and their folder); throws std::runtime_error naming a file it cannot write.
-  GroundTruthLog(const std::filesystem::path& file, const LabDescription& lab);
+  GroundTruthLog(const std::filesystem::path& file, const lab::LabDescription& lab);
   void record(const QuadrotorState& drone, const SceneState& scene);
   std::filesystem::path objects_file() const { return objects_file_; }
   std::size_t rows() const { return rows_; }

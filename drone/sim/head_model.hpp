@@ -10,9 +10,9 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-namespace labo {
+namespace labo::lab {
 struct LabDescription;
-}  // namespace labo
+}  // namespace labo::lab
 
 namespace labo::sim {
 
@@ -29,6 +29,6 @@ void validate(const TexturedHeadModel& head);
 
 // Builds the lab's teacher head (from the photograph of the lab's teacher spec); commands in drone/
 // take one from their caller, since only localization/ can make it.
-using TeacherHeadLoader = std::function<TexturedHeadModel(const LabDescription&)>;
+using TeacherHeadLoader = std::function<TexturedHeadModel(const lab::LabDescription&)>;
 
 }  // namespace labo::sim

@@ -6,6 +6,11 @@
 
 namespace labo::sim {
 
+using lab::Box3;
+using lab::InstrumentSpec;
+using lab::LabDescription;
+
+
 LabRenderer::CameraPipeline::CameraPipeline(const PinholeCamera& camera, const LabScene& scene, Eigen::Isometry3d T_bc)
     : rays(camera), tracer(rays, scene), blur(rays), T_body_cam(T_bc) {
   const std::size_t n = static_cast<std::size_t>(camera.width()) * static_cast<std::size_t>(camera.height());

@@ -43,12 +43,12 @@ class LabRenderer final : public SceneRenderer {
   // without it the teacher's head is drawn untextured. Throws std::runtime_error or
   // std::invalid_argument naming the problem (a missing template image, bad camera intrinsics, a bad
   // head model).
-  LabRenderer(const LabDescription& lab, const CamerasConfig& cameras, std::optional<TexturedHeadModel> head,
+  LabRenderer(const lab::LabDescription& lab, const CamerasConfig& cameras, std::optional<TexturedHeadModel> head,
               unsigned seed, LabRenderOptions options = {}, const CameraMounts& mounts = {});
 
   void render(CameraId camera, const SceneState& scene, cv::Mat& bgr) override;
   // Its panel and housing appended to the scene; the cameras' tracers are rebuilt over it.
-  void add_instrument(const InstrumentSpec& instrument) override;
+  void add_instrument(const lab::InstrumentSpec& instrument) override;
 
   const LabRenderOptions& options() const { return options_; }
   // Redraws the noise table when noise_sigma changes (not per frame).
@@ -86,8 +86,8 @@ class LabRenderer final : public SceneRenderer {
   Eigen::Isometry3d camera_pose(const CameraPipeline& p, const Eigen::Isometry3d& T_world_body) const;
 
   LabRenderOptions options_;
-  Box3 room_;
-  std::vector<Box3> solids_;  // what a camera stays above, boxed once (surface_height() recomputes the boxes per call)
+  lab::Box3 room_;
+  std::vector<lab::Box3> solids_;  // what a camera stays above, boxed once (surface_height() recomputes the boxes per call)
   LabScene scene_;
   TeacherFigure teacher_;
   unsigned seed_;
@@ -95,7 +95,7 @@ class LabRenderer final : public SceneRenderer {
   std::unique_ptr<CameraPipeline> front_, bottom_;
 };
 
-std::unique_ptr<SceneRenderer> make_lab_renderer(const LabDescription& lab, const CamerasConfig& cameras,
+std::unique_ptr<SceneRenderer> make_lab_renderer(const lab::LabDescription& lab, const CamerasConfig& cameras,
                                                  std::optional<TexturedHeadModel> head, unsigned seed,
                                                  LabRenderOptions options = {}, const CameraMounts& mounts = {});
 

@@ -16,6 +16,10 @@
 
 namespace labo::sim {
 
+using lab::LabDescription;
+using lab::load_lab_description;
+
+
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;

@@ -18,12 +18,12 @@ int run_sim_render_command(const ParsedArgs& args, const TeacherHeadLoader& load
 // The lab and cameras a render command draws: `--config FILE` (default config/default.json) and its
 // lab, or `--lab FILE`. Throws ConfigError / LabError naming the file and what is wrong.
 struct RenderSetup {
-  LabDescription lab;
+  lab::LabDescription lab;
   CamerasConfig cameras;
 };
 RenderSetup load_render_setup(const ParsedArgs& args);
 
 // The teacher standing at (x, y) on the floor, facing yaw (rad), eyes at the lab's eye height.
-Eigen::Isometry3d teacher_head_pose(const LabDescription& lab, double x, double y, double yaw);
+Eigen::Isometry3d teacher_head_pose(const lab::LabDescription& lab, double x, double y, double yaw);
 
 }  // namespace labo::sim

@@ -33,7 +33,7 @@ class SceneRenderer {
   virtual void render(CameraId camera, const SceneState& scene, cv::Mat& bgr) = 0;
   // An instrument placed in the lab after the renderer was built: drawn from the next frame on. A
   // renderer that draws no lab has nothing to add.
-  virtual void add_instrument(const InstrumentSpec& instrument) { (void)instrument; }
+  virtual void add_instrument(const lab::InstrumentSpec& instrument) { (void)instrument; }
 };
 
 }  // namespace labo::sim

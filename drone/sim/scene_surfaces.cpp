@@ -7,6 +7,11 @@
 
 namespace labo::sim {
 
+using lab::Box3;
+using lab::InstrumentSpec;
+using lab::LabDescription;
+
+
 namespace {
 
 // A face given its centre, outward normal and in-plane axes.

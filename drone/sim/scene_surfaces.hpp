@@ -34,9 +34,9 @@ struct LabScene {
 
 // Builds the static scene; procedural textures drawn from lab.texture_seed. Throws std::runtime_error
 // naming the file when an instrument's template image is missing or cannot be decoded.
-LabScene build_lab_scene(const LabDescription& lab);
+LabScene build_lab_scene(const lab::LabDescription& lab);
 // An instrument placed after the scene was built (an admin's upload): its panel and housing appended,
 // the housing's textures drawn from `seed`. Throws as build_lab_scene does.
-void append_instrument(LabScene& scene, const InstrumentSpec& instrument, unsigned seed);
+void append_instrument(LabScene& scene, const lab::InstrumentSpec& instrument, unsigned seed);
 
 }  // namespace labo::sim

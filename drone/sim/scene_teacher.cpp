@@ -7,6 +7,9 @@
 
 namespace labo::sim {
 
+using lab::TeacherSpec;
+
+
 namespace {
 
 constexpr double kShoulderBelowEyes_m = 0.25;

@@ -24,7 +24,7 @@ class TeacherFigure {
  public:
   // Without a head model the face is left out (the head is the plain ellipsoid).
   // Throws std::invalid_argument when `head` fails validate().
-  TeacherFigure(const TeacherSpec& spec, std::optional<TexturedHeadModel> head);
+  TeacherFigure(const lab::TeacherSpec& spec, std::optional<TexturedHeadModel> head);
 
   // Projects the teacher for a camera at T_world_cam; out.box is empty when the teacher is absent or out of view.
   void project(const SceneState& scene, const Eigen::Isometry3d& T_world_cam, const PinholeCamera& camera, float max_radius,

@@ -7,6 +7,9 @@
 
 namespace labo::sim {
 
+using lab::LabDescription;
+
+
 namespace {
 constexpr double kSeaLevelPressure_pa = 101325.0;
 constexpr double kPressureGradient_pa_per_m = 12.0;  // ρ·g near sea level

@@ -55,9 +55,9 @@ struct SensorBiases {
 
 class SensorModel {
  public:
-  SensorModel(SensorNoise noise, const LabDescription& lab, std::uint64_t seed, const SensorBiases& biases = {});
+  SensorModel(SensorNoise noise, const lab::LabDescription& lab, std::uint64_t seed, const SensorBiases& biases = {});
   // An instrument placed while the lab runs: a surface the ultrasound sees from then on.
-  void add_instrument(const InstrumentSpec& instrument) { lab_.instruments.push_back(instrument); }
+  void add_instrument(const lab::InstrumentSpec& instrument) { lab_.instruments.push_back(instrument); }
 
   // Samples every sensor for the true state after a physics step of `dt`.
   void update(const QuadrotorState& truth, Seconds dt);
@@ -77,7 +77,7 @@ class SensorModel {
 
   SensorNoise noise_;
   SensorBiases biases_;
-  LabDescription lab_;
+  lab::LabDescription lab_;
   std::mt19937_64 rng_;
   std::normal_distribution<double> normal_{0.0, 1.0};
   std::uniform_real_distribution<double> uniform_{0.0, 1.0};

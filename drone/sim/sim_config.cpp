@@ -9,6 +9,10 @@
 
 namespace labo::sim {
 
+using ardrone2::ArdroneLinkSettings;
+using ardrone2::read_ardrone_link_settings;
+
+
 namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;

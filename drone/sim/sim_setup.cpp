@@ -5,6 +5,12 @@
 
 namespace labo::sim {
 
+using ardrone2::ArdroneEmulatorSettings;
+using ardrone2::read_ardrone_emulator_settings;
+using lab::LabDescription;
+using lab::load_lab_description;
+
+
 std::unique_ptr<SceneRenderer> make_scene_renderer(const LabDescription& lab, const CamerasConfig& cameras,
                                                    std::optional<TexturedHeadModel> head, unsigned seed,
                                                    const CameraMounts& mounts) {

@@ -20,12 +20,12 @@ namespace labo::sim {
 // (drone/sim/lab_renderer.hpp, docs/sim_rendering.md), the teacher's face textured from `head`
 // (localization/face/teacher_head.hpp builds it; without it the head is drawn untextured), the sensor
 // noise drawn from `seed`.
-std::unique_ptr<SceneRenderer> make_scene_renderer(const LabDescription& lab, const CamerasConfig& cameras,
+std::unique_ptr<SceneRenderer> make_scene_renderer(const lab::LabDescription& lab, const CamerasConfig& cameras,
                                                    std::optional<TexturedHeadModel> head, unsigned seed,
                                                    const CameraMounts& mounts = {});
 
 // A simulated lab with make_scene_renderer()'s cameras (noise seeded by settings.seed).
-std::unique_ptr<SimulatedLab> make_simulated_lab(const LabDescription& lab, const CamerasConfig& cameras,
+std::unique_ptr<SimulatedLab> make_simulated_lab(const lab::LabDescription& lab, const CamerasConfig& cameras,
                                                  const SimulatedLabSettings& settings,
                                                  std::optional<TexturedHeadModel> head = std::nullopt);
 // The simulated lab of a world (drone/sim/sim_world.hpp): its lab, cameras and mountings, its drone.
@@ -35,10 +35,10 @@ std::unique_ptr<SimulatedLab> make_simulated_lab(const SimWorld& world, std::opt
 // What the simulated lab's own commands (emulate, bench sim) read from a configuration file: only
 // their sections (cameras, emulator, sim, lab); `labodrone serve` validates the whole file.
 struct SimInputs {
-  LabDescription lab;
+  lab::LabDescription lab;
   CamerasConfig cameras;
   SimConfig sim;
-  ArdroneEmulatorSettings emulator;
+  ardrone2::ArdroneEmulatorSettings emulator;
 };
 // `lab_file` overrides the config's "lab". Throws ConfigError naming the file, key and reason.
 SimInputs load_sim_inputs(const std::filesystem::path& config_file,

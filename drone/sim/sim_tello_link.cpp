@@ -13,6 +13,8 @@
 
 namespace labo::sim {
 
+using tello::TelloConfig;
+
 using namespace tello;
 
 namespace {

@@ -44,9 +44,9 @@
 #include "drone/tello/tello_firmware.hpp"
 #include "drone/tello/tello_receivers.hpp"
 
-namespace labo {
+namespace labo::tello {
 struct TelloConfig;
-}  // namespace labo
+}  // namespace labo::tello
 
 namespace labo::sim {
 
@@ -64,7 +64,7 @@ struct SimTelloSettings {
   bool downvision = true;                    // tello.link.downvision: ask for the downward camera
   int video_gop = 30, video_bitrate_kbps = 2000;  // the encoder's, with SimLinkSettings::h264
 };
-SimTelloSettings sim_tello_settings(const TelloConfig& tello);
+SimTelloSettings sim_tello_settings(const tello::TelloConfig& tello);
 
 class SimTelloLink final : public LockstepDroneLink {
  public:

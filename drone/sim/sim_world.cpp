@@ -8,6 +8,10 @@
 
 namespace labo::sim {
 
+using lab::InstrumentSpec;
+using lab::LabDescription;
+
+
 namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;

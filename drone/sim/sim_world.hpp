@@ -93,7 +93,7 @@ struct PlacementDraw {
 struct SimWorld {
   WorldMode mode = WorldMode::Nominal;
   std::uint64_t seed = 1;
-  LabDescription lab;              // the placements as they are, the teacher's walk as walked
+  lab::LabDescription lab;              // the placements as they are, the teacher's walk as walked
   CamerasConfig cameras;           // the cameras as they are
   CameraMounts mounts;
   SimulatedLabSettings settings;   // the drone, its sensors' biases, the events
@@ -105,7 +105,7 @@ struct SimWorld {
 
 // The world of a run seeded `sim.lab.seed`: the configuration itself when `sim.world` is nominal, a
 // draw around it when randomized. Deterministic: the same inputs give the same world.
-SimWorld make_sim_world(const LabDescription& lab_file, const CamerasConfig& calibration, const SimConfig& sim,
+SimWorld make_sim_world(const lab::LabDescription& lab_file, const CamerasConfig& calibration, const SimConfig& sim,
                         const WorldRanges& ranges = {});
 
 }  // namespace labo::sim

@@ -7,6 +7,10 @@
 
 namespace labo::sim {
 
+using lab::InstrumentSpec;
+using lab::LabDescription;
+
+
 namespace {
 // A time within this of a step boundary counts as reaching it (the emulator's clock is a double).
 constexpr Seconds kTimeEpsilon = 1e-9;

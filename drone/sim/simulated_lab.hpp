@@ -42,7 +42,7 @@ struct SimProfile {
 class SimulatedLab final : public EmulatedVehicle {
  public:
   // Starts landed on the platform (lab.T_world_base) at t = 0. `renderer` must not be null.
-  SimulatedLab(LabDescription lab, SimulatedLabSettings settings, std::unique_ptr<SceneRenderer> renderer);
+  SimulatedLab(lab::LabDescription lab, SimulatedLabSettings settings, std::unique_ptr<SceneRenderer> renderer);
   SimulatedLab(const SimulatedLab&) = delete;
   SimulatedLab& operator=(const SimulatedLab&) = delete;
 
@@ -63,11 +63,11 @@ class SimulatedLab final : public EmulatedVehicle {
   // Ground truth and the scene the cameras see now.
   const QuadrotorState& truth() const { return dynamics_.state(); }
   SceneState scene() const;
-  const LabDescription& lab() const { return lab_; }
+  const lab::LabDescription& lab() const { return lab_; }
   // An instrument placed while the lab runs (an admin's upload): an obstacle, a surface under the
   // ultrasound and a panel in the cameras' view from the next step. Throws std::runtime_error when its
   // template cannot be read (the lab is left as it was).
-  void add_instrument(const InstrumentSpec& instrument);
+  void add_instrument(const lab::InstrumentSpec& instrument);
   // Disturbances from now on (in addition to the settings' ones).
   void schedule(const Disturbance& disturbance) { disturbances_.add(disturbance); }
   bool video_dropout() const { return disturbances_.video_dropout_at(dynamics_.state().t); }
@@ -85,7 +85,7 @@ class SimulatedLab final : public EmulatedVehicle {
   void step();
   void apply_disturbances(Seconds from, Seconds to);
 
-  LabDescription lab_;
+  lab::LabDescription lab_;
   SimulatedLabSettings settings_;
   std::unique_ptr<SceneRenderer> renderer_;
   QuadrotorDynamics dynamics_;

@@ -9,6 +9,10 @@
 
 namespace labo::sim {
 
+using lab::HeadMotionSpec;
+using lab::TeacherSpec;
+
+
 namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;

@@ -29,7 +29,7 @@ class TeacherMotion {
  public:
   // Throws std::invalid_argument when the path has no waypoint, the speed is not positive or the
   // pauses are not one per waypoint.
-  explicit TeacherMotion(const TeacherSpec& spec);
+  explicit TeacherMotion(const lab::TeacherSpec& spec);
   TeacherPose pose(Seconds t) const { return pose(t, t); }
   // Where the walk has got after `walk_t` seconds of walking and standing, the head turned as at
   // `head_t` (a teacher who stopped for the drone walks on later than the path's time; the head
@@ -44,7 +44,7 @@ class TeacherMotion {
     Seconds pause_start = 0, walk_start = 0, walk_end = 0;  // within one cycle
     double heading_in = 0, heading_out = 0;     // arriving at `from`, leaving it
   };
-  TeacherSpec spec_;
+  lab::TeacherSpec spec_;
   std::vector<Leg> legs_;
   Seconds cycle_s_ = 0;
 };

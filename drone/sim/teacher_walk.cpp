@@ -9,6 +9,10 @@
 
 namespace labo::sim {
 
+using lab::LabDescription;
+using lab::TeacherSpec;
+
+
 namespace {
 
 constexpr int kTriesPerLeg = 400;

@@ -31,11 +31,11 @@ struct TeacherWalkRanges {
 
 // The teacher of `lab` (face, eye height, body) walking a drawn path; throws std::runtime_error when
 // the lab has no free floor to walk on.
-TeacherSpec random_teacher_walk(const LabDescription& lab, std::uint64_t seed, const TeacherWalkRanges& ranges = {});
+lab::TeacherSpec random_teacher_walk(const lab::LabDescription& lab, std::uint64_t seed, const TeacherWalkRanges& ranges = {});
 
 // Whether a teacher of `body_radius_m` standing at `xy` is clear of the walls by `wall_clearance_m`
 // and of every object over the floor by `object_clearance_m`.
-bool on_free_floor(const LabDescription& lab, const Eigen::Vector2d& xy, double body_radius_m, double wall_clearance_m,
+bool on_free_floor(const lab::LabDescription& lab, const Eigen::Vector2d& xy, double body_radius_m, double wall_clearance_m,
                    double object_clearance_m);
 
 }  // namespace labo::sim

@@ -7,6 +7,10 @@
 
 namespace labo::sim {
 
+using lab::LabDescription;
+using lab::TeacherSpec;
+
+
 namespace {
 // A teacher giving way walks on once the drone is this much farther than keep_clear_m (it hovers
 // and jitters at the edge: no stop-and-go at 30 Hz).

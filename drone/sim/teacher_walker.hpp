@@ -19,10 +19,10 @@ class TeacherWalker {
  public:
   static constexpr double kCorridorMarginM = 0.3;  // about the drone's hull radius
 
-  explicit TeacherWalker(const TeacherSpec& spec);
+  explicit TeacherWalker(const lab::TeacherSpec& spec);
   // Walks on to time `t` (not before the last call), the drone's centre at `drone` (world); `lab`
   // tells where a side step may go.
-  void advance(Seconds t, const Eigen::Vector3d& drone, const LabDescription& lab);
+  void advance(Seconds t, const Eigen::Vector3d& drone, const lab::LabDescription& lab);
   const TeacherPose& pose() const { return pose_; }
   bool giving_way() const { return giving_way_; }
   // How far aside of the path the teacher stands now (m).
@@ -32,11 +32,11 @@ class TeacherWalker {
   bool in_the_way(const TeacherPose& on_path, const Eigen::Vector3d& drone) const;
   // Walking by the drone (it is beside or ahead of them, near): a side step is kept meanwhile.
   bool passing(const TeacherPose& on_path, const Eigen::Vector3d& drone) const;
-  void step_aside(const TeacherPose& on_path, const Eigen::Vector3d& drone, double dt, const LabDescription& lab);
+  void step_aside(const TeacherPose& on_path, const Eigen::Vector3d& drone, double dt, const lab::LabDescription& lab);
   TeacherPose place(Seconds head_t) const;
 
   TeacherMotion motion_;
-  GiveWaySpec give_way_;
+  lab::GiveWaySpec give_way_;
   double body_radius_m_;
   Seconds t_ = 0;
   Seconds walk_t_ = 0;  // the path's own time: it stands still while the teacher gives way

@@ -6,7 +6,7 @@
 #include "core/config_reader.hpp"
 #include "drone/tello/tello_camera_switch.hpp"
 
-namespace labo {
+namespace labo::tello {
 
 namespace {
 constexpr int kWidth = 960, kHeight = 720;
@@ -80,4 +80,4 @@ CamerasConfig tello_cameras(const TelloConfig& tello, const CamerasConfig& camer
   return c;
 }
 
-}  // namespace labo
+}  // namespace labo::tello

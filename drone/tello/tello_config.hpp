@@ -14,7 +14,7 @@
 #include "drone/tello/tello_emulator.hpp"
 #include "drone/tello/tello_link.hpp"
 
-namespace labo {
+namespace labo::tello {
 
 // The default above: 960x720, f = 683 px, centred, no distortion.
 CameraIntrinsics tello_front_camera();
@@ -40,4 +40,4 @@ TelloConfig read_tello_config_of(const ConfigReader& root);
 // `cameras` with the front and bottom cameras replaced by the Tello's.
 CamerasConfig tello_cameras(const TelloConfig& tello, const CamerasConfig& cameras);
 
-}  // namespace labo
+}  // namespace labo::tello

@@ -11,7 +11,7 @@
 #include "drone/tello/tello_camera_switch.hpp"
 #include "drone/tello/tello_command.hpp"
 
-namespace labo {
+namespace labo::tello {
 
 using namespace tello;
 using ardrone2::Endpoint;
@@ -217,4 +217,4 @@ void TelloEmulator::video_loop() {
   }
 }
 
-}  // namespace labo
+}  // namespace labo::tello

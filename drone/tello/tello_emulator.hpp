@@ -20,8 +20,10 @@
 #include "drone/tello/tello_firmware.hpp"
 
 namespace labo {
-
 class ConfigReader;
+}  // namespace labo
+
+namespace labo::tello {
 
 struct TelloEmulatorSettings {
   std::string bind_host = "127.0.0.1";
@@ -93,4 +95,4 @@ class TelloEmulator {
   std::thread command_thread_, state_thread_, video_thread_;
 };
 
-}  // namespace labo
+}  // namespace labo::tello

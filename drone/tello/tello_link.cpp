@@ -11,11 +11,16 @@
 
 #include "core/config_reader.hpp"
 
-namespace labo {
+namespace labo::tello {
 
-using namespace tello;
 using ardrone2::Endpoint;
 using ardrone2::Socket;
+using replay::RecordChannel;
+using replay::RecordingWriter;
+using replay::kNoteTelloGaveUpPrefix;
+using replay::kNoteVideoConnected;
+
+using namespace tello;
 
 namespace {
 constexpr int kVideoReceiveBufferBytes = 2 << 20;  // an IDR arrives as a burst of ~100 datagrams
@@ -388,4 +393,4 @@ void TelloLink::video_loop() {
   }
 }
 
-}  // namespace labo
+}  // namespace labo::tello

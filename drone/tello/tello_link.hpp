@@ -33,8 +33,10 @@
 #include "drone/tello/tello_wire.hpp"
 
 namespace labo {
-
 class ConfigReader;
+}  // namespace labo
+
+namespace labo::tello {
 
 struct TelloLinkSettings {
   std::string host = "192.168.10.1";  // the Tello's own access point
@@ -101,8 +103,8 @@ class TelloLink final : public DroneLink {
   void supervise(Seconds t);
   void set_state(LinkState s, Seconds t);
   void enter_sdk_mode();
-  void send_datagram(RecordChannel channel, std::string_view text, Seconds t);
-  void record(RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes);
+  void send_datagram(replay::RecordChannel channel, std::string_view text, Seconds t);
+  void record(replay::RecordChannel channel, Seconds t, std::span<const std::uint8_t> bytes);
   bool from_drone(const ardrone2::Endpoint& from, Seconds t, std::string_view kind);
 
   TelloLinkSettings settings_;
@@ -112,7 +114,7 @@ class TelloLink final : public DroneLink {
   ardrone2::LinkCounters counters_;
   LinkStatus status_;
   RateLimiter refusals_{1.0};  // what the Tello cannot do, logged at most once a second per kind
-  std::unique_ptr<RecordingWriter> recorder_;
+  std::unique_ptr<replay::RecordingWriter> recorder_;
   ardrone2::Endpoint command_endpoint_;
   ardrone2::Socket command_socket_, state_socket_, video_socket_;
 
@@ -138,4 +140,4 @@ class TelloLink final : public DroneLink {
   std::unique_ptr<tello::TelloVideoReceiver> video_receiver_;
 };
 
-}  // namespace labo
+}  // namespace labo::tello

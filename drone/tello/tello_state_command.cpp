@@ -8,7 +8,12 @@
 #include "drone/replay/recording.hpp"
 #include "drone/tello/tello_wire.hpp"
 
-namespace labo {
+namespace labo::tello {
+
+using replay::Record;
+using replay::RecordChannel;
+using replay::RecordingError;
+using replay::RecordingReader;
 
 using namespace tello;
 
@@ -127,4 +132,4 @@ int run_tello_state_command(const ParsedArgs& args) {
   return 0;
 }
 
-}  // namespace labo
+}  // namespace labo::tello

@@ -7,9 +7,9 @@
 // one-line reason on stderr otherwise (unreadable file, larger than 64 MiB, no valid state string).
 #include "core/cli_args.hpp"
 
-namespace labo {
+namespace labo::tello {
 
 const CommandSpec& tello_state_command_spec();
 int run_tello_state_command(const ParsedArgs& args);
 
-}  // namespace labo
+}  // namespace labo::tello

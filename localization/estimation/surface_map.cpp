@@ -7,6 +7,10 @@
 
 namespace labo::estimation {
 
+using lab::Box3;
+using lab::LabDescription;
+
+
 double SurfaceMap::height_at(const Eigen::Vector2d& xy) const {
   double h = floor_z_;
   bool on_rect = false;

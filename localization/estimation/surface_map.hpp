@@ -6,9 +6,9 @@
 #include <optional>
 #include <vector>
 
-namespace labo {
+namespace labo::lab {
 struct LabDescription;
-}  // namespace labo
+}  // namespace labo::lab
 
 namespace labo::estimation {
 
@@ -45,6 +45,6 @@ class SurfaceMap {
 
 // The tops the ultrasound can see in a lab description: benches, instrument housings, the platform,
 // over the room's floor.
-SurfaceMap surface_map_of(const LabDescription& lab);
+SurfaceMap surface_map_of(const lab::LabDescription& lab);
 
 }  // namespace labo::estimation

@@ -10,6 +10,9 @@
 
 namespace labo::face {
 
+using lab::LabDescription;
+
+
 TexturedHeadModel to_head_model(const Candide3Model& candide, const TexturedHead& head, const cv::Mat& photo_bgr) {
   TexturedHeadModel model;
   model.vertices_face_m = head_vertices_m(candide, head);

@@ -25,6 +25,6 @@ TexturedHeadModel load_teacher_head(const std::filesystem::path& photo, double i
 
 // The lab's teacher: the photograph `teacher.face_image` (relative to the lab file's folder) at the
 // teacher's interpupillary distance.
-TexturedHeadModel load_lab_teacher_head(const LabDescription& lab, const FaceConfig& config = default_face_config());
+TexturedHeadModel load_lab_teacher_head(const lab::LabDescription& lab, const FaceConfig& config = default_face_config());
 
 }  // namespace labo::face

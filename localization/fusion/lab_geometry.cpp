@@ -5,6 +5,10 @@
 
 namespace labo::fusion {
 
+using lab::InstrumentSpec;
+using lab::LabDescription;
+
+
 PlanarTarget planar_target_of(const InstrumentSpec& spec) {
   PlanarTarget t;
   t.id = spec.id;

@@ -14,10 +14,10 @@
 
 #include "localization/estimation/surface_map.hpp"
 
-namespace labo {
+namespace labo::lab {
 struct LabDescription;
 struct InstrumentSpec;
-}  // namespace labo
+}  // namespace labo::lab
 
 namespace labo::fusion {
 
@@ -53,8 +53,8 @@ struct LabGeometry {
 // The room, the base (the drone's pose on the platform's top), every instrument's front panel and
 // the platform's top as planar targets with their templates and per-object thresholds, and the
 // surfaces under the drone (bench, platform and housing tops).
-LabGeometry lab_geometry_from(const LabDescription& lab);
+LabGeometry lab_geometry_from(const lab::LabDescription& lab);
 // One instrument of a lab description as a planar target.
-PlanarTarget planar_target_of(const InstrumentSpec& spec);
+PlanarTarget planar_target_of(const lab::InstrumentSpec& spec);
 
 }  // namespace labo::fusion

@@ -4,6 +4,10 @@
 
 namespace labo::server {
 
+using lab::Box3;
+using lab::InstrumentSpec;
+
+
 namespace {
 
 Box3 box_of(const LabFootprint& f) { return {{f.min_x_m, f.min_y_m, f.min_z_m}, {f.max_x_m, f.max_y_m, f.max_z_m}}; }

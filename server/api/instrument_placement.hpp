@@ -10,6 +10,6 @@
 namespace labo::server {
 
 // Empty when it fits; else what it runs into.
-std::string placement_problem(const InstrumentSpec& instrument, const LabOutline& lab);
+std::string placement_problem(const lab::InstrumentSpec& instrument, const LabOutline& lab);
 
 }  // namespace labo::server

@@ -11,6 +11,9 @@
 // Stored placed uploads are placed again when the server starts.
 namespace labo::server {
 
+using lab::InstrumentSpec;
+
+
 namespace http = boost::beast::http;
 using nlohmann::json;
 

@@ -13,6 +13,9 @@
 
 namespace labo::server {
 
+using lab::InstrumentSpec;
+using lab::panel_pose;
+
 using nlohmann::json;
 
 namespace {

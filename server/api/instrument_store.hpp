@@ -68,6 +68,6 @@ class InstrumentStore {
 };
 
 // The lab description's instrument for a placed upload (its template at `template_path`).
-InstrumentSpec instrument_spec_of(const UploadedInstrument& u, const std::filesystem::path& template_path);
+lab::InstrumentSpec instrument_spec_of(const UploadedInstrument& u, const std::filesystem::path& template_path);
 
 }  // namespace labo::server

@@ -173,7 +173,7 @@ class FlightService {
   // Places an instrument in the lab, live: inspectable once accepted (and, in the simulated lab, its
   // panel drawn where `spec` says). Refused with the reason: an id the lab has, a panel outside the
   // room, a template the vision cannot use, or a flight service that cannot.
-  virtual CommandVerdict add_instrument(const InstrumentSpec& spec) {
+  virtual CommandVerdict add_instrument(const lab::InstrumentSpec& spec) {
     return {false, "instrument '" + spec.id + "': this flight service cannot add instruments"};
   }
   // No longer inspectable (refused while a mission inspects it). The simulated lab keeps drawing its

@@ -7,6 +7,10 @@
 
 namespace labo::server {
 
+using ardrone2::ArdroneEmulatorSettings;
+using ardrone2::ArdroneLink;
+using ardrone2::ArdroneLinkSettings;
+
 using sim::SimulatedLab;
 using sim::make_sim_world;
 using sim::make_simulated_lab;

@@ -26,7 +26,7 @@ control::FlightStackSetup flight_stack_setup(const AppConfig& config, const Came
 FlightRuntimeOptions flight_runtime_options(const AppConfig& config);
 // The same for an AR.Drone 2.0 (or the emulator) behind `link`: both cameras, and the bit rate the
 // link asks of the drone, changed through it.
-FlightRuntimeOptions flight_runtime_options(const AppConfig& config, ArdroneLink& link);
+FlightRuntimeOptions flight_runtime_options(const AppConfig& config, ardrone2::ArdroneLink& link);
 // The same for a drone whose video has one camera and no bit-rate setting (`no_bottom_camera` says why).
 FlightRuntimeOptions flight_runtime_options(const AppConfig& config, const std::string& drone, const std::string& no_bottom_camera);
 
@@ -34,8 +34,8 @@ FlightRuntimeOptions flight_runtime_options(const AppConfig& config, const std::
 // photograph (built here because drone/ cannot call localization/).
 std::unique_ptr<SimulatedLab> make_configured_lab(const AppConfig& config);
 // config.emulator on 127.0.0.1 with free ports (0), so several servers and tests run side by side.
-ArdroneEmulatorSettings loopback_emulator_settings(const AppConfig& config);
+ardrone2::ArdroneEmulatorSettings loopback_emulator_settings(const AppConfig& config);
 // config.link pointed at an emulator (or anything speaking for it) on 127.0.0.1 at these ports.
-ArdroneLinkSettings loopback_link_settings(const AppConfig& config, int at_port, int navdata_port, int video_port);
+ardrone2::ArdroneLinkSettings loopback_link_settings(const AppConfig& config, int at_port, int navdata_port, int video_port);
 
 }  // namespace labo::server

@@ -16,6 +16,17 @@
 
 namespace labo::server {
 
+using ardrone2::ArdroneEmulator;
+using ardrone2::ArdroneLink;
+using ardrone2::ArdroneLinkSettings;
+using lab::InstrumentSpec;
+using replay::RecordedDrone;
+using replay::ReplayLink;
+using replay::recorded_drone;
+using tello::TelloLink;
+using tello::TelloLinkSettings;
+using tello::tello_cameras;
+
 using sim::SimulatedLab;
 
 

@@ -49,7 +49,7 @@ class FlightCore {
   virtual FlightSnapshot status() = 0;
   virtual std::vector<InstrumentSummary> instruments() const = 0;
   // An instrument placed in the lab while the server runs (FlightService::add_instrument).
-  virtual CommandVerdict add_instrument(const InstrumentSpec& spec) {
+  virtual CommandVerdict add_instrument(const lab::InstrumentSpec& spec) {
     return {false, "instrument '" + spec.id + "': this flight software cannot add instruments"};
   }
   virtual CommandVerdict remove_instrument(const std::string& id) {

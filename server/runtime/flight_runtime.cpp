@@ -6,6 +6,9 @@
 
 namespace labo::server {
 
+using lab::InstrumentSpec;
+
+
 namespace {
 double unix_now_s() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();

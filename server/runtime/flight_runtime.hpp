@@ -53,7 +53,7 @@ struct FlightRuntimeOptions {
   // After the flight software has placed an instrument: the same in the world the drone flies (the
   // simulated lab draws its panel; throws std::exception naming what failed). Empty: a real lab,
   // where the admin has put the instrument there.
-  std::function<void(const InstrumentSpec&)> place_in_world;
+  std::function<void(const lab::InstrumentSpec&)> place_in_world;
   std::size_t navdata_ring = 256;
   double request_timeout_s = 2.0;
 };
@@ -70,7 +70,7 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
   FlightTelemetry telemetry() const override;
   std::vector<InstrumentSummary> instruments() const override;
   LabOutline lab_outline() const override { return options_.lab_outline; }
-  CommandVerdict add_instrument(const InstrumentSpec& spec) override;
+  CommandVerdict add_instrument(const lab::InstrumentSpec& spec) override;
   CommandVerdict remove_instrument(const std::string& id) override;
   void land_and_stop(double timeout_s) override;
   VideoCapabilities video_capabilities() const override;

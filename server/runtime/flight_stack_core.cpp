@@ -6,6 +6,9 @@
 
 namespace labo::server {
 
+using lab::InstrumentSpec;
+
+
 namespace {
 
 PoseXyzYaw xyz_yaw(const Eigen::Isometry3d& T) {

@@ -26,7 +26,7 @@ class FlightStackCore final : public FlightCore {
   CommandVerdict request(const MissionCommand& command, Seconds t) override;
   FlightSnapshot status() override;
   std::vector<InstrumentSummary> instruments() const override;
-  CommandVerdict add_instrument(const InstrumentSpec& spec) override;
+  CommandVerdict add_instrument(const lab::InstrumentSpec& spec) override;
   CommandVerdict remove_instrument(const std::string& id) override;
 
   control::FlightStack& stack() { return *stack_; }

@@ -4,6 +4,11 @@
 
 namespace labo::server {
 
+using lab::BenchSpec;
+using lab::Box3;
+using lab::LabDescription;
+
+
 namespace {
 
 LabFootprint footprint(const std::string& id, const Box3& box) {

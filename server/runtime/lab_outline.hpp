@@ -5,6 +5,6 @@
 
 namespace labo::server {
 
-LabOutline lab_outline_from(const LabDescription& lab);
+LabOutline lab_outline_from(const lab::LabDescription& lab);
 
 }  // namespace labo::server

@@ -12,6 +12,7 @@
 #include "teacher_walks.hpp"
 
 using namespace labo;
+using namespace labo::lab;
 using namespace labo::sim;
 using namespace labo::control;
 using namespace labo::bench;

@@ -140,6 +140,7 @@ void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::fre
 void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 
 using namespace labo;
+using namespace labo::lab;
 using namespace labo::bench;
 
 namespace {

@@ -6,6 +6,7 @@
 #include "teacher_walks.hpp"
 
 using namespace labo;
+using namespace labo::lab;
 using namespace labo::control;
 
 TEST_CASE("control: lab_geometry_from maps config/lab.json's room, base, instruments and platform") {

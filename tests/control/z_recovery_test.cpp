@@ -18,6 +18,7 @@
 #include "drone/sim/quadrotor_dynamics.hpp"
 
 using namespace labo;
+using namespace labo::lab;
 using namespace labo::sim;
 using namespace labo::control;
 

@@ -27,6 +27,9 @@
 #include "tests/drone/sim/loopback_support.hpp"
 
 using namespace labo;
+using namespace labo::ardrone2;
+using namespace labo::replay;
+using namespace labo::tello;
 
 namespace {
 

@@ -10,6 +10,7 @@
 #include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using namespace labo::lab;
 using labo::test::ScratchDir;
 using nlohmann::json;
 

@@ -7,6 +7,7 @@
 #include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using namespace labo::tello;
 using namespace labo::server;
 using labo::test::ScratchDir;
 

@@ -14,6 +14,8 @@
 #include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using namespace labo::replay;
+using namespace labo::tello;
 using namespace labo::server;
 using labo::test::ScratchDir;
 

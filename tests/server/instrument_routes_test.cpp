@@ -13,6 +13,7 @@
 #include "tests/server/support/test_clients.hpp"
 
 using namespace labo;
+using namespace labo::lab;
 using namespace labo::server;
 using namespace labo::server::test;
 using nlohmann::json;

@@ -8,6 +8,7 @@
 #include "tests/drone/sim/render_fixtures.hpp"
 
 using namespace labo;
+using namespace labo::lab;
 using namespace labo::server;
 using namespace labo::test;
 

@@ -10,6 +10,7 @@
 #include "tests/drone/ardrone2/tiny_vehicle.hpp"
 
 using namespace labo;
+using namespace labo::ardrone2;
 using namespace labo::bench;
 
 namespace {

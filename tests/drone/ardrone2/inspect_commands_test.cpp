@@ -10,6 +10,7 @@
 #include "tests/support/cli_run.hpp"
 
 using namespace labo;
+using namespace labo::ardrone2;
 
 namespace {
 

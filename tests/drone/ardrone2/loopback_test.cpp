@@ -19,6 +19,7 @@
 #include "tests/drone/link_events.hpp"
 
 using namespace labo;
+using namespace labo::ardrone2;
 
 namespace {
 

@@ -5,6 +5,7 @@
 #include "drone/ardrone2/ardrone_link.hpp"
 
 using namespace labo;
+using namespace labo::ardrone2;
 
 TEST_CASE("link: link and emulator settings are read and validated", "[link]") {
   auto doc = ConfigDocument::parse(R"({"host": "10.0.0.2", "lost_after_s": 3.0, "full_navdata": true})", "t.json");

@@ -93,8 +93,8 @@ class TinyVehicle : public EmulatedVehicle {
 };
 
 // Driver settings that talk to `emulator` on loopback (its ports are chosen by the OS).
-inline ArdroneLinkSettings link_settings_for(const ArdroneEmulator& emulator) {
-  ArdroneLinkSettings ls;
+inline ardrone2::ArdroneLinkSettings link_settings_for(const ardrone2::ArdroneEmulator& emulator) {
+  ardrone2::ArdroneLinkSettings ls;
   ls.host = "127.0.0.1";
   ls.at_port = emulator.at_port();
   ls.navdata_port = emulator.navdata_port();

@@ -18,6 +18,8 @@
 #include "tests/drone/link_events.hpp"
 
 using namespace labo;
+using namespace labo::ardrone2;
+using namespace labo::replay;
 
 namespace {
 

@@ -43,7 +43,7 @@ inline SceneState still_scene(const Eigen::Isometry3d& T_world_body, bool teache
 }
 
 // The teacher standing at (x, y), facing yaw.
-inline void place_teacher(SceneState& s, const LabDescription& lab, double x, double y, double yaw) {
+inline void place_teacher(SceneState& s, const lab::LabDescription& lab, double x, double y, double yaw) {
   const Eigen::Vector3d f(std::cos(yaw), std::sin(yaw), 0.0), up = Eigen::Vector3d::UnitZ();
   s.teacher_present = true;
   s.teacher_floor_xy = {x, y};

@@ -4,6 +4,7 @@
 #include "render_fixtures.hpp"
 
 using namespace labo;
+using namespace labo::lab;
 using namespace labo::sim;
 using namespace labo::test;
 

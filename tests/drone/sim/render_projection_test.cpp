@@ -7,6 +7,7 @@
 #include "tests/support/scratch_dir.hpp"
 
 using namespace labo;
+using namespace labo::lab;
 using namespace labo::sim;
 using namespace labo::test;
 

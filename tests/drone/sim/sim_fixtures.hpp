@@ -10,8 +10,8 @@
 namespace labo::test {
 using namespace labo::sim;
 
-inline const LabDescription& shipped_lab() {
-  static const LabDescription lab = load_lab_description(default_lab_path());
+inline const lab::LabDescription& shipped_lab() {
+  static const lab::LabDescription lab = lab::load_lab_description(lab::default_lab_path());
   return lab;
 }
 

@@ -11,6 +11,8 @@
 #include "tests/drone/sim/loopback_support.hpp"
 
 using namespace labo;
+using namespace labo::ardrone2;
+using namespace labo::lab;
 using namespace labo::sim;
 
 namespace {

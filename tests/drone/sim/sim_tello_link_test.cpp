@@ -15,6 +15,7 @@
 #include "tests/drone/sim/sim_fixtures.hpp"
 
 using namespace labo;
+using namespace labo::tello;
 using namespace labo::sim;
 
 namespace {

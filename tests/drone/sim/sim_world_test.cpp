@@ -13,6 +13,7 @@
 #include "tests/drone/sim/sim_fixtures.hpp"
 
 using namespace labo;
+using namespace labo::lab;
 using namespace labo::sim;
 
 namespace {

@@ -8,6 +8,7 @@
 #include "drone/sim/teacher_motion.hpp"
 
 using namespace labo;
+using namespace labo::lab;
 using namespace labo::sim;
 
 namespace {

@@ -9,6 +9,7 @@
 #include "tests/drone/sim/sim_fixtures.hpp"
 
 using namespace labo;
+using namespace labo::lab;
 using namespace labo::sim;
 
 TEST_CASE("sim teacher walk: legs over the free floor, speed and pauses in their ranges, as long as the horizon", "[sim][teacher]") {

@@ -16,6 +16,9 @@
 #include "tests/support/cli_run.hpp"
 
 using namespace labo;
+using namespace labo::ardrone2;
+using namespace labo::replay;
+using namespace labo::tello;
 
 namespace {
 

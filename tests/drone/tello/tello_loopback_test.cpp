@@ -18,6 +18,7 @@
 #include "tests/drone/sim/loopback_support.hpp"
 
 using namespace labo;
+using namespace labo::tello;
 
 namespace {
 

@@ -16,6 +16,8 @@
 #include "tests/drone/sim/loopback_support.hpp"
 
 using namespace labo;
+using namespace labo::replay;
+using namespace labo::tello;
 
 namespace {
 

@@ -8,6 +8,7 @@
 #include "localization/face/teacher_head.hpp"
 
 using namespace labo;
+using namespace labo::lab;
 using namespace labo::sim;
 using namespace labo::face;
 using Catch::Matchers::Contains;

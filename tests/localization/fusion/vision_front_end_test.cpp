@@ -19,6 +19,7 @@
 #include "bench/slam/trajectory_metrics.hpp"
 
 using namespace labo;
+using namespace labo::lab;
 using namespace labo::bench;
 using namespace labo::fusion;
 
@@ -26,7 +27,7 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-const fusion::LabGeometry& lab() {
+const fusion::LabGeometry& lab_geometry() {
   static const fusion::LabGeometry g = fusion::lab_geometry_from(load_lab_description(default_lab_path()));
   return g;
 }
@@ -63,7 +64,7 @@ VideoFrame bgr_frame(const cv::Mat& gray, Seconds t, CameraId camera) {
 }  // namespace
 
 TEST_CASE("vision front-ends: the instrument panel is detected near with SIFT, far with templates, then tracked") {
-  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const fusion::PlanarTarget& osc = *lab_geometry().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
   for (const double distance : {1.2, 2.8}) {
     fusion::PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
@@ -91,7 +92,7 @@ TEST_CASE("vision front-ends: the instrument panel is detected near with SIFT, f
 }
 
 TEST_CASE("vision front-ends: a panel out of view is lost with the reason, then found again") {
-  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const fusion::PlanarTarget& osc = *lab_geometry().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
   fusion::PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
   const Eigen::Isometry3d seen = look_at_object(Eigen::Vector3d(0, 0, -1.0), Eigen::Vector3d::Zero());
@@ -107,7 +108,7 @@ TEST_CASE("vision front-ends: a panel out of view is lost with the reason, then 
 }
 
 TEST_CASE("vision front-ends: a wrong predicted distance costs the confirmation frames, not the target") {
-  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const fusion::PlanarTarget& osc = *lab_geometry().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
   fusion::PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
   const Eigen::Isometry3d truth = look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d::Zero());
@@ -136,7 +137,7 @@ TEST_CASE("vision front-ends: a retried detection far from the predicted distanc
   // texture at 4-6 m, tracks it for a few frames and loses it in a pose jump; it must never be
   // reported as the panel. Here: the panel at 3.2 m with a 1 m prediction, found by the retry, then
   // gone from the view.
-  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const fusion::PlanarTarget& osc = *lab_geometry().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
   fusion::PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
   const cv::Mat view = scene.view(look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d::Zero()));
@@ -154,7 +155,7 @@ TEST_CASE("vision front-ends: after a lost track the predicted detector runs fir
   // other frame and the tracker lost it the frame after; when the lost track also counted as a failed
   // detection, every frame was either that retry or that track, and SIFT (which finds the panel at the
   // predicted standoff distance) never ran. Here: a candidate 3.2 m away with a 1 m prediction.
-  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const fusion::PlanarTarget& osc = *lab_geometry().find_instrument("oscilloscope");
   const PanelScene scene{osc, PinholeCamera::ardrone2_front()};
   fusion::PlanarFrontEnd fe(osc, scene.camera, VisionThresholds{}, planar::PlanarConfig{});
   const cv::Mat far = scene.view(look_at_object(Eigen::Vector3d(0.02, 0.0, -3.2), Eigen::Vector3d::Zero()));
@@ -189,8 +190,8 @@ TEST_CASE("vision front-ends: LabPipelines runs the focused instrument on front 
   fusion::FrontEndSettings settings;
   settings.with_face = false;
   settings.slam.mapping_mode = slam::MappingMode::Synchronous;
-  const auto pipelines = fusion::make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
-  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const auto pipelines = fusion::make_lab_pipelines(lab_geometry(), ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
+  const fusion::PlanarTarget& osc = *lab_geometry().find_instrument("oscilloscope");
   // Hovering 1.3 m in front of the oscilloscope (the camera sits 0.2 m ahead of the body centre).
   const Eigen::Vector3d body = osc.T_world_object.translation() - Eigen::Vector3d(1.5, 0.05, 0.0);
   pipelines->reset(make_pose(body, 0.0), 0.0);
@@ -213,11 +214,11 @@ TEST_CASE("vision front-ends: LabPipelines runs the focused instrument on front 
   CHECK(angle_between(o.T_cam_target, T_cam_osc) < 2.0 * kDeg);
 
   // Above the platform, looking down with the bottom camera.
-  const Eigen::Vector3d above = lab().platform.T_world_object.translation() + Eigen::Vector3d(0.08, -0.05, 0.9);
+  const Eigen::Vector3d above = lab_geometry().platform.T_world_object.translation() + Eigen::Vector3d(0.08, -0.05, 0.9);
   pipelines->reset(make_pose(above, 0.0), 1.0);
   const Eigen::Isometry3d T_cam_platform =
-      (make_pose(above, 0.0) * T_body_cam_bottom()).inverse() * lab().platform.T_world_object;
-  const PanelScene pad{lab().platform, PinholeCamera::ardrone2_bottom()};
+      (make_pose(above, 0.0) * T_body_cam_bottom()).inverse() * lab_geometry().platform.T_world_object;
+  const PanelScene pad{lab_geometry().platform, PinholeCamera::ardrone2_bottom()};
   focus.instrument_id.clear();
   focus.platform = true;
   pipelines->set_focus(focus);
@@ -313,9 +314,9 @@ TEST_CASE("vision front-ends: vision prepared, run and applied in steps gives wh
   fusion::FrontEndSettings settings;
   settings.with_face = false;
   settings.slam.mapping_mode = slam::MappingMode::Synchronous;
-  const auto inline_run = fusion::make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
-  const auto stepped = fusion::make_lab_pipelines(lab(), ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
-  const fusion::PlanarTarget& osc = *lab().find_instrument("oscilloscope");
+  const auto inline_run = fusion::make_lab_pipelines(lab_geometry(), ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
+  const auto stepped = fusion::make_lab_pipelines(lab_geometry(), ardrone2_cameras(), VisionThresholds{}, estimation::EstimatorConfig{}, settings);
+  const fusion::PlanarTarget& osc = *lab_geometry().find_instrument("oscilloscope");
   const Eigen::Vector3d body = osc.T_world_object.translation() - Eigen::Vector3d(1.5, 0.05, 0.0);
   const PanelScene panel{osc, PinholeCamera::ardrone2_front()};
   fusion::PerceptionFocus focus;

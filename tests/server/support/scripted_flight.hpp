@@ -56,7 +56,7 @@ class ScriptedFlight final : public FlightService {
   LabOutline lab_outline() const override { return scripted_lab_outline(); }
   // Accepts a new id (the flight software's own checks are tested in tests/control); an instrument
   // being "inspected" may not be removed.
-  CommandVerdict add_instrument(const InstrumentSpec& spec) override {
+  CommandVerdict add_instrument(const lab::InstrumentSpec& spec) override {
     std::lock_guard lock(mutex_);
     for (const auto& i : instruments_)
       if (i.id == spec.id) return {false, "instrument '" + spec.id + "' is in the lab already"};
@@ -125,7 +125,7 @@ class ScriptedFlight final : public FlightService {
 
   std::vector<MissionCommand> requests;
   bool landed_on_shutdown = false;
-  std::vector<InstrumentSpec> placed;  // what add_instrument accepted
+  std::vector<lab::InstrumentSpec> placed;  // what add_instrument accepted
   std::string inspecting;              // an instrument remove_instrument refuses
 
  private:
