@@ -1,13 +1,15 @@
 // The admin page: a thin client of the REST API (docs/web.md "REST"): status, a metrics panel,
 // users (add, role, new password, remove), sessions (end), the control queue, instruments, the
-// drone's video bit rate, recordings, the audit log and the configuration.
+// drone's video bit rate, recordings (download, replay in the page), the audit log and the
+// configuration. A WebSocket without video carries a replay's frames and events to this page.
 import {MetricsPanel, parsePrometheus} from './admin_metrics.js';
+import {ReplayView, isReplayFrame} from './replay_view.js';
 
 const $ = (id) => document.getElementById(id);
 const state = {me: null, auditOffset: 0, auditTotal: 0};
 const kAuditPage = 20;
 // Exposed for tests: what the page has done.
-window.labodroneAdmin = {refreshes: 0};
+window.labodroneAdmin = {refreshes: 0, replay: {}};
 
 async function api(path, options = {}) {
   const res = await fetch(path, options);
@@ -125,10 +127,39 @@ async function refresh() {
   $('recordings').innerHTML = '';
   for (const x of r.body.recordings || []) {
     const li = document.createElement('li'); const a = document.createElement('a');
-    a.href = x.url; a.textContent = `${x.name} (${(x.bytes / 1e6).toFixed(1)} MB)`; li.append(a); $('recordings').append(li);
+    a.href = x.url; a.textContent = `${x.name} (${(x.bytes / 1e6).toFixed(1)} MB)`;
+    li.append(a, ' ', button('replay', () => startReplay(x.name))); $('recordings').append(li);
   }
   await refreshAudit();
   window.labodroneAdmin.refreshes++;
+}
+
+const replayView = new ReplayView($('replay'), window.labodroneAdmin.replay);
+
+async function startReplay(name) {
+  const res = await sendJson(`/api/recordings/${encodeURIComponent(name)}/replay`, 'POST',
+                             {audience: $('replay-audience').value, speed: Number($('replay-speed').value)});
+  $('replay-result').textContent = res.ok ? res.body.message : refusal(res);
+  refreshAudit();
+}
+
+$('replay-stop').onclick = async () => {
+  const res = await sendJson('/api/replay', 'DELETE');
+  $('replay-result').textContent = res.ok ? res.body.message : refusal(res);
+  refreshAudit();
+};
+
+// The page's own connection to the lab: no video, only a replay's frames and events.
+function connectReplayViewer() {
+  const ws = new WebSocket((location.protocol === 'https:' ? 'wss://' : 'ws://') + location.host + '/ws');
+  ws.binaryType = 'arraybuffer';
+  ws.onopen = () => { ws.send(JSON.stringify({type: 'subscribe', video: 'none'})); window.labodroneAdmin.replay.connected = true; };
+  ws.onmessage = (ev) => {
+    if (typeof ev.data !== 'string') { if (isReplayFrame(ev.data)) replayView.show(ev.data); return; }
+    const msg = JSON.parse(ev.data);
+    if (msg.type === 'replay') replayView.onMessage(msg);
+  };
+  ws.onclose = () => { window.labodroneAdmin.replay.connected = false; setTimeout(connectReplayViewer, 2000); };
 }
 
 const metrics = new MetricsPanel($('metrics'));
@@ -209,5 +240,6 @@ $('config').value = config.ok ? JSON.stringify(config.body, null, 2) : `(${confi
 refresh();
 refreshVideo();
 pollMetrics();
+connectReplayViewer();
 setInterval(refresh, 3000);
 setInterval(pollMetrics, 2000);

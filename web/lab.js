@@ -79,6 +79,7 @@ function onMessage(msg) {
     }
     case 'overlay': video.onGeometry(msg); break;
     case 'subscribed': break;
+    case 'replay': video.replay.onMessage(msg); break;
     case 'rendition': video.onRendition(msg); break;
     case 'slam_map':
       map.setSlamMap(msg);

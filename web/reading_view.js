@@ -4,6 +4,15 @@
 // the labels can be read; hidden once no view came for two seconds.
 const HIDE_AFTER_MS = 2000;
 
+// The JPEG after a binary message's 24-byte header, drawn on `canvas` at the picture's own size.
+export async function drawAtOwnSize(canvas, buffer) {
+  const bitmap = await createImageBitmap(new Blob([new Uint8Array(buffer, 24)], {type: 'image/jpeg'}));
+  canvas.width = bitmap.width;
+  canvas.height = bitmap.height;
+  canvas.getContext('2d').drawImage(bitmap, 0, 0);
+  bitmap.close();
+}
+
 export class ReadingView {
   constructor(doc, stats) {
     this.section = doc.getElementById('reading');
@@ -16,11 +25,7 @@ export class ReadingView {
 
   async show(buffer) {
     const dv = new DataView(buffer);
-    const bitmap = await createImageBitmap(new Blob([new Uint8Array(buffer, 24)], {type: 'image/jpeg'}));
-    this.canvas.width = bitmap.width;
-    this.canvas.height = bitmap.height;
-    this.canvas.getContext('2d').drawImage(bitmap, 0, 0);
-    bitmap.close();
+    await drawAtOwnSize(this.canvas, buffer);
     const ageMs = Date.now() - dv.getFloat64(8, true);
     this.caption.textContent = `frame ${dv.getUint32(4, true)}, ${this.canvas.width}×${this.canvas.height}, ${ageMs.toFixed(0)} ms old`;
     this.section.hidden = false;

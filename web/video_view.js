@@ -13,6 +13,7 @@ import {H264Player, h264Available, parseAccessUnit} from './h264_player.js';
 import {JanusView, janusTarget} from './janus_view.js';
 import {OVERLAY_GROUPS, paintOverlays} from './overlay_painter.js';
 import {ReadingView} from './reading_view.js';
+import {ReplayView, isReplayFrame} from './replay_view.js';
 
 const LATENCY_WINDOW = 1800;  // a minute at 30 frames/s
 
@@ -30,6 +31,7 @@ export class VideoView {
     this.janus = null;
     this.janusTarget = janusTarget();  // asked once; start() waits for it
     this.reading = new ReadingView(doc, stats);
+    this.replay = new ReplayView(doc.getElementById('replay'), stats);
     this.enabled = {};
     for (const group of OVERLAY_GROUPS) {
       const box = doc.getElementById('overlay-' + group);
@@ -140,6 +142,7 @@ export class VideoView {
   }
 
   async onBinary(buffer) {
+    if (isReplayFrame(buffer)) return this.replay.show(buffer);
     if (buffer.byteLength >= 24 && new DataView(buffer).getUint32(0, true) === 0x3152444c) return this.reading.show(buffer);  // "LDR1"
     this.stats.videoBytes += buffer.byteLength;
     if (this.stats.videoPath === 'h264') {

@@ -13,21 +13,10 @@ namespace labo::server {
 namespace http = boost::beast::http;
 using nlohmann::json;
 
-namespace {
-
-bool safe_file_name(const std::string& name) {
-  if (name.empty() || name.size() > 128 || name[0] == '.') return false;
-  for (char c : name)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-')) return false;
-  return true;
-}
-
-}  // namespace
-
 HttpReply RestApi::route_admin(const HttpRequest& req, const std::string& path, const SessionInfo& session) {
   const http::verb m = req.method();
   const bool known = path == "/api/config" || path == "/api/instruments" || path.rfind("/api/instruments/", 0) == 0 ||
-                     path == "/api/users" || path == "/api/recordings" || path.rfind("/api/recordings/", 0) == 0 ||
+                     path == "/api/users" || path == "/api/recordings" || path.rfind("/api/recordings/", 0) == 0 || path == "/api/replay" ||
                      path == "/metrics" || path == "/api/audit" || path.rfind("/api/users/", 0) == 0 ||
                      path.rfind("/api/sessions/", 0) == 0;
   if (!known) return HttpReply::error(http::status::not_found, "no route " + path);
@@ -46,9 +35,19 @@ HttpReply RestApi::route_admin(const HttpRequest& req, const std::string& path, 
     return recordings();
   }
   if (path.rfind("/api/recordings/", 0) == 0) {
+    const std::string rest = path.substr(16);
+    if (const auto slash = rest.find('/'); slash != std::string::npos) {
+      if (rest.substr(slash) != "/replay") return HttpReply::error(http::status::not_found, "no route " + path);
+      if (m != http::verb::post) return method_not_allowed("POST");
+      const std::string name = rest.substr(0, slash);
+      const HttpReply reply = start_replay(req, name, session);
+      audit(session, "replay_start", name, reply);
+      return reply;
+    }
     if (m != http::verb::get) return method_not_allowed("GET");
-    return recording(path.substr(16));
+    return recording(rest);
   }
+  if (path == "/api/replay") return route_replay(req, session);
   if (path == "/api/audit") {
     if (m != http::verb::get) return method_not_allowed("GET");
     return audit_page(req);

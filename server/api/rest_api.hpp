@@ -69,6 +69,9 @@ class RestApi {
   void place_stored_instruments();
   HttpReply recordings();
   HttpReply recording(const std::string& name);
+  // replay_routes.cpp: a recording played in the page, its status, its stop.
+  HttpReply start_replay(const HttpRequest& req, const std::string& name, const SessionInfo& session);
+  HttpReply route_replay(const HttpRequest& req, const SessionInfo& session);
   HttpReply metrics_text();
   // The teacher's routes (teacher_routes.cpp): registered people, the person face-follow follows,
   // ending a student's turn.

@@ -1,6 +1,7 @@
 #include "server/api/rest_support.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 
 namespace labo::server {
@@ -42,6 +43,13 @@ std::variant<long, HttpReply> query_integer(std::string_view target, std::string
     return bad_request("query parameter '" + std::string(name) + "' must be an integer in [" + std::to_string(min) + ", " +
                        std::to_string(max) + "], got '" + *text + "'");
   return value;
+}
+
+bool safe_file_name(const std::string& name) {
+  if (name.empty() || name.size() > 128 || name[0] == '.') return false;
+  for (char c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-')) return false;
+  return true;
 }
 
 std::variant<json, HttpReply> json_object_body(const HttpRequest& req, std::initializer_list<std::string_view> allowed) {

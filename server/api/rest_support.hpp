@@ -24,6 +24,9 @@ std::optional<std::string> query_value(std::string_view target, std::string_view
 // A non-negative integer query parameter within [min, max], `fallback` when absent; a refusal
 // naming the parameter otherwise.
 std::variant<long, HttpReply> query_integer(std::string_view target, std::string_view name, long fallback, long min, long max);
+// A file name the server may serve from one of its folders: letters, digits, '.', '_', '-', not
+// starting with '.', at most 128 characters.
+bool safe_file_name(const std::string& name);
 // The body as a JSON object whose keys are all in `allowed`; a 400 naming what was wrong otherwise.
 std::variant<nlohmann::json, HttpReply> json_object_body(const HttpRequest& req, std::initializer_list<std::string_view> allowed);
 

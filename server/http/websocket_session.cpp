@@ -125,6 +125,15 @@ void WebSocketSession<NextLayer>::send_reading_view(std::shared_ptr<const std::s
 }
 
 template <class NextLayer>
+void WebSocketSession<NextLayer>::send_replay_frame(std::shared_ptr<const std::string> wire) {
+  asio::post(ws_.get_executor(), [self = this->shared_from_this(), wire = std::move(wire)]() mutable {
+    if (self->closed_ || !self->joined_) return;
+    self->replay_slot_ = std::move(wire);
+    self->write_next();
+  });
+}
+
+template <class NextLayer>
 void WebSocketSession<NextLayer>::select_video(VideoPath path, RenditionChoice rendition) {
   asio::post(ws_.get_executor(), [self = this->shared_from_this(), path, rendition] {
     const bool was_h264 = self->video_ == VideoPath::H264;
@@ -211,7 +220,7 @@ template <class NextLayer>
 void WebSocketSession<NextLayer>::write_next() {
   if (writing_ || closed_ || !joined_) return;
   // Events first (acks, emergencies, stage changes), then video: the next access unit (its geometry
-  // first) or the newest JPEG frame, then the newest reading view.
+  // first) or the newest JPEG frame, then the newest reading view, then a replay's newest frame.
   bool binary = false;
   if (!events_.empty()) {
     in_flight_ = std::move(events_.front());
@@ -230,6 +239,11 @@ void WebSocketSession<NextLayer>::write_next() {
     in_flight_ = std::move(reading_slot_);
     reading_slot_.reset();
     in_flight_kind_ = Outgoing::Reading;
+    binary = true;
+  } else if (replay_slot_) {
+    in_flight_ = std::move(replay_slot_);
+    replay_slot_.reset();
+    in_flight_kind_ = Outgoing::Replay;
     binary = true;
   } else {
     return;
@@ -255,7 +269,8 @@ void WebSocketSession<NextLayer>::on_write(beast::error_code ec, std::size_t byt
     case Outgoing::Frame: metrics_.ws_frames_out++; break;
     case Outgoing::Unit: metrics_.ws_units_out++; break;
     case Outgoing::Geometry:
-    case Outgoing::Reading: break;
+    case Outgoing::Reading:
+    case Outgoing::Replay: break;
   }
   write_next();
 }

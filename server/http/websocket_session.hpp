@@ -45,6 +45,7 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
   void send_frame(std::shared_ptr<const std::string> wire) override;
   void send_access_unit(const WireAccessUnit& unit) override;
   void send_reading_view(std::shared_ptr<const std::string> view) override;
+  void send_replay_frame(std::shared_ptr<const std::string> wire) override;
   void select_video(VideoPath path, RenditionChoice rendition) override;
   void disconnect(const std::string& reason) override;
 
@@ -77,6 +78,7 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
   std::deque<std::shared_ptr<const std::string>> events_;
   std::shared_ptr<const std::string> frame_slot_;
   std::shared_ptr<const std::string> reading_slot_;  // the newest reading view
+  std::shared_ptr<const std::string> replay_slot_;   // the newest frame of a replayed recording
   AccessUnitQueue units_;
   VideoPath video_ = VideoPath::Jpeg;
   RenditionPolicy policy_;
@@ -84,7 +86,7 @@ class WebSocketSession final : public LabClient, public std::enable_shared_from_
   unsigned renditions_published_ = RenditionSwitch::bit(Rendition::Source);
   std::uint64_t video_offered_ = 0, bytes_written_ = 0, overflows_ = 0;
   int samples_ = 0;
-  enum class Outgoing { Event, Frame, Geometry, Unit, Reading };
+  enum class Outgoing { Event, Frame, Geometry, Unit, Reading, Replay };
   std::shared_ptr<const std::string> in_flight_;  // kept alive while its write runs
   Outgoing in_flight_kind_ = Outgoing::Event;
   bool writing_ = false;

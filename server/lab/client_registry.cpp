@@ -61,6 +61,25 @@ std::vector<std::weak_ptr<LabClient>> ClientRegistry::links() const {
   return out;
 }
 
+std::vector<std::weak_ptr<LabClient>> ClientRegistry::links_of(const std::optional<std::string>& user) const {
+  if (!user) return links();
+  std::vector<std::weak_ptr<LabClient>> out;
+  std::lock_guard lock(mutex_);
+  for (const auto& [id, m] : members_)
+    if (m.who.user == *user) out.push_back(m.link);
+  return out;
+}
+
+void ClientRegistry::send_replay_frame(const Message& wire, const std::optional<std::string>& user) {
+  for (const auto& weak : links_of(user))
+    if (const auto client = weak.lock()) client->send_replay_frame(wire);
+}
+
+void ClientRegistry::send_to_user(const std::optional<std::string>& user, const Message& message) {
+  for (const auto& weak : links_of(user))
+    if (const auto client = weak.lock()) client->send_event(message);
+}
+
 void ClientRegistry::send(const Message& message) {
   for (const auto& weak : links())
     if (const auto client = weak.lock()) client->send_event(message);

@@ -10,6 +10,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -49,6 +50,10 @@ class ClientRegistry {
   void send_frame(const Message& wire);
   void send_access_unit(const WireAccessUnit& unit);
   void send_reading_view(const Message& view);  // to every client's reading-view slot
+  // A replayed recording's frame to the replay slot, or an event, of every client of `user` (all
+  // the connections of that login), or of every client when `user` is empty.
+  void send_replay_frame(const Message& wire, const std::optional<std::string>& user);
+  void send_to_user(const std::optional<std::string>& user, const Message& message);
   std::size_t watching(VideoPath path) const { return viewers_[static_cast<std::size_t>(path)].load(); }
   void disconnect_all(const std::string& reason);
   // Disconnects the clients whose session `match` accepts; how many.
@@ -67,6 +72,7 @@ class ClientRegistry {
   };
   // The clients' weak pointers, copied under the lock: the caller locks them once it is released.
   std::vector<std::weak_ptr<LabClient>> links() const;
+  std::vector<std::weak_ptr<LabClient>> links_of(const std::optional<std::string>& user) const;
   // Those of the clients watching `path` (and for H.264, needing `rendition`), into `out` (a
   // per-thread scratch vector: the per-frame fan-out does not allocate once it has grown).
   void links_watching(VideoPath path, Rendition rendition, std::vector<std::weak_ptr<LabClient>>& out) const;

@@ -33,6 +33,9 @@ class LabClient {
   virtual void send_access_unit(const WireAccessUnit& unit) = 0;
   // The instrument reading view: a one-message slot, a newer view replaces the one waiting.
   virtual void send_reading_view(std::shared_ptr<const std::string> view) = 0;
+  // A frame of a recording played back (RecordingPlayer, "LDP1"): a one-frame slot of its own, so
+  // the live video and the replay do not overwrite each other.
+  virtual void send_replay_frame(std::shared_ptr<const std::string> wire) = 0;
   // The path the client chose: H.264 starts at the next IDR, with the rendition it chose (auto: the
   // one its link carries).
   virtual void select_video(VideoPath path, RenditionChoice rendition) = 0;

@@ -14,7 +14,8 @@ RemoteLab::RemoteLab(FlightService& flight, const ServerSettings& settings, Serv
       audit_(audit),
       log_(std::move(log)),
       clients_(settings.clients.commands_per_s, settings.clients.command_burst),
-      control_(settings.control) {
+      control_(settings.control),
+      replays_(clients_, log_.child("replay")) {
   flight_.set_sink(this);
 }
 

@@ -19,6 +19,7 @@
 #include "server/lab/flight_service.hpp"
 #include "server/lab/followed_person.hpp"
 #include "server/lab/lab_protocol.hpp"
+#include "server/lab/replay_service.hpp"
 #include "server/lab/server_metrics.hpp"
 #include "server/server_settings.hpp"
 
@@ -81,6 +82,7 @@ class RemoteLab final : public FlightEventSink {
 
   FlightService& flight() { return flight_; }
   FollowedPerson& followed_person() { return followed_; }
+  ReplayService& replays() { return replays_; }
 
  private:
   void execute(LabClient& client, const CommandRequest& request);
@@ -116,6 +118,7 @@ class RemoteLab final : public FlightEventSink {
   std::uint64_t slam_map_sent_ = 0;  // tick()'s only: the revision of the SLAM map last sent
   std::atomic<bool> low_keyframe_wanted_{false};
   FollowedPerson followed_;
+  ReplayService replays_;  // after clients_: its player stops before the clients go
 };
 
 }  // namespace labo::server

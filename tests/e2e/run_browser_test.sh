@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs a browser test: installs Debian's chromium and the npm package when missing, starts the
 # server on a free port, drives it with the test script, stops the server.
-# Usage: run_browser_test.sh SERVER_BINARY OUT_DIR [student_flow|video_paths|roles_flow|video_controls|teacher_flow] [sim|tello]
+# Usage: run_browser_test.sh SERVER_BINARY OUT_DIR [student_flow|video_paths|roles_flow|video_controls|teacher_flow|replay_flow|instrument_flow] [sim|tello]
 #   SERVER_BINARY labo_e2e_server: the web layer over test doubles (a test card, a scripted mission);
 #   SERVER_BINARY labodrone: `labodrone serve`, i.e. the simulated lab on loopback with the real
 #   driver, flight stack and vision, as `make run` starts it; with `tello`, `labodrone emulate
@@ -34,6 +34,28 @@ elif [ "$script" = teacher_flow ]; then
   "$server" sim render --pose 2.8,-2,1.62,180 --teacher 2,-2,0 --sharp --config "$out/teacher/config/default.json" \
     --out "$out/teacher/photos/teacher" > "$out/render.log" 2>&1
   "$server" serve --port "$port" --config "$out/teacher/config/default.json" > "$out/server.log" 2>&1 &
+elif [ "$script" = replay_flow ]; then
+  # A flight to replay: the simulated lab as the driver recorded it for a few seconds, written into
+  # the recordings folder of a copy of the config (recordings_dir: ../var/recordings).
+  rm -rf "$out/replay" && mkdir -p "$out/replay/var/recordings" && cp -r "$here/../../config" "$out/replay/config"
+  ln -s "$(cd "$here/../../web" && pwd)" "$out/replay/web"
+  ln -s "$(cd "$here/../../assets" && pwd)" "$out/replay/assets"
+  node -e 'const fs = require("fs"); const [from, to, file] = process.argv.slice(1);
+           const c = JSON.parse(fs.readFileSync(from)); c.link.recording = file; fs.writeFileSync(to, JSON.stringify(c));' \
+    "$out/replay/config/default.json" "$out/replay/config/record.json" "$out/replay/var/recordings/flight.ldrec"
+  "$server" serve --port "$port" --config "$out/replay/config/record.json" > "$out/record.log" 2>&1 &
+  recorder=$!
+  for _ in $(seq 300); do curl -sf "http://127.0.0.1:$port/api/health" >/dev/null && break; sleep 0.1; done
+  sleep 6
+  kill -TERM $recorder; wait $recorder || true
+  "$server" serve --port "$port" --config "$out/replay/config/default.json" > "$out/server.log" 2>&1 &
+elif [ "$script" = instrument_flow ]; then
+  # Uploaded instruments are stored where server.instruments_dir says, and placed again at the next
+  # start: a fresh copy of the config, never the source tree's.
+  rm -rf "$out/instrument" && mkdir -p "$out/instrument" && cp -r "$here/../../config" "$out/instrument/config"
+  ln -s "$(cd "$here/../../web" && pwd)" "$out/instrument/web"
+  ln -s "$(cd "$here/../../assets" && pwd)" "$out/instrument/assets"
+  "$server" serve --port "$port" --config "$out/instrument/config/default.json" > "$out/server.log" 2>&1 &
 elif [ "$(basename "$server")" = labodrone ]; then
   "$server" serve --port "$port" > "$out/server.log" 2>&1 &
 elif [ "$script" = roles_flow ]; then
@@ -58,5 +80,7 @@ case "$script" in
   roles_flow) node "$here/roles_flow.mjs" "http://127.0.0.1:$port" "$out" ;;
   teacher_flow) node "$here/teacher_flow.mjs" "http://127.0.0.1:$port" "$out" "$out/teacher/photos/teacher_front.png" \
                   "$out/teacher/assets/astronaut.png" ;;
-  *) echo "unknown browser test '$script' (expected student_flow, video_paths, roles_flow, video_controls or teacher_flow)" >&2; exit 2 ;;
+  replay_flow) node "$here/replay_flow.mjs" "http://127.0.0.1:$port" "$out" ;;
+  instrument_flow) node "$here/instrument_flow.mjs" "http://127.0.0.1:$port" "$out" ;;
+  *) echo "unknown browser test '$script' (expected student_flow, video_paths, roles_flow, video_controls, teacher_flow, replay_flow or instrument_flow)" >&2; exit 2 ;;
 esac
