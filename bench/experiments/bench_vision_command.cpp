@@ -72,8 +72,8 @@ Timing slam_timing(const fusion::FrontEndSettings& s, const PinholeCamera& camer
   slam::SlamSettings settings = s.slam;
   settings.mapping_mode = slam::MappingMode::Threaded;  // as the server runs it: mapping off the frame path
   fusion::SlamSystemFrontEnd fe(std::make_unique<slam::SlamSystem>(camera, settings));
-  const slam::SyntheticRoom room(camera);
-  const slam::Flight flight = slam::approach_flight(room.panel_center());
+  const bench::SyntheticRoom room(camera);
+  const bench::Flight flight = bench::approach_flight(room.panel_center());
   for (std::size_t i = 0; i < flight.frames.size() && static_cast<int>(t.times.size()) < n; ++i) {
     const cv::Mat img = room.render(flight.frames[i].T_world_cam, static_cast<unsigned>(i));
     const fusion::SlamFrame* f = nullptr;

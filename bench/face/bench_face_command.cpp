@@ -22,7 +22,7 @@ constexpr PaperRow kPaper[] = {{"EPNP", 11.84, 7.11, 12.67, 0.55, 3.74, 2.39, 0.
                                {"Ransac P3P + LM", 11.51, 7.23, 13.38, 0.56, 2.28, 1.45, 1.138},
                                {"LM", 11.51, 7.23, 13.38, 0.56, 2.28, 1.45, 0.234}};
 
-nlohmann::json to_json(const face::FaceBenchReport& r, const face::FaceBenchOptions& o) {
+nlohmann::json to_json(const FaceBenchReport& r, const FaceBenchOptions& o) {
   nlohmann::json j;
   j["sequences"] = o.sequences;
   j["lab_sequences"] = o.lab_sequences;
@@ -68,7 +68,7 @@ nlohmann::json to_json(const face::FaceBenchReport& r, const face::FaceBenchOpti
   return j;
 }
 
-void print_table(const face::FaceBenchReport& r) {
+void print_table(const FaceBenchReport& r) {
   std::printf("%-16s %8s %8s %8s %7s %7s %7s %8s   (paper: tx ty tz roll yaw pitch time)\n", "Method", "tx", "ty",
               "tz", "roll", "yaw", "pitch", "time");
   for (std::size_t i = 0; i < r.methods.size(); ++i) {
@@ -138,7 +138,7 @@ const CommandSpec& face_bench_command_spec() {
 
 int run_face_bench_command(const ParsedArgs& args) {
   const FaceSetup setup = load_face_setup(args);
-  face::FaceBenchOptions o;
+  FaceBenchOptions o;
   o.sequences = args.integer_or("--sequences", 10, 1, 1000);
   o.frames = args.integer_or("--frames", 300, 3, 100000);
   o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));
@@ -158,7 +158,7 @@ int run_face_bench_command(const ParsedArgs& args) {
   o.cameras = setup.cameras;
   o.interpupillary_distance_m = setup.face.interpupillary_distance_m;
   const bool json = args.flag("--json");
-  const auto report = face::run_face_bench(setup.face, setup.camera, o, [&](const std::string& line) {
+  const auto report = run_face_bench(setup.face, setup.camera, o, [&](const std::string& line) {
     if (!json) std::cerr << line << "\n";
   });
   if (json) {

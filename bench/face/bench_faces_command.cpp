@@ -19,17 +19,17 @@ constexpr double kPaperLm[6] = {11.51, 7.23, 13.38, 0.56, 2.28, 1.45};
 constexpr double kTarget[6] = {10, 10, 15, 3, 3, 3};
 constexpr double kTargetFrameMs = 5;
 
-std::array<double, 6> values(const face::FaceErrors& e) {
+std::array<double, 6> values(const FaceErrors& e) {
   return {e.tx_mm, e.ty_mm, e.tz_mm, e.roll_deg, e.yaw_deg, e.pitch_deg};
 }
 
-nlohmann::json to_json(const face::FaceErrors& e) {
+nlohmann::json to_json(const FaceErrors& e) {
   return {{"frames", e.frames}, {"tx_mm", e.tx_mm},     {"ty_mm", e.ty_mm},       {"tz_mm", e.tz_mm},
           {"roll_deg", e.roll_deg}, {"yaw_deg", e.yaw_deg}, {"pitch_deg", e.pitch_deg}};
 }
 
 // The columns where a face's figure is worse than twice the pooled one (same statistic).
-std::string beyond_twice_pooled(const face::FaceErrors& face, const face::FaceErrors& pooled) {
+std::string beyond_twice_pooled(const FaceErrors& face, const FaceErrors& pooled) {
   static constexpr const char* kNames[6] = {"tx", "ty", "tz", "roll", "yaw", "pitch"};
   const auto f = values(face), p = values(pooled);
   std::string out;
@@ -41,7 +41,7 @@ std::string beyond_twice_pooled(const face::FaceErrors& face, const face::FaceEr
   return out;
 }
 
-nlohmann::json to_json(const face::FaceGalleryReport& r, const face::FaceGalleryOptions& o) {
+nlohmann::json to_json(const FaceGalleryReport& r, const FaceGalleryOptions& o) {
   nlohmann::json j;
   j["sequences_per_face"] = o.bench.sequences;
   j["lab_sequences_per_face"] = o.bench.lab_sequences;
@@ -73,12 +73,12 @@ nlohmann::json to_json(const face::FaceGalleryReport& r, const face::FaceGallery
   return j;
 }
 
-void print_row(const char* name, const face::FaceErrors& e, const std::string& tail) {
+void print_row(const char* name, const FaceErrors& e, const std::string& tail) {
   std::printf("%-12s %6d %7.2f %7.2f %7.2f %6.2f %6.2f %6.2f  %s\n", name, e.frames, e.tx_mm, e.ty_mm, e.tz_mm,
               e.roll_deg, e.yaw_deg, e.pitch_deg, tail.c_str());
 }
 
-void print_table(const face::FaceGalleryReport& r) {
+void print_table(const FaceGalleryReport& r) {
   std::printf("LM tracking per face, mean absolute errors (UPNA's Table 1 statistic); tx ty tz mm, roll yaw pitch deg\n");
   std::printf("%-12s %6s %7s %7s %7s %6s %6s %6s  %s\n", "face", "frames", "tx", "ty", "tz", "roll", "yaw", "pitch",
               "posed, registration shape error, depth error, main loss, beyond 2x pooled");
@@ -133,14 +133,14 @@ const CommandSpec& faces_bench_command_spec() {
 
 int run_faces_bench_command(const ParsedArgs& args) {
   const FaceSetup setup = load_face_setup(args);
-  face::FaceGalleryOptions o;
+  FaceGalleryOptions o;
   o.astronaut = args.value_or("--astronaut", (labo::source_root() / "assets" / "astronaut.png").string());
   o.group_photo = args.value_or("--group-photo", (labo::source_root() / "assets" / "solvay_1927.png").string());
   o.max_faces = args.integer_or("--faces", 1000, 1, 1000);
   o.only_face = args.value_or("--face", "");
   o.tuning_faces_only = args.flag("--tuning-faces");
   o.crops_dir = args.value_or("--crops", "");
-  face::FaceBenchOptions& b = o.bench;
+  FaceBenchOptions& b = o.bench;
   b.sequences = args.integer_or("--sequences", 2, 1, 1000);
   b.lab_sequences = args.integer_or("--lab-sequences", 0, 0, 1000);
   b.frames = args.integer_or("--frames", 100, 3, 100000);
@@ -150,7 +150,7 @@ int run_faces_bench_command(const ParsedArgs& args) {
   b.cameras = setup.cameras;
   b.interpupillary_distance_m = setup.face.interpupillary_distance_m;
   const bool json = args.flag("--json");
-  const auto report = face::run_face_gallery_bench(setup.face, setup.camera, o, [&](const std::string& line) {
+  const auto report = run_face_gallery_bench(setup.face, setup.camera, o, [&](const std::string& line) {
     if (!json) std::cerr << line << "\n";
   });
   if (json) {

@@ -22,7 +22,33 @@
 #include "localization/face/teacher_head.hpp"
 #include "localization/face/textured_head_renderer.hpp"
 
-namespace labo::face {
+namespace labo::bench {
+
+using face::FaceConfig;
+using face::FaceLandmarkModel;
+using face::FacePoseEstimator;
+using face::FacePoseSolver;
+using face::FacePoseSolverOptions;
+using face::FaceResult;
+using face::HeadAngles;
+using face::IdealPinhole;
+using face::PersonShape;
+using face::PnpMethod;
+using face::PnpProblem;
+using face::RegistrationError;
+using face::TexturedHeadRenderer;
+using face::TurnRefinement;
+using face::head_angles;
+using face::head_rotation;
+using face::make_face_landmark_model;
+using face::refine_lm;
+using face::refine_person_from_turns;
+using face::register_person;
+using face::texture_head_from_photo;
+using face::to_head_model;
+
+using lab::LabDescription;
+using lab::load_lab_description;
 
 using lab::LabDescription;
 using lab::load_lab_description;
@@ -481,4 +507,4 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
   return report;
 }
 
-}  // namespace labo::face
+}  // namespace labo::bench

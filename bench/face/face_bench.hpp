@@ -14,7 +14,7 @@
 #include "localization/face/face_config.hpp"
 #include "localization/face/face_pose_solver.hpp"
 
-namespace labo::face {
+namespace labo::bench {
 
 struct FaceBenchOptions {
   int sequences = 10;
@@ -48,7 +48,7 @@ struct FaceBenchOptions {
 };
 
 struct MethodErrors {
-  PnpMethod method = PnpMethod::LmTracking;
+  face::PnpMethod method = face::PnpMethod::LmTracking;
   int frames = 0;                                 // frames with a pose
   // Relative motion (the UPNA protocol): each pose taken relative to the sequence's first tracked
   // frame, for the estimate and the truth alike, so constant offsets of the face origin cancel.
@@ -98,7 +98,7 @@ struct FaceBenchReport {
 };
 
 // Throws std::runtime_error when the texture has no single face or the registration fails.
-FaceBenchReport run_face_bench(const FaceConfig& config, const PinholeCamera& camera, const FaceBenchOptions& options,
+FaceBenchReport run_face_bench(const face::FaceConfig& config, const PinholeCamera& camera, const FaceBenchOptions& options,
                                const std::function<void(const std::string&)>& progress = {});
 
-}  // namespace labo::face
+}  // namespace labo::bench

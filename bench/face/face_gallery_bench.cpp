@@ -9,7 +9,13 @@
 #include "core/candide3.hpp"
 #include "localization/face/group_photo.hpp"
 
-namespace labo::face {
+namespace labo::bench {
+
+using face::FaceConfig;
+using face::FacePoseEstimator;
+using face::GroupPortrait;
+using face::interocular_px;
+using face::portraits_in_group_photo;
 
 namespace {
 
@@ -131,4 +137,4 @@ FaceGalleryReport run_face_gallery_bench(const FaceConfig& config, const Pinhole
   return report;
 }
 
-}  // namespace labo::face
+}  // namespace labo::bench

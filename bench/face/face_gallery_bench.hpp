@@ -11,7 +11,7 @@
 
 #include "bench/face/face_bench.hpp"
 
-namespace labo::face {
+namespace labo::bench {
 
 struct FaceErrors {
   int frames = 0;
@@ -49,8 +49,8 @@ struct FaceGalleryOptions {
 // Every third face of the gallery (03, 06, ...) is held out of tuning.
 bool held_out_of_tuning(int gallery_rank);
 
-FaceGalleryReport run_face_gallery_bench(const FaceConfig& config, const PinholeCamera& camera,
+FaceGalleryReport run_face_gallery_bench(const face::FaceConfig& config, const PinholeCamera& camera,
                                          const FaceGalleryOptions& options,
                                          const std::function<void(const std::string&)>& progress = {});
 
-}  // namespace labo::face
+}  // namespace labo::bench

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-namespace labo::face {
+namespace labo::bench {
 
 namespace {
 ardrone2::H264EncoderSettings encoder_settings(const FrameDegradation& d, const PinholeCamera& camera) {
@@ -48,4 +48,4 @@ std::vector<cv::Mat> degraded_registration_pictures(const cv::Mat& frontal, int 
   return pictures;
 }
 
-}  // namespace labo::face
+}  // namespace labo::bench

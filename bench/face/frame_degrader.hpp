@@ -7,7 +7,7 @@
 #include "drone/ardrone2/h264_codec.hpp"
 #include "core/camera_model.hpp"
 
-namespace labo::face {
+namespace labo::bench {
 
 struct FrameDegradation {
   bool lossy_video = true;        // H.264 round trip through the link's codec
@@ -37,4 +37,4 @@ class FrameDegrader {
 std::vector<cv::Mat> degraded_registration_pictures(const cv::Mat& frontal, int count, const FrameDegradation& d,
                                                     const PinholeCamera& camera, unsigned seed);
 
-}  // namespace labo::face
+}  // namespace labo::bench

@@ -5,7 +5,10 @@
 
 #include "localization/face/face_geometry.hpp"
 
-namespace labo::face {
+namespace labo::bench {
+
+using face::HeadAngles;
+using face::head_rotation;
 
 namespace {
 constexpr double kPi = std::numbers::pi;
@@ -70,4 +73,4 @@ std::vector<HeadPoseSequence> make_head_pose_sequences(int count, int frames, un
   return out;
 }
 
-}  // namespace labo::face
+}  // namespace labo::bench

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace labo::face {
+namespace labo::bench {
 
 struct HeadPoseSequence {
   std::string name;
@@ -23,4 +23,4 @@ struct HeadPoseSequence {
 std::vector<HeadPoseSequence> make_head_pose_sequences(int count, int frames, unsigned seed,
                                                        double min_distance_m = 0.6, double max_distance_m = 2.0);
 
-}  // namespace labo::face
+}  // namespace labo::bench

@@ -5,7 +5,8 @@
 
 #include "core/frames.hpp"
 
-namespace labo::slam {
+namespace labo::bench {
+
 namespace {
 
 constexpr double kFps = 30.0;
@@ -82,4 +83,4 @@ Flight approach_flight(const Eigen::Vector3d& panel_center) {
   return f;
 }
 
-}  // namespace labo::slam
+}  // namespace labo::bench

@@ -9,7 +9,7 @@
 
 #include "core/time.hpp"
 
-namespace labo::slam {
+namespace labo::bench {
 
 struct FlightFrame {
   Seconds t;
@@ -32,4 +32,4 @@ Flight yaw_flight();
 // From 3.3 m to 0.8 m in front of the instrument panel at (8, 3, 1.3).
 Flight approach_flight(const Eigen::Vector3d& panel_center);
 
-}  // namespace labo::slam
+}  // namespace labo::bench

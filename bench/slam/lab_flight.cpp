@@ -7,7 +7,10 @@
 #include "core/frames.hpp"
 #include "drone/sim/lab_renderer.hpp"
 
-namespace labo::slam {
+namespace labo::bench {
+
+using lab::InstrumentSpec;
+using lab::LabDescription;
 
 using lab::InstrumentSpec;
 using lab::LabDescription;
@@ -108,4 +111,4 @@ cv::Mat SimulatedLabFrames::render(const Flight& flight, std::size_t i) {
   return gray;
 }
 
-}  // namespace labo::slam
+}  // namespace labo::bench

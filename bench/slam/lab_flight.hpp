@@ -15,7 +15,7 @@ namespace labo::sim {
 class LabRenderer;
 }  // namespace labo::sim
 
-namespace labo::slam {
+namespace labo::bench {
 
 // The inspect mission's path towards `instrument`, front-camera poses at `fps`.
 Flight lab_inspect_flight(const lab::LabDescription& lab, const lab::InstrumentSpec& instrument, double fps = 30.0);
@@ -36,4 +36,4 @@ class SimulatedLabFrames {
   cv::Mat bgr_;
 };
 
-}  // namespace labo::slam
+}  // namespace labo::bench

@@ -20,7 +20,7 @@ using lab::load_lab_description;
 
 namespace {
 
-nlohmann::json to_json(const slam::FlightReport& r) {
+nlohmann::json to_json(const FlightReport& r) {
   nlohmann::json j;
   j["flight"] = r.name;
   j["frames"] = r.frames;
@@ -91,7 +91,7 @@ struct LabFlightSetup {
   LabDescription lab;
   CamerasConfig cameras;
   PinholeCamera camera;
-  slam::SimulatedLabFrames frames;
+  SimulatedLabFrames frames;
 };
 
 }  // namespace
@@ -143,29 +143,29 @@ int run_bench_slam_command(const ParsedArgs& args) {
   settings.mapping_mode = mode;
   const PinholeCamera camera = args.flag("--no-distortion") ? PinholeCamera::ardrone2_front().without_distortion()
                                                              : PinholeCamera::ardrone2_front();
-  slam::SyntheticRoomSpec room_spec;
+  SyntheticRoomSpec room_spec;
   if (args.flag("--no-noise")) room_spec.noise_sigma = 0;
   // Each frame's noise is seeded by its index; another noise seed offsets every frame's seed.
   const auto noise_seed = static_cast<unsigned>(args.integer_or("--noise-seed", 0, 0, 1000000));
-  const slam::SyntheticRoom room(camera, room_spec);
-  slam::ImuAttitudeModel imu;
+  const SyntheticRoom room(camera, room_spec);
+  ImuAttitudeModel imu;
   imu.noise_rad = args.number_or("--attitude-noise-deg", 0.09, 0.0, 5.0) * M_PI / 180.0;
   imu.offset_rad = args.number_or("--attitude-offset-deg", 0.06, 0.0, 10.0) * M_PI / 180.0;
   imu.seed = noise_seed * 7919u + 17u;
-  const slam::FlightRenderer in_room = [&room, noise_seed](const slam::Flight& flight, std::size_t i) {
+  const FlightRenderer in_room = [&room, noise_seed](const Flight& flight, std::size_t i) {
     return room.render(flight.frames[i].T_world_cam, static_cast<unsigned>(i) + noise_seed * 1000003u);
   };
-  std::vector<std::pair<slam::Flight, slam::FlightRenderer>> flights;
-  if (which == "all" || which == "tour") flights.emplace_back(slam::tour_flight(tour_s), in_room);
-  if (which == "all" || which == "yaw") flights.emplace_back(slam::yaw_flight(), in_room);
-  if (which == "all" || which == "approach") flights.emplace_back(slam::approach_flight(room.panel_center()), in_room);
+  std::vector<std::pair<Flight, FlightRenderer>> flights;
+  if (which == "all" || which == "tour") flights.emplace_back(tour_flight(tour_s), in_room);
+  if (which == "all" || which == "yaw") flights.emplace_back(yaw_flight(), in_room);
+  if (which == "all" || which == "approach") flights.emplace_back(approach_flight(room.panel_center()), in_room);
   std::optional<LabFlightSetup> lab;
   if (which == "all" || which == "lab-inspect") {
     if (args.flag("--no-distortion")) throw UsageError("--no-distortion applies to the synthetic room's flights only");
     lab.emplace(doc, config_file, !args.flag("--no-noise"));
     if (lab->lab.instruments.empty()) throw UsageError(config_file.string() + ": the lab has no instrument to approach");
-    flights.emplace_back(slam::lab_inspect_flight(lab->lab, lab->lab.instruments.front(), lab_fps),
-                         [&lab](const slam::Flight& flight, std::size_t i) { return lab->frames.render(flight, i); });
+    flights.emplace_back(lab_inspect_flight(lab->lab, lab->lab.instruments.front(), lab_fps),
+                         [&lab](const Flight& flight, std::size_t i) { return lab->frames.render(flight, i); });
   }
   nlohmann::json out;
   out["scene"] = "tour, yaw, approach: synthetic room 8x6x3 m, procedural textures, AR.Drone 2.0 front camera with "
@@ -180,12 +180,12 @@ int run_bench_slam_command(const ParsedArgs& args) {
   out["targets"] = {{"tracking_ms_median", 10.0}, {"ate_rmse_cm", 3.0}, {"relocalization_s", 1.0}};
   for (const auto& [flight, render] : flights) {
     const PinholeCamera& flight_camera = flight.name == "lab-inspect" ? lab->camera : camera;
-    const slam::FlightReport r = slam::run_flight(render, flight, flight_camera, settings, args.flag("--trace") ? &std::cerr : nullptr, imu);
+    const FlightReport r = run_flight(render, flight, flight_camera, settings, args.flag("--trace") ? &std::cerr : nullptr, imu);
     if (const auto dir = args.value("--tum-dir")) {
-      slam::write_tum_trajectory(*dir + "/" + r.name + "_estimate.tum", r.trajectory, false);
-      slam::write_tum_trajectory(*dir + "/" + r.name + "_truth.tum", r.trajectory, true);
-      slam::write_tum_trajectory(*dir + "/" + r.name + "_keyframes.tum", r.keyframe_trajectory, false);
-      slam::write_tum_trajectory(*dir + "/" + r.name + "_keyframes_truth.tum", r.keyframe_trajectory, true);
+      write_tum_trajectory(*dir + "/" + r.name + "_estimate.tum", r.trajectory, false);
+      write_tum_trajectory(*dir + "/" + r.name + "_truth.tum", r.trajectory, true);
+      write_tum_trajectory(*dir + "/" + r.name + "_keyframes.tum", r.keyframe_trajectory, false);
+      write_tum_trajectory(*dir + "/" + r.name + "_keyframes_truth.tum", r.keyframe_trajectory, true);
     }
     const nlohmann::json j = to_json(r);
     out["flights"].push_back(j);

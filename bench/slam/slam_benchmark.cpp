@@ -6,7 +6,18 @@
 
 #include "core/frames.hpp"
 
-namespace labo::slam {
+namespace labo::bench {
+
+using slam::GravityMeasurement;
+using slam::LoopReport;
+using slam::MappingStatistics;
+using slam::SlamResult;
+using slam::SlamSettings;
+using slam::SlamStatus;
+using slam::SlamSystem;
+using slam::TrackingState;
+using slam::gravity_down_in_camera;
+
 namespace {
 
 double percentile(std::vector<double> v, double q) {
@@ -126,4 +137,4 @@ FlightReport run_flight(const FlightRenderer& render, const Flight& flight, cons
   return report;
 }
 
-}  // namespace labo::slam
+}  // namespace labo::bench

@@ -13,7 +13,7 @@
 #include "bench/slam/trajectory_metrics.hpp"
 #include "localization/slam/slam_system.hpp"
 
-namespace labo::slam {
+namespace labo::bench {
 
 struct FlightReport {
   std::string name;
@@ -47,7 +47,7 @@ struct FlightReport {
 };
 
 struct BenchOptions {
-  MappingMode mode = MappingMode::Synchronous;
+  slam::MappingMode mode = slam::MappingMode::Synchronous;
   double tour_duration_s = 120.0;
   bool add_lens_distortion = true;
 };
@@ -68,7 +68,7 @@ struct ImuAttitudeModel {
 // trace (optional): one line per frame that is not Good or adds a keyframe. imu: the attitude given
 // with each frame (none: frames alone; SLAM uses it only when settings.gravity_sigma_deg > 0).
 FlightReport run_flight(const FlightRenderer& render, const Flight& flight, const PinholeCamera& camera,
-                        const SlamSettings& settings, std::ostream* trace = nullptr,
+                        const slam::SlamSettings& settings, std::ostream* trace = nullptr,
                         const std::optional<ImuAttitudeModel>& imu = std::nullopt);
 
-}  // namespace labo::slam
+}  // namespace labo::bench

@@ -4,7 +4,8 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
-namespace labo::slam {
+namespace labo::bench {
+
 namespace {
 
 cv::Mat procedural_texture(int width, int height, cv::RNG& rng, double density) {
@@ -132,4 +133,4 @@ cv::Mat SyntheticRoom::render(const Eigen::Isometry3d& T_world_cam, unsigned fra
   return out;
 }
 
-}  // namespace labo::slam
+}  // namespace labo::bench

@@ -11,7 +11,7 @@
 
 #include "core/camera_model.hpp"
 
-namespace labo::slam {
+namespace labo::bench {
 
 struct SyntheticRoomSpec {
   Eigen::Vector3d min_corner{0, 0, 0};
@@ -48,4 +48,4 @@ class SyntheticRoom {
   std::vector<Eigen::Vector3f> rays_;  // unit rays per pixel, camera frame
 };
 
-}  // namespace labo::slam
+}  // namespace labo::bench

@@ -6,7 +6,7 @@
 #include <iomanip>
 #include <stdexcept>
 
-namespace labo::slam {
+namespace labo::bench {
 
 std::optional<Sim3> align_sim3(const std::vector<PosePair>& pairs) {
   if (pairs.size() < 3) return std::nullopt;
@@ -117,4 +117,4 @@ void write_tum_trajectory(const std::string& file, const std::vector<PosePair>& 
   if (!out) throw std::runtime_error("write failed: " + file);
 }
 
-}  // namespace labo::slam
+}  // namespace labo::bench

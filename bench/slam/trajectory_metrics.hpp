@@ -11,7 +11,7 @@
 
 #include "core/time.hpp"
 
-namespace labo::slam {
+namespace labo::bench {
 
 struct PosePair {
   Seconds t;
@@ -54,4 +54,4 @@ std::vector<double> windowed_ate_m(const std::vector<PosePair>& pairs, Seconds w
 // ground truth, so that evo and other tools can evaluate it. Throws std::runtime_error on I/O errors.
 void write_tum_trajectory(const std::string& file, const std::vector<PosePair>& pairs, bool ground_truth);
 
-}  // namespace labo::slam
+}  // namespace labo::bench

@@ -19,6 +19,7 @@
 using namespace labo;
 using labo::test::ScratchDir;
 using namespace labo::face;
+using labo::bench::degraded_registration_pictures;
 
 namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;

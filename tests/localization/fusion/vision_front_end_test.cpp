@@ -233,12 +233,12 @@ TEST_CASE("vision front-ends: LabPipelines runs the focused instrument on front 
 
 TEST_CASE("vision front-ends: SLAM on front frames gives the camera's trajectory up to a similarity") {
   const PinholeCamera camera = PinholeCamera::ardrone2_front();
-  const slam::SyntheticRoom room(camera);
+  const bench::SyntheticRoom room(camera);
   slam::SlamSettings settings;
   settings.mapping_mode = slam::MappingMode::Synchronous;
   fusion::SlamSystemFrontEnd fe(std::make_unique<slam::SlamSystem>(camera, settings));
-  const slam::Flight flight = slam::approach_flight(room.panel_center());
-  std::vector<slam::PosePair> tracked;
+  const bench::Flight flight = bench::approach_flight(room.panel_center());
+  std::vector<bench::PosePair> tracked;
   bool initializing_seen = false;
   for (std::size_t i = 0; i < flight.frames.size() && flight.frames[i].t < 6.0; ++i) {
     const auto& f = flight.frames[i];
@@ -249,7 +249,7 @@ TEST_CASE("vision front-ends: SLAM on front frames gives the camera's trajectory
   }
   CHECK(initializing_seen);
   REQUIRE(tracked.size() > 60);
-  const auto errors = slam::trajectory_errors(tracked);
+  const auto errors = bench::trajectory_errors(tracked);
   REQUIRE(errors);
   INFO("ATE " << errors->ate_rmse_m * 100 << " cm over " << errors->poses << " poses");
   CHECK(errors->ate_rmse_m < 0.05);

@@ -4,6 +4,7 @@
 
 using namespace labo;
 using namespace labo::slam;
+using namespace labo::bench;  // the synthetic room and its flights
 
 TEST_CASE("slam: invalid intrinsics and settings are refused at construction") {
   CameraIntrinsics k = PinholeCamera::ardrone2_front().intrinsics();

@@ -11,6 +11,10 @@
 #include "localization/slam/feature/feature_extractor.hpp"
 
 namespace labo::slam {
+
+using bench::SyntheticRoom;
+using bench::SyntheticRoomSpec;
+
 namespace {
 
 struct Recovered {

@@ -13,6 +13,7 @@
 
 using namespace labo;
 using namespace labo::slam;
+using namespace labo::bench;  // the synthetic room and its flights
 
 namespace {
 

@@ -16,6 +16,10 @@
 #include "slam_test_helpers.hpp"
 
 namespace labo::slam {
+
+using bench::SyntheticRoom;
+using bench::SyntheticRoomSpec;
+
 namespace {
 
 struct TrackedView {

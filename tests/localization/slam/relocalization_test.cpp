@@ -4,6 +4,7 @@
 
 using namespace labo;
 using namespace labo::slam;
+using namespace labo::bench;  // the synthetic room and its flights
 
 TEST_CASE("slam: relocalizes after the camera was covered and moved (kidnapped)") {
   const PinholeCamera camera = PinholeCamera::ardrone2_front();

@@ -15,7 +15,7 @@
 namespace labo::slam::testing {
 
 // Where a camera ray (world frame) leaves the room's box.
-inline Eigen::Vector3d hit_wall(const SyntheticRoomSpec& room, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
+inline Eigen::Vector3d hit_wall(const bench::SyntheticRoomSpec& room, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
   double nearest = 1e9;
   for (int axis = 0; axis < 3; ++axis) {
     if (std::abs(dir[axis]) < 1e-12) continue;
@@ -32,11 +32,11 @@ inline SlamSettings synchronous() {
 }
 
 struct RunResult {
-  std::vector<PosePair> tracked;
+  std::vector<bench::PosePair> tracked;
   std::vector<SlamResult> results;
 };
 
-inline RunResult run(SlamSystem& slam, const SyntheticRoom& room, const std::vector<FlightFrame>& frames) {
+inline RunResult run(SlamSystem& slam, const bench::SyntheticRoom& room, const std::vector<bench::FlightFrame>& frames) {
   RunResult out;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const SlamResult r = slam.track(room.render(frames[i].T_world_cam, static_cast<unsigned>(i)), frames[i].t);
@@ -59,8 +59,8 @@ inline double tracked_fraction_after_init(const RunResult& run) {
   return after > 0 ? static_cast<double>(tracked) / after : 0.0;
 }
 
-inline std::vector<FlightFrame> first_seconds(const Flight& flight, double seconds) {
-  std::vector<FlightFrame> out;
+inline std::vector<bench::FlightFrame> first_seconds(const bench::Flight& flight, double seconds) {
+  std::vector<bench::FlightFrame> out;
   for (const auto& f : flight.frames) {
     if (f.t < seconds) out.push_back(f);
   }
@@ -118,7 +118,7 @@ struct SeededMapper {
 
   PinholeCamera real;
   IdealCamera camera;
-  SyntheticRoom room;
+  bench::SyntheticRoom room;
   FeatureExtractor extractor;
   SlamMap map;
   LocalMapper mapper;

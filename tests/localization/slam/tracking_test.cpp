@@ -4,6 +4,7 @@
 
 using namespace labo;
 using namespace labo::slam;
+using namespace labo::bench;  // the synthetic room and its flights
 
 TEST_CASE("slam: tracks a short synthetic approach against ground truth") {
   const PinholeCamera camera = PinholeCamera::ardrone2_front();
