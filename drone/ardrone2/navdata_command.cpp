@@ -36,7 +36,7 @@ nlohmann::json field_value(const std::vector<double>& raw, std::size_t first, st
   return a;
 }
 
-nlohmann::json option_json(const ardrone2::OptionSpec& spec, const NavdataOptionValues& values) {
+nlohmann::json option_json(const ardrone2::NavdataOptionSpec& spec, const NavdataOptionValues& values) {
   nlohmann::json o = nlohmann::json::object();
   nlohmann::json raw = nlohmann::json::object();
   std::size_t index = 0;

@@ -19,7 +19,7 @@ void NavdataPacket::clear() {
 }
 
 std::size_t NavdataPacket::index_of(std::uint16_t tag, std::string_view field, std::size_t index) const {
-  const OptionSpec* spec = find_option_spec(tag);
+  const NavdataOptionSpec* spec = find_option_spec(tag);
   if (!spec) throw std::out_of_range("navdata: unknown option tag " + std::to_string(tag));
   const auto first = field_value_index(*spec, field);
   if (!first) throw std::out_of_range("navdata: option " + std::string(spec->name) + " has no field " + std::string(field));
@@ -50,7 +50,7 @@ std::uint32_t navdata_time_word(double seconds) {
 }
 
 void NavdataPacket::add_option(std::uint16_t tag) {
-  const OptionSpec* spec = find_option_spec(tag);
+  const NavdataOptionSpec* spec = find_option_spec(tag);
   if (!spec) throw std::out_of_range("navdata: unknown option tag " + std::to_string(tag));
   auto& o = options_[tag];
   o.present = true;

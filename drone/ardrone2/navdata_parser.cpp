@@ -44,7 +44,7 @@ double read_value(std::span<const std::uint8_t> bytes, std::size_t offset, WireT
   return 0;
 }
 
-void decode_option(const OptionSpec& spec, std::span<const std::uint8_t> body, NavdataOptionValues& out) {
+void decode_option(const NavdataOptionSpec& spec, std::span<const std::uint8_t> body, NavdataOptionValues& out) {
   std::size_t offset = 0, index = 0;
   for (const auto& f : spec.fields) {
     const std::size_t step = wire_size(f.type);
@@ -98,7 +98,7 @@ NavdataParseResult NavdataParser::parse(std::span<const std::uint8_t> data, Navd
       packet.checksum_ok = true;
       return {};
     }
-    if (const OptionSpec* spec = find_option_spec(tag)) {
+    if (const NavdataOptionSpec* spec = find_option_spec(tag)) {
       if (size < spec->size) {
         return fail(NavdataError::OptionTruncated, "option " + std::string(spec->name) + " of size " +
                                                        std::to_string(size) + ", expected " + std::to_string(spec->size));

@@ -116,7 +116,7 @@ constexpr FieldSpec kGps[] = {
     {"channels", W::U8, 24}, {"is_gps_plugged", W::Bool32}, {"ephemeris_status", W::U32}, {"vx_traj", W::F32},
     {"vy_traj", W::F32}, {"firmware_status", W::U32}};
 
-constexpr std::array<OptionSpec, kKnownOptionCount> kOptions = {{
+constexpr std::array<NavdataOptionSpec, kKnownOptionCount> kOptions = {{
     {kTagDemo, "demo", 148, kDemo},
     {kTagTime, "time", 8, kTime},
     {kTagRawMeasures, "raw_measures", 52, kRawMeasures},
@@ -174,19 +174,19 @@ std::size_t wire_size(WireType type) {
   return 0;
 }
 
-std::size_t OptionSpec::value_count() const {
+std::size_t NavdataOptionSpec::value_count() const {
   std::size_t n = 0;
   for (const auto& f : fields) n += f.count;
   return n;
 }
 
-std::span<const OptionSpec> navdata_option_specs() { return kOptions; }
+std::span<const NavdataOptionSpec> navdata_option_specs() { return kOptions; }
 
-const OptionSpec* find_option_spec(std::uint16_t tag) {
+const NavdataOptionSpec* find_option_spec(std::uint16_t tag) {
   return tag < kOptions.size() ? &kOptions[tag] : nullptr;
 }
 
-std::optional<std::size_t> field_value_index(const OptionSpec& spec, std::string_view field_name) {
+std::optional<std::size_t> field_value_index(const NavdataOptionSpec& spec, std::string_view field_name) {
   std::size_t index = 0;
   for (const auto& f : spec.fields) {
     if (f.name == field_name) return index;

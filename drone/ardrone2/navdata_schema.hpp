@@ -24,7 +24,7 @@ struct FieldSpec {
   double scale;              // si = raw * scale
 };
 
-struct OptionSpec {
+struct NavdataOptionSpec {
   std::uint16_t tag;
   std::string_view name;     // snake_case option name (JSON key)
   std::uint16_t size;        // wire size including the 4-byte tag+size header
@@ -46,10 +46,10 @@ inline constexpr std::uint16_t kOptionHeaderBytes = 4;
 inline constexpr std::uint16_t kChecksumOptionBytes = 8;
 
 // Table of every known option, indexed by tag.
-std::span<const OptionSpec> navdata_option_specs();
-const OptionSpec* find_option_spec(std::uint16_t tag);
+std::span<const NavdataOptionSpec> navdata_option_specs();
+const NavdataOptionSpec* find_option_spec(std::uint16_t tag);
 // Index of a field's first value in the option's flattened value array, or nullopt.
-std::optional<std::size_t> field_value_index(const OptionSpec& spec, std::string_view field_name);
+std::optional<std::size_t> field_value_index(const NavdataOptionSpec& spec, std::string_view field_name);
 
 // The 32 state bits by name (bit 24..27 are the four "threads on" flags).
 std::string_view state_bit_name(int bit);

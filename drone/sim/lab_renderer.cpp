@@ -77,7 +77,7 @@ void LabRenderer::render(CameraId id, const SceneState& scene, cv::Mat& bgr) {
   const Eigen::Isometry3d T_world_cam = camera_pose(p, scene.T_world_body);
 
   teacher_.project(scene, T_world_cam, p.rays.camera(), p.rays.max_radius(), p.teacher);
-  const PixelBox& box = p.teacher.box;
+  const PixelBounds& box = p.teacher.box;
   p.tracer.trace(T_world_cam, box.x0, box.y0, box.x1, box.y1, p.colour.data(), p.depth.data());
   p.stats.tracer = p.tracer.stats();
   p.stats.teacher_drawn = !box.empty();

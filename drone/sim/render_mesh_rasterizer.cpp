@@ -63,7 +63,7 @@ void for_each_fragment(const TriangleSetup& s, float bias, FrameTarget& target, 
 
 }  // namespace
 
-void PixelBox::include(float x, float y) {
+void PixelBounds::include(float x, float y) {
   const int fx = static_cast<int>(std::floor(x)), fy = static_cast<int>(std::floor(y));
   if (empty()) {
     x0 = fx;
@@ -79,7 +79,7 @@ void PixelBox::include(float x, float y) {
 }
 
 void project_mesh(const RenderMesh& mesh, const Eigen::Isometry3d& T_cam_mesh, const PinholeCamera& camera, float max_radius,
-                  ProjectedMesh& out, PixelBox& box) {
+                  ProjectedMesh& out, PixelBounds& box) {
   const std::size_t n = mesh.vertices.size();
   out.px.resize(n);
   out.z.resize(n);

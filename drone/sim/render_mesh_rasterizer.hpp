@@ -29,7 +29,7 @@ struct RenderMesh {
   float depth_bias_m = 0;  // added to the depth it writes: a positive bias lets nearer meshes draw over it
 };
 
-struct PixelBox {
+struct PixelBounds {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // [x0, x1) x [y0, y1)
   bool empty() const { return x1 <= x0 || y1 <= y0; }
   void include(float x, float y);
@@ -54,7 +54,7 @@ struct FrameTarget {
 // Projects `mesh` placed at T_cam_mesh; grows `box` by the triangles that will be drawn.
 // `max_radius` is CameraRays::max_radius(): vertices farther off-axis are not drawn.
 void project_mesh(const RenderMesh& mesh, const Eigen::Isometry3d& T_cam_mesh, const PinholeCamera& camera, float max_radius,
-                  ProjectedMesh& out, PixelBox& box);
+                  ProjectedMesh& out, PixelBounds& box);
 
 // Draws the front-facing triangles whose three vertices are valid, where nearer than `target.depth`.
 void rasterize_mesh(const RenderMesh& mesh, const ProjectedMesh& projected, FrameTarget target);

@@ -141,7 +141,7 @@ Eigen::Isometry3d TeacherFigure::body_pose(const SceneState& scene) {
 
 void TeacherFigure::project(const SceneState& scene, const Eigen::Isometry3d& T_world_cam, const PinholeCamera& camera,
                             float max_radius, TeacherProjection& out) const {
-  out.box = PixelBox{};
+  out.box = PixelBounds{};
   out.has_face = false;
   if (!scene.teacher_present) return;
   const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();

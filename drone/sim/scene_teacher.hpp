@@ -17,7 +17,7 @@ namespace labo::sim {
 struct TeacherProjection {
   ProjectedMesh body, neck, head_back, face;
   bool has_face = false;
-  PixelBox box;  // pixels the teacher may cover; empty when out of view
+  PixelBounds box;  // pixels the teacher may cover; empty when out of view
 };
 
 class TeacherFigure {
