@@ -88,7 +88,8 @@ struct EstimatorConfig {
   // How long the persistent filter waits for late vision results before it moves on with navdata
   // only (a vision result older than the filter is then rejected as late).
   Seconds vision_latency_allowance_s = 0.25;
-  // Timestamps more than this ahead of the newest navdata are refused as far-future.
+  // Timestamps more than this ahead of the newest navdata are refused as far-future; a navdata packet
+  // that far ahead is taken when the next one confirms it (the link back after a gap).
   Seconds max_future_s = 1.0;
   MotionModelConstants model;
   EstimatorNoise noise;

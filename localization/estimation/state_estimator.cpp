@@ -71,14 +71,15 @@ enum Counter {
   kNavdata, kCommands, kSlam, kObject, kFace, kRejectedNonfinite, kRejectedOutOfOrder, kRejectedFuture,
   kRejectedLate, kRejectedJumpDistance, kRejectedJumpAngle, kRejectedInnovation, kRejectedNotTracking,
   kRejectedBadInput, kCommandsNonfinite, kNavdataOverflow, kSlamMaps, kObjectsPlaced, kScalePairs,
-  kVisionSettling, kScalePairsNoCoverage, kRejectedReacquisition, kReacquisitionConfirmed, kCounterCount
+  kVisionSettling, kScalePairsNoCoverage, kRejectedReacquisition, kReacquisitionConfirmed, kNavdataResumedAfterGap,
+  kCounterCount
 };
 constexpr const char* kCounterNames[kCounterCount] = {
     "navdata", "commands", "slam_fused", "object_fused", "face_fused", "rejected_nonfinite",
     "rejected_out_of_order", "rejected_future", "rejected_late", "rejected_jump_distance", "rejected_jump_angle",
     "rejected_innovation", "rejected_not_tracking", "rejected_bad_input", "commands_nonfinite_hover",
     "navdata_queue_overflow", "slam_maps", "objects_placed", "scale_pairs", "vision_settling", "scale_pairs_navdata_gap",
-    "rejected_reacquisition", "reacquisition_confirmed"};
+    "rejected_reacquisition", "reacquisition_confirmed", "navdata_resumed_after_gap"};
 
 int source_index(LocalizationSource s) { return static_cast<int>(s); }
 
@@ -120,6 +121,7 @@ struct StateEstimator::Impl {
   std::array<Seconds, 3> last_obs_t{-1e18, -1e18, -1e18};
   std::array<int, 3> gated_in_row{};
   Seconds latest_input_t = -std::numeric_limits<double>::infinity();
+  std::optional<Seconds> gap_witness_t;  // a navdata time refused as far-future, kept to confirm a gap
   Seconds last_navdata_t = -std::numeric_limits<double>::infinity();
   std::uint32_t last_navdata_sequence = 0;
   std::optional<Eigen::Isometry3d> start_pose;  // start_at_first_navdata(): placed at the next sample
@@ -167,6 +169,27 @@ struct StateEstimator::Impl {
       return false;
     }
     return true;
+  }
+
+  // A navdata packet far ahead of every input so far is a corrupt time or the link back after a gap
+  // longer than max_future_s (a Wi-Fi cut, an emulator or drone restart). Alone it is refused and
+  // kept as a witness; the next packet within max_future_s after it confirms that the clock moved on,
+  // and the filter resumes from there. Refusing them all would freeze the estimate for good after
+  // the first long gap, while the drone flies on.
+  bool accept_navdata_time(Seconds t) {
+    if (!std::isfinite(t) || !std::isfinite(latest_input_t) || t <= latest_input_t + config.max_future_s) {
+      gap_witness_t.reset();
+      return accept_time(t);
+    }
+    if (gap_witness_t && t >= *gap_witness_t && t <= *gap_witness_t + config.max_future_s) {
+      gap_witness_t.reset();
+      latest_input_t = t;
+      count(kNavdataResumedAfterGap);
+      return true;
+    }
+    gap_witness_t = t;
+    count(kRejectedFuture);
+    return false;
   }
 
   enum class VisionOutcome { Inconsistent, Settling, Gated, Fused };
@@ -346,6 +369,7 @@ void StateEstimator::reset(const Eigen::Isometry3d& T_world_body, Seconds t) {
   for (ReacquisitionGate& g : m.reacquisition) g.reset();
   m.last_obs_t = {-1e18, -1e18, -1e18};
   m.latest_input_t = t;
+  m.gap_witness_t.reset();
   m.last_navdata_t = m.last_command_t = -std::numeric_limits<double>::infinity();
   m.start_pose.reset();
 }
@@ -369,7 +393,7 @@ bool StateEstimator::add_navdata(const NavdataSample& n) {
     }
   }
   if (m.start_pose && std::isfinite(n.t)) reset(*m.start_pose, n.t - m.config.navdata_delay_s);
-  if (!m.accept_time(n.t)) return false;
+  if (!m.accept_navdata_time(n.t)) return false;
   // Packets received in one burst share a receive time (the link keeps their order): only an older
   // time, or the same packet again, is out of order.
   if (n.t < m.last_navdata_t || (n.t == m.last_navdata_t && n.sequence == m.last_navdata_sequence)) {

@@ -227,6 +227,50 @@ TEST_CASE("estimation: a start pose without a time is taken at the first navdata
   CHECK(est.statistics().counters.at("rejected_future") == 0);
 }
 
+TEST_CASE("estimation: after a navdata gap longer than max_future_s the filter resumes at the second packet") {
+  // A 3-s Wi-Fi cut in flight: the packets after it are far ahead of every input the filter has. The
+  // first is refused (it could be a corrupt time); the second confirms the clock moved on, and from
+  // there the navdata moves the estimate again. Refusing them all froze the estimate for the rest of
+  // the flight while the drone flew on.
+  estimation::StateEstimator est(no_delays());
+  est.reset(make_pose({0, 0, 1}, 0), 0.0);
+  NavdataSample n;
+  n.altitude_m = 1.0;
+  n.control_state = 3;  // flying
+  n.vx_mps = 0.3;       // forward, yaw 0: along world x
+  Seconds t = 0;
+  for (int k = 1; k <= 30; ++k) {
+    n.t = t = k / 15.0;
+    REQUIRE(est.add_navdata(n));
+  }
+  const double x_before = est.predict(t).position_world.x();
+  CHECK(x_before == Approx(0.6).margin(0.05));
+
+  n.t = t + 3.0;  // the link back
+  CHECK_FALSE(est.add_navdata(n));
+  CHECK(est.statistics().count("rejected_future") == 1);
+  double x_resumed = 0;
+  for (int k = 1; k <= 31; ++k) {
+    n.t = t + 3.0 + k / 15.0;
+    REQUIRE(est.add_navdata(n));
+    if (k == 1) x_resumed = est.predict(n.t).position_world.x();
+  }
+  CHECK(est.statistics().count("navdata_resumed_after_gap") == 1);
+  const estimation::FusedState after = est.predict(n.t);
+  CHECK(after.t == Approx(n.t));
+  // Two seconds of navdata after the gap moved it on by their 0.6 m; the gap itself is dead reckoned.
+  CHECK(after.position_world.x() - x_resumed == Approx(0.6).margin(0.05));
+  CHECK(after.position_world.x() > x_before + 0.6);
+
+  // A lone packet far ahead is still refused, and the stream after it goes on.
+  NavdataSample corrupt = n;
+  corrupt.t = n.t + 1e6;
+  CHECK_FALSE(est.add_navdata(corrupt));
+  n.t += 1.0 / 15.0;
+  CHECK(est.add_navdata(n));
+  CHECK(est.statistics().count("navdata_resumed_after_gap") == 1);
+}
+
 TEST_CASE("estimation: delay compensation predicts the pose at the time a command acts") {
   // The controller's question: where will the drone be when the command computed now acts (now + 100 ms)?
   const auto rms_error = [](bool compensate) {
