@@ -91,6 +91,9 @@ struct EstimatorConfig {
   // Timestamps more than this ahead of the newest navdata are refused as far-future; a navdata packet
   // that far ahead is taken when the next one confirms it (the link back after a gap).
   Seconds max_future_s = 1.0;
+  // After the link goes silent the drone's firmware flies the last command it received this long,
+  // then hovers (the AR.Drone's com watchdog, `general:com_watchdog`, 2 s by default).
+  Seconds firmware_command_hold_s = 2.0;
   MotionModelConstants model;
   EstimatorNoise noise;
   // Source switching: a source drives the estimate after `source_enter_count` consecutive accepted

@@ -176,20 +176,34 @@ struct StateEstimator::Impl {
   // kept as a witness; the next packet within max_future_s after it confirms that the clock moved on,
   // and the filter resumes from there. Refusing them all would freeze the estimate for good after
   // the first long gap, while the drone flies on.
-  bool accept_navdata_time(Seconds t) {
+  enum class NavdataTime { Refused, Accepted, AfterGap };
+  NavdataTime accept_navdata_time(Seconds t) {
     if (!std::isfinite(t) || !std::isfinite(latest_input_t) || t <= latest_input_t + config.max_future_s) {
       gap_witness_t.reset();
-      return accept_time(t);
+      return accept_time(t) ? NavdataTime::Accepted : NavdataTime::Refused;
     }
     if (gap_witness_t && t >= *gap_witness_t && t <= *gap_witness_t + config.max_future_s) {
       gap_witness_t.reset();
       latest_input_t = t;
       count(kNavdataResumedAfterGap);
-      return true;
+      return NavdataTime::AfterGap;
     }
     gap_witness_t = t;
     count(kRejectedFuture);
-    return false;
+    return NavdataTime::Refused;
+  }
+
+  // Across the gap: the commands sent into the silence never reached the drone, which flew the last
+  // one it had received for the firmware's command watchdog, then hovered. Carrying the unsent ones
+  // over the gap flew the estimate metres away from a drone that had stopped. So the filter moves to
+  // the last packet before the gap, the commands after it are dropped, and a hover takes effect where
+  // the watchdog fired; the gap is dead reckoned on that, its uncertainty grown by the motion model.
+  void bridge_gap(Seconds t_last_packet, Seconds t_meas_resumed) {
+    const Seconds t_last = t_last_packet - config.navdata_delay_s;
+    advance(t_last);
+    commands.clear();
+    const Seconds t_hover = std::min(t_last + config.firmware_command_hold_s, t_meas_resumed);
+    commands.push(std::max(core.time(), t_hover), MoveCommand{});
   }
 
   enum class VisionOutcome { Inconsistent, Settling, Gated, Fused };
@@ -393,7 +407,8 @@ bool StateEstimator::add_navdata(const NavdataSample& n) {
     }
   }
   if (m.start_pose && std::isfinite(n.t)) reset(*m.start_pose, n.t - m.config.navdata_delay_s);
-  if (!m.accept_navdata_time(n.t)) return false;
+  const Impl::NavdataTime verdict = m.accept_navdata_time(n.t);
+  if (verdict == Impl::NavdataTime::Refused) return false;
   // Packets received in one burst share a receive time (the link keeps their order): only an older
   // time, or the same packet again, is out of order.
   if (n.t < m.last_navdata_t || (n.t == m.last_navdata_t && n.sequence == m.last_navdata_sequence)) {
@@ -409,6 +424,7 @@ bool StateEstimator::add_navdata(const NavdataSample& n) {
     m.count(kRejectedLate);
     return false;
   }
+  if (verdict == Impl::NavdataTime::AfterGap && std::isfinite(m.last_navdata_t)) m.bridge_gap(m.last_navdata_t, t_meas);
   m.last_navdata_t = n.t;
   m.last_navdata_sequence = n.sequence;
   m.latest_input_t = std::max(m.latest_input_t, n.t);
