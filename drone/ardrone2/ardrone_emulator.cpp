@@ -109,7 +109,10 @@ void ArdroneEmulator::handle_command(const AtCommand& c, Seconds t) {
     {
       std::lock_guard lock(state_mutex_);
       do_takeoff = takeoff && !takeoff_bit_;
-      do_land = !takeoff && takeoff_bit_;
+      // Take-off acts on the bit's rising edge, landing on its level: a drone in the air that hears
+      // "land" lands, even when it never heard the take-off that this emulator's firmware state
+      // remembers (an emulator restarted over a flying vehicle, a client that joined in flight).
+      do_land = !takeoff;
       do_emergency = emergency && !emergency_bit_;  // the emergency bit toggles on its rising edge
       takeoff_bit_ = takeoff;
       emergency_bit_ = emergency;

@@ -248,7 +248,7 @@ void SimDroneLink::apply_commands(const CommandPacket& p, Seconds t) {
   // while the drone is still on the ground.
   if (p.flat_trim) lab_.flat_trim(t);
   if (p.takeoff_bit && !drone_takeoff_bit_) lab_.takeoff(t);
-  if (!p.takeoff_bit && drone_takeoff_bit_) lab_.land(t);
+  if (!p.takeoff_bit) lab_.land(t);  // on the level, as the emulator: landing a landed drone does nothing
   drone_takeoff_bit_ = p.takeoff_bit;
   if (p.camera) {
     switching_to_ = *p.camera;

@@ -315,3 +315,25 @@ TEST_CASE("link: an emulator restarted over the same vehicle continues its time"
   CHECK(wait_until([&] { return vehicle.now() > 100.2; }, 3.0));
   emulator.stop();
 }
+
+TEST_CASE("link: an emulator restarted under a flying vehicle lands it on the driver's land", "[link][loopback]") {
+  // The flight software ended its mission during the restart and sends land (REF without the
+  // take-off bit); the new emulator never saw the take-off, and must still land what flies.
+  test::TinyVehicle vehicle;
+  vehicle.start_flying(0.8);
+  ArdroneEmulatorSettings s;
+  s.at_port = s.navdata_port = s.video_port = 0;
+  s.com_watchdog_s = 0.5;
+  ArdroneEmulator emulator(vehicle, s, quiet());
+  emulator.start();
+  ArdroneLink link(test::link_settings_for(emulator), quiet());
+  Recorder rec;
+  link.set_listener(&rec);
+  link.start();
+  REQUIRE(wait_until([&] { return link.state() == LinkState::Connected; }, 5.0));
+  link.land();
+  CHECK(wait_until([&] { return !vehicle.snapshot().flying; }, 5.0));
+  CHECK(vehicle.snapshot().z_m == Approx(0.0).margin(0.01));
+  link.stop();
+  emulator.stop();
+}

@@ -22,7 +22,14 @@ class TinyVehicle : public EmulatedVehicle {
   };
 
   void takeoff(Seconds) override { std::lock_guard l(m_); if (!emergency_) { taking_off_ = true; landing_ = false; } }
-  void land(Seconds) override { std::lock_guard l(m_); landing_ = true; taking_off_ = false; }
+  void land(Seconds) override {
+    std::lock_guard l(m_);
+    if (!s_.flying) return;  // as a firmware: "land" on the ground does nothing
+    landing_ = true;
+    taking_off_ = false;
+  }
+  // Puts the vehicle in the air at `altitude_m`, as if it had taken off under an emulator now gone.
+  void start_flying(double altitude_m) { std::lock_guard l(m_); s_.flying = true; s_.z_m = altitude_m; }
   void emergency(Seconds) override { std::lock_guard l(m_); emergency_ = !emergency_; s_.flying = false; s_.z_m = 0; }
   void flat_trim(Seconds) override { std::lock_guard l(m_); ++s_.flat_trims; }
   void move(const MoveCommand& c, bool hover, Seconds) override {
