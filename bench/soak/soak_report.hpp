@@ -54,7 +54,13 @@ struct SoakSummary {
   double warmup_s = 0;
   double rss_warmup_peak_mib = 0, rss_after_peak_mib = 0, rss_final_mib = 0;
   double rss_growth_percent = 0;  // after-warm-up peak over the warm-up's peak
+  // The same without the SLAM map: a map filling up to slam.max_keyframes is bounded growth the
+  // warm-up may not cover (~0.4 MiB a keyframe); what is left is what a leak would show.
+  double net_warmup_peak_mib = 0, net_after_peak_mib = 0, net_growth_percent = 0;
+  std::vector<double> slam_map_per_minute_mib;
   std::vector<double> rss_per_minute_mib;  // the last sample of each minute: where the growth went
+  // The same minutes as the heap sees them: in live allocations, and held from the kernel.
+  std::vector<double> heap_in_use_per_minute_mib, heap_held_per_minute_mib;
   // The flight thread's timing over the whole soak.
   RuntimeTimingSummary timing;
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <fstream>
 #include <iostream>
+#include <malloc.h>
 
 #include "bench/soak/soak_client.hpp"
 
@@ -17,6 +18,14 @@ double resident_mib() {
   for (std::string line; std::getline(in, line);)
     if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;  // kB
   return 0;
+}
+
+RssSample with_heap_figures(RssSample sample) {
+  const struct mallinfo2 m = mallinfo2();
+  constexpr double kMiB = 1024.0 * 1024.0;
+  sample.heap_in_use_mib = static_cast<double>(m.uordblks + m.hblkhd) / kMiB;
+  sample.heap_held_mib = static_cast<double>(m.arena + m.hblkhd) / kMiB;
+  return sample;
 }
 
 std::string drone_activity(const DroneTruth& truth, const FlightTelemetry& telemetry) {
@@ -49,7 +58,9 @@ void SoakWatch::run() {
       ++probes_;
       if (http_request(port_, "GET", "/api/health").status != 200) ++probe_failures_;
       std::lock_guard lock(mutex_);
-      rss_.push_back({t, resident_mib()});
+      RssSample sample = with_heap_figures({t, resident_mib()});
+      sample.slam_map_mib = flight_.telemetry().slam_map_mib;
+      rss_.push_back(sample);
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
   }

@@ -67,6 +67,7 @@ struct SlamSummary {
   int points_attempted = 0;
   int keyframes = 0;
   int map_points = 0;
+  std::size_t map_bytes = 0;  // slam::SlamStatus::map_bytes
   bool scale_estimated = false;
   double scale = 1.0;  // metres per map unit
   int scale_pairs = 0;         // inlier displacement pairs behind the scale

@@ -58,6 +58,7 @@ const SlamFrame& SlamSystemFrontEnd::process(const cv::Mat& gray, Seconds t,
     const slam::SlamStatus status = slam_->status();
     s.keyframes = status.keyframes;
     s.map_points = status.map_points;
+    s.map_bytes = status.map_bytes;
   }
   return frame_;
 }

@@ -236,6 +236,13 @@ SlamStatus SlamSystem::status() const {
   std::shared_lock lock(impl_->map.mutex());
   s.map_points = static_cast<int>(impl_->map.points().size());
   s.keyframes = static_cast<int>(impl_->map.keyframes().size());
+  s.map_bytes = impl_->map.points().size() * sizeof(MapPoint);
+  for (const Keyframe& kf : impl_->map.keyframes()) {
+    for (const cv::Mat& level : kf.pyramid) s.map_bytes += level.total() * level.elemSize();
+    s.map_bytes += kf.small_image.total() * kf.small_image.elemSize();
+    s.map_bytes += kf.frame.features.capacity() * sizeof(Feature) + kf.frame.descriptors.capacity() * sizeof(Descriptor) +
+                   kf.point_of_feature.capacity() * sizeof(PointId);
+  }
   // At most ~2000 points for the top-down view.
   const std::size_t stride = std::max<std::size_t>(1, impl_->map.points().size() / 2000);
   std::size_t i = 0;

@@ -107,6 +107,9 @@ struct SlamStatus {
   double quality = 0.0;
   int map_points = 0;
   int keyframes = 0;
+  // What the map holds in memory: keyframes' pyramids, small images, features and descriptors, and
+  // the points (bounded by max_keyframes; the bulk of a long-running server's growth until full).
+  std::size_t map_bytes = 0;
   int points_found = 0;
   int mapping_queue = 0;
   int local_ba_runs = 0;

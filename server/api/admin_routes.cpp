@@ -127,7 +127,12 @@ HttpReply RestApi::metrics_text() {
         << "# HELP labodrone_link_quality Wi-Fi link quality 0..1.\n# TYPE labodrone_link_quality gauge\n"
         << "labodrone_link_quality " << t.link_quality << "\n"
         << "# HELP labodrone_video_fps Frames per second from the drone.\n# TYPE labodrone_video_fps gauge\n"
-        << "labodrone_video_fps " << t.video_fps << "\n";
+        << "labodrone_video_fps " << t.video_fps << "\n"
+        << "# HELP labodrone_slam_keyframes Keyframes in the SLAM map (at most slam.max_keyframes).\n"
+        << "# TYPE labodrone_slam_keyframes gauge\n"
+        << "labodrone_slam_keyframes " << t.slam_keyframes << "\n"
+        << "# HELP labodrone_slam_map_mib Memory the SLAM map holds (MiB).\n# TYPE labodrone_slam_map_mib gauge\n"
+        << "labodrone_slam_map_mib " << t.slam_map_mib << "\n";
   HttpReply r = HttpReply::json(http::status::ok, metrics_.prometheus_text(extra.str()));
   r.content_type = "text/plain; version=0.0.4";
   return r;

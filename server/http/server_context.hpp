@@ -12,6 +12,7 @@
 #include "server/audit/audit_log.hpp"
 #include "server/auth/session_store.hpp"
 #include "server/lab/remote_lab.hpp"
+#include "server/http/heap_release.hpp"
 #include "server/http/tls_context.hpp"
 #include "server/lab/server_metrics.hpp"
 #include "server/server_settings.hpp"
@@ -44,6 +45,7 @@ struct ServerContext {
   ServerMetrics metrics;
   boost::asio::ip::tcp::acceptor acceptor;
   boost::asio::steady_timer tick_timer;
+  HeapRelease heap_release;  // on the tick
   std::unique_ptr<boost::asio::ssl::context> tls;  // null: plain HTTP
   AuditLog audit;
   SessionStore sessions;

@@ -29,6 +29,7 @@ void tick_next(const std::shared_ptr<ServerContext>& ctx) {
     if (ec) return;
     ctx->lab->tick();
     ctx->sessions.save_if_changed(unix_now_s());
+    ctx->heap_release.tick(std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count());
     tick_next(ctx);
   });
 }

@@ -70,6 +70,8 @@ struct FlightTelemetry {
   std::string link_state = "disconnected";
   bool flying = false;
   std::string slam_state;
+  int slam_keyframes = 0;
+  double slam_map_mib = 0;  // the SLAM map's memory (bounded by slam.max_keyframes)
   // The SLAM map seen from above (world m, bounded, decimated), refreshed about once a second; the
   // clients get it in its own message when its revision changes (lab_messages.hpp).
   std::shared_ptr<const fusion::SlamPointsXy> slam_points;

@@ -165,6 +165,8 @@ FlightSnapshot FlightStackCore::status() {
   t.link_quality = s.link == LinkState::Connected ? 1.0 : s.link == LinkState::Degraded ? 0.5 : 0.0;
   t.flying = s.phase != control::FlightPhase::Landed && s.phase != control::FlightPhase::Emergency;
   t.slam_state = to_string(s.slam.state);
+  t.slam_keyframes = s.slam.keyframes;
+  t.slam_map_mib = static_cast<double>(s.slam.map_bytes) / (1024.0 * 1024.0);
   t.slam_points = s.slam_points;
   if (s.face.placed_in_world) t.teacher_xy = std::pair{s.face.T_world_target.translation().x(), s.face.T_world_target.translation().y()};
 

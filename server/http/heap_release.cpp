@@ -1,0 +1,15 @@
+#include "server/http/heap_release.hpp"
+
+#include <malloc.h>
+
+namespace labo::server {
+
+void HeapRelease::tick(double now_s) {
+  if (last_s_ < 0) last_s_ = now_s;
+  if (now_s - last_s_ < every_s_) return;
+  last_s_ = now_s;
+  malloc_trim(0);
+  ++releases_;
+}
+
+}  // namespace labo::server
