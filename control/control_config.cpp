@@ -54,6 +54,9 @@ MissionParameters read_mission(const ConfigReader& node, MissionParameters m) {
   m.landing_settle_s = node.number_or("landing_settle_s", m.landing_settle_s, Range::closed(0.0, 10.0));
   m.platform_settle_timeout_s =
       node.number_or("platform_settle_timeout_s", m.platform_settle_timeout_s, Range::closed(1.0, 120.0));
+  m.platform_look_s = node.number_or("platform_look_s", m.platform_look_s, Range::closed(0.0, 60.0));
+  m.platform_search_step_m = node.number_or("platform_search_step_m", m.platform_search_step_m, Range::closed(0.0, 2.0));
+  m.platform_search_rings = node.integer_or("platform_search_rings", m.platform_search_rings, 1, 5);
   m.scale_manoeuvre_m = node.number_or("scale_manoeuvre_m", m.scale_manoeuvre_m, Range::closed(0.0, 2.0));
   m.scale_manoeuvre_speed_mps =
       node.number_or("scale_manoeuvre_speed_mps", m.scale_manoeuvre_speed_mps, Range::closed(0.05, 1.0));
@@ -90,6 +93,7 @@ SafetyLimits read_safety(const ConfigReader& node, SafetyLimits s) {
   s.min_clearance_m = node.number_or("min_clearance_m", s.min_clearance_m, Range::closed(0.0, 1.5));
   s.estimate_jump_m = node.number_or("estimate_jump_m", s.estimate_jump_m, Range::closed(0.0, 5.0));
   s.estimate_jump_hold_s = node.number_or("estimate_jump_hold_s", s.estimate_jump_hold_s, Range::closed(0.0, 10.0));
+  s.hold_clearance_m = node.number_or("hold_clearance_m", s.hold_clearance_m, Range::closed(-1.0, 1.0));
   node.finish();
   if (s.critical_battery_percent > s.low_battery_percent)
     node.fail("critical_battery_percent", "must be <= low_battery_percent");

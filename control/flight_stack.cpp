@@ -1,9 +1,11 @@
 #include "control/flight_stack.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "control/autopilot.hpp"
+#include "control/command_hold_envelope.hpp"
 #include "localization/fusion/lab_pipelines.hpp"
 #include "localization/fusion/lab_pipelines_factory.hpp"
 #include "control/level_hold.hpp"
@@ -22,7 +24,9 @@ struct FlightStack::Impl {
         pipelines(std::move(p)),
         autopilot(setup.control, Geofence(setup.lab.room_min, setup.lab.room_max, setup.control.safety.geofence_margin_m)),
         source_switch(setup.control.mission.source_switch),
-        safety(setup.control.safety) {
+        safety(setup.control.safety),
+        envelope(setup.lab.room_min, setup.lab.room_max, std::max(0.0, setup.control.safety.hold_clearance_m),
+                 setup.estimation.firmware_command_hold_s, setup.estimation.model) {
     if (!pipelines) throw std::invalid_argument("FlightStack: no localization pipelines");
     // On the platform at the base; the time is the first navdata's (a server's clock has run for
     // seconds before the link connects, a lockstep flight's starts at 0).
@@ -34,6 +38,7 @@ struct FlightStack::Impl {
   Autopilot autopilot;
   fusion::LocalizationSwitch source_switch;
   SafetyMonitor safety;
+  CommandHoldEnvelope envelope;
   std::unique_ptr<Mission> mission;
   fusion::PerceptionFocus focus;
   CameraId camera = CameraId::Front;
@@ -111,7 +116,8 @@ struct FlightStack::Impl {
     in.battery_percent = have_nav ? nav.battery_percent : 100.0;
     in.localization_required = mission && mission->needs_visual_localization();
     in.localization_ok = pose.valid && pose.source != fusion::FeedbackSource::DeadReckoning;
-    if (mission && mission->tolerates_dead_reckoning()) in.localization_grace_s = setup.control.safety.return_dead_reckoning_s;
+    if (mission && mission->tolerates_dead_reckoning())
+      in.localization_grace_s = setup.control.safety.return_dead_reckoning_s + mission->platform_search_s(t);
     in.returning_home = mission && mission->name() == "return_home";
     in.flying = autopilot.phase() == FlightPhase::Flying;
     if (have_nav) in.ultrasound_m = nav.altitude_m;
@@ -178,14 +184,14 @@ struct FlightStack::Impl {
     if (pending) {
       FlightOutput out = *pending;
       pending.reset();
-      return finish_tick(out, t);
+      return finish_tick(out, pose, t);
     }
     // The source switch runs even while safety holds the mission: a paused mission must be able to
     // regain its visual source (a hover waiting for localization would otherwise never end).
     update_source(t);
     bool paused = false;
     FlightOutput safety_out = apply_safety(pose, t, paused);
-    if (paused) return finish_tick(safety_out, t);
+    if (paused) return finish_tick(safety_out, pose, t);
 
     FlightOutput out;
     if (mission) {
@@ -198,14 +204,15 @@ struct FlightStack::Impl {
         finish_mission(verdict + mission->result());
         if (autopilot.flying() && !autopilot.target()) autopilot.hold_here(pose, t);
       }
-      if (ctx.phase_action) return finish_tick(*ctx.phase_action, t);
+      if (ctx.phase_action) return finish_tick(*ctx.phase_action, pose, t);
     }
     update_source(t);  // the mission may have changed the focus
     out = autopilot.step(pose, t);
-    return finish_tick(out, t);
+    return finish_tick(out, pose, t);
   }
 
-  FlightOutput finish_tick(FlightOutput out, Seconds t) {
+  FlightOutput finish_tick(FlightOutput out, const fusion::PoseEstimate& pose, Seconds t) {
+    if (out.action == FlightOutput::Action::Move) keep_inside_hold_envelope(out, pose);
     if (!camera_sent || *camera_sent != camera) {
       out.select_camera = camera;
       camera_sent = camera;
@@ -213,6 +220,19 @@ struct FlightStack::Impl {
     if (out.action == FlightOutput::Action::Move) pipelines->on_command(out.move, t);
     else if (out.action == FlightOutput::Action::Hover) pipelines->on_command(MoveCommand{}, t);
     return out;
+  }
+
+  void keep_inside_hold_envelope(FlightOutput& out, const fusion::PoseEstimate& pose) {
+    if (setup.control.safety.hold_clearance_m < 0 || !pose.valid || autopilot.phase() != FlightPhase::Flying) return;
+    const HoldEnvelopeInputs state{pose.T_world_body.translation(), pose.velocity_world,
+                                   ypr_from_rotation(pose.T_world_body.linear())[0]};
+    const HoldEnvelopeResult r = envelope.limit(out.move, state);
+    if (!r.limited()) return;
+    if (r.hover) out.action = FlightOutput::Action::Hover;
+    out.move = r.move;
+    alerts.push_back(r.hover ? "too fast for a link cut here: hovering"
+                             : "too fast for a link cut here: command at " +
+                                 std::to_string(static_cast<int>(std::lround(100.0 * r.scale))) + " %");
   }
 
   CommandResult request(const MissionRequest& r, Seconds t) {

@@ -27,6 +27,16 @@ TEST_CASE("estimation: config reads delays in ms and model constants, refuses ba
   CHECK_THROWS_WITH(estimation::read_estimation_config(order.root()), Catch::Contains("scale_interval_max_s"));
 }
 
+TEST_CASE("estimation: config reads the firmware's command hold, refuses what no firmware has") {
+  const ConfigDocument doc = ConfigDocument::parse(R"({"firmware_command_hold_s": 15})", "tello.json");
+  CHECK(estimation::read_estimation_config(doc.root()).firmware_command_hold_s == Approx(15.0));
+  for (const char* text : {R"({"firmware_command_hold_s": -1})", R"({"firmware_command_hold_s": 31})",
+                           R"({"firmware_command_hold_s": "2 s"})"}) {
+    const ConfigDocument bad = ConfigDocument::parse(text, "bad.json");
+    CHECK_THROWS_WITH(estimation::read_estimation_config(bad.root()), Catch::Contains("firmware_command_hold_s"));
+  }
+}
+
 TEST_CASE("estimation: config reads the velocity dropout detector, refuses bad values") {
   const ConfigDocument doc = ConfigDocument::parse(
       R"({"velocity_dropout": {"enabled": false, "window_s": 0.5, "onset_mps": 0.15, "confirm_packets": 3}})", "test.json");
