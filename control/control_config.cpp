@@ -54,9 +54,6 @@ MissionParameters read_mission(const ConfigReader& node, MissionParameters m) {
   m.landing_settle_s = node.number_or("landing_settle_s", m.landing_settle_s, Range::closed(0.0, 10.0));
   m.platform_settle_timeout_s =
       node.number_or("platform_settle_timeout_s", m.platform_settle_timeout_s, Range::closed(1.0, 120.0));
-  m.platform_look_s = node.number_or("platform_look_s", m.platform_look_s, Range::closed(0.0, 60.0));
-  m.platform_search_step_m = node.number_or("platform_search_step_m", m.platform_search_step_m, Range::closed(0.0, 2.0));
-  m.platform_search_rings = node.integer_or("platform_search_rings", m.platform_search_rings, 1, 5);
   m.scale_manoeuvre_m = node.number_or("scale_manoeuvre_m", m.scale_manoeuvre_m, Range::closed(0.0, 2.0));
   m.scale_manoeuvre_speed_mps =
       node.number_or("scale_manoeuvre_speed_mps", m.scale_manoeuvre_speed_mps, Range::closed(0.05, 1.0));

@@ -71,13 +71,6 @@ struct MissionParameters {
   double landing_centre_tolerance_m = 0.03;
   double landing_settle_s = 0.5;
   double platform_settle_timeout_s = 12.0;
-  // Stage 5's search (control/platform_search_pattern.hpp): the platform not seen within
-  // platform_look_s above the estimated base, the drone flies platform_search_rings square rings
-  // round it, platform_search_step_m apart, then lands at the estimated base and says so. Step 0: no
-  // search; it hovers there until detect_timeout_s.
-  double platform_look_s = 3.0;
-  double platform_search_step_m = 0.5;
-  int platform_search_rings = 2;
   double scale_manoeuvre_m = 0.5;      // stage 1: up/down amplitude for the scale estimation
   double scale_manoeuvre_speed_mps = 0.25;
   double detect_timeout_s = 15.0;      // stage 2 / re-detection: give up and go home after this

@@ -103,7 +103,6 @@ class ReturnHomeMission final : public Mission {
   std::string stage() const override { return stage_text_; }
   bool needs_visual_localization() const override { return home_.paper_stage() != 6; }
   bool tolerates_dead_reckoning() const override { return home_.paper_stage() != 6; }
-  double platform_search_s(Seconds t) const override { return home_.searching_s(t); }
 
  private:
   HomeLanding home_;

@@ -116,8 +116,7 @@ struct FlightStack::Impl {
     in.battery_percent = have_nav ? nav.battery_percent : 100.0;
     in.localization_required = mission && mission->needs_visual_localization();
     in.localization_ok = pose.valid && pose.source != fusion::FeedbackSource::DeadReckoning;
-    if (mission && mission->tolerates_dead_reckoning())
-      in.localization_grace_s = setup.control.safety.return_dead_reckoning_s + mission->platform_search_s(t);
+    if (mission && mission->tolerates_dead_reckoning()) in.localization_grace_s = setup.control.safety.return_dead_reckoning_s;
     in.returning_home = mission && mission->name() == "return_home";
     in.flying = autopilot.phase() == FlightPhase::Flying;
     if (have_nav) in.ultrasound_m = nav.altitude_m;

@@ -1,6 +1,5 @@
 #include "control/home_landing.hpp"
 
-#include "control/platform_search_pattern.hpp"
 #include "core/frames.hpp"
 
 namespace labo::control {
@@ -12,11 +11,6 @@ constexpr double kLandedWaitS = 12.0;     // land sent; give up waiting after th
 // moment, and a climb or descent still under way ends below or above the hover height.
 constexpr double kSettledSpeedMps = 0.05;
 constexpr double kSettledAltitudeM = 0.1;
-// The platform search: each point is looked from this long once reached (the detector's frames at
-// the bottom camera's rate), and left after kSearchLegS if the autopilot has not reached it by then
-// (a point clamped by the geofence is never reached exactly).
-constexpr double kSearchDwellS = 1.0;
-constexpr double kSearchLegS = 8.0;
 }  // namespace
 
 int HomeLanding::paper_stage() const {
@@ -33,10 +27,7 @@ std::string HomeLanding::describe(Seconds t) const {
   switch (step_) {
     case Step::Climb: return "4 return: climbing to the return altitude";
     case Step::Travel: return "4 return: flying above the base";
-    case Step::FindPlatform:
-      return "5 platform: searching with the bottom camera (" + format_seconds(t - since_) + " s" +
-             (search_leg_since_ >= 0 ? ", round the base " + std::to_string(search_next_) + "/" + std::to_string(search_.size()) : std::string()) +
-             ")";
+    case Step::FindPlatform: return "5 platform: searching with the bottom camera (" + format_seconds(t - since_) + " s)";
     case Step::Centre: return "5 platform: hovering above its centre";
     case Step::Land: return "6 landing";
     case Step::Landed: return "6 landed on the platform";
@@ -76,9 +67,23 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
       }
       break;
     }
-    case Step::FindPlatform:
-      find_platform(ctx, base);
+    case Step::FindPlatform: {
+      ctx.camera = CameraId::Bottom;
+      ctx.focus.platform = true;
+      const fusion::TargetObservation obs = ctx.perception.platform();
+      if (obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < 0.5 && ctx.t - since_ > kPlatformSettleS) {
+        platform_world_ = world_pose_of(obs, ctx.pose, CameraId::Bottom).translation();
+        platform_placed_ = true;
+        ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad}, ctx.t);
+        enter(Step::Centre, ctx.t);
+      } else if (ctx.t - since_ > m.detect_timeout_s) {
+        // Not seen: land on the base position as estimated (reported, not hidden).
+        failure_ = "landing platform not found in " + format_seconds(m.detect_timeout_s) + " s; landing at the estimated base";
+        ctx.phase_action = ctx.autopilot.land(ctx.t);
+        enter(Step::Land, ctx.t);
+      }
       break;
+    }
     case Step::Centre: {
       const fusion::TargetObservation obs = ctx.perception.platform();
       if (obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < 0.5) {
@@ -116,54 +121,6 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
     case Step::Failed:
       break;
   }
-}
-
-void HomeLanding::find_platform(MissionContext& ctx, const Eigen::Vector3d& base) {
-  const auto& m = ctx.config.mission;
-  ctx.camera = CameraId::Bottom;
-  ctx.focus.platform = true;
-  if (fresh_) {
-    search_ = platform_search_offsets(m.platform_search_step_m, m.platform_search_rings);
-    search_next_ = 0;
-    search_leg_since_ = search_reached_at_ = search_started_ = -1;
-  }
-  const fusion::TargetObservation obs = ctx.perception.platform();
-  if (obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < 0.5 && ctx.t - since_ > kPlatformSettleS) {
-    platform_world_ = world_pose_of(obs, ctx.pose, CameraId::Bottom).translation();
-    platform_placed_ = true;
-    ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad}, ctx.t);
-    enter(Step::Centre, ctx.t);
-    return;
-  }
-  if (search_.empty() ? ctx.t - since_ <= m.detect_timeout_s : search_on(ctx, base)) return;
-  // Not seen: land on the base position as estimated (reported, not hidden).
-  failure_ = "landing platform not found in " + format_seconds(ctx.t - since_) + " s" +
-             (search_.empty() ? std::string()
-                              : " (searched " + std::to_string(search_.size() - 1) + " points up to " +
-                                    format_seconds(m.platform_search_step_m * m.platform_search_rings) +
-                                    " m round the estimated base)") +
-             "; landing at the estimated base";
-  ctx.phase_action = ctx.autopilot.land(ctx.t);
-  enter(Step::Land, ctx.t);
-}
-
-bool HomeLanding::search_on(MissionContext& ctx, const Eigen::Vector3d& base) {
-  const auto& m = ctx.config.mission;
-  if (search_leg_since_ < 0) {
-    if (ctx.t - since_ < m.platform_look_s) return true;  // first a look from above the base
-    search_started_ = ctx.t;
-  } else {
-    if (ctx.autopilot.reached() && search_reached_at_ < 0) search_reached_at_ = ctx.t;
-    const bool looked = search_reached_at_ >= 0 && ctx.t - search_reached_at_ >= kSearchDwellS;
-    if (!looked && ctx.t - search_leg_since_ < kSearchLegS) return true;
-    ++search_next_;
-  }
-  if (search_next_ >= search_.size()) return false;
-  const Eigen::Vector2d at = base.head<2>() + search_[search_next_];
-  ctx.autopilot.go_to({{at.x(), at.y(), m.return_altitude_m}, ctx.lab.base_yaw_rad}, ctx.t);
-  search_leg_since_ = ctx.t;
-  search_reached_at_ = -1;
-  return true;
 }
 
 }  // namespace labo::control

@@ -49,8 +49,6 @@ bool InspectMission::tolerates_dead_reckoning() const {
   return step_ == Step::Redetect || (step_ == Step::Home && home_.paper_stage() != 6);
 }
 
-double InspectMission::platform_search_s(Seconds t) const { return step_ == Step::Home ? home_.searching_s(t) : 0.0; }
-
 bool InspectMission::instrument_seen(const MissionContext& ctx) const {
   const fusion::TargetObservation obs = ctx.perception.instrument();
   return obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < kFreshObservationS;

@@ -22,7 +22,6 @@ class InspectMission final : public Mission {
   std::string stage() const override { return stage_text_; }
   bool needs_visual_localization() const override;
   bool tolerates_dead_reckoning() const override;
-  double platform_search_s(Seconds t) const override;
   std::string inspected_instrument() const override { return instrument_.id; }
 
   double held_s() const { return held_s_; }

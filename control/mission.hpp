@@ -42,9 +42,6 @@ class Mission {
   // or off while the bottom camera looks for the platform); safety then grants
   // return_dead_reckoning_s before it escalates.
   virtual bool tolerates_dead_reckoning() const { return false; }
-  // Of that dead reckoning, the seconds spent searching round the base for the platform: safety adds
-  // them to the grace, since the search is what ends the drift (HomeLanding).
-  virtual double platform_search_s(Seconds /*t*/) const { return 0; }
   virtual bool accepts_stop_face_follow() const { return false; }
   // The instrument this mission inspects (empty: none); it may not be removed meanwhile.
   virtual std::string inspected_instrument() const { return ""; }

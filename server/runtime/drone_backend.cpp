@@ -83,13 +83,7 @@ class TelloBackend final : public DroneBackend {
           s.host = spec.host;
           return s;
         }(), log.child("link")),
-        core_(std::make_unique<control::FlightStack>([&] {
-                control::FlightStackSetup setup = flight_stack_setup(config, cameras_, config.tello_estimation);
-                // Without a bottom camera a search round the base could never see the platform.
-                if (!config.tello.link.downvision) setup.control.mission.platform_search_step_m = 0;
-                return setup;
-              }()),
-              cameras_),
+        core_(std::make_unique<control::FlightStack>(flight_stack_setup(config, cameras_, config.tello_estimation)), cameras_),
         runtime_(link_, core_, clock_, tello_runtime_options(config), log) {
     if (config.tello.link.downvision)
       log.info(clock_.now(), "bottom camera: the Tello EDU's downward camera (downvision); a Tello that refuses it "

@@ -1,9 +1,7 @@
 #include <catch2/catch.hpp>
-#include <cmath>
 
 #include "control/control_config.hpp"
 #include "control/geofence.hpp"
-#include "control/platform_search_pattern.hpp"
 #include "localization/fusion/localization_switch.hpp"
 #include "control/safety_monitor.hpp"
 #include "core/config_reader.hpp"
@@ -245,30 +243,11 @@ TEST_CASE("control: config section is validated with the key path") {
   CHECK(read(R"({"gains": {"yaw_rate_feedforward": 0.3}})").gains.yaw_rate_feedforward == 0.3);
   CHECK_THROWS_WITH(read(R"({"gains": {"yaw_rate_feedforward": -0.1}})"), Catch::Contains("yaw_rate_feedforward"));
   CHECK_THROWS_WITH(read(R"({"gains": {"yaw_rate_feedforward": "fast"}})"), Catch::Contains("yaw_rate_feedforward"));
-  const control::ControlConfig search = read(R"({"mission": {"platform_search_step_m": 0.4, "platform_search_rings": 3}})");
-  CHECK(search.mission.platform_search_step_m == 0.4);
-  CHECK(search.mission.platform_search_rings == 3);
-  CHECK_THROWS_WITH(read(R"({"mission": {"platform_search_rings": 0}})"), Catch::Contains("mission.platform_search_rings"));
-  CHECK_THROWS_WITH(read(R"({"mission": {"platform_search_rings": 1.5}})"), Catch::Contains("platform_search_rings"));
-  CHECK_THROWS_WITH(read(R"({"mission": {"platform_search_step_m": 2.5}})"), Catch::Contains("mission.platform_search_step_m"));
-  CHECK_THROWS_WITH(read(R"({"mission": {"platform_look_s": -1}})"), Catch::Contains("mission.platform_look_s"));
+  CHECK(read(R"({"safety": {"hold_clearance_m": -1}})").safety.hold_clearance_m == -1.0);  // off
+  CHECK_THROWS_WITH(read(R"({"safety": {"hold_clearance_m": 1.5}})"), Catch::Contains("safety.hold_clearance_m"));
+  CHECK_THROWS_WITH(read(R"({"safety": {"hold_clearance_m": "wide"}})"), Catch::Contains("hold_clearance_m"));
 }
 
-TEST_CASE("control: the platform search rings the estimated base and ends above it") {
-  CHECK(platform_search_offsets(0.0, 2).empty());
-  CHECK(platform_search_offsets(0.5, 0).empty());
-  const auto points = platform_search_offsets(0.5, 2);
-  REQUIRE(points.size() == 17);
-  CHECK(points.back().norm() == 0.0);
-  for (std::size_t i = 0; i < 8; ++i) CHECK(points[i].cwiseAbs().maxCoeff() == Approx(0.5));
-  for (std::size_t i = 8; i < 16; ++i) CHECK(points[i].cwiseAbs().maxCoeff() == Approx(1.0));
-  // No leg longer than the outer ring's half side times sqrt(2), so that views overlap on the way.
-  Eigen::Vector2d from = Eigen::Vector2d::Zero();
-  for (const auto& p : points) {
-    CHECK((p - from).norm() <= 1.0 * std::sqrt(2.0) + 1e-9);
-    from = p;
-  }
-}
 
 #include "control/mission.hpp"
 #include "core/camera_model.hpp"
