@@ -108,8 +108,9 @@ struct SafetyLimits {
   double estimate_jump_hold_s = 1.0;
   // Every move command is one the drone survives a link cut with: held for the firmware's command
   // hold and then braked, it must leave the drone this far inside the walls and the ceiling
-  // (control/command_hold_envelope.hpp). Negative: off.
-  double hold_clearance_m = 0.2;
+  // (control/command_hold_envelope.hpp). Negative: off, the default: its bound is cautious enough to
+  // cost the randomized world's campaigns more than the crashes it prevents (docs/control.md).
+  double hold_clearance_m = -1.0;
 };
 
 struct ControlConfig {

@@ -243,7 +243,7 @@ TEST_CASE("control: config section is validated with the key path") {
   CHECK(read(R"({"gains": {"yaw_rate_feedforward": 0.3}})").gains.yaw_rate_feedforward == 0.3);
   CHECK_THROWS_WITH(read(R"({"gains": {"yaw_rate_feedforward": -0.1}})"), Catch::Contains("yaw_rate_feedforward"));
   CHECK_THROWS_WITH(read(R"({"gains": {"yaw_rate_feedforward": "fast"}})"), Catch::Contains("yaw_rate_feedforward"));
-  CHECK(read(R"({"safety": {"hold_clearance_m": -1}})").safety.hold_clearance_m == -1.0);  // off
+  CHECK(read(R"({"safety": {"hold_clearance_m": 0.3}})").safety.hold_clearance_m == 0.3);
   CHECK_THROWS_WITH(read(R"({"safety": {"hold_clearance_m": 1.5}})"), Catch::Contains("safety.hold_clearance_m"));
   CHECK_THROWS_WITH(read(R"({"safety": {"hold_clearance_m": "wide"}})"), Catch::Contains("hold_clearance_m"));
 }
