@@ -84,6 +84,7 @@ class FindTeacherMission final : public Mission {
   Eigen::Vector3d last_position_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d last_velocity_ = Eigen::Vector3d::Zero();
   Seconds last_face_t_ = -1;
+  Seconds last_posed_t_ = -1;  // the last face with its pose (not a followed head)
   TeacherTrack track_;
   // Going round a lost face: from this heading of the track, this way (+1 counter-clockwise).
   double round_from_heading_ = 0;

@@ -102,7 +102,8 @@ struct FlightStack::Impl {
     // teacher's walk and the drone fly into them). Without SLAM the drone follows on navdata odometry,
     // the face as the target.
     in.face_mode = focus.face && setup.control.mission.face_as_feedback;
-    in.face_state = pipelines->face().state;
+    const fusion::TargetObservation& face = pipelines->face();
+    in.face_state = face.position_only ? fusion::TrackState::Lost : face.state;
     focus.feedback = source_switch.update(in);
     pipelines->set_focus(focus);
   }

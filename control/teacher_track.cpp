@@ -45,17 +45,30 @@ void TeacherTrack::reset(const Eigen::Isometry3d& T_world_face, Seconds t) {
   t_ = t;
 }
 
-void TeacherTrack::update(const Eigen::Isometry3d& T_world_face, Seconds t) {
+double TeacherTrack::move_to(const Eigen::Vector3d& position, Seconds t) {
   const double dt = std::max(t - t_, 1e-3);
   t_ = t;
   const Eigen::Vector3d previous = position_;
-  position_ += blend(dt, kPositionTauS) * (T_world_face.translation() - position_);
+  position_ += blend(dt, kPositionTauS) * (position - position_);
   Eigen::Vector3d v = (position_ - previous) / dt;
   v.z() = 0;
   velocity_ += blend(dt, kVelocityTauS) * (v - velocity_);
-  const double step = heading_step(facing_heading(T_world_face), dt);
+  return dt;
+}
+
+void TeacherTrack::turn(double step, double dt) {
   heading_ = wrap_angle(heading_ + step);
   heading_rate_ += blend(dt, kHeadingRateTauS) * (step / dt - heading_rate_);
+}
+
+void TeacherTrack::update(const Eigen::Isometry3d& T_world_face, Seconds t) {
+  const double dt = move_to(T_world_face.translation(), t);
+  turn(heading_step(facing_heading(T_world_face), dt), dt);
+}
+
+void TeacherTrack::update_position(const Eigen::Vector3d& position, Seconds t) {
+  const double dt = move_to(position, t);
+  turn(0.0, dt);
 }
 
 double TeacherTrack::heading_step(double looking, double dt) const {

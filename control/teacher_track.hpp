@@ -24,6 +24,10 @@ class TeacherTrack {
   void reset(const Eigen::Isometry3d& T_world_face, Seconds t);
   // Fold in the next face pose (t after the previous one).
   void update(const Eigen::Isometry3d& T_world_face, Seconds t);
+  // Fold in the next place of the teacher's head without a face (turned or walking away): the
+  // heading stays. Taking a teacher who walks away to look where they walk sent the drone round them
+  // to their front, across their path: it flew into the teacher's head (seed 1000, tuning).
+  void update_position(const Eigen::Vector3d& position, Seconds t);
   // Move the track along its motion (face lost: where it most likely went); the turn rate decays.
   void coast(Seconds dt);
   // The drone's pose estimate was corrected by `by` (world), beyond what its velocity explains: the
@@ -47,6 +51,9 @@ class TeacherTrack {
  private:
   // How far the heading moves towards the body's this update, the face looking at `looking`.
   double heading_step(double looking, double dt) const;
+  // Moves the place and velocity to the next measurement; the time since the last one.
+  double move_to(const Eigen::Vector3d& position, Seconds t);
+  void turn(double step, double dt);
 
   Eigen::Vector3d position_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity_ = Eigen::Vector3d::Zero();

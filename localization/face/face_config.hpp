@@ -71,6 +71,10 @@ struct FaceConfig {
   double start_mirror_yaw_rad = 0.0;
   // Registration keeps where the picture's landmarks lie on the fitted mesh (surface_landmarks.hpp).
   bool surface_landmarks = false;
+  // Between posed faces the head is followed (head_tracker.hpp) and reported as the face's place only.
+  // Off: its distance, read from the head patch's scale, drifts, and flying on it collided with the
+  // teacher (docs/face.md, "Between posed faces: the head").
+  bool head_tracking = false;
   std::vector<double> lost_search_scales{0.5, 1.0, 2.0};  // cycled over frames while lost
   ShapeFitOptions shape_fit;
   double frontal_max_angle_rad = 0.26;    // a registration picture must be within 15° of frontal

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 #include <span>
+#include <utility>
 
 namespace labo::face {
 
@@ -125,6 +126,7 @@ void FacePoseEstimator::set_person(const PersonShape& person, bool registered) {
 }
 
 void FacePoseEstimator::reset() {
+  search_hint_.reset();
   last_landmarks_.reset();
   last_pose_.reset();
   detector_misses_ = 0;
@@ -245,7 +247,9 @@ std::optional<FacePoseEstimator::Candidate> FacePoseEstimator::choose_box(const 
     return Candidate{box_from_landmarks(predicted), false};
   }
   std::vector<FaceBox> boxes;
+  const std::optional<cv::Rect2d> hint = std::exchange(search_hint_, std::nullopt);
   if (last_box_) boxes = detector_.detect_around(gray, *last_box_);
+  else if (hint) boxes = detector_.detect_around(gray, *hint);
   if (boxes.empty() && landmark_box_ready) {
     // The detector misses turned faces the landmarks still follow: keep tracking from the landmarks
     // for a while, but a face the detector keeps missing is lost (the landmark detector always
@@ -260,7 +264,7 @@ std::optional<FacePoseEstimator::Candidate> FacePoseEstimator::choose_box(const 
     return Candidate{box_from_landmarks(*last_landmarks_), false};
   }
   if (!boxes.empty()) detector_misses_ = 0;
-  if (boxes.empty()) {
+  if (boxes.empty() && !hint) {
     const auto& scales = config_.lost_search_scales;
     boxes = detector_.detect_full(gray, scales[lost_search_cycle_++ % scales.size()]);
   }

@@ -76,6 +76,10 @@ class FacePoseEstimator {
   FaceResult process(const cv::Mat& gray, Seconds t);
   // Forget the track (e.g. the drone turned away on purpose) and start the full-frame search over.
   void reset();
+  // The next frame without a track searches for a face in and around `box` only (where the head was
+  // followed), not the whole frame.
+  void search_near(const cv::Rect2d& box) { search_hint_ = box; }
+  const PinholeCamera& camera() const { return camera_; }
 
   // The person whose shape is used; `registered` marks them as the teacher to follow among several.
   void set_person(const PersonShape& person, bool registered);
@@ -146,6 +150,7 @@ class FacePoseEstimator {
   std::optional<Eigen::Matrix2Xd> last_landmarks_;
   std::optional<Eigen::Vector2d> landmark_velocity_px_;
   std::optional<cv::Rect2d> last_box_;
+  std::optional<cv::Rect2d> search_hint_;  // one frame's
   int frames_since_detection_ = 0;
   int lost_frames_ = 0;
   std::size_t lost_search_cycle_ = 0;

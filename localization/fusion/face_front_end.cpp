@@ -13,13 +13,22 @@ constexpr Seconds kMaxTrackingGapS = 0.5;
 constexpr int kLandmarks = 68;
 }  // namespace
 
-FaceFrontEnd::FaceFrontEnd(std::unique_ptr<face::FacePoseEstimator> estimator) : estimator_(std::move(estimator)) {
-  if (!estimator_) throw std::invalid_argument("FaceFrontEnd: no face pose estimator");
+namespace {
+const face::FacePoseEstimator& checked(const std::unique_ptr<face::FacePoseEstimator>& estimator) {
+  if (!estimator) throw std::invalid_argument("FaceFrontEnd: no face pose estimator");
+  return *estimator;
+}
+}  // namespace
+
+FaceFrontEnd::FaceFrontEnd(std::unique_ptr<face::FacePoseEstimator> estimator)
+    : estimator_(std::move(estimator)), head_tracker_(checked(estimator_).camera()) {
   observation_.image_points.reserve(kLandmarks);
 }
 
 void FaceFrontEnd::reset() {
   estimator_->reset();
+  head_tracker_.reset();
+  head_.reset();
   last_t_.reset();
   observation_.state = TrackState::Off;
 }
@@ -38,16 +47,42 @@ const TargetObservation& FaceFrontEnd::process(const cv::Mat& gray, Seconds t, s
       pending_person_.reset();
     }
   }
-  if (last_t_ && t - *last_t_ > kMaxTrackingGapS) estimator_->reset();
+  if (last_t_ && t - *last_t_ > kMaxTrackingGapS) {
+    estimator_->reset();
+    head_tracker_.reset();
+  }
   last_t_ = t;
+  // Where the head was followed last frame is where a face turning back will be.
+  if (head_) estimator_->search_near(head_->box);
   result_ = estimator_->process(gray, t);
+  head_.reset();
+  if (estimator_->config().head_tracking) {
+    if (result_.tracking()) head_tracker_.learn(gray, result_.T_cam_face, t);
+    else head_ = head_tracker_.follow(gray, t);
+  }
   TargetObservation& o = observation_;
   o.t = t;
-  o.state = result_.tracking() ? TrackState::Tracking : TrackState::Lost;
-  o.method = face::to_string(estimator_->method());
+  o.state = result_.tracking() || head_ ? TrackState::Tracking : TrackState::Lost;
+  o.position_only = !result_.tracking() && head_.has_value();
+  o.method = o.position_only ? std::string("head") : face::to_string(estimator_->method());
   o.reason = result_.tracking() ? std::string_view() : face::to_string(result_.reason);
-  o.quality = result_.tracking() ? result_.quality : 0.0;
-  if (result_.tracking()) o.T_cam_target = result_.T_cam_face * flip_about_y();
+  o.quality = result_.tracking() ? result_.quality : head_ ? head_->score : 0.0;
+  if (result_.tracking()) {
+    o.T_cam_target = result_.T_cam_face * flip_about_y();
+    R_cam_target_ = o.T_cam_target.linear();
+  } else if (head_) {
+    // The head's centre: the face is on the side it is turned to, which the head does not tell (a
+    // teacher turned away has their face 0.18 m farther than one facing the drone).
+    o.T_cam_target.linear() = R_cam_target_;
+    o.T_cam_target.translation() = head_->p_cam_head_m;
+  }
+  if (o.position_only) {
+    // The head's box corners: the UI draws the followed head, not landmarks that were refused.
+    const cv::Rect2d& b = head_->box;
+    o.image_points.assign({cv::Point2f(float(b.x), float(b.y)), cv::Point2f(float(b.x + b.width), float(b.y)),
+                           cv::Point2f(float(b.x + b.width), float(b.y + b.height)), cv::Point2f(float(b.x), float(b.y + b.height))});
+    return o;
+  }
   // The landmarks are drawn even when the pose was refused: the UI shows what was found.
   const Eigen::Matrix2Xd& lm = result_.landmarks;
   o.image_points.resize(static_cast<std::size_t>(lm.cols()));

@@ -223,7 +223,8 @@ void LabPipelines::add_platform_result(const TargetObservation& obs) {
 
 void LabPipelines::add_face_result(const TargetObservation& obs) {
   face_ = obs;
-  if (obs.state == TrackState::Tracking && focus_.feedback == FeedbackSource::Face) {
+  // A followed head has no orientation to correct the drone's pose with.
+  if (obs.state == TrackState::Tracking && !obs.position_only && focus_.feedback == FeedbackSource::Face) {
     estimation::FaceObservation f;
     f.t = obs.t;
     f.T_cam_face = obs.T_cam_target * flip_about_y();

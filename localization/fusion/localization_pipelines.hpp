@@ -56,6 +56,9 @@ struct TargetObservation {
   double rotation_sigma_rad = 0;  // 1-sigma of T_cam_target's rotation when the front-end measures it; 0: unknown
   std::string method;  // "template", "features" (near detection), "ecc", "pnp-lm", ...
   std::string reason;  // why lost, for the UI
+  // Tracking the target's place only (the teacher's head while their face cannot be posed):
+  // T_cam_target's translation is measured, its rotation is the last one measured.
+  bool position_only = false;
 };
 
 enum class SlamState { Off, Initializing, Good, Dodgy, Lost };

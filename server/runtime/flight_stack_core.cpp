@@ -182,8 +182,9 @@ FlightSnapshot FlightStackCore::status() {
   if (s.face.state == fusion::TrackState::Tracking && !s.face.image_points.empty()) {
     FaceOverlay& face = snap.overlay.face;
     face.points = s.face.image_points;
-    if (s.face.image_points.size() == 68) face.edges = face_landmark_edges();
-    face.axes = project_axes(camera, s.face.T_cam_target, 0.10);
+    if (s.face.position_only) face.edges = {{0, 1}, {1, 2}, {2, 3}, {3, 0}};  // the followed head's box
+    else if (s.face.image_points.size() == 68) face.edges = face_landmark_edges();
+    if (!s.face.position_only) face.axes = project_axes(camera, s.face.T_cam_target, 0.10);
     face.measured_t = s.face.t;
   }
 

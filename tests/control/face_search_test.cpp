@@ -315,3 +315,43 @@ TEST_CASE("control: a lost face is gone round over the teacher's head, and the s
   CHECK(lowest_set_point_moving > blind_z - 0.1);  // a step-limited set point starts a little below it
   CHECK(sweep_set_point_z == Approx(1.6));
 }
+
+TEST_CASE("control: a teacher seen by the head alone is followed from farther out, over the head, on the same side") {
+  // The teacher turns their back and walks away along +x; only the head is followed (the front end's
+  // position_only). Wrong: the drone swings round to their front across their path, or follows at
+  // face height and follow distance on a distance read from the head's patch, which drifts.
+  fusion::LabGeometry lab = model_lab();  // room x -1..5, y -3..3
+  test::ModelFlight f({}, lab);
+  f.world->T_world_face = test::facing_base({1.5, 0.0, 1.6});
+  REQUIRE(f.request(find_teacher()).accepted);
+  bool following = false;
+  for (const double end = f.t + 120; f.t < end && !following;) {
+    f.run(1.0 / 30.0);
+    following = f.stack->status().stage == "3 face-follow";
+  }
+  REQUIRE(following);
+  for (const double end = f.t + 8.0; f.t < end;) f.run(1.0 / 30.0);
+  const Eigen::Vector3d start_face = f.world->T_world_face.translation();
+  const Eigen::Vector3d drone_start = f.world->drone.pose().translation();
+  const Eigen::Vector3d side = (drone_start - start_face).normalized();
+  // Turned away and walking away from the drone at 0.4 m/s for 5 s, seen by the head only.
+  f.world->face_head_only = true;
+  f.world->T_world_face.linear() = f.world->T_world_face.linear() * Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitY());
+  const Eigen::Vector3d walk = -0.4 * Eigen::Vector3d(side.x(), side.y(), 0.0).normalized();
+  double nearest = 10, stage_face_follow = 0, ticks = 0;
+  for (const double end = f.t + 5.0; f.t < end;) {
+    f.world->T_world_face.translation() += walk / 30.0;
+    f.run(1.0 / 30.0);
+    const Eigen::Vector3d d = f.world->drone.pose().translation() - f.world->T_world_face.translation();
+    nearest = std::min(nearest, d.head<2>().norm());
+    stage_face_follow += f.stack->status().stage == "3 face-follow";
+    ++ticks;
+  }
+  const Eigen::Vector3d d = f.world->drone.pose().translation() - f.world->T_world_face.translation();
+  INFO("nearest " << nearest << " m, at the end " << d.transpose() << ", stage " << f.stack->status().stage);
+  CHECK(stage_face_follow / ticks > 0.95);           // still following: the teacher is seen
+  CHECK(nearest > 0.9);
+  CHECK(d.head<2>().norm() == Approx(1.5).margin(0.25));  // follow distance + 0.5 m
+  CHECK(d.head<2>().normalized().dot(side.head<2>().normalized()) > 0.9);  // the side it was on
+  CHECK(f.world->drone.pose().translation().z() > 1.85);  // over the head (blind altitude 2 m)
+}

@@ -17,6 +17,7 @@ struct ModelWorld {
   bool instrument_visible = true;
   bool platform_visible = true;
   bool face_visible = true;
+  bool face_head_only = false;  // the face not posed, its head followed (position_only) while in the image
   bool slam_available = true;
   Eigen::Vector3d estimate_offset = Eigen::Vector3d::Zero();  // a bad estimate: truth + this
   double position_sigma_m = 0;  // the uncertainty the estimate reports
@@ -101,6 +102,15 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
     if (!focus_.face) return o;
     const Eigen::Isometry3d T_world_cam = world_->drone.pose() * T_body_cam_front();
     o.T_cam_target = T_world_cam.inverse() * world_->T_world_face;
+    if (world_->face_head_only) {
+      // The head is seen whichever way it is turned; the rotation is not measured.
+      Eigen::Isometry3d facing_camera = o.T_cam_target;
+      facing_camera.linear() = Eigen::Matrix3d::Identity();
+      o.position_only = true;
+      o.state = in_front_view(facing_camera, 4.0, front_) ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
+      o.t = t_;
+      return o;
+    }
     o.state = world_->face_visible && in_front_view(o.T_cam_target, 4.0, front_) ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
     o.t = t_;
     return o;

@@ -121,3 +121,21 @@ TEST_CASE("control: the teacher's walking speed is measured from the faces, what
     CHECK(track.walking() == (speed > 0));
   }
 }
+
+TEST_CASE("control: a teacher followed by the head alone keeps their heading and is measured walking away") {
+  // Seen face on walking +x, then turned round and walking -x (away from a drone on the +x side) with
+  // only the head followed: the place and the walk are measured, the heading is the last face's, so
+  // the standoff stays on the drone's side instead of swinging round across the teacher's path.
+  control::TeacherTrack track;
+  const Eigen::Vector3d p(3, -1.9, 1.65);
+  track.reset(face_at(p, 0.0), 0.0);
+  for (int k = 1; k <= 30; ++k) track.update(face_at(p, 0.0), k / 30.0);
+  const double heading = track.heading();
+  const Eigen::Vector3d v(-0.4, 0, 0);
+  for (int k = 31; k <= 120; ++k) track.update_position(p + v * ((k - 30) / 30.0), k / 30.0);
+  CHECK(track.walking());
+  CHECK((track.velocity() - v).norm() < 0.05);
+  CHECK((track.position() - (p + v * 3.0)).norm() < 0.05);
+  CHECK(track.heading() == Approx(heading).margin(1e-9));
+  CHECK(std::abs(track.heading_rate()) < 1e-6);
+}

@@ -103,7 +103,8 @@ TEST_CASE("face: config and person files are validated") {
       {R"({"start_view_passes": 0})", "start_view_passes"},
       {R"({"start_view_passes": 21})", "start_view_passes"},
       {R"({"start_mirror_yaw_deg": -5})", "start_mirror_yaw_deg"},
-      {R"({"start_mirror_yaw_deg": 95})", "start_mirror_yaw_deg"}};
+      {R"({"start_mirror_yaw_deg": 95})", "start_mirror_yaw_deg"},
+      {R"({"head_tracking": "yes"})", "head_tracking"}};
   for (const auto& [text, key] : bad_refinements) {
     const auto d = ConfigDocument::parse(text, "test.json");
     CHECK_THROWS_WITH(read_face_config(d.root(), "."), Catch::Contains(key));
@@ -112,6 +113,8 @@ TEST_CASE("face: config and person files are validated") {
       "limits": {"max_yaw_deg": 60, "max_start_yaw_deg": 35}})", "test.json");
   const FaceConfig c = read_face_config(good.root(), ".");
   CHECK(c.solver.method == PnpMethod::EpnpLm);
+  CHECK_FALSE(c.head_tracking);
+  CHECK(read_face_config(ConfigDocument::parse(R"({"head_tracking": true})", "test.json").root(), ".").head_tracking);
   CHECK(c.limits.max_start_yaw_rad == Approx(35 * kDeg));
   CHECK(c.interpupillary_distance_m == Approx(0.060));
 

@@ -1,0 +1,147 @@
+#include "localization/face/head_tracker.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace labo::face {
+
+namespace {
+// The template's size: small enough that three scales over the search region cost about a
+// millisecond, large enough to hold the head's outline and the face's or hair's shading.
+const cv::Size kTemplateSize(30, 39);
+
+cv::Point2d centre(const cv::Rect2d& r) { return {r.x + r.width / 2, r.y + r.height / 2}; }
+
+cv::Rect pixel_rect(const cv::Rect2d& box) {
+  return {cv::Point(static_cast<int>(std::lround(box.x)), static_cast<int>(std::lround(box.y))),
+          cv::Size(static_cast<int>(std::lround(box.width)), static_cast<int>(std::lround(box.height)))};
+}
+}  // namespace
+
+HeadTracker::HeadTracker(const PinholeCamera& camera, HeadTrackerOptions options) : camera_(camera), options_(options) {}
+
+void HeadTracker::reset() {
+  box_.reset();
+  template_stale_ = false;
+  face_patch_size_ = cv::Size();
+}
+
+bool HeadTracker::take_patch(const cv::Mat& gray, const cv::Rect2d& box, cv::Mat& out) {
+  const cv::Rect r = pixel_rect(box);
+  if (r.width < 4 || r.height < 4 || (r & cv::Rect(0, 0, gray.cols, gray.rows)) != r) return false;
+  cv::resize(gray(r), patch_8u_, kTemplateSize, 0, 0, cv::INTER_AREA);
+  patch_8u_.convertTo(out, CV_32F);
+  return true;
+}
+
+void HeadTracker::learn(const cv::Mat& gray, const Eigen::Isometry3d& T_cam_face, Seconds t) {
+  if (gray.empty() || gray.type() != CV_8UC1) return;
+  const Eigen::Vector3d head = T_cam_face * Eigen::Vector3d(0, 0, -options_.centre_behind_face_m);
+  // The box through the lens model, as follow() measures the distance from it.
+  const Eigen::Vector3d half_w(options_.head_width_m / 2, 0, 0), half_h(0, options_.head_height_m / 2, 0);
+  const auto px = camera_.project(head);
+  const auto left = camera_.project(head - half_w), right = camera_.project(head + half_w);
+  const auto top = camera_.project(head - half_h), bottom = camera_.project(head + half_h);
+  if (!px || !left || !right || !top || !bottom) return;
+  const double w = right->x() - left->x(), h = bottom->y() - top->y();
+  const cv::Rect2d box(px->x() - w / 2, px->y() - h / 2, w, h);
+  // The patch is kept as pixels and made a template only when the face is lost: resampling it here
+  // would allocate on every posed frame (OpenCV's area resampling builds its tables on the heap).
+  // A head partly out of the image keeps the patch it had; the place is still the face's.
+  const cv::Rect r = pixel_rect(box);
+  if (r.width >= 4 && r.height >= 4 && (r & cv::Rect(0, 0, gray.cols, gray.rows)) == r) {
+    if (face_pixels_.size() != gray.size()) face_pixels_.create(gray.size(), CV_8UC1);
+    cv::Mat into = face_pixels_(cv::Rect(cv::Point(0, 0), r.size()));
+    gray(r).copyTo(into);
+    face_patch_size_ = r.size();
+  }
+  if (face_patch_size_.area() == 0) return;
+  template_stale_ = true;
+  box_ = box;
+  last_face_t_ = t;
+}
+
+std::optional<HeadObservation> HeadTracker::follow(const cv::Mat& gray, Seconds t) {
+  if (!box_ || gray.empty() || gray.type() != CV_8UC1) return std::nullopt;
+  if (t - last_face_t_ > options_.max_follow_s) {
+    reset();
+    return std::nullopt;
+  }
+  if (template_stale_) {
+    cv::resize(face_pixels_(cv::Rect(cv::Point(0, 0), face_patch_size_)), patch_8u_, kTemplateSize, 0, 0, cv::INTER_AREA);
+    patch_8u_.convertTo(template_, CV_32F);
+    template_stale_ = false;
+  }
+  const cv::Rect2d last = *box_;
+  // The search runs at the template's resolution: the image scaled by 1/f.
+  const double f = last.height / kTemplateSize.height;
+  const double m = options_.search_margin * last.width;
+  const cv::Rect region = cv::Rect(cv::Point(static_cast<int>(std::floor(last.x - m)), static_cast<int>(std::floor(last.y - m))),
+                                   cv::Point(static_cast<int>(std::ceil(last.x + last.width + m)),
+                                             static_cast<int>(std::ceil(last.y + last.height + m)))) &
+                          cv::Rect(0, 0, gray.cols, gray.rows);
+  const cv::Size scaled(static_cast<int>(std::lround(region.width / f)), static_cast<int>(std::lround(region.height / f)));
+  if (scaled.width <= kTemplateSize.width || scaled.height <= kTemplateSize.height) {
+    reset();
+    return std::nullopt;
+  }
+  cv::resize(gray(region), region_8u_, scaled, 0, 0, f > 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  region_8u_.convertTo(region_, CV_32F);
+
+  double best_score = -1, best_scale = 1;
+  cv::Point best_at;
+  const std::array<double, 3> scales{1.0 - options_.scale_step, 1.0, 1.0 + options_.scale_step};
+  for (double s : scales) {
+    const cv::Size size(static_cast<int>(std::lround(kTemplateSize.width * s)), static_cast<int>(std::lround(kTemplateSize.height * s)));
+    if (size.width >= region_.cols || size.height >= region_.rows) continue;
+    cv::resize(template_, scaled_template_, size, 0, 0, cv::INTER_LINEAR);
+    cv::matchTemplate(region_, scaled_template_, scores_, cv::TM_CCOEFF_NORMED);
+    double score = 0;
+    cv::Point at;
+    cv::minMaxLoc(scores_, nullptr, &score, nullptr, &at);
+    // A change of scale must earn it: the correlation's peak is flat in scale, and an unbiased
+    // choice lets the box's size (the distance) random-walk. Scaling width and height apart (a head
+    // widens as it turns to its profile) was tried: the box stretched towards where the head had
+    // been, and lagged a walking teacher by 0.2 m.
+    if (s != 1.0) score -= options_.scale_change_cost;
+    if (score > best_score) {
+      best_score = score;
+      best_scale = static_cast<double>(size.height) / kTemplateSize.height;
+      best_at = at;
+    }
+  }
+  if (best_score < options_.min_score) {
+    reset();
+    return std::nullopt;
+  }
+  const cv::Rect2d box(region.x + best_at.x * f, region.y + best_at.y * f, last.width * best_scale, last.height * best_scale);
+  const cv::Point2d c = centre(box);
+  // A head filling the frame (the drone at arm's length) or leaving it has no outline left to match.
+  if (!camera_.in_image({c.x, c.y}, options_.border_margin * box.width) || box.height > options_.max_height_fraction * gray.rows) {
+    reset();
+    return std::nullopt;
+  }
+  // The distance from the angle the box's height spans (through the lens model: at the image's edge
+  // the AR.Drone's wide lens shrinks a head by a fifth).
+  const Eigen::Vector3d top = camera_.unproject({c.x, box.y});
+  const Eigen::Vector3d bottom = camera_.unproject({c.x, box.y + box.height});
+  const double angle = std::acos(std::clamp(top.dot(bottom), -1.0, 1.0));
+  const double distance = options_.head_height_m / (2.0 * std::tan(angle / 2.0));
+  if (!(distance >= options_.min_distance_m && distance <= options_.max_distance_m)) {
+    reset();
+    return std::nullopt;
+  }
+  // The head turns under the template: follow its new look a little each frame.
+  if (take_patch(gray, box, patch_)) cv::addWeighted(template_, 1.0 - options_.adapt_rate, patch_, options_.adapt_rate, 0.0, template_);
+  box_ = box;
+  HeadObservation out;
+  out.p_cam_head_m = camera_.unproject({c.x, c.y}) * distance;
+  out.box = box;
+  out.score = best_score;
+  out.since_face_s = t - last_face_t_;
+  return out;
+}
+
+}  // namespace labo::face

@@ -1,0 +1,70 @@
+#pragma once
+// The teacher's head followed in the image while their face cannot be posed: turned away, in
+// profile, or beyond the landmarks' reach. The face pipeline (FacePoseEstimator) needs a face within
+// ~35-45 degrees of frontal; a teacher who turns or walks away would be lost and found again only by
+// a search. The head's outline and shading change slowly from frame to frame whichever way it turns,
+// so its image patch, learnt on frames where the face is posed, is matched (normalised correlation,
+// three scales) around where it was and adapted as it turns. It gives where the head is (a ray and a
+// distance from the patch's scale), never how it is turned, and only for a bounded time after the
+// last posed face: a template left to adapt long enough drifts onto the background.
+#include <Eigen/Geometry>
+#include <optional>
+#include <opencv2/core.hpp>
+
+#include "core/camera_model.hpp"
+#include "core/time.hpp"
+
+namespace labo::face {
+
+struct HeadTrackerOptions {
+  double head_width_m = 0.20;   // the patch: the head's outline with a little background round it
+  double head_height_m = 0.26;
+  double centre_behind_face_m = 0.09;  // the head's centre behind the face model's origin
+  double min_score = 0.55;      // normalised correlation below which the head is lost
+  Seconds max_follow_s = 20.0;  // since the last posed face
+  double adapt_rate = 0.05;     // of each matched patch blended into the template
+  double search_margin = 0.6;   // of the box's width, on every side of the last box
+  double scale_step = 0.04;     // the scales tried each frame: 1 - step, 1, 1 + step
+  double scale_change_cost = 0.02;  // of correlation, against a change of scale
+  double min_distance_m = 0.3, max_distance_m = 6.0;
+  double max_height_fraction = 0.8;  // of the image's height
+  double border_margin = 0.25;       // of the box's width: the box's centre this far inside the image
+};
+
+struct HeadObservation {
+  Eigen::Vector3d p_cam_head_m = Eigen::Vector3d::Zero();  // the head's centre in the camera
+  cv::Rect2d box;         // its patch in the image
+  double score = 0;       // normalised correlation of the match
+  Seconds since_face_s = 0;
+};
+
+class HeadTracker {
+ public:
+  explicit HeadTracker(const PinholeCamera& camera, HeadTrackerOptions options = {});
+
+  // A frame whose face was posed at `T_cam_face` (face/ convention: z out of the face): the head's
+  // patch and size are learnt from it.
+  void learn(const cv::Mat& gray, const Eigen::Isometry3d& T_cam_face, Seconds t);
+  // A frame without a posed face: the head near where it was last, or nullopt (nothing learnt, too
+  // long since the last face, no good match, or out of the image; then it stays lost until learn()).
+  std::optional<HeadObservation> follow(const cv::Mat& gray, Seconds t);
+  void reset();
+  bool active() const { return box_.has_value(); }  // learnt, and not lost since
+  const HeadTrackerOptions& options() const { return options_; }
+
+ private:
+  bool take_patch(const cv::Mat& gray, const cv::Rect2d& box, cv::Mat& out);
+
+  PinholeCamera camera_;
+  HeadTrackerOptions options_;
+  std::optional<cv::Rect2d> box_;  // the head's patch in the last frame it was seen
+  cv::Mat face_pixels_;             // the last posed face's head patch, at its top left
+  cv::Size face_patch_size_;
+  bool template_stale_ = false;    // the template is still to be made from face_pixels_
+  cv::Mat template_;               // CV_32F, the template's size
+  Seconds last_face_t_ = 0;
+  // Reused buffers.
+  cv::Mat region_8u_, region_, scaled_template_, scores_, patch_8u_, patch_;
+};
+
+}  // namespace labo::face

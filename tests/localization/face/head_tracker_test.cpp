@@ -1,0 +1,178 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+#include <opencv2/imgproc.hpp>
+
+#include "core/frames.hpp"
+#include "drone/sim/lab_renderer.hpp"
+#include "localization/face/head_tracker.hpp"
+#include "localization/face/teacher_head.hpp"
+#include "localization/fusion/face_front_end.hpp"
+
+using namespace labo;
+using namespace labo::lab;
+using namespace labo::sim;
+using namespace labo::face;
+
+namespace {
+
+constexpr double kFps = 30.0;
+
+// The simulated lab with its teacher, rendered sharp, and a drone hovering still: the camera fixed
+// at `camera_at` looking along +x. The teacher stands at `at` facing `yaw` (world).
+struct TeacherScene {
+  LabDescription lab = load_lab_description(default_lab_path());
+  LabRenderer renderer{lab, ardrone2_cameras(), load_lab_teacher_head(lab), 1, sharp()};
+  Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d camera_at = Eigen::Vector3d::Zero();
+
+  static LabRenderOptions sharp() {
+    LabRenderOptions o;
+    o.motion_blur = false;
+    o.noise = false;
+    return o;
+  }
+
+  SceneState scene(const Eigen::Vector2d& at, double yaw) const {
+    SceneState s;
+    const Eigen::Vector3d f(std::cos(yaw), std::sin(yaw), 0.0), up = Eigen::Vector3d::UnitZ();
+    s.teacher_floor_xy = at;
+    s.T_world_head.linear().col(0) = up.cross(f);
+    s.T_world_head.linear().col(1) = up;
+    s.T_world_head.linear().col(2) = f;
+    s.T_world_head.translation() = Eigen::Vector3d(at.x(), at.y(), lab.teacher.eye_height_m);
+    s.T_world_body = make_pose(camera_at - T_body_cam_front().translation().x() * Eigen::Vector3d::UnitX(), 0.0);
+    return s;
+  }
+  // The face's pose in the camera (face/ convention: z out of the face).
+  Eigen::Isometry3d T_cam_face(const SceneState& s) const {
+    return (s.T_world_body * T_body_cam_front()).inverse() * s.T_world_head;
+  }
+  cv::Mat gray(const SceneState& s) {
+    cv::Mat bgr, out;
+    renderer.render(CameraId::Front, s, bgr);
+    cv::cvtColor(bgr, out, cv::COLOR_BGR2GRAY);
+    return out;
+  }
+};
+
+Eigen::Vector3d head_centre(const Eigen::Isometry3d& T_cam_face, const HeadTrackerOptions& o) {
+  return T_cam_face * Eigen::Vector3d(0, 0, -o.centre_behind_face_m);
+}
+
+}  // namespace
+
+TEST_CASE("head tracker: a teacher who turns their back and walks on is followed by the head") {
+  TeacherScene t;
+  const Eigen::Vector2d start = t.lab.teacher.waypoints.front();
+  // The drone 1.1 m in front of the teacher's face, at eye height, looking at them (+x).
+  t.camera_at = Eigen::Vector3d(start.x() - 1.1, start.y(), t.lab.teacher.eye_height_m);
+  HeadTracker tracker(t.renderer.camera(CameraId::Front));
+  const SceneState first = t.scene(start, std::numbers::pi);  // facing the drone (-x)
+  tracker.learn(t.gray(first), t.T_cam_face(first), 0.0);
+  REQUIRE(tracker.active());
+
+  // Over 3 s the teacher turns round (60 deg/s) and walks 0.5 m to the side and 0.3 m away.
+  double worst_m = 0, worst_distance = 0;
+  for (int i = 1; i <= 90; ++i) {
+    const double s = i / 90.0;
+    const Eigen::Vector2d at = start + Eigen::Vector2d(0.3 * s, 0.5 * s);
+    const SceneState scene = t.scene(at, std::numbers::pi + std::numbers::pi * s);
+    const auto head = tracker.follow(t.gray(scene), i / kFps);
+    INFO("frame " << i << ", turned " << 180 * s << " deg");
+    REQUIRE(head.has_value());
+    const Eigen::Vector3d truth = head_centre(t.T_cam_face(scene), tracker.options());
+    worst_m = std::max(worst_m, (head->p_cam_head_m - truth).norm());
+    worst_distance = std::max(worst_distance, std::abs(head->p_cam_head_m.norm() / truth.norm() - 1.0));
+    CHECK(head->since_face_s == Approx(i / kFps));
+  }
+  INFO("worst position error " << worst_m << " m, worst distance error " << 100 * worst_distance << " %");
+  CHECK(worst_m < 0.15);
+  CHECK(worst_distance < 0.12);
+}
+
+TEST_CASE("head tracker: a head that leaves, or a follow beyond its time, is lost; bad frames are refused") {
+  TeacherScene t;
+  const Eigen::Vector2d start = t.lab.teacher.waypoints.front();
+  t.camera_at = Eigen::Vector3d(start.x() - 1.1, start.y(), t.lab.teacher.eye_height_m);
+  HeadTrackerOptions options;
+  options.max_follow_s = 1.0;
+  HeadTracker tracker(t.renderer.camera(CameraId::Front), options);
+  CHECK_FALSE(tracker.follow(t.gray(t.scene(start, std::numbers::pi)), 0.0).has_value());  // nothing learnt
+
+  const SceneState facing = t.scene(start, std::numbers::pi);
+  const cv::Mat still = t.gray(facing);
+  tracker.learn(still, t.T_cam_face(facing), 0.0);
+  CHECK_FALSE(tracker.follow(cv::Mat(), 0.1).has_value());
+  CHECK_FALSE(tracker.follow(cv::Mat(360, 640, CV_8UC3, cv::Scalar::all(0)), 0.1).has_value());
+  CHECK(tracker.active());  // bad frames leave the track as it was
+  CHECK(tracker.follow(still, 0.5).has_value());
+  CHECK_FALSE(tracker.follow(still, 1.1).has_value());  // 1.1 s after the last face
+  CHECK_FALSE(tracker.active());
+
+  // The teacher gone from the view: no head is made up on the wall behind.
+  tracker.learn(still, t.T_cam_face(facing), 2.0);
+  SceneState gone = facing;
+  gone.teacher_present = false;
+  const cv::Mat empty = t.gray(gone);
+  bool lost = false;
+  for (int i = 1; i <= 10 && !lost; ++i) lost = !tracker.follow(empty, 2.0 + i / kFps).has_value();
+  CHECK(lost);
+}
+
+TEST_CASE("face front-end: with head tracking, a face turned away is reported as the head's place only, then lost") {
+  TeacherScene t;
+  const Eigen::Vector2d at = t.lab.teacher.waypoints.front();
+  t.camera_at = Eigen::Vector3d(at.x() - 1.1, at.y(), t.lab.teacher.eye_height_m);
+  FaceConfig config = default_face_config();
+  config.head_tracking = true;
+  fusion::FaceFrontEnd front_end(std::make_unique<FacePoseEstimator>(config, t.renderer.camera(CameraId::Front)));
+  const SceneState facing = t.scene(at, std::numbers::pi);
+  const cv::Mat face_on = t.gray(facing);
+  Seconds now = 0;
+  for (int i = 0; i < 5 && front_end.last_result().state != FaceState::Tracking; ++i, now += 1 / kFps) {
+    front_end.process(face_on, now, std::nullopt);
+  }
+  REQUIRE(front_end.last_result().tracking());
+  const Eigen::Isometry3d posed = front_end.process(face_on, now, std::nullopt).T_cam_target;
+  CHECK_FALSE(front_end.process(face_on, now += 1 / kFps, std::nullopt).position_only);
+
+  // Turned round over 1.5 s: the face is lost, the head is not.
+  fusion::TargetObservation last;
+  Eigen::Matrix3d last_posed = posed.linear();
+  for (int i = 1; i <= 45; ++i) {
+    const SceneState s = t.scene(at, std::numbers::pi * (1 + i / 45.0));
+    last = front_end.process(t.gray(s), now += 1 / kFps, std::nullopt);
+    if (!last.position_only) last_posed = last.T_cam_target.linear();
+  }
+  CHECK_FALSE(front_end.last_result().tracking());
+  REQUIRE(last.state == fusion::TrackState::Tracking);
+  CHECK(last.position_only);
+  CHECK(last.method == "head");
+  CHECK(last.image_points.size() == 4);
+  // The teacher stood still: the head's centre, 0.09 m behind the face posed at the start.
+  CHECK((last.T_cam_target.translation() - posed.translation()).norm() < 0.2);
+  CHECK(last.T_cam_target.linear().isApprox(last_posed));  // the last posed face's rotation
+
+  // Turned away for longer than the head is followed: lost, with the face's reason.
+  const cv::Mat back = t.gray(t.scene(at, 0.0));
+  for (int i = 0; i < 21 * kFps; ++i) last = front_end.process(back, now += 1 / kFps, std::nullopt);
+  CHECK(last.state == fusion::TrackState::Lost);
+  CHECK_FALSE(last.position_only);
+  CHECK_FALSE(last.reason.empty());
+}
+
+TEST_CASE("face front-end: without head tracking (the default), a face turned away is lost") {
+  TeacherScene t;
+  const Eigen::Vector2d at = t.lab.teacher.waypoints.front();
+  t.camera_at = Eigen::Vector3d(at.x() - 1.1, at.y(), t.lab.teacher.eye_height_m);
+  fusion::FaceFrontEnd front_end(std::make_unique<FacePoseEstimator>(default_face_config(), t.renderer.camera(CameraId::Front)));
+  const cv::Mat face_on = t.gray(t.scene(at, std::numbers::pi));
+  Seconds now = 0;
+  for (int i = 0; i < 5 && !front_end.last_result().tracking(); ++i, now += 1 / kFps) front_end.process(face_on, now, std::nullopt);
+  REQUIRE(front_end.last_result().tracking());
+  const fusion::TargetObservation& back = front_end.process(t.gray(t.scene(at, 0.0)), now, std::nullopt);
+  CHECK(back.state == fusion::TrackState::Lost);
+  CHECK_FALSE(back.position_only);
+  CHECK_FALSE(front_end.last_head().has_value());
+}
