@@ -91,7 +91,7 @@ TEST_CASE("head tracker: a teacher who turns their back and walks on is followed
   CHECK(worst_distance < 0.12);
 }
 
-TEST_CASE("head tracker: a head that leaves, or a follow beyond its time, is lost; bad frames are refused") {
+TEST_CASE("head tracker: a head that leaves or is followed beyond its time is lost, and bad frames are refused") {
   TeacherScene t;
   const Eigen::Vector2d start = t.lab.teacher.waypoints.front();
   t.camera_at = Eigen::Vector3d(start.x() - 1.1, start.y(), t.lab.teacher.eye_height_m);
