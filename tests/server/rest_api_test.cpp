@@ -123,6 +123,19 @@ TEST_CASE("web: REST admin config, users, recordings, metrics and static files")
   CHECK(metrics.content_type.find("text/plain") == 0);
   CHECK(metrics.body.find("# TYPE labodrone_http_requests_total counter") != std::string::npos);
   CHECK(metrics.body.find("labodrone_login_failures_total 0") != std::string::npos);
+  // The flight's gauges: each with its type line and one sample of a number.
+  for (const std::string gauge : {"labodrone_battery_percent", "labodrone_link_quality", "labodrone_video_fps",
+                                  "labodrone_slam_keyframes", "labodrone_slam_map_mib"}) {
+    INFO(gauge);
+    CHECK(metrics.body.find("# TYPE " + gauge + " gauge\n") != std::string::npos);
+    const std::size_t at = metrics.body.find("\n" + gauge + " ");
+    REQUIRE(at != std::string::npos);
+    const std::size_t value = at + gauge.size() + 2, end = metrics.body.find('\n', value);
+    REQUIRE(end != std::string::npos);
+    std::size_t used = 0;
+    CHECK_NOTHROW(std::stod(metrics.body.substr(value, end - value), &used));
+    CHECK(used == end - value);
+  }
 
   const HttpResult page = http_call(f.port, verb::get, "/");
   CHECK(page.status == 200);
