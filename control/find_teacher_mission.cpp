@@ -71,15 +71,6 @@ void brake_before_bounds(PoseTarget& target, const Geofence& fence, const Eigen:
 }
 
 double bearing(const Eigen::Vector3d& from, const Eigen::Vector3d& to) { return std::atan2(to.y() - from.y(), to.x() - from.x()); }
-
-// An upright face at `face` looking at `viewer` (control's convention: z into the face).
-Eigen::Isometry3d facing(const Eigen::Vector3d& face, const Eigen::Vector3d& viewer) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(bearing(face, viewer), Eigen::Vector3d::UnitZ()).toRotationMatrix() *
-               (Eigen::Matrix3d() << 0, 0, -1, -1, 0, 0, 0, 1, 0).finished();
-  T.translation() = face;
-  return T;
-}
 }  // namespace
 
 int FindTeacherMission::stage_index() const {
@@ -187,7 +178,8 @@ void FindTeacherMission::follow(MissionContext& ctx) {
   if (fresh_ && !continues) {
     // A track that starts on a followed head (the face was seen a moment before): which way the
     // teacher looks is not known; the drone takes the side it is on.
-    track_.reset(f.position_only ? facing(T_world_face.translation(), ctx.pose.T_world_body.translation()) : T_world_face, f.t);
+    const Eigen::Vector3d& p = T_world_face.translation();
+    track_.reset(f.position_only ? upright_face_pose(p, bearing(p, ctx.pose.T_world_body.translation())) : T_world_face, f.t);
   } else if (f.position_only) {
     track_.update_position(T_world_face.translation(), f.t);
   } else {
@@ -196,7 +188,8 @@ void FindTeacherMission::follow(MissionContext& ctx) {
   last_face_t_ = f.t;
   if (!f.position_only) last_posed_t_ = f.t;
   // The head alone for longer than a glance: its distance comes from its patch's scale, which drifts
-  // (0.8 m too far on tuning seed 1002, and the drone flew into the teacher at face height), so the
+  // (on tuning seed 1002 it read 1.3 m with the teacher 0.3-0.6 m away, and the drone flew into them at
+  // face height), so the
   // drone keeps farther out and over the teacher's head, from where the head stays in the image
   // beyond ~1.2 m.
   const bool head_only = f.position_only && f.t - last_posed_t_ > kCoastS;

@@ -89,7 +89,7 @@ void TeacherTrack::coast(Seconds dt) {
   t_ += dt;
 }
 
-Eigen::Isometry3d TeacherTrack::T_world_upright_face(double heading_rad) const {
+Eigen::Isometry3d upright_face_pose(const Eigen::Vector3d& position, double heading_rad) {
   const Eigen::Vector3d into(-std::cos(heading_rad), -std::sin(heading_rad), 0.0);
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -97,8 +97,10 @@ Eigen::Isometry3d TeacherTrack::T_world_upright_face(double heading_rad) const {
   T.linear().col(2) = into;
   T.linear().col(1) = up;
   T.linear().col(0) = up.cross(into);
-  T.translation() = position_;
+  T.translation() = position;
   return T;
 }
+
+Eigen::Isometry3d TeacherTrack::T_world_upright_face(double heading_rad) const { return upright_face_pose(position_, heading_rad); }
 
 }  // namespace labo::control

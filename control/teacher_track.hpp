@@ -64,5 +64,7 @@ class TeacherTrack {
 
 // Where a face (control's convention, z into the face) looks, as a world heading.
 double facing_heading(const Eigen::Isometry3d& T_world_face);
+// An upright face at `position` looking towards world heading `heading_rad` (z into the face).
+Eigen::Isometry3d upright_face_pose(const Eigen::Vector3d& position, double heading_rad);
 
 }  // namespace labo::control

@@ -18,6 +18,11 @@ cv::Rect pixel_rect(const cv::Rect2d& box) {
   return {cv::Point(static_cast<int>(std::lround(box.x)), static_cast<int>(std::lround(box.y))),
           cv::Size(static_cast<int>(std::lround(box.width)), static_cast<int>(std::lround(box.height)))};
 }
+
+// A patch worth taking: a few pixels at least, and wholly inside the image.
+bool whole_patch(const cv::Rect& r, const cv::Mat& gray) {
+  return r.width >= 4 && r.height >= 4 && (r & cv::Rect(0, 0, gray.cols, gray.rows)) == r;
+}
 }  // namespace
 
 HeadTracker::HeadTracker(const PinholeCamera& camera, HeadTrackerOptions options) : camera_(camera), options_(options) {}
@@ -30,7 +35,7 @@ void HeadTracker::reset() {
 
 bool HeadTracker::take_patch(const cv::Mat& gray, const cv::Rect2d& box, cv::Mat& out) {
   const cv::Rect r = pixel_rect(box);
-  if (r.width < 4 || r.height < 4 || (r & cv::Rect(0, 0, gray.cols, gray.rows)) != r) return false;
+  if (!whole_patch(r, gray)) return false;
   cv::resize(gray(r), patch_8u_, kTemplateSize, 0, 0, cv::INTER_AREA);
   patch_8u_.convertTo(out, CV_32F);
   return true;
@@ -51,7 +56,7 @@ void HeadTracker::learn(const cv::Mat& gray, const Eigen::Isometry3d& T_cam_face
   // would allocate on every posed frame (OpenCV's area resampling builds its tables on the heap).
   // A head partly out of the image keeps the patch it had; the place is still the face's.
   const cv::Rect r = pixel_rect(box);
-  if (r.width >= 4 && r.height >= 4 && (r & cv::Rect(0, 0, gray.cols, gray.rows)) == r) {
+  if (whole_patch(r, gray)) {
     if (face_pixels_.size() != gray.size()) face_pixels_.create(gray.size(), CV_8UC1);
     cv::Mat into = face_pixels_(cv::Rect(cv::Point(0, 0), r.size()));
     gray(r).copyTo(into);

@@ -11,9 +11,7 @@ namespace {
 // rather than around a face seen long ago.
 constexpr Seconds kMaxTrackingGapS = 0.5;
 constexpr int kLandmarks = 68;
-}  // namespace
 
-namespace {
 const face::FacePoseEstimator& checked(const std::unique_ptr<face::FacePoseEstimator>& estimator) {
   if (!estimator) throw std::invalid_argument("FaceFrontEnd: no face pose estimator");
   return *estimator;

@@ -13,15 +13,7 @@ namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 // A face at `p` looking towards world heading `looking` (control's convention: z into the face).
-Eigen::Isometry3d face_at(const Eigen::Vector3d& p, double looking) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  const Eigen::Vector3d into(-std::cos(looking), -std::sin(looking), 0.0);
-  T.linear().col(2) = into;
-  T.linear().col(1) = Eigen::Vector3d::UnitZ();
-  T.linear().col(0) = Eigen::Vector3d::UnitZ().cross(into);
-  T.translation() = p;
-  return T;
-}
+Eigen::Isometry3d face_at(const Eigen::Vector3d& p, double looking) { return upright_face_pose(p, looking); }
 }  // namespace
 
 TEST_CASE("control: a walking teacher's heading is the walking direction, not the swaying head's") {
