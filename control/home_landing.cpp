@@ -11,6 +11,15 @@ constexpr double kLandedWaitS = 12.0;     // land sent; give up waiting after th
 // moment, and a climb or descent still under way ends below or above the hover height.
 constexpr double kSettledSpeedMps = 0.05;
 constexpr double kSettledAltitudeM = 0.1;
+
+// Where the bottom camera sees the platform, from where the drone is: not the estimator's placement
+// of it, which also leans on the lab file's and on the map's (the placement's pull put the drone
+// up to 7 cm off a platform the camera had centred). The frame's own attitude when known.
+Eigen::Vector3d platform_as_seen(const fusion::TargetObservation& obs, const fusion::PoseEstimate& pose) {
+  if (!obs.has_offset_heading) return place_in_world(pose, CameraId::Bottom, obs.T_cam_target).translation();
+  const double yaw = ypr_from_rotation(pose.T_world_body.linear())[0];
+  return pose.T_world_body.translation() + Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * obs.offset_heading_m;
+}
 }  // namespace
 
 int HomeLanding::paper_stage() const {
@@ -72,7 +81,7 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
       ctx.focus.platform = true;
       const fusion::TargetObservation obs = ctx.perception.platform();
       if (obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < 0.5 && ctx.t - since_ > kPlatformSettleS) {
-        platform_world_ = world_pose_of(obs, ctx.pose, CameraId::Bottom).translation();
+        platform_world_ = platform_as_seen(obs, ctx.pose);
         platform_placed_ = true;
         ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad}, ctx.t);
         enter(Step::Centre, ctx.t);
@@ -88,7 +97,7 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
       const fusion::TargetObservation obs = ctx.perception.platform();
       if (obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < 0.5) {
         // Refine the platform's place while it is in view, moving the set point without a reset.
-        const Eigen::Vector3d seen = world_pose_of(obs, ctx.pose, CameraId::Bottom).translation();
+        const Eigen::Vector3d seen = platform_as_seen(obs, ctx.pose);
         platform_world_ = 0.9 * platform_world_ + 0.1 * seen;
         ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad},
                             ctx.t, false);

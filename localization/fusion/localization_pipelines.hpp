@@ -59,6 +59,11 @@ struct TargetObservation {
   // Tracking the target's place only (the teacher's head while their face cannot be posed):
   // T_cam_target's translation is measured, its rotation is the last one measured.
   bool position_only = false;
+  // The target's centre from the body's origin, level and along the heading (x forward, y left,
+  // z up), turned by the roll and pitch measured when the frame was taken rather than by the
+  // latest ones: where it is as the camera saw it, with no placement in the world mixed in.
+  bool has_offset_heading = false;
+  Eigen::Vector3d offset_heading_m = Eigen::Vector3d::Zero();
 };
 
 enum class SlamState { Off, Initializing, Good, Dodgy, Lost };

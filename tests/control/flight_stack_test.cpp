@@ -397,6 +397,19 @@ TEST_CASE("control: return home lands on the platform from anywhere") {
   CHECK(f.world->drone.p.head<2>().norm() < 0.10);
 }
 
+TEST_CASE("control: the landing centres on the platform as the camera sees it, not on its placement in the world") {
+  // The estimator's placement of the platform leans on the lab file and the map as well: 8 cm off
+  // here. The camera's own offset from the body is what the drone must centre on.
+  ModelFlight f;
+  f.world->platform_placement_error = Eigen::Vector3d(0.08, -0.05, 0.0);
+  take_off(f);
+  REQUIRE(f.request(go(2.0, -1.0, 1.0)).accepted);
+  f.run(8.0);
+  REQUIRE(f.request(req(control::RequestKind::ReturnHome)).accepted);
+  REQUIRE(f.run_until([&] { return f.stack->status().phase == control::FlightPhase::Landed; }, 60.0));
+  CHECK(f.world->drone.p.head<2>().norm() < 0.03);
+}
+
 TEST_CASE("control: find teacher searches, follows the face and stops on request") {
   ModelFlight f;
   REQUIRE(f.request(req(control::RequestKind::FindTeacher)).accepted);

@@ -4,8 +4,10 @@
 // camera's field of view, in range, facing the camera). Tests switch sight off to provoke losses.
 #include <cmath>
 #include <memory>
+#include <optional>
 
 #include "control/flight_stack.hpp"
+#include "core/frames.hpp"
 #include "bench/experiments/model_lab.hpp"
 #include "bench/experiments/quadrotor_model.hpp"
 
@@ -20,6 +22,9 @@ struct ModelWorld {
   bool face_head_only = false;  // the face not posed, its head followed (position_only) while in the image
   bool slam_available = true;
   Eigen::Vector3d estimate_offset = Eigen::Vector3d::Zero();  // a bad estimate: truth + this
+  // The pipelines' placement of the platform in the world (as the estimator's landmark), off by this;
+  // nullopt: not placed. The observation's offset from the body is the camera's, always true.
+  std::optional<Eigen::Vector3d> platform_placement_error;
   double position_sigma_m = 0;  // the uncertainty the estimate reports
   double drift_bound_m = 0;     // ... and its dead-reckoning drift bound
   double airborne_since = -1;
@@ -95,6 +100,14 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
     o.state = world_->platform_visible && p.z() > 0.2 && std::abs(p.x() / p.z()) < 0.45 && std::abs(p.y() / p.z()) < 0.25
                   ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
     o.t = t_;
+    if (world_->platform_placement_error) {
+      o.placed_in_world = true;
+      o.T_world_target = lab_.platform.T_world_object;
+      o.T_world_target.translation() += *world_->platform_placement_error;
+      const Eigen::Vector3d ypr = ypr_from_rotation(world_->drone.pose().linear());
+      o.offset_heading_m = rotation_from_ypr(0.0, ypr[1], ypr[2]) * (T_body_cam_bottom() * o.T_cam_target).translation();
+      o.has_offset_heading = true;
+    }
     return o;
   }
   fusion::TargetObservation face() const override {
