@@ -103,9 +103,13 @@ double VelocityDropoutDetector::unexplained_by_failing_flow(const Eigen::Vector2
 }
 
 void VelocityDropoutDetector::take_back() {
-  // Since the model and the flow last agreed (at least the last window), as far as the ring reaches.
+  // Since the model and the flow last agreed (at least the last window), at most kTakeBackMaxS:
+  // a flow fails at once, and further back the shadow's own drift is what would be taken back (the
+  // ring alone reaches 17 s at 15 Hz, 25 s at the Tello's 10 Hz; once 0.87 m was taken back).
   correction_ = {};
-  const Seconds since = std::max(shadow_reset_t_, std::min(consistent_since_, at(size_ - 1).t - settings_.window_s));
+  const Seconds now = at(size_ - 1).t;
+  const Seconds since =
+      std::max({shadow_reset_t_, now - std::max(kTakeBackMaxS, settings_.window_s), std::min(consistent_since_, now - settings_.window_s)});
   const std::size_t start = first_at_or_after(since);
   for (std::size_t i = std::max<std::size_t>(start, 1); i < size_; ++i) {
     const double dt = at(i).t - at(i - 1).t;

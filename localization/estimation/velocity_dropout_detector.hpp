@@ -84,6 +84,7 @@ class VelocityDropoutDetector {
   static constexpr Seconds kBiasWarmup = 3.0;         // valid flow before onsets are judged
   static constexpr Seconds kBiasTimeConstant = 10.0;  // afterwards
   static constexpr double kShadowPullPerS = 0.15;     // the shadow's pull towards a valid measurement
+  static constexpr Seconds kTakeBackMaxS = 1.3;       // an onset takes back at most this span
   static constexpr double kBiasGateMps2 = 0.4;        // a window's residual above this (2.3 deg) is no offset
 
  private:
