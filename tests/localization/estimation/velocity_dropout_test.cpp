@@ -268,3 +268,28 @@ TEST_CASE("estimation: a push (the velocity changes without a tilt) is not a vel
     CHECK((o.position_error - fused.position_error).norm() < 0.02);
   }
 }
+
+TEST_CASE("estimation: a dropout's take-back reaches back at most 1.3 s, whatever the navdata rate") {
+  // At the Tello's 10 Hz the ring holds 25 s. A model creeping 0.06-0.09 m/s ahead of a flow that
+  // reads zero for 10 s is neither consistent nor lost; when it is judged lost, only the last 1.3 s
+  // may be taken back (all 10 s once moved a Tello's estimate 0.87 m).
+  estimation::VelocityDropoutDetector d;
+  const double rate_hz = 10.0;
+  int k = 0;
+  auto run = [&](Seconds duration, const Eigen::Vector2d& thrust) {
+    bool onset = false;
+    for (const int end = k + static_cast<int>(duration * rate_hz); k < end; ++k) {
+      onset = d.process(k / rate_hz, Eigen::Vector2d::Zero(), thrust, 0.0, Eigen::Vector2d::Zero()).onset || onset;
+      d.record_filter_velocity(Eigen::Vector2d::Zero());
+    }
+    return onset;
+  };
+  CHECK_FALSE(run(4.0, Eigen::Vector2d::Zero()));  // the warm-up at rest
+  REQUIRE(d.warmed_up());
+  CHECK_FALSE(run(10.0, Eigen::Vector2d(0.055, 0.0)));  // the model creeps ~0.075 m/s ahead
+  REQUIRE(run(3.0, Eigen::Vector2d(0.3, 0.0)));          // then it is judged lost
+  const double taken_back = d.correction().position.norm();
+  INFO("taken back " << taken_back << " m");
+  CHECK(taken_back > 0.05);
+  CHECK(taken_back < 0.6);  // the last 1.3 s at the shadow's speed (0.50 m); the whole span was 1.39 m
+}
