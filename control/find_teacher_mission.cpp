@@ -188,10 +188,9 @@ void FindTeacherMission::follow(MissionContext& ctx) {
   last_face_t_ = f.t;
   if (!f.position_only) last_posed_t_ = f.t;
   // The head alone for longer than a glance: its distance comes from its patch's scale, which drifts
-  // (on tuning seed 1002 it read 1.3 m with the teacher 0.3-0.6 m away, and the drone flew into them at
-  // face height), so the
-  // drone keeps farther out and over the teacher's head, from where the head stays in the image
-  // beyond ~1.2 m.
+  // (on tuning seed 1002 it read 1.3 m with the teacher 0.3-0.6 m away, and the drone flew into them
+  // at face height), so the drone keeps farther out and over the teacher's head, from where the head
+  // stays in the image beyond ~1.2 m.
   const bool head_only = f.position_only && f.t - last_posed_t_ > kCoastS;
   fly_standoff(ctx, fresh_, track_.heading(), track_.heading_rate(), head_only ? kLostBeyondM : 0.0, head_only);
   fresh_ = false;

@@ -82,7 +82,6 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
       const fusion::TargetObservation obs = ctx.perception.platform();
       if (obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < 0.5 && ctx.t - since_ > kPlatformSettleS) {
         platform_world_ = platform_as_seen(obs, ctx.pose);
-        platform_placed_ = true;
         ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad}, ctx.t);
         enter(Step::Centre, ctx.t);
       } else if (ctx.t - since_ > m.detect_timeout_s) {

@@ -34,7 +34,6 @@ class HomeLanding {
   Seconds centred_since_ = -1;  // Centre: settled above the platform's centre since then (-1: not)
   bool fresh_ = true;  // the step was just entered: set its target
   std::string failure_;
-  bool platform_placed_ = false;
   Eigen::Vector3d platform_world_ = Eigen::Vector3d::Zero();
 };
 
