@@ -1,6 +1,7 @@
 #include "bench/soak/soak_report.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -75,7 +76,33 @@ std::vector<std::string> soak_failures(const SoakSummary& s, const SoakLimits& l
   return f;
 }
 
+namespace {
+
+nlohmann::json to_json(const TrailPoint& p) {
+  nlohmann::json j = {{"t_s", p.t_s},
+                      {"true", {p.true_x_m, p.true_y_m, p.true_z_m, p.true_yaw_deg}},
+                      {"estimate", {p.est_x_m, p.est_y_m, p.est_z_m, p.est_yaw_deg}},
+                      {"source", p.source},
+                      {"slam", p.slam},
+                      {"stage", p.stage},
+                      {"link", p.link}};
+  if (p.has_desired) j["desired"] = {p.des_x_m, p.des_y_m, p.des_z_m, p.des_yaw_deg};
+  return j;
+}
+
+nlohmann::json to_json(const CrashReport& c) {
+  nlohmann::json trail = nlohmann::json::array();
+  for (const auto& p : c.trail) trail.push_back(to_json(p));
+  return {{"at_s", c.at_s}, {"hit", c.hit}, {"mission", c.mission}, {"trail", trail}};
+}
+
+double horizontal_error_m(const TrailPoint& p) { return std::hypot(p.est_x_m - p.true_x_m, p.est_y_m - p.true_y_m); }
+
+}  // namespace
+
 nlohmann::json to_json(const SoakSummary& s, const std::vector<std::string>& failures) {
+  nlohmann::json crash_reports = nlohmann::json::array();
+  for (const auto& c : s.crash_reports) crash_reports.push_back(to_json(c));
   nlohmann::json faults = nlohmann::json::array();
   for (const auto& f : s.faults)
     faults.push_back({{"kind", f.kind}, {"at_s", f.at_s}, {"duration_s", f.duration_s}, {"airborne", f.airborne},
@@ -93,6 +120,7 @@ nlohmann::json to_json(const SoakSummary& s, const std::vector<std::string>& fai
             {"longest_unmanaged_flight_s", s.longest_unmanaged_flight_s},
             {"ended_landed", s.ended_landed},
             {"crashes", s.crashes},
+            {"crash_reports", crash_reports},
             {"battery_swaps", s.battery_swaps}}},
           {"missions",
            {{"rounds", s.rounds},
@@ -154,6 +182,19 @@ std::string to_text(const SoakSummary& s, const std::vector<std::string>& failur
   out << format("drone: longest flight without a mission %.1f s; ", s.longest_unmanaged_flight_s)
       << (s.ended_landed ? "landed at the end" : "NOT landed at the end") << "; " << s.crashes << " crashes; "
       << s.battery_swaps << " battery swaps\n";
+  for (const auto& c : s.crash_reports) {
+    out << format("  crash at %.0f s into ", c.at_s) << c.hit << " during " << c.mission;
+    if (!c.trail.empty()) {
+      const TrailPoint& last = c.trail.back();
+      const auto worst = std::max_element(c.trail.begin(), c.trail.end(), [](const TrailPoint& a, const TrailPoint& b) {
+        return horizontal_error_m(a) < horizontal_error_m(b);
+      });
+      out << " (" << last.stage << "; " << last.source << ", SLAM " << last.slam
+          << format("): the estimate %.2f m off the truth at the crash", horizontal_error_m(last))
+          << format(", at most %.2f m", horizontal_error_m(*worst)) << format(" over the %.0f s before", c.at_s - c.trail.front().t_s);
+    }
+    out << "\n";
+  }
   out << "clients: " << s.ws_connections << " WebSocket connections (" << s.spectators_joined << " spectators), "
       << s.logins << " logins; frames sent " << s.frames_sent << ", received " << s.frames_received << ", skipped "
       << s.frames_skipped << "; slow reader stalled " << s.slow_reader_stalls << " times, cut off " << s.slow_reader_cut_off

@@ -25,6 +25,25 @@ struct FaultRecord {
   std::string detail;      // the mission's end, when it ended meanwhile
 };
 
+// One moment of the flight as the watch saw it: the lab's truth beside what the flight software
+// believed and wanted (world frame, metres and degrees).
+struct TrailPoint {
+  double t_s = 0;
+  double true_x_m = 0, true_y_m = 0, true_z_m = 0, true_yaw_deg = 0;
+  double est_x_m = 0, est_y_m = 0, est_z_m = 0, est_yaw_deg = 0;
+  bool has_desired = false;
+  double des_x_m = 0, des_y_m = 0, des_z_m = 0, des_yaw_deg = 0;
+  std::string source, slam, stage, link;
+};
+
+// A crash and the flight that led to it, so that a failed soak says why without a rerun.
+struct CrashReport {
+  double at_s = 0;
+  std::string hit;      // what the hull hit
+  std::string mission;  // the mission running, "idle" when none
+  std::vector<TrailPoint> trail;  // the seconds before the crash, oldest first
+};
+
 struct SoakSummary {
   double duration_s = 0;
   // The server.
@@ -35,6 +54,7 @@ struct SoakSummary {
   double longest_unmanaged_flight_s = 0;  // airborne with no mission running (truth + telemetry)
   bool ended_landed = false;
   int crashes = 0;
+  std::vector<CrashReport> crash_reports;
   int battery_swaps = 0;
   // Missions (rounds).
   int rounds = 0, missions_accepted = 0, missions_succeeded = 0, missions_refused = 0;

@@ -105,6 +105,7 @@ SoakSummary run_soak(const SoakOptions& o) {
     s.health_failures = watch.health_failures();
     s.longest_unmanaged_flight_s = watch.longest_unmanaged_flight_s();
     s.crashes = watch.crashes();
+    s.crash_reports = watch.crash_reports();
     summarise_memory(watch.rss(), total_s, s);
     const AudienceCounts a = audience.counts();
     s.spectators_joined = a.spectators_joined;

@@ -28,6 +28,32 @@ RssSample with_heap_figures(RssSample sample) {
   return sample;
 }
 
+TrailPoint trail_point(double t_s, const DroneTruth& truth, const FlightTelemetry& telemetry) {
+  constexpr double kDeg = 180.0 / 3.14159265358979323846;
+  TrailPoint p;
+  p.t_s = t_s;
+  p.true_x_m = truth.position_m.x();
+  p.true_y_m = truth.position_m.y();
+  p.true_z_m = truth.position_m.z();
+  p.true_yaw_deg = truth.yaw_rad * kDeg;
+  p.est_x_m = telemetry.pose.x_m;
+  p.est_y_m = telemetry.pose.y_m;
+  p.est_z_m = telemetry.pose.z_m;
+  p.est_yaw_deg = telemetry.pose.yaw_rad * kDeg;
+  if (telemetry.desired) {
+    p.has_desired = true;
+    p.des_x_m = telemetry.desired->x_m;
+    p.des_y_m = telemetry.desired->y_m;
+    p.des_z_m = telemetry.desired->z_m;
+    p.des_yaw_deg = telemetry.desired->yaw_rad * kDeg;
+  }
+  p.source = server::to_string(telemetry.source);
+  p.slam = telemetry.slam_state;
+  p.stage = telemetry.stage;
+  p.link = telemetry.link_state;
+  return p;
+}
+
 std::string drone_activity(const DroneTruth& truth, const FlightTelemetry& telemetry) {
   if (!truth.airborne) return "landed";
   if (telemetry.mission != "idle" && !telemetry.mission.empty()) return "mission " + telemetry.mission;
@@ -62,20 +88,26 @@ void SoakWatch::run() {
       sample.slam_map_mib = flight_.telemetry().slam_map_mib;
       rss_.push_back(sample);
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
 }
 
 void SoakWatch::sample_flight(double t) {
   const DroneTruth truth = drone_.truth();
-  const std::string activity = drone_activity(truth, flight_.telemetry());
+  const FlightTelemetry telemetry = flight_.telemetry();
+  const std::string activity = drone_activity(truth, telemetry);
   std::lock_guard lock(mutex_);
+  if (truth.airborne) trail_.push_back(trail_point(t, truth, telemetry));
+  while (!trail_.empty() && trail_.front().t_s < t - kTrailS) trail_.pop_front();
   // A battery swap brings a new lab whose count starts again.
   if (truth.crashes < lab_crashes_) crashes_before_ += lab_crashes_;
-  if (truth.crashes > lab_crashes_)
+  if (truth.crashes > lab_crashes_) {
     std::cerr << "[soak " << static_cast<int>(t) << " s] CRASH: the drone hit " << truth.crash_reason << " ("
-              << "link " << flight_.telemetry().link_state << ")" << std::endl;
+              << "link " << telemetry.link_state << ")" << std::endl;
+    crash_reports_.push_back({t, truth.crash_reason, telemetry.mission, {trail_.begin(), trail_.end()}});
+  }
   lab_crashes_ = truth.crashes;
+  if (!truth.airborne) trail_.clear();
   if (activity != "flying without a mission") {
     unmanaged_since_ = -1;
   } else if (unmanaged_since_ < 0) {
@@ -93,6 +125,11 @@ double SoakWatch::longest_unmanaged_flight_s() const {
 int SoakWatch::crashes() const {
   std::lock_guard lock(mutex_);
   return crashes_before_ + lab_crashes_;
+}
+
+std::vector<CrashReport> SoakWatch::crash_reports() const {
+  std::lock_guard lock(mutex_);
+  return crash_reports_;
 }
 
 std::vector<RssSample> SoakWatch::rss() const {

@@ -1,6 +1,7 @@
 // The soak of `labodrone serve` under faults (bench/soak/): its checks, each shown failing on a
 // summary that breaks it, and a short soak on the simulated lab that must pass them all.
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 #include "bench/soak/sim_soak_command.hpp"
@@ -95,6 +96,33 @@ TEST_CASE("soak checks: each check fails on a summary that breaks it", "[soak]")
   s = passing();
   s.frames_received = 0;
   CHECK(fails_with(s, "no client received a frame"));
+}
+
+TEST_CASE("soak report: a crash is reported with the flight before it, the estimate beside the truth", "[soak]") {
+  SoakSummary s = passing();
+  s.crashes = 1;
+  CrashReport crash{42, "wall_xmin", "inspect", {}};
+  for (int i = 0; i < 3; ++i) {
+    TrailPoint p;
+    p.t_s = 39 + i;
+    p.true_x_m = -0.5 - 0.4 * i;  // the drone flying into the wall while it believes itself still
+    p.est_x_m = -0.5;
+    p.stage = "1 init: taking off";
+    p.source = "slam";
+    p.slam = "tracking";
+    crash.trail.push_back(p);
+  }
+  s.crash_reports.push_back(crash);
+  const std::string text = to_text(s, soak_failures(s, SoakLimits{}));
+  CHECK_THAT(text, Catch::Contains("crash at 42 s into wall_xmin during inspect (1 init: taking off; slam, SLAM tracking)"));
+  CHECK_THAT(text, Catch::Contains("the estimate 0.80 m off the truth at the crash, at most 0.80 m over the 3 s before"));
+  const nlohmann::json j = to_json(s, soak_failures(s, SoakLimits{}));
+  const nlohmann::json& report = j.at("drone").at("crash_reports").at(0);
+  CHECK(report.at("hit") == "wall_xmin");
+  CHECK(report.at("trail").size() == 3);
+  CHECK(report.at("trail").at(2).at("true").at(0).get<double>() == Approx(-1.3));
+  CHECK(report.at("trail").at(2).at("estimate").at(0).get<double>() == Approx(-0.5));
+  CHECK_FALSE(report.at("trail").at(0).contains("desired"));
 }
 
 TEST_CASE("sim soak: three minutes of serve under link cuts, an emulator restart and a low battery pass the service's checks",
