@@ -89,6 +89,8 @@ SafetyLimits read_safety(const ConfigReader& node, SafetyLimits s) {
   s.geofence_margin_m = node.number_or("geofence_margin_m", s.geofence_margin_m, Range::closed(0.0, 2.0));
   s.min_clearance_m = node.number_or("min_clearance_m", s.min_clearance_m, Range::closed(0.0, 1.5));
   s.estimate_jump_m = node.number_or("estimate_jump_m", s.estimate_jump_m, Range::closed(0.0, 5.0));
+  s.pose_lost_outside_fence_m =
+      node.number_or("pose_lost_outside_fence_m", s.pose_lost_outside_fence_m, Range::closed(0.0, 10.0));
   s.estimate_jump_hold_s = node.number_or("estimate_jump_hold_s", s.estimate_jump_hold_s, Range::closed(0.0, 10.0));
   s.hold_clearance_m = node.number_or("hold_clearance_m", s.hold_clearance_m, Range::closed(-1.0, 1.0));
   node.finish();

@@ -106,6 +106,9 @@ struct SafetyLimits {
   // level hold for estimate_jump_hold_s; 0: off.
   double estimate_jump_m = 0.30;
   double estimate_jump_hold_s = 1.0;
+  // A position estimate this far outside the geofence over the floor is beyond the walls: the pose is
+  // lost, not the drone. In flight: land; on the ground: no mission takes off on it. 0: off.
+  double pose_lost_outside_fence_m = 0.5;
   // Every move command is one the drone survives a link cut with: held for the firmware's command
   // hold and then braked, it must leave the drone this far inside the walls and the ceiling
   // (control/command_hold_envelope.hpp). Negative: off, the default: its bound is cautious enough to

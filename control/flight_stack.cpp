@@ -121,7 +121,10 @@ struct FlightStack::Impl {
     in.returning_home = mission && mission->name() == "return_home";
     in.flying = autopilot.phase() == FlightPhase::Flying;
     if (have_nav) in.ultrasound_m = nav.altitude_m;
-    if (pose.valid) in.position_m = pose.T_world_body.translation();
+    if (pose.valid) {
+      in.position_m = pose.T_world_body.translation();
+      in.outside_fence_m = autopilot.fence().horizontal_distance_outside_m(*in.position_m);
+    }
     in.velocity_mps = pose.velocity_world;
     const SafetyVerdict v = safety.evaluate(in);
     alerts = v.alerts;

@@ -19,6 +19,11 @@ bool Geofence::contains(const Eigen::Vector3d& p) const {
 
 Eigen::Vector3d Geofence::clamp(const Eigen::Vector3d& p) const { return p.cwiseMax(min_).cwiseMin(max_); }
 
+double Geofence::horizontal_distance_outside_m(const Eigen::Vector3d& p) const {
+  const Eigen::Vector2d xy = p.head<2>();
+  return (xy - xy.cwiseMax(min_.head<2>()).cwiseMin(max_.head<2>())).norm();
+}
+
 std::string Geofence::violation(const Eigen::Vector3d& p) const {
   static constexpr const char* kAxis[] = {"x", "y", "z"};
   for (int i = 0; i < 3; ++i) {

@@ -14,6 +14,8 @@ class Geofence {
   Eigen::Vector3d clamp(const Eigen::Vector3d& p) const;
   // Empty when inside; otherwise which bound is violated, e.g. "x = 4.20 m is outside [-2.70, 2.70]".
   std::string violation(const Eigen::Vector3d& p) const;
+  // How far p lies outside the fence over the floor (x, y; 0 inside, whatever its height).
+  double horizontal_distance_outside_m(const Eigen::Vector3d& p) const;
   const Eigen::Vector3d& min() const { return min_; }
   const Eigen::Vector3d& max() const { return max_; }
 

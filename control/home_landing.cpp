@@ -16,9 +16,9 @@ constexpr double kSettledAltitudeM = 0.1;
 // of it, which also leans on the lab file's and on the map's (the placement's pull put the drone
 // up to 7 cm off a platform the camera had centred). The frame's own attitude when known.
 Eigen::Vector3d platform_as_seen(const fusion::TargetObservation& obs, const fusion::PoseEstimate& pose) {
-  if (!obs.has_offset_heading) return place_in_world(pose, CameraId::Bottom, obs.T_cam_target).translation();
+  if (!obs.offset_heading_m) return place_in_world(pose, CameraId::Bottom, obs.T_cam_target).translation();
   const double yaw = ypr_from_rotation(pose.T_world_body.linear())[0];
-  return pose.T_world_body.translation() + Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * obs.offset_heading_m;
+  return pose.T_world_body.translation() + Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * *obs.offset_heading_m;
 }
 }  // namespace
 

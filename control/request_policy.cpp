@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "control/mission.hpp"
 
@@ -34,6 +35,19 @@ Eigen::Vector3d destination(const MissionRequest& r, const RequestContext& ctx) 
   return from + Eigen::Vector3d(d.x(), d.y(), r.target.z());
 }
 
+// A landed drone whose estimate lies beyond the walls has lost its pose (a tumble, a long link cut
+// dead reckoned wrong): a mission flown from there flies at full speed towards a place it is not at.
+std::optional<CommandResult> refuse_lost_pose(const std::string& what, const RequestContext& ctx, const Geofence& fence,
+                                              const ControlConfig& config) {
+  const double outside_m = fence.horizontal_distance_outside_m(ctx.position);
+  const double limit_m = config.safety.pose_lost_outside_fence_m;
+  if (limit_m <= 0 || outside_m <= limit_m) return std::nullopt;
+  return CommandResult::refused(what + ": the drone's estimated place (" + number(ctx.position.x()) + ", " +
+                                number(ctx.position.y()) + ") m is " + number(outside_m) +
+                                " m outside the geofence, beyond the walls: its pose is lost. Set the drone on its "
+                                "platform and restart LaboDrone before it flies again");
+}
+
 }  // namespace
 
 CommandResult check_request(const MissionRequest& r, const RequestContext& ctx, const fusion::LabGeometry& lab,
@@ -54,6 +68,7 @@ CommandResult check_request(const MissionRequest& r, const RequestContext& ctx, 
       if (ctx.battery_percent < config.safety.low_battery_percent)
         return CommandResult::refused("takeoff: battery " + number(ctx.battery_percent) + " % is below " +
                                       number(config.safety.low_battery_percent) + " %");
+      if (auto lost = refuse_lost_pose(what, ctx, fence, config)) return *lost;
       return CommandResult::ok("taking off");
     case RequestKind::Land:
     case RequestKind::Hover:
@@ -89,6 +104,8 @@ CommandResult check_request(const MissionRequest& r, const RequestContext& ctx, 
       if (ctx.battery_percent < config.safety.low_battery_percent)
         return CommandResult::refused("inspect: battery " + number(ctx.battery_percent) + " % is below " +
                                       number(config.safety.low_battery_percent) + " %");
+      if (landed)
+        if (auto lost = refuse_lost_pose(what, ctx, fence, config)) return *lost;
       return CommandResult::ok("inspecting '" + r.instrument_id + "' at " + number(standoff) + " m");
     }
     case RequestKind::FindTeacher:
@@ -98,6 +115,8 @@ CommandResult check_request(const MissionRequest& r, const RequestContext& ctx, 
       if (ctx.battery_percent < config.safety.low_battery_percent)
         return CommandResult::refused("find_teacher: battery " + number(ctx.battery_percent) + " % is below " +
                                       number(config.safety.low_battery_percent) + " %");
+      if (landed)
+        if (auto lost = refuse_lost_pose(what, ctx, fence, config)) return *lost;
       return CommandResult::ok("searching for the teacher");
     case RequestKind::SelectCamera:
       // A mission's stages need their camera (the panel and SLAM in front, the platform below).

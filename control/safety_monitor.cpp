@@ -55,6 +55,11 @@ SafetyVerdict SafetyMonitor::evaluate(const SafetyInputs& in) {
                                                   limits_.low_battery_percent));
   }
 
+  if (in.airborne && !in.landing && limits_.pose_lost_outside_fence_m > 0 &&
+      in.outside_fence_m > limits_.pose_lost_outside_fence_m)
+    raise(SafetyAction::Land, printf_string("the position estimate is %.2f m outside the geofence: the pose is lost, landing",
+                                            in.outside_fence_m));
+
   const bool lost = in.airborne && in.localization_required && !in.localization_ok;
   if (!lost) localization_lost_since_ = -1;
   else if (localization_lost_since_ < 0) localization_lost_since_ = in.t;

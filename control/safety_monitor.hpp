@@ -11,6 +11,9 @@
 //  - the estimate jumped (the fused position moved between two ticks by more than estimate_jump_m
 //    beyond what its velocity explains: a re-sync, a wrong visual fix): level hold for
 //    estimate_jump_hold_s, so the drone does not fly off on a pose that just changed under it;
+//  - the estimate beyond the walls (more than pose_lost_outside_fence_m outside the geofence): the
+//    pose is lost, and a set point clamped into the fence would be flown at full speed from a place
+//    the drone is not at: land;
 //  - too close to the surface below (ultrasound under min_clearance_m while flying, whatever the
 //    estimate says): brake and climb until min_clearance_m + 0.15 m. This is the net under a bad
 //    estimate: the drone cannot descend onto a bench or the floor, nor fly over a bench top at
@@ -43,6 +46,7 @@ struct SafetyInputs {
   bool flying = false;                  // airborne, neither taking off nor landing: clearance applies
   std::optional<double> ultrasound_m;   // navdata range to the surface below
   std::optional<Eigen::Vector3d> position_m;  // the fused estimate this tick
+  double outside_fence_m = 0;  // how far the estimate lies outside the geofence over the floor
   Eigen::Vector3d velocity_mps = Eigen::Vector3d::Zero();
 };
 

@@ -55,7 +55,15 @@ void DroneEkf::predict(double dt, const std::optional<MoveCommand>& command) {
   for (int i = 0; i < steps; ++i) step(h, command);
 }
 
-void DroneEkf::step(double dt, const std::optional<MoveCommand>& command) {
+void DroneEkf::predict_firmware_hover(double dt, double stop_time_s) {
+  if (!(dt > 0) || !(stop_time_s > 0)) return;
+  constexpr double max_step = 0.01;
+  const int steps = static_cast<int>(std::ceil(dt / max_step));
+  const double h = dt / steps;
+  for (int i = 0; i < steps; ++i) step(h, MoveCommand{}, stop_time_s);
+}
+
+void DroneEkf::step(double dt, const std::optional<MoveCommand>& command, double hover_stop_s) {
   // Jacobian of the derivative (continuous time), then F = I + A dt.
   StateCovariance A = StateCovariance::Zero();
   A(X, VX) = A(Y, VY) = A(Z, VZ) = 1.0;
@@ -73,6 +81,12 @@ void DroneEkf::step(double dt, const std::optional<MoveCommand>& command) {
   A(VY, PITCH) = g * (sy * dfbx_dp);
   A(VY, YAW) = g * (cy * fbx - sy * fby) - (cy * tilt_bias_.x() - sy * tilt_bias_.y());
   A(VX, VX) = A(VY, VY) = -model_.drag_per_s;
+  if (hover_stop_s > 0) {
+    A.block<2, 1>(VX, ROLL).setZero();
+    A.block<2, 1>(VX, PITCH).setZero();
+    A.block<2, 1>(VX, YAW).setZero();
+    A(VX, VX) = A(VY, VY) = -1.0 / hover_stop_s;
+  }
   if (command) {
     A(ROLL, ROLL) = A(PITCH, PITCH) = -model_.attitude_rate_hz;
     A(YAW_RATE, YAW_RATE) = -model_.yaw_response_hz;
@@ -80,7 +94,8 @@ void DroneEkf::step(double dt, const std::optional<MoveCommand>& command) {
   }
 
   // State: velocities first (semi-implicit), positions with the mean velocity.
-  const StateVector d = derivative(s_, command);
+  StateVector d = derivative(s_, command);
+  if (hover_stop_s > 0) d.segment<2>(VX) = -s_.segment<2>(VX) / hover_stop_s;
   const Eigen::Vector3d v_old = s_.segment<3>(VX);
   s_ += d * dt;
   s_.segment<3>(X) = s_.segment<3>(X) - d.segment<3>(X) * dt + 0.5 * (v_old + s_.segment<3>(VX)) * dt;

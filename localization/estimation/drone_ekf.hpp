@@ -27,6 +27,10 @@ class DroneEkf {
   // Propagates by dt seconds (split in steps of at most 10 ms). Without a command the attitude, yaw
   // rate and vertical speed are held (random walk); the horizontal dynamics always follow the tilt.
   void predict(double dt, const std::optional<MoveCommand>& command);
+  // Propagates by dt seconds under the firmware's own hover, which holds the drone still on its
+  // velocity estimate: the horizontal velocity decays with `stop_time_s`, the attitude levels, the
+  // vertical speed and yaw rate die away as under a hover command.
+  void predict_firmware_hover(double dt, double stop_time_s);
 
   // The horizontal acceleration the thrust gives at this attitude (world frame, no drag).
   Eigen::Vector2d thrust_accel(double roll, double pitch, double yaw) const;
@@ -77,7 +81,8 @@ class DroneEkf {
   static double wrap(double a);
 
  private:
-  void step(double dt, const std::optional<MoveCommand>& command);
+  // One step; `hover_stop_s` > 0: the horizontal velocity decays with it instead of following the tilt.
+  void step(double dt, const std::optional<MoveCommand>& command, double hover_stop_s = 0.0);
   void keep_positive_definite();
 
   MotionModelConstants model_;

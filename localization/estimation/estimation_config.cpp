@@ -83,6 +83,7 @@ EstimatorConfig read_estimation_config(const ConfigReader& node, const Estimator
   ms("vision_latency_allowance_ms", c.vision_latency_allowance_s, 2000.0);
   c.max_future_s = node.number_or("max_future_s", c.max_future_s, Range{0.0, 60.0, true});
   c.firmware_command_hold_s = node.number_or("firmware_command_hold_s", c.firmware_command_hold_s, Range::closed(0.0, 30.0));
+  c.firmware_hover_stop_s = node.number_or("firmware_hover_stop_s", c.firmware_hover_stop_s, Range{0.0, 10.0, true});
   if (node.has("model")) read_model(node.object("model"), c.model);
   if (node.has("noise")) read_noise(node.object("noise"), c.noise);
   c.use_navdata_vz = node.boolean_or("use_navdata_vz", c.use_navdata_vz);

@@ -94,6 +94,11 @@ struct EstimatorConfig {
   // After the link goes silent the drone's firmware flies the last command it received this long,
   // then hovers (the AR.Drone's com watchdog, `general:com_watchdog`, 2 s by default).
   Seconds firmware_command_hold_s = 2.0;
+  // ... and its hover holds the drone still on its own velocity estimate (the bottom camera's): the
+  // horizontal velocity dies away with this time constant. Nothing in the navdata shows it while the
+  // link is down, so the gap is dead reckoned on it; coasting on the tilt model instead carried a
+  // 1 m/s drone 4-6 m on across an 8-s cut (docs/state-estimation.md).
+  Seconds firmware_hover_stop_s = 1.0;
   MotionModelConstants model;
   EstimatorNoise noise;
   // Source switching: a source drives the estimate after `source_enter_count` consecutive accepted

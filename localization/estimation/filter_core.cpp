@@ -59,6 +59,13 @@ void FilterCore::predict_to(Seconds t) {
   t_ = t;
 }
 
+void FilterCore::hover_to(Seconds t, double stop_time_s) {
+  if (!(t > t_)) return;
+  ekf_.predict_firmware_hover(t - t_, stop_time_s);
+  t_ = t;
+  set_command(MoveCommand{}, t);
+}
+
 void FilterCore::set_command(const MoveCommand& command, Seconds effect_time) {
   command_ = command;
   command_effect_t_ = effect_time;
@@ -148,7 +155,7 @@ bool FilterCore::velocity_usable(const NavdataSample& n) {
     ekf_.set_xy_accel_noise(dropout_.settings().dropout_accel_noise_mps2);
     ++counters_.velocity_dropouts;
   }
-  if (v.resumed) ekf_.reset_xy_accel_noise();
+  if (!dropout_.in_dropout()) ekf_.reset_xy_accel_noise();  // resumed, or started again after a gap
   if (!v.fuse) ++counters_.velocity_dropout_packets;
   return v.fuse;
 }

@@ -41,6 +41,9 @@ class FilterCore {
 
   // Propagates the model to t (no-op when t <= time()).
   void predict_to(Seconds t);
+  // Predicts to t under the firmware's own hover (DroneEkf::predict_firmware_hover), then takes a
+  // hover as the command from t on: the link was down and the drone held itself still.
+  void hover_to(Seconds t, double stop_time_s);
   void set_command(const MoveCommand& command, Seconds effect_time);
   // A navdata sample whose measurement time is time() (predict_to first). `vision_holding` selects the
   // looser velocity noise and the per-packet yaw anchor (notes: tum_ardrone's PTAM-valid mode).

@@ -196,14 +196,17 @@ struct StateEstimator::Impl {
   // Across the gap: the commands sent into the silence never reached the drone, which flew the last
   // one it had received for the firmware's command watchdog, then hovered. Carrying the unsent ones
   // over the gap flew the estimate metres away from a drone that had stopped. So the filter moves to
-  // the last packet before the gap, the commands after it are dropped, and a hover takes effect where
-  // the watchdog fired; the gap is dead reckoned on that, its uncertainty grown by the motion model.
+  // the last packet before the gap, the commands after it are dropped, the last one it had is flown
+  // until the watchdog fires, and from there the firmware's hover holds the drone still (its velocity
+  // dies away with firmware_hover_stop_s: a hover command on the tilt model alone coasted on at the
+  // drag's pace, 4-6 m across an 8-s cut). The uncertainty grows by the motion model.
   void bridge_gap(Seconds t_last_packet, Seconds t_meas_resumed) {
     const Seconds t_last = t_last_packet - config.navdata_delay_s;
     advance(t_last);
     commands.clear();
-    const Seconds t_hover = std::min(t_last + config.firmware_command_hold_s, t_meas_resumed);
-    commands.push(std::max(core.time(), t_hover), MoveCommand{});
+    const Seconds t_hover = std::max(core.time(), std::min(t_last + config.firmware_command_hold_s, t_meas_resumed));
+    core.predict_to(t_hover);
+    core.hover_to(t_meas_resumed, config.firmware_hover_stop_s);
   }
 
   enum class VisionOutcome { Inconsistent, Settling, Gated, Fused };

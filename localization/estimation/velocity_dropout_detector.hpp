@@ -86,6 +86,7 @@ class VelocityDropoutDetector {
   static constexpr double kShadowPullPerS = 0.15;     // the shadow's pull towards a valid measurement
   static constexpr Seconds kTakeBackMaxS = 1.3;       // an onset takes back at most this span
   static constexpr double kBiasGateMps2 = 0.4;        // a window's residual above this (2.3 deg) is no offset
+  static constexpr Seconds kMaxPacketGapS = 0.5;      // a longer silence starts the model again (bias kept)
 
  private:
   struct Entry {

@@ -204,12 +204,11 @@ void LabPipelines::apply_instrument(const std::string& id, const TargetObservati
 
 void LabPipelines::add_platform_result(const TargetObservation& obs) {
   platform_ = obs;
-  platform_.has_offset_heading = false;
+  platform_.offset_heading_m.reset();
   if (obs.state == TrackState::Tracking) {
     if (const std::optional<Attitude> a = attitude_.at(obs.t - estimator_.config().video_delay_s)) {
       const Eigen::Vector3d in_body = (T_body_cam_bottom() * obs.T_cam_target).translation();
-      platform_.offset_heading_m = rotation_from_ypr(0.0, a->pitch_rad, a->roll_rad) * in_body;
-      platform_.has_offset_heading = true;
+      platform_.offset_heading_m = offset_along_heading(in_body, a->pitch_rad, a->roll_rad);
     }
   }
   if (obs.state == TrackState::Tracking && focus_.feedback == FeedbackSource::Homography) {

@@ -1,6 +1,12 @@
 #include "localization/fusion/localization_pipelines.hpp"
 
+#include "core/frames.hpp"
+
 namespace labo::fusion {
+
+Eigen::Vector3d offset_along_heading(const Eigen::Vector3d& in_body_m, double pitch_rad, double roll_rad) {
+  return rotation_from_ypr(0.0, pitch_rad, roll_rad) * in_body_m;
+}
 
 std::string to_string(FeedbackSource source) {
   switch (source) {

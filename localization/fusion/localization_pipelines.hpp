@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,9 +63,12 @@ struct TargetObservation {
   // The target's centre from the body's origin, level and along the heading (x forward, y left,
   // z up), turned by the roll and pitch measured when the frame was taken rather than by the
   // latest ones: where it is as the camera saw it, with no placement in the world mixed in.
-  bool has_offset_heading = false;
-  Eigen::Vector3d offset_heading_m = Eigen::Vector3d::Zero();
+  std::optional<Eigen::Vector3d> offset_heading_m;
 };
+
+// A point seen from the body (`in_body_m`, the body's axes) as an offset along the heading: turned by
+// the body's pitch and roll so that x is level forward, y level left and z up.
+Eigen::Vector3d offset_along_heading(const Eigen::Vector3d& in_body_m, double pitch_rad, double roll_rad);
 
 enum class SlamState { Off, Initializing, Good, Dodgy, Lost };
 std::string to_string(SlamState state);

@@ -105,8 +105,7 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
       o.T_world_target = lab_.platform.T_world_object;
       o.T_world_target.translation() += *world_->platform_placement_error;
       const Eigen::Vector3d ypr = ypr_from_rotation(world_->drone.pose().linear());
-      o.offset_heading_m = rotation_from_ypr(0.0, ypr[1], ypr[2]) * (T_body_cam_bottom() * o.T_cam_target).translation();
-      o.has_offset_heading = true;
+      o.offset_heading_m = fusion::offset_along_heading((T_body_cam_bottom() * o.T_cam_target).translation(), ypr[1], ypr[2]);
     }
     return o;
   }

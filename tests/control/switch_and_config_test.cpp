@@ -2,6 +2,7 @@
 
 #include "control/control_config.hpp"
 #include "control/geofence.hpp"
+#include "control/request_policy.hpp"
 #include "localization/fusion/localization_switch.hpp"
 #include "control/safety_monitor.hpp"
 #include "core/config_reader.hpp"
@@ -266,4 +267,45 @@ TEST_CASE("control: the standoff pose puts the panel centre at the image centre 
   CHECK(k.fx * c.x() / c.z() + k.cx == Approx(0.5 * k.width));
   CHECK(k.fy * c.y() / c.z() + k.cy == Approx(0.5 * k.height));
   CHECK(t.yaw == Approx(0.0).margin(1e-12));
+}
+
+TEST_CASE("control: an estimate beyond the walls is a lost pose: safety lands, and no mission takes off on it") {
+  // The soak's drone, dead reckoned 18 m outside the room across a link cut, took off for the next
+  // inspection and flew at full speed towards a set point clamped into the fence, into a wall.
+  const Geofence fence(Eigen::Vector3d(-3, -3, 0), Eigen::Vector3d(3, 3, 2.5), 0.3);  // x, y within +-2.7
+  CHECK(fence.horizontal_distance_outside_m(Eigen::Vector3d(1, 1, -0.5)) == 0.0);  // below the floor: not over it
+  CHECK(fence.horizontal_distance_outside_m(Eigen::Vector3d(3.0, 3.1, 1)) == Approx(std::hypot(0.3, 0.4)));
+
+  control::SafetyLimits lim;  // pose_lost_outside_fence_m 0.5
+  control::SafetyMonitor m(lim);
+  control::SafetyInputs in;
+  in.airborne = in.flying = true;
+  in.outside_fence_m = 0.4;  // a drift near a wall: the fence holds the set point
+  CHECK(m.evaluate(in).action == control::SafetyAction::None);
+  in.t = 0.1;
+  in.outside_fence_m = 0.8;
+  const control::SafetyVerdict v = m.evaluate(in);
+  CHECK(v.action == control::SafetyAction::Land);
+  CHECK_THAT(v.reason, Catch::Contains("0.80 m outside the geofence: the pose is lost"));
+  lim.pose_lost_outside_fence_m = 0;  // off
+  control::SafetyMonitor off(lim);
+  CHECK(off.evaluate(in).action == control::SafetyAction::None);
+
+  const ControlConfig config;
+  fusion::LabGeometry lab;
+  RequestContext landed;
+  landed.position = Eigen::Vector3d(-15.4, 0.3, 0);
+  for (const RequestKind kind : {RequestKind::Takeoff, RequestKind::FindTeacher}) {
+    MissionRequest r;
+    r.kind = kind;
+    const CommandResult c = check_request(r, landed, lab, fence, config);
+    INFO(c.reason);
+    CHECK_FALSE(c.accepted);
+    CHECK_THAT(c.reason, Catch::Contains("estimated place (-15.40, 0.30) m is 12.70 m outside the geofence"));
+    CHECK_THAT(c.reason, Catch::Contains("its pose is lost"));
+  }
+  landed.position = Eigen::Vector3d(2.9, 0.0, 0);  // landed just beyond the fence: flies
+  MissionRequest take_off;
+  take_off.kind = RequestKind::Takeoff;
+  CHECK(check_request(take_off, landed, lab, fence, config).accepted);
 }

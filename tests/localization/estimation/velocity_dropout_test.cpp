@@ -293,3 +293,30 @@ TEST_CASE("estimation: a dropout's take-back reaches back at most 1.3 s, whateve
   CHECK(taken_back > 0.05);
   CHECK(taken_back < 0.6);  // the last 1.3 s at the shadow's speed (0.50 m); the whole span was 1.39 m
 }
+
+TEST_CASE("estimation: after a gap in the navdata the dropout detector starts again, and a stopped drone is no dropout") {
+  // A Wi-Fi cut at 1 m/s: during the silence the firmware hovers the drone to a stop. The model's
+  // velocity carried across the gap still flew, so the stopped drone's zero read as a failed flow,
+  // and its take-back threw the estimate metres on (the soak's 18-m estimate).
+  const estimation::MotionModelConstants m;
+  estimation::VelocityDropoutDetector d({}, m);
+  const double rate_hz = 15.0;
+  const Eigen::Vector2d cruise_thrust(m.drag_per_s * 1.0, 0.0);  // holds 1 m/s against the drag
+  Seconds t = 0;
+  bool onset = false;
+  for (int k = 0; k < 6 * 15; ++k) {
+    t = k / rate_hz;
+    onset = d.process(t, Eigen::Vector2d(1.0, 0.0), cruise_thrust, 0.0, Eigen::Vector2d(1.0, 0.0)).onset || onset;
+    d.record_filter_velocity(Eigen::Vector2d(1.0, 0.0));
+  }
+  REQUIRE(d.warmed_up());
+  CHECK_FALSE(onset);
+  for (int k = 1; k <= 30; ++k) {  // 8 s later: at rest, level
+    const VelocityVerdict v = d.process(t + 8.0 + k / rate_hz, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), 0.0,
+                                        Eigen::Vector2d::Zero());
+    d.record_filter_velocity(Eigen::Vector2d::Zero());
+    CHECK_FALSE(v.onset);
+    CHECK(v.fuse);
+  }
+  CHECK(d.warmed_up());  // the learned tilt offset is kept
+}

@@ -390,7 +390,7 @@ TEST_CASE("vision front-ends: the platform's offset from the body is levelled by
   SECTION("without navdata the attitude at the frame is unknown: no offset") {
     pipelines->on_video(bgr_frame(pad.view(T_cam_platform), 0.2, CameraId::Bottom));
     REQUIRE(pipelines->platform().state == fusion::TrackState::Tracking);
-    CHECK_FALSE(pipelines->platform().has_offset_heading);
+    CHECK_FALSE(pipelines->platform().offset_heading_m);
   }
   SECTION("tilted when the frame was taken, level since: the frame's attitude levels it") {
     NavdataSample n;
@@ -406,9 +406,9 @@ TEST_CASE("vision front-ends: the platform's offset from the body is levelled by
     pipelines->on_video(bgr_frame(pad.view(T_cam_platform), 0.2, CameraId::Bottom));
     const fusion::TargetObservation p = pipelines->platform();
     REQUIRE(p.state == fusion::TrackState::Tracking);
-    REQUIRE(p.has_offset_heading);
-    CHECK((p.offset_heading_m - truth).head<2>().norm() < 0.015);
-    CHECK(p.offset_heading_m.z() == Approx(truth.z()).margin(0.03));
+    REQUIRE(p.offset_heading_m);
+    CHECK((*p.offset_heading_m - truth).head<2>().norm() < 0.015);
+    CHECK(p.offset_heading_m->z() == Approx(truth.z()).margin(0.03));
     // Levelled by the latest (level) attitude instead, the 2.5 degrees would put it ~4 cm off.
     const Eigen::Vector3d unlevelled = (T_body_cam_bottom() * p.T_cam_target).translation();
     CHECK((unlevelled - truth).head<2>().norm() > 0.03);
