@@ -52,27 +52,41 @@ TEST_CASE("control: real vision in the simulated lab reaches the 0.80 m hold in 
   CHECK_FALSE(f->crashed());
 }
 
-// A 3-s Wi-Fi cut while the drone flies the inspection (the firmware holds the last command for its
-// 2-s watchdog, then hovers; the driver sees the link lost). When the link comes back the estimate
-// must follow the navdata and the panel again; it used to stay frozen at the cut for the rest of the
-// flight, and the drone flew on blind into the bench.
-TEST_CASE("control: after a 3-s link outage in flight the estimate resumes and the inspection ends on the platform") {
+namespace {
+
+// The simulated lab with real vision at 15 fps (half the drone's, to keep the tests short) and a Wi-Fi
+// cut of `duration_s` from `at_s`: nothing gets through either way.
+std::unique_ptr<ExperimentFlight> flight_with_link_outage(double at_s, double duration_s) {
   ExperimentOptions o;
   o.config = labo::source_root() / "config" / "default.json";
   o.real_vision = true;
   o.video_fps = 15;
   Experiment e = make_experiment(o, false);
-  REQUIRE(e.lab);
   sim::Disturbance cut;
   cut.kind = sim::Disturbance::Kind::LinkOutage;
-  cut.t_s = 15.0;
-  cut.duration_s = 3.0;
+  cut.t_s = at_s;
+  cut.duration_s = duration_s;
   e.sim.lab.disturbances.push_back(cut);
-  const auto f = make_flight(e, 1);
+  return make_flight(e, 1);
+}
+
+control::MissionRequest oscilloscope_inspection() {
   control::MissionRequest r;
   r.kind = control::RequestKind::Inspect;
   r.instrument_id = "oscilloscope";
   r.hold_s = 2;
+  return r;
+}
+
+}  // namespace
+
+// A 3-s Wi-Fi cut while the drone flies the inspection (the firmware holds the last command for its
+// 2-s watchdog, then hovers; the driver sees the link lost). When the link comes back the estimate
+// must follow the navdata and the panel again; it used to stay frozen at the cut for the rest of the
+// flight, and the drone flew on blind into the bench.
+TEST_CASE("control: after a 3-s link outage in flight the estimate resumes and the inspection ends on the platform") {
+  const control::MissionRequest r = oscilloscope_inspection();
+  const auto f = flight_with_link_outage(15.0, 3.0);
   REQUIRE(f->request(r).accepted);
   bool lost_in_flight = false;
   double worst_error_after_m = 0;  // the estimate against the truth, from 3 s after the link is back (metres off before)
@@ -105,22 +119,8 @@ TEST_CASE("control: after a 3-s link outage in flight the estimate resumes and t
 // mission flies from there (in the soak the estimate was left 18 m outside the room and the next
 // take-off flew into a wall at full speed).
 TEST_CASE("control: after an 8-s link outage the drone lands where the estimate says, and the next mission starts from there") {
-  ExperimentOptions o;
-  o.config = labo::source_root() / "config" / "default.json";
-  o.real_vision = true;
-  o.video_fps = 15;
-  Experiment e = make_experiment(o, false);
-  REQUIRE(e.lab);
-  sim::Disturbance cut;
-  cut.kind = sim::Disturbance::Kind::LinkOutage;
-  cut.t_s = 15.0;
-  cut.duration_s = 8.0;
-  e.sim.lab.disturbances.push_back(cut);
-  const auto f = make_flight(e, 1);
-  control::MissionRequest r;
-  r.kind = control::RequestKind::Inspect;
-  r.instrument_id = "oscilloscope";
-  r.hold_s = 2;
+  const control::MissionRequest r = oscilloscope_inspection();
+  const auto f = flight_with_link_outage(15.0, 8.0);
   REQUIRE(f->request(r).accepted);
   double worst_error_m = 0, worst_t = 0;
   const auto watch = [&] {
