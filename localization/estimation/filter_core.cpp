@@ -35,7 +35,7 @@ FilterCore::FilterCore(const EstimatorConfig& config, double gamma_m)
     : config_(config), ekf_(config.model, config.noise),
       altitude_(gamma_m, config.altitude_step_discrimination ? AltitudeTracker::Mode::Discriminating
                                                               : AltitudeTracker::Mode::PaperGammaOnly),
-      dropout_(config.velocity_dropout, config.model) {}
+      dropout_(config.velocity_dropout, config.model, config.firmware_command_hold_s) {}
 
 void FilterCore::reset(const StateVector& s, const StateCovariance& P, Seconds t) {
   ekf_.reset(s, P);

@@ -122,10 +122,11 @@ VelocityVerdict VelocityDropoutDetector::process(Seconds t, const Eigen::Vector2
                                                  const Eigen::Vector2d& thrust_accel_world, double yaw,
                                                  const Eigen::Vector2d& filter_velocity) {
   if (size_ > 0 && t < at(size_ - 1).t) restart();  // time went back: a new flight
-  // After a gap in the navdata (a Wi-Fi cut) the model knows nothing of what the drone did meanwhile:
-  // the firmware hovered it to a stop, and a shadow carried across still flying read the stopped
-  // drone's zero as a failed flow, whose take-back threw the estimate metres on.
-  if (size_ > 0 && t - at(size_ - 1).t > kMaxPacketGapS) restart();
+  // After a gap in the navdata (a Wi-Fi cut) longer than the firmware's command hold the model knows
+  // nothing of what the drone did meanwhile: the firmware hovered it to a stop, and a shadow carried
+  // across still flying read the stopped drone's zero as a failed flow, whose take-back threw the
+  // estimate metres on.
+  if (size_ > 0 && t - at(size_ - 1).t > firmware_command_hold_s_) restart();
   const Eigen::Vector2d thrust = thrust_accel_world - rotate(yaw, bias_heading_);
   if (size_ == 0) {
     shadow_ = measured_world;

@@ -57,9 +57,12 @@ struct DropoutCorrection {
 
 class VelocityDropoutDetector {
  public:
+  // `firmware_command_hold_s`: a silence in the navdata longer than this starts the model again
+  // (the drone's firmware hovered it meanwhile, which the model cannot know); shorter ones are flown
+  // on the last command, as the model has it.
   explicit VelocityDropoutDetector(const VelocityDropoutSettings& settings = {},
-                                   const MotionModelConstants& model = {})
-      : settings_(settings), model_(model) {}
+                                   const MotionModelConstants& model = {}, Seconds firmware_command_hold_s = 2.0)
+      : settings_(settings), model_(model), firmware_command_hold_s_(firmware_command_hold_s) {}
 
   // Forgets everything, the learned tilt bias too (a new filter, or landed: a flat trim may follow).
   void reset();
@@ -86,7 +89,6 @@ class VelocityDropoutDetector {
   static constexpr double kShadowPullPerS = 0.15;     // the shadow's pull towards a valid measurement
   static constexpr Seconds kTakeBackMaxS = 1.3;       // an onset takes back at most this span
   static constexpr double kBiasGateMps2 = 0.4;        // a window's residual above this (2.3 deg) is no offset
-  static constexpr Seconds kMaxPacketGapS = 0.5;      // a longer silence starts the model again (bias kept)
 
  private:
   struct Entry {
@@ -121,6 +123,7 @@ class VelocityDropoutDetector {
 
   VelocityDropoutSettings settings_;
   MotionModelConstants model_;
+  Seconds firmware_command_hold_s_;
   std::array<Entry, kCapacity> ring_{};
   std::size_t head_ = 0;
   std::size_t size_ = 0;
