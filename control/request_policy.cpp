@@ -39,6 +39,7 @@ Eigen::Vector3d destination(const MissionRequest& r, const RequestContext& ctx) 
 // dead reckoned wrong): a mission flown from there flies at full speed towards a place it is not at.
 std::optional<CommandResult> refuse_lost_pose(const std::string& what, const RequestContext& ctx, const Geofence& fence,
                                               const ControlConfig& config) {
+  if (airborne(ctx.phase)) return std::nullopt;  // in flight the safety monitor lands it
   const double outside_m = fence.horizontal_distance_outside_m(ctx.position);
   const double limit_m = config.safety.pose_lost_outside_fence_m;
   if (limit_m <= 0 || outside_m <= limit_m) return std::nullopt;
@@ -104,8 +105,7 @@ CommandResult check_request(const MissionRequest& r, const RequestContext& ctx, 
       if (ctx.battery_percent < config.safety.low_battery_percent)
         return CommandResult::refused("inspect: battery " + number(ctx.battery_percent) + " % is below " +
                                       number(config.safety.low_battery_percent) + " %");
-      if (landed)
-        if (auto lost = refuse_lost_pose(what, ctx, fence, config)) return *lost;
+      if (auto lost = refuse_lost_pose(what, ctx, fence, config)) return *lost;
       return CommandResult::ok("inspecting '" + r.instrument_id + "' at " + number(standoff) + " m");
     }
     case RequestKind::FindTeacher:
@@ -115,8 +115,7 @@ CommandResult check_request(const MissionRequest& r, const RequestContext& ctx, 
       if (ctx.battery_percent < config.safety.low_battery_percent)
         return CommandResult::refused("find_teacher: battery " + number(ctx.battery_percent) + " % is below " +
                                       number(config.safety.low_battery_percent) + " %");
-      if (landed)
-        if (auto lost = refuse_lost_pose(what, ctx, fence, config)) return *lost;
+      if (auto lost = refuse_lost_pose(what, ctx, fence, config)) return *lost;
       return CommandResult::ok("searching for the teacher");
     case RequestKind::SelectCamera:
       // A mission's stages need their camera (the panel and SLAM in front, the platform below).

@@ -78,15 +78,17 @@ std::vector<std::string> soak_failures(const SoakSummary& s, const SoakLimits& l
 
 namespace {
 
+nlohmann::json to_json(const TrailPose& p) { return {p.x_m, p.y_m, p.z_m, p.yaw_deg}; }
+
 nlohmann::json to_json(const TrailPoint& p) {
   nlohmann::json j = {{"t_s", p.t_s},
-                      {"true", {p.true_x_m, p.true_y_m, p.true_z_m, p.true_yaw_deg}},
-                      {"estimate", {p.est_x_m, p.est_y_m, p.est_z_m, p.est_yaw_deg}},
+                      {"true", to_json(p.truth)},
+                      {"estimate", to_json(p.estimate)},
                       {"source", p.source},
                       {"slam", p.slam},
                       {"stage", p.stage},
                       {"link", p.link}};
-  if (p.has_desired) j["desired"] = {p.des_x_m, p.des_y_m, p.des_z_m, p.des_yaw_deg};
+  if (p.desired) j["desired"] = to_json(*p.desired);
   return j;
 }
 
@@ -96,7 +98,9 @@ nlohmann::json to_json(const CrashReport& c) {
   return {{"at_s", c.at_s}, {"hit", c.hit}, {"mission", c.mission}, {"trail", trail}};
 }
 
-double horizontal_error_m(const TrailPoint& p) { return std::hypot(p.est_x_m - p.true_x_m, p.est_y_m - p.true_y_m); }
+double horizontal_error_m(const TrailPoint& p) {
+  return std::hypot(p.estimate.x_m - p.truth.x_m, p.estimate.y_m - p.truth.y_m);
+}
 
 }  // namespace
 

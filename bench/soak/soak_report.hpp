@@ -5,6 +5,7 @@
 // warm-up. The checks are a pure function of the summary, so their tests can feed bad summaries.
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,12 +28,14 @@ struct FaultRecord {
 
 // One moment of the flight as the watch saw it: the lab's truth beside what the flight software
 // believed and wanted (world frame, metres and degrees).
+struct TrailPose {
+  double x_m = 0, y_m = 0, z_m = 0, yaw_deg = 0;
+};
+
 struct TrailPoint {
   double t_s = 0;
-  double true_x_m = 0, true_y_m = 0, true_z_m = 0, true_yaw_deg = 0;
-  double est_x_m = 0, est_y_m = 0, est_z_m = 0, est_yaw_deg = 0;
-  bool has_desired = false;
-  double des_x_m = 0, des_y_m = 0, des_z_m = 0, des_yaw_deg = 0;
+  TrailPose truth, estimate;
+  std::optional<TrailPose> desired;  // none without a set point
   std::string source, slam, stage, link;
 };
 

@@ -28,25 +28,20 @@ RssSample with_heap_figures(RssSample sample) {
   return sample;
 }
 
+namespace {
+
+TrailPose trail_pose(double x_m, double y_m, double z_m, double yaw_rad) {
+  return {x_m, y_m, z_m, yaw_rad * 180.0 / 3.14159265358979323846};
+}
+
+}  // namespace
+
 TrailPoint trail_point(double t_s, const DroneTruth& truth, const FlightTelemetry& telemetry) {
-  constexpr double kDeg = 180.0 / 3.14159265358979323846;
   TrailPoint p;
   p.t_s = t_s;
-  p.true_x_m = truth.position_m.x();
-  p.true_y_m = truth.position_m.y();
-  p.true_z_m = truth.position_m.z();
-  p.true_yaw_deg = truth.yaw_rad * kDeg;
-  p.est_x_m = telemetry.pose.x_m;
-  p.est_y_m = telemetry.pose.y_m;
-  p.est_z_m = telemetry.pose.z_m;
-  p.est_yaw_deg = telemetry.pose.yaw_rad * kDeg;
-  if (telemetry.desired) {
-    p.has_desired = true;
-    p.des_x_m = telemetry.desired->x_m;
-    p.des_y_m = telemetry.desired->y_m;
-    p.des_z_m = telemetry.desired->z_m;
-    p.des_yaw_deg = telemetry.desired->yaw_rad * kDeg;
-  }
+  p.truth = trail_pose(truth.position_m.x(), truth.position_m.y(), truth.position_m.z(), truth.yaw_rad);
+  p.estimate = trail_pose(telemetry.pose.x_m, telemetry.pose.y_m, telemetry.pose.z_m, telemetry.pose.yaw_rad);
+  if (const auto& d = telemetry.desired) p.desired = trail_pose(d->x_m, d->y_m, d->z_m, d->yaw_rad);
   p.source = server::to_string(telemetry.source);
   p.slam = telemetry.slam_state;
   p.stage = telemetry.stage;

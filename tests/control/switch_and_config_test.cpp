@@ -241,6 +241,9 @@ TEST_CASE("control: config section is validated with the key path") {
   CHECK(net.safety.estimate_jump_hold_s == 2.0);
   CHECK_THROWS_WITH(read(R"({"safety": {"min_clearance_m": 3}})"), Catch::Contains("min_clearance_m"));
   CHECK_THROWS_WITH(read(R"({"safety": {"estimate_jump_m": -1}})"), Catch::Contains("estimate_jump_m"));
+  CHECK(read(R"({"safety": {"pose_lost_outside_fence_m": 1.5}})").safety.pose_lost_outside_fence_m == 1.5);
+  CHECK_THROWS_WITH(read(R"({"safety": {"pose_lost_outside_fence_m": -0.5}})"), Catch::Contains("pose_lost_outside_fence_m"));
+  CHECK_THROWS_WITH(read(R"({"safety": {"pose_lost_outside_fence_m": "far"}})"), Catch::Contains("pose_lost_outside_fence_m"));
   CHECK(read(R"({"gains": {"yaw_rate_feedforward": 0.3}})").gains.yaw_rate_feedforward == 0.3);
   CHECK_THROWS_WITH(read(R"({"gains": {"yaw_rate_feedforward": -0.1}})"), Catch::Contains("yaw_rate_feedforward"));
   CHECK_THROWS_WITH(read(R"({"gains": {"yaw_rate_feedforward": "fast"}})"), Catch::Contains("yaw_rate_feedforward"));
@@ -304,6 +307,11 @@ TEST_CASE("control: an estimate beyond the walls is a lost pose: safety lands, a
     CHECK_THAT(c.reason, Catch::Contains("estimated place (-15.40, 0.30) m is 12.70 m outside the geofence"));
     CHECK_THAT(c.reason, Catch::Contains("its pose is lost"));
   }
+  RequestContext flying = landed;  // in flight the safety monitor lands it; requests are not where that is judged
+  flying.phase = FlightPhase::Flying;
+  MissionRequest find;
+  find.kind = RequestKind::FindTeacher;
+  CHECK(check_request(find, flying, lab, fence, config).accepted);
   landed.position = Eigen::Vector3d(2.9, 0.0, 0);  // landed just beyond the fence: flies
   MissionRequest take_off;
   take_off.kind = RequestKind::Takeoff;

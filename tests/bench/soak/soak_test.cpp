@@ -105,8 +105,8 @@ TEST_CASE("soak report: a crash is reported with the flight before it, the estim
   for (int i = 0; i < 3; ++i) {
     TrailPoint p;
     p.t_s = 39 + i;
-    p.true_x_m = -0.5 - 0.4 * i;  // the drone flying into the wall while it believes itself still
-    p.est_x_m = -0.5;
+    p.truth.x_m = -0.5 - 0.4 * i;  // the drone flying into the wall while it believes itself still
+    p.estimate.x_m = -0.5;
     p.stage = "1 init: taking off";
     p.source = "slam";
     p.slam = "tracking";

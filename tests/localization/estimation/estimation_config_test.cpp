@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 #include <utility>
+#include <vector>
 
 #include "core/config_reader.hpp"
 #include "localization/estimation/estimation_config.hpp"
@@ -27,13 +28,27 @@ TEST_CASE("estimation: config reads delays in ms and model constants, refuses ba
   CHECK_THROWS_WITH(estimation::read_estimation_config(order.root()), Catch::Contains("scale_interval_max_s"));
 }
 
-TEST_CASE("estimation: config reads the firmware's command hold, refuses what no firmware has") {
-  const ConfigDocument doc = ConfigDocument::parse(R"({"firmware_command_hold_s": 15})", "tello.json");
-  CHECK(estimation::read_estimation_config(doc.root()).firmware_command_hold_s == Approx(15.0));
-  for (const char* text : {R"({"firmware_command_hold_s": -1})", R"({"firmware_command_hold_s": 31})",
-                           R"({"firmware_command_hold_s": "2 s"})"}) {
-    const ConfigDocument bad = ConfigDocument::parse(text, "bad.json");
-    CHECK_THROWS_WITH(estimation::read_estimation_config(bad.root()), Catch::Contains("firmware_command_hold_s"));
+TEST_CASE("estimation: config reads the firmware's command hold and hover stop, refuses what no firmware has") {
+  struct Key {
+    const char* name;
+    Seconds estimation::EstimatorConfig::*field;
+    const char* good;  // the document, and the value it gives
+    double value;
+    std::vector<const char*> bad;
+  };
+  const std::vector<Key> keys = {
+      {"firmware_command_hold_s", &estimation::EstimatorConfig::firmware_command_hold_s, R"({"firmware_command_hold_s": 15})", 15.0,
+       {R"({"firmware_command_hold_s": -1})", R"({"firmware_command_hold_s": 31})", R"({"firmware_command_hold_s": "2 s"})"}},
+      {"firmware_hover_stop_s", &estimation::EstimatorConfig::firmware_hover_stop_s, R"({"firmware_hover_stop_s": 0.6})", 0.6,
+       {R"({"firmware_hover_stop_s": 0})", R"({"firmware_hover_stop_s": 11})", R"({"firmware_hover_stop_s": "1 s"})"}}};
+  for (const Key& k : keys) {
+    INFO(k.name);
+    const estimation::EstimatorConfig c = estimation::read_estimation_config(ConfigDocument::parse(k.good, "tello.json").root());
+    CHECK(c.*k.field == Approx(k.value));
+    for (const char* text : k.bad) {
+      const ConfigDocument bad = ConfigDocument::parse(text, "bad.json");
+      CHECK_THROWS_WITH(estimation::read_estimation_config(bad.root()), Catch::Contains(k.name));
+    }
   }
 }
 
