@@ -50,7 +50,7 @@ struct FlightStack::Impl {
   std::string last_event;
   int missions_ended = 0;
   std::string last_mission_result;
-  std::vector<std::string> alerts;
+  SafetyAlerts alerts;  // this tick's, formatted only for status()
   std::optional<FlightOutput> pending;  // an action decided by a request, sent at the next tick
   std::optional<PoseTarget> level_hold;  // altitude and yaw the safety's level hold keeps, while it lasts
   Seconds last_tick = 0;
@@ -147,14 +147,14 @@ struct FlightStack::Impl {
         out.move = climb_command(pose, setup.control.gains);
         break;
       case SafetyAction::ReturnHome:
-        finish_mission("safety: " + v.reason);
-        mission = std::make_unique<ReturnHomeMission>(t, v.reason);
-        last_event = "safety: " + v.reason;
+        finish_mission("safety: " + to_string(v.reason));
+        mission = std::make_unique<ReturnHomeMission>(t, to_string(v.reason));
+        last_event = "safety: " + to_string(v.reason);
         break;
       case SafetyAction::Land:
         if (in.landing && link != LinkState::Lost && link != LinkState::Disconnected) break;  // already landing
-        finish_mission("safety: " + v.reason);
-        last_event = "safety: " + v.reason;
+        finish_mission("safety: " + to_string(v.reason));
+        last_event = "safety: " + to_string(v.reason);
         paused = true;
         // Land is repeated while the link is down, so it gets through when the link comes back.
         out = autopilot.land(t);
@@ -233,9 +233,7 @@ struct FlightStack::Impl {
     if (!r.limited()) return;
     if (r.hover) out.action = FlightOutput::Action::Hover;
     out.move = r.move;
-    alerts.push_back(r.hover ? "too fast for a link cut here: hovering"
-                             : "too fast for a link cut here: command at " +
-                                 std::to_string(static_cast<int>(std::lround(100.0 * r.scale))) + " %");
+    alerts.push_back(r.hover ? SafetyAlert{SafetyAlertKind::LinkCutHover} : SafetyAlert{SafetyAlertKind::LinkCutScaled, r.scale});
   }
 
   CommandResult request(const MissionRequest& r, Seconds t) {
@@ -397,7 +395,8 @@ FlightStatus FlightStack::status() const {
   s.battery_percent = m.nav.battery_percent;
   s.altitude_m = m.nav.altitude_m;
   s.link = m.link;
-  s.safety_alerts = m.alerts;
+  s.safety_alerts.clear();
+  for (const SafetyAlert& a : m.alerts) s.safety_alerts.push_back(to_string(a));
   s.slam = m.pipelines->slam();
   s.slam_points = m.pipelines->slam_points();
   s.instrument = m.pipelines->instrument();

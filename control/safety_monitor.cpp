@@ -28,14 +28,34 @@ std::string printf_string(const char* fmt, double a, double b = 0) {
 }
 }  // namespace
 
+std::string to_string(const SafetyAlert& alert) {
+  const double a = alert.a, b = alert.b;
+  switch (alert.kind) {
+    case SafetyAlertKind::LinkLost: return printf_string("link lost for %.1f s (land after %.1f s)", a, b);
+    case SafetyAlertKind::CriticalBattery: return printf_string("battery %.0f %% below the critical %.0f %%: landing here", a, b);
+    case SafetyAlertKind::LowBattery: return printf_string("battery %.0f %% below %.0f %%: returning home", a, b);
+    case SafetyAlertKind::PoseOutsideFence:
+      return printf_string("the position estimate is %.2f m outside the geofence: the pose is lost, landing", a);
+    case SafetyAlertKind::LocalizationLostLand: return printf_string("localization lost for %.1f s: landing", a);
+    case SafetyAlertKind::LocalizationLostHover:
+      return printf_string("localization lost for %.1f s: hovering (land at %.1f s)", a, b);
+    case SafetyAlertKind::DeadReckoning: return printf_string("dead reckoning for %.1f s (tolerated for %.1f s)", a, b);
+    case SafetyAlertKind::EstimateJumped: return printf_string("the estimate jumped %.2f m: holding level until %.1f s", a, b);
+    case SafetyAlertKind::LowClearance: return printf_string("%.2f m above the surface below (minimum %.2f m): climbing", a, b);
+    case SafetyAlertKind::LinkCutHover: return "too fast for a link cut here: hovering";
+    case SafetyAlertKind::LinkCutScaled: return printf_string("too fast for a link cut here: command at %.0f %%", 100.0 * a);
+  }
+  return "unknown safety alert";
+}
+
 SafetyVerdict SafetyMonitor::evaluate(const SafetyInputs& in) {
   SafetyVerdict v;
-  auto raise = [&](SafetyAction a, std::string reason) {
+  auto raise = [&](SafetyAction a, const SafetyAlert& reason) {
     if (static_cast<int>(a) > static_cast<int>(v.action)) {
       v.action = a;
       v.reason = reason;
     }
-    v.alerts.push_back(std::move(reason));
+    v.alerts.push_back(reason);
   };
 
   const bool link_down = in.link == LinkState::Lost || in.link == LinkState::Disconnected;
@@ -44,21 +64,18 @@ SafetyVerdict SafetyMonitor::evaluate(const SafetyInputs& in) {
   if (link_down && in.airborne) {
     const double lost = in.t - link_lost_since_;
     raise(lost >= limits_.link_loss_land_s ? SafetyAction::Land : SafetyAction::Hover,
-          printf_string("link lost for %.1f s (land after %.1f s)", lost, limits_.link_loss_land_s));
+          {SafetyAlertKind::LinkLost, lost, limits_.link_loss_land_s});
   }
 
   if (in.airborne && in.battery_percent < limits_.critical_battery_percent) {
-    raise(SafetyAction::Land, printf_string("battery %.0f %% below the critical %.0f %%: landing here", in.battery_percent,
-                                            limits_.critical_battery_percent));
+    raise(SafetyAction::Land, {SafetyAlertKind::CriticalBattery, in.battery_percent, limits_.critical_battery_percent});
   } else if (in.airborne && !in.landing && in.battery_percent < limits_.low_battery_percent && !in.returning_home) {
-    raise(SafetyAction::ReturnHome, printf_string("battery %.0f %% below %.0f %%: returning home", in.battery_percent,
-                                                  limits_.low_battery_percent));
+    raise(SafetyAction::ReturnHome, {SafetyAlertKind::LowBattery, in.battery_percent, limits_.low_battery_percent});
   }
 
   if (in.airborne && !in.landing && limits_.pose_lost_outside_fence_m > 0 &&
       in.outside_fence_m > limits_.pose_lost_outside_fence_m)
-    raise(SafetyAction::Land, printf_string("the position estimate is %.2f m outside the geofence: the pose is lost, landing",
-                                            in.outside_fence_m));
+    raise(SafetyAction::Land, {SafetyAlertKind::PoseOutsideFence, in.outside_fence_m});
 
   const bool lost = in.airborne && in.localization_required && !in.localization_ok;
   if (!lost) localization_lost_since_ = -1;
@@ -67,18 +84,16 @@ SafetyVerdict SafetyMonitor::evaluate(const SafetyInputs& in) {
     const double d = in.t - localization_lost_since_;
     const double grace = std::max(0.0, in.localization_grace_s);
     if (d >= grace + limits_.localization_lost_land_s)
-      raise(SafetyAction::Land, printf_string("localization lost for %.1f s: landing", d));
+      raise(SafetyAction::Land, {SafetyAlertKind::LocalizationLostLand, d});
     else if (d >= grace + limits_.localization_lost_hover_s)
-      raise(SafetyAction::HoldLevel, printf_string("localization lost for %.1f s: hovering (land at %.1f s)", d,
-                                               grace + limits_.localization_lost_land_s));
+      raise(SafetyAction::HoldLevel, {SafetyAlertKind::LocalizationLostHover, d, grace + limits_.localization_lost_land_s});
     else if (grace > 0)
-      v.alerts.push_back(printf_string("dead reckoning for %.1f s (tolerated for %.1f s)", d, grace));
+      v.alerts.push_back({SafetyAlertKind::DeadReckoning, d, grace});
   }
 
   watch_estimate(in);
   if (in.flying && in.t < jump_hold_until_)
-    raise(SafetyAction::HoldLevel, printf_string("the estimate jumped %.2f m: holding level until %.1f s", last_jump_m_,
-                                                 jump_hold_until_));
+    raise(SafetyAction::HoldLevel, {SafetyAlertKind::EstimateJumped, last_jump_m_, jump_hold_until_});
 
   if (!in.flying || !in.ultrasound_m || limits_.min_clearance_m <= 0) {
     low_clearance_ = false;
@@ -88,8 +103,7 @@ SafetyVerdict SafetyMonitor::evaluate(const SafetyInputs& in) {
     low_clearance_ = false;
   }
   if (low_clearance_)
-    raise(SafetyAction::Climb, printf_string("%.2f m above the surface below (minimum %.2f m): climbing", *in.ultrasound_m,
-                                             limits_.min_clearance_m));
+    raise(SafetyAction::Climb, {SafetyAlertKind::LowClearance, *in.ultrasound_m, limits_.min_clearance_m});
   return v;
 }
 

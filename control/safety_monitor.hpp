@@ -19,9 +19,10 @@
 //    estimate: the drone cannot descend onto a bench or the floor, nor fly over a bench top at
 //    instrument height.
 #include <Eigen/Core>
+#include <array>
+#include <cstddef>
 #include <optional>
 #include <string>
-#include <vector>
 
 #include "control/control_config.hpp"
 #include "control/flight_types.hpp"
@@ -50,10 +51,54 @@ struct SafetyInputs {
   Eigen::Vector3d velocity_mps = Eigen::Vector3d::Zero();
 };
 
+// What a safety rule (or the hold envelope) says this tick, as a kind and its figures: raised on
+// every tick while it lasts, it is formatted into a sentence only where it is shown (to_string), so a
+// tick allocates nothing however many rules are active.
+enum class SafetyAlertKind {
+  LinkLost,               // a: seconds lost, b: land after
+  CriticalBattery,        // a: percent, b: the critical limit
+  LowBattery,             // a: percent, b: the low limit
+  PoseOutsideFence,       // a: metres outside
+  LocalizationLostLand,   // a: seconds lost
+  LocalizationLostHover,  // a: seconds lost, b: land at
+  DeadReckoning,          // a: seconds on dead reckoning, b: tolerated for
+  EstimateJumped,         // a: metres, b: hold until
+  LowClearance,           // a: range below, b: the minimum
+  LinkCutHover,           // the hold envelope: too fast for a link cut, hovering
+  LinkCutScaled,          // ... the command scaled to a (fraction)
+};
+
+struct SafetyAlert {
+  SafetyAlertKind kind = SafetyAlertKind::LinkLost;
+  double a = 0;
+  double b = 0;
+};
+std::string to_string(const SafetyAlert& alert);
+
+// The alerts of one tick: at most one per kind.
+class SafetyAlerts {
+ public:
+  static constexpr std::size_t kCapacity = 11;
+  void push_back(const SafetyAlert& alert) {
+    if (size_ < kCapacity) alerts_[size_++] = alert;
+  }
+  void clear() { size_ = 0; }
+  bool empty() const { return size_ == 0; }
+  std::size_t size() const { return size_; }
+  const SafetyAlert& operator[](std::size_t i) const { return alerts_[i]; }
+  const SafetyAlert& back() const { return alerts_[size_ - 1]; }
+  const SafetyAlert* begin() const { return alerts_.data(); }
+  const SafetyAlert* end() const { return alerts_.data() + size_; }
+
+ private:
+  std::array<SafetyAlert, kCapacity> alerts_{};
+  std::size_t size_ = 0;
+};
+
 struct SafetyVerdict {
   SafetyAction action = SafetyAction::None;
-  std::string reason;
-  std::vector<std::string> alerts;
+  SafetyAlert reason;  // the rule behind action (when not None)
+  SafetyAlerts alerts;
 };
 
 class SafetyMonitor {

@@ -6,6 +6,7 @@
 #include "server/http/web_server.hpp"
 #include "server/runtime/drone_backend.hpp"
 #include "server/video/rtp_video_tap.hpp"
+#include "server/http/heap_release.hpp"
 
 namespace labo::server {
 
@@ -46,6 +47,7 @@ std::optional<UdpTarget> udp_target_option(const ParsedArgs& args, const std::st
 }  // namespace
 
 int run_serve_command(const ParsedArgs& args) {
+  configure_server_heap();
   const std::filesystem::path config_file = args.value_or("--config", default_config_path().string());
   AppConfig config = load_app_config(config_file);
   config.server.bind_address = args.value_or("--bind", config.server.bind_address);

@@ -6,6 +6,7 @@
 
 #include "bench/soak/soak_run.hpp"
 #include "core/source_tree.hpp"
+#include "server/http/heap_release.hpp"
 
 namespace labo::bench {
 
@@ -30,6 +31,7 @@ const CommandSpec& sim_soak_command_spec() {
 }
 
 int run_sim_soak_command(const ParsedArgs& args) {
+  server::configure_server_heap();  // as `labodrone serve` runs: the soak measures its memory
   SoakOptions o;
   o.minutes = args.number_or("--minutes", 30.0, 1.0, 600.0);
   o.seed = static_cast<unsigned>(args.integer_or("--seed", 1, 0, 1 << 30));

@@ -92,7 +92,8 @@ void SoakWatch::sample_flight(double t) {
   const FlightTelemetry telemetry = flight_.telemetry();
   const std::string activity = drone_activity(truth, telemetry);
   std::lock_guard lock(mutex_);
-  if (truth.airborne) trail_.push_back(trail_point(t, truth, telemetry));
+  // On the ground too, and kept across landings: a crash on take-off may come of the flight before.
+  trail_.push_back(trail_point(t, truth, telemetry));
   while (!trail_.empty() && trail_.front().t_s < t - kTrailS) trail_.pop_front();
   // A battery swap brings a new lab whose count starts again.
   if (truth.crashes < lab_crashes_) crashes_before_ += lab_crashes_;
@@ -102,7 +103,6 @@ void SoakWatch::sample_flight(double t) {
     crash_reports_.push_back({t, truth.crash_reason, telemetry.mission, {trail_.begin(), trail_.end()}});
   }
   lab_crashes_ = truth.crashes;
-  if (!truth.airborne) trail_.clear();
   if (activity != "flying without a mission") {
     unmanaged_since_ = -1;
   } else if (unmanaged_since_ < 0) {

@@ -56,7 +56,7 @@ class SoakWatch {
   std::vector<CrashReport> crash_reports() const;
   std::vector<RssSample> rss() const;
 
-  static constexpr double kTrailS = 20.0;  // the flight kept before a crash
+  static constexpr double kTrailS = 60.0;  // kept before a crash, landed or not (the flight before a take-off included)
 
  private:
   void run();

@@ -4,6 +4,16 @@
 
 namespace labo::server {
 
+namespace {
+constexpr int kArenas = 2;
+constexpr int kMmapThresholdBytes = 128 * 1024;
+}  // namespace
+
+void configure_server_heap() {
+  mallopt(M_ARENA_MAX, kArenas);
+  mallopt(M_MMAP_THRESHOLD, kMmapThresholdBytes);
+}
+
 void HeapRelease::tick(double now_s) {
   if (last_s_ < 0) last_s_ = now_s;
   if (now_s - last_s_ < every_s_) return;

@@ -4,7 +4,8 @@
 // planar localizer's tracking allocates nothing, nor do the front-ends that wrap it; a navdata packet
 // (an AR.Drone's or a Tello's state string) allocates nothing from the datagram to the estimator's
 // prediction, nor does the reassembly of the Tello's video datagrams; a face frame tracked from the
-// last landmarks allocates nothing, and a frame where the face detector runs no more than the detector.
+// last landmarks allocates nothing, and a frame where the face detector runs no more than the detector;
+// the safety rules of a control tick allocate nothing, whatever alerts they raise.
 #include <catch2/catch.hpp>
 
 #include <cerrno>
@@ -25,6 +26,7 @@
 #include "drone/ardrone2/h264_codec.hpp"
 #include "drone/tello/annexb_assembler.hpp"
 #include "drone/tello/tello_receivers.hpp"
+#include "control/safety_monitor.hpp"
 #include "localization/estimation/state_estimator.hpp"
 #include "localization/face/textured_head_renderer.hpp"
 #include "localization/fusion/planar_front_end.hpp"
@@ -446,4 +448,40 @@ TEST_CASE("face front end: a tracked frame allocates nothing, a detector frame o
     CHECK(counts.detector >= 1);
   }
   cv::setNumThreads(threads);
+}
+
+TEST_CASE("safety: the rules evaluated every tick allocate nothing, however many alerts they raise") {
+  // Raised on every tick while they last (a link cut, a low battery, a return home on dead
+  // reckoning): the alerts are kinds and figures, formatted into sentences only where they are shown.
+  control::SafetyLimits limits;
+  limits.min_clearance_m = 0.3;
+  control::SafetyMonitor monitor(limits);
+  control::SafetyInputs in;
+  in.airborne = true;
+  in.flying = true;
+  in.link = LinkState::Lost;
+  in.battery_percent = 15;
+  in.localization_required = true;
+  in.localization_ok = false;
+  in.localization_grace_s = 20;
+  in.ultrasound_m = 0.2;
+  in.position_m = Eigen::Vector3d(3.5, 0, 1);
+  in.outside_fence_m = 0.7;
+  control::SafetyVerdict v;
+  for (int i = 0; i < 5; ++i) {
+    in.t = 0.05 * i;
+    v = monitor.evaluate(in);
+  }
+  std::size_t n = 0;
+  for (int i = 5; i < 200; ++i) {
+    in.t = 0.05 * i;
+    n += allocations_of([&] { v = monitor.evaluate(in); });
+  }
+  CHECK(n == 0);
+  REQUIRE(v.alerts.size() >= 4);  // link, battery, fence, dead reckoning, clearance
+  std::vector<std::string> shown;
+  for (const control::SafetyAlert& a : v.alerts) shown.push_back(to_string(a));
+  CHECK_THAT(shown[0], Catch::Contains("link lost for 10.0 s (land after"));
+  CHECK(v.action == control::SafetyAction::Land);
+  CHECK(v.reason.kind == control::SafetyAlertKind::LinkLost);
 }

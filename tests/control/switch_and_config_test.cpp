@@ -104,7 +104,7 @@ TEST_CASE("control: on the way home dead reckoning is tolerated for the grace, t
   const control::SafetyVerdict tolerated = m.evaluate(in);
   CHECK(tolerated.action == control::SafetyAction::None);
   REQUIRE(tolerated.alerts.size() == 1);
-  CHECK_THAT(tolerated.alerts[0], Catch::Contains("dead reckoning for 20.5 s"));
+  CHECK_THAT(to_string(tolerated.alerts[0]), Catch::Contains("dead reckoning for 20.5 s"));
   in.t = 21.5;
   CHECK(m.evaluate(in).action == control::SafetyAction::HoldLevel);
   in.t = 28.5;
@@ -169,7 +169,7 @@ TEST_CASE("control: safety holds level after a sudden estimate jump, not after s
   const control::SafetyVerdict v = m.evaluate(in);
   CHECK(v.action == control::SafetyAction::HoldLevel);
   REQUIRE_FALSE(v.alerts.empty());
-  CHECK_THAT(v.alerts.back(), Catch::Contains("jumped 0.80 m"));
+  CHECK_THAT(to_string(v.alerts.back()), Catch::Contains("jumped 0.80 m"));
   CHECK(m.estimate_jumps() == 1);
   const double jumped_at = in.t;
   while (in.t < jumped_at + 0.9) {  // held for estimate_jump_hold_s, the estimate moving smoothly again
@@ -199,7 +199,7 @@ TEST_CASE("control: safety climbs when the ultrasound says the surface below is 
   in.ultrasound_m = 0.17;  // over a bench top at instrument height, whatever the estimate says
   const control::SafetyVerdict v = m.evaluate(in);
   CHECK(v.action == control::SafetyAction::Climb);
-  CHECK_THAT(v.alerts.back(), Catch::Contains("0.17 m above the surface below"));
+  CHECK_THAT(to_string(v.alerts.back()), Catch::Contains("0.17 m above the surface below"));
   in.ultrasound_m = 0.45;  // inside the hysteresis: still climbing
   CHECK(m.evaluate(in).action == control::SafetyAction::Climb);
   in.ultrasound_m = 0.55;
@@ -289,7 +289,7 @@ TEST_CASE("control: an estimate beyond the walls is a lost pose: safety lands, a
   in.outside_fence_m = 0.8;
   const control::SafetyVerdict v = m.evaluate(in);
   CHECK(v.action == control::SafetyAction::Land);
-  CHECK_THAT(v.reason, Catch::Contains("0.80 m outside the geofence: the pose is lost"));
+  CHECK_THAT(to_string(v.reason), Catch::Contains("0.80 m outside the geofence: the pose is lost"));
   lim.pose_lost_outside_fence_m = 0;  // off
   control::SafetyMonitor off(lim);
   CHECK(off.evaluate(in).action == control::SafetyAction::None);
