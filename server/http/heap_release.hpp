@@ -17,8 +17,8 @@ namespace labo::server {
 //  - Blocks of 128 KiB and more from mmap, unmapped on free: frames, JPEGs, access units and the SLAM
 //    keyframes' images. glibc's threshold otherwise climbs to the largest block freed so far (a
 //    video frame), and from then on serves such blocks from the arenas, where they fragment.
-// In the 30-minute soak the heap's bytes in use stayed flat (net of the SLAM map) while the bytes it
-// held grew 309 -> 741 MiB and RSS by 39 %. Under AddressSanitizer mallopt is not glibc's: no effect.
+// The soak shows why: the heap's bytes in use stay flat (net of the SLAM map) while the bytes it holds,
+// and RSS with them, grow. Under AddressSanitizer mallopt is not glibc's: no effect.
 void configure_server_heap();
 
 class HeapRelease {
