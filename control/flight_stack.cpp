@@ -146,19 +146,23 @@ struct FlightStack::Impl {
         out.action = FlightOutput::Action::Move;
         out.move = climb_command(pose, setup.control.gains);
         break;
-      case SafetyAction::ReturnHome:
-        finish_mission("safety: " + to_string(v.reason));
-        mission = std::make_unique<ReturnHomeMission>(t, to_string(v.reason));
-        last_event = "safety: " + to_string(v.reason);
+      case SafetyAction::ReturnHome: {
+        const std::string reason = to_string(v.reason);
+        finish_mission("safety: " + reason);
+        mission = std::make_unique<ReturnHomeMission>(t, reason);
+        last_event = "safety: " + reason;
         break;
-      case SafetyAction::Land:
+      }
+      case SafetyAction::Land: {
         if (in.landing && link != LinkState::Lost && link != LinkState::Disconnected) break;  // already landing
-        finish_mission("safety: " + to_string(v.reason));
-        last_event = "safety: " + to_string(v.reason);
+        const std::string why = "safety: " + to_string(v.reason);
+        finish_mission(why);
+        last_event = why;
         paused = true;
         // Land is repeated while the link is down, so it gets through when the link comes back.
         out = autopilot.land(t);
         break;
+      }
     }
     return out;
   }

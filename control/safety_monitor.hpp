@@ -65,8 +65,9 @@ enum class SafetyAlertKind {
   EstimateJumped,         // a: metres, b: hold until
   LowClearance,           // a: range below, b: the minimum
   LinkCutHover,           // the hold envelope: too fast for a link cut, hovering
-  LinkCutScaled,          // ... the command scaled to a (fraction)
+  LinkCutScaled,          // ... the command scaled to a (fraction); the last kind
 };
+inline constexpr std::size_t kSafetyAlertKinds = static_cast<std::size_t>(SafetyAlertKind::LinkCutScaled) + 1;
 
 struct SafetyAlert {
   SafetyAlertKind kind = SafetyAlertKind::LinkLost;
@@ -78,7 +79,7 @@ std::string to_string(const SafetyAlert& alert);
 // The alerts of one tick: at most one per kind.
 class SafetyAlerts {
  public:
-  static constexpr std::size_t kCapacity = 11;
+  static constexpr std::size_t kCapacity = kSafetyAlertKinds;
   void push_back(const SafetyAlert& alert) {
     if (size_ < kCapacity) alerts_[size_++] = alert;
   }

@@ -16,7 +16,7 @@ const CommandSpec& sim_soak_command_spec() {
       "",
       "labodrone serve on the simulated lab for M minutes under scripted clients and faults (link cuts, emulator "
       "restarts, low battery): checks that the server stays up, the drone lands safely, the recording replays and "
-      "memory stays flat; a crash is reported with the 20 s of flight before it, the estimate beside the truth.",
+      "memory stays flat; a crash is reported with the 60 s before it (on the ground too), the estimate beside the truth.",
       {{"--minutes", "M", "how long the rounds of missions go on (default 30; 1-600)"},
        {"--seed", "N", "the simulated lab's and the audience's seed (default 1)"},
        {"--spectators", "N", "spectators at most at once (default 4)"},

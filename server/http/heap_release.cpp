@@ -9,9 +9,10 @@ constexpr int kArenas = 2;
 constexpr int kMmapThresholdBytes = 128 * 1024;
 }  // namespace
 
-void configure_server_heap() {
-  mallopt(M_ARENA_MAX, kArenas);
-  mallopt(M_MMAP_THRESHOLD, kMmapThresholdBytes);
+bool configure_server_heap() {
+  const bool arenas = mallopt(M_ARENA_MAX, kArenas) == 1;
+  const bool threshold = mallopt(M_MMAP_THRESHOLD, kMmapThresholdBytes) == 1;
+  return arenas && threshold;
 }
 
 void HeapRelease::tick(double now_s) {

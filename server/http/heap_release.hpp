@@ -18,8 +18,9 @@ namespace labo::server {
 //    keyframes' images. glibc's threshold otherwise climbs to the largest block freed so far (a
 //    video frame), and from then on serves such blocks from the arenas, where they fragment.
 // The soak shows why: the heap's bytes in use stay flat (net of the SLAM map) while the bytes it holds,
-// and RSS with them, grow. Under AddressSanitizer mallopt is not glibc's: no effect.
-void configure_server_heap();
+// and RSS with them, grow. Returns false when the C library refused a setting (under AddressSanitizer,
+// whose allocator is not glibc's, the settings have no effect).
+bool configure_server_heap();
 
 class HeapRelease {
  public:
