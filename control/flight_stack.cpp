@@ -76,6 +76,7 @@ struct FlightStack::Impl {
     const fusion::PoseEstimate pose = pipelines->predict(t);
     c.position = pose.T_world_body.translation();
     c.yaw = ypr_from_rotation(pose.T_world_body.linear())[0];
+    c.unobserved_flight_s = pose.unobserved_flight_s;
     if (const auto& tg = autopilot.target()) {
       c.has_target = true;
       c.current_target << tg->position, tg->yaw;
@@ -364,6 +365,22 @@ CommandResult FlightStack::add_instrument(const fusion::PlanarTarget& instrument
   }
   lab.instruments.push_back(instrument);
   m.last_event = "instrument '" + instrument.id + "' placed in the lab";
+  return CommandResult::ok(m.last_event);
+}
+
+CommandResult FlightStack::set_down_on_platform(Seconds) {
+  Impl& m = *impl_;
+  const FlightPhase phase = m.autopilot.phase();
+  // The navdata's own control state too: the autopilot may think it landed a drone whose firmware
+  // still flies (a land command lost in a cut).
+  constexpr int kFirstMotorsOnState = 3;
+  const bool motors_on = m.have_nav && m.nav.control_state >= kFirstMotorsOnState;
+  if (phase == FlightPhase::TakingOff || phase == FlightPhase::Flying || phase == FlightPhase::Landing || motors_on)
+    return CommandResult::refused("set-down: the drone is flying (" + to_string(phase) +
+                                  "); land it, then set it on its platform");
+  if (m.mission) return CommandResult::refused("set-down: mission '" + m.mission->name() + "' is running; stop it first");
+  m.pipelines->set_down_at_next_navdata(make_pose(m.setup.lab.base, m.setup.lab.base_yaw_rad));
+  m.last_event = "the drone was set on its platform: its place is the base's again";
   return CommandResult::ok(m.last_event);
 }
 

@@ -70,6 +70,10 @@ class FlightStack {
   // No longer inspectable: refused while a mission inspects it. Its id stays taken until the stack is
   // rebuilt (its front-end may still be on a vision job: it is kept, unused).
   CommandResult remove_instrument(const std::string& id);
+  // Someone set the drone on its charging platform (an admin, after a landing elsewhere): the pose is
+  // the base's again from the next navdata on, confirmed, with the SLAM map and the instruments'
+  // places kept. Refused while the drone flies or a mission runs.
+  CommandResult set_down_on_platform(Seconds t);
 
   const FlightStackSetup& setup() const;
 

@@ -40,6 +40,14 @@ Eigen::Vector3d destination(const MissionRequest& r, const RequestContext& ctx) 
 std::optional<CommandResult> refuse_lost_pose(const std::string& what, const RequestContext& ctx, const Geofence& fence,
                                               const ControlConfig& config) {
   if (airborne(ctx.phase)) return std::nullopt;  // in flight the safety monitor lands it
+  if (ctx.unobserved_flight_s > 0) {
+    // Landed after a silence in flight, with no fix since: the estimate is where the bridge put it,
+    // and a mission from there flies a place the drone is not at (a soak's crash: 1.4 m off).
+    return CommandResult::refused(what + ": the drone's place is not confirmed: the navdata stopped for " +
+                                  number(ctx.unobserved_flight_s) +
+                                  " s in flight and no fix on the lab has come since. Set the drone on its platform "
+                                  "and confirm it (an admin: POST /api/drone/set-down) before it flies again");
+  }
   const double outside_m = fence.horizontal_distance_outside_m(ctx.position);
   const double limit_m = config.safety.pose_lost_outside_fence_m;
   if (limit_m <= 0 || outside_m <= limit_m) return std::nullopt;

@@ -21,6 +21,7 @@ struct RequestContext {
   double yaw = 0;
   Eigen::Vector4d current_target = Eigen::Vector4d::Zero();  // MoveBy is relative to the target
   bool has_target = false;
+  double unobserved_flight_s = 0;  // fusion::PoseEstimate's: > 0, the drone's place is not confirmed
 };
 
 CommandResult check_request(const MissionRequest& request, const RequestContext& ctx, const fusion::LabGeometry& lab,

@@ -45,7 +45,11 @@ function showStatus(s) {
   const rows = [['mission', `${s.mission} ${s.stage || ''}`], ['flying', s.flying ? 'yes' : 'no'],
     ['battery', `${Math.round(s.battery_percent)} %`], ['altitude', `${s.altitude_m.toFixed(2)} m`],
     ['link', `${s.link_state} (${Math.round(100 * s.link_quality)} %)`], ['video', `${s.video_fps.toFixed(1)} frames/s`],
-    ['source', s.source], ['pose', `x ${s.pose.x.toFixed(2)} y ${s.pose.y.toFixed(2)} z ${s.pose.z.toFixed(2)} m`],
+    ['source', s.source],
+    ['place', s.unobserved_flight_s > 0
+      ? `not confirmed: ${s.unobserved_flight_s.toFixed(1)} s of flight unseen; set the drone on its platform, then press the button below`
+      : 'confirmed'],
+    ['pose', `x ${s.pose.x.toFixed(2)} y ${s.pose.y.toFixed(2)} z ${s.pose.z.toFixed(2)} m`],
     ['clients', s.clients], ['controller', s.control.controller ? s.control.controller.user : 'nobody']];
   $('status').innerHTML = '';
   for (const [k, v] of rows) {
@@ -53,6 +57,12 @@ function showStatus(s) {
     const dd = document.createElement('dd'); dd.textContent = v;
     $('status').append(dt, dd);
   }
+}
+
+async function setDown() {
+  const res = await sendJson('/api/drone/set-down', 'POST');
+  $('set-down-result').textContent = res.ok ? res.body.reason : refusal(res);
+  refresh();
 }
 
 function userRow(u) {
@@ -197,6 +207,7 @@ $('set-bitrate').onsubmit = async (ev) => {
   refreshAudit();
 };
 
+$('set-down').onclick = setDown;
 $('audit-older').onclick = () => { if (state.auditOffset + kAuditPage < state.auditTotal) { state.auditOffset += kAuditPage; refreshAudit(); } };
 $('audit-newer').onclick = () => { state.auditOffset = Math.max(0, state.auditOffset - kAuditPage); refreshAudit(); };
 

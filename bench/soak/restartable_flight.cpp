@@ -73,6 +73,11 @@ std::vector<InstrumentSummary> RestartableFlight::instruments() const {
   return runtime_->instruments();
 }
 
+CommandVerdict RestartableFlight::set_down_on_platform() {
+  std::shared_lock lock(mutex_);
+  return runtime_->set_down_on_platform();
+}
+
 void RestartableFlight::land_and_stop(double timeout_s) {
   std::shared_lock lock(mutex_);
   runtime_->land_and_stop(timeout_s);

@@ -42,6 +42,7 @@ class RestartableFlight final : public FlightService {
   CommandVerdict request(const MissionCommand& command) override;
   FlightTelemetry telemetry() const override;
   std::vector<InstrumentSummary> instruments() const override;
+  CommandVerdict set_down_on_platform() override;
   void land_and_stop(double timeout_s) override;
   RuntimeTimingSummary timing() const override;
 

@@ -59,6 +59,7 @@ struct SoakSummary {
   int crashes = 0;
   std::vector<CrashReport> crash_reports;
   int battery_swaps = 0;
+  int set_downs = 0;  // a drone landed with its place unconfirmed, set on its platform by the admin
   // Missions (rounds).
   int rounds = 0, missions_accepted = 0, missions_succeeded = 0, missions_refused = 0;
   std::vector<std::string> mission_results;  // the mission's last word per round

@@ -38,6 +38,19 @@ std::vector<Student> log_students_in(const AppConfig& config, unsigned short por
   return students;
 }
 
+// The configuration's first admin (the lab's staff: sets the drone on its platform when asked).
+Student log_admin_in(const AppConfig& config, unsigned short port) {
+  for (const auto& user : config.server.users) {
+    if (user.role != Role::Admin) continue;
+    const std::string password = user.name + "-pass";
+    const std::string cookie = login(port, user.name, password);
+    if (cookie.empty())
+      throw std::runtime_error("soak: admin " + user.name + " cannot log in with '" + password + "'");
+    return {user.name, cookie};
+  }
+  throw std::runtime_error("soak: the configuration has no admin (server.users): nobody could set the drone down");
+}
+
 // Memory after warm-up against the warm-up's peak: the first quarter of the soak (at most five
 // minutes) sizes every pool and cache once; a leak shows as a later peak above it.
 void summarise_memory(const std::vector<RssSample>& rss, double total_s, SoakSummary& s) {
@@ -93,7 +106,7 @@ SoakSummary run_soak(const SoakOptions& o) {
     script_options.total_s = total_s;
     // A short soak (the test suite's) gives up on a mission sooner, so that it ends in minutes.
     script_options.mission_timeout_s = std::clamp(total_s / 2, 90.0, 180.0);
-    SoakScript script(server, watch, io, config, students, script_options);
+    SoakScript script(server, watch, io, config, students, log_admin_in(config, server.port()), script_options);
     script.run();
     audience.stop();
     script.report(s);

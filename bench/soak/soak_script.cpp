@@ -55,8 +55,9 @@ std::vector<PlannedFault> plan_faults(double total_s) {
 }
 
 SoakScript::SoakScript(SoakServer& server, SoakWatch& watch, boost::asio::io_context& io, const AppConfig& config,
-                       std::vector<Student> students, ScriptOptions options)
-    : server_(server), watch_(watch), io_(io), config_(config), students_(std::move(students)), options_(options),
+                       std::vector<Student> students, Student admin, ScriptOptions options)
+    : server_(server), watch_(watch), io_(io), config_(config), students_(std::move(students)), admin_(std::move(admin)),
+      options_(options),
       plan_(plan_faults(options.total_s)), applied_(plan_.size(), false) {
   for (const auto& i : fusion::lab_geometry_from(config.lab).instruments) instruments_.push_back(i.id);
   if (students_.empty() || instruments_.empty()) throw std::runtime_error("soak: no student or no instrument to inspect");
@@ -84,7 +85,12 @@ std::shared_ptr<SoakClient> SoakScript::queue_for_control(const Student& student
 // when it is due, or a fresh one when the drone is down to the swap level.
 void SoakScript::ready_the_drone(bool low_battery) {
   const double low_percent = config_.control.safety.low_battery_percent + 5;  // about 40 s of flight
-  const DroneTruth truth = server_.drone().truth();
+  DroneTruth truth = server_.drone().truth();
+  const double unobserved_s = server_.flight().telemetry().unobserved_flight_s;
+  if (!truth.airborne && truth.phase != "emergency" && !crash_ && unobserved_s > 0) {
+    set_on_platform(truth, unobserved_s);
+    truth = server_.drone().truth();
+  }
   const double full_percent = config_.sim.lab.dynamics.battery.start_percent;
   if (!crash_ && truth.phase == "emergency") crash_ = truth;  // it crashed outside a mission
   if (crash_) {
@@ -295,6 +301,12 @@ void SoakScript::look_after_faults(bool now_all) {
 }
 
 void SoakScript::swap_battery(double start_percent, const DroneTruth& where, bool restart_flight) {
+  put_drone(start_percent, where, restart_flight);
+  ++battery_swaps_;
+  say(now(), "battery swapped: " + std::to_string(static_cast<int>(start_percent)) + " %");
+}
+
+void SoakScript::put_drone(double start_percent, const DroneTruth& where, bool restart_flight) {
   AppConfig c = config_;
   c.sim.lab.dynamics.battery.start_percent = start_percent;
   heartbeats(nullptr);
@@ -304,8 +316,6 @@ void SoakScript::swap_battery(double start_percent, const DroneTruth& where, boo
   if (restart_flight) server_.restart_flight();
   heartbeats(nullptr);
   server_.drone().start();
-  ++battery_swaps_;
-  say(now(), "battery swapped: " + std::to_string(static_cast<int>(start_percent)) + " %");
   // The driver notices the new drone (navdata silent, then a new session): wait for the flight
   // software to read the new battery before asking for a mission.
   const double start = now();
@@ -317,6 +327,18 @@ void SoakScript::swap_battery(double start_percent, const DroneTruth& where, boo
   }
 }
 
+void SoakScript::set_on_platform(const DroneTruth& truth, double unobserved_s) {
+  say(now(), "the drone landed where its place is not confirmed (" + std::to_string(unobserved_s) +
+                 " s of flight unseen): the lab carries it to its platform");
+  DroneTruth on_platform = truth;
+  on_platform.position_m = config_.lab.T_world_base.translation();
+  on_platform.yaw_rad = ypr_from_rotation(config_.lab.T_world_base.linear())[0];
+  put_drone(truth.battery_percent, on_platform, false);
+  const HttpAnswer a = http_request(server_.port(), "POST", "/api/drone/set-down", "", admin_.cookie);
+  say(now(), "POST /api/drone/set-down as " + admin_.name + ": " + std::to_string(a.status) + " " + a.body);
+  if (a.status == 200) ++set_downs_;
+}
+
 void SoakScript::report(SoakSummary& s) const {
   s.rounds = rounds_;
   s.missions_accepted = accepted_;
@@ -325,6 +347,7 @@ void SoakScript::report(SoakSummary& s) const {
   s.mission_results = results_;
   s.faults = faults_;
   s.battery_swaps = battery_swaps_;
+  s.set_downs = set_downs_;
 }
 
 }  // namespace labo::bench

@@ -49,7 +49,7 @@ struct ScriptOptions {
 class SoakScript {
  public:
   SoakScript(SoakServer& server, SoakWatch& watch, boost::asio::io_context& io, const AppConfig& config,
-             std::vector<Student> students, ScriptOptions options);
+             std::vector<Student> students, Student admin, ScriptOptions options);
 
   // Rounds until the time is up and every planned fault has been applied (at most half the time
   // more, ten minutes at most).
@@ -77,6 +77,12 @@ class SoakScript {
   // A new lab (RestartableDrone::replace_lab) whose drone stands at `where`, its battery at
   // start_percent, the flight software restarted too when asked; waits until it reads the battery.
   void swap_battery(double start_percent, const DroneTruth& where, bool restart_flight = false);
+  // The drone (stopped, its lab replaced) standing at `where` with its battery at start_percent;
+  // waits until the flight software reads that battery.
+  void put_drone(double start_percent, const DroneTruth& where, bool restart_flight);
+  // What the lab's staff does for a drone landed where its place is not confirmed: carry it to its
+  // platform (the battery as it is) and say so (POST /api/drone/set-down, as the admin).
+  void set_on_platform(const DroneTruth& truth, double unobserved_s);
   double now() const { return watch_.elapsed_s(); }
 
   SoakServer& server_;
@@ -84,6 +90,7 @@ class SoakScript {
   boost::asio::io_context& io_;
   AppConfig config_;
   std::vector<Student> students_;
+  Student admin_;
   ScriptOptions options_;
   std::vector<std::string> instruments_;
   std::vector<PlannedFault> plan_;
@@ -95,7 +102,7 @@ class SoakScript {
   double flying_since_ = -1;            // in this round, per the truth
   double last_heartbeat_ = 0;
   int next_command_id_ = 1;
-  int rounds_ = 0, accepted_ = 0, succeeded_ = 0, refused_ = 0, battery_swaps_ = 0;
+  int rounds_ = 0, accepted_ = 0, succeeded_ = 0, refused_ = 0, battery_swaps_ = 0, set_downs_ = 0;
   std::vector<std::string> results_;
 };
 

@@ -72,16 +72,21 @@ enum Counter {
   kRejectedLate, kRejectedJumpDistance, kRejectedJumpAngle, kRejectedInnovation, kRejectedNotTracking,
   kRejectedBadInput, kCommandsNonfinite, kNavdataOverflow, kSlamMaps, kObjectsPlaced, kScalePairs,
   kVisionSettling, kScalePairsNoCoverage, kRejectedReacquisition, kReacquisitionConfirmed, kNavdataResumedAfterGap,
-  kCounterCount
+  kFlightUnobserved, kSetDown, kCounterCount
 };
 constexpr const char* kCounterNames[kCounterCount] = {
     "navdata", "commands", "slam_fused", "object_fused", "face_fused", "rejected_nonfinite",
     "rejected_out_of_order", "rejected_future", "rejected_late", "rejected_jump_distance", "rejected_jump_angle",
     "rejected_innovation", "rejected_not_tracking", "rejected_bad_input", "commands_nonfinite_hover",
     "navdata_queue_overflow", "slam_maps", "objects_placed", "scale_pairs", "vision_settling", "scale_pairs_navdata_gap",
-    "rejected_reacquisition", "reacquisition_confirmed", "navdata_resumed_after_gap"};
+    "rejected_reacquisition", "reacquisition_confirmed", "navdata_resumed_after_gap",
+    "flight_unobserved", "set_down"};
 
 int source_index(LocalizationSource s) { return static_cast<int>(s); }
+
+// Navdata control states from 3 (flying, hovering, test, taking off, go-to, landing, looping) have
+// the motors on; 0-2 (default, init, landed) do not.
+constexpr int kFirstMotorsOnState = 3;
 
 Eigen::Vector3d scale_weights(const EstimatorConfig& c) {
   return {c.scale_weight_xy, c.scale_weight_xy, c.scale_weight_z};
@@ -125,8 +130,17 @@ struct StateEstimator::Impl {
   Seconds last_navdata_t = -std::numeric_limits<double>::infinity();
   std::uint32_t last_navdata_sequence = 0;
   std::optional<Eigen::Isometry3d> start_pose;  // start_at_first_navdata(): placed at the next sample
+  std::optional<Eigen::Isometry3d> set_down_pose;  // set_down_at_next_navdata(): moved there at the next sample
+  bool last_navdata_airborne = false;
+  // The longest navdata gap in flight, beyond the firmware's command hold, since the last fix on the
+  // lab's frame: the drone's motion in it was assumed, not seen (FusedState::unobserved_flight_s).
+  Seconds unobserved_flight_s = 0;
   Seconds last_command_t = -std::numeric_limits<double>::infinity();
   std::array<std::uint64_t, kCounterCount> counters{};
+
+  // The filter at a known pose from t on, with everything tied to the old one dropped (queued inputs,
+  // the sources' consistency, the face); the map's placement, its scale and the objects' stay.
+  void relocate(const Eigen::Isometry3d& T_world_body, Seconds t);
 
   void count(Counter c) { ++counters[c]; }
 
@@ -202,6 +216,12 @@ struct StateEstimator::Impl {
   // drag's pace, 4-6 m across an 8-s cut). The uncertainty grows by the motion model.
   void bridge_gap(Seconds t_last_packet, Seconds t_meas_resumed) {
     const Seconds t_last = t_last_packet - config.navdata_delay_s;
+    // Beyond the command hold the bridge is a guess: a drone that restarted, was caught or drifted
+    // in a draught did not fly it. Say so, until a fix on the lab's frame (or a set-down) confirms.
+    if (last_navdata_airborne && t_meas_resumed - t_last > config.firmware_command_hold_s) {
+      unobserved_flight_s = std::max(unobserved_flight_s, t_meas_resumed - t_last);
+      count(kFlightUnobserved);
+    }
     advance(t_last);
     commands.clear();
     const Seconds t_hover = std::max(core.time(), std::min(t_last + config.firmware_command_hold_s, t_meas_resumed));
@@ -258,6 +278,7 @@ struct StateEstimator::Impl {
     // face moves with the teacher and fixes nothing.
     if (source == LocalizationSource::Slam) core.set_drift_bound(std::min(core.drift_bound_m(), map_drift_bound_m));
     if (source == LocalizationSource::Homography) core.set_drift_bound(0.0);
+    if (source != LocalizationSource::Face) unobserved_flight_s = 0;
     return VisionOutcome::Fused;
   }
 
@@ -352,6 +373,7 @@ struct StateEstimator::Impl {
     f.quality = selector.quality(t);
     f.position_sigma_m = std::sqrt(f.covariance.block<3, 3>(X, X).diagonal().maxCoeff());
     f.drift_bound_m = c.drift_bound_m();
+    f.unobserved_flight_s = unobserved_flight_s;
     return f;
   }
 };
@@ -362,8 +384,7 @@ StateEstimator::~StateEstimator() = default;
 StateEstimator::StateEstimator(StateEstimator&&) noexcept = default;
 StateEstimator& StateEstimator::operator=(StateEstimator&&) noexcept = default;
 
-void StateEstimator::reset(const Eigen::Isometry3d& T_world_body, Seconds t) {
-  Impl& m = *impl_;
+void StateEstimator::Impl::relocate(const Eigen::Isometry3d& T_world_body, Seconds t) {
   StateVector s = StateVector::Zero();
   s.segment<3>(X) = T_world_body.translation();
   const Eigen::Vector3d ypr = ypr_from_rotation(T_world_body.linear());
@@ -372,28 +393,40 @@ void StateEstimator::reset(const Eigen::Isometry3d& T_world_body, Seconds t) {
   s(ROLL) = ypr(2);
   StateCovariance P = StateCovariance::Zero();
   P.diagonal() << 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-3, 1e-3, 1e-4, 1e-4;
-  m.core.reset(s, P, t);
-  m.navdata.clear();
-  m.commands.clear();
-  m.selector.reset();
+  core.reset(s, P, t);
+  navdata.clear();
+  commands.clear();
+  selector.reset();
+  face.reset();
+  gates = {};
+  for (ReacquisitionGate& g : reacquisition) g.reset();
+  last_obs_t = {-1e18, -1e18, -1e18};
+  latest_input_t = t;
+  gap_witness_t.reset();
+  last_navdata_t = last_command_t = -std::numeric_limits<double>::infinity();
+  last_navdata_airborne = false;
+  unobserved_flight_s = 0;
+  start_pose.reset();
+  set_down_pose.reset();
+}
+
+void StateEstimator::reset(const Eigen::Isometry3d& T_world_body, Seconds t) {
+  Impl& m = *impl_;
+  m.relocate(T_world_body, t);
   m.scale.reset(m.config.scale.initial_scale);
   m.map.reset();
   m.pair_sampler.reset();
   m.objects.clear();
   m.object_last_t.clear();
-  m.face.reset();
-  m.gates = {};
-  for (ReacquisitionGate& g : m.reacquisition) g.reset();
-  m.last_obs_t = {-1e18, -1e18, -1e18};
-  m.latest_input_t = t;
-  m.gap_witness_t.reset();
-  m.last_navdata_t = m.last_command_t = -std::numeric_limits<double>::infinity();
-  m.start_pose.reset();
 }
 
 void StateEstimator::start_at_first_navdata(const Eigen::Isometry3d& T_world_body) {
   reset(T_world_body, 0.0);  // clears everything; the time is set again by the first sample
   impl_->start_pose = T_world_body;
+}
+
+void StateEstimator::set_down_at_next_navdata(const Eigen::Isometry3d& T_world_body) {
+  impl_->set_down_pose = T_world_body;
 }
 
 void StateEstimator::set_surface_map(const SurfaceMap& map) {
@@ -410,6 +443,10 @@ bool StateEstimator::add_navdata(const NavdataSample& n) {
     }
   }
   if (m.start_pose && std::isfinite(n.t)) reset(*m.start_pose, n.t - m.config.navdata_delay_s);
+  if (m.set_down_pose && std::isfinite(n.t)) {
+    m.relocate(*m.set_down_pose, n.t - m.config.navdata_delay_s);
+    m.count(kSetDown);
+  }
   const Impl::NavdataTime verdict = m.accept_navdata_time(n.t);
   if (verdict == Impl::NavdataTime::Refused) return false;
   // Packets received in one burst share a receive time (the link keeps their order): only an older
@@ -430,6 +467,7 @@ bool StateEstimator::add_navdata(const NavdataSample& n) {
   if (verdict == Impl::NavdataTime::AfterGap && std::isfinite(m.last_navdata_t)) m.bridge_gap(m.last_navdata_t, t_meas);
   m.last_navdata_t = n.t;
   m.last_navdata_sequence = n.sequence;
+  m.last_navdata_airborne = n.control_state >= kFirstMotorsOnState;
   m.latest_input_t = std::max(m.latest_input_t, n.t);
   if (m.navdata.full()) {
     m.count(kNavdataOverflow);

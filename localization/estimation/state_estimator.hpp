@@ -65,6 +65,11 @@ struct FusedState {
   // How far dead reckoning may have carried the estimate off the lab's frame since its last fix
   // there (DriftBoundSettings): a bound, not a sigma, and not in the covariance.
   double drift_bound_m = 0;
+  // Seconds of flight the navdata did not see (the longest gap in flight beyond the firmware's
+  // command hold) since the last fix on the lab's frame (SLAM or a planar target) or a set-down: the
+  // estimate bridged them on an assumption (the last command, then the firmware's hover), so where
+  // the drone is has not been confirmed. 0: confirmed.
+  double unobserved_flight_s = 0;
 };
 
 // Counts of accepted and rejected inputs, by kind ("navdata", "rejected_nonfinite", ...).
@@ -92,6 +97,10 @@ class StateEstimator {
   // for seconds before the link delivers its first navdata; reset(T, 0) would make every sample look
   // like an input from the future and the filter would never move.
   void start_at_first_navdata(const Eigen::Isometry3d& T_world_body);
+  // The drone was set down at a known pose (someone put it on its platform): the filter moves there at
+  // the next navdata sample, and keeps the SLAM map's placement and scale and the objects' places,
+  // which start_at_first_navdata() forgets.
+  void set_down_at_next_navdata(const Eigen::Isometry3d& T_world_body);
   void set_surface_map(const SurfaceMap& map);
 
   // Inputs; each returns whether it was accepted (rejections are counted by reason).

@@ -82,6 +82,10 @@ void LabPipelines::start_at_first_navdata(const Eigen::Isometry3d& T_world_body)
   estimator_.start_at_first_navdata(T_world_body);
 }
 
+void LabPipelines::set_down_at_next_navdata(const Eigen::Isometry3d& T_world_body) {
+  estimator_.set_down_at_next_navdata(T_world_body);
+}
+
 void LabPipelines::on_navdata(const NavdataSample& sample) {
   estimator_.add_navdata(sample);
   attitude_.add(sample.t - estimator_.config().navdata_delay_s, {sample.roll_rad, sample.pitch_rad});
@@ -284,6 +288,7 @@ PoseEstimate LabPipelines::predict(Seconds t) const {
   e.quality = f.quality;
   e.position_sigma_m = f.position_sigma_m;
   e.drift_bound_m = f.drift_bound_m;
+  e.unobserved_flight_s = f.unobserved_flight_s;
   return e;
 }
 

@@ -62,6 +62,7 @@ class LabPipelines final : public LocalizationPipelines {
   bool follow_person(const face::PersonShape& person) override;
   void reset(const Eigen::Isometry3d& T_world_body, Seconds t) override;
   void start_at_first_navdata(const Eigen::Isometry3d& T_world_body) override;
+  void set_down_at_next_navdata(const Eigen::Isometry3d& T_world_body) override;
 
   PoseEstimate predict(Seconds t) const override;
   TargetObservation instrument() const override { return instrument_; }

@@ -40,6 +40,7 @@ struct PoseEstimate {
   double quality = 0;  // 0..1
   double position_sigma_m = 0;  // 1-sigma position uncertainty
   double drift_bound_m = 0;     // how far dead reckoning may have drifted (estimation::FusedState)
+  double unobserved_flight_s = 0;  // flight bridged unseen since the last fix; 0: the place is confirmed
 };
 
 enum class TrackState { Off, Searching, Tracking, Lost };
@@ -115,6 +116,10 @@ class LocalizationPipelines {
   // The same at the first navdata sample's time: what a flight that has not heard from the drone
   // yet knows (StateEstimator::start_at_first_navdata).
   virtual void start_at_first_navdata(const Eigen::Isometry3d& T_world_body) = 0;
+  // The drone was set down at a known pose (someone put it on its platform) while these pipelines
+  // ran: StateEstimator::set_down_at_next_navdata (the map and the instruments' places are kept).
+  // Pipelines without a map start over.
+  virtual void set_down_at_next_navdata(const Eigen::Isometry3d& T_world_body) { start_at_first_navdata(T_world_body); }
 
   virtual PoseEstimate predict(Seconds t) const = 0;
   virtual TargetObservation instrument() const = 0;

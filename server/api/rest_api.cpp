@@ -7,6 +7,7 @@
 #include <variant>
 
 #include "core/candide3.hpp"
+#include "server/api/drone_routes.hpp"
 #include "server/api/video_routes.hpp"
 #include "server/auth/permissions.hpp"
 
@@ -167,6 +168,11 @@ HttpReply RestApi::route(const HttpRequest& req, const std::string& path, const 
     if (path == "/api/video/bitrate" && m == http::verb::put) audit(*session, "video_bitrate", requested_kbps(req), *video);
     return *video;
   }
+  if (auto drone = drone_route(req, path, session->role, lab_.flight())) {
+    // Where the drone is decides where it flies next: who said so is kept, refusals included.
+    if (req.method() == http::verb::post) audit(*session, "drone_set_down", "platform", *drone);
+    return *drone;
+  }
   if (path == "/api/stop" || path == "/api/emergency_stop") {
     if (m != http::verb::post) return method_not_allowed("POST");
     return stop(req, *session, path == "/api/stop" ? MissionCommandKind::Stop : MissionCommandKind::EmergencyStop);
@@ -245,6 +251,7 @@ HttpReply RestApi::status() {
                   {"link_state", t.link_state},
                   {"link_quality", t.link_quality},
                   {"source", to_string(t.source)},
+                  {"unobserved_flight_s", t.unobserved_flight_s},
                   {"video_fps", t.video_fps},
                   {"pose", {{"x", t.pose.x_m}, {"y", t.pose.y_m}, {"z", t.pose.z_m}, {"yaw", t.pose.yaw_rad}}},
                   {"clients", lab_.client_count()},

@@ -66,6 +66,10 @@ struct FlightTelemetry {
   double source_quality = 0;
   double battery_percent = 0;
   double altitude_m = 0;
+  // Seconds of flight the navdata did not see since the last fix on the lab (fusion::PoseEstimate's):
+  // > 0, the drone's place is not confirmed and a landed drone takes no mission until it is set on
+  // its platform (set_down_on_platform).
+  double unobserved_flight_s = 0;
   double link_quality = 0;  // 0..1
   std::string link_state = "disconnected";
   bool flying = false;
@@ -183,6 +187,9 @@ class FlightService {
   virtual CommandVerdict remove_instrument(const std::string& id) {
     return {false, "instrument '" + id + "': this flight service cannot remove instruments"};
   }
+  // Someone set the drone on its charging platform: its place is the base's again, confirmed.
+  // Refused (with the reason) while it flies or a mission runs.
+  virtual CommandVerdict set_down_on_platform() { return {false, "this flight service cannot be told where the drone is"}; }
   // Graceful shutdown: land (waiting up to timeout_s for touchdown), then stop the threads.
   virtual void land_and_stop(double timeout_s) = 0;
   // How the flight thread has kept time (control ticks, vision latency, frames); empty without one.

@@ -111,6 +111,7 @@ Message telemetry_message(const FlightTelemetry& t) {
          {"source", to_string(t.source)},
          {"source_colour", colour_of(t.source)},
          {"source_quality", t.source_quality},
+         {"unobserved_flight_s", t.unobserved_flight_s},
          {"battery_percent", t.battery_percent},
          {"altitude_m", t.altitude_m},
          {"link_quality", t.link_quality},

@@ -55,6 +55,8 @@ class FlightCore {
   virtual CommandVerdict remove_instrument(const std::string& id) {
     return {false, "instrument '" + id + "': this flight software cannot remove instruments"};
   }
+  // FlightService::set_down_on_platform, on the flight thread.
+  virtual CommandVerdict set_down_on_platform(Seconds) { return {false, "this flight software cannot be told where the drone is"}; }
 };
 
 }  // namespace labo::server

@@ -169,6 +169,13 @@ CommandVerdict FlightRuntime::remove_instrument(const std::string& id) {
   return change_lab([id](FlightCore& core) { return core.remove_instrument(id); });
 }
 
+CommandVerdict FlightRuntime::set_down_on_platform() {
+  const Seconds t = clock_.now();
+  const CommandVerdict verdict = change_lab([t](FlightCore& core) { return core.set_down_on_platform(t); });
+  if (verdict.accepted) log_.info(t, "the drone was set on its platform");
+  return verdict;
+}
+
 CommandVerdict FlightRuntime::change_lab(std::function<CommandVerdict(FlightCore&)> change) {
   auto pending = std::make_shared<PendingRequest>();
   pending->change_lab = std::move(change);

@@ -72,6 +72,7 @@ class FlightRuntime final : public FlightService, private DroneLinkListener {
   LabOutline lab_outline() const override { return options_.lab_outline; }
   CommandVerdict add_instrument(const lab::InstrumentSpec& spec) override;
   CommandVerdict remove_instrument(const std::string& id) override;
+  CommandVerdict set_down_on_platform() override;
   void land_and_stop(double timeout_s) override;
   VideoCapabilities video_capabilities() const override;
   CommandVerdict set_video_bitrate(int kbps) override;

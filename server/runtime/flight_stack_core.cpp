@@ -84,6 +84,11 @@ CommandVerdict FlightStackCore::remove_instrument(const std::string& id) {
   return {result.accepted, result.reason};
 }
 
+CommandVerdict FlightStackCore::set_down_on_platform(Seconds t) {
+  const control::CommandResult result = stack_->set_down_on_platform(t);
+  return {result.accepted, result.reason};
+}
+
 void FlightStackCore::apply_vision(const fusion::VisionResults& results) {
   if (results.has_instrument) measured_instrument_ = results.instrument_id;
   stack_->apply_vision(results);
@@ -160,6 +165,7 @@ FlightSnapshot FlightStackCore::status() {
   if (s.ground_truth_T_world_body) t.ground_truth = xyz_yaw(*s.ground_truth_T_world_body);
   t.source = source_of(s.pose.source, s);
   t.source_quality = s.pose.quality;
+  t.unobserved_flight_s = s.pose.unobserved_flight_s;
   t.battery_percent = s.battery_percent;
   t.altitude_m = s.altitude_m;
   t.link_quality = s.link == LinkState::Connected ? 1.0 : s.link == LinkState::Degraded ? 0.5 : 0.0;

@@ -23,6 +23,10 @@ class RtpVideoTap final : public FlightService, private FlightEventSink {
   CommandVerdict request(const MissionCommand& command) override { return inner_.request(command); }
   FlightTelemetry telemetry() const override { return inner_.telemetry(); }
   std::vector<InstrumentSummary> instruments() const override { return inner_.instruments(); }
+  LabOutline lab_outline() const override { return inner_.lab_outline(); }
+  CommandVerdict add_instrument(const lab::InstrumentSpec& spec) override { return inner_.add_instrument(spec); }
+  CommandVerdict remove_instrument(const std::string& id) override { return inner_.remove_instrument(id); }
+  CommandVerdict set_down_on_platform() override { return inner_.set_down_on_platform(); }
   void land_and_stop(double timeout_s) override { inner_.land_and_stop(timeout_s); }
   RuntimeTimingSummary timing() const override { return inner_.timing(); }
   VideoCapabilities video_capabilities() const override { return inner_.video_capabilities(); }

@@ -287,3 +287,20 @@ TEST_CASE("web: a viewer on the none path (video and overlays from the media ser
   CHECK(overlays == 0);
   CHECK(telemetry > 0);
 }
+
+TEST_CASE("web: RTP: the tap passes the lab's changes through to the flight software: instruments and the set-down") {
+  // Behind the tap (serve with --rtp-video) an admin still places and removes instruments and sets
+  // the drone down: the tap answered them with the base class's refusal before.
+  RtpVideoForwarder forwarder({"127.0.0.1", 9});
+  ScriptedFlight flight;
+  RtpVideoTap tap(flight, forwarder);
+  lab::InstrumentSpec spec;
+  spec.id = "multimeter";
+  CHECK(tap.add_instrument(spec).accepted);
+  CHECK(flight.placed.size() == 1);
+  CHECK(tap.remove_instrument("multimeter").accepted);
+  CHECK(tap.set_down_on_platform().accepted);
+  CHECK(flight.set_downs == 1);
+  CHECK(tap.lab_outline().known);
+  CHECK(tap.lab_outline().benches.size() == flight.lab_outline().benches.size());
+}

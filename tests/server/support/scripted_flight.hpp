@@ -73,6 +73,14 @@ class ScriptedFlight final : public FlightService {
     instruments_.erase(it);
     return {true, "instrument '" + id + "' removed from the lab"};
   }
+  // As the flight software: refused in flight; accepted on the ground, the place confirmed.
+  CommandVerdict set_down_on_platform() override {
+    std::lock_guard lock(mutex_);
+    if (telemetry_.flying) return {false, "set-down: the drone is flying (flying); land it, then set it on its platform"};
+    telemetry_.unobserved_flight_s = 0;
+    ++set_downs;
+    return {true, "the drone was set on its platform: its place is the base's again"};
+  }
   void land_and_stop(double) override { landed_on_shutdown = true; }
   VideoCapabilities video_capabilities() const override {
     std::lock_guard lock(mutex_);
@@ -125,6 +133,7 @@ class ScriptedFlight final : public FlightService {
 
   std::vector<MissionCommand> requests;
   bool landed_on_shutdown = false;
+  int set_downs = 0;  // accepted set_down_on_platform() calls
   std::vector<lab::InstrumentSpec> placed;  // what add_instrument accepted
   std::string inspecting;              // an instrument remove_instrument refuses
 
