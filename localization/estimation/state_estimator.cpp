@@ -116,6 +116,7 @@ struct StateEstimator::Impl {
   bool map_is_metric = false;
   // A SLAM map is placed where dead reckoning had the camera: its fixes carry that drift with them.
   double map_drift_bound_m = 0;
+  double map_unobserved_flight_s = 0;  // ... and where the estimate was not confirmed, that too
   ScalePairSampler pair_sampler;
   std::map<int, Landmark> objects;
   std::map<int, Seconds> object_last_t;
@@ -278,7 +279,8 @@ struct StateEstimator::Impl {
     // face moves with the teacher and fixes nothing.
     if (source == LocalizationSource::Slam) core.set_drift_bound(std::min(core.drift_bound_m(), map_drift_bound_m));
     if (source == LocalizationSource::Homography) core.set_drift_bound(0.0);
-    if (source != LocalizationSource::Face) unobserved_flight_s = 0;
+    if (source == LocalizationSource::Slam) unobserved_flight_s = std::min(unobserved_flight_s, map_unobserved_flight_s);
+    if (source == LocalizationSource::Homography) unobserved_flight_s = 0;
     return VisionOutcome::Fused;
   }
 
@@ -526,6 +528,7 @@ bool StateEstimator::add_slam_pose(const SlamObservation& o) {
     m.map_is_metric = o.map_is_metric;
     m.map.initialize(o.T_map_cam, T_world_cam_est, m.scale.scale());
     m.map_drift_bound_m = m.core.drift_bound_m();
+    m.map_unobserved_flight_s = m.unobserved_flight_s;
     m.map_frames = 1;
     m.pair_sampler.reset();
     m.gates[source_index(LocalizationSource::Slam)] = {};

@@ -58,6 +58,11 @@ async function adminAddsUserWhoLogsIn() {
   await admin.waitForFunction(() => window.labodroneAdmin && window.labodroneAdmin.refreshes >= 1);
   const status = await admin.textContent('#status');
   if (!status.includes('battery')) fail('the status panel shows no battery: ' + status);
+  if (!status.includes('placeconfirmed')) fail('the status panel does not say the place is confirmed: ' + status);
+  // The drone set on its platform: the flight software's answer shown, the action audited.
+  await admin.click('#set-down');
+  await admin.waitForFunction(() => document.getElementById('set-down-result').textContent.includes('its place is the base'));
+  await admin.waitForFunction(() => document.getElementById('audit').textContent.includes('drone_set_down'), null, {timeout: 10000});
   // Two polls of /metrics make the first rates.
   await admin.waitForFunction(() => [...document.querySelectorAll('.metric-value')].filter((v) => v.textContent).length >= 5,
                               null, {timeout: 10000});
@@ -94,7 +99,7 @@ async function adminAddsUserWhoLogsIn() {
   await row.locator('button', {hasText: 'remove'}).click();
   await admin.waitForFunction(() => document.getElementById('u-result').textContent.includes('dana removed'));
   await dana.waitForURL((u) => !u.pathname.endsWith('lab.html'), {timeout: 10000});
-  console.log('admin: status and metrics shown; the bit rate set and refused out of range; dana added, logged in, seen in sessions and the audit log, removed');
+  console.log('admin: status and metrics shown; the drone set down; the bit rate set and refused out of range; dana added, logged in, seen in sessions and the audit log, removed');
   for (const p of [admin, dana]) await p.context().close();
 }
 

@@ -433,24 +433,33 @@ TEST_CASE("estimation: a navdata gap in flight longer than the command hold leav
 TEST_CASE("estimation: a fix on the lab's frame confirms the place again, a set-down too") {
   estimation::StateEstimator est(no_delays());
   est.reset(make_pose({0, 0, 1}, 0), 0.0);
-  Seconds t = fly_with_gap(est, 0.0, 7.0);
-  REQUIRE(est.predict(t).unobserved_flight_s > 0);
-
-  SECTION("SLAM relocalized in a metric map") {
-    for (int k = 0; k < 20; ++k) {
+  Seconds t = 0;
+  // SLAM frames in map `map_id`, each where the filter has the drone (no innovation).
+  auto slam_frames = [&](int map_id, int frames) {
+    for (int k = 0; k < frames; ++k) {
       t += 1.0 / 15;
       REQUIRE(est.add_navdata(flying_at(t)));
-      est.add_slam_pose(slam_at(est.predict(t).T_world_body, t));
+      estimation::SlamObservation o = slam_at(est.predict(t).T_world_body, t);
+      o.map_id = map_id;
+      est.add_slam_pose(o);
     }
-    CHECK(est.statistics().count("slam_fused") > 0);
+  };
+  slam_frames(1, 20);  // a map placed before the silence
+  t = fly_with_gap(est, t, 7.0);
+  REQUIRE(est.predict(t).unobserved_flight_s > 0);
+  const auto fused_before = est.statistics().count("slam_fused");
+
+  SECTION("SLAM relocalized in the map it had before the silence") {
+    slam_frames(1, 20);
+    CHECK(est.statistics().count("slam_fused") > fused_before);
     CHECK(est.predict(t).unobserved_flight_s == 0.0);
   }
+  SECTION("a map started after the silence was placed where the guess had the drone: it confirms nothing") {
+    slam_frames(2, 20);
+    CHECK(est.statistics().count("slam_fused") > fused_before);
+    CHECK(est.predict(t).unobserved_flight_s == Approx(7.1).margin(0.1));
+  }
   SECTION("set down on the platform: the base's pose at the next sample, the map's placement kept") {
-    for (int k = 0; k < 3; ++k) {
-      t += 1.0 / 15;
-      REQUIRE(est.add_navdata(flying_at(t)));
-      est.add_slam_pose(slam_at(est.predict(t).T_world_body, t));
-    }
     REQUIRE(est.map_to_world().initialized());
     const Eigen::Isometry3d base = make_pose({1.0, -2.0, 0.0}, 0.5);
     est.set_down_at_next_navdata(base);

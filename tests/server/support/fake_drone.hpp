@@ -174,6 +174,11 @@ class ScriptedCore final : public FlightCore {
         return {true, to_string(c.kind)};
     }
   }
+  // As the flight stack: refused while it flies, accepted on the ground.
+  CommandVerdict set_down_on_platform(Seconds) override {
+    if (flying_) return {false, "set-down: the drone is flying; land it, then set it on its platform"};
+    return {true, "the drone was set on its platform: its place is the base's again"};
+  }
   FlightSnapshot status() override {
     FlightSnapshot s;
     s.telemetry.mission = mission_;
