@@ -52,10 +52,6 @@ MissionParameters read_mission(const ConfigReader& node, MissionParameters m) {
   m.landing_centre_tolerance_m =
       node.number_or("landing_centre_tolerance_m", m.landing_centre_tolerance_m, Range::closed(0.005, 0.5));
   m.landing_settle_s = node.number_or("landing_settle_s", m.landing_settle_s, Range::closed(0.0, 10.0));
-  m.landing_final_altitude_m =
-      node.number_or("landing_final_altitude_m", m.landing_final_altitude_m, Range::closed(0.0, 5.0));
-  if (m.landing_final_altitude_m > 0 && m.landing_final_altitude_m >= m.platform_hover_altitude_m)
-    node.fail("landing_final_altitude_m", "must be below platform_hover_altitude_m, or 0 (off)");
   m.platform_settle_timeout_s =
       node.number_or("platform_settle_timeout_s", m.platform_settle_timeout_s, Range::closed(1.0, 120.0));
   m.scale_manoeuvre_m = node.number_or("scale_manoeuvre_m", m.scale_manoeuvre_m, Range::closed(0.0, 2.0));

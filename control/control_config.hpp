@@ -71,11 +71,6 @@ struct MissionParameters {
   double landing_centre_tolerance_m = 0.03;
   double landing_settle_s = 0.5;
   double platform_settle_timeout_s = 12.0;
-  // Settled above the platform, the drone descends to this altitude (the world's z), settles there the
-  // same way (or for at most 6 s) and only then asks the firmware to land: the firmware's descent
-  // drifts for as long as it lasts. 0: off, the land command is sent from the hover altitude. Keep the
-  // ultrasound above the platform over safety.min_clearance_m, or the safety's climb undoes it.
-  double landing_final_altitude_m = 0.0;
   double scale_manoeuvre_m = 0.5;      // stage 1: up/down amplitude for the scale estimation
   double scale_manoeuvre_speed_mps = 0.25;
   double detect_timeout_s = 15.0;      // stage 2 / re-detection: give up and go home after this

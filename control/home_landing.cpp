@@ -11,7 +11,6 @@ constexpr double kLandedWaitS = 12.0;     // land sent; give up waiting after th
 // moment, and a climb or descent still under way ends below or above the hover height.
 constexpr double kSettledSpeedMps = 0.05;
 constexpr double kSettledAltitudeM = 0.1;
-constexpr double kDescendTimeoutS = 6.0;  // Descend: land from where it is after this
 
 // Where the bottom camera sees the platform, from where the drone is: not the estimator's placement
 // of it, which also leans on the lab file's and on the map's (the placement's pull put the drone
@@ -23,30 +22,12 @@ Eigen::Vector3d platform_as_seen(const fusion::TargetObservation& obs, const fus
 }
 }  // namespace
 
-bool HomeLanding::hold_above_platform(MissionContext& ctx, const Eigen::Vector3d& here, double altitude_m) {
-  const fusion::TargetObservation obs = ctx.perception.platform();
-  const double yaw = ctx.lab.base_yaw_rad;
-  if (fresh_) ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), altitude_m}, yaw}, ctx.t);
-  if (obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < 0.5) {
-    // Refine the platform's place while it is in view, moving the set point without a reset.
-    platform_world_ = 0.9 * platform_world_ + 0.1 * platform_as_seen(obs, ctx.pose);
-    ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), altitude_m}, yaw}, ctx.t, false);
-  }
-  const bool centred = (here - platform_world_).head<2>().norm() < ctx.config.mission.landing_centre_tolerance_m &&
-                       ctx.pose.velocity_world.head<2>().norm() < kSettledSpeedMps &&
-                       std::abs(here.z() - altitude_m) < kSettledAltitudeM;
-  if (!centred) centred_since_ = -1;
-  else if (centred_since_ < 0) centred_since_ = ctx.t;
-  return centred_since_ >= 0 && ctx.t - centred_since_ >= ctx.config.mission.landing_settle_s;
-}
-
 int HomeLanding::paper_stage() const {
   switch (step_) {
     case Step::Climb:
     case Step::Travel: return 4;
     case Step::FindPlatform:
-    case Step::Centre:
-    case Step::Descend: return 5;
+    case Step::Centre: return 5;
     default: return 6;
   }
 }
@@ -57,7 +38,6 @@ std::string HomeLanding::describe(Seconds t) const {
     case Step::Travel: return "4 return: flying above the base";
     case Step::FindPlatform: return "5 platform: searching with the bottom camera (" + format_seconds(t - since_) + " s)";
     case Step::Centre: return "5 platform: hovering above its centre";
-    case Step::Descend: return "5 platform: descending above its centre";
     case Step::Land: return "6 landing";
     case Step::Landed: return "6 landed on the platform";
     case Step::Failed: return "failed: " + failure_;
@@ -113,31 +93,31 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
       break;
     }
     case Step::Centre: {
-      const bool settled = hold_above_platform(ctx, here, m.platform_hover_altitude_m);
-      const bool timed_out = !settled && ctx.t - since_ > m.platform_settle_timeout_s;
-      if (timed_out) {
-        const double off_m = (here - platform_world_).head<2>().norm();
-        failure_ = "not settled within " + format_seconds(m.landing_centre_tolerance_m * 100) + " cm of the platform's centre in " +
-                   format_seconds(m.platform_settle_timeout_s) + " s; " + format_seconds(off_m * 100) + " cm off then";
+      const fusion::TargetObservation obs = ctx.perception.platform();
+      if (obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < 0.5) {
+        // Refine the platform's place while it is in view, moving the set point without a reset.
+        const Eigen::Vector3d seen = platform_as_seen(obs, ctx.pose);
+        platform_world_ = 0.9 * platform_world_ + 0.1 * seen;
+        ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad},
+                            ctx.t, false);
       }
-      if (!settled && !timed_out) break;
-      if (m.landing_final_altitude_m > 0 && m.landing_final_altitude_m < m.platform_hover_altitude_m) {
-        enter(Step::Descend, ctx.t);
-      } else {
+      const double off_m = (here - platform_world_).head<2>().norm();
+      const bool centred = off_m < m.landing_centre_tolerance_m &&
+                           ctx.pose.velocity_world.head<2>().norm() < kSettledSpeedMps &&
+                           std::abs(here.z() - m.platform_hover_altitude_m) < kSettledAltitudeM;
+      if (!centred) centred_since_ = -1;
+      else if (centred_since_ < 0) centred_since_ = ctx.t;
+      if (centred_since_ >= 0 && ctx.t - centred_since_ >= m.landing_settle_s) {
+        ctx.phase_action = ctx.autopilot.land(ctx.t);
+        enter(Step::Land, ctx.t);
+      } else if (ctx.t - since_ > m.platform_settle_timeout_s) {
+        failure_ = "not settled within " + format_seconds(m.landing_centre_tolerance_m * 100) + " cm of the platform's centre in " +
+                   format_seconds(m.platform_settle_timeout_s) + " s; landed from " + format_seconds(off_m * 100) + " cm off";
         ctx.phase_action = ctx.autopilot.land(ctx.t);
         enter(Step::Land, ctx.t);
       }
       break;
     }
-    case Step::Descend:
-      // Lower before the land command: the firmware's own descent drifts by its attitude and velocity
-      // biases for as long as it lasts, and the camera's mounting errors place the platform off by a
-      // share of the height. Settled or not after kDescendTimeoutS, it lands from there.
-      if (hold_above_platform(ctx, here, m.landing_final_altitude_m) || ctx.t - since_ > kDescendTimeoutS) {
-        ctx.phase_action = ctx.autopilot.land(ctx.t);
-        enter(Step::Land, ctx.t);
-      }
-      break;
     case Step::Land:
       if (ctx.autopilot.phase() == FlightPhase::Landed) enter(Step::Landed, ctx.t);
       else if (ctx.t - since_ > kLandedWaitS) {

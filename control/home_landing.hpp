@@ -1,15 +1,14 @@
 #pragma once
 // Return to the base and land on the charging platform: the paper's stages 4-6, shared by the inspect
 // mission and return-home. Climb to the return altitude where the drone is, fly above the base (SLAM
-// feedback), switch to the bottom camera and find the platform, hover above its centre, descend
-// above it to the final altitude, land.
+// feedback), switch to the bottom camera and find the platform, hover above its centre, land.
 #include "control/mission.hpp"
 
 namespace labo::control {
 
 class HomeLanding {
  public:
-  enum class Step { Climb, Travel, FindPlatform, Centre, Descend, Land, Landed, Failed };
+  enum class Step { Climb, Travel, FindPlatform, Centre, Land, Landed, Failed };
   void start(Seconds t) {
     enter(Step::Climb, t);
     fresh_ = true;
@@ -29,9 +28,6 @@ class HomeLanding {
     centred_since_ = -1;
   }
   void step_now(MissionContext& ctx, const Eigen::Vector3d& here, double yaw, const Eigen::Vector3d& base);
-  // Centre and Descend: the set point above the platform's place at `altitude_m`, that place refined
-  // while the bottom camera tracks it; true once the drone has stayed settled there landing_settle_s.
-  bool hold_above_platform(MissionContext& ctx, const Eigen::Vector3d& here, double altitude_m);
 
   Step step_ = Step::Climb;
   Seconds since_ = 0;

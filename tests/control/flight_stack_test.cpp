@@ -410,27 +410,6 @@ TEST_CASE("control: the landing centres on the platform as the camera sees it, n
   CHECK(f.world->drone.p.head<2>().norm() < 0.03);
 }
 
-TEST_CASE("control: with a final altitude the drone descends above the platform's centre before the land command") {
-  control::ControlConfig config;
-  config.mission.landing_final_altitude_m = 0.55;
-  ModelFlight f(config);
-  take_off(f);
-  REQUIRE(f.request(go(2.0, -1.0, 1.0)).accepted);
-  f.run(8.0);
-  REQUIRE(f.request(req(control::RequestKind::ReturnHome)).accepted);
-  bool descended = false;
-  double z_at_land = -1;
-  REQUIRE(f.run_until([&] {
-    const control::FlightStatus s = f.stack->status();
-    descended = descended || s.stage.find("descending above its centre") != std::string::npos;
-    if (z_at_land < 0 && s.stage.find("6 landing") != std::string::npos) z_at_land = f.world->drone.p.z();
-    return s.phase == control::FlightPhase::Landed;
-  }, 60.0));
-  CHECK(descended);
-  CHECK(z_at_land == Approx(0.55).margin(0.1));  // the land command from the final altitude, not 0.9 m
-  CHECK(f.world->drone.p.head<2>().norm() < 0.03);
-}
-
 TEST_CASE("control: find teacher searches, follows the face and stops on request") {
   ModelFlight f;
   REQUIRE(f.request(req(control::RequestKind::FindTeacher)).accepted);

@@ -235,10 +235,6 @@ TEST_CASE("control: config section is validated with the key path") {
   CHECK_THROWS_WITH(read(R"({"mission": {"face_blind_altitude_m": 0.1}})"), Catch::Contains("mission.face_blind_altitude_m"));
   CHECK_THROWS_WITH(read(R"({"mission": {"face_blind_altitude_m": "high"}})"), Catch::Contains("face_blind_altitude_m"));
   CHECK_THROWS_WITH(read(R"({"safety": {"link_loss_land_s": "soon"}})"), Catch::Contains("link_loss_land_s"));
-  CHECK(read(R"({"mission": {"landing_final_altitude_m": 0.55}})").mission.landing_final_altitude_m == 0.55);
-  CHECK_THROWS_WITH(read(R"({"mission": {"landing_final_altitude_m": 0.9}})"),
-                    Catch::Contains("landing_final_altitude_m") && Catch::Contains("below platform_hover_altitude_m"));
-  CHECK_THROWS_WITH(read(R"({"mission": {"landing_final_altitude_m": -0.2}})"), Catch::Contains("landing_final_altitude_m"));
   const control::ControlConfig net = read(R"({"safety": {"min_clearance_m": 0.5, "estimate_jump_m": 0.4, "estimate_jump_hold_s": 2}})");
   CHECK(net.safety.min_clearance_m == 0.5);
   CHECK(net.safety.estimate_jump_m == 0.4);
