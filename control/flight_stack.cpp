@@ -375,9 +375,12 @@ CommandResult FlightStack::set_down_on_platform(Seconds) {
   // still flies (a land command lost in a cut).
   constexpr int kFirstMotorsOnState = 3;
   const bool motors_on = m.have_nav && m.nav.control_state >= kFirstMotorsOnState;
-  if (phase == FlightPhase::TakingOff || phase == FlightPhase::Flying || phase == FlightPhase::Landing || motors_on)
+  if (phase == FlightPhase::TakingOff || phase == FlightPhase::Flying || phase == FlightPhase::Landing)
     return CommandResult::refused("set-down: the drone is flying (" + to_string(phase) +
                                   "); land it, then set it on its platform");
+  if (motors_on)
+    return CommandResult::refused("set-down: the drone reports its motors on (navdata control state " +
+                                  std::to_string(m.nav.control_state) + "); land it, then set it on its platform");
   if (m.mission) return CommandResult::refused("set-down: mission '" + m.mission->name() + "' is running; stop it first");
   m.pipelines->set_down_at_next_navdata(make_pose(m.setup.lab.base, m.setup.lab.base_yaw_rad));
   m.last_event = "the drone was set on its platform: its place is the base's again";

@@ -63,10 +63,10 @@ TEST_CASE("control: a silence in flight, a landing elsewhere, then the drone set
       stack.tick(t);
     }
   };
-  feed(3, 2.0);  // flying on, as far as the navdata says
+  feed(3, 2.0);  // flying, as far as the navdata says (the autopilot was never asked to take off)
   const CommandResult in_flight = stack.set_down_on_platform(t);
   CHECK_FALSE(in_flight.accepted);
-  CHECK_THAT(in_flight.reason, Catch::Contains("flying"));
+  CHECK_THAT(in_flight.reason, Catch::Contains("reports its motors on (navdata control state 3)"));  // the autopilot never took off here
 
   t += 7.0;  // the silence (a restart, a long cut) ...
   feed(3, 0.5);
