@@ -98,6 +98,8 @@ function onMessage(msg) {
       $('battery').className = msg.battery_percent < 20 ? 'low' : '';
       $('altitude').textContent = `${msg.altitude_m.toFixed(2)} m`;
       $('slam-state').textContent = msg.slam_state;
+      // After flight the navdata did not see, a landed drone takes no mission until an admin sets it down.
+      $('place-unconfirmed').hidden = !(msg.unobserved_flight_s > 0 && !msg.flying);
       break;
     case 'control': onControl(msg); break;
     case 'ack':
