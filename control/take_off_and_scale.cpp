@@ -10,9 +10,6 @@ namespace labo::control {
 namespace {
 constexpr double kClimbTimeoutS = 8.0;
 constexpr double kSlamInitTimeoutS = 8.0;  // go on (on dead reckoning) when SLAM does not initialize
-// SlamInit: SLAM still lost in the map it had (the drone was carried to its platform, or that map
-// never looked from here) this long after the climb: a new map, placed where the drone took off.
-constexpr double kRelocalizeS = 2.0;
 constexpr double kAtHeightM = 0.1;         // a leg ends when the drone is this close to its end
 constexpr double kLegTimeoutS = 8.0;       // the forward or back leg is given up after this long
 }  // namespace
@@ -25,8 +22,8 @@ std::string TakeOffAndScale::describe() const {
     case Step::TakeOff: return "taking off";
     case Step::Climb: return "climbing to " + format_seconds(altitude_m_) + " m";
     case Step::SlamInit:
-      return std::string(new_map_asked_ ? "initializing SLAM: its old map not found here, a new one" : "initializing SLAM") +
-             ": waiting for a map (" + format_seconds(last_t_ - since_) + " s of " + format_seconds(kSlamInitTimeoutS) + " s)";
+      return "initializing SLAM: waiting for a map (" + format_seconds(last_t_ - since_) + " s of " +
+             format_seconds(kSlamInitTimeoutS) + " s)";
     case Step::Forward: return "scale manoeuvre (forward): " + scale;
     case Step::Back: return "scale manoeuvre (back): " + scale;
     case Step::Up:
@@ -60,10 +57,6 @@ bool TakeOffAndScale::step(MissionContext& ctx, double altitude_m) {
       break;
     case Step::SlamInit: {
       const fusion::SlamState s = ctx.perception.slam().state;
-      if (s == fusion::SlamState::Lost && !new_map_asked_ && ctx.t - since_ > kRelocalizeS) {
-        ++ctx.focus.slam_new_maps;
-        new_map_asked_ = true;
-      }
       if (s == fusion::SlamState::Good || s == fusion::SlamState::Dodgy || ctx.t - since_ > kSlamInitTimeoutS) {
         leg_start_ = ctx.autopilot.target().value_or(PoseTarget{here, yaw});
         start_z_ = leg_start_.position.z();

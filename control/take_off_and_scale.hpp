@@ -43,7 +43,6 @@ class TakeOffAndScale {
   double start_z_ = 0;
   PoseTarget leg_start_;  // where the forward leg started (and the back leg ends)
   int round_ = 0;
-  bool new_map_asked_ = false;  // SlamInit: SLAM stayed lost in its old map, a new one was asked for
   // What describe() reports, as of the last step.
   double altitude_m_ = 0;
   Seconds last_t_ = 0;

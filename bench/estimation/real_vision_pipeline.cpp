@@ -25,7 +25,6 @@ class RecordingSlamFrontEnd final : public fusion::SlamFrontEnd {
   }
   const fusion::SlamFrame& pause() override { return inner_->pause(); }
   int map_id() const override { return inner_->map_id(); }
-  void restart_map() override { inner_->restart_map(); }
 
  private:
   std::unique_ptr<fusion::SlamFrontEnd> inner_;

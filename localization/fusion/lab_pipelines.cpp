@@ -3,7 +3,6 @@
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
-#include <utility>
 
 #include "core/frames.hpp"
 #include "localization/fusion/face_front_end.hpp"
@@ -127,11 +126,6 @@ std::optional<Eigen::Isometry3d> LabPipelines::slam_prior(Seconds t) const {
   return T_map_cam.inverse();
 }
 
-void LabPipelines::set_focus(const PerceptionFocus& focus) {
-  if (focus.slam_new_maps > focus_.slam_new_maps) slam_new_map_due_ = true;
-  focus_ = focus;
-}
-
 bool LabPipelines::prepare_vision(const VideoFrame& frame, VisionJob& job) {
   job.clear();
   // BGR as decoded; grey passes through; anything else is no camera frame (the front-ends refuse
@@ -151,8 +145,7 @@ bool LabPipelines::prepare_vision(const VideoFrame& frame, VisionJob& job) {
 void LabPipelines::prepare_front_camera(VisionJob& job) {
   if (slam_fe_ && focus_.slam) {
     job.slam = slam_fe_.get();
-    job.slam_new_map = std::exchange(slam_new_map_due_, false);
-    if (!job.slam_new_map) job.slam_prior_T_cam_map = slam_prior(job.t);
+    job.slam_prior_T_cam_map = slam_prior(job.t);
     job.gravity_down_cam = gravity_in_front_camera(job.t);
   }
   if (const int index = focus_.instrument_id.empty() ? -1 : instrument_index(focus_.instrument_id); index > 0) {

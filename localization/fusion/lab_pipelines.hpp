@@ -58,7 +58,7 @@ class LabPipelines final : public LocalizationPipelines {
   void on_video(const VideoFrame& frame) override;
   bool prepare_vision(const VideoFrame& frame, VisionJob& job) override;
   void apply_vision(const VisionResults& results) override;
-  void set_focus(const PerceptionFocus& focus) override;
+  void set_focus(const PerceptionFocus& focus) override { focus_ = focus; }
   bool follow_person(const face::PersonShape& person) override;
   void reset(const Eigen::Isometry3d& T_world_body, Seconds t) override;
   void start_at_first_navdata(const Eigen::Isometry3d& T_world_body) override;
@@ -94,7 +94,6 @@ class LabPipelines final : public LocalizationPipelines {
   LabGeometry lab_;
   estimation::StateEstimator estimator_;
   PerceptionFocus focus_;
-  bool slam_new_map_due_ = false;  // focus_.slam_new_maps went up: at the next front frame
   TargetObservation instrument_, platform_, face_;
   SlamSummary slam_;
   int slam_map_id_ = -1;  // the map of the last SLAM result given to the estimator

@@ -93,10 +93,6 @@ struct PerceptionFocus {
   bool platform = false;      // bottom camera, landing platform
   bool face = false;
   bool slam = true;
-  // Raised by one to have SLAM drop its map and start a new one at the next front frame: a map lost
-  // past relocalizing (the drone was carried, or flies where the map never looked) is never found
-  // again by SLAM itself, which only relocalizes once lost.
-  int slam_new_maps = 0;
   FeedbackSource feedback = FeedbackSource::Slam;  // the visual source allowed to correct the filter
 };
 

@@ -24,7 +24,8 @@ class SlamSystemFrontEnd final : public SlamFrontEnd {
   static constexpr double kMapPointsPeriodS = 1.0;
   static constexpr std::size_t kMaxMapPoints = 3000;
 
-  void restart_map() override;
+  // Drops the map; the next map gets a new id (the estimator restarts its map-to-world placement).
+  void restart_map();
   const slam::SlamResult& last_result() const { return result_; }
   slam::SlamSystem& system() { return *slam_; }
 

@@ -48,8 +48,6 @@ class SlamFrontEnd {
   // Frames stopped coming (the bottom camera streams): report SLAM off until the next frame.
   virtual const SlamFrame& pause() = 0;
   virtual int map_id() const = 0;
-  // Drops the map; the next map gets a new id (the estimator places it anew, its scale from scratch).
-  virtual void restart_map() = 0;
   // At a low rate (the map grows with keyframes, the lab page redraws it once a second): a bounded
   // sample of the current map's points (map units) into `out`, reused; false when not due.
   virtual bool sample_map_points(Seconds t, std::vector<Eigen::Vector3d>& out) {

@@ -11,7 +11,6 @@ void VisionJob::clear() {
   face = nullptr;
   slam = nullptr;
   slam_pause = false;
-  slam_new_map = false;
   slam_prior_T_cam_map.reset();
   gravity_down_cam.reset();
 }
@@ -33,7 +32,6 @@ void run_vision_job(const VisionJob& job, VisionResults& out) {
   out.has_slam = job.slam != nullptr;
   out.has_slam_points = false;
   if (job.slam) {
-    if (job.slam_new_map) job.slam->restart_map();
     out.slam = job.slam_pause ? job.slam->pause()
                               : job.slam->process(job.gray, job.t, job.slam_prior_T_cam_map, job.gravity_down_cam);
     if (!job.slam_pause) out.has_slam_points = job.slam->sample_map_points(job.t, out.slam_points_map);

@@ -36,7 +36,6 @@ struct VisionJob {
   TargetFrontEnd* face = nullptr;
   SlamFrontEnd* slam = nullptr;
   bool slam_pause = false;             // bottom-camera frame: SLAM sees nothing and reports off
-  bool slam_new_map = false;           // drop SLAM's map before this frame (PerceptionFocus::slam_new_maps)
   std::optional<Eigen::Isometry3d> slam_prior_T_cam_map;
   std::optional<Eigen::Vector3d> gravity_down_cam;
 

@@ -410,26 +410,6 @@ TEST_CASE("control: the landing centres on the platform as the camera sees it, n
   CHECK(f.world->drone.p.head<2>().norm() < 0.03);
 }
 
-TEST_CASE("control: a take-off whose SLAM stays lost in its old map asks for a new map once, and flies on") {
-  ModelFlight f;
-  f.world->slam_lost_in_old_map = true;  // as after the drone was carried to its platform
-  REQUIRE(f.request(inspect("oscilloscope", 2.0)).accepted);
-  bool described = false;
-  const bool ended = f.run_until([&] {
-    described = described || f.stack->status().stage.find("old map not found here, a new one") != std::string::npos;
-    return f.stack->status().mission == "idle";
-  }, 120.0);
-  REQUIRE(ended);
-  CHECK(f.world->new_slam_maps == 1);
-  CHECK(described);
-  CHECK(f.stack->status().last_event.find("succeeded") != std::string::npos);
-
-  ModelFlight relocalized;  // SLAM finds its map: no new one
-  REQUIRE(relocalized.request(inspect("oscilloscope", 2.0)).accepted);
-  REQUIRE(relocalized.run_until([&] { return relocalized.stack->status().mission == "idle"; }, 120.0));
-  CHECK(relocalized.world->new_slam_maps == 0);
-}
-
 TEST_CASE("control: find teacher searches, follows the face and stops on request") {
   ModelFlight f;
   REQUIRE(f.request(req(control::RequestKind::FindTeacher)).accepted);

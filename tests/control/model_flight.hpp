@@ -21,10 +21,6 @@ struct ModelWorld {
   bool face_visible = true;
   bool face_head_only = false;  // the face not posed, its head followed (position_only) while in the image
   bool slam_available = true;
-  // SLAM lost in a map it cannot relocalize in (a drone carried elsewhere): Lost until a new map is
-  // asked for (PerceptionFocus::slam_new_maps); new_slam_maps counts the requests.
-  bool slam_lost_in_old_map = false;
-  int new_slam_maps = 0;
   Eigen::Vector3d estimate_offset = Eigen::Vector3d::Zero();  // a bad estimate: truth + this
   // The pipelines' placement of the platform in the world (as the estimator's landmark), off by this;
   // nullopt: not placed. The observation's offset from the body is the camera's, always true.
@@ -52,13 +48,7 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
   void on_navdata(const NavdataSample& s) override { t_ = s.t; }
   void on_command(const MoveCommand&, Seconds) override {}
   void on_video(const VideoFrame&) override {}
-  void set_focus(const fusion::PerceptionFocus& f) override {
-    if (f.slam_new_maps > focus_.slam_new_maps) {
-      ++world_->new_slam_maps;
-      world_->slam_lost_in_old_map = false;
-    }
-    focus_ = f;
-  }
+  void set_focus(const fusion::PerceptionFocus& f) override { focus_ = f; }
   void reset(const Eigen::Isometry3d&, Seconds) override {}
   void start_at_first_navdata(const Eigen::Isometry3d&) override {}
 
@@ -141,7 +131,6 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
     fusion::SlamSummary s;
     const bool up = world_->drone.control_state == 3 || world_->drone.control_state == 4;
     s.state = !focus_.slam ? fusion::SlamState::Off : (world_->slam_available && up ? fusion::SlamState::Good : fusion::SlamState::Initializing);
-    if (focus_.slam && world_->slam_lost_in_old_map) s.state = fusion::SlamState::Lost;
     s.scale_estimated = s.state == fusion::SlamState::Good;
     return s;
   }

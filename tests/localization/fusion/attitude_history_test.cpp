@@ -50,8 +50,7 @@ namespace {
 // Records what LabPipelines hands the SLAM front-end.
 class RecordingSlam final : public fusion::SlamFrontEnd {
  public:
-  explicit RecordingSlam(std::vector<std::optional<Eigen::Vector3d>>& seen, int* restarts = nullptr)
-      : seen_(seen), restarts_(restarts) {}
+  explicit RecordingSlam(std::vector<std::optional<Eigen::Vector3d>>& seen) : seen_(seen) {}
   const fusion::SlamFrame& process(const cv::Mat&, Seconds, const std::optional<Eigen::Isometry3d>&,
                            const std::optional<Eigen::Vector3d>& gravity_down_cam) override {
     seen_.push_back(gravity_down_cam);
@@ -59,13 +58,9 @@ class RecordingSlam final : public fusion::SlamFrontEnd {
   }
   const fusion::SlamFrame& pause() override { return frame_; }
   int map_id() const override { return 1; }
-  void restart_map() override {
-    if (restarts_) ++*restarts_;
-  }
 
  private:
   std::vector<std::optional<Eigen::Vector3d>>& seen_;
-  int* restarts_;
   fusion::SlamFrame frame_;
 };
 
@@ -100,36 +95,4 @@ TEST_CASE("lab pipelines: each front frame goes to SLAM with the IMU's attitude 
   // The frame was captured video_delay_s before it arrived.
   const Eigen::Vector3d expected = slam::gravity_down_in_camera(-0.03, 0.1 * (0.9 - config.video_delay_s), T_body_cam_front());
   CHECK((*seen[1] - expected).norm() < 1e-9);
-}
-
-TEST_CASE("lab pipelines: a new SLAM map asked through the focus is started once, at the next front frame") {
-  // A map lost past relocalizing is never found again by SLAM itself; the take-off asks for a new one.
-  fusion::LabPipelines pipelines(fusion::LabGeometry{}, estimation::EstimatorConfig{}, VisionThresholds{});
-  std::vector<std::optional<Eigen::Vector3d>> seen;
-  int restarts = 0;
-  pipelines.set_slam_front_end(std::make_unique<RecordingSlam>(seen, &restarts));
-  fusion::PerceptionFocus focus;
-  pipelines.set_focus(focus);
-  VideoFrame frame;
-  frame.bgr = cv::Mat(360, 640, CV_8UC3, cv::Scalar(90, 90, 90));
-  auto show = [&](CameraId camera, Seconds t) {
-    frame.camera = camera;
-    frame.t = t;
-    pipelines.on_video(frame);
-  };
-  show(CameraId::Front, 0.1);
-  CHECK(restarts == 0);
-  ++focus.slam_new_maps;
-  pipelines.set_focus(focus);
-  pipelines.set_focus(focus);  // the same focus every tick asks once
-  show(CameraId::Bottom, 0.2);  // SLAM paused on the bottom camera: not there
-  CHECK(restarts == 0);
-  show(CameraId::Front, 0.3);
-  CHECK(restarts == 1);
-  show(CameraId::Front, 0.4);
-  CHECK(restarts == 1);
-  ++focus.slam_new_maps;
-  pipelines.set_focus(focus);
-  show(CameraId::Front, 0.5);
-  CHECK(restarts == 2);
 }
