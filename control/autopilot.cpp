@@ -4,13 +4,11 @@
 #include <cmath>
 
 #include "core/frames.hpp"
+#include "drone/drone_link.hpp"
 
 namespace labo::control {
 
 namespace {
-constexpr int kControlLanded = 2;
-constexpr int kControlFlying = 3;
-constexpr int kControlHovering = 4;
 constexpr double kMaxControlDt = 0.2;  // a longer gap (stall, first tick) is not integrated
 
 FlightOutput action(FlightOutput::Action a) {
@@ -48,7 +46,7 @@ FlightOutput Autopilot::emergency(Seconds t) {
 }
 
 void Autopilot::on_control_state(int control_state, Seconds t) {
-  const bool airborne = control_state == kControlFlying || control_state == kControlHovering;
+  const bool airborne = control_state == control_state::kFlying || control_state == control_state::kHovering;
   switch (phase_) {
     case FlightPhase::TakingOff:
       if (airborne || t - phase_since_ > config_.autopilot.takeoff_time_s) {
@@ -57,14 +55,14 @@ void Autopilot::on_control_state(int control_state, Seconds t) {
       }
       break;
     case FlightPhase::Landing:
-      if (control_state == kControlLanded || t - phase_since_ > config_.autopilot.land_time_s) {
+      if (control_state == control_state::kLanded || t - phase_since_ > config_.autopilot.land_time_s) {
         phase_ = FlightPhase::Landed;
         phase_since_ = t;
       }
       break;
     case FlightPhase::Emergency:
       // Motors cut; the drone is on the floor once it reports landed again.
-      if (control_state == kControlLanded && t - phase_since_ > 1.0) phase_ = FlightPhase::Landed;
+      if (control_state == control_state::kLanded && t - phase_since_ > 1.0) phase_ = FlightPhase::Landed;
       break;
     case FlightPhase::Landed:
     case FlightPhase::Flying:

@@ -368,13 +368,12 @@ CommandResult FlightStack::add_instrument(const fusion::PlanarTarget& instrument
   return CommandResult::ok(m.last_event);
 }
 
-CommandResult FlightStack::set_down_on_platform(Seconds) {
+CommandResult FlightStack::set_down_on_platform() {
   Impl& m = *impl_;
   const FlightPhase phase = m.autopilot.phase();
   // The navdata's own control state too: the autopilot may think it landed a drone whose firmware
   // still flies (a land command lost in a cut).
-  constexpr int kFirstMotorsOnState = 3;
-  const bool motors_on = m.have_nav && m.nav.control_state >= kFirstMotorsOnState;
+  const bool motors_on = m.have_nav && control_state::motors_on(m.nav.control_state);
   if (phase == FlightPhase::TakingOff || phase == FlightPhase::Flying || phase == FlightPhase::Landing)
     return CommandResult::refused("set-down: the drone is flying (" + to_string(phase) +
                                   "); land it, then set it on its platform");

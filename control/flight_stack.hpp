@@ -73,7 +73,7 @@ class FlightStack {
   // Someone set the drone on its charging platform (an admin, after a landing elsewhere): the pose is
   // the base's again from the next navdata on, confirmed, with the SLAM map and the instruments'
   // places kept. Refused while the drone flies or a mission runs.
-  CommandResult set_down_on_platform(Seconds t);
+  CommandResult set_down_on_platform();
 
   const FlightStackSetup& setup() const;
 

@@ -25,7 +25,7 @@ struct NavdataSample {
   Seconds t = 0;               // receive time on the link's clock
   std::uint32_t sequence = 0;
   std::uint32_t state = 0;     // the 32 state bits (ArdroneState in drone/ardrone2/)
-  int control_state = 0;       // major control state (2 landed, 3 flying, 4 hovering, 6 takeoff, 8 landing)
+  int control_state = 0;       // major control state (ControlState below)
   double battery_percent = 0;
   double roll_rad = 0;
   double pitch_rad = 0;
@@ -37,6 +37,22 @@ struct NavdataSample {
   bool has_drone_time = false;
   Seconds drone_time = 0;      // the drone's own clock (option `time`), when sent
 };
+
+// The firmware's major control states as NavdataSample::control_state carries them (the Tello link
+// derives the same numbers from its state string).
+namespace control_state {
+constexpr int kLanded = 2;
+constexpr int kFlying = 3;
+constexpr int kHovering = 4;
+constexpr int kTakingOff = 6;
+constexpr int kLanding = 8;
+// From 3 on (flying, hovering, test, taking off, go-to, landing, looping) the motors turn; 0-2
+// (default, init, landed) they do not.
+constexpr bool motors_on(int state) { return state >= kFlying; }
+// The firmware follows the progressive commands only while flying or hovering; taking off and
+// landing it flies its own manoeuvre.
+constexpr bool follows_commands(int state) { return state == kFlying || state == kHovering; }
+}  // namespace control_state
 
 struct VideoFrame {
   Seconds t = 0;               // receive time of the frame's last byte

@@ -14,14 +14,14 @@ constexpr double kTouchdown_m = 1e-3;
 constexpr double kSpinupShare = 0.8;
 }  // namespace
 
-int control_state(FirmwarePhase phase) {
+int to_control_state(FirmwarePhase phase) {
   switch (phase) {
-    case FirmwarePhase::Landed: return 2;
-    case FirmwarePhase::TakingOff: return 6;
-    case FirmwarePhase::Flying: return 3;
-    case FirmwarePhase::Hovering: return 4;
-    case FirmwarePhase::Landing: return 8;
-    case FirmwarePhase::Emergency: return 2;
+    case FirmwarePhase::Landed: return labo::control_state::kLanded;
+    case FirmwarePhase::TakingOff: return labo::control_state::kTakingOff;
+    case FirmwarePhase::Flying: return labo::control_state::kFlying;
+    case FirmwarePhase::Hovering: return labo::control_state::kHovering;
+    case FirmwarePhase::Landing: return labo::control_state::kLanding;
+    case FirmwarePhase::Emergency: return labo::control_state::kLanded;
   }
   return 0;
 }

@@ -76,7 +76,7 @@ struct QuadrotorParams {
 enum class FirmwarePhase { Landed, TakingOff, Flying, Hovering, Landing, Emergency };
 // The navdata major control state: 2 landed, 6 take-off, 3 flying, 4 hovering, 8 landing; an
 // emergency reports landed with the emergency bit.
-int control_state(FirmwarePhase phase);
+int to_control_state(FirmwarePhase phase);
 std::string to_string(FirmwarePhase phase);
 
 // The true state (ground truth).

@@ -110,7 +110,7 @@ void SimulatedLab::select_camera(CameraId camera, Seconds t) {
 VehicleTelemetry SimulatedLab::telemetry() const {
   const QuadrotorState& s = dynamics_.state();
   VehicleTelemetry tel = sensors_.telemetry();
-  tel.nav.control_state = control_state(s.phase);
+  tel.nav.control_state = to_control_state(s.phase);
   tel.nav.battery_percent = s.battery_percent;
   tel.flying = s.airborne();
   tel.emergency = s.phase == FirmwarePhase::Emergency;

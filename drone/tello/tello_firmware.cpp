@@ -7,6 +7,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "drone/drone_link.hpp"
 #include "drone/tello/tello_camera_switch.hpp"
 
 namespace labo::tello {
@@ -15,7 +16,6 @@ namespace {
 
 constexpr double kAirDensity = 1.225;  // kg/m³, for the height above the take-off point
 constexpr double kG = 9.80665;
-constexpr int kControlLandedState = 2, kControlFlyingState = 3, kControlHoveringState = 4;
 
 constexpr std::array<std::string_view, 5> kUnflownCommands = {"jump", "mon", "moff", "mdirection", "wifi"};
 
@@ -264,8 +264,8 @@ std::optional<TelloFirmware::Reply> TelloFirmware::advance(EmulatedVehicle& vehi
     return std::nullopt;
   }
   const int cs = tel.nav.control_state;
-  const bool done = motion_ == Motion::TakingOff ? (cs == kControlFlyingState || cs == kControlHoveringState)
-                                                 : (cs == kControlLandedState && !tel.flying);
+  const bool done = motion_ == Motion::TakingOff ? control_state::follows_commands(cs)
+                                                 : (cs == control_state::kLanded && !tel.flying);
   if (done || t - motion_since_ > settings_.motion_timeout_s) {
     motion_ = Motion::None;
     return Reply{done ? "ok" : "error", t};

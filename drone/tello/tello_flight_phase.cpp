@@ -54,12 +54,12 @@ void TelloFlightPhase::on_state(const TelloState& s, Seconds t) {
 
 int TelloFlightPhase::control_state() const {
   switch (phase_) {
-    case Phase::Landed: return kControlLanded;
-    case Phase::TakingOff: return kControlTakingOff;
-    case Phase::Landing: return kControlLanding;
-    case Phase::Airborne: return sticks_centred_ ? kControlHovering : kControlFlying;
+    case Phase::Landed: return control_state::kLanded;
+    case Phase::TakingOff: return control_state::kTakingOff;
+    case Phase::Landing: return control_state::kLanding;
+    case Phase::Airborne: return sticks_centred_ ? control_state::kHovering : control_state::kFlying;
   }
-  return kControlLanded;
+  return control_state::kLanded;
 }
 
 }  // namespace labo::tello

@@ -7,16 +7,11 @@
 // did not ask for (the drone's 15 s watchdog, a low battery) and a flight already under way when the
 // link connects are both noticed. No I/O, no clock: every call takes its time.
 #include "core/time.hpp"
+#include "drone/drone_link.hpp"
 #include "drone/tello/tello_command.hpp"
 #include "drone/tello/tello_state.hpp"
 
 namespace labo::tello {
-
-inline constexpr int kControlLanded = 2;
-inline constexpr int kControlFlying = 3;
-inline constexpr int kControlHovering = 4;
-inline constexpr int kControlTakingOff = 6;
-inline constexpr int kControlLanding = 8;
 
 class TelloFlightPhase {
  public:

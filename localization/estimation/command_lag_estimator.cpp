@@ -10,9 +10,8 @@ namespace {
 constexpr std::size_t kCommandCapacity = 2048;   // 30-100 Hz over window + max lag
 constexpr std::size_t kNavdataCapacity = 4096;   // 200 Hz full navdata over the window and more
 constexpr Seconds kStartSpacing = 0.05;          // prediction starts at most every 50 ms
-// The firmware follows PCMD only while flying or hovering (control states 3 and 4); a window with
-// take-off, landing or a landed drone says nothing about the lag.
-bool follows_commands(int control_state) { return control_state == 3 || control_state == 4; }
+// A window with take-off, landing or a landed drone says nothing about the lag: the firmware follows
+// PCMD only while flying or hovering.
 
 double stddev(const std::vector<double>& v, std::size_t from, std::size_t to) {
   if (to <= from + 1) return 0;
@@ -78,7 +77,7 @@ void CommandLagEstimator::add_navdata(const NavdataSample& sample) {
   ++counters_.navdata;
   // A sample taken while the firmware ignores PCMD is stored as NaN: windows holding one are skipped.
   const double nan = std::nan("");
-  const bool ok = follows_commands(sample.control_state);
+  const bool ok = control_state::follows_commands(sample.control_state);
   if (navdata_.full()) navdata_.pop();
   navdata_.push(sample.t, Tilt{ok ? sample.roll_rad : nan, ok ? sample.pitch_rad : nan});
   if (sample.t >= next_evaluation_t_) {

@@ -22,7 +22,6 @@ constexpr Seconds kCommandValidity = 1.0;   // a command older than this no long
 constexpr double kYawJumpMinRad = 10.0 * std::numbers::pi / 180.0;
 constexpr double kYawJumpMaxRad = 90.0 * std::numbers::pi / 180.0;
 constexpr double kMaxYawRateRadps = 4.0 * std::numbers::pi;
-constexpr int kLandedState = 2;
 constexpr double kMinRange = 0.05, kMaxRange = 6.0;
 
 template <int M>
@@ -75,7 +74,7 @@ void FilterCore::apply_navdata(const NavdataSample& n, bool vision_holding, cons
   const Seconds gap = last_nav_valid_ ? t_ - last_nav_t_ : 0.0;
   observe_attitude(n);
   observe_yaw(n, vision_holding, gap);
-  if (n.control_state == kLandedState) {
+  if (n.control_state == control_state::kLanded) {
     // On the ground: the next take-off starts with a flat trim (the missions' executors send one), so
     // the tilt offset is learned anew in each flight.
     dropout_.reset();
@@ -91,7 +90,7 @@ void FilterCore::apply_navdata(const NavdataSample& n, bool vision_holding, cons
   const double yaw = ekf_.state()(YAW);
   const Eigen::Vector2d v_world(std::cos(yaw) * n.vx_mps - std::sin(yaw) * n.vy_mps,
                                 std::sin(yaw) * n.vx_mps + std::cos(yaw) * n.vy_mps);
-  if (!vision_holding && n.control_state != kLandedState) {
+  if (!vision_holding && n.control_state != control_state::kLanded) {
     const DriftBoundSettings& d = config_.drift_bound;
     const double dropout = dropout_.in_dropout() ? d.dropout_mps : 0.0;
     drift_bound_m_ += gap * (d.velocity_bias_mps + d.velocity_scale * v_world.norm() + dropout);

@@ -84,10 +84,6 @@ constexpr const char* kCounterNames[kCounterCount] = {
 
 int source_index(LocalizationSource s) { return static_cast<int>(s); }
 
-// Navdata control states from 3 (flying, hovering, test, taking off, go-to, landing, looping) have
-// the motors on; 0-2 (default, init, landed) do not.
-constexpr int kFirstMotorsOnState = 3;
-
 Eigen::Vector3d scale_weights(const EstimatorConfig& c) {
   return {c.scale_weight_xy, c.scale_weight_xy, c.scale_weight_z};
 }
@@ -469,7 +465,7 @@ bool StateEstimator::add_navdata(const NavdataSample& n) {
   if (verdict == Impl::NavdataTime::AfterGap && std::isfinite(m.last_navdata_t)) m.bridge_gap(m.last_navdata_t, t_meas);
   m.last_navdata_t = n.t;
   m.last_navdata_sequence = n.sequence;
-  m.last_navdata_airborne = n.control_state >= kFirstMotorsOnState;
+  m.last_navdata_airborne = control_state::motors_on(n.control_state);
   m.latest_input_t = std::max(m.latest_input_t, n.t);
   if (m.navdata.full()) {
     m.count(kNavdataOverflow);

@@ -56,7 +56,7 @@ class FlightCore {
     return {false, "instrument '" + id + "': this flight software cannot remove instruments"};
   }
   // FlightService::set_down_on_platform, on the flight thread.
-  virtual CommandVerdict set_down_on_platform(Seconds) { return {false, "this flight software cannot be told where the drone is"}; }
+  virtual CommandVerdict set_down_on_platform() { return {false, "this flight software cannot be told where the drone is"}; }
 };
 
 }  // namespace labo::server

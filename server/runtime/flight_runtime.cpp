@@ -171,7 +171,7 @@ CommandVerdict FlightRuntime::remove_instrument(const std::string& id) {
 
 CommandVerdict FlightRuntime::set_down_on_platform() {
   const Seconds t = clock_.now();
-  const CommandVerdict verdict = change_lab([t](FlightCore& core) { return core.set_down_on_platform(t); });
+  const CommandVerdict verdict = change_lab([](FlightCore& core) { return core.set_down_on_platform(); });
   if (verdict.accepted) log_.info(t, "the drone was set on its platform");
   return verdict;
 }

@@ -84,8 +84,8 @@ CommandVerdict FlightStackCore::remove_instrument(const std::string& id) {
   return {result.accepted, result.reason};
 }
 
-CommandVerdict FlightStackCore::set_down_on_platform(Seconds t) {
-  const control::CommandResult result = stack_->set_down_on_platform(t);
+CommandVerdict FlightStackCore::set_down_on_platform() {
+  const control::CommandResult result = stack_->set_down_on_platform();
   return {result.accepted, result.reason};
 }
 

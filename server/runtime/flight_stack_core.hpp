@@ -28,7 +28,7 @@ class FlightStackCore final : public FlightCore {
   std::vector<InstrumentSummary> instruments() const override;
   CommandVerdict add_instrument(const lab::InstrumentSpec& spec) override;
   CommandVerdict remove_instrument(const std::string& id) override;
-  CommandVerdict set_down_on_platform(Seconds t) override;
+  CommandVerdict set_down_on_platform() override;
 
   control::FlightStack& stack() { return *stack_; }
   // Where the drone truly is, asked at every tick and shown beside the estimate (the simulated lab

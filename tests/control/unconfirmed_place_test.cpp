@@ -64,7 +64,7 @@ TEST_CASE("control: a silence in flight, a landing elsewhere, then the drone set
     }
   };
   feed(3, 2.0);  // flying, as far as the navdata says (the autopilot was never asked to take off)
-  const CommandResult in_flight = stack.set_down_on_platform(t);
+  const CommandResult in_flight = stack.set_down_on_platform();
   CHECK_FALSE(in_flight.accepted);
   CHECK_THAT(in_flight.reason, Catch::Contains("reports its motors on (navdata control state 3)"));  // the autopilot never took off here
 
@@ -77,7 +77,7 @@ TEST_CASE("control: a silence in flight, a landing elsewhere, then the drone set
   CHECK_FALSE(refused.accepted);
   CHECK_THAT(refused.reason, Catch::Contains("not confirmed"));
 
-  const CommandResult set_down = stack.set_down_on_platform(t);
+  const CommandResult set_down = stack.set_down_on_platform();
   INFO(set_down.reason);
   CHECK(set_down.accepted);
   feed(2, 0.5);

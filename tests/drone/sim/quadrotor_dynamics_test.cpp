@@ -52,12 +52,12 @@ TEST_CASE("sim dynamics: take-off climbs to about 1 m above the platform and hov
   take_off(d);
   CHECK(d.state().t < 8.0);
   CHECK(d.state().position_m.z() - 0.10 == Approx(1.0).margin(0.06));
-  CHECK(control_state(d.state().phase) == 4);
+  CHECK(to_control_state(d.state().phase) == 4);
   run(d, 5.0);  // the firmware holds the height and the position
   CHECK(d.state().position_m.z() - 0.10 == Approx(1.0).margin(0.06));
   CHECK(d.state().position_m.head<2>().norm() < 0.05);
   d.land();
-  CHECK(control_state(d.state().phase) == 8);
+  CHECK(to_control_state(d.state().phase) == 8);
   for (int i = 0; i < 4000 && d.state().phase != FirmwarePhase::Landed; ++i) d.step();
   CHECK(d.state().phase == FirmwarePhase::Landed);
   CHECK(d.state().position_m.z() == Approx(0.10));

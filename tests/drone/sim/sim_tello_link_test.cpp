@@ -56,9 +56,9 @@ struct Rig {
   void take_off() {
     link->takeoff();
     const Seconds until = link->now() + 15.0;
-    while (link->now() < until && (rec.navdata.empty() || rec.navdata.back().control_state != tello::kControlHovering))
+    while (link->now() < until && (rec.navdata.empty() || rec.navdata.back().control_state != control_state::kHovering))
       run_to(link->now() + 0.1);
-    REQUIRE(rec.navdata.back().control_state == tello::kControlHovering);
+    REQUIRE(rec.navdata.back().control_state == control_state::kHovering);
   }
 };
 
@@ -81,7 +81,7 @@ TEST_CASE("sim tello link: SDK mode first, then the state at 10 Hz and the front
   for (std::size_t i = 1; i < rig.rec.navdata.size(); ++i)
     CHECK(rig.rec.navdata[i].t - rig.rec.navdata[i - 1].t == Approx(0.1).margin(1e-9));
   CHECK_FALSE(rig.rec.navdata.back().has_drone_time);  // the state string has no clock
-  CHECK(rig.rec.navdata.back().control_state == tello::kControlLanded);
+  CHECK(rig.rec.navdata.back().control_state == control_state::kLanded);
   REQUIRE_FALSE(rig.rec.states.empty());
   CHECK(rig.rec.states.back().first == LinkState::Connected);
   const LinkStatistics s = rig.link->statistics();
@@ -111,7 +111,7 @@ TEST_CASE("sim tello link: the state has the drone's resolution: whole degrees, 
     moving += n.vx_mps > 0;
   }
   CHECK(moving > 10);  // forward stick: flies forward (LaboDrone's signs through the Tello's)
-  CHECK(rig.rec.navdata.back().control_state == tello::kControlFlying);
+  CHECK(rig.rec.navdata.back().control_state == control_state::kFlying);
   // The sticks went out as whole percents and the drone flew them.
   CHECK(rig.link->drone_counters().get("rc_received") > 100);
   CHECK(rig.link->drone_counters().get("rc_malformed") == 0);
@@ -188,7 +188,7 @@ TEST_CASE("sim tello link: take-off, landing and the flight phase from the repli
   CHECK(rig.sim->truth().position_m.z() > 0.5);
   rig.link->land();
   rig.run_to(rig.link->now() + 10.0);
-  CHECK(rig.rec.navdata.back().control_state == tello::kControlLanded);
+  CHECK(rig.rec.navdata.back().control_state == control_state::kLanded);
   CHECK(rig.sim->truth().position_m.z() < 0.3);
   CHECK(rig.link->statistics().counters.at("tello_command_ok") == 4);  // command, streamon, takeoff, land
 }

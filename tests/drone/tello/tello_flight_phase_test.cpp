@@ -36,25 +36,25 @@ TEST_CASE("tello: take-off, flight and landing as the link commands them", "[tel
   TelloFlightPhase phase;
   double motors_s = 0;
   feed(phase, 0.0, 1.0, motors_s, false);
-  CHECK(phase.control_state() == kControlLanded);
+  CHECK(phase.control_state() == control_state::kLanded);
   phase.on_sent("takeoff", 1.0);
-  CHECK(phase.control_state() == kControlTakingOff);
+  CHECK(phase.control_state() == control_state::kTakingOff);
   feed(phase, 1.0, 5.0, motors_s, true);
-  CHECK(phase.control_state() == kControlTakingOff);  // until the drone says it is done
+  CHECK(phase.control_state() == control_state::kTakingOff);  // until the drone says it is done
   phase.on_outcome(outcome("takeoff", CommandOutcome::Result::Ok), 5.0);
-  CHECK(phase.control_state() == kControlHovering);
+  CHECK(phase.control_state() == control_state::kHovering);
   phase.on_sticks(false);
-  CHECK(phase.control_state() == kControlFlying);
+  CHECK(phase.control_state() == control_state::kFlying);
   phase.on_sticks(true);
   feed(phase, 5.0, 9.0, motors_s, true);
-  CHECK(phase.control_state() == kControlHovering);
+  CHECK(phase.control_state() == control_state::kHovering);
   phase.on_sent("land", 9.0);
-  CHECK(phase.control_state() == kControlLanding);
+  CHECK(phase.control_state() == control_state::kLanding);
   feed(phase, 9.0, 11.0, motors_s, true);
   phase.on_outcome(outcome("land", CommandOutcome::Result::Ok), 11.0);
-  CHECK(phase.control_state() == kControlLanded);
+  CHECK(phase.control_state() == control_state::kLanded);
   feed(phase, 11.0, 14.0, motors_s, false);
-  CHECK(phase.control_state() == kControlLanded);
+  CHECK(phase.control_state() == control_state::kLanded);
   CHECK(phase.unexpected_landings() == 0);
 }
 
@@ -70,7 +70,7 @@ TEST_CASE("tello: a landing nobody commanded is seen when the motors' time stops
   feed(phase, 10.0, 12.0, motors_s, false);
   CHECK(phase.airborne());  // within 2.5 s the time may just not have ticked yet
   feed(phase, 12.0, 14.0, motors_s, false);
-  CHECK(phase.control_state() == kControlLanded);
+  CHECK(phase.control_state() == control_state::kLanded);
   CHECK(phase.unexpected_landings() == 1);
 
   // A silence of the link is not a stop of the motors.
@@ -87,21 +87,21 @@ TEST_CASE("tello: a flight under way when the link connects, a failed take-off, 
   TelloFlightPhase phase;
   double motors_s = 100;
   feed(phase, 0.0, 0.5, motors_s, true);
-  CHECK(phase.control_state() == kControlLanded);  // one tick could be the last of a landing
+  CHECK(phase.control_state() == control_state::kLanded);  // one tick could be the last of a landing
   feed(phase, 0.5, 3.0, motors_s, true);
-  CHECK(phase.control_state() == kControlHovering);
+  CHECK(phase.control_state() == control_state::kHovering);
 
   TelloFlightPhase refused;
   refused.on_sent("takeoff", 0.0);
   refused.on_outcome(outcome("takeoff", CommandOutcome::Result::Error), 0.1);  // e.g. a low battery
-  CHECK(refused.control_state() == kControlLanded);
+  CHECK(refused.control_state() == control_state::kLanded);
 
   TelloFlightPhase cut;
   motors_s = 0;
   cut.on_sent("takeoff", 0.0);
   feed(cut, 0.0, 2.0, motors_s, true);
   cut.on_sent("emergency", 2.0);
-  CHECK(cut.control_state() == kControlLanded);
+  CHECK(cut.control_state() == control_state::kLanded);
   cut.on_outcome(outcome("takeoff", CommandOutcome::Result::Abandoned), 2.0);
-  CHECK(cut.control_state() == kControlLanded);
+  CHECK(cut.control_state() == control_state::kLanded);
 }

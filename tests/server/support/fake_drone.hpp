@@ -175,7 +175,7 @@ class ScriptedCore final : public FlightCore {
     }
   }
   // As the flight stack: refused while it flies, accepted on the ground.
-  CommandVerdict set_down_on_platform(Seconds) override {
+  CommandVerdict set_down_on_platform() override {
     if (flying_) return {false, "set-down: the drone is flying; land it, then set it on its platform"};
     return {true, "the drone was set on its platform: its place is the base's again"};
   }
