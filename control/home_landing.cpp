@@ -1,5 +1,7 @@
 #include "control/home_landing.hpp"
 
+#include <array>
+
 #include "core/frames.hpp"
 
 namespace labo::control {
@@ -11,6 +13,17 @@ constexpr double kLandedWaitS = 12.0;     // land sent; give up waiting after th
 // moment, and a climb or descent still under way ends below or above the hover height.
 constexpr double kSettledSpeedMps = 0.05;
 constexpr double kSettledAltitudeM = 0.1;
+
+// The platform not seen above the base: the estimate drifted more than the bottom camera's view
+// covers. The AR.Drone's (640 x 360, f 700 px) sees +-0.41 m along the heading and +-0.73 m across at
+// the 1.6-m return altitude, so the pattern looks 0.6 m ahead and behind first (the narrow axis),
+// then at the four corners 0.8 m aside: together about +-1.0 m along and +-1.5 m across. Offsets in
+// the base's frame (x along its heading, y to its left).
+constexpr std::array<std::array<double, 2>, 6> kSearchOffsetsM = {
+    {{0.6, 0.0}, {-0.6, 0.0}, {-0.6, 0.8}, {0.6, 0.8}, {0.6, -0.8}, {-0.6, -0.8}}};
+constexpr double kSearchFirstLookS = 3.0;  // above the base before the pattern starts
+constexpr double kSearchDwellS = 1.5;      // at each point: the detector's settle and a few frames
+constexpr double kSearchLegS = 5.0;        // a leg not reached by then looks from where it is
 
 // Where the bottom camera sees the platform, from where the drone is: not the estimator's placement
 // of it, which also leans on the lab file's and on the map's (the placement's pull put the drone
@@ -36,7 +49,11 @@ std::string HomeLanding::describe(Seconds t) const {
   switch (step_) {
     case Step::Climb: return "4 return: climbing to the return altitude";
     case Step::Travel: return "4 return: flying above the base";
-    case Step::FindPlatform: return "5 platform: searching with the bottom camera (" + format_seconds(t - since_) + " s)";
+    case Step::FindPlatform:
+      if (search_point_ < 0 || search_point_ >= static_cast<int>(kSearchOffsetsM.size()))
+        return "5 platform: searching with the bottom camera (" + format_seconds(t - since_) + " s)";
+      return "5 platform: searching around the base (look " + std::to_string(search_point_ + 1) + " of " +
+             std::to_string(kSearchOffsetsM.size()) + ", " + format_seconds(t - since_) + " s)";
     case Step::Centre: return "5 platform: hovering above its centre";
     case Step::Land: return "6 landing";
     case Step::Landed: return "6 landed on the platform";
@@ -73,6 +90,7 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
         ctx.camera = CameraId::Bottom;
         ctx.focus.platform = true;
         enter(Step::FindPlatform, ctx.t);
+        start_search(ctx.t);
       }
       break;
     }
@@ -84,11 +102,8 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
         platform_world_ = platform_as_seen(obs, ctx.pose);
         ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad}, ctx.t);
         enter(Step::Centre, ctx.t);
-      } else if (ctx.t - since_ > m.detect_timeout_s) {
-        // Not seen: land on the base position as estimated (reported, not hidden).
-        failure_ = "landing platform not found in " + format_seconds(m.detect_timeout_s) + " s; landing at the estimated base";
-        ctx.phase_action = ctx.autopilot.land(ctx.t);
-        enter(Step::Land, ctx.t);
+      } else {
+        search(ctx, base);
       }
       break;
     }
@@ -129,6 +144,31 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
     case Step::Failed:
       break;
   }
+}
+
+void HomeLanding::search(MissionContext& ctx, const Eigen::Vector3d& base) {
+  const auto points = static_cast<int>(kSearchOffsetsM.size());
+  if (dwell_since_ < 0 && (ctx.autopilot.reached() || ctx.t - leg_since_ > kSearchLegS)) dwell_since_ = ctx.t;
+  const double dwell_s = search_point_ < 0 ? kSearchFirstLookS : kSearchDwellS;
+  if (dwell_since_ < 0 || ctx.t - dwell_since_ < dwell_s) return;
+  if (search_point_ >= points) {
+    // Not seen anywhere: land on the base as estimated (reported, not hidden).
+    failure_ = "landing platform not found above the base nor " + std::to_string(points) + " looks around it in " +
+               format_seconds(ctx.t - since_) + " s; landing at the estimated base";
+    ctx.phase_action = ctx.autopilot.land(ctx.t);
+    enter(Step::Land, ctx.t);
+    return;
+  }
+  ++search_point_;
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();  // the last leg: back above the base
+  if (search_point_ < points) {
+    const auto& o = kSearchOffsetsM[static_cast<std::size_t>(search_point_)];
+    offset = Eigen::Rotation2Dd(ctx.lab.base_yaw_rad) * Eigen::Vector2d(o[0], o[1]);
+  }
+  const auto& m = ctx.config.mission;
+  ctx.autopilot.go_to({{base.x() + offset.x(), base.y() + offset.y(), m.return_altitude_m}, ctx.lab.base_yaw_rad}, ctx.t);
+  leg_since_ = ctx.t;
+  dwell_since_ = -1;
 }
 
 }  // namespace labo::control

@@ -1,7 +1,8 @@
 #pragma once
 // Return to the base and land on the charging platform: the paper's stages 4-6, shared by the inspect
 // mission and return-home. Climb to the return altitude where the drone is, fly above the base (SLAM
-// feedback), switch to the bottom camera and find the platform, hover above its centre, land.
+// feedback), switch to the bottom camera and find the platform (searching around the base when it
+// is not in view there), hover above its centre, land.
 #include "control/mission.hpp"
 
 namespace labo::control {
@@ -28,6 +29,13 @@ class HomeLanding {
     centred_since_ = -1;
   }
   void step_now(MissionContext& ctx, const Eigen::Vector3d& here, double yaw, const Eigen::Vector3d& base);
+  void start_search(Seconds t) {
+    search_point_ = -1;
+    leg_since_ = t;
+    dwell_since_ = t;  // above the base already
+  }
+  // The platform not in view: the next look of the search pattern around the base, when due.
+  void search(MissionContext& ctx, const Eigen::Vector3d& base);
 
   Step step_ = Step::Climb;
   Seconds since_ = 0;
@@ -35,6 +43,10 @@ class HomeLanding {
   bool fresh_ = true;  // the step was just entered: set its target
   std::string failure_;
   Eigen::Vector3d platform_world_ = Eigen::Vector3d::Zero();
+  // FindPlatform's search: -1 above the base, then the pattern's points, then the base again.
+  int search_point_ = -1;
+  Seconds leg_since_ = 0;
+  Seconds dwell_since_ = -1;  // arrived at the point since then (-1: on the way)
 };
 
 }  // namespace labo::control

@@ -160,7 +160,9 @@ nlohmann::json to_json(const SoakSummary& s, const std::vector<std::string>& fai
             {"growth_percent", s.rss_growth_percent},
             {"net_of_slam_map", {{"warmup_peak_mib", s.net_warmup_peak_mib},
                                  {"after_warmup_peak_mib", s.net_after_peak_mib},
-                                 {"growth_percent", s.net_growth_percent}}},
+                                 {"growth_percent", s.net_growth_percent},
+                                 {"heap_in_use_warmup_peak_mib", s.in_use_net_warmup_peak_mib},
+                                 {"heap_in_use_after_warmup_peak_mib", s.in_use_net_after_peak_mib}}},
             {"slam_map_per_minute_mib", s.slam_map_per_minute_mib},
             {"per_minute_mib", s.rss_per_minute_mib},
             {"heap_in_use_per_minute_mib", s.heap_in_use_per_minute_mib},
@@ -211,7 +213,9 @@ std::string to_text(const SoakSummary& s, const std::vector<std::string>& failur
       << format(" (%.0f s), %.1f MiB after", s.warmup_s, s.rss_after_peak_mib)
       << format(", %.1f MiB at the end: growth %.2f %%", s.rss_final_mib, s.rss_growth_percent)
       << format("; without the SLAM map %.1f -> %.1f MiB", s.net_warmup_peak_mib, s.net_after_peak_mib)
-      << format(": growth %.2f %%\n", s.net_growth_percent);
+      << format(": growth %.2f %%", s.net_growth_percent)
+      << format(" (heap in use less the map: peak %.1f -> %.1f MiB)\n", s.in_use_net_warmup_peak_mib,
+                s.in_use_net_after_peak_mib);
   out << format("control ticks (last window): median %.1f ms, p99 %.1f ms\n", s.timing.tick_interval_ms.median,
                 s.timing.tick_interval_ms.p99);
   return out.str();

@@ -81,6 +81,10 @@ struct SoakSummary {
   // The same without the SLAM map: a map filling up to slam.max_keyframes is bounded growth the
   // warm-up may not cover (~0.4 MiB a keyframe); what is left is what a leak would show.
   double net_warmup_peak_mib = 0, net_after_peak_mib = 0, net_growth_percent = 0;
+  // The heap's live bytes less the map, their peaks in the same two spans: a peak of RSS that the
+  // live bytes share is a transient in use (a buffer, a solve); one they do not is memory the C
+  // library held after it was freed.
+  double in_use_net_warmup_peak_mib = 0, in_use_net_after_peak_mib = 0;
   std::vector<double> slam_map_per_minute_mib;
   std::vector<double> rss_per_minute_mib;  // the last sample of each minute: where the growth went
   // The same minutes as the heap sees them: in live allocations, and held from the kernel.

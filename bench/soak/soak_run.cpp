@@ -67,6 +67,8 @@ void summarise_memory(const std::vector<RssSample>& rss, double total_s, SoakSum
     s.slam_map_per_minute_mib[minute] = r.slam_map_mib;
     double& net_peak = r.t_s <= s.warmup_s ? s.net_warmup_peak_mib : s.net_after_peak_mib;
     net_peak = std::max(net_peak, r.mib - r.slam_map_mib);
+    double& in_use_peak = r.t_s <= s.warmup_s ? s.in_use_net_warmup_peak_mib : s.in_use_net_after_peak_mib;
+    in_use_peak = std::max(in_use_peak, r.heap_in_use_mib - r.slam_map_mib);
     s.rss_per_minute_mib[minute] = r.mib;
     s.heap_in_use_per_minute_mib[minute] = r.heap_in_use_mib;
     s.heap_held_per_minute_mib[minute] = r.heap_held_mib;

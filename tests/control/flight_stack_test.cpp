@@ -410,6 +410,49 @@ TEST_CASE("control: the landing centres on the platform as the camera sees it, n
   CHECK(f.world->drone.p.head<2>().norm() < 0.03);
 }
 
+// The estimate 0.7 m off along the heading when the drone comes home: above the base as estimated
+// the bottom camera (+-0.4 m along the heading at the return altitude) does not see the platform. The
+// search around the base finds it, and the landing centres on it as seen.
+TEST_CASE("control: the platform not in view above the base: the search around it finds it") {
+  ModelFlight f;
+  take_off(f);
+  REQUIRE(f.request(go(2.0, -1.0, 1.0)).accepted);
+  f.run(8.0);
+  f.world->estimate_offset = Eigen::Vector3d(0.7, 0.0, 0.0);
+  REQUIRE(f.request(req(control::RequestKind::ReturnHome)).accepted);
+  bool searched = false;
+  REQUIRE(f.run_until([&] {
+    searched = searched || f.stack->status().stage.find("searching around the base") != std::string::npos;
+    return f.stack->status().phase == control::FlightPhase::Landed;
+  }, 90.0));
+  INFO(f.stack->status().last_mission_result);
+  CHECK(searched);
+  CHECK(f.stack->status().last_mission_result.rfind("succeeded", 0) == 0);
+  CHECK(f.world->drone.p.head<2>().norm() < 0.05);
+}
+
+// Nowhere in sight: every look of the pattern, back above the base, landed there; the result says so.
+TEST_CASE("control: the platform seen nowhere around the base: landed at the estimated base, reported") {
+  ModelFlight f;
+  f.world->platform_visible = false;
+  take_off(f);
+  REQUIRE(f.request(go(2.0, -1.0, 1.0)).accepted);
+  f.run(8.0);
+  REQUIRE(f.request(req(control::RequestKind::ReturnHome)).accepted);
+  double farthest_m = 0;
+  REQUIRE(f.run_until([&] {
+    if (f.stack->status().stage.rfind("5 platform", 0) == 0) farthest_m = std::max(farthest_m, f.world->drone.p.head<2>().norm());
+    return f.stack->status().phase == control::FlightPhase::Landed;
+  }, 120.0));
+  const std::string result = f.stack->status().last_mission_result;
+  INFO(result);
+  CHECK_THAT(result, Catch::Contains("landing platform not found above the base nor 6 looks around it"));
+  CHECK(f.world->drone.p.head<2>().norm() < 0.15);
+  // The pattern's corners are 1.0 m from the base: it looked there and went no farther.
+  CHECK(farthest_m > 0.9);
+  CHECK(farthest_m < 1.2);
+}
+
 TEST_CASE("control: find teacher searches, follows the face and stops on request") {
   ModelFlight f;
   REQUIRE(f.request(req(control::RequestKind::FindTeacher)).accepted);
