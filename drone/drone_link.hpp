@@ -25,7 +25,7 @@ struct NavdataSample {
   Seconds t = 0;               // receive time on the link's clock
   std::uint32_t sequence = 0;
   std::uint32_t state = 0;     // the 32 state bits (ArdroneState in drone/ardrone2/)
-  int control_state = 0;       // major control state (ControlState below)
+  int control_state = 0;       // major control state (namespace control_state below)
   double battery_percent = 0;
   double roll_rad = 0;
   double pitch_rad = 0;

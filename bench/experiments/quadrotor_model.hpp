@@ -23,15 +23,15 @@ class QuadrotorModel {
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
   double yaw = 0, roll = 0, pitch = 0, yaw_rate = 0;
-  int control_state = 2;  // landed
+  int control_state = control_state::kLanded;
   double battery = 90;
   bool crashed = false;
 
   void takeoff() {
-    if (control_state == 2) { control_state = 6; phase_t_ = 0; }
+    if (control_state == control_state::kLanded) { control_state = control_state::kTakingOff; phase_t_ = 0; }
   }
   void land() {
-    if (control_state != 2) { control_state = 8; }
+    if (control_state != control_state::kLanded) { control_state = control_state::kLanding; }
   }
   // An external push (the paper's impulses): a velocity change in m/s, and a yaw-rate kick that turns
   // the drone by about `dyaw` rad before the onboard yaw-rate loop (0.2 s) absorbs it.
@@ -39,7 +39,7 @@ class QuadrotorModel {
     v += dv;
     yaw_rate += dyaw / 0.2;
   }
-  void emergency() { control_state = 2; v.setZero(); p.z() = 0; cmd_ = {}; }
+  void emergency() { control_state = control_state::kLanded; v.setZero(); p.z() = 0; cmd_ = {}; }
   void move(const MoveCommand& c) { cmd_ = c; hover_ = false; }
   void hover() { hover_ = true; }
 
@@ -48,15 +48,15 @@ class QuadrotorModel {
   void step(double dt) {
     phase_t_ += dt;
     MoveCommand c = cmd_;
-    if (control_state == 6) {  // take-off: climb to 0.7 m then hover
+    if (control_state == control_state::kTakingOff) {  // take-off: climb to 0.7 m then hover
       v.z() = p.z() < 0.7 ? 0.6 : 0.0;
-      if (p.z() >= 0.7 && phase_t_ > 1.5) control_state = 4;
+      if (p.z() >= 0.7 && phase_t_ > 1.5) control_state = control_state::kHovering;
       c = brake();
-    } else if (control_state == 8) {
+    } else if (control_state == control_state::kLanding) {
       v.z() = -0.5;
       c = brake();
-      if (p.z() <= 0.01) { control_state = 2; v.setZero(); p.z() = 0; }
-    } else if (control_state == 2) {
+      if (p.z() <= 0.01) { control_state = control_state::kLanded; v.setZero(); p.z() = 0; }
+    } else if (control_state == control_state::kLanded) {
       v.setZero();
       return;
     } else if (hover_) {
@@ -68,12 +68,12 @@ class QuadrotorModel {
     const double af = kG * std::tan(pitch), al = -kG * std::tan(roll);
     const Eigen::Vector2d acc(std::cos(yaw) * af - std::sin(yaw) * al, std::sin(yaw) * af + std::cos(yaw) * al);
     v.head<2>() += (acc - kDrag * v.head<2>()) * dt;
-    if (control_state == 3 || control_state == 4) {
+    if (control_state::follows_commands(control_state)) {
       const double b = 1 - std::exp(-dt / 0.3);
       v.z() += b * (std::clamp(c.gaz, -1.0, 1.0) * kMaxVz - v.z());
       const double y = 1 - std::exp(-dt / 0.2);
       yaw_rate += y * (std::clamp(c.yaw_rate, -1.0, 1.0) * kMaxYawRate - yaw_rate);
-      control_state = hover_ ? 4 : 3;
+      control_state = hover_ ? control_state::kHovering : control_state::kFlying;
     } else {
       yaw_rate = 0;
     }

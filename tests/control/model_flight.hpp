@@ -129,7 +129,7 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
   }
   fusion::SlamSummary slam() const override {
     fusion::SlamSummary s;
-    const bool up = world_->drone.control_state == 3 || world_->drone.control_state == 4;
+    const bool up = control_state::follows_commands(world_->drone.control_state);
     s.state = !focus_.slam ? fusion::SlamState::Off : (world_->slam_available && up ? fusion::SlamState::Good : fusion::SlamState::Initializing);
     s.scale_estimated = s.state == fusion::SlamState::Good;
     return s;
