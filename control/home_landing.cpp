@@ -24,6 +24,11 @@ constexpr std::array<std::array<double, 2>, 6> kSearchOffsetsM = {
 constexpr double kSearchFirstLookS = 3.0;  // above the base before the pattern starts
 constexpr double kSearchDwellS = 1.5;      // at each point: the detector's settle and a few frames
 constexpr double kSearchLegS = 5.0;        // a leg not reached by then looks from where it is
+// Centring, the platform out of view this long: the estimator's platform fixes can move the pose by
+// tens of centimetres in the first second after it is seen, and a centre target kept from before the
+// move points beside the platform. Search again from the corrected estimate, a bounded number of times.
+constexpr double kPlatformLostS = 1.0;
+constexpr int kMaxSearchRestarts = 2;
 
 // Where the bottom camera sees the platform, from where the drone is: not the estimator's placement
 // of it, which also leans on the lab file's and on the map's (the placement's pull put the drone
@@ -100,6 +105,7 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
       const fusion::TargetObservation obs = ctx.perception.platform();
       if (obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < 0.5 && ctx.t - since_ > kPlatformSettleS) {
         platform_world_ = platform_as_seen(obs, ctx.pose);
+        platform_seen_t_ = obs.t;
         ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad}, ctx.t);
         enter(Step::Centre, ctx.t);
       } else {
@@ -113,8 +119,14 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
         // Refine the platform's place while it is in view, moving the set point without a reset.
         const Eigen::Vector3d seen = platform_as_seen(obs, ctx.pose);
         platform_world_ = 0.9 * platform_world_ + 0.1 * seen;
+        platform_seen_t_ = obs.t;
         ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad},
                             ctx.t, false);
+      } else if (ctx.t - platform_seen_t_ > kPlatformLostS && search_restarts_ < kMaxSearchRestarts) {
+        ++search_restarts_;
+        enter(Step::FindPlatform, ctx.t);
+        restart_search(ctx, base);
+        break;
       }
       const double off_m = (here - platform_world_).head<2>().norm();
       const bool centred = off_m < m.landing_centre_tolerance_m &&
@@ -144,6 +156,14 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
     case Step::Failed:
       break;
   }
+}
+
+void HomeLanding::restart_search(MissionContext& ctx, const Eigen::Vector3d& base) {
+  const auto& m = ctx.config.mission;
+  ctx.autopilot.go_to({{base.x(), base.y(), m.return_altitude_m}, ctx.lab.base_yaw_rad}, ctx.t);
+  search_point_ = -1;
+  leg_since_ = ctx.t;
+  dwell_since_ = -1;  // on the way back above the base
 }
 
 void HomeLanding::search(MissionContext& ctx, const Eigen::Vector3d& base) {

@@ -13,6 +13,7 @@ class HomeLanding {
   void start(Seconds t) {
     enter(Step::Climb, t);
     fresh_ = true;
+    search_restarts_ = 0;
   }
   // Running until Landed (success) or Failed.
   Step step(MissionContext& ctx);
@@ -34,6 +35,8 @@ class HomeLanding {
     leg_since_ = t;
     dwell_since_ = t;  // above the base already
   }
+  // The platform lost while centring: back above the base as now estimated, and the search from there.
+  void restart_search(MissionContext& ctx, const Eigen::Vector3d& base);
   // The platform not in view: the next look of the search pattern around the base, when due.
   void search(MissionContext& ctx, const Eigen::Vector3d& base);
 
@@ -43,6 +46,8 @@ class HomeLanding {
   bool fresh_ = true;  // the step was just entered: set its target
   std::string failure_;
   Eigen::Vector3d platform_world_ = Eigen::Vector3d::Zero();
+  Seconds platform_seen_t_ = 0;  // Centre: the platform's last observation
+  int search_restarts_ = 0;      // Centre lost the platform and searched again this many times
   // FindPlatform's search: -1 above the base, then the pattern's points, then the base again.
   int search_point_ = -1;
   Seconds leg_since_ = 0;
