@@ -17,13 +17,68 @@ int count_kind(const SoakSummary& s, const std::string& kind) {
   return static_cast<int>(std::count_if(s.faults.begin(), s.faults.end(), [&](const FaultRecord& f) { return f.kind == kind; }));
 }
 
-std::string format(const char* fmt, double a, double b = 0) {
+std::string format(const char* fmt, double a, double b = 0, double c = 0, double d = 0) {
   char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, a, b);
+  std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
   return buf;
 }
 
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+// RSS less the SLAM map at its level in two spans: the warm-up's second half, by when every pool
+// and cache has been sized once, and the run's last quarter. A leak raises the second level.
+void summarise_memory_levels(const std::vector<RssSample>& rss, SoakSummary& s) {
+  if (rss.empty()) return;
+  const double end_from_s = 0.75 * rss.back().t_s;
+  std::vector<double> warmup, end;
+  for (const auto& r : rss) {
+    if (r.t_s > 0.5 * s.warmup_s && r.t_s <= s.warmup_s) warmup.push_back(r.mib - r.slam_map_mib);
+    if (r.t_s > s.warmup_s && r.t_s >= end_from_s) end.push_back(r.mib - r.slam_map_mib);
+  }
+  s.net_warmup_level_mib = median(warmup);
+  s.net_end_level_mib = median(end);
+  if (s.net_warmup_level_mib > 0 && s.net_end_level_mib > 0)
+    s.net_growth_percent = std::max(0.0, 100.0 * (s.net_end_level_mib / s.net_warmup_level_mib - 1.0));
+}
+
 }  // namespace
+
+// Memory after warm-up against the warm-up's: the first quarter of the soak (at most five minutes)
+// sizes every pool and cache once. Peaks are reported beside the levels the check judges.
+void summarise_memory(const std::vector<RssSample>& rss, double total_s, SoakSummary& s) {
+  s.rss_samples = static_cast<int>(rss.size());
+  s.warmup_s = std::min(300.0, 0.25 * total_s);
+  for (const auto& r : rss) {
+    const auto minute = static_cast<std::size_t>(r.t_s / 60.0);
+    if (s.rss_per_minute_mib.size() <= minute) {
+      s.rss_per_minute_mib.resize(minute + 1, 0.0);
+      s.heap_in_use_per_minute_mib.resize(minute + 1, 0.0);
+      s.heap_held_per_minute_mib.resize(minute + 1, 0.0);
+      s.slam_map_per_minute_mib.resize(minute + 1, 0.0);
+    }
+    s.slam_map_per_minute_mib[minute] = r.slam_map_mib;
+    double& net_peak = r.t_s <= s.warmup_s ? s.net_warmup_peak_mib : s.net_after_peak_mib;
+    net_peak = std::max(net_peak, r.mib - r.slam_map_mib);
+    double& in_use_peak = r.t_s <= s.warmup_s ? s.in_use_net_warmup_peak_mib : s.in_use_net_after_peak_mib;
+    in_use_peak = std::max(in_use_peak, r.heap_in_use_mib - r.slam_map_mib);
+    s.rss_per_minute_mib[minute] = r.mib;
+    s.heap_in_use_per_minute_mib[minute] = r.heap_in_use_mib;
+    s.heap_held_per_minute_mib[minute] = r.heap_held_mib;
+    double& peak = r.t_s <= s.warmup_s ? s.rss_warmup_peak_mib : s.rss_after_peak_mib;
+    peak = std::max(peak, r.mib);
+  }
+  if (!rss.empty()) s.rss_final_mib = rss.back().mib;
+  if (s.rss_warmup_peak_mib > 0 && s.rss_after_peak_mib > 0)
+    s.rss_growth_percent = std::max(0.0, 100.0 * (s.rss_after_peak_mib / s.rss_warmup_peak_mib - 1.0));
+  if (s.net_warmup_peak_mib > 0 && s.net_after_peak_mib > 0)
+    s.net_peak_growth_percent = std::max(0.0, 100.0 * (s.net_after_peak_mib / s.net_warmup_peak_mib - 1.0));
+  summarise_memory_levels(rss, s);
+}
 
 std::vector<std::string> service_failures(const SoakSummary& s, const SoakLimits& limits) {
   std::vector<std::string> f;
@@ -46,8 +101,9 @@ std::vector<std::string> service_failures(const SoakSummary& s, const SoakLimits
                 std::to_string(s.recording_reported_bytes));
   if (!s.replay_to_end) f.push_back("recording: the replay did not read it to its end (" + s.replay_error + ")");
   if (s.rss_samples < 2 || s.net_growth_percent > limits.rss_growth_percent)
-    f.push_back(format("memory grew %.1f %% after warm-up beyond the SLAM map's (limit %.1f %%)", s.net_growth_percent,
-                       limits.rss_growth_percent));
+    f.push_back(format("memory grew %.1f %% after warm-up beyond the SLAM map's (%.1f -> %.1f MiB, the median of RSS less "
+                       "the map over the warm-up's second half and over the last quarter; limit %.1f %%)",
+                       s.net_growth_percent, s.net_warmup_level_mib, s.net_end_level_mib, limits.rss_growth_percent));
   return f;
 }
 
@@ -158,9 +214,12 @@ nlohmann::json to_json(const SoakSummary& s, const std::vector<std::string>& fai
             {"after_warmup_peak_mib", s.rss_after_peak_mib},
             {"final_mib", s.rss_final_mib},
             {"growth_percent", s.rss_growth_percent},
-            {"net_of_slam_map", {{"warmup_peak_mib", s.net_warmup_peak_mib},
-                                 {"after_warmup_peak_mib", s.net_after_peak_mib},
+            {"net_of_slam_map", {{"warmup_level_mib", s.net_warmup_level_mib},
+                                 {"end_level_mib", s.net_end_level_mib},
                                  {"growth_percent", s.net_growth_percent},
+                                 {"warmup_peak_mib", s.net_warmup_peak_mib},
+                                 {"after_warmup_peak_mib", s.net_after_peak_mib},
+                                 {"peak_growth_percent", s.net_peak_growth_percent},
                                  {"heap_in_use_warmup_peak_mib", s.in_use_net_warmup_peak_mib},
                                  {"heap_in_use_after_warmup_peak_mib", s.in_use_net_after_peak_mib}}},
             {"slam_map_per_minute_mib", s.slam_map_per_minute_mib},
@@ -212,8 +271,9 @@ std::string to_text(const SoakSummary& s, const std::vector<std::string>& failur
   out << format("memory: RSS peak %.1f MiB during warm-up", s.rss_warmup_peak_mib)
       << format(" (%.0f s), %.1f MiB after", s.warmup_s, s.rss_after_peak_mib)
       << format(", %.1f MiB at the end: growth %.2f %%", s.rss_final_mib, s.rss_growth_percent)
-      << format("; without the SLAM map %.1f -> %.1f MiB", s.net_warmup_peak_mib, s.net_after_peak_mib)
-      << format(": growth %.2f %%", s.net_growth_percent)
+      << format("; without the SLAM map: level %.1f -> %.1f MiB, growth %.2f %%", s.net_warmup_level_mib,
+                s.net_end_level_mib, s.net_growth_percent)
+      << format(" (peak %.1f -> %.1f MiB, %.2f %%)", s.net_warmup_peak_mib, s.net_after_peak_mib, s.net_peak_growth_percent)
       << format(" (heap in use less the map: peak %.1f -> %.1f MiB)\n", s.in_use_net_warmup_peak_mib,
                 s.in_use_net_after_peak_mib);
   out << format("control ticks (last window): median %.1f ms, p99 %.1f ms\n", s.timing.tick_interval_ms.median,

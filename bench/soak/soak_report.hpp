@@ -16,6 +16,15 @@ namespace labo::bench {
 using server::RuntimeTimingSummary;
 
 
+struct RssSample {
+  double t_s = 0;
+  double mib = 0;
+  // The C library's heap: bytes in live allocations, and bytes it holds from the kernel (live or
+  // free). RSS growing with the first flat is memory freed but kept (fragmentation), not a leak.
+  double heap_in_use_mib = 0, heap_held_mib = 0;
+  double slam_map_mib = 0;  // the flight software's SLAM map: bounded by slam.max_keyframes
+};
+
 // One fault and the drone's state once it was over and the flight software had time to act.
 struct FaultRecord {
   std::string kind;        // link_cut, emulator_restart, low_battery
@@ -80,7 +89,11 @@ struct SoakSummary {
   double rss_growth_percent = 0;  // after-warm-up peak over the warm-up's peak
   // The same without the SLAM map: a map filling up to slam.max_keyframes is bounded growth the
   // warm-up may not cover (~0.4 MiB a keyframe); what is left is what a leak would show.
-  double net_warmup_peak_mib = 0, net_after_peak_mib = 0, net_growth_percent = 0;
+  double net_warmup_peak_mib = 0, net_after_peak_mib = 0, net_peak_growth_percent = 0;
+  // What the memory check judges: the level of RSS less the map, not its peaks (a peak is whichever
+  // mission was flying at a sample, a solve or a burst of frames in use). The median over the
+  // warm-up's second half against the median over the run's last quarter: a leak raises the second.
+  double net_warmup_level_mib = 0, net_end_level_mib = 0, net_growth_percent = 0;
   // The heap's live bytes less the map, their peaks in the same two spans: a peak of RSS that the
   // live bytes share is a transient in use (a buffer, a solve); one they do not is memory the C
   // library held after it was freed.
@@ -101,6 +114,9 @@ struct SoakLimits {
 
 // The checks of the service: the server stayed up, every fault was applied, clients got frames, the
 // recording is complete and replays, memory stayed flat.
+// The memory figures of the summary from the samples of a run of total_s seconds.
+void summarise_memory(const std::vector<RssSample>& rss, double total_s, SoakSummary& s);
+
 std::vector<std::string> service_failures(const SoakSummary& summary, const SoakLimits& limits);
 // The checks of the flight under the faults: the drone landed or held after each, never flew long
 // without a mission, landed at the end, never crashed, landed on the low battery.

@@ -51,36 +51,6 @@ Student log_admin_in(const AppConfig& config, unsigned short port) {
   throw std::runtime_error("soak: the configuration has no admin (server.users): nobody could set the drone down");
 }
 
-// Memory after warm-up against the warm-up's peak: the first quarter of the soak (at most five
-// minutes) sizes every pool and cache once; a leak shows as a later peak above it.
-void summarise_memory(const std::vector<RssSample>& rss, double total_s, SoakSummary& s) {
-  s.rss_samples = static_cast<int>(rss.size());
-  s.warmup_s = std::min(300.0, 0.25 * total_s);
-  for (const auto& r : rss) {
-    const auto minute = static_cast<std::size_t>(r.t_s / 60.0);
-    if (s.rss_per_minute_mib.size() <= minute) {
-      s.rss_per_minute_mib.resize(minute + 1, 0.0);
-      s.heap_in_use_per_minute_mib.resize(minute + 1, 0.0);
-      s.heap_held_per_minute_mib.resize(minute + 1, 0.0);
-      s.slam_map_per_minute_mib.resize(minute + 1, 0.0);
-    }
-    s.slam_map_per_minute_mib[minute] = r.slam_map_mib;
-    double& net_peak = r.t_s <= s.warmup_s ? s.net_warmup_peak_mib : s.net_after_peak_mib;
-    net_peak = std::max(net_peak, r.mib - r.slam_map_mib);
-    double& in_use_peak = r.t_s <= s.warmup_s ? s.in_use_net_warmup_peak_mib : s.in_use_net_after_peak_mib;
-    in_use_peak = std::max(in_use_peak, r.heap_in_use_mib - r.slam_map_mib);
-    s.rss_per_minute_mib[minute] = r.mib;
-    s.heap_in_use_per_minute_mib[minute] = r.heap_in_use_mib;
-    s.heap_held_per_minute_mib[minute] = r.heap_held_mib;
-    double& peak = r.t_s <= s.warmup_s ? s.rss_warmup_peak_mib : s.rss_after_peak_mib;
-    peak = std::max(peak, r.mib);
-  }
-  if (!rss.empty()) s.rss_final_mib = rss.back().mib;
-  if (s.rss_warmup_peak_mib > 0 && s.rss_after_peak_mib > 0)
-    s.rss_growth_percent = std::max(0.0, 100.0 * (s.rss_after_peak_mib / s.rss_warmup_peak_mib - 1.0));
-  if (s.net_warmup_peak_mib > 0 && s.net_after_peak_mib > 0)
-    s.net_growth_percent = std::max(0.0, 100.0 * (s.net_after_peak_mib / s.net_warmup_peak_mib - 1.0));
-}
 
 }  // namespace
 

@@ -150,6 +150,7 @@ void SoakScript::round(int index) {
   const std::uint64_t ended_before = client->view().missions_ended, safety_before = client->view().safety_events;
   const std::size_t low_record = faults_.size();
   if (low_battery) faults_.push_back({"low_battery", now(), 0, false, "", ""});
+  low_battery_round_ = low_battery;
   if (!issue(*client, command)) {
     ++refused_;
     results_.push_back(command.value("command", "") + " refused: " + client->view().last_ack_reason);
@@ -158,6 +159,7 @@ void SoakScript::round(int index) {
     fly(*client, mission, ended_before, safety_before);
   }
   land_if_flying(*client);
+  low_battery_round_ = false;
   if (low_battery) {
     FaultRecord& f = faults_[low_record];
     f.duration_s = now() - f.at_s;
@@ -268,7 +270,7 @@ void SoakScript::tick(SoakClient& client) {
 
 void SoakScript::apply_in_flight_faults() {
   // One fault at a time: the next waits until the drone has been looked at after the last.
-  if (flying_since_ < 0 || now() - flying_since_ < kFlightBeforeFault_s || !looks_.empty()) return;
+  if (flying_since_ < 0 || now() - flying_since_ < kFlightBeforeFault_s || !looks_.empty() || low_battery_round_) return;
   for (std::size_t i = 0; i < plan_.size(); ++i) {
     const PlannedFault& p = plan_[i];
     if (applied_[i] || p.kind == PlannedFault::Kind::LowBattery || p.due_s > now()) continue;

@@ -100,6 +100,9 @@ class SoakScript {
   std::shared_ptr<SoakClient> queued_;  // the next student, already waiting for control
   std::optional<DroneTruth> crash_;     // where to set the drone down after a crash
   double flying_since_ = -1;            // in this round, per the truth
+  // A round flown on the nearly empty battery: no other fault meanwhile, so that what ends its
+  // mission is the battery rule under test, not a link cut or restart landing it first.
+  bool low_battery_round_ = false;
   double last_heartbeat_ = 0;
   int next_command_id_ = 1;
   int rounds_ = 0, accepted_ = 0, succeeded_ = 0, refused_ = 0, battery_swaps_ = 0, set_downs_ = 0;

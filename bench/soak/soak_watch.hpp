@@ -21,14 +21,6 @@ using server::FlightService;
 using server::FlightTelemetry;
 
 
-struct RssSample {
-  double t_s = 0;
-  double mib = 0;
-  // The C library's heap: bytes in live allocations, and bytes it holds from the kernel (live or
-  // free). RSS growing with the first flat is memory freed but kept (fragmentation), not a leak.
-  double heap_in_use_mib = 0, heap_held_mib = 0;
-  double slam_map_mib = 0;  // the flight software's SLAM map: bounded by slam.max_keyframes
-};
 
 // VmRSS of this process in MiB (0 when /proc is not there).
 double resident_mib();

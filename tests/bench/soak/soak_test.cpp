@@ -98,6 +98,35 @@ TEST_CASE("soak checks: each check fails on a summary that breaks it", "[soak]")
   CHECK(fails_with(s, "no client received a frame"));
 }
 
+// The check judges levels, not peaks: a solve or a burst of frames at one sample is not growth, the
+// SLAM map filling up is bounded, and a leak raises the last quarter's level.
+TEST_CASE("soak checks: memory is judged by its levels: transient peaks and the SLAM map pass, a steady leak fails", "[soak]") {
+  auto run = [](double leak_mib_per_min) {
+    std::vector<RssSample> rss;
+    for (int i = 0; i <= 360; ++i) {  // 30 minutes, a sample every 5 s
+      const double t = 5.0 * i;
+      const double map = std::min(180.0, 0.1 * t);  // fills up over the first 30 minutes' half
+      const double transient = i % 37 == 0 ? 150.0 : 0.0;
+      rss.push_back({t, 360.0 + map + transient + leak_mib_per_min * t / 60.0, 250.0 + map, 300.0 + map, map});
+    }
+    SoakSummary s;
+    summarise_memory(rss, 1800.0, s);
+    return s;
+  };
+  const SoakSummary flat = run(0);
+  CHECK(flat.warmup_s == 300);
+  CHECK(flat.net_growth_percent < 0.1);
+  CHECK(flat.net_peak_growth_percent < 0.1);  // the same transient in both spans
+  CHECK(flat.rss_growth_percent > 20);        // the map
+  SoakSummary s = passing();
+  s.net_growth_percent = flat.net_growth_percent;
+  CHECK(soak_failures(s, SoakLimits{}).empty());
+  const SoakSummary leaking = run(1.0);  // 1 MiB a minute: ~6 % over the last 22 minutes
+  CHECK(leaking.net_growth_percent > 5);
+  s.net_growth_percent = leaking.net_growth_percent;
+  CHECK(fails_with(s, "memory grew"));
+}
+
 TEST_CASE("soak report: a crash is reported with the flight before it, the estimate beside the truth", "[soak]") {
   SoakSummary s = passing();
   s.crashes = 1;
