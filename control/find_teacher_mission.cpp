@@ -304,16 +304,7 @@ void FindTeacherMission::follow_estimate_corrections(const MissionContext& ctx) 
   // swing and the set point with it. The part of the estimate's displacement that its velocity does
   // not explain moves the track with it. Test "control: a correction of the drone's pose estimate is
   // not taken for the teacher's walk".
-  const Eigen::Vector3d p = ctx.pose.T_world_body.translation();
-  if (!ctx.pose.valid) {
-    have_last_pose_ = false;
-    return;
-  }
-  if (have_last_pose_ && ctx.t > last_tick_)
-    track_.shift(p - last_position_ - 0.5 * (last_velocity_ + ctx.pose.velocity_world) * (ctx.t - last_tick_));
-  have_last_pose_ = true;
-  last_position_ = p;
-  last_velocity_ = ctx.pose.velocity_world;
+  track_.shift(estimate_correction_.update(ctx.pose, ctx.t));
 }
 
 MissionOutcome FindTeacherMission::step(MissionContext& ctx) {

@@ -18,6 +18,7 @@
 // Ends on stop_face_follow (the drone hovers where it is) or when the search times out.
 #include <vector>
 
+#include "control/estimate_correction.hpp"
 #include "control/home_landing.hpp"
 #include "control/mission.hpp"
 #include "control/take_off_and_scale.hpp"
@@ -79,10 +80,7 @@ class FindTeacherMission final : public Mission {
   std::size_t viewpoint_ = 0;                // the next one flown to
   TakeOffAndScale init_;
   Seconds last_tick_ = 0;
-  // The pose estimate at the last tick (position, velocity): its corrections are not the teacher's walk.
-  bool have_last_pose_ = false;
-  Eigen::Vector3d last_position_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d last_velocity_ = Eigen::Vector3d::Zero();
+  EstimateCorrection estimate_correction_;  // the estimate's corrections are not the teacher's walk
   Seconds last_face_t_ = -1;
   Seconds last_posed_t_ = -1;  // the last face with its pose (not a followed head)
   TeacherTrack track_;

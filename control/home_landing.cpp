@@ -24,10 +24,10 @@ constexpr std::array<std::array<double, 2>, 6> kSearchOffsetsM = {
 constexpr double kSearchFirstLookS = 3.0;  // above the base before the pattern starts
 constexpr double kSearchDwellS = 1.5;      // at each point: the detector's settle and a few frames
 constexpr double kSearchLegS = 5.0;        // a leg not reached by then looks from where it is
-// Centring, the platform out of view this long: the estimator's platform fixes can move the pose by
-// tens of centimetres in the first second after it is seen, and a centre target kept from before the
-// move points beside the platform. Search again from the corrected estimate, a bounded number of times.
-constexpr double kPlatformLostS = 1.0;
+// Centring, the platform out of view this long: the drone holds a place the platform is not under (a
+// drift the estimate did not see), not a few frames the tracker refused. Search again from the
+// estimate, a bounded number of times.
+constexpr double kPlatformLostS = 3.0;
 constexpr int kMaxSearchRestarts = 2;
 
 // Where the bottom camera sees the platform, from where the drone is: not the estimator's placement
@@ -74,6 +74,8 @@ HomeLanding::Step HomeLanding::step(MissionContext& ctx) {
   ctx.focus.instrument_id.clear();
   ctx.focus.face = false;
   const Step before = step_;
+  const Eigen::Vector3d correction = estimate_correction_.update(ctx.pose, ctx.t);
+  if (step_ == Step::Centre) platform_world_.head<2>() += correction.head<2>();
   step_now(ctx, here, yaw, base);
   fresh_ = step_ != before;
   return step_;
@@ -114,20 +116,20 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
       break;
     }
     case Step::Centre: {
+      // The platform's place is kept in the estimate's frame (moved with its corrections, step()),
+      // refined while it is in view; the set point follows it without a reset.
       const fusion::TargetObservation obs = ctx.perception.platform();
       if (obs.state == fusion::TrackState::Tracking && ctx.t - obs.t < 0.5) {
-        // Refine the platform's place while it is in view, moving the set point without a reset.
-        const Eigen::Vector3d seen = platform_as_seen(obs, ctx.pose);
-        platform_world_ = 0.9 * platform_world_ + 0.1 * seen;
+        platform_world_ = 0.9 * platform_world_ + 0.1 * platform_as_seen(obs, ctx.pose);
         platform_seen_t_ = obs.t;
-        ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad},
-                            ctx.t, false);
       } else if (ctx.t - platform_seen_t_ > kPlatformLostS && search_restarts_ < kMaxSearchRestarts) {
         ++search_restarts_;
         enter(Step::FindPlatform, ctx.t);
         restart_search(ctx, base);
         break;
       }
+      ctx.autopilot.go_to({{platform_world_.x(), platform_world_.y(), m.platform_hover_altitude_m}, ctx.lab.base_yaw_rad},
+                          ctx.t, false);
       const double off_m = (here - platform_world_).head<2>().norm();
       const bool centred = off_m < m.landing_centre_tolerance_m &&
                            ctx.pose.velocity_world.head<2>().norm() < kSettledSpeedMps &&

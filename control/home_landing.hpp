@@ -3,6 +3,7 @@
 // mission and return-home. Climb to the return altitude where the drone is, fly above the base (SLAM
 // feedback), switch to the bottom camera and find the platform (searching around the base when it
 // is not in view there), hover above its centre, land.
+#include "control/estimate_correction.hpp"
 #include "control/mission.hpp"
 
 namespace labo::control {
@@ -45,7 +46,8 @@ class HomeLanding {
   Seconds centred_since_ = -1;  // Centre: settled above the platform's centre since then (-1: not)
   bool fresh_ = true;  // the step was just entered: set its target
   std::string failure_;
-  Eigen::Vector3d platform_world_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d platform_world_ = Eigen::Vector3d::Zero();  // Centre: in the estimate's frame
+  EstimateCorrection estimate_correction_;
   Seconds platform_seen_t_ = 0;  // Centre: the platform's last observation
   int search_restarts_ = 0;      // Centre lost the platform and searched again this many times
   // FindPlatform's search: -1 above the base, then the pattern's points, then the base again.
