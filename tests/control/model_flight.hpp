@@ -25,6 +25,9 @@ struct ModelWorld {
   // The pipelines' placement of the platform in the world (as the estimator's landmark), off by this;
   // nullopt: not placed. The observation's offset from the body is the camera's, always true.
   std::optional<Eigen::Vector3d> platform_placement_error;
+  // The platform as the bottom camera sees it, shifted by this in the world (a camera off its
+  // calibration, a jittering homography).
+  Eigen::Vector3d platform_seen_shift_m = Eigen::Vector3d::Zero();
   double position_sigma_m = 0;  // the uncertainty the estimate reports
   double drift_bound_m = 0;     // ... and its dead-reckoning drift bound
   double airborne_since = -1;
@@ -95,7 +98,9 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
     fusion::TargetObservation o;
     if (!focus_.platform) return o;
     const Eigen::Isometry3d T_world_cam = world_->drone.pose() * T_body_cam_bottom();
-    o.T_cam_target = T_world_cam.inverse() * lab_.platform.T_world_object;
+    Eigen::Isometry3d T_world_seen = lab_.platform.T_world_object;
+    T_world_seen.translation() += world_->platform_seen_shift_m;
+    o.T_cam_target = T_world_cam.inverse() * T_world_seen;
     const Eigen::Vector3d p = o.T_cam_target.translation();
     o.state = world_->platform_visible && p.z() > 0.2 && std::abs(p.x() / p.z()) < 0.45 && std::abs(p.y() / p.z()) < 0.25
                   ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
