@@ -431,27 +431,43 @@ TEST_CASE("control: the platform not in view above the base: the search around i
   CHECK(f.world->drone.p.head<2>().norm() < 0.05);
 }
 
+namespace {
+
+// Out to (2, -1) and home again until the drone hovers above the platform, its estimate off by
+// `offset` from the moment it heads home.
+void fly_home_to_centring(ModelFlight& f, const Eigen::Vector3d& offset = Eigen::Vector3d::Zero()) {
+  take_off(f);
+  REQUIRE(f.request(go(2.0, -1.0, 1.0)).accepted);
+  f.run(8.0);
+  f.world->estimate_offset = offset;
+  REQUIRE(f.request(req(control::RequestKind::ReturnHome)).accepted);
+  REQUIRE(f.run_until([&] { return f.stack->status().stage == "5 platform: hovering above its centre"; }, 90.0));
+}
+
+// On to the landing: whether the platform was searched for again on the way.
+bool land_noting_a_new_search(ModelFlight& f) {
+  bool searched_again = false;
+  REQUIRE(f.run_until([&] {
+    searched_again = searched_again || f.stack->status().stage.rfind("5 platform: searching", 0) == 0;
+    return f.stack->status().phase == control::FlightPhase::Landed;
+  }, 90.0));
+  return searched_again;
+}
+
+}  // namespace
+
 // The estimator's platform fixes move its pose right after the platform is first seen (seed 76 of the
 // randomized campaign: 0.5 m in a second) and the bottom camera's tracker may lose the platform in
 // the jerk that follows. The centre target moves with the estimate's correction: kept in the old
 // frame, it pointed 0.5 m beside the platform, the drone flew there and landed there.
 TEST_CASE("control: the estimate corrected while centring on the platform: the target moves with it") {
   ModelFlight f;
-  take_off(f);
-  REQUIRE(f.request(go(2.0, -1.0, 1.0)).accepted);
-  f.run(8.0);
-  f.world->estimate_offset = Eigen::Vector3d(0.7, 0.0, 0.0);
-  REQUIRE(f.request(req(control::RequestKind::ReturnHome)).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().stage == "5 platform: hovering above its centre"; }, 90.0));
+  fly_home_to_centring(f, Eigen::Vector3d(0.7, 0.0, 0.0));
   f.world->estimate_offset = Eigen::Vector3d::Zero();
   f.world->platform_visible = false;
   f.run(2.0);
   f.world->platform_visible = true;
-  bool searched_again = false;
-  REQUIRE(f.run_until([&] {
-    searched_again = searched_again || f.stack->status().stage.rfind("5 platform: searching", 0) == 0;
-    return f.stack->status().phase == control::FlightPhase::Landed;
-  }, 60.0));
+  const bool searched_again = land_noting_a_new_search(f);
   INFO(f.stack->status().last_mission_result);
   CHECK_FALSE(searched_again);
   CHECK(f.stack->status().last_mission_result.rfind("succeeded", 0) == 0);
@@ -463,11 +479,7 @@ TEST_CASE("control: the estimate corrected while centring on the platform: the t
 // nearly centred, before the timeout, rather than from wherever the timeout finds it.
 TEST_CASE("control: a platform seen jittering beyond the centring tolerance: landed nearly centred before the timeout") {
   ModelFlight f;
-  take_off(f);
-  REQUIRE(f.request(go(1.5, -0.5, 1.0)).accepted);
-  f.run(6.0);
-  REQUIRE(f.request(req(control::RequestKind::ReturnHome)).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().stage == "5 platform: hovering above its centre"; }, 90.0));
+  fly_home_to_centring(f);
   const double centring_from = f.t;
   double side = 1;
   double last_flip = f.t;
@@ -493,21 +505,13 @@ TEST_CASE("control: a platform seen jittering beyond the centring tolerance: lan
 // drone holds the platform's place as estimated, the platform is not below it, and it searches again.
 TEST_CASE("control: the platform lost while centring, the estimate unaware: searched again, landed on it") {
   ModelFlight f;
-  take_off(f);
-  REQUIRE(f.request(go(2.0, -1.0, 1.0)).accepted);
-  f.run(8.0);
-  REQUIRE(f.request(req(control::RequestKind::ReturnHome)).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().stage == "5 platform: hovering above its centre"; }, 90.0));
+  fly_home_to_centring(f);
   f.world->platform_visible = false;
   f.world->drone.p.x() += 0.6;
   f.world->estimate_offset.x() -= 0.6;
   f.run(0.5);
   f.world->platform_visible = true;
-  bool searched_again = false;
-  REQUIRE(f.run_until([&] {
-    searched_again = searched_again || f.stack->status().stage.rfind("5 platform: searching", 0) == 0;
-    return f.stack->status().phase == control::FlightPhase::Landed;
-  }, 90.0));
+  const bool searched_again = land_noting_a_new_search(f);
   INFO(f.stack->status().last_mission_result);
   CHECK(searched_again);
   CHECK(f.stack->status().last_mission_result.rfind("succeeded", 0) == 0);
