@@ -176,8 +176,7 @@ void HomeLanding::step_now(MissionContext& ctx, const Eigen::Vector3d& here, dou
 void HomeLanding::restart_search(MissionContext& ctx, const Eigen::Vector3d& base) {
   const auto& m = ctx.config.mission;
   ctx.autopilot.go_to({{base.x(), base.y(), m.return_altitude_m}, ctx.lab.base_yaw_rad}, ctx.t);
-  search_point_ = -1;
-  leg_since_ = ctx.t;
+  start_search(ctx.t);
   dwell_since_ = -1;  // on the way back above the base
 }
 

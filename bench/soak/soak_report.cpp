@@ -100,7 +100,10 @@ std::vector<std::string> service_failures(const SoakSummary& s, const SoakLimits
     f.push_back("recording: " + std::to_string(s.recording_file_bytes) + " bytes on disk, the writer reported " +
                 std::to_string(s.recording_reported_bytes));
   if (!s.replay_to_end) f.push_back("recording: the replay did not read it to its end (" + s.replay_error + ")");
-  if (s.rss_samples < 2 || s.net_growth_percent > limits.rss_growth_percent)
+  if (s.rss_samples < 2 || s.net_warmup_level_mib <= 0 || s.net_end_level_mib <= 0)
+    f.push_back("memory: too few samples to judge its level (" + std::to_string(s.rss_samples) +
+                " samples; needed some in the warm-up's second half and in the last quarter)");
+  else if (s.net_growth_percent > limits.rss_growth_percent)
     f.push_back(format("memory grew %.1f %% after warm-up beyond the SLAM map's (%.1f -> %.1f MiB, the median of RSS less "
                        "the map over the warm-up's second half and over the last quarter; limit %.1f %%)",
                        s.net_growth_percent, s.net_warmup_level_mib, s.net_end_level_mib, limits.rss_growth_percent));

@@ -112,11 +112,11 @@ struct SoakLimits {
   int link_cuts = 2, emulator_restarts = 1, low_battery = 1;
 };
 
-// The checks of the service: the server stayed up, every fault was applied, clients got frames, the
-// recording is complete and replays, memory stayed flat.
 // The memory figures of the summary from the samples of a run of total_s seconds.
 void summarise_memory(const std::vector<RssSample>& rss, double total_s, SoakSummary& s);
 
+// The checks of the service: the server stayed up, every fault was applied, clients got frames, the
+// recording is complete and replays, memory stayed flat.
 std::vector<std::string> service_failures(const SoakSummary& summary, const SoakLimits& limits);
 // The checks of the flight under the faults: the drone landed or held after each, never flew long
 // without a mission, landed at the end, never crashed, landed on the low battery.

@@ -51,7 +51,6 @@ Student log_admin_in(const AppConfig& config, unsigned short port) {
   throw std::runtime_error("soak: the configuration has no admin (server.users): nobody could set the drone down");
 }
 
-
 }  // namespace
 
 SoakSummary run_soak(const SoakOptions& o) {

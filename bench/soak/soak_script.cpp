@@ -190,9 +190,7 @@ bool SoakScript::issue(SoakClient& client, const nlohmann::json& command) {
     // (it was still coming down): the lab does what it does between rounds.
     const DroneTruth truth = server_.drone().truth();
     const double unobserved_s = server_.flight().telemetry().unobserved_flight_s;
-    if (v.last_ack_id == id && v.last_ack_reason.find("place is not confirmed") != std::string::npos && !truth.airborne &&
-        unobserved_s > 0)
-      set_on_platform(truth, unobserved_s);
+    if (v.last_ack_id == id && !truth.airborne && unobserved_s > 0) set_on_platform(truth, unobserved_s);
     pause(2);
   }
   return false;

@@ -20,8 +20,6 @@ namespace labo::bench {
 using server::FlightService;
 using server::FlightTelemetry;
 
-
-
 // VmRSS of this process in MiB (0 when /proc is not there).
 double resident_mib();
 // `sample` with the heap's two figures filled in (mallinfo2, every arena).

@@ -28,6 +28,8 @@ SoakSummary passing() {
   s.replay_to_end = true;
   s.rss_samples = 10;
   s.rss_growth_percent = 1;
+  s.net_warmup_level_mib = 400;
+  s.net_end_level_mib = 404;
   s.net_growth_percent = 1;
   return s;
 }
@@ -90,6 +92,9 @@ TEST_CASE("soak checks: each check fails on a summary that breaks it", "[soak]")
   s = passing();
   s.net_growth_percent = 5.5;
   CHECK(fails_with(s, "memory grew 5.5 % after warm-up beyond the SLAM map's"));
+  s = passing();
+  s.net_end_level_mib = 0;  // no sample after warm-up: nothing to judge, not a pass
+  CHECK(fails_with(s, "memory: too few samples to judge its level"));
   s = passing();
   s.rss_growth_percent = 40;  // all of it the SLAM map filling up: bounded, not a leak
   CHECK(soak_failures(s, SoakLimits{}).empty());
