@@ -49,6 +49,7 @@ FaceConfig read_face_config(const ConfigReader& node, const std::filesystem::pat
   c.frontal_view = node.boolean_or("frontal_view", c.frontal_view);
   c.surface_landmarks = node.boolean_or("surface_landmarks", c.surface_landmarks);
   c.head_tracking = node.boolean_or("head_tracking", c.head_tracking);
+  c.restart_unfit_tracked_frames = node.boolean_or("restart_unfit_tracked_frames", c.restart_unfit_tracked_frames);
   c.start_view_passes = node.integer_or("start_view_passes", c.start_view_passes, 1, 20);
   c.start_mirror_yaw_rad = node.number_or("start_mirror_yaw_deg", 0.0, Range::closed(0, 90)) * kDeg;
   c.redetect_every_n_frames = node.integer_or("redetect_every_n_frames", c.redetect_every_n_frames, 1, 1000);

@@ -75,6 +75,10 @@ struct FaceConfig {
   // Off: its distance, read from the head patch's scale, drifts, and flying on it collided with the
   // teacher (docs/face.md, "Between posed faces: the head").
   bool head_tracking = false;
+  // A tracked frame whose landmarks do not fit is made again as a track's first frame (iterated,
+  // mirrored views). Off: in flight it keeps a face turned 35-50° on more frames, but neither the
+  // face-follow campaign nor the face benchmark gained (docs/face.md, Design choices).
+  bool restart_unfit_tracked_frames = false;
   std::vector<double> lost_search_scales{0.5, 1.0, 2.0};  // cycled over frames while lost
   ShapeFitOptions shape_fit;
   double frontal_max_angle_rad = 0.26;    // a registration picture must be within 15° of frontal

@@ -432,6 +432,34 @@ const cv::Mat& FacePoseEstimator::mirror_far_side(double yaw, double mirror, dou
   return mirrored_;
 }
 
+FaceLostReason FacePoseEstimator::pose_landmarks(const cv::Mat& gray, const Candidate& candidate, FaceResult& result,
+                                                 Eigen::Matrix2Xd& lm, std::optional<FacePoseEstimate>& estimate) {
+  double start = process_cpu_seconds();
+  detect_landmarks(gray, candidate, lm);
+  result.timings.landmarks_ms += ms_since(start);
+  result.landmarks = lm;
+  result.box = candidate.box;
+
+  const auto& L = config_.limits;
+  for (int id : model_.landmark_ids()) {
+    if (!camera_.in_image(lm.col(id), L.border_margin_px)) return FaceLostReason::CutByBorder;
+  }
+  const double iod = interocular_px(lm);
+  if (iod < L.min_interocular_px) return FaceLostReason::TooSmall;
+
+  start = process_cpu_seconds();
+  problem_.points_face = points_face_;
+  problem_.pixels = ideal_pixels(lm);
+  set_landmark_weights(problem_);
+  result.landmark_weights = problem_.weights;
+  estimate = solver_.solve(problem_, std::max(iod / 60.0, 0.5));
+  result.timings.pose_ms += ms_since(start);
+  if (!estimate) return FaceLostReason::NoPose;
+  result.reprojection_rms_px = reprojection_rms(problem_, estimate->solution.T_cam_face);
+  if (result.reprojection_rms_px / iod > L.max_rms_per_interocular) return FaceLostReason::InconsistentLandmarks;
+  return FaceLostReason::None;
+}
+
 FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
   FaceResult result;
   result.t = t;
@@ -443,34 +471,27 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
   result.timings.detect_ms = ms_since(start);
   if (!candidate) return lose(result, result.reason);
 
-  start = process_cpu_seconds();
   box_relation_measured_ = false;
   Eigen::Matrix2Xd lm;
-  detect_landmarks(gray, *candidate, lm);
-  result.timings.landmarks_ms = ms_since(start);
-  result.landmarks = lm;
-  result.box = candidate->box;
+  std::optional<FacePoseEstimate> estimate;
+  FaceLostReason why = pose_landmarks(gray, *candidate, result, lm, estimate);
+  // A tracked frame's landmarks come from one frontal view made at the last pose, unmirrored; on a
+  // head turned 35-50° its far side is too foreshortened for them to fit, where a track's first frame
+  // (iterated views, the far side mirrored) still fits: in flight such faces were lost on every other
+  // frame, found again as a new track on the next. With restart_unfit_tracked_frames the frame is made
+  // again as a first frame (the motion checks below still hold it to the last pose).
+  if (why == FaceLostReason::InconsistentLandmarks && last_pose_ && frontal_ && config_.restart_unfit_tracked_frames) {
+    const std::optional<Eigen::Isometry3d> tracked = std::exchange(last_pose_, std::nullopt);
+    why = pose_landmarks(gray, *candidate, result, lm, estimate);
+    last_pose_ = tracked;
+    result.restarted = true;
+  }
+  if (why != FaceLostReason::None) return lose(result, why);
 
   const auto& L = config_.limits;
-  for (int id : model_.landmark_ids()) {
-    if (!camera_.in_image(lm.col(id), L.border_margin_px)) return lose(result, FaceLostReason::CutByBorder);
-  }
-  const double iod = interocular_px(lm);
-  if (iod < L.min_interocular_px) return lose(result, FaceLostReason::TooSmall);
-
-  start = process_cpu_seconds();
-  problem_.points_face = points_face_;
-  problem_.pixels = ideal_pixels(lm);
-  set_landmark_weights(problem_);
-  result.landmark_weights = problem_.weights;
-  const auto estimate = solver_.solve(problem_, std::max(iod / 60.0, 0.5));
-  result.timings.pose_ms = ms_since(start);
-  if (!estimate) return lose(result, FaceLostReason::NoPose);
-
   const PnpSolution& s = estimate->solution;
-  result.reprojection_rms_px = reprojection_rms(problem_, s.T_cam_face);
+  const double iod = interocular_px(lm);
   const double rms_ratio = result.reprojection_rms_px / iod;
-  if (rms_ratio > L.max_rms_per_interocular) return lose(result, FaceLostReason::InconsistentLandmarks);
   result.angles = head_angles(s.T_cam_face.linear());
   if (std::abs(result.angles.yaw) > L.max_yaw_rad || std::abs(result.angles.pitch) > L.max_pitch_rad) {
     return lose(result, FaceLostReason::BeyondProfile);

@@ -58,6 +58,7 @@ struct FaceResult {
   double reprojection_rms_px = 0;     // rigid landmarks, undistorted pixels
   int faces_found = 0;                // by the detector this frame (-1 when it did not run)
   bool reinitialised = false;         // LM tracking fell back to EPnP
+  bool restarted = false;             // a tracked frame's landmarks did not fit: made again as a track's first
   Eigen::VectorXd landmark_weights;   // per model landmark, as used by the pose refinement (empty: equal)
   FaceTimings timings;
 
@@ -116,6 +117,10 @@ class FacePoseEstimator {
   double interocular_px(const Eigen::Matrix2Xd& landmarks68) const;
   void set_landmark_weights(PnpProblem& problem) const;
   void detect_landmarks(const cv::Mat& gray, const Candidate& candidate, Eigen::Matrix2Xd& lm);
+  // The candidate's landmarks, their checks and the pose they give (into `estimate`); the result's
+  // landmarks, weights, reprojection RMS and stage times filled in. None when they serve, else why not.
+  FaceLostReason pose_landmarks(const cv::Mat& gray, const Candidate& candidate, FaceResult& result, Eigen::Matrix2Xd& lm,
+                                std::optional<FacePoseEstimate>& estimate);
   // The landmarks found on a frontal view of the face made at `T_cam_face` (moved by `shift` px);
   // false (lm and view_weights_ untouched) when the view is off or cannot be made for this candidate.
   // On a track's first frame (`start`) a turned face's far side is mirrored (start_mirror_yaw) and

@@ -104,7 +104,8 @@ TEST_CASE("face: config and person files are validated") {
       {R"({"start_view_passes": 21})", "start_view_passes"},
       {R"({"start_mirror_yaw_deg": -5})", "start_mirror_yaw_deg"},
       {R"({"start_mirror_yaw_deg": 95})", "start_mirror_yaw_deg"},
-      {R"({"head_tracking": "yes"})", "head_tracking"}};
+      {R"({"head_tracking": "yes"})", "head_tracking"},
+      {R"({"restart_unfit_tracked_frames": 1})", "restart_unfit_tracked_frames"}};
   for (const auto& [text, key] : bad_refinements) {
     const auto d = ConfigDocument::parse(text, "test.json");
     CHECK_THROWS_WITH(read_face_config(d.root(), "."), Catch::Contains(key));
@@ -115,6 +116,9 @@ TEST_CASE("face: config and person files are validated") {
   CHECK(c.solver.method == PnpMethod::EpnpLm);
   CHECK_FALSE(c.head_tracking);
   CHECK(read_face_config(ConfigDocument::parse(R"({"head_tracking": true})", "test.json").root(), ".").head_tracking);
+  CHECK_FALSE(c.restart_unfit_tracked_frames);
+  CHECK(read_face_config(ConfigDocument::parse(R"({"restart_unfit_tracked_frames": true})", "t.json").root(), ".")
+            .restart_unfit_tracked_frames);
   CHECK(c.limits.max_start_yaw_rad == Approx(35 * kDeg));
   CHECK(c.interpupillary_distance_m == Approx(0.060));
 

@@ -4,57 +4,19 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/frames.hpp"
-#include "drone/sim/lab_renderer.hpp"
 #include "localization/face/head_tracker.hpp"
-#include "localization/face/teacher_head.hpp"
 #include "localization/fusion/face_front_end.hpp"
+#include "teacher_scene.hpp"
 
 using namespace labo;
 using namespace labo::lab;
 using namespace labo::sim;
 using namespace labo::face;
+using labo::face::testing::TeacherScene;
 
 namespace {
 
 constexpr double kFps = 30.0;
-
-// The simulated lab with its teacher, rendered sharp, and a drone hovering still: the camera fixed
-// at `camera_at` looking along +x. The teacher stands at `at` facing `yaw` (world).
-struct TeacherScene {
-  LabDescription lab = load_lab_description(default_lab_path());
-  LabRenderer renderer{lab, ardrone2_cameras(), load_lab_teacher_head(lab), 1, sharp()};
-  Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
-  Eigen::Vector3d camera_at = Eigen::Vector3d::Zero();
-
-  static LabRenderOptions sharp() {
-    LabRenderOptions o;
-    o.motion_blur = false;
-    o.noise = false;
-    return o;
-  }
-
-  SceneState scene(const Eigen::Vector2d& at, double yaw) const {
-    SceneState s;
-    const Eigen::Vector3d f(std::cos(yaw), std::sin(yaw), 0.0), up = Eigen::Vector3d::UnitZ();
-    s.teacher_floor_xy = at;
-    s.T_world_head.linear().col(0) = up.cross(f);
-    s.T_world_head.linear().col(1) = up;
-    s.T_world_head.linear().col(2) = f;
-    s.T_world_head.translation() = Eigen::Vector3d(at.x(), at.y(), lab.teacher.eye_height_m);
-    s.T_world_body = make_pose(camera_at - T_body_cam_front().translation().x() * Eigen::Vector3d::UnitX(), 0.0);
-    return s;
-  }
-  // The face's pose in the camera (face/ convention: z out of the face).
-  Eigen::Isometry3d T_cam_face(const SceneState& s) const {
-    return (s.T_world_body * T_body_cam_front()).inverse() * s.T_world_head;
-  }
-  cv::Mat gray(const SceneState& s) {
-    cv::Mat bgr, out;
-    renderer.render(CameraId::Front, s, bgr);
-    cv::cvtColor(bgr, out, cv::COLOR_BGR2GRAY);
-    return out;
-  }
-};
 
 Eigen::Vector3d head_centre(const Eigen::Isometry3d& T_cam_face, const HeadTrackerOptions& o) {
   return T_cam_face * Eigen::Vector3d(0, 0, -o.centre_behind_face_m);
