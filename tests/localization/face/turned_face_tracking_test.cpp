@@ -24,9 +24,7 @@ FaceConfig shipped_face_config() {
   const ConfigDocument doc = ConfigDocument::load(file);
   return fusion::read_front_end_settings(doc.root(), file.parent_path()).face;
 }
-}  // namespace
 
-namespace {
 struct TurnCounts {
   int turned = 0, tracked = 0, restarted = 0;
 };
