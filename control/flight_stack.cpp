@@ -61,6 +61,24 @@ struct FlightStack::Impl {
     last_mission_result = why;
     ++missions_ended;
     mission.reset();
+    clear_focus();
+  }
+
+  void start_mission(std::unique_ptr<Mission> next) {
+    mission = std::move(next);
+    clear_focus();
+  }
+
+  // A mission's focus ends with it: idle and the next mission start from SLAM alone. Kept, the
+  // landing's platform focus made the next inspection's source switch watch the platform instead of
+  // the panel (the homography never taken: "lost during inspection" on every mission after the first),
+  // and a find-teacher's face kept the face front-end running through the missions after it. Test
+  // "control: a second inspection after a landing, and one after a find-teacher, fly as the first".
+  void clear_focus() {
+    const fusion::FeedbackSource feedback = focus.feedback;
+    focus = fusion::PerceptionFocus{};
+    focus.feedback = feedback;
+    pipelines->set_focus(focus);
   }
 
   RequestContext request_context(Seconds t) const {
@@ -150,7 +168,7 @@ struct FlightStack::Impl {
       case SafetyAction::ReturnHome: {
         const std::string reason = to_string(v.reason);
         finish_mission("safety: " + reason);
-        mission = std::make_unique<ReturnHomeMission>(t, reason);
+        start_mission(std::make_unique<ReturnHomeMission>(t, reason));
         last_event = "safety: " + reason;
         break;
       }
@@ -282,7 +300,7 @@ struct FlightStack::Impl {
         const fusion::PlanarTarget& inst = *setup.lab.find_instrument(r.instrument_id);
         const double hold = r.hold_s > 0 ? r.hold_s : setup.control.mission.default_hold_s;
         const double standoff = r.standoff_m > 0 ? r.standoff_m : setup.control.mission.standoff_m;
-        mission = std::make_unique<InspectMission>(inst, hold, standoff, t);
+        start_mission(std::make_unique<InspectMission>(inst, hold, standoff, t));
         camera = CameraId::Front;  // its take-off and SLAM need the front camera from the first tick
         break;
       }
@@ -295,7 +313,7 @@ struct FlightStack::Impl {
           }
           last_event = "searching for " + r.person->name;
         }
-        mission = std::make_unique<FindTeacherMission>(t);
+        start_mission(std::make_unique<FindTeacherMission>(t));
         camera = CameraId::Front;
         return {true, last_event};
       case RequestKind::SelectCamera:
@@ -306,7 +324,7 @@ struct FlightStack::Impl {
         break;
       case RequestKind::ReturnHome:
         finish_mission("return home requested");
-        mission = std::make_unique<ReturnHomeMission>(t, "requested");
+        start_mission(std::make_unique<ReturnHomeMission>(t, "requested"));
         break;
     }
     return verdict;

@@ -2,6 +2,7 @@
 
 #include "control/geofence.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -35,6 +36,7 @@ struct InspectRun {
   double duration_s = 0;
   std::string result;
   std::optional<LockstepVisionStats> vision;  // --vision-latency worker
+  nlohmann::json missions = nlohmann::json::array();  // --in-a-row: each mission's instrument and result
   nlohmann::json world;                       // the simulated lab's world, drawn values included
   // The tolerances: the nominal world's (standoff and centre 0.05) or the wide ones a randomized
   // world is judged by (0.10 each: standoff 0.80 ± 0.10 m, the panel within 10 % of the width of the
@@ -167,6 +169,9 @@ const CommandSpec& sim_inspect_command_spec() {
     CommandSpec s{"sim inspect", "", "lockstep inspect missions (paper 6.2): success rate over seeds", experiment_option_specs()};
     s.options.push_back({"--hold", "S", "inspection hold time (default 5 s)"});
     s.options.push_back({"--instrument", "ID", "the instrument to inspect (default: the lab's first)"});
+    s.options.push_back({"--in-a-row", "K",
+                         "missions per run, one after another on one flight (the map and the battery kept), the lab's "
+                         "instruments in turn from --instrument; a run succeeds when all do (default 1)"});
     for (auto& option : real_vision_option_specs()) s.options.push_back(option);
     s.options.push_back(jobs_option_spec());
     return s;
@@ -181,12 +186,31 @@ int run_sim_inspect_command(const ParsedArgs& args) {
   const control::FlightStackSetup& setup = experiment.setup;
   const std::string id = args.value_or("--instrument", setup.lab.instruments.front().id);
   if (!setup.lab.find_instrument(id)) throw UsageError("--instrument " + id + ": no such instrument in the lab");
+  const int in_a_row = args.integer_or("--in-a-row", 1, 1, 20);
   nlohmann::json runs = nlohmann::json::array(), failed = nlohmann::json::array();
   int ok = 0, ok_wide = 0;
   std::vector<double> standoff, centre, landing;
   const std::vector<InspectRun> results = run_seeded_flights<InspectRun>(o.runs, o.jobs, [&](int i) {
     const auto f = make_flight(experiment, o.seed + static_cast<unsigned>(i));
     InspectRun r = run_inspect(setup, id, hold, *f);
+    if (in_a_row > 1) {
+      const auto& instruments = setup.lab.instruments;
+      const auto first = static_cast<std::size_t>(std::find_if(instruments.begin(), instruments.end(), [&](const auto& inst) {
+                                                    return inst.id == id;
+                                                  }) - instruments.begin());
+      r.missions.push_back({{"instrument", id}, {"success", r.success()}, {"result", r.failure().empty() ? r.result : r.failure()}});
+      for (int k = 1; k < in_a_row && !r.crashed; ++k) {
+        const std::string next = instruments[(first + static_cast<std::size_t>(k)) % instruments.size()].id;
+        InspectRun m = run_inspect(setup, next, hold, *f);
+        r.missions.push_back({{"instrument", next}, {"success", m.success()}, {"result", m.failure().empty() ? m.result : m.failure()}});
+        if (r.success() && !m.success()) {
+          m.result = "mission " + std::to_string(k + 1) + " ('" + next + "'): " + m.failure();
+          m.mission_succeeded = false;
+          m.missions = std::move(r.missions);
+          r = std::move(m);
+        }
+      }
+    }
     r.vision = f->vision_stats();
     r.world = run_world_json(*f);
     write_run_outputs(o, "inspect", i, *f);
@@ -206,6 +230,7 @@ int run_sim_inspect_command(const ParsedArgs& args) {
                     {"centre_offset_fraction", std::isfinite(r.centre_offset) ? r.centre_offset : -1},
                     {"landing_error_m", std::isfinite(r.landing_error_m) ? r.landing_error_m : -1},
                     {"crashed", r.crashed}, {"duration_s", r.duration_s}, {"result", r.result}, {"world", r.world}});
+    if (!r.missions.empty()) runs.back()["missions"] = r.missions;
     if (r.vision)
       runs.back()["vision_worker"] = {{"frames_in", r.vision->frames_in},
                                       {"frames_to_vision", r.vision->frames_to_vision},

@@ -1,6 +1,11 @@
 #include "bench/realtime/realtime_campaign.hpp"
 
+#include <atomic>
 #include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <stdexcept>
 #include <cmath>
 #include <mutex>
 #include <thread>
@@ -23,19 +28,77 @@ using server::WireFrame;
 using server::load_app_config;
 using server::make_drone_backend;
 
-
 namespace {
 
 using WallClock = std::chrono::steady_clock;
 
+// A CSV of the missions as they flew (RealtimeCampaignOptions::trace_file): telemetry rows and log
+// lines, each with the seconds since the campaign began. Shared by the sampler and the runtime's
+// threads, hence the lock.
+class MissionTrace {
+ public:
+  explicit MissionTrace(const std::string& file) {
+    if (file.empty()) return;
+    out_.open(file);
+    if (!out_) throw std::runtime_error("--trace " + file + ": cannot write");
+    out_ << "t_s,seed,round,mission,stage,source,slam_state,slam_keyframes,x_m,y_m,z_m,yaw_deg,"
+            "true_x_m,true_y_m,true_z_m,true_yaw_deg,battery_percent,link,flying,event\n";
+  }
+  void set_run(unsigned seed, int round) {
+    std::lock_guard lock(mutex_);
+    seed_ = seed;
+    round_ = round;
+  }
+  void sample(const server::FlightTelemetry& t) {
+    if (!out_.is_open()) return;
+    std::lock_guard lock(mutex_);
+    constexpr double kDeg = 180.0 / 3.14159265358979323846;
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "%.2f,%u,%d,%s,%s,%s,%s,%d,%.3f,%.3f,%.3f,%.1f,", now(), seed_, round_,
+                  t.mission.c_str(), t.stage.c_str(), server::to_string(t.source).c_str(), t.slam_state.c_str(),
+                  t.slam_keyframes, t.pose.x_m, t.pose.y_m, t.pose.z_m, t.pose.yaw_rad * kDeg);
+    out_ << buf;
+    if (t.ground_truth)
+      std::snprintf(buf, sizeof buf, "%.3f,%.3f,%.3f,%.1f,", t.ground_truth->x_m, t.ground_truth->y_m,
+                    t.ground_truth->z_m, t.ground_truth->yaw_rad * kDeg);
+    else
+      std::snprintf(buf, sizeof buf, ",,,,");
+    out_ << buf << t.battery_percent << ',' << t.link_state << ',' << (t.flying ? 1 : 0) << ",\n";
+  }
+  void event(const server::FlightEvent& e) {
+    if (!out_.is_open()) return;
+    std::lock_guard lock(mutex_);
+    std::string text = e.kind + ": " + (e.message.empty() ? e.stage : e.message);
+    for (char& c : text)
+      if (c == '"') c = '\'';
+    out_ << now() << ',' << seed_ << ',' << round_ << ',' << e.mission << ',' << e.stage
+         << ",,,,,,,,,,,,,,,\"" << text << "\"\n";
+  }
+
+ private:
+  double now() const { return std::chrono::duration<double>(WallClock::now() - start_).count(); }
+  std::mutex mutex_;
+  std::ofstream out_;
+  WallClock::time_point start_ = WallClock::now();
+  unsigned seed_ = 0;
+  int round_ = 0;
+};
+
 // The mission's log lines and stage changes, as the web server would receive them.
 class EventLog final : public FlightEventSink {
  public:
+  explicit EventLog(MissionTrace& trace) : trace_(trace) {}
   void on_frame(const WireFrame&) override {}
   void on_flight_event(const FlightEvent& e) override {
+    trace_.event(e);
     std::lock_guard lock(mutex_);
     if (e.kind == "stage") stage_ = e.stage;
     if (e.kind == "log" && e.message.find("' ended: ") != std::string::npos) ended_ = e.message;
+  }
+  // Forgets the last mission's end, before the next one is asked for.
+  void next_mission() {
+    std::lock_guard lock(mutex_);
+    ended_.clear();
   }
   std::string ended() const {
     std::lock_guard lock(mutex_);
@@ -47,6 +110,7 @@ class EventLog final : public FlightEventSink {
   }
 
  private:
+  MissionTrace& trace_;
   mutable std::mutex mutex_;
   std::string ended_, stage_;
 };
@@ -85,25 +149,12 @@ CommandVerdict request_when_ready(FlightService& flight, const MissionCommand& c
   return v;
 }
 
-RealtimeRun fly_one(const RealtimeCampaignOptions& o, const AppConfig& base, unsigned seed) {
-  AppConfig config = base;
-  config.sim.lab.seed = seed;
-  config.sim.link.seed = seed;
+// One mission on a running server, from the request until the drone is down.
+RealtimeRun fly_mission(const RealtimeCampaignOptions& o, FlightService& flight, EventLog& events,
+                        const fusion::LabGeometry& lab, const MissionCommand& command) {
   RealtimeRun run;
-  run.seed = seed;
-  auto backend = make_drone_backend(DroneSpec{}, config, Logger("realtime", LogLevel::Off));
-  FlightService& flight = backend->flight();
-  EventLog events;
-  flight.set_sink(&events);
-  const fusion::LabGeometry lab = fusion::lab_geometry_from(config.lab);
-  MissionCommand command;
-  if (o.mission == RealtimeMission::Inspect) {
-    command.kind = MissionCommandKind::Inspect;
-    command.instrument = o.instrument.empty() ? lab.instruments.front().id : o.instrument;
-    command.hold_s = o.hold_s;
-  } else {
-    command.kind = MissionCommandKind::FindTeacher;
-  }
+  run.instrument = command.instrument;
+  events.next_mission();
   const auto start = WallClock::now();
   const CommandVerdict verdict = request_when_ready(flight, command, 15.0);
   if (!verdict.accepted) {
@@ -129,17 +180,60 @@ RealtimeRun fly_one(const RealtimeCampaignOptions& o, const AppConfig& base, uns
   }
   run.duration_s = seconds_since(start);
   run.timing = flight.timing();
+  return run;
+}
+
+MissionCommand command_for(const RealtimeCampaignOptions& o, const fusion::LabGeometry& lab, int round) {
+  MissionCommand command;
+  if (o.mission == RealtimeMission::Inspect) {
+    command.kind = MissionCommandKind::Inspect;
+    const auto turn = static_cast<std::size_t>(round) % lab.instruments.size();
+    command.instrument = o.instrument.empty() ? lab.instruments[turn].id : o.instrument;
+    command.hold_s = o.hold_s;
+  } else {
+    command.kind = MissionCommandKind::FindTeacher;
+  }
+  return command;
+}
+
+// One server on the simulated lab of `seed`, flying `in_a_row` missions.
+void fly_run(const RealtimeCampaignOptions& o, const AppConfig& base, unsigned seed, MissionTrace& trace,
+             std::vector<RealtimeRun>& runs) {
+  AppConfig config = base;
+  config.sim.lab.seed = seed;
+  config.sim.link.seed = seed;
+  auto backend = make_drone_backend(DroneSpec{}, config, Logger("realtime", LogLevel::Off));
+  FlightService& flight = backend->flight();
+  EventLog events(trace);
+  flight.set_sink(&events);
+  const fusion::LabGeometry lab = fusion::lab_geometry_from(config.lab);
+  std::atomic<bool> sampling{true};
+  std::jthread sampler([&] {
+    while (sampling) {
+      trace.sample(flight.telemetry());
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+  });
+  for (int round = 0; round < o.in_a_row; ++round) {
+    trace.set_run(seed, round);
+    RealtimeRun run = fly_mission(o, flight, events, lab, command_for(o, lab, round));
+    run.seed = seed;
+    run.round = round;
+    runs.push_back(std::move(run));
+  }
+  sampling = false;
+  sampler.join();
   flight.set_sink(nullptr);
   flight.land_and_stop(5.0);
-  return run;
 }
 
 }  // namespace
 
 std::vector<RealtimeRun> run_realtime_campaign(const RealtimeCampaignOptions& o) {
   const AppConfig config = load_app_config(o.config_file);
+  MissionTrace trace(o.trace_file);
   std::vector<RealtimeRun> runs;
-  for (int i = 0; i < o.runs; ++i) runs.push_back(fly_one(o, config, o.seed + static_cast<unsigned>(i)));
+  for (int i = 0; i < o.runs; ++i) fly_run(o, config, o.seed + static_cast<unsigned>(i), trace, runs);
   return runs;
 }
 

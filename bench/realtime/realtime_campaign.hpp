@@ -27,10 +27,19 @@ struct RealtimeCampaignOptions {
   double follow_s = 20.0;       // find teacher: how long to follow once found
   double min_following = 0.9;   // find teacher: the share of that time the face must be followed
   double timeout_s = 180.0;     // a run that has not ended by then fails
+  // Missions flown one after another on one server, as students taking turns: the SLAM map, the
+  // battery and where the drone came down are kept between them. Inspect without `instrument` takes
+  // the lab's instruments in turn.
+  int in_a_row = 1;
+  // When set, a CSV of every mission: the telemetry five times a second (stage, localization source,
+  // SLAM state, the estimate beside the simulated lab's truth) and each log line as it came.
+  std::string trace_file;
 };
 
 struct RealtimeRun {
   unsigned seed = 0;
+  int round = 0;                 // the mission's place in its server's row (0 first)
+  std::string instrument;        // inspect: the instrument flown to
   bool success = false;
   std::string result;            // the mission's last word, or why the run failed
   double duration_s = 0;         // wall time from the request to the end
@@ -39,10 +48,10 @@ struct RealtimeRun {
   // find teacher: the share of the follow's time in stage "3 face-follow" itself (the face followed,
   // not its lost phases or a new search), sampled every 50 ms
   double following = 0;
-  RuntimeTimingSummary timing;
+  RuntimeTimingSummary timing;  // the server's, from its start to this mission's end
 };
 
-// Flies the runs one after another. Throws ConfigError / std::runtime_error for a configuration or
+// Flies the runs one after another, `in_a_row` missions each. Throws ConfigError / std::runtime_error for a configuration or
 // lab that cannot be flown.
 std::vector<RealtimeRun> run_realtime_campaign(const RealtimeCampaignOptions& options);
 

@@ -80,6 +80,43 @@ TEST_CASE("control: inspect runs stages 1-6 in order and ends on the platform") 
   CHECK_FALSE(f.world->drone.crashed);
 }
 
+TEST_CASE("control: a second inspection after a landing, and one after a find-teacher, fly as the first") {
+  ModelFlight f;
+  // Flies one inspection to its end; whether the panel's homography drove the estimate on the way and
+  // whether the face was asked for meanwhile.
+  const auto inspect_once = [&](bool& saw_homography, bool& face_focused) {
+    saw_homography = face_focused = false;
+    REQUIRE(f.request(inspect("oscilloscope", 2.0)).accepted);
+    REQUIRE(f.run_until([&] {
+      const control::FlightStatus s = f.stack->status();
+      saw_homography = saw_homography || s.source == fusion::FeedbackSource::Homography;
+      face_focused = face_focused || f.world->focus.face;
+      return s.mission == "idle";
+    }, 120.0));
+    INFO(f.stack->status().last_event);
+    CHECK(f.stack->status().last_event.find("succeeded") != std::string::npos);
+    CHECK(f.stack->status().phase == control::FlightPhase::Landed);
+  };
+  bool homography = false, face = false;
+  inspect_once(homography, face);
+  CHECK(homography);
+  // The landing looked for the platform; the next inspection must watch the panel again.
+  CHECK_FALSE(f.world->focus.platform);
+  inspect_once(homography, face);
+  CHECK(homography);
+  CHECK_FALSE(face);
+
+  REQUIRE(f.request(req(control::RequestKind::FindTeacher)).accepted);
+  REQUIRE(f.run_until([&] { return f.stack->status().stage == "3 face-follow"; }, 60.0));
+  REQUIRE(f.world->focus.face);
+  REQUIRE(f.request(req(control::RequestKind::Land)).accepted);
+  REQUIRE(f.run_until([&] { return f.stack->status().phase == control::FlightPhase::Landed; }, 20.0));
+  CHECK_FALSE(f.world->focus.face);  // no face front-end running for nobody
+  inspect_once(homography, face);
+  CHECK(homography);
+  CHECK_FALSE(face);
+}
+
 TEST_CASE("control: a map still without a scale flies the vertical manoeuvre again, kMaxRounds times in all") {
   // Counts the up legs of stage 1: one when SLAM fixes its scale, kMaxRounds when it never does.
   const auto up_legs = [](bool slam_available) {

@@ -32,6 +32,7 @@ struct ModelWorld {
   double drift_bound_m = 0;     // ... and its dead-reckoning drift bound
   double airborne_since = -1;
   Eigen::Isometry3d T_world_face = facing_base({2.5, -0.5, 1.6});  // z into the head, looking at the base
+  fusion::PerceptionFocus focus;  // what the flight stack last asked the pipelines for
 };
 
 // In the camera's image (its principal point is off-centre: the AR.Drone's front camera sees 0.39 m
@@ -51,7 +52,10 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
   void on_navdata(const NavdataSample& s) override { t_ = s.t; }
   void on_command(const MoveCommand&, Seconds) override {}
   void on_video(const VideoFrame&) override {}
-  void set_focus(const fusion::PerceptionFocus& f) override { focus_ = f; }
+  void set_focus(const fusion::PerceptionFocus& f) override {
+    focus_ = f;
+    world_->focus = f;
+  }
   void reset(const Eigen::Isometry3d&, Seconds) override {}
   void start_at_first_navdata(const Eigen::Isometry3d&) override {}
 
