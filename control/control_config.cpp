@@ -58,6 +58,8 @@ MissionParameters read_mission(const ConfigReader& node, MissionParameters m) {
   m.scale_manoeuvre_speed_mps =
       node.number_or("scale_manoeuvre_speed_mps", m.scale_manoeuvre_speed_mps, Range::closed(0.05, 1.0));
   m.detect_timeout_s = node.number_or("detect_timeout_s", m.detect_timeout_s, Range::positive());
+  m.detect_max_oblique_deg = node.number_or("detect_max_oblique_deg", m.detect_max_oblique_deg, Range::closed(0.0, 90.0));
+  m.detect_view_distance_m = node.number_or("detect_view_distance_m", m.detect_view_distance_m, Range::closed(0.5, 10.0));
   m.hold_tolerance_m = node.number_or("hold_tolerance_m", m.hold_tolerance_m, Range::closed(0.01, 0.5));
   m.default_hold_s = node.number_or("default_hold_s", m.default_hold_s, Range::non_negative());
   m.max_hold_s = node.number_or("max_hold_s", m.max_hold_s, Range::positive());

@@ -74,6 +74,12 @@ struct MissionParameters {
   double scale_manoeuvre_m = 0.5;      // stage 1: up/down amplitude for the scale estimation
   double scale_manoeuvre_speed_mps = 0.25;
   double detect_timeout_s = 15.0;      // stage 2 / re-detection: give up and go home after this
+  // Stage 2: a panel seen more obliquely than this from where the drone is (its normal against the
+  // line to the drone, horizontally) is searched for from a viewpoint on its normal, at
+  // detect_view_distance_m or nearer when the drone already is: template matching does not find a
+  // small panel foreshortened at 50 degrees from 4 m (the lab's power supply, seen from the base).
+  double detect_max_oblique_deg = 30.0;
+  double detect_view_distance_m = 2.5;
   double hold_tolerance_m = 0.04;      // inspect: hold time counts only this close to the standoff pose
   double default_hold_s = 10.0;        // inspect hold time when the request gives none
   double max_hold_s = 600.0;

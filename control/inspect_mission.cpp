@@ -1,6 +1,8 @@
 #include "control/inspect_mission.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "core/frames.hpp"
 
@@ -17,6 +19,9 @@ constexpr double kRedetectBackoffM = 0.4;   // back away to widen the view while
 constexpr double kVerticalLossM = 0.15;
 constexpr double kRealignS = 3.0;
 constexpr double kFreshObservationS = 0.3;
+// Stage 2's flight to its viewpoint: searched from wherever the drone is after this long (a viewpoint
+// the fence keeps it from, an autopilot that does not settle).
+constexpr double kViewpointTimeoutS = 20.0;
 }  // namespace
 
 InspectMission::InspectMission(fusion::PlanarTarget instrument, double hold_s, double standoff_m, Seconds t)
@@ -59,6 +64,8 @@ std::string InspectMission::describe(Seconds t) const {
   switch (step_) {
     case Step::Init: return "1 init: " + init_.describe();
     case Step::Detect:
+      if (view_ == View::Travel) return "2 detect: flying to a viewpoint in front of" + id;
+      if (view_ == View::Turn) return "2 detect: turning to" + id;
       return "2 detect: searching for" + id + ": placed " + std::to_string(placements_) + "/" +
              std::to_string(kPlacementsToAverage) + " detections (" + format_seconds(t - since_) + " s)";
     case Step::Approach: return "3 inspect: approaching" + id + " to " + format_seconds(standoff_m_) + " m";
@@ -71,17 +78,71 @@ std::string InspectMission::describe(Seconds t) const {
   return "";
 }
 
+PoseTarget InspectMission::detection_viewpoint(const MissionContext& ctx) {
+  const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
+  const Eigen::Vector3d panel = instrument_.T_world_object.translation();
+  const Eigen::Vector3d to_panel = panel - here;
+  const auto& m = ctx.config.mission;
+  view_ = View::None;
+  if (oblique_rad(here) <= m.detect_max_oblique_deg * std::numbers::pi / 180.0)
+    return {here, std::atan2(to_panel.y(), to_panel.x())};
+  // On the panel's outward normal (z of the object frame points into the panel), horizontally.
+  Eigen::Vector3d out = -instrument_.T_world_object.linear().col(2);
+  out.z() = 0;
+  out.normalize();
+  view_ = View::Travel;
+  Eigen::Vector3d view = panel + out * std::min(to_panel.head<2>().norm(), m.detect_view_distance_m);
+  view.z() = m.cruise_altitude_m;
+  return {view, std::atan2(-out.y(), -out.x())};
+}
+
+bool InspectMission::at_detection_viewpoint(MissionContext& ctx) {
+  if (view_ == View::None) return true;
+  if (view_ == View::Travel) {
+    // Turned to the panel as soon as it faces the camera well enough from here, or when the map is
+    // lost on the way (SLAM does not carry a monocular map far from where it was built): a panel
+    // to detect restores the visual source before the safety monitor's hover turns into a landing.
+    const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
+    const bool facing_enough = oblique_rad(here) <= ctx.config.mission.detect_max_oblique_deg * std::numbers::pi / 180.0;
+    const bool blind = ctx.pose.source == fusion::FeedbackSource::DeadReckoning;
+    if (!ctx.autopilot.reached() && !facing_enough && !blind && ctx.t - since_ < kViewpointTimeoutS) return false;
+    if (!ctx.autopilot.reached()) {
+      const Eigen::Vector3d to = instrument_.T_world_object.translation() - here;
+      viewpoint_ = {{here.x(), here.y(), viewpoint_.position.z()}, std::atan2(to.y(), to.x())};
+    }
+    ctx.autopilot.go_to(viewpoint_, ctx.t);
+    view_ = View::Turn;
+    since_ = ctx.t;
+    return false;
+  }
+  if (!ctx.autopilot.reached() && ctx.t - since_ < kViewpointTimeoutS) return false;
+  view_ = View::None;
+  since_ = ctx.t;  // the detection's time-out counts from the viewpoint
+  return true;
+}
+
+double InspectMission::oblique_rad(const Eigen::Vector3d& from) const {
+  Eigen::Vector3d out = -instrument_.T_world_object.linear().col(2);
+  out.z() = 0;
+  Eigen::Vector3d from_panel = from - instrument_.T_world_object.translation();
+  from_panel.z() = 0;
+  if (out.norm() < 1e-6 || from_panel.norm() < 1e-6) return 0.0;
+  return std::acos(std::clamp(from_panel.normalized().dot(out.normalized()), -1.0, 1.0));
+}
+
 void InspectMission::step_detect(MissionContext& ctx) {
   ctx.focus.instrument_id = instrument_.id;
   ctx.camera = CameraId::Front;
   if (fresh_) {
-    // The paper assumes the instrument in view; we turn towards its nominal place to make it so.
-    const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
-    const Eigen::Vector3d to = instrument_.T_world_object.translation() - here;
-    ctx.autopilot.go_to({here, std::atan2(to.y(), to.x())}, ctx.t);
+    // The paper assumes the instrument in view; we turn towards its surveyed place to make it so, or
+    // fly where it faces the camera first.
+    viewpoint_ = detection_viewpoint(ctx);
+    const double heading = ypr_from_rotation(ctx.pose.T_world_body.linear())[0];
+    ctx.autopilot.go_to(view_ == View::Travel ? PoseTarget{viewpoint_.position, heading} : viewpoint_, ctx.t);
     fresh_ = false;
     placements_ = 0;
   }
+  if (!at_detection_viewpoint(ctx)) return;
   if (instrument_seen(ctx)) {
     const Eigen::Isometry3d seen = world_pose_of(ctx.perception.instrument(), ctx.pose, CameraId::Front);
     // Running mean of the position; the orientation of the latest detection.

@@ -1,7 +1,8 @@
 #pragma once
 // Inspect an instrument: the paper's §6.2, stages 1-6.
 //  1 init: take off, climb, wait for SLAM to initialize, slow up/down manoeuvre for the scale;
-//  2 detect: face the instrument, detect it (template matching far, SIFT near) and place it in the world;
+//  2 detect: face the instrument (from a viewpoint on its normal when it would be seen too
+//    obliquely from where the drone is), detect it (template matching far, SIFT near) and place it in the world;
 //  3 inspect: approach to the standoff with the panel centred (homography feedback near), hold for
 //    the requested time; if the instrument is lost, re-detect (never push blindly): back off along the
 //    line of sight, or, when a vertical push took the panel out of view, return to the standoff's
@@ -34,6 +35,14 @@ class InspectMission final : public Mission {
     fresh_ = true;
   }
   void step_detect(MissionContext& ctx);
+  // Where stage 2 looks from: here, turned towards the panel, or (seen more obliquely than
+  // detect_max_oblique_deg) a point on the panel's normal at the cruise altitude, facing it.
+  // Sets view_ (None when the search starts where the drone is).
+  PoseTarget detection_viewpoint(const MissionContext& ctx);
+  // The angle between the panel's outward normal and the line from it to `from`, horizontally.
+  double oblique_rad(const Eigen::Vector3d& from) const;
+  // Stage 2 on the way to its viewpoint: false while flying there (heading kept) or turning there.
+  bool at_detection_viewpoint(MissionContext& ctx);
   void step_inspect(MissionContext& ctx);
   bool instrument_seen(const MissionContext& ctx) const;
   // The estimate is above or below the standoff by more than the panel's view allows.
@@ -52,6 +61,12 @@ class InspectMission final : public Mission {
   bool fresh_ = true;
   TakeOffAndScale init_;
   int placements_ = 0;
+  // Stage 2's viewpoint: flown to with the heading the map was built with (a monocular map does not
+  // survive a 90-degree turn, and the safety monitor would stop a flight on dead reckoning), then
+  // turned to the panel, which gives the homography once detected.
+  enum class View { None, Travel, Turn };
+  View view_ = View::None;
+  PoseTarget viewpoint_;
   Eigen::Isometry3d T_world_instrument_ = Eigen::Isometry3d::Identity();
   double held_s_ = 0;
   Seconds last_t_ = -1;

@@ -1,6 +1,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <algorithm>
 #include <set>
 
 #include "control/flight_stack.hpp"
@@ -115,6 +117,52 @@ TEST_CASE("control: a second inspection after a landing, and one after a find-te
   inspect_once(homography, face);
   CHECK(homography);
   CHECK_FALSE(face);
+}
+
+TEST_CASE("control: a panel seen too obliquely from the base is searched for from a viewpoint on its normal") {
+  fusion::LabGeometry lab = bench::model_lab();
+  fusion::PlanarTarget side;  // on the side wall, facing -y, 39 degrees off the line from the base
+  side.id = "side_panel";
+  side.name = "Side panel";
+  side.T_world_object.linear() << 1, 0, 0, 0, 0, 1, 0, -1, 0;  // x along the wall, y down, z into it (+y)
+  side.T_world_object.translation() = Eigen::Vector3d(2.0, 2.5, 1.0);
+  side.width_m = 0.3;
+  side.height_m = 0.2;
+  lab.instruments.push_back(side);
+  // Angle between the panel's outward normal (-y) and the line from the panel to the drone.
+  const auto oblique_deg = [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector2d from = (p - side.T_world_object.translation()).head<2>();
+    return std::acos(std::clamp(-from.y() / from.norm(), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+  };
+  REQUIRE(oblique_deg(Eigen::Vector3d::Zero()) > 35.0);
+  ModelFlight f({}, lab);
+  REQUIRE(f.request(inspect("side_panel", 2.0)).accepted);
+  bool flew_to_view = false;
+  double oblique_at_detection = -1;
+  const bool ended = f.run_until([&] {
+    const control::FlightStatus s = f.stack->status();
+    flew_to_view = flew_to_view || s.stage.find("flying to a viewpoint in front of 'side_panel'") != std::string::npos;
+    if (flew_to_view && oblique_at_detection < 0 && s.stage.find("searching for") != std::string::npos)
+      oblique_at_detection = oblique_deg(f.world->drone.p);
+    return s.mission == "idle";
+  }, 150.0);
+  REQUIRE(ended);
+  INFO(f.stack->status().last_event);
+  CHECK(f.stack->status().last_event.find("succeeded") != std::string::npos);
+  CHECK(flew_to_view);
+  CHECK(oblique_at_detection >= 0);
+  CHECK(oblique_at_detection < 31.0);  // searched from where the panel faces the camera within 30 degrees
+  CHECK_FALSE(f.world->drone.crashed);
+
+  // A panel facing the base is searched for from where the drone is.
+  ModelFlight g({}, lab);
+  REQUIRE(g.request(inspect("oscilloscope", 2.0)).accepted);
+  bool viewpoint = false;
+  REQUIRE(g.run_until([&] {
+    viewpoint = viewpoint || g.stack->status().stage.find("viewpoint") != std::string::npos;
+    return g.stack->status().stage_index == 3;
+  }, 60.0));
+  CHECK_FALSE(viewpoint);
 }
 
 TEST_CASE("control: a map still without a scale flies the vertical manoeuvre again, kMaxRounds times in all") {

@@ -234,6 +234,12 @@ TEST_CASE("control: config section is validated with the key path") {
   CHECK(read(R"({"mission": {"face_blind_altitude_m": 2.2}})").mission.face_blind_altitude_m == 2.2);
   CHECK_THROWS_WITH(read(R"({"mission": {"face_blind_altitude_m": 0.1}})"), Catch::Contains("mission.face_blind_altitude_m"));
   CHECK_THROWS_WITH(read(R"({"mission": {"face_blind_altitude_m": "high"}})"), Catch::Contains("face_blind_altitude_m"));
+  const control::ControlConfig view = read(R"({"mission": {"detect_max_oblique_deg": 40, "detect_view_distance_m": 2}})");
+  CHECK(view.mission.detect_max_oblique_deg == 40.0);
+  CHECK(view.mission.detect_view_distance_m == 2.0);
+  CHECK_THROWS_WITH(read(R"({"mission": {"detect_max_oblique_deg": 120}})"), Catch::Contains("mission.detect_max_oblique_deg"));
+  CHECK_THROWS_WITH(read(R"({"mission": {"detect_view_distance_m": 0.1}})"), Catch::Contains("mission.detect_view_distance_m"));
+  CHECK_THROWS_WITH(read(R"({"mission": {"detect_view_distance_m": "far"}})"), Catch::Contains("detect_view_distance_m"));
   CHECK_THROWS_WITH(read(R"({"safety": {"link_loss_land_s": "soon"}})"), Catch::Contains("link_loss_land_s"));
   const control::ControlConfig net = read(R"({"safety": {"min_clearance_m": 0.5, "estimate_jump_m": 0.4, "estimate_jump_hold_s": 2}})");
   CHECK(net.safety.min_clearance_m == 0.5);
