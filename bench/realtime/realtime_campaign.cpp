@@ -2,12 +2,13 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <functional>
-#include <stdexcept>
-#include <cmath>
 #include <mutex>
+#include <numbers>
+#include <stdexcept>
 #include <thread>
 
 #include "localization/fusion/lab_geometry.hpp"
@@ -32,6 +33,13 @@ namespace {
 
 using WallClock = std::chrono::steady_clock;
 
+// A text field of the trace: quoted, its own quotes made single (stages and log lines hold commas).
+std::string csv_text(std::string text) {
+  for (char& c : text)
+    if (c == '"') c = '\'';
+  return '"' + text + '"';
+}
+
 // A CSV of the missions as they flew (RealtimeCampaignOptions::trace_file): telemetry rows and log
 // lines, each with the seconds since the campaign began. Shared by the sampler and the runtime's
 // threads, hence the lock.
@@ -52,11 +60,12 @@ class MissionTrace {
   void sample(const server::FlightTelemetry& t) {
     if (!out_.is_open()) return;
     std::lock_guard lock(mutex_);
-    constexpr double kDeg = 180.0 / 3.14159265358979323846;
-    char buf[512];
-    std::snprintf(buf, sizeof buf, "%.2f,%u,%d,%s,%s,%s,%s,%d,%.3f,%.3f,%.3f,%.1f,", now(), seed_, round_,
-                  t.mission.c_str(), t.stage.c_str(), server::to_string(t.source).c_str(), t.slam_state.c_str(),
-                  t.slam_keyframes, t.pose.x_m, t.pose.y_m, t.pose.z_m, t.pose.yaw_rad * kDeg);
+    constexpr double kDeg = 180.0 / std::numbers::pi;
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%.2f,%u,%d,", now(), seed_, round_);
+    out_ << buf << t.mission << ',' << csv_text(t.stage) << ',' << server::to_string(t.source) << ',' << t.slam_state;
+    std::snprintf(buf, sizeof buf, ",%d,%.3f,%.3f,%.3f,%.1f,", t.slam_keyframes, t.pose.x_m, t.pose.y_m, t.pose.z_m,
+                  t.pose.yaw_rad * kDeg);
     out_ << buf;
     if (t.ground_truth)
       std::snprintf(buf, sizeof buf, "%.3f,%.3f,%.3f,%.1f,", t.ground_truth->x_m, t.ground_truth->y_m,
@@ -68,11 +77,8 @@ class MissionTrace {
   void event(const server::FlightEvent& e) {
     if (!out_.is_open()) return;
     std::lock_guard lock(mutex_);
-    std::string text = e.kind + ": " + (e.message.empty() ? e.stage : e.message);
-    for (char& c : text)
-      if (c == '"') c = '\'';
-    out_ << now() << ',' << seed_ << ',' << round_ << ',' << e.mission << ',' << e.stage
-         << ",,,,,,,,,,,,,,,\"" << text << "\"\n";
+    out_ << now() << ',' << seed_ << ',' << round_ << ',' << e.mission << ',' << csv_text(e.stage)
+         << ",,,,,,,,,,,,,,," << csv_text(e.kind + ": " + (e.message.empty() ? e.stage : e.message)) << '\n';
   }
 
  private:

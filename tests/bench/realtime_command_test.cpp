@@ -18,4 +18,6 @@ TEST_CASE("sim realtime: bad options are refused naming what was expected") {
   CHECK_THROWS_WITH(run({"--runs", "0"}), Catch::Contains("--runs"));
   CHECK_THROWS_WITH(run({"--timeout", "1"}), Catch::Contains("--timeout"));
   CHECK_THROWS_WITH(run({"--config", "/nonexistent/config.json"}), Catch::Contains("no such file"));
+  CHECK_THROWS_WITH(run({"--in-a-row", "0"}), Catch::Contains("--in-a-row"));
+  CHECK_THROWS_WITH(run({"--trace", "/nonexistent/dir/trace.csv"}), Catch::Contains("--trace /nonexistent/dir/trace.csv: cannot write"));
 }

@@ -150,3 +150,35 @@ TEST_CASE("control: after an 8-s link outage the drone lands near where the esti
   f->run_until([&] { return false; }, 1.0);
   CHECK(f->stack().status().pose.unobserved_flight_s == 0.0);
 }
+
+// Two inspections in a row with real vision, as students take turns: the power supply on the side
+// wall (51 degrees off its normal from the base: found from a viewpoint in front of it), then the
+// oscilloscope after the landing (the landing's platform focus used to keep the panel out of the
+// source switch, and every inspection after the first was lost on its approach).
+TEST_CASE("control: real vision: the power supply found from its viewpoint, then a second inspection after the landing") {
+  ExperimentOptions o;
+  o.config = labo::source_root() / "config" / "default.json";
+  o.real_vision = true;
+  o.video_fps = 15;
+  const Experiment e = make_experiment(o, false);
+  const auto f = make_flight(e, 1001);
+  for (const char* id : {"power_supply", "oscilloscope"}) {
+    control::MissionRequest r;
+    r.kind = control::RequestKind::Inspect;
+    r.instrument_id = id;
+    r.hold_s = 2;
+    REQUIRE(f->request(r).accepted);
+    bool homography = false;
+    REQUIRE(f->run_until([&] {
+      const control::FlightStatus s = f->stack().status();
+      homography = homography || (s.stage_index == 3 && s.source == fusion::FeedbackSource::Homography);
+      return s.mission == "idle";
+    }, 150.0));
+    const control::FlightStatus s = f->stack().status();
+    INFO(id << ": " << s.last_event << "; t " << f->now());
+    CHECK(s.last_event.find("succeeded: inspected '" + std::string(id) + "'") != std::string::npos);
+    CHECK(homography);
+    CHECK(s.phase == control::FlightPhase::Landed);
+    CHECK_FALSE(f->crashed());
+  }
+}
