@@ -51,7 +51,14 @@ bool InspectMission::tolerates_dead_reckoning() const {
   // safety hover there would freeze the drone where the panel cannot be seen until safety lands it
   // (after a push up from the hold). Test "control: a vertical push out of the panel's view is undone
   // at the standoff's altitude, not by backing off".
-  return step_ == Step::Redetect || (step_ == Step::Home && home_.paper_stage() != 6);
+  //
+  // On the way to a detection viewpoint and searching there, likewise: SLAM loses a map built at the
+  // base a metre or two on (and in the turn), and a hover there would land the drone where the panel
+  // is not in view; navdata odometry carries the few metres, and the panel, once detected, gives the
+  // homography (test "control: a panel seen too obliquely from the base is searched for from a
+  // viewpoint on its normal").
+  return step_ == Step::Redetect || (step_ == Step::Detect && from_viewpoint_) ||
+         (step_ == Step::Home && home_.paper_stage() != 6);
 }
 
 bool InspectMission::instrument_seen(const MissionContext& ctx) const {
@@ -91,6 +98,7 @@ PoseTarget InspectMission::detection_viewpoint(const MissionContext& ctx) {
   out.z() = 0;
   out.normalize();
   view_ = View::Travel;
+  from_viewpoint_ = true;
   Eigen::Vector3d view = panel + out * std::min(to_panel.head<2>().norm(), m.detect_view_distance_m);
   view.z() = m.cruise_altitude_m;
   return {view, std::atan2(-out.y(), -out.x())};
@@ -98,26 +106,14 @@ PoseTarget InspectMission::detection_viewpoint(const MissionContext& ctx) {
 
 bool InspectMission::at_detection_viewpoint(MissionContext& ctx) {
   if (view_ == View::None) return true;
+  if (!ctx.autopilot.reached() && ctx.t - since_ < kViewpointTimeoutS) return false;
+  since_ = ctx.t;  // the turn's time-out, and the detection's, count from here
   if (view_ == View::Travel) {
-    // Turned to the panel as soon as it faces the camera well enough from here, or when the map is
-    // lost on the way (SLAM does not carry a monocular map far from where it was built): a panel
-    // to detect restores the visual source before the safety monitor's hover turns into a landing.
-    const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
-    const bool facing_enough = oblique_rad(here) <= ctx.config.mission.detect_max_oblique_deg * std::numbers::pi / 180.0;
-    const bool blind = ctx.pose.source == fusion::FeedbackSource::DeadReckoning;
-    if (!ctx.autopilot.reached() && !facing_enough && !blind && ctx.t - since_ < kViewpointTimeoutS) return false;
-    if (!ctx.autopilot.reached()) {
-      const Eigen::Vector3d to = instrument_.T_world_object.translation() - here;
-      viewpoint_ = {{here.x(), here.y(), viewpoint_.position.z()}, std::atan2(to.y(), to.x())};
-    }
     ctx.autopilot.go_to(viewpoint_, ctx.t);
     view_ = View::Turn;
-    since_ = ctx.t;
     return false;
   }
-  if (!ctx.autopilot.reached() && ctx.t - since_ < kViewpointTimeoutS) return false;
   view_ = View::None;
-  since_ = ctx.t;  // the detection's time-out counts from the viewpoint
   return true;
 }
 

@@ -41,7 +41,8 @@ class InspectMission final : public Mission {
   PoseTarget detection_viewpoint(const MissionContext& ctx);
   // The angle between the panel's outward normal and the line from it to `from`, horizontally.
   double oblique_rad(const Eigen::Vector3d& from) const;
-  // Stage 2 on the way to its viewpoint: false while flying there (heading kept) or turning there.
+  // Stage 2 on the way to its viewpoint: false while flying there (heading kept) or turning there
+  // (each phase ends when reached, or after kViewpointTimeoutS).
   bool at_detection_viewpoint(MissionContext& ctx);
   void step_inspect(MissionContext& ctx);
   bool instrument_seen(const MissionContext& ctx) const;
@@ -66,6 +67,7 @@ class InspectMission final : public Mission {
   // turned to the panel, which gives the homography once detected.
   enum class View { None, Travel, Turn };
   View view_ = View::None;
+  bool from_viewpoint_ = false;  // stage 2 flies to a viewpoint and searches from there
   PoseTarget viewpoint_;
   Eigen::Isometry3d T_world_instrument_ = Eigen::Isometry3d::Identity();
   double held_s_ = 0;

@@ -210,6 +210,7 @@ int run_sim_inspect_command(const ParsedArgs& args) {
           r = std::move(m);
         }
       }
+      r.duration_s = f->now();  // the whole row's
     }
     r.vision = f->vision_stats();
     r.world = run_world_json(*f);
