@@ -93,10 +93,7 @@ PoseTarget InspectMission::detection_viewpoint(const MissionContext& ctx) {
   view_ = View::None;
   if (oblique_rad(here) <= m.detect_max_oblique_deg * std::numbers::pi / 180.0)
     return {here, std::atan2(to_panel.y(), to_panel.x())};
-  // On the panel's outward normal (z of the object frame points into the panel), horizontally.
-  Eigen::Vector3d out = -instrument_.T_world_object.linear().col(2);
-  out.z() = 0;
-  out.normalize();
+  const Eigen::Vector3d out = outward_normal().normalized();
   view_ = View::Travel;
   from_viewpoint_ = true;
   Eigen::Vector3d view = panel + out * std::min(to_panel.head<2>().norm(), m.detect_view_distance_m);
@@ -117,9 +114,14 @@ bool InspectMission::at_detection_viewpoint(MissionContext& ctx) {
   return true;
 }
 
-double InspectMission::oblique_rad(const Eigen::Vector3d& from) const {
-  Eigen::Vector3d out = -instrument_.T_world_object.linear().col(2);
+Eigen::Vector3d InspectMission::outward_normal() const {
+  Eigen::Vector3d out = -instrument_.T_world_object.linear().col(2);  // z of the object frame points into the panel
   out.z() = 0;
+  return out;
+}
+
+double InspectMission::oblique_rad(const Eigen::Vector3d& from) const {
+  const Eigen::Vector3d out = outward_normal();
   Eigen::Vector3d from_panel = from - instrument_.T_world_object.translation();
   from_panel.z() = 0;
   if (out.norm() < 1e-6 || from_panel.norm() < 1e-6) return 0.0;

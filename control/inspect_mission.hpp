@@ -39,6 +39,8 @@ class InspectMission final : public Mission {
   // detect_max_oblique_deg) a point on the panel's normal at the cruise altitude, facing it.
   // Sets view_ (None when the search starts where the drone is).
   PoseTarget detection_viewpoint(const MissionContext& ctx);
+  // The panel's outward normal, horizontal, not normalized (zero for a panel lying flat).
+  Eigen::Vector3d outward_normal() const;
   // The angle between the panel's outward normal and the line from it to `from`, horizontally.
   double oblique_rad(const Eigen::Vector3d& from) const;
   // Stage 2 on the way to its viewpoint: false while flying there (heading kept) or turning there

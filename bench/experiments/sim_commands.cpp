@@ -198,11 +198,15 @@ int run_sim_inspect_command(const ParsedArgs& args) {
       const auto first = static_cast<std::size_t>(std::find_if(instruments.begin(), instruments.end(), [&](const auto& inst) {
                                                     return inst.id == id;
                                                   }) - instruments.begin());
-      r.missions.push_back({{"instrument", id}, {"success", r.success()}, {"result", r.failure().empty() ? r.result : r.failure()}});
+      const auto mission_json = [](const std::string& instrument, const InspectRun& m) {
+        return nlohmann::json{{"instrument", instrument}, {"success", m.success()},
+                              {"result", m.failure().empty() ? m.result : m.failure()}};
+      };
+      r.missions.push_back(mission_json(id, r));
       for (int k = 1; k < in_a_row && !r.crashed; ++k) {
         const std::string next = instruments[(first + static_cast<std::size_t>(k)) % instruments.size()].id;
         InspectRun m = run_inspect(setup, next, hold, *f);
-        r.missions.push_back({{"instrument", next}, {"success", m.success()}, {"result", m.failure().empty() ? m.result : m.failure()}});
+        r.missions.push_back(mission_json(next, m));
         if (r.success() && !m.success()) {
           m.result = "mission " + std::to_string(k + 1) + " ('" + next + "'): " + m.failure();
           m.mission_succeeded = false;
