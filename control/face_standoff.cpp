@@ -1,5 +1,6 @@
 #include "control/face_standoff.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -18,6 +19,15 @@ PoseTarget turned_about(const PoseTarget& target, const Eigen::Vector3d& centre,
   out.position = centre + Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()) * (target.position - centre);
   out.yaw = wrap_angle(target.yaw + angle);
   return out;
+}
+
+Geofence widened_to_face(const Geofence& fence, const Eigen::Vector3d& seen_face, const Geofence& limit) {
+  Eigen::Vector3d lo = fence.min(), hi = fence.max();
+  for (int i = 0; i < 2; ++i) {
+    lo[i] = std::min(lo[i], std::clamp(seen_face[i], limit.min()[i], limit.max()[i]));
+    hi[i] = std::max(hi[i], std::clamp(seen_face[i], limit.min()[i], limit.max()[i]));
+  }
+  return Geofence(lo, hi, 0.0);
 }
 
 PoseTarget follow_standoff(PoseTarget standoff, const Eigen::Vector3d& face, const Eigen::Vector3d& drone,

@@ -209,7 +209,10 @@ void FindTeacherMission::follow(MissionContext& ctx) {
   // at face height), so the drone keeps farther out and over the teacher's head, from where the head
   // stays in the image beyond ~1.2 m.
   const bool head_only = f.position_only && f.t - last_posed_t_ > kCoastS;
-  fly_standoff(ctx, fresh_, track_.heading(), track_.heading_rate(), head_only ? kLostBeyondM : 0.0, head_only);
+  // The track's place is a mean of places a face was seen at, so the walls are no nearer it than to
+  // the teacher; a head's place is not (its distance drifts).
+  fly_standoff(ctx, fresh_, track_.heading(), track_.heading_rate(), head_only ? kLostBeyondM : 0.0, head_only,
+               f.position_only ? std::nullopt : std::optional<Eigen::Vector3d>(track_.position()));
   fresh_ = false;
 }
 
@@ -219,7 +222,8 @@ void FindTeacherMission::bridge_brief_loss(MissionContext& ctx) {
   // lost for a few frames mid-walk is bridged along the track, not taken for a loss".
   const TeacherTrack seen = track_;
   track_.coast(ctx.t - last_face_t_);
-  fly_standoff(ctx, false, track_.heading(), track_.heading_rate());
+  fly_standoff(ctx, false, track_.heading(), track_.heading_rate(), 0.0, false,
+               last_posed_t_ == last_face_t_ ? std::optional<Eigen::Vector3d>(seen.position()) : std::nullopt);
   track_ = seen;
 }
 
@@ -255,15 +259,19 @@ void FindTeacherMission::lost(MissionContext& ctx) {
 }
 
 void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m,
-                                      bool blind) {
+                                      bool blind, const std::optional<Eigen::Vector3d>& seen_face) {
   const double d = ctx.config.mission.face_distance_m + beyond_m;
   const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
   const Eigen::Vector3d& face = track_.position();
-  const Geofence roomy = roomy_fence(ctx);
+  Geofence roomy = roomy_fence(ctx);
+  // The hard limit: the geofence inset by the estimate's uncertainty (where the drone may really be).
+  Geofence hard = inset_fence(ctx, uncertainty_clearance(ctx));
+  if (seen_face) {
+    roomy = widened_to_face(roomy, *seen_face, inset_fence(ctx, Eigen::Vector3d::Constant(kWallClearanceM)));
+    hard = widened_to_face(hard, *seen_face, ctx.autopilot.fence());
+  }
   PoseTarget next = follow_standoff(standoff_target(track_.T_world_upright_face(heading), d, ctx.centre_ray_front), face, here,
                                     roomy, kMaxOrbitStepRad);
-  // The hard limit: the geofence inset by the estimate's uncertainty (where the drone may really be).
-  const Geofence hard = inset_fence(ctx, uncertainty_clearance(ctx));
   if (!hard.contains(next.position)) next.position = hard.clamp(next.position);
   // Going round a place the teacher may have walked on from, the drone cannot see them: it flies
   // over their head (test "control: a lost face is gone round over the teacher's head").

@@ -16,6 +16,7 @@
 //    place where it was lost, in the way they were turning, looking at it (a teacher who turned away
 //    faces the drone again once it is in front of them), then search again from there.
 // Ends on stop_face_follow (the drone hovers where it is) or when the search times out.
+#include <optional>
 #include <vector>
 
 #include "control/estimate_correction.hpp"
@@ -63,9 +64,11 @@ class FindTeacherMission final : public Mission {
   Eigen::Vector3d uncertainty_clearance(const MissionContext& ctx) const;
   // Stand face_distance_m (+ beyond_m) in front of the track's place, as seen facing `heading`
   // (turning at `heading_rate`), the camera on the place.
-  // `blind`: the face is not seen, the set point is flown at face_blind_altitude_m.
+  // `blind`: the face is not seen, the set point is flown at face_blind_altitude_m. `seen_face`: a
+  // place a face was just seen at; the walls are no nearer the set point than to it where the
+  // estimate's uncertainty would keep it farther (widened_to_face).
   void fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m = 0.0,
-                    bool blind = false);
+                    bool blind = false, const std::optional<Eigen::Vector3d>& seen_face = std::nullopt);
   double blind_altitude(const MissionContext& ctx) const;
   void follow_estimate_corrections(const MissionContext& ctx);
   std::string describe(Seconds t) const;
