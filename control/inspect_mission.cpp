@@ -71,6 +71,8 @@ std::string InspectMission::describe(Seconds t) const {
   switch (step_) {
     case Step::Init: return "1 init: " + init_.describe();
     case Step::Detect:
+      // Entered at the end of the take-off's last tick: the viewpoint is chosen on the stage's first.
+      if (fresh_) return "2 detect: choosing where to look for" + id + " from";
       if (view_ == View::Travel) return "2 detect: flying to a viewpoint in front of" + id;
       if (view_ == View::Turn) return "2 detect: turning to" + id;
       return "2 detect: searching for" + id + ": placed " + std::to_string(placements_) + "/" +

@@ -137,10 +137,12 @@ TEST_CASE("control: a panel seen too obliquely from the base is searched for fro
   REQUIRE(oblique_deg(Eigen::Vector3d::Zero()) > 35.0);
   ModelFlight f({}, lab);
   REQUIRE(f.request(inspect("side_panel", 2.0)).accepted);
-  bool flew_to_view = false;
+  bool flew_to_view = false, searched_before_view = false;
   double oblique_at_detection = -1;
   const bool ended = f.run_until([&] {
     const control::FlightStatus s = f.stack->status();
+    // The stage line never says it searches from the base before it sets off for the viewpoint.
+    searched_before_view = searched_before_view || (!flew_to_view && s.stage.find("searching for") != std::string::npos);
     flew_to_view = flew_to_view || s.stage.find("flying to a viewpoint in front of 'side_panel'") != std::string::npos;
     if (flew_to_view && oblique_at_detection < 0 && s.stage.find("searching for") != std::string::npos)
       oblique_at_detection = oblique_deg(f.world->drone.p);
@@ -150,6 +152,7 @@ TEST_CASE("control: a panel seen too obliquely from the base is searched for fro
   INFO(f.stack->status().last_event);
   CHECK(f.stack->status().last_event.find("succeeded") != std::string::npos);
   CHECK(flew_to_view);
+  CHECK_FALSE(searched_before_view);
   CHECK(oblique_at_detection >= 0);
   CHECK(oblique_at_detection < 31.0);  // searched from where the panel faces the camera within 30 degrees
   CHECK_FALSE(f.world->drone.crashed);
