@@ -104,10 +104,11 @@ std::string FindTeacherMission::describe(Seconds t) const {
     case Step::Init: return "1 init: " + init_.describe();
     case Step::Sweep:
       return viewpoint_ == 0 ? "2 search: yaw sweep where the drone is"
-                             : "2 search: yaw sweep at viewpoint " + std::to_string(viewpoint_) + "/" +
-                                   std::to_string(viewpoints_.size());
+                             : "2 search: yaw sweep at viewpoint " + std::to_string((viewpoint_ - 1) % viewpoints_.size() + 1) +
+                                   "/" + std::to_string(viewpoints_.size());
     case Step::Reposition:
-      return "2 search: moving to viewpoint " + std::to_string(viewpoint_ + 1) + "/" + std::to_string(viewpoints_.size());
+      return "2 search: moving to viewpoint " + std::to_string(viewpoint_ % viewpoints_.size() + 1) + "/" +
+             std::to_string(viewpoints_.size());
     case Step::Follow: return "3 face-follow";
     case Step::Lost:
       return std::string("3 face-follow: face lost, ") + (t - since_ < kCoastS ? "following its motion" : "going round") +
@@ -156,6 +157,21 @@ void FindTeacherMission::start_search(MissionContext& ctx) {
   enter(Step::Sweep, ctx.t);  // where the drone is first: the teacher was last seen near it
 }
 
+void FindTeacherMission::replan_search_if_roomier(const MissionContext& ctx) {
+  // The tour was planned in the fence inset by the estimate's uncertainty when the search began; after
+  // a minute on dead reckoning that left one viewpoint in the middle of the room, from where a teacher
+  // walking by a wall is beyond the detector's reach, and the tour went on sweeping there after SLAM
+  // had found its map again.
+  const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
+  std::vector<Eigen::Vector3d> roomier =
+      face_search_viewpoints(roomy_fence(ctx), ctx.lab.surfaces, kFaceHeightM, kViewpointSpacingM, kViewpointClearanceM);
+  // Not where the drone has just swept.
+  std::erase_if(roomier, [&](const Eigen::Vector3d& v) { return (v - here).head<2>().norm() < 0.5 * kViewpointSpacingM; });
+  if (roomier.size() <= viewpoints_.size()) return;
+  viewpoints_ = tour_from(here, std::move(roomier));
+  viewpoint_ = 0;
+}
+
 void FindTeacherMission::sweep(MissionContext& ctx) {
   const double yaw = ypr_from_rotation(ctx.pose.T_world_body.linear())[0];
   if (fresh_) sweep_start_yaw_ = ctx.autopilot.target() ? ctx.autopilot.target()->yaw : yaw;
@@ -167,8 +183,10 @@ void FindTeacherMission::sweep(MissionContext& ctx) {
   ctx.autopilot.go_to({hold, sweep_start_yaw_ + swept}, ctx.t, fresh_);
   fresh_ = false;
   if (face_seen(ctx)) enter(Step::Follow, ctx.t);
-  else if (swept >= 2 * std::numbers::pi && !viewpoints_.empty()) enter(Step::Reposition, ctx.t);
-  else if (swept >= 2 * std::numbers::pi) enter(Step::Sweep, ctx.t);
+  else if (swept >= 2 * std::numbers::pi) {
+    replan_search_if_roomier(ctx);
+    enter(viewpoints_.empty() ? Step::Sweep : Step::Reposition, ctx.t);
+  }
 }
 
 void FindTeacherMission::reposition(MissionContext& ctx) {

@@ -51,6 +51,9 @@ class FindTeacherMission final : public Mission {
   }
   void start_search(MissionContext& ctx);
   void sweep(MissionContext& ctx);
+  // A search tour planned while the estimate was unsure is planned again over the floor its firmer
+  // estimate allows.
+  void replan_search_if_roomier(const MissionContext& ctx);
   void reposition(MissionContext& ctx);
   bool face_seen(const MissionContext& ctx) const;
   void follow(MissionContext& ctx);
