@@ -24,8 +24,9 @@ PoseTarget turned_about(const PoseTarget& target, const Eigen::Vector3d& centre,
 Geofence widened_to_face(const Geofence& fence, const Eigen::Vector3d& seen_face, const Geofence& limit) {
   Eigen::Vector3d lo = fence.min(), hi = fence.max();
   for (int i = 0; i < 2; ++i) {
-    lo[i] = std::min(lo[i], std::clamp(seen_face[i], limit.min()[i], limit.max()[i]));
-    hi[i] = std::max(hi[i], std::clamp(seen_face[i], limit.min()[i], limit.max()[i]));
+    const double face_i = std::clamp(seen_face[i], limit.min()[i], limit.max()[i]);
+    lo[i] = std::min(lo[i], face_i);
+    hi[i] = std::max(hi[i], face_i);
   }
   return Geofence(lo, hi, 0.0);
 }

@@ -151,10 +151,13 @@ double FindTeacherMission::blind_altitude(const MissionContext& ctx) const {
 void FindTeacherMission::start_search(MissionContext& ctx) {
   search_started_ = ctx.t;
   const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
-  viewpoints_ = tour_from(here, face_search_viewpoints(roomy_fence(ctx), ctx.lab.surfaces, kFaceHeightM, kViewpointSpacingM,
-                                                       kViewpointClearanceM));
+  viewpoints_ = tour_from(here, search_viewpoints(ctx));
   viewpoint_ = 0;
   enter(Step::Sweep, ctx.t);  // where the drone is first: the teacher was last seen near it
+}
+
+std::vector<Eigen::Vector3d> FindTeacherMission::search_viewpoints(const MissionContext& ctx) const {
+  return face_search_viewpoints(roomy_fence(ctx), ctx.lab.surfaces, kFaceHeightM, kViewpointSpacingM, kViewpointClearanceM);
 }
 
 void FindTeacherMission::replan_search_if_roomier(const MissionContext& ctx) {
@@ -163,8 +166,7 @@ void FindTeacherMission::replan_search_if_roomier(const MissionContext& ctx) {
   // walking by a wall is beyond the detector's reach, and the tour went on sweeping there after SLAM
   // had found its map again.
   const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
-  std::vector<Eigen::Vector3d> roomier =
-      face_search_viewpoints(roomy_fence(ctx), ctx.lab.surfaces, kFaceHeightM, kViewpointSpacingM, kViewpointClearanceM);
+  std::vector<Eigen::Vector3d> roomier = search_viewpoints(ctx);
   // Not where the drone has just swept.
   std::erase_if(roomier, [&](const Eigen::Vector3d& v) { return (v - here).head<2>().norm() < 0.5 * kViewpointSpacingM; });
   if (roomier.size() <= viewpoints_.size()) return;

@@ -51,6 +51,8 @@ class FindTeacherMission final : public Mission {
   }
   void start_search(MissionContext& ctx);
   void sweep(MissionContext& ctx);
+  // The search's viewpoints over the floor the follow's fence allows now (face_search_viewpoints).
+  std::vector<Eigen::Vector3d> search_viewpoints(const MissionContext& ctx) const;
   // A search tour planned while the estimate was unsure is planned again over the floor its firmer
   // estimate allows.
   void replan_search_if_roomier(const MissionContext& ctx);
