@@ -209,7 +209,13 @@ void FindTeacherMission::reposition(MissionContext& ctx) {
 void FindTeacherMission::follow(MissionContext& ctx) {
   const fusion::TargetObservation f = ctx.perception.face();
   if (f.t == last_face_t_ && !fresh_) return;  // no new face result: keep the moving set point
-  const Eigen::Isometry3d T_world_face = world_pose_of(f, ctx.pose, CameraId::Front);
+  Eigen::Isometry3d T_world_face = world_pose_of(f, ctx.pose, CameraId::Front);
+  if (f.position_only) {
+    const Eigen::Vector3d camera = (ctx.pose.T_world_body * T_body_cam_front()).translation();
+    T_world_face.translation() = head_range_.place(camera, T_world_face.translation(), f.t - last_posed_t_);
+  } else {
+    head_range_.learn(T_world_face.translation());
+  }
   const bool continues = last_face_t_ >= 0 && f.t - last_face_t_ < kKeepTrackS &&
                          (T_world_face.translation() - track_.position()).head<2>().norm() < kKeepTrackM;
   if (fresh_ && !continues) {

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "control/estimate_correction.hpp"
+#include "control/head_range.hpp"
 #include "control/home_landing.hpp"
 #include "control/mission.hpp"
 #include "control/take_off_and_scale.hpp"
@@ -92,6 +93,7 @@ class FindTeacherMission final : public Mission {
   Seconds last_face_t_ = -1;
   Seconds last_posed_t_ = -1;  // the last face with its pose (not a followed head)
   TeacherTrack track_;
+  HeadRange head_range_;  // a followed head's distance from the teacher's face height
   // Going round a lost face: from this heading of the track, this way (+1 counter-clockwise).
   double round_from_heading_ = 0;
   double round_sign_ = 1;

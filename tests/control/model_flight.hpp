@@ -20,6 +20,7 @@ struct ModelWorld {
   bool platform_visible = true;
   bool face_visible = true;
   bool face_head_only = false;  // the face not posed, its head followed (position_only) while in the image
+  double head_range_scale = 1.0;  // ... its distance read this many times the true one (the patch's scale drifted)
   bool slam_available = true;
   Eigen::Vector3d estimate_offset = Eigen::Vector3d::Zero();  // a bad estimate: truth + this
   // The pipelines' placement of the platform in the world (as the estimator's landmark), off by this;
@@ -128,6 +129,7 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
       Eigen::Isometry3d facing_camera = o.T_cam_target;
       facing_camera.linear() = Eigen::Matrix3d::Identity();
       o.position_only = true;
+      o.T_cam_target.translation() *= world_->head_range_scale;
       o.state = in_front_view(facing_camera, 4.0, front_) ? fusion::TrackState::Tracking : fusion::TrackState::Lost;
       o.t = t_;
       return o;
