@@ -33,6 +33,9 @@ constexpr double kGoRoundS = kGoRoundMaxRad / kGoRoundRadps + 1.0;
 // going round them at the follow distance it is in their way (test "control: a face lost at a
 // corner: the drone keeps clear of a teacher who sets off towards it unseen").
 constexpr double kLostBeyondM = 0.5;
+// ... and this much, the teacher seen by the head alone from over it: the head's distance is taken
+// from the face's height there (HeadRange, ~0.25 m at 1.2 m) and the teacher is seen walking.
+constexpr double kHeadOnlyBeyondM = 0.2;
 // A face lost while the teacher turns this fast is gone round the way they turn; slower, the way
 // that takes the drone away from the side it watched them from (the face turned away from it).
 constexpr double kTurningRadps = 0.15;
@@ -230,14 +233,15 @@ void FindTeacherMission::follow(MissionContext& ctx) {
   }
   last_face_t_ = f.t;
   if (!f.position_only) last_posed_t_ = f.t;
-  // The head alone for longer than a glance: its distance comes from its patch's scale, which drifts
-  // (on tuning seed 1002 it read 1.3 m with the teacher 0.3-0.6 m away, and the drone flew into them
-  // at face height), so the drone keeps farther out and over the teacher's head, from where the head
-  // stays in the image beyond ~1.2 m.
+  // The head alone for longer than a glance: its patch's scale drifts (on tuning seed 1002 it read
+  // 1.3 m with the teacher 0.3-0.6 m away, and the drone flew into them at face height), so the drone
+  // keeps farther out and over the teacher's head, from where the head stays in the image beyond
+  // ~1.2 m and its distance comes from the face's height (head_range_).
   const bool head_only = f.position_only && f.t - last_posed_t_ > kCoastS;
+  const double beyond_m = !head_only ? 0.0 : head_range_.knows_height() ? kHeadOnlyBeyondM : kLostBeyondM;
   // The track's place is a mean of places a face was seen at, so the walls are no nearer it than to
   // the teacher; a head's place is not (its distance drifts).
-  fly_standoff(ctx, fresh_, track_.heading(), track_.heading_rate(), head_only ? kLostBeyondM : 0.0, head_only,
+  fly_standoff(ctx, fresh_, track_.heading(), track_.heading_rate(), beyond_m, head_only,
                f.position_only ? std::nullopt : std::optional<Eigen::Vector3d>(track_.position()));
   fresh_ = false;
 }

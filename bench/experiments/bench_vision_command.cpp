@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <numbers>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "bench/experiments/detector_comparison.hpp"
 #include "bench/frame_timing.hpp"
@@ -18,7 +20,11 @@
 #include "core/candide3.hpp"
 #include "core/config_reader.hpp"
 #include "core/source_tree.hpp"
+#include "core/frames.hpp"
 #include "drone/lab/lab_description.hpp"
+#include "drone/sim/lab_renderer.hpp"
+#include "localization/face/head_tracker.hpp"
+#include "localization/face/teacher_head.hpp"
 #include "localization/face/textured_head_renderer.hpp"
 #include "bench/planar/synthetic_scene.hpp"
 #include "bench/slam/bench_flights.hpp"
@@ -110,6 +116,48 @@ Timing face_timing(const fusion::FrontEndSettings& s, int n) {
   return t;
 }
 
+// The head tracker on the lab's teacher turning their back and walking off to the side at 1.1 m,
+// rendered as the lab's front camera renders in flight; learnt from the true pose of the first frame
+// (a posed face, as FaceFrontEnd teaches it).
+Timing head_timing(int n) {
+  Timing t{"head_track", "head tracker, the lab's teacher turning their back at 1.1 m and walking on", {}, 0};
+  const lab::LabDescription lab = lab::load_lab_description(default_lab_path());
+  sim::LabRenderer renderer(lab, ardrone2_cameras(), face::load_lab_teacher_head(lab), 1, sim::LabRenderOptions{});
+  const Eigen::Vector2d start = lab.teacher.waypoints.front();
+  const Eigen::Vector3d camera_at(start.x() - 1.1, start.y(), lab.teacher.eye_height_m);
+  const auto scene = [&](double s) {
+    sim::SceneState st;
+    const Eigen::Vector2d at = start + Eigen::Vector2d(0.3 * s, 0.5 * s);
+    const double yaw = std::numbers::pi * (1.0 + s);  // facing the drone (-x), turning round
+    const Eigen::Vector3d f(std::cos(yaw), std::sin(yaw), 0.0), up = Eigen::Vector3d::UnitZ();
+    st.teacher_floor_xy = at;
+    st.T_world_head.linear().col(0) = up.cross(f);
+    st.T_world_head.linear().col(1) = up;
+    st.T_world_head.linear().col(2) = f;
+    st.T_world_head.translation() = Eigen::Vector3d(at.x(), at.y(), lab.teacher.eye_height_m);
+    st.T_world_body = make_pose(camera_at - T_body_cam_front().translation().x() * Eigen::Vector3d::UnitX(), 0.0);
+    return st;
+  };
+  const auto gray = [&](const sim::SceneState& st) {
+    cv::Mat bgr, out;
+    renderer.render(CameraId::Front, st, bgr);
+    cv::cvtColor(bgr, out, cv::COLOR_BGR2GRAY);
+    return out;
+  };
+  face::HeadTracker tracker(renderer.camera(CameraId::Front));
+  const sim::SceneState first = scene(0.0);
+  tracker.learn(gray(first), (first.T_world_body * T_body_cam_front()).inverse() * first.T_world_head, 0.0);
+  // Rendered ahead: the renderer's cost is not the tracker's. Turned round over the first 90 frames.
+  std::vector<cv::Mat> frames;
+  for (int i = 1; i <= n; ++i) frames.push_back(gray(scene(std::min(1.0, i / 90.0))));
+  for (int i = 1; i <= n; ++i) {
+    std::optional<face::HeadObservation> head;
+    t.times.add(time_call([&] { head = tracker.follow(frames[static_cast<std::size_t>(i - 1)], i / 30.0); }));
+    t.ok += head.has_value() ? 1 : 0;
+  }
+  return t;
+}
+
 }  // namespace
 
 const CommandSpec& bench_vision_command_spec() {
@@ -157,6 +205,7 @@ std::vector<Timing> run_cases(const control::FlightStackSetup& setup, const fusi
                                   setup.lab.platform, bottom, setup, s, 1.0, n, false));
   timings.push_back(slam_timing(s, front, n));
   timings.push_back(face_timing(s, n));
+  timings.push_back(head_timing(n));
   return timings;
 }
 

@@ -9,7 +9,7 @@ namespace labo::face {
 
 namespace {
 // The template's size: the search runs at this resolution (a few times coarser than the image at
-// 1 m), yet it holds the head's outline and the face's or hair's shading. Its cost is not benchmarked.
+// 1 m), yet it holds the head's outline and the face's or hair's shading (`bench vision`'s head_track).
 const cv::Size kTemplateSize(30, 39);
 
 cv::Point2d centre(const cv::Rect2d& r) { return {r.x + r.width / 2, r.y + r.height / 2}; }
