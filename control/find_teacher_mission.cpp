@@ -33,9 +33,6 @@ constexpr double kGoRoundS = kGoRoundMaxRad / kGoRoundRadps + 1.0;
 // going round them at the follow distance it is in their way (test "control: a face lost at a
 // corner: the drone keeps clear of a teacher who sets off towards it unseen").
 constexpr double kLostBeyondM = 0.5;
-// ... and this much, the teacher seen by the head alone from over it: the head's distance is taken
-// from the face's height there (HeadRange, ~0.25 m at 1.2 m) and the teacher is seen walking.
-constexpr double kHeadOnlyBeyondM = 0.2;
 // A face lost while the teacher turns this fast is gone round the way they turn; slower, the way
 // that takes the drone away from the side it watched them from (the face turned away from it).
 constexpr double kTurningRadps = 0.15;
@@ -238,7 +235,9 @@ void FindTeacherMission::follow(MissionContext& ctx) {
   // keeps farther out and over the teacher's head, from where the head stays in the image beyond
   // ~1.2 m and its distance comes from the face's height (head_range_).
   const bool head_only = f.position_only && f.t - last_posed_t_ > kCoastS;
-  const double beyond_m = !head_only ? 0.0 : head_range_.knows_height() ? kHeadOnlyBeyondM : kLostBeyondM;
+  // As far out as when lost: nearer, the head (0.35 m below the camera) leaves the bottom of the
+  // image (tuning seed 1000, 0.3 m nearer: lost at 1.04 m, and searched for the rest of the run).
+  const double beyond_m = head_only ? kLostBeyondM : 0.0;
   // The track's place is a mean of places a face was seen at, so the walls are no nearer it than to
   // the teacher; a head's place is not (its distance drifts).
   fly_standoff(ctx, fresh_, track_.heading(), track_.heading_rate(), beyond_m, head_only,

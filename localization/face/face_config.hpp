@@ -72,9 +72,9 @@ struct FaceConfig {
   // Registration keeps where the picture's landmarks lie on the fitted mesh (surface_landmarks.hpp).
   bool surface_landmarks = false;
   // Between posed faces the head is followed (head_tracker.hpp) and reported as the face's place only.
-  // Off: its distance, read from the head patch's scale, drifts, and flying on it collided with the
-  // teacher (docs/face.md, "Between posed faces: the head").
-  bool head_tracking = false;
+  // Its distance, read from the head patch's scale, drifts; face-follow takes it from the face's
+  // height instead where it can (control/head_range.hpp, docs/control.md).
+  bool head_tracking = true;
   // A tracked frame whose landmarks do not fit is made again as a track's first frame (iterated,
   // mirrored views). Off: in flight it keeps a face turned 35-50° on more frames, but neither the
   // face-follow campaign nor the face benchmark gained (docs/face.md, Design choices).

@@ -114,8 +114,8 @@ TEST_CASE("face: config and person files are validated") {
       "limits": {"max_yaw_deg": 60, "max_start_yaw_deg": 35}})", "test.json");
   const FaceConfig c = read_face_config(good.root(), ".");
   CHECK(c.solver.method == PnpMethod::EpnpLm);
-  CHECK_FALSE(c.head_tracking);
-  CHECK(read_face_config(ConfigDocument::parse(R"({"head_tracking": true})", "test.json").root(), ".").head_tracking);
+  CHECK(c.head_tracking);
+  CHECK_FALSE(read_face_config(ConfigDocument::parse(R"({"head_tracking": false})", "test.json").root(), ".").head_tracking);
   CHECK_FALSE(c.restart_unfit_tracked_frames);
   CHECK(read_face_config(ConfigDocument::parse(R"({"restart_unfit_tracked_frames": true})", "t.json").root(), ".")
             .restart_unfit_tracked_frames);
