@@ -6,7 +6,7 @@
 namespace labo::control {
 
 namespace {
-// The learnt height is a mean over this many posed faces: a walk's bob (+-2 cm) and the pose's
+// The learnt height's newest face weighs 1/kHeightWindow once that many are in: a walk's bob (+-2 cm) and the pose's
 // depth noise average out; a teacher who sits down is followed within a few seconds of faces.
 constexpr int kHeightWindow = 30;
 // The face's height between posed faces (the gait's bob, a nod) and the altimeter's error.

@@ -15,9 +15,9 @@ namespace labo::control {
 
 class HeadRange {
  public:
-  // A posed face's place in the world (its height is learnt; a mean over the last few dozen).
+  // A posed face's place in the world: its height is learnt (a running mean whose newest face
+  // weighs 1/30 once 30 are in).
   void learn(const Eigen::Vector3d& face_world);
-  void reset() { faces_ = 0; }
   bool knows_height() const { return faces_ > 0; }
   double face_height_m() const { return face_z_m_; }
 

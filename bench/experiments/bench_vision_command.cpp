@@ -23,6 +23,7 @@
 #include "core/frames.hpp"
 #include "drone/lab/lab_description.hpp"
 #include "drone/sim/lab_renderer.hpp"
+#include "drone/sim/render_commands.hpp"
 #include "localization/face/head_tracker.hpp"
 #include "localization/face/teacher_head.hpp"
 #include "localization/face/textured_head_renderer.hpp"
@@ -128,13 +129,8 @@ Timing head_timing(int n) {
   const auto scene = [&](double s) {
     sim::SceneState st;
     const Eigen::Vector2d at = start + Eigen::Vector2d(0.3 * s, 0.5 * s);
-    const double yaw = std::numbers::pi * (1.0 + s);  // facing the drone (-x), turning round
-    const Eigen::Vector3d f(std::cos(yaw), std::sin(yaw), 0.0), up = Eigen::Vector3d::UnitZ();
     st.teacher_floor_xy = at;
-    st.T_world_head.linear().col(0) = up.cross(f);
-    st.T_world_head.linear().col(1) = up;
-    st.T_world_head.linear().col(2) = f;
-    st.T_world_head.translation() = Eigen::Vector3d(at.x(), at.y(), lab.teacher.eye_height_m);
+    st.T_world_head = sim::teacher_head_pose(lab, at.x(), at.y(), std::numbers::pi * (1.0 + s));  // facing the drone (-x), turning round
     st.T_world_body = make_pose(camera_at - T_body_cam_front().translation().x() * Eigen::Vector3d::UnitX(), 0.0);
     return st;
   };

@@ -8,6 +8,7 @@
 
 #include "core/frames.hpp"
 #include "drone/sim/lab_renderer.hpp"
+#include "drone/sim/render_commands.hpp"
 #include "localization/face/teacher_head.hpp"
 
 namespace labo::face::testing {
@@ -28,12 +29,8 @@ struct TeacherScene {
 
   sim::SceneState scene(const Eigen::Vector2d& at, double yaw) const {
     sim::SceneState s;
-    const Eigen::Vector3d f(std::cos(yaw), std::sin(yaw), 0.0), up = Eigen::Vector3d::UnitZ();
     s.teacher_floor_xy = at;
-    s.T_world_head.linear().col(0) = up.cross(f);
-    s.T_world_head.linear().col(1) = up;
-    s.T_world_head.linear().col(2) = f;
-    s.T_world_head.translation() = Eigen::Vector3d(at.x(), at.y(), lab.teacher.eye_height_m);
+    s.T_world_head = sim::teacher_head_pose(lab, at.x(), at.y(), yaw);
     s.T_world_body = make_pose(camera_at - T_body_cam_front().translation().x() * Eigen::Vector3d::UnitX(), 0.0);
     return s;
   }
