@@ -160,7 +160,7 @@ const CommandSpec& bench_vision_command_spec() {
   static const CommandSpec spec{
       "bench vision",
       "",
-      "per-frame cost of the vision front-ends flight control runs (planar detection and tracking, SLAM, face), "
+      "per-frame cost of the vision front-ends flight control runs (planar detection and tracking, SLAM, face, the head between posed faces), "
       "and the planar detectors compared",
       {{"--frames", "N", "frames per case (default 100; the detection cases and the detector comparison at most 60)"},
        {"--part", "P", "cases, detectors or all (default all)"},
