@@ -189,6 +189,12 @@ Eigen::Matrix2Xd FacePoseEstimator::landmarks_in(const cv::Mat& gray, const cv::
   return lm;
 }
 
+cv::Rect2d FacePoseEstimator::settled_box(const cv::Mat& gray, const cv::Rect2d& box) {
+  // One step: a second moved the gallery's figures by less than their seed-to-seed spread.
+  landmark_detector_.detect(gray, box, settle_lm_);
+  return landmark_detector_.box_for(settle_lm_);
+}
+
 std::optional<Eigen::Matrix2Xd> FacePoseEstimator::landmarks_in_frontal_view(const cv::Mat& gray, const cv::Rect2d& box,
                                                                              const Eigen::Isometry3d& T_cam_face) {
   if (!frontal_) return std::nullopt;
@@ -467,7 +473,9 @@ FaceResult FacePoseEstimator::process(const cv::Mat& gray, Seconds t) {
     return lose(result, FaceLostReason::BadImage);
   }
   double start = process_cpu_seconds();
-  const auto candidate = choose_box(gray, result);
+  auto candidate = choose_box(gray, result);
+  // Everything after takes the box as the predictor's: the crop, the view's box relation.
+  if (candidate && candidate->from_detector) candidate->box = settled_box(gray, candidate->box);
   result.timings.detect_ms = ms_since(start);
   if (!candidate) return lose(result, result.reason);
 

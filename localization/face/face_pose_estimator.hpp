@@ -96,6 +96,11 @@ class FacePoseEstimator {
   // The faces' boxes in a whole picture (registration, tests): the full-frame search at every scale.
   std::vector<FaceBox> find_faces(const cv::Mat& gray);
   Eigen::Matrix2Xd landmarks_in(const cv::Mat& gray, const cv::Rect2d& box);
+  // A detector's box made the predictor's own: LandmarkDetector::box_for on the landmarks found in
+  // it. The HOG detector's box of one face varies by ±20 % in size from frame to frame and scale to
+  // scale; from a box too large the predictor stretches the mouth and chin below the face (on the
+  // face gallery's registration frames: the mouth 17 mm low, the registered person pitched 25°).
+  cv::Rect2d settled_box(const cv::Mat& gray, const cv::Rect2d& box);
   // The 68 landmarks tracking would find for the face in detector box `box` seen at `T_cam_face`: the
   // predictor on the frontal view made at that pose through the current person's mesh, mapped back to
   // the image (registration, so that the person's points are where tracking's landmarks lie). Empty
@@ -155,6 +160,7 @@ class FacePoseEstimator {
   std::optional<Eigen::Matrix2Xd> last_landmarks_;
   std::optional<Eigen::Vector2d> landmark_velocity_px_;
   std::optional<cv::Rect2d> last_box_;
+  Eigen::Matrix2Xd settle_lm_;  // settled_box's landmarks: a buffer, kept to not allocate per detection
   std::optional<cv::Rect2d> search_hint_;  // one frame's
   int frames_since_detection_ = 0;
   int lost_frames_ = 0;

@@ -37,6 +37,8 @@ class LandmarkCascade {
   int landmark_count() const { return static_cast<int>(mean_shape_.size() / 2); }
   int level_count() const { return static_cast<int>(levels_.size()); }
   std::size_t tree_count() const;
+  // Landmark i of the mean shape, in the normalised box frame: where the predictor starts it.
+  Eigen::Vector2d mean_landmark(int i) const { return {mean_shape_[2 * i], mean_shape_[2 * i + 1]}; }
 
   // The landmarks (2 x landmark_count(), whole pixels of `gray`) of the face in `box`. Feature pixels
   // outside the image read 0. `landmarks` is resized only when its size differs. Allocates nothing

@@ -59,6 +59,31 @@ void LandmarkDetector::detect(const cv::Mat& gray, const cv::Rect2d& box, Eigen:
   for (Eigen::Index i = 0; i < 68; ++i) landmarks.col(i) = to_frame * (landmarks.col(i) - offset);
 }
 
+cv::Rect2d LandmarkDetector::box_for(const Eigen::Matrix2Xd& landmarks) const {
+  if (landmarks.cols() != 68) throw std::invalid_argument("landmark detector: box_for expects 68 landmarks");
+  // The nose (27-35) and the eyes (36-47): the points the predictor places best whatever its box.
+  constexpr int kFirst = 27, kCount = 21;
+  Eigen::Vector2d m_mean = Eigen::Vector2d::Zero(), l_mean = Eigen::Vector2d::Zero();
+  for (int i = kFirst; i < kFirst + kCount; ++i) {
+    m_mean += impl_->cascade.mean_landmark(i);
+    l_mean += landmarks.col(i);
+  }
+  m_mean /= kCount;
+  l_mean /= kCount;
+  double dot = 0, cross = 0, m_spread = 0;
+  for (int i = kFirst; i < kFirst + kCount; ++i) {
+    const Eigen::Vector2d m = impl_->cascade.mean_landmark(i) - m_mean, l = landmarks.col(i) - l_mean;
+    dot += m.dot(l);
+    cross += m.x() * l.y() - m.y() * l.x();
+    m_spread += m.squaredNorm();
+  }
+  if (!(m_spread > 0)) throw std::logic_error("landmark detector: degenerate mean shape");
+  const double side = std::hypot(dot, cross) / m_spread;  // the similarity's scale: box side in pixels
+  const Eigen::Matrix2d turn = Eigen::Rotation2Dd(std::atan2(cross, dot)).toRotationMatrix();
+  const Eigen::Vector2d centre = l_mean - side * turn * (m_mean - Eigen::Vector2d(0.5, 0.5));
+  return {centre.x() - side / 2, centre.y() - side / 2, side, side};
+}
+
 void LandmarkDetector::detect_in(const cv::Mat& prepared, const cv::Rect2d& rect, Eigen::Matrix2Xd& landmarks) {
   if (prepared.empty() || prepared.type() != CV_8UC1) throw std::invalid_argument("landmark detector: expected an 8-bit grey image");
   if (!(rect.width > 0 && rect.height > 0)) throw std::invalid_argument("landmark detector: empty face box");

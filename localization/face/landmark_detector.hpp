@@ -33,6 +33,13 @@ class LandmarkDetector {
   // the face's box there; landmarks in that image's pixels (integers: the predictor rounds, as dlib's).
   void detect_in(const cv::Mat& prepared, const cv::Rect2d& rect, Eigen::Matrix2Xd& landmarks);
 
+  // The face box, axis-aligned and square, in which the predictor's mean shape lies over the eyes
+  // and nose of `landmarks` (2 x 68; the similarity's rotation is taken out, its scale and place
+  // kept). A detector's box is only roughly the face: the cascade does not move far from the box
+  // it starts in, and a box a fifth too large leaves the mouth and chin stretched far below the
+  // face (the HOG detector's next pyramid level, on small faces over clutter).
+  cv::Rect2d box_for(const Eigen::Matrix2Xd& landmarks) const;
+
   static std::filesystem::path default_path() { return "/usr/share/dlib/shape_predictor_68_face_landmarks.dat"; }
 
  private:

@@ -69,6 +69,7 @@ PortraitFace find_portrait_face(FacePoseEstimator& estimator, const cv::Mat& gra
   if (people > 1) {
     return refused(face, PortraitRefusal::SeveralFaces, std::to_string(people) + " faces found, expected one person");
   }
+  face.box = estimator.settled_box(gray, face.box);
   face.landmarks = estimator.landmarks_in(gray, face.box);
   face.interocular_px = interocular_px(face.landmarks);
   for (int id : rigid_landmark_ids()) {

@@ -284,7 +284,7 @@ TEST_CASE("face: a frontal view of a turned head removes the predictor's pull to
 
 TEST_CASE("face: the first frame of a track is posed on the frontal view too") {
   // A new track has no pose to make the frontal view from; the crop's landmarks see a head turned
-  // 40° as turned ~33°. The estimator poses them once and runs the predictor again on the frontal
+  // 40° as turned ~37.5°. The estimator poses them once and runs the predictor again on the frontal
   // view at that pose, so even the first frame gets the turn (the relative-motion errors of a whole
   // track are measured from it).
   const Eigen::Isometry3d truth = pose(40, 0, 0, {0.02, -0.02, 0.8});
@@ -301,7 +301,7 @@ TEST_CASE("face: the first frame of a track is posed on the frontal view too") {
     yaw_error_deg[frontal] = std::abs(r.angles.yaw - head_angles(truth.linear()).yaw) / kDeg;
     distance_error_m[frontal] = std::abs(r.T_cam_face.translation().z() - truth.translation().z());
   }
-  CHECK(yaw_error_deg[0] > 3.0);
+  CHECK(yaw_error_deg[0] > 2.0);
   CHECK(yaw_error_deg[1] < 2.0);
   CHECK(distance_error_m[1] < distance_error_m[0]);
 }

@@ -134,8 +134,15 @@ TEST_CASE("face front-end: without head tracking, a face turned away is lost") {
   Seconds now = 0;
   for (int i = 0; i < 5 && !front_end.last_result().tracking(); ++i, now += 1 / kFps) front_end.process(face_on, now, std::nullopt);
   REQUIRE(front_end.last_result().tracking());
-  const fusion::TargetObservation& back = front_end.process(t.gray(t.scene(at, 0.0)), now, std::nullopt);
+  // Turned away at once. The tracked landmarks may lock onto the hair for a frame or so (a face-like
+  // fit at 2 px RMS) until the detector's next check refuses it; within a second the face is lost,
+  // and never is a head reported in its place.
+  const cv::Mat back_image = t.gray(t.scene(at, 0.0));
+  fusion::TargetObservation back;
+  for (int i = 0; i < kFps && back.state != fusion::TrackState::Lost; ++i) {
+    back = front_end.process(back_image, now += 1 / kFps, std::nullopt);
+    CHECK_FALSE(back.position_only);
+  }
   CHECK(back.state == fusion::TrackState::Lost);
-  CHECK_FALSE(back.position_only);
   CHECK_FALSE(front_end.last_head().has_value());
 }
