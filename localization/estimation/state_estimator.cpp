@@ -370,6 +370,7 @@ struct StateEstimator::Impl {
     f.colour = selector.colour(t);
     f.quality = selector.quality(t);
     f.position_sigma_m = std::sqrt(f.covariance.block<3, 3>(X, X).diagonal().maxCoeff());
+    f.altitude_sigma_m = std::sqrt(std::max(0.0, f.covariance(Z, Z)));
     f.drift_bound_m = c.drift_bound_m();
     f.unobserved_flight_s = unobserved_flight_s;
     return f;

@@ -62,6 +62,7 @@ struct FusedState {
   SourceColour colour = SourceColour::Red;
   double quality = 0;                 // 0..1: the driving source's quality, 0 in dead reckoning
   double position_sigma_m = 0;        // sqrt of the largest position variance
+  double altitude_sigma_m = 0;        // sqrt of the altitude's variance (ultrasound-measured: no drift)
   // How far dead reckoning may have carried the estimate off the lab's frame since its last fix
   // there (DriftBoundSettings): a bound, not a sigma, and not in the covariance.
   double drift_bound_m = 0;

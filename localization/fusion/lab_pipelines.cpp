@@ -287,6 +287,7 @@ PoseEstimate LabPipelines::predict(Seconds t) const {
   e.source = feedback_of(f.source);
   e.quality = f.quality;
   e.position_sigma_m = f.position_sigma_m;
+  e.altitude_sigma_m = f.altitude_sigma_m;
   e.drift_bound_m = f.drift_bound_m;
   e.unobserved_flight_s = f.unobserved_flight_s;
   return e;

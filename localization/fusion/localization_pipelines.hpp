@@ -38,7 +38,8 @@ struct PoseEstimate {
   double yaw_rate = 0;
   FeedbackSource source = FeedbackSource::DeadReckoning;
   double quality = 0;  // 0..1
-  double position_sigma_m = 0;  // 1-sigma position uncertainty
+  double position_sigma_m = 0;  // 1-sigma position uncertainty (the worst-known axis)
+  double altitude_sigma_m = 0;  // 1-sigma altitude uncertainty
   double drift_bound_m = 0;     // how far dead reckoning may have drifted (estimation::FusedState)
   double unobserved_flight_s = 0;  // flight bridged unseen since the last fix; 0: the place is confirmed
 };

@@ -30,6 +30,7 @@ struct ModelWorld {
   // calibration, a jittering homography).
   Eigen::Vector3d platform_seen_shift_m = Eigen::Vector3d::Zero();
   double position_sigma_m = 0;  // the uncertainty the estimate reports
+  std::optional<double> altitude_sigma_m;  // ... for the altitude (unset: position_sigma_m)
   double drift_bound_m = 0;     // ... and its dead-reckoning drift bound
   double airborne_since = -1;
   Eigen::Isometry3d T_world_face = facing_base({2.5, -0.5, 1.6});  // z into the head, looking at the base
@@ -70,6 +71,7 @@ class ModelPipelines final : public fusion::LocalizationPipelines {
     e.yaw_rate = world_->drone.yaw_rate;
     e.quality = 1;
     e.position_sigma_m = world_->position_sigma_m;
+    e.altitude_sigma_m = world_->altitude_sigma_m.value_or(world_->position_sigma_m);
     e.drift_bound_m = world_->drift_bound_m;
     const bool slam_ok = slam().state == fusion::SlamState::Good;
     switch (focus_.feedback) {
