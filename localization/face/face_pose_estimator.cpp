@@ -192,7 +192,10 @@ Eigen::Matrix2Xd FacePoseEstimator::landmarks_in(const cv::Mat& gray, const cv::
 cv::Rect2d FacePoseEstimator::settled_box(const cv::Mat& gray, const cv::Rect2d& box) {
   // One step: a second moved the gallery's figures by less than their seed-to-seed spread.
   landmark_detector_.detect(gray, box, settle_lm_);
-  return landmark_detector_.box_for(settle_lm_);
+  const cv::Rect2d own = landmark_detector_.box_for(settle_lm_);
+  // Landmarks that collapsed (or left the picture) give no box to run the predictor in again.
+  const bool usable = own.width > 0 && (own & cv::Rect2d(0, 0, gray.cols, gray.rows)).area() > 0;
+  return usable ? own : box;
 }
 
 std::optional<Eigen::Matrix2Xd> FacePoseEstimator::landmarks_in_frontal_view(const cv::Mat& gray, const cv::Rect2d& box,

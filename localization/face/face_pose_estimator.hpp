@@ -100,6 +100,7 @@ class FacePoseEstimator {
   // it. The HOG detector's box of one face varies by ±20 % in size from frame to frame and scale to
   // scale; from a box too large the predictor stretches the mouth and chin below the face (on the
   // face gallery's registration frames: the mouth 17 mm low, the registered person pitched 25°).
+  // `box` itself when the landmarks found in it give no box inside the picture.
   cv::Rect2d settled_box(const cv::Mat& gray, const cv::Rect2d& box);
   // The 68 landmarks tracking would find for the face in detector box `box` seen at `T_cam_face`: the
   // predictor on the frontal view made at that pose through the current person's mesh, mapped back to

@@ -78,9 +78,11 @@ cv::Rect2d LandmarkDetector::box_for(const Eigen::Matrix2Xd& landmarks) const {
     m_spread += m.squaredNorm();
   }
   if (!(m_spread > 0)) throw std::logic_error("landmark detector: degenerate mean shape");
-  const double side = std::hypot(dot, cross) / m_spread;  // the similarity's scale: box side in pixels
-  const Eigen::Matrix2d turn = Eigen::Rotation2Dd(std::atan2(cross, dot)).toRotationMatrix();
-  const Eigen::Vector2d centre = l_mean - side * turn * (m_mean - Eigen::Vector2d(0.5, 0.5));
+  // The least-squares similarity (scale times rotation) from the mean shape to the landmarks; its
+  // scale is the box side in pixels.
+  const Eigen::Matrix2d similarity = (Eigen::Matrix2d() << dot, -cross, cross, dot).finished() / m_spread;
+  const double side = std::hypot(dot, cross) / m_spread;
+  const Eigen::Vector2d centre = l_mean - similarity * (m_mean - Eigen::Vector2d(0.5, 0.5));
   return {centre.x() - side / 2, centre.y() - side / 2, side, side};
 }
 

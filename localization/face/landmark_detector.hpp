@@ -37,7 +37,8 @@ class LandmarkDetector {
   // and nose of `landmarks` (2 x 68; the similarity's rotation is taken out, its scale and place
   // kept). A detector's box is only roughly the face: the cascade does not move far from the box
   // it starts in, and a box a fifth too large leaves the mouth and chin stretched far below the
-  // face (the HOG detector's next pyramid level, on small faces over clutter).
+  // face (the HOG detector's next pyramid level, on small faces over clutter). An empty box when the
+  // eyes and nose coincide. Throws std::invalid_argument for other than 68 landmarks.
   cv::Rect2d box_for(const Eigen::Matrix2Xd& landmarks) const;
 
   static std::filesystem::path default_path() { return "/usr/share/dlib/shape_predictor_68_face_landmarks.dat"; }

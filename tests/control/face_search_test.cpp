@@ -26,6 +26,12 @@ control::MissionRequest find_teacher() {
   r.kind = control::RequestKind::FindTeacher;
   return r;
 }
+// The teacher turns their back where they stand: from now on only the head is followed (the front
+// end's position_only).
+void turn_away_seen_by_the_head(test::ModelWorld& world) {
+  world.face_head_only = true;
+  world.T_world_face.linear() = world.T_world_face.linear() * Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitY());
+}
 }  // namespace
 
 TEST_CASE("control: search viewpoints cover the free floor, keep off the benches and are toured nearest first") {
@@ -366,8 +372,7 @@ TEST_CASE("control: a teacher seen by the head alone is followed from farther ou
   const Eigen::Vector3d drone_start = f.world->drone.pose().translation();
   const Eigen::Vector3d side = (drone_start - start_face).normalized();
   // Turned away and walking away from the drone at 0.4 m/s for 5 s, seen by the head only.
-  f.world->face_head_only = true;
-  f.world->T_world_face.linear() = f.world->T_world_face.linear() * Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitY());
+  turn_away_seen_by_the_head(*f.world);
   const Eigen::Vector3d walk = -0.4 * Eigen::Vector3d(side.x(), side.y(), 0.0).normalized();
   double nearest = 10, stage_face_follow = 0, ticks = 0;
   for (const double end = f.t + 5.0; f.t < end;) {
@@ -398,8 +403,7 @@ TEST_CASE("control: a followed head whose patch reads it far is followed at the 
   REQUIRE(f.request(find_teacher()).accepted);
   REQUIRE(f.run_until([&] { return f.stack->status().stage == "3 face-follow"; }, 120.0));
   f.run(8.0);
-  f.world->face_head_only = true;
-  f.world->T_world_face.linear() = f.world->T_world_face.linear() * Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitY());
+  turn_away_seen_by_the_head(*f.world);
   double nearest = 10, farthest_late = 0;
   const double drift_from = f.t;
   for (const double end = f.t + 12.0; f.t < end;) {
@@ -473,8 +477,7 @@ TEST_CASE("control: on a long dead reckoning a head-only teacher is still follow
   f.run(5.0);
   f.world->position_sigma_m = 0.44;
   f.world->altitude_sigma_m = 0.03;
-  f.world->face_head_only = true;
-  f.world->T_world_face.linear() = f.world->T_world_face.linear() * Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitY());
+  turn_away_seen_by_the_head(*f.world);
   for (const double end = f.t + 5.0; f.t < end;) f.run(1.0 / 30.0);
   const double blind_z = control::MissionParameters{}.face_blind_altitude_m;
   INFO("stage " << f.stack->status().stage << ", drone at " << f.world->drone.pose().translation().transpose());

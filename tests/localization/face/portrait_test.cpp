@@ -109,6 +109,8 @@ TEST_CASE("face portrait: a box is settled where the predictor's mean shape lies
   lm.middleCols(48, 20).array() += 25.0;
   CHECK(detector.box_for(lm).x == Approx(box.x).epsilon(1e-9));
   CHECK_THROWS_AS(detector.box_for(Eigen::Matrix2Xd::Zero(2, 5)), std::invalid_argument);
+  // Landmarks collapsed onto one point: an empty box, which settled_box does not use.
+  CHECK(detector.box_for(Eigen::Matrix2Xd::Constant(2, 68, 50.0)).width == 0);
 }
 
 TEST_CASE("face portrait: from a detector box too large, the settled box gives the mouth and chin back") {
