@@ -103,6 +103,7 @@ std::string FindTeacherMission::describe(Seconds t) const {
   switch (step_) {
     case Step::Init: return "1 init: " + init_.describe();
     case Step::Sweep:
+      if (sweep_blind_) return "2 search: yaw sweep over the teacher's head where they were lost";
       return viewpoint_ == 0 ? "2 search: yaw sweep where the drone is"
                              : "2 search: yaw sweep at viewpoint " + std::to_string((viewpoint_ - 1) % viewpoints_.size() + 1) +
                                    "/" + std::to_string(viewpoints_.size());
@@ -151,8 +152,9 @@ double FindTeacherMission::blind_altitude(const MissionContext& ctx) const {
   return std::clamp(ctx.config.mission.face_blind_altitude_m, hard.min().z(), hard.max().z());
 }
 
-void FindTeacherMission::start_search(MissionContext& ctx) {
+void FindTeacherMission::start_search(MissionContext& ctx, bool after_loss) {
   search_started_ = ctx.t;
+  sweep_blind_ = after_loss;
   const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
   viewpoints_ = tour_from(here, search_viewpoints(ctx));
   viewpoint_ = 0;
@@ -182,13 +184,18 @@ void FindTeacherMission::sweep(MissionContext& ctx) {
   if (fresh_) sweep_start_yaw_ = ctx.autopilot.target() ? ctx.autopilot.target()->yaw : yaw;
   const double swept = ctx.config.mission.face_search_yaw_rate * (ctx.t - since_);
   Eigen::Vector3d hold = ctx.autopilot.target() ? ctx.autopilot.target()->position : ctx.pose.T_world_body.translation();
-  // Down from the blind altitude to sweep at face height: from 2 m a face nearer than about 1 m is
-  // below the camera's field, and a teacher walking past is not found.
-  if (fresh_) hold.z() = std::clamp(kFaceHeightM, ctx.autopilot.fence().min().z(), ctx.autopilot.fence().max().z());
+  // At face height: from 2 m a face nearer than about 1 m is below the camera's field, and a teacher
+  // walking past is not found. Not where the teacher was just lost: they may be walking at the drone
+  // unseen (randomized tuning seed 1002: the drone came down from 2.0 to 1.6 m onto a teacher walking
+  // 0.5 m away); over their head they pass beneath it, and from there faces beyond 1 m are found.
+  if (fresh_)
+    hold.z() = sweep_blind_ ? blind_altitude(ctx)
+                            : std::clamp(kFaceHeightM, ctx.autopilot.fence().min().z(), ctx.autopilot.fence().max().z());
   ctx.autopilot.go_to({hold, sweep_start_yaw_ + swept}, ctx.t, fresh_);
   fresh_ = false;
   if (face_seen(ctx)) enter(Step::Follow, ctx.t);
   else if (swept >= 2 * std::numbers::pi) {
+    sweep_blind_ = false;
     replan_search_if_roomier(ctx);
     enter(viewpoints_.empty() ? Step::Sweep : Step::Reposition, ctx.t);
   }
@@ -286,7 +293,7 @@ void FindTeacherMission::lost(MissionContext& ctx) {
     fly_standoff(ctx, false, round_from_heading_ + round_sign_ * turned, turned < kGoRoundMaxRad ? round_sign_ * kGoRoundRadps : 0.0,
                  kLostBeyondM, true);
   } else {
-    start_search(ctx);
+    start_search(ctx, true);
   }
 }
 
@@ -362,7 +369,7 @@ MissionOutcome FindTeacherMission::step(MissionContext& ctx) {
   switch (step_) {
     case Step::Init:
       // Climb to about a standing adult's face height; SLAM gets its scale before the search.
-      if (init_.step(ctx, kFaceHeightM)) start_search(ctx);
+      if (init_.step(ctx, kFaceHeightM)) start_search(ctx, false);
       break;
     case Step::Sweep: sweep(ctx); break;
     case Step::Reposition: reposition(ctx); break;

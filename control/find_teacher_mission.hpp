@@ -50,7 +50,9 @@ class FindTeacherMission final : public Mission {
     since_ = t;
     fresh_ = true;
   }
-  void start_search(MissionContext& ctx);
+  // `after_loss`: the teacher was lost near the drone a moment ago; its first sweep is flown over
+  // their head.
+  void start_search(MissionContext& ctx, bool after_loss);
   void sweep(MissionContext& ctx);
   // The search's viewpoints over the floor the follow's fence allows now (face_search_viewpoints).
   std::vector<Eigen::Vector3d> search_viewpoints(const MissionContext& ctx) const;
@@ -85,6 +87,7 @@ class FindTeacherMission final : public Mission {
   bool fresh_ = true;
   bool stop_requested_ = false;
   double sweep_start_yaw_ = 0;
+  bool sweep_blind_ = false;  // this sweep at face_blind_altitude_m, not face height
   std::vector<Eigen::Vector3d> viewpoints_;  // the search's tour, from where it started
   std::size_t viewpoint_ = 0;                // the next one flown to
   TakeOffAndScale init_;

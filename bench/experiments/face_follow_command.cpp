@@ -40,7 +40,7 @@ struct FaceRun {
   double in_view() const { return ticks > 0 ? static_cast<double>(in_view_ticks) / ticks : 0.0; }
   // Empty when the run meets every target, else why not.
   std::string failure() const {
-    if (!found) return fmt("face not followed within %.0f s", kFindWithinS);
+    if (!found) return fmt("face not followed within %.0f s", kFindWithinS) + (crashed ? "; crashed" : "");
     std::string why;
     const auto add = [&](const std::string& s) { why += (why.empty() ? "" : "; ") + s; };
     if (crashed) add("crashed");
@@ -63,7 +63,8 @@ FaceRun run_face_follow(const control::FlightStackSetup& setup, double walk_s, E
   control::MissionRequest req;
   req.kind = control::RequestKind::FindTeacher;
   f.request(req);
-  r.found = f.run_until([&] { return f.stack().status().stage == "3 face-follow"; }, kFindWithinS);
+  r.found = f.run_until([&] { return f.stack().status().stage == "3 face-follow" || f.crashed(); }, kFindWithinS) && !f.crashed();
+  r.crashed = f.crashed();  // in the search too: a crash there is not a face not found
   if (!r.found) return r;
   r.found_at_s = f.now();
   f.run(kSettleS);
@@ -128,12 +129,13 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
     return r;
   });
   std::vector<double> dist, centre;
-  int found = 0, passed = 0, ticks = 0, in_view = 0, tracked = 0, head = 0;
+  int found = 0, passed = 0, crashed = 0, ticks = 0, in_view = 0, tracked = 0, head = 0;
   nlohmann::json runs = nlohmann::json::array(), failed = nlohmann::json::array();
   for (int i = 0; i < o.runs; ++i) {
     const unsigned seed = o.seed + static_cast<unsigned>(i);
     const FaceRun& r = results[static_cast<std::size_t>(i)];
     found += r.found;
+    crashed += r.crashed;
     ticks += r.ticks;
     in_view += r.in_view_ticks;
     tracked += r.tracked_ticks;
@@ -147,7 +149,7 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
   const double in_view_fraction = ticks > 0 ? static_cast<double>(in_view) / ticks : 0.0;
   nlohmann::json summary = {{"experiment", "sim face-follow"}, {"note", real_vision_note(o)}, {"world", world_name(experiment)},
                             {"seed", o.seed}, {"runs", o.runs}, {"walk_s", walk},
-                            {"runs_face_followed", found}, {"runs_passed", passed}, {"failed", failed},
+                            {"runs_face_followed", found}, {"runs_passed", passed}, {"runs_crashed", crashed}, {"failed", failed},
                             {"measured_s", ticks * ExperimentFlight::kControlDt},
                             {"distance_error_rms_m", rms(dist)}, {"target_distance_error_rms_m", kTargetDistanceRmsM},
                             {"centre_error_rms", rms(centre)}, {"centre_error_p95", percentile(centre, 95)},
@@ -157,7 +159,7 @@ int run_sim_face_follow_command(const ParsedArgs& args) {
                             {"head_only_fraction", ticks > 0 ? static_cast<double>(head) / ticks : 0.0}, {"per_run", runs}};
   std::vector<std::string> lines = {
       real_vision_note(o),
-      fmt("face followed in %.0f/%.0f runs; %.0f runs met every target", found, o.runs, passed),
+      fmt("face followed in %.0f/%.0f runs; %.0f runs met every target", found, o.runs, passed) + fmt("; %.0f crashed", crashed),
       fmt("over %.1f s measured: distance error RMS %.3f m (target <= %.2f)", ticks * ExperimentFlight::kControlDt, rms(dist),
           kTargetDistanceRmsM),
       fmt("face in the image %.1f %% of the time (target >= %.0f %%), posed %.1f %%", 100 * in_view_fraction, 100 * kTargetInView,

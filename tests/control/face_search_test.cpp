@@ -306,9 +306,11 @@ TEST_CASE("control: a lost face is gone round clear of the walls by the estimate
 
 TEST_CASE("control: a lost face is gone round over the teacher's head, and the search flies over it to its viewpoints") {
   // Blind, the drone cannot know where a teacher who walked on from the lost place went: going round
-  // that place at face height, it flew into a teacher standing on the circle, and following the lost
-  // face's motion at face height, into a teacher who had turned and walked at it. Over their head it
-  // cannot; it comes down to face height only to sweep, and to follow a face it sees.
+  // that place at face height, it flew into a teacher standing on the circle; following the lost
+  // face's motion at face height, into a teacher who had turned and walked at it; and coming down to
+  // sweep where it lost them, into a teacher walking past unseen (randomized tuning seed 1002). Over
+  // their head it cannot; it comes down to face height only to sweep at the search's viewpoints, and
+  // to follow a face it sees.
   fusion::LabGeometry lab = model_lab();
   test::ModelFlight f({}, lab);
   const double blind_z = control::MissionParameters{}.face_blind_altitude_m;
@@ -318,9 +320,11 @@ TEST_CASE("control: a lost face is gone round over the teacher's head, and the s
   f.run(5.0);
   CHECK(std::abs(f.world->drone.p.z() - 1.6) < 0.15);  // following at face height
   f.world->face_visible = false;
-  bool coasted = false, went_round = false, swept = false, repositioned = false;
-  double highest_coast_set_point = 0, highest_going_round = 0, lowest_set_point_moving = 10, sweep_set_point_z = 0;
-  for (const double end = f.t + 40.0; f.t < end && !(swept && repositioned);) {
+  bool coasted = false, went_round = false, swept_where_lost = false, repositioned = false, swept_at_viewpoint = false;
+  double highest_coast_set_point = 0, highest_going_round = 0, lowest_set_point_moving = 10;
+  double lowest_sweeping_where_lost = 10, viewpoint_sweep_set_point_z = 0;
+  int viewpoint_sweep_ticks = 0;
+  for (const double end = f.t + 60.0; f.t < end && viewpoint_sweep_ticks < 10;) {
     f.run(0.1);
     const control::FlightStatus s = f.stack->status();
     if (!s.desired) continue;
@@ -332,25 +336,32 @@ TEST_CASE("control: a lost face is gone round over the teacher's head, and the s
       went_round = true;
       highest_going_round = std::max(highest_going_round, f.world->drone.p.z());
       lowest_set_point_moving = std::min(lowest_set_point_moving, set_z);
+    } else if (s.stage.find("yaw sweep over the teacher's head") != std::string::npos) {
+      swept_where_lost = true;
+      lowest_sweeping_where_lost = std::min(lowest_sweeping_where_lost, f.world->drone.p.z());
     } else if (s.stage.find("moving to viewpoint") != std::string::npos) {
       repositioned = true;
       lowest_set_point_moving = std::min(lowest_set_point_moving, set_z);
-    } else if (s.stage.find("yaw sweep") != std::string::npos) {
-      swept = true;
-      sweep_set_point_z = set_z;
+    } else if (s.stage.find("yaw sweep at viewpoint") != std::string::npos) {
+      swept_at_viewpoint = true;
+      ++viewpoint_sweep_ticks;
+      viewpoint_sweep_set_point_z = set_z;
     }
   }
   INFO("highest set point following the lost face's motion " << highest_coast_set_point << " m; drone's highest going round "
                                                                << highest_going_round << " m; lowest set point moving blind " << lowest_set_point_moving
-                                      << " m; sweep at " << sweep_set_point_z << " m");
+                                                               << " m; drone's lowest sweeping where the face was lost " << lowest_sweeping_where_lost
+                                                               << " m; sweep at a viewpoint at " << viewpoint_sweep_set_point_z << " m");
   REQUIRE(coasted);
   REQUIRE(went_round);
-  REQUIRE(swept);
+  REQUIRE(swept_where_lost);
   REQUIRE(repositioned);
+  REQUIRE(swept_at_viewpoint);
   CHECK(highest_coast_set_point > blind_z - 0.1);
   CHECK(highest_going_round > blind_z - 0.1);
   CHECK(lowest_set_point_moving > blind_z - 0.1);  // a step-limited set point starts a little below it
-  CHECK(sweep_set_point_z == Approx(1.6));
+  CHECK(lowest_sweeping_where_lost > blind_z - 0.1);
+  CHECK(viewpoint_sweep_set_point_z == Approx(1.6));
 }
 
 TEST_CASE("control: a teacher seen by the head alone is followed from farther out, over the head, on the same side") {
