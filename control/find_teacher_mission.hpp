@@ -75,9 +75,13 @@ class FindTeacherMission final : public Mission {
   // `blind`: the face is not seen, the set point is flown at face_blind_altitude_m. `seen_face`: a
   // place a face was just seen at; the walls are no nearer the set point than to it where the
   // estimate's uncertainty would keep it farther (widened_to_face).
+  // `over_head`: a head followed without its face, the set point at over_head_altitude.
   void fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m = 0.0,
-                    bool blind = false, const std::optional<Eigen::Vector3d>& seen_face = std::nullopt);
+                    bool blind = false, const std::optional<Eigen::Vector3d>& seen_face = std::nullopt, bool over_head = false);
   double blind_altitude(const MissionContext& ctx) const;
+  // Over a followed head at `head` and low enough that it stays in the image from where the drone is,
+  // never above the blind altitude.
+  double over_head_altitude(const MissionContext& ctx, const Eigen::Vector3d& head) const;
   void follow_estimate_corrections(const MissionContext& ctx);
   std::string describe(Seconds t) const;
 
