@@ -61,9 +61,6 @@ constexpr double kKeepTrackS = 1.0;
 constexpr double kKeepTrackM = 0.5;
 constexpr double kMaxOrbitStepRad = std::numbers::pi / 3;  // the standoff's bearing leads the drone's by at most this
 constexpr double kOnBoundM = 0.01;  // a standoff this near a fence's bound is held at it
-// No set point nearer the teacher's face than this (horizontally), whatever bound it was held at: the
-// drone's hull (0.26 m) and a body (~0.25 m) touch at 0.51 m.
-constexpr double kMinFaceClearanceM = 0.8;
 constexpr double kMinAimDistanceM = 0.2;  // nearer than this the bearing to the face has no useful rate
 
 // Moving towards a bound, the set point stays this many seconds of that motion inside it, so the
@@ -92,21 +89,20 @@ constexpr double kOverrunS = 1.0;
 
 // The fences inset by the estimate's uncertainty shrink on a long dead reckoning (a 2 m drift bound
 // leaves a box half a metre across in the middle of the room), and a set point held at their bounds
-// may be on the teacher (randomized tuning seed 1001: 0.2 m behind the face, flown into). The face is
-// measured from the drone's camera, so its distance holds however far the estimate has drifted: such a
-// set point is moved out on the drone's side of the face (not through the teacher to the far side),
-// within the geofence alone.
-void keep_clear_of_face(PoseTarget& target, const Eigen::Vector3d& face, const Eigen::Vector3d& here, const Geofence& geofence) {
-  if ((target.position - face).head<2>().norm() >= kMinFaceClearanceM) return;
+// may be on the teacher (randomized tuning seeds 1001, 1003: 0.2 m behind the face, and 0.3 m in
+// front of a teacher walking at the drone; flown into). The face is measured from the drone's camera,
+// so its distance holds however far the estimate has drifted: such a set point is moved out to
+// `distance_m` on the drone's side of the face (not through the teacher to the far side), within the
+// geofence alone, and moves with the teacher.
+void keep_clear_of_face(PoseTarget& target, const Eigen::Vector3d& face, const Eigen::Vector3d& face_velocity, double distance_m,
+                        const Eigen::Vector3d& here, const Geofence& geofence) {
+  if ((target.position - face).head<2>().norm() >= distance_m) return;
   Eigen::Vector2d out = (here - face).head<2>();
   if (out.norm() < 1e-3) out = (target.position - face).head<2>();
   if (out.norm() < 1e-3) out = Eigen::Vector2d::UnitX();
-  target.position.head<2>() = face.head<2>() + kMinFaceClearanceM * out.normalized();
+  target.position.head<2>() = face.head<2>() + distance_m * out.normalized();
   target.position = geofence.clamp(target.position);
-  // Not fed forward towards the face.
-  const Eigen::Vector2d radial = out.normalized();
-  const double towards = target.velocity.head<2>().dot(radial);
-  if (towards < 0) target.velocity.head<2>() -= towards * radial;
+  target.velocity.head<2>() = face_velocity.head<2>();
 }
 
 void stop_pushing_at_bounds(PoseTarget& target, const Geofence& fence, const Eigen::Vector3d& here,
@@ -381,9 +377,13 @@ void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, do
     next.position = hard.clamp(next.position);
     held_at_bound = true;
   }
-  if (held_at_bound) keep_clear_of_face(next, face, here, ctx.autopilot.fence());
+  const Eigen::Vector3d unbraked = next.position;
   brake_before_bounds(next, hard, ctx.pose.velocity_world);
   stop_pushing_at_bounds(next, hard, here, ctx.pose.velocity_world);
+  // Last: the bounds' clearance from the walls gives way to the teacher's, where the drone flies at
+  // the face's height; blind it flies over the head, and a lost face's place is not known anyway.
+  held_at_bound = held_at_bound || (next.position - unbraked).norm() > 1e-6;
+  if (held_at_bound && !blind) keep_clear_of_face(next, face, track_.velocity(), d, here, ctx.autopilot.fence());
   ctx.autopilot.go_to(next, ctx.t, new_waypoint);
 }
 
