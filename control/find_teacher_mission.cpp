@@ -276,8 +276,9 @@ void FindTeacherMission::follow(MissionContext& ctx) {
   const double beyond_m = head_only ? kLostBeyondM : 0.0;
   // The track's place is a mean of places a face was seen at, so the walls are no nearer it than to
   // the teacher; a head's place is not (its distance drifts).
-  fly_standoff(ctx, fresh_, track_.heading(), track_.heading_rate(), beyond_m, false,
-               f.position_only ? std::nullopt : std::optional<Eigen::Vector3d>(track_.position()), head_only);
+  fly_standoff(ctx, fresh_, track_.heading(), track_.heading_rate(), beyond_m,
+               head_only ? StandoffAltitude::OverHead : StandoffAltitude::Face,
+               f.position_only ? std::nullopt : std::optional<Eigen::Vector3d>(track_.position()));
   fresh_ = false;
 }
 
@@ -287,7 +288,7 @@ void FindTeacherMission::bridge_brief_loss(MissionContext& ctx) {
   // lost for a few frames mid-walk is bridged along the track, not taken for a loss".
   const TeacherTrack seen = track_;
   track_.coast(ctx.t - last_face_t_);
-  fly_standoff(ctx, false, track_.heading(), track_.heading_rate(), 0.0, false,
+  fly_standoff(ctx, false, track_.heading(), track_.heading_rate(), 0.0, StandoffAltitude::Face,
                last_posed_t_ == last_face_t_ ? std::optional<Eigen::Vector3d>(seen.position()) : std::nullopt);
   track_ = seen;
 }
@@ -310,14 +311,14 @@ void FindTeacherMission::lost(MissionContext& ctx) {
   if (lost_for < kCoastS) {
     track_.coast(ctx.t - last_tick_);
     // Blind too: the teacher may have turned and be walking at the drone.
-    fly_standoff(ctx, false, track_.heading(), track_.heading_rate(), kLostBeyondM, true);
+    fly_standoff(ctx, false, track_.heading(), track_.heading_rate(), kLostBeyondM, StandoffAltitude::Blind);
     round_from_heading_ = track_.heading();
   } else if (lost_for < kCoastS + kGoRoundS) {
     // How far a lost teacher walks on is not known: the place is held, the heading swept round it.
     track_.stop();
     const double turned = std::min(kGoRoundMaxRad, kGoRoundRadps * (lost_for - kCoastS));
     fly_standoff(ctx, false, round_from_heading_ + round_sign_ * turned, turned < kGoRoundMaxRad ? round_sign_ * kGoRoundRadps : 0.0,
-                 kLostBeyondM, true);
+                 kLostBeyondM, StandoffAltitude::Blind);
   } else {
     start_search(ctx, true);
   }
@@ -332,7 +333,7 @@ double FindTeacherMission::over_head_altitude(const MissionContext& ctx, const E
 }
 
 void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m,
-                                      bool blind, const std::optional<Eigen::Vector3d>& seen_face, bool over_head) {
+                                      StandoffAltitude altitude, const std::optional<Eigen::Vector3d>& seen_face) {
   const double d = ctx.config.mission.face_distance_m + beyond_m;
   const Eigen::Vector3d here = ctx.pose.T_world_body.translation();
   const Eigen::Vector3d& face = track_.position();
@@ -349,8 +350,8 @@ void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, do
   if (held_at_bound) next.position = hard.clamp(next.position);
   // Going round a place the teacher may have walked on from, the drone cannot see them: it flies
   // over their head (test "control: a lost face is gone round over the teacher's head").
-  if (blind) next.position.z() = blind_altitude(ctx);
-  if (over_head) next.position.z() = over_head_altitude(ctx, face);
+  if (altitude == StandoffAltitude::Blind) next.position.z() = blind_altitude(ctx);
+  if (altitude == StandoffAltitude::OverHead) next.position.z() = over_head_altitude(ctx, face);
   // Feed-forward: the standoff moves with the teacher and swings round them as they turn; not out
   // through a bound the standoff was held at (the drone overshot it into the wall).
   next.velocity = track_.velocity() + d * heading_rate * Eigen::Vector3d(-std::sin(heading), std::cos(heading), 0.0);
@@ -383,7 +384,7 @@ void FindTeacherMission::fly_standoff(MissionContext& ctx, bool new_waypoint, do
   // Last: the bounds' clearance from the walls gives way to the teacher's, where the drone flies at
   // the face's height; blind it flies over the head, and a lost face's place is not known anyway.
   held_at_bound = held_at_bound || (next.position - unbraked).norm() > 1e-6;
-  if (held_at_bound && !blind) keep_clear_of_face(next, face, track_.velocity(), d, here, ctx.autopilot.fence());
+  if (held_at_bound && altitude != StandoffAltitude::Blind) keep_clear_of_face(next, face, track_.velocity(), d, here, ctx.autopilot.fence());
   ctx.autopilot.go_to(next, ctx.t, new_waypoint);
 }
 

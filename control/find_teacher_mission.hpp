@@ -70,14 +70,15 @@ class FindTeacherMission final : public Mission {
   Geofence inset_fence(const MissionContext& ctx, const Eigen::Vector3d& clearance_m) const;
   Geofence roomy_fence(const MissionContext& ctx) const;
   Eigen::Vector3d uncertainty_clearance(const MissionContext& ctx) const;
+  // The set point's height: the face's (a seen face), face_blind_altitude_m (blind: the face is not
+  // seen), or over_head_altitude (a head followed without its face).
+  enum class StandoffAltitude { Face, Blind, OverHead };
   // Stand face_distance_m (+ beyond_m) in front of the track's place, as seen facing `heading`
-  // (turning at `heading_rate`), the camera on the place.
-  // `blind`: the face is not seen, the set point is flown at face_blind_altitude_m. `seen_face`: a
-  // place a face was just seen at; the walls are no nearer the set point than to it where the
-  // estimate's uncertainty would keep it farther (widened_to_face).
-  // `over_head`: a head followed without its face, the set point at over_head_altitude.
-  void fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m = 0.0,
-                    bool blind = false, const std::optional<Eigen::Vector3d>& seen_face = std::nullopt, bool over_head = false);
+  // (turning at `heading_rate`), the camera on the place, at `altitude`. `seen_face`: a place a face
+  // was just seen at; the walls are no nearer the set point than to it where the estimate's
+  // uncertainty would keep it farther (widened_to_face).
+  void fly_standoff(MissionContext& ctx, bool new_waypoint, double heading, double heading_rate, double beyond_m,
+                    StandoffAltitude altitude, const std::optional<Eigen::Vector3d>& seen_face = std::nullopt);
   double blind_altitude(const MissionContext& ctx) const;
   // Over a followed head at `head` and low enough that it stays in the image from where the drone is,
   // never above the blind altitude.
