@@ -85,8 +85,9 @@ struct MissionParameters {
   double max_hold_s = 600.0;
   double face_search_yaw_rate = 0.4;   // rad/s during the yaw sweep
   // Face-follow: where the face is not seen and the drone moves (to a search viewpoint, round the
-  // place the face was lost), it flies at this altitude, above a standing adult's head: a teacher it
-  // cannot see may be walking where it flies.
+  // place the face was lost) or sweeps where it lost the face, it flies at this altitude, above a
+  // standing adult's head: a teacher it cannot see may be walking where it flies. The highest it
+  // watches a head followed without its face from.
   double face_blind_altitude_m = 2.0;
   // The teacher moves: fed to the filter as a landmark, the face's motion is taken for the drone's.
   // Off: SLAM drives the pose and the face is the target; the face drives it only when SLAM is lost.
