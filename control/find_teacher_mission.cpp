@@ -87,6 +87,14 @@ void brake_before_bounds(PoseTarget& target, const Geofence& fence, const Eigen:
 // teacher is followed along them (the turn-back and corner tests came within 0.47-0.49 m of them).
 constexpr double kOverrunS = 1.0;
 
+void stop_pushing_at_bounds(PoseTarget& target, const Geofence& fence, const Eigen::Vector3d& here,
+                            const Eigen::Vector3d& velocity) {
+  for (int i = 0; i < 2; ++i) {
+    if (velocity[i] < 0 && target.velocity[i] < 0 && -velocity[i] * kOverrunS > here[i] - fence.min()[i]) target.velocity[i] = 0;
+    if (velocity[i] > 0 && target.velocity[i] > 0 && velocity[i] * kOverrunS > fence.max()[i] - here[i]) target.velocity[i] = 0;
+  }
+}
+
 // The fences inset by the estimate's uncertainty shrink on a long dead reckoning (a 2 m drift bound
 // leaves a box half a metre across in the middle of the room), and a set point held at their bounds
 // may be on the teacher (randomized tuning seeds 1001, 1003: 0.2 m behind the face, and 0.3 m in
@@ -103,14 +111,6 @@ void keep_clear_of_face(PoseTarget& target, const Eigen::Vector3d& face, const E
   target.position.head<2>() = face.head<2>() + distance_m * out.normalized();
   target.position = geofence.clamp(target.position);
   target.velocity.head<2>() = face_velocity.head<2>();
-}
-
-void stop_pushing_at_bounds(PoseTarget& target, const Geofence& fence, const Eigen::Vector3d& here,
-                            const Eigen::Vector3d& velocity) {
-  for (int i = 0; i < 2; ++i) {
-    if (velocity[i] < 0 && target.velocity[i] < 0 && -velocity[i] * kOverrunS > here[i] - fence.min()[i]) target.velocity[i] = 0;
-    if (velocity[i] > 0 && target.velocity[i] > 0 && velocity[i] * kOverrunS > fence.max()[i] - here[i]) target.velocity[i] = 0;
-  }
 }
 
 double bearing(const Eigen::Vector3d& from, const Eigen::Vector3d& to) { return std::atan2(to.y() - from.y(), to.x() - from.x()); }

@@ -26,6 +26,12 @@ control::MissionRequest find_teacher() {
   r.kind = control::RequestKind::FindTeacher;
   return r;
 }
+// Asks for the teacher and flies until their face is followed.
+void start_following(test::ModelFlight& f) {
+  REQUIRE(f.request(find_teacher()).accepted);
+  REQUIRE(f.run_until([&] { return f.stack->status().stage == "3 face-follow"; }, 120.0));
+}
+
 // The teacher turns their back where they stand: from now on only the head is followed (the front
 // end's position_only).
 void turn_away_seen_by_the_head(test::ModelWorld& world) {
@@ -275,8 +281,7 @@ TEST_CASE("control: a lost face is gone round clear of the walls by the estimate
   T_world_head.linear().col(2) = Eigen::Vector3d(std::cos(heading), std::sin(heading), 0.0);
   T_world_head.translation() = Eigen::Vector3d(1.0, -1.6, 1.6);
   f.world->T_world_face = T_world_head * fusion::flip_about_y();
-  REQUIRE(f.request(find_teacher()).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().stage == "3 face-follow"; }, 120.0));
+  start_following(f);
   f.run(5.0);
   // The face lost (they turned away) and the estimate unsure: 0.15 m at 1 sigma, and dead reckoning
   // may have drifted 0.2 m.
@@ -315,8 +320,7 @@ TEST_CASE("control: a lost face is gone round over the teacher's head, and the s
   test::ModelFlight f({}, lab);
   const double blind_z = control::MissionParameters{}.face_blind_altitude_m;
   REQUIRE(blind_z > 1.8 + 0.1);  // the default clears a standing adult's head (eyes at ~1.65 m)
-  REQUIRE(f.request(find_teacher()).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().stage == "3 face-follow"; }, 120.0));
+  start_following(f);
   f.run(5.0);
   CHECK(std::abs(f.world->drone.p.z() - 1.6) < 0.15);  // following at face height
   f.world->face_visible = false;
@@ -414,8 +418,7 @@ TEST_CASE("control: a teacher standing in the middle of the room on a long dead 
   fusion::LabGeometry lab = model_lab();  // room x -1..5, y -3..3; geofence margin 0.3
   test::ModelFlight f({}, lab);
   f.world->T_world_face = test::facing_base({2.0, 0.1, 1.6});  // the room's middle, looking west
-  REQUIRE(f.request(find_teacher()).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().stage == "3 face-follow"; }, 120.0));
+  start_following(f);
   f.run(5.0);
   f.world->position_sigma_m = 0.39;
   f.world->altitude_sigma_m = 0.03;
@@ -443,8 +446,7 @@ TEST_CASE("control: a followed head whose patch reads it far is followed at the 
   fusion::LabGeometry lab = model_lab();
   test::ModelFlight f({}, lab);
   f.world->T_world_face = test::facing_base({1.5, 0.0, 1.6});
-  REQUIRE(f.request(find_teacher()).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().stage == "3 face-follow"; }, 120.0));
+  start_following(f);
   f.run(8.0);
   turn_away_seen_by_the_head(*f.world);
   double nearest = 10, farthest_late = 0;
@@ -486,8 +488,7 @@ TEST_CASE("control: a teacher who walks at the drone near a wall: the drone stop
   };
   double y = 1.0;
   f.world->T_world_face = face_at(y);
-  REQUIRE(f.request(find_teacher()).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().stage == "3 face-follow"; }, 120.0));
+  start_following(f);
   f.run(5.0);
   const double lost_at_y = -1.8, stop_at_y = -2.4;
   double nearest_wall = 10;
@@ -515,8 +516,7 @@ TEST_CASE("control: on a long dead reckoning a head-only teacher is still follow
   fusion::LabGeometry lab = model_lab();
   test::ModelFlight f({}, lab);
   f.world->T_world_face = test::facing_base({1.5, 0.0, 1.6});
-  REQUIRE(f.request(find_teacher()).accepted);
-  REQUIRE(f.run_until([&] { return f.stack->status().stage == "3 face-follow"; }, 120.0));
+  start_following(f);
   f.run(5.0);
   f.world->position_sigma_m = 0.44;
   f.world->altitude_sigma_m = 0.03;
