@@ -41,6 +41,7 @@ FlightSample sample_of(const control::FlightStatus& s, const control::FlightOutp
   const fusion::TargetObservation& target = s.stage_index == 5 ? s.platform : s.mission == "find_teacher" ? s.face : s.instrument;
   sample.target = target.state;
   if (target.state == fusion::TrackState::Lost) sample.target_reason = target.reason;
+  if (target.state == fusion::TrackState::Tracking) sample.target_method = target.method;
   sample.stage_index = s.stage_index;
   sample.stage = s.stage;
   if (true_face) {

@@ -43,6 +43,7 @@ struct FlightSample {
   fusion::SlamState slam = fusion::SlamState::Off;
   fusion::TrackState target = fusion::TrackState::Off;  // the platform in stage 5, else the instrument (or the face)
   std::string target_reason;            // why the target is lost, as its front-end says
+  std::string target_method;            // how it is tracked (face: the pose method, or "head" without a face)
   int stage_index = 0;
   std::string stage;
   // The teacher's face, when there is one (face-follow diagnostics): true place in the world (x, y, z,

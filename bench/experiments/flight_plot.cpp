@@ -37,7 +37,7 @@ double value(const Eigen::Vector4d& v, int axis) {
 void write_flight_csv(const std::filesystem::path& file, const std::vector<FlightSample>& samples) {
   std::ofstream out = open_for_writing(file);
   out << "t_s,est_x_m,est_y_m,est_z_m,est_yaw_rad,true_x_m,true_y_m,true_z_m,true_yaw_rad,"
-         "des_x_m,des_y_m,des_z_m,des_yaw_rad,source,slam,target,target_lost_reason,stage_index,stage,"
+         "des_x_m,des_y_m,des_z_m,des_yaw_rad,source,slam,target,target_lost_reason,target_method,stage_index,stage,"
          "face_x_m,face_y_m,face_z_m,face_heading_rad,face_cam_x_m,face_cam_y_m,face_cam_z_m,"
          "face_meas_cam_x_m,face_meas_cam_y_m,face_meas_cam_z_m,cmd_roll,cmd_pitch,cmd_gaz,cmd_yaw_rate,action,alerts,"
          "object_fused,slam_fused,rejected_reacquisition,reacquisition_confirmed,rejected_innovation,rejected_jump,"
@@ -53,7 +53,7 @@ void write_flight_csv(const std::filesystem::path& file, const std::vector<Fligh
     std::string stage = s.stage, reason = s.target_reason;
     std::replace(stage.begin(), stage.end(), ',', ';');
     std::replace(reason.begin(), reason.end(), ',', ';');
-    out << ',' << to_string(s.source) << ',' << to_string(s.slam) << ',' << to_string(s.target) << ",\"" << reason << "\","
+    out << ',' << to_string(s.source) << ',' << to_string(s.slam) << ',' << to_string(s.target) << ",\"" << reason << "\"," << s.target_method << ','
         << s.stage_index << ",\"" << stage << '"';
     write_optional(out, s.face_true_world);
     write_optional(out, s.face_true_cam);

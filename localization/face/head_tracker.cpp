@@ -25,12 +25,33 @@ bool whole_patch(const cv::Rect& r, const cv::Mat& gray) {
 }
 }  // namespace
 
+std::string_view to_string(HeadLostReason reason) {
+  switch (reason) {
+    case HeadLostReason::None: return "none";
+    case HeadLostReason::NotLearnt: return "no head learnt from a posed face";
+    case HeadLostReason::FaceTooLongAgo: return "head followed too long since the last posed face";
+    case HeadLostReason::NoMatch: return "head no longer matches its patch";
+    case HeadLostReason::AtBorder: return "head at the image's border";
+    case HeadLostReason::FillsImage: return "head fills the image";
+    case HeadLostReason::ImplausibleDistance: return "head's distance implausible";
+    case HeadLostReason::RegionTooSmall: return "head's search region cut by the image";
+  }
+  return "unknown";
+}
+
 HeadTracker::HeadTracker(const PinholeCamera& camera, HeadTrackerOptions options) : camera_(camera), options_(options) {}
 
 void HeadTracker::reset() {
   box_.reset();
   template_stale_ = false;
   face_patch_size_ = cv::Size();
+  lost_reason_ = HeadLostReason::NotLearnt;
+}
+
+std::nullopt_t HeadTracker::lose(HeadLostReason reason) {
+  reset();
+  lost_reason_ = reason;
+  return std::nullopt;
 }
 
 bool HeadTracker::take_patch(const cv::Mat& gray, const cv::Rect2d& box, cv::Mat& out) {
@@ -66,14 +87,12 @@ void HeadTracker::learn(const cv::Mat& gray, const Eigen::Isometry3d& T_cam_face
   template_stale_ = true;
   box_ = box;
   last_face_t_ = t;
+  lost_reason_ = HeadLostReason::None;
 }
 
 std::optional<HeadObservation> HeadTracker::follow(const cv::Mat& gray, Seconds t) {
   if (!box_ || gray.empty() || gray.type() != CV_8UC1) return std::nullopt;
-  if (t - last_face_t_ > options_.max_follow_s) {
-    reset();
-    return std::nullopt;
-  }
+  if (t - last_face_t_ > options_.max_follow_s) return lose(HeadLostReason::FaceTooLongAgo);
   if (template_stale_) {
     cv::resize(face_pixels_(cv::Rect(cv::Point(0, 0), face_patch_size_)), patch_8u_, kTemplateSize, 0, 0, cv::INTER_AREA);
     patch_8u_.convertTo(template_, CV_32F);
@@ -88,10 +107,7 @@ std::optional<HeadObservation> HeadTracker::follow(const cv::Mat& gray, Seconds 
                                              static_cast<int>(std::ceil(last.y + last.height + m)))) &
                           cv::Rect(0, 0, gray.cols, gray.rows);
   const cv::Size scaled(static_cast<int>(std::lround(region.width / f)), static_cast<int>(std::lround(region.height / f)));
-  if (scaled.width <= kTemplateSize.width || scaled.height <= kTemplateSize.height) {
-    reset();
-    return std::nullopt;
-  }
+  if (scaled.width <= kTemplateSize.width || scaled.height <= kTemplateSize.height) return lose(HeadLostReason::RegionTooSmall);
   cv::resize(gray(region), region_8u_, scaled, 0, 0, f > 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
   region_8u_.convertTo(region_, CV_32F);
 
@@ -117,27 +133,19 @@ std::optional<HeadObservation> HeadTracker::follow(const cv::Mat& gray, Seconds 
       best_at = at;
     }
   }
-  if (best_score < options_.min_score) {
-    reset();
-    return std::nullopt;
-  }
+  if (best_score < options_.min_score) return lose(HeadLostReason::NoMatch);
   const cv::Rect2d box(region.x + best_at.x * f, region.y + best_at.y * f, last.width * best_scale, last.height * best_scale);
   const cv::Point2d c = centre(box);
   // A head filling the frame (the drone at arm's length) or leaving it has no outline left to match.
-  if (!camera_.in_image({c.x, c.y}, options_.border_margin * box.width) || box.height > options_.max_height_fraction * gray.rows) {
-    reset();
-    return std::nullopt;
-  }
+  if (!camera_.in_image({c.x, c.y}, options_.border_margin * box.width)) return lose(HeadLostReason::AtBorder);
+  if (box.height > options_.max_height_fraction * gray.rows) return lose(HeadLostReason::FillsImage);
   // The distance from the angle the box's height spans (through the lens model: at the image's edge
   // the AR.Drone's wide lens shrinks a head by a fifth).
   const Eigen::Vector3d top = camera_.unproject({c.x, box.y});
   const Eigen::Vector3d bottom = camera_.unproject({c.x, box.y + box.height});
   const double angle = std::acos(std::clamp(top.dot(bottom), -1.0, 1.0));
   const double distance = options_.head_height_m / (2.0 * std::tan(angle / 2.0));
-  if (!(distance >= options_.min_distance_m && distance <= options_.max_distance_m)) {
-    reset();
-    return std::nullopt;
-  }
+  if (!(distance >= options_.min_distance_m && distance <= options_.max_distance_m)) return lose(HeadLostReason::ImplausibleDistance);
   // The head turns under the template: follow its new look a little each frame.
   if (take_patch(gray, box, patch_)) cv::addWeighted(template_, 1.0 - options_.adapt_rate, patch_, options_.adapt_rate, 0.0, template_);
   box_ = box;

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include <optional>
 #include <opencv2/core.hpp>
+#include <string_view>
 
 #include "core/camera_model.hpp"
 #include "core/time.hpp"
@@ -31,6 +32,19 @@ struct HeadTrackerOptions {
   double border_margin = 0.25;       // of the box's width: the box's centre this far inside the image
 };
 
+// Why no head is followed: shown with the face's reason, and what a campaign's traces are read by.
+enum class HeadLostReason {
+  None,           // followed
+  NotLearnt,      // no posed face since the tracker was reset
+  FaceTooLongAgo, // followed for max_follow_s since the last posed face
+  NoMatch,        // the best correlation below min_score
+  AtBorder,       // the head's centre too near the image's border
+  FillsImage,     // the head taller than max_height_fraction of the image
+  ImplausibleDistance,  // the distance from the box's size outside [min, max]
+  RegionTooSmall, // the search region, clipped by the image, smaller than the template
+};
+std::string_view to_string(HeadLostReason reason);
+
 struct HeadObservation {
   Eigen::Vector3d p_cam_head_m = Eigen::Vector3d::Zero();  // the head's centre in the camera
   cv::Rect2d box;         // its patch in the image
@@ -50,10 +64,13 @@ class HeadTracker {
   std::optional<HeadObservation> follow(const cv::Mat& gray, Seconds t);
   void reset();
   bool active() const { return box_.has_value(); }  // learnt, and not lost since
+  // Why the head is not followed (None while it is); kept until the next learn().
+  HeadLostReason lost_reason() const { return lost_reason_; }
   const HeadTrackerOptions& options() const { return options_; }
 
  private:
   bool take_patch(const cv::Mat& gray, const cv::Rect2d& box, cv::Mat& out);
+  std::nullopt_t lose(HeadLostReason reason);
 
   PinholeCamera camera_;
   HeadTrackerOptions options_;
@@ -63,6 +80,7 @@ class HeadTracker {
   bool template_stale_ = false;    // the template is still to be made from face_pixels_
   cv::Mat template_;               // CV_32F, the template's size
   Seconds last_face_t_ = 0;
+  HeadLostReason lost_reason_ = HeadLostReason::NotLearnt;
   // Reused buffers.
   cv::Mat region_8u_, region_, scaled_template_, scores_, patch_8u_, patch_;
 };

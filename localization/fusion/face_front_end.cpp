@@ -31,6 +31,14 @@ void FaceFrontEnd::reset() {
   observation_.state = TrackState::Off;
 }
 
+std::string_view FaceFrontEnd::lost_reason() const {
+  // No face in the image after a followed head was lost: why the head was lost says more.
+  const face::HeadLostReason head = head_tracker_.lost_reason();
+  const bool head_was_followed = head != face::HeadLostReason::None && head != face::HeadLostReason::NotLearnt;
+  if (!head_ && result_.reason == face::FaceLostReason::NoFace && head_was_followed) return face::to_string(head);
+  return face::to_string(result_.reason);
+}
+
 void FaceFrontEnd::follow(const face::PersonShape& person) {
   std::lock_guard lock(pending_mutex_);
   pending_person_ = person;
@@ -63,7 +71,7 @@ const TargetObservation& FaceFrontEnd::process(const cv::Mat& gray, Seconds t, s
   o.state = result_.tracking() || head_ ? TrackState::Tracking : TrackState::Lost;
   o.position_only = !result_.tracking() && head_.has_value();
   o.method = o.position_only ? std::string("head") : face::to_string(estimator_->method());
-  o.reason = result_.tracking() ? std::string_view() : face::to_string(result_.reason);
+  o.reason = result_.tracking() ? std::string_view() : lost_reason();
   o.quality = result_.tracking() ? result_.quality : head_ ? head_->score : 0.0;
   if (result_.tracking()) {
     o.T_cam_target = result_.T_cam_face * flip_about_y();

@@ -32,6 +32,8 @@ class FaceFrontEnd final : public TargetFrontEnd {
   face::FacePoseEstimator& estimator() { return *estimator_; }
 
  private:
+  std::string_view lost_reason() const;
+
   std::unique_ptr<face::FacePoseEstimator> estimator_;
   face::HeadTracker head_tracker_;
   face::FaceResult result_;

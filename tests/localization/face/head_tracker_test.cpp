@@ -61,6 +61,7 @@ TEST_CASE("head tracker: a head that leaves or is followed beyond its time is lo
   options.max_follow_s = 1.0;
   HeadTracker tracker(t.renderer.camera(CameraId::Front), options);
   CHECK_FALSE(tracker.follow(t.gray(t.scene(start, std::numbers::pi)), 0.0).has_value());  // nothing learnt
+  CHECK(tracker.lost_reason() == HeadLostReason::NotLearnt);
 
   const SceneState facing = t.scene(start, std::numbers::pi);
   const cv::Mat still = t.gray(facing);
@@ -68,9 +69,11 @@ TEST_CASE("head tracker: a head that leaves or is followed beyond its time is lo
   CHECK_FALSE(tracker.follow(cv::Mat(), 0.1).has_value());
   CHECK_FALSE(tracker.follow(cv::Mat(360, 640, CV_8UC3, cv::Scalar::all(0)), 0.1).has_value());
   CHECK(tracker.active());  // bad frames leave the track as it was
+  CHECK(tracker.lost_reason() == HeadLostReason::None);
   CHECK(tracker.follow(still, 0.5).has_value());
   CHECK_FALSE(tracker.follow(still, 1.1).has_value());  // 1.1 s after the last face
   CHECK_FALSE(tracker.active());
+  CHECK(tracker.lost_reason() == HeadLostReason::FaceTooLongAgo);
 
   // The teacher gone from the view: no head is made up on the wall behind.
   tracker.learn(still, t.T_cam_face(facing), 2.0);
@@ -80,6 +83,9 @@ TEST_CASE("head tracker: a head that leaves or is followed beyond its time is lo
   bool lost = false;
   for (int i = 1; i <= 10 && !lost; ++i) lost = !tracker.follow(empty, 2.0 + i / kFps).has_value();
   CHECK(lost);
+  CHECK(tracker.lost_reason() == HeadLostReason::NoMatch);
+  tracker.reset();
+  CHECK(tracker.lost_reason() == HeadLostReason::NotLearnt);
 }
 
 TEST_CASE("face front-end: with head tracking, a face turned away is reported as the head's place only, then lost") {
@@ -120,7 +126,7 @@ TEST_CASE("face front-end: with head tracking, a face turned away is reported as
   for (int i = 0; i < 21 * kFps; ++i) last = front_end.process(back, now += 1 / kFps, std::nullopt);
   CHECK(last.state == fusion::TrackState::Lost);
   CHECK_FALSE(last.position_only);
-  CHECK_FALSE(last.reason.empty());
+  CHECK(last.reason == to_string(HeadLostReason::FaceTooLongAgo));  // not the face's "no face found"
 }
 
 TEST_CASE("face front-end: without head tracking, a face turned away is lost") {
@@ -145,4 +151,35 @@ TEST_CASE("face front-end: without head tracking, a face turned away is lost") {
   }
   CHECK(back.state == fusion::TrackState::Lost);
   CHECK_FALSE(front_end.last_head().has_value());
+}
+
+TEST_CASE("head tracker: a head approached fast keeps its distance") {
+  const bool sharp = GENERATE(true, false);
+  TeacherScene t(sharp);
+  const Eigen::Vector2d at = t.lab.teacher.waypoints.front();
+  const double over_m = GENERATE(0.0, 0.3);
+  const double z = t.lab.teacher.eye_height_m + over_m;
+  const auto place_camera = [&](double range_m) { t.camera_at = Eigen::Vector3d(at.x() - range_m, at.y(), z); };
+  const double from_m = 1.8, to_m = over_m > 0 ? 1.0 : 0.7, speed = 0.6;
+  place_camera(from_m);
+  HeadTracker tracker(t.renderer.camera(CameraId::Front));
+  const SceneState facing = t.scene(at, std::numbers::pi);
+  tracker.learn(t.gray(facing), t.T_cam_face(facing), 0.0);
+  // The teacher turns away in 3 s (as in the test above) while the drone flies at them.
+  const int frames = static_cast<int>((from_m - to_m) / speed * kFps);
+  double worst = 0;
+  for (int i = 1; i <= frames; ++i) {
+    place_camera(from_m - speed * i / kFps);
+    const double turned = std::min(1.0, i / (3.0 * kFps));
+    const SceneState s = t.scene(at, std::numbers::pi * (1 + turned));
+    const auto head = tracker.follow(t.gray(s), i / kFps);
+    INFO("sharp " << sharp << " over " << over_m << " frame " << i << " at " << from_m - speed * i / kFps << " m: " << to_string(tracker.lost_reason()));
+    REQUIRE(head.has_value());
+    const Eigen::Vector3d truth = head_centre(t.T_cam_face(s), tracker.options());
+    const double e = head->p_cam_head_m.norm() / truth.norm() - 1.0;
+    worst = std::max(worst, std::abs(e));
+    UNSCOPED_INFO(i << ": true " << truth.norm() << " read " << head->p_cam_head_m.norm() << " score " << head->score);
+  }
+  INFO("sharp " << sharp << " over " << over_m << " worst " << worst);
+  CHECK(worst < 0.15);
 }
