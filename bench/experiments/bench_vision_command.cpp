@@ -154,6 +154,42 @@ Timing head_timing(int n) {
   return t;
 }
 
+// The head tracker after it lost the head: every frame searched whole for its kept template (the
+// teacher gone from the view, so nothing is found and the search never stops early). `ok` counts the
+// frames on which no head was made up.
+Timing head_reacquire_timing(int n) {
+  Timing t{"head_reacquire", "head tracker, the head lost: the whole image searched for it at 13 scales", {}, 0};
+  const lab::LabDescription lab = lab::load_lab_description(default_lab_path());
+  sim::LabRenderer renderer(lab, ardrone2_cameras(), face::load_lab_teacher_head(lab), 1, sim::LabRenderOptions{});
+  const Eigen::Vector2d at = lab.teacher.waypoints.front();
+  sim::SceneState st;
+  st.teacher_floor_xy = at;
+  st.T_world_head = sim::teacher_head_pose(lab, at.x(), at.y(), std::numbers::pi);
+  st.T_world_body = make_pose(Eigen::Vector3d(at.x() - 1.1, at.y(), lab.teacher.eye_height_m) -
+                                  T_body_cam_front().translation().x() * Eigen::Vector3d::UnitX(), 0.0);
+  const auto gray = [&](const sim::SceneState& scene) {
+    cv::Mat bgr, out;
+    renderer.render(CameraId::Front, scene, bgr);
+    cv::cvtColor(bgr, out, cv::COLOR_BGR2GRAY);
+    return out;
+  };
+  face::HeadTracker tracker(renderer.camera(CameraId::Front));
+  tracker.learn(gray(st), (st.T_world_body * T_body_cam_front()).inverse() * st.T_world_head, 0.0);
+  tracker.follow(gray(st), 1 / 30.0);
+  st.teacher_present = false;
+  const cv::Mat empty = gray(st);
+  Seconds now = 1 / 30.0;
+  for (int i = 0; i < 30 && tracker.active(); ++i) tracker.follow(empty, now += 1 / 30.0);
+  if (tracker.active()) return t;  // not lost: nothing to time (ok stays 0)
+  const int frames = std::min(n, static_cast<int>(tracker.options().reacquire_s * 30.0) - 1);
+  for (int i = 0; i < frames; ++i) {
+    std::optional<face::HeadObservation> head;
+    t.times.add(time_call([&] { head = tracker.follow(empty, now += 1 / 30.0); }));
+    t.ok += head.has_value() ? 0 : 1;
+  }
+  return t;
+}
+
 }  // namespace
 
 const CommandSpec& bench_vision_command_spec() {
@@ -202,6 +238,7 @@ std::vector<Timing> run_cases(const control::FlightStackSetup& setup, const fusi
   timings.push_back(slam_timing(s, front, n));
   timings.push_back(face_timing(s, n));
   timings.push_back(head_timing(n));
+  timings.push_back(head_reacquire_timing(n));
   return timings;
 }
 

@@ -11,6 +11,11 @@ namespace {
 // The template's size: the search runs at this resolution (a few times coarser than the image at
 // 1 m), yet it holds the head's outline and the face's or hair's shading (`bench vision`'s head_track).
 const cv::Size kTemplateSize(30, 39);
+// Reacquisition tries the template at scales this far apart (of the box's height: ~2 px of it).
+constexpr double kReacquireScaleStep = 1.08;
+// ... and first within this many box heights of where it was lost, at this ratio of its size.
+constexpr double kReacquireNearBoxes = 1.5;
+constexpr double kReacquireNearScale = 1.18;
 
 cv::Point2d centre(const cv::Rect2d& r) { return {r.x + r.width / 2, r.y + r.height / 2}; }
 
@@ -35,6 +40,7 @@ std::string_view to_string(HeadLostReason reason) {
     case HeadLostReason::FillsImage: return "head fills the image";
     case HeadLostReason::ImplausibleDistance: return "head's distance implausible";
     case HeadLostReason::RegionTooSmall: return "head's search region cut by the image";
+    case HeadLostReason::FrameGap: return "no frames for a while (video link)";
   }
   return "unknown";
 }
@@ -43,15 +49,25 @@ HeadTracker::HeadTracker(const PinholeCamera& camera, HeadTrackerOptions options
 
 void HeadTracker::reset() {
   box_.reset();
+  lost_box_.reset();
   template_stale_ = false;
   face_patch_size_ = cv::Size();
   lost_reason_ = HeadLostReason::NotLearnt;
 }
 
-std::nullopt_t HeadTracker::lose(HeadLostReason reason) {
+std::nullopt_t HeadTracker::lose(HeadLostReason reason, Seconds t, bool keep_template) {
+  const std::optional<cv::Rect2d> last = box_;
   reset();
   lost_reason_ = reason;
+  if (keep_template && last && !template_.empty()) {
+    lost_box_ = last;
+    lost_t_ = t;
+  }
   return std::nullopt;
+}
+
+void HeadTracker::interrupt(Seconds t) {
+  if (box_) lose(HeadLostReason::FrameGap, t);
 }
 
 bool HeadTracker::take_patch(const cv::Mat& gray, const cv::Rect2d& box, cv::Mat& out) {
@@ -86,19 +102,63 @@ void HeadTracker::learn(const cv::Mat& gray, const Eigen::Isometry3d& T_cam_face
   if (face_patch_size_.area() == 0) return;
   template_stale_ = true;
   box_ = box;
+  lost_box_.reset();
   last_face_t_ = t;
   lost_reason_ = HeadLostReason::None;
 }
 
 std::optional<HeadObservation> HeadTracker::follow(const cv::Mat& gray, Seconds t) {
-  if (!box_ || gray.empty() || gray.type() != CV_8UC1) return std::nullopt;
-  if (t - last_face_t_ > options_.max_follow_s) return lose(HeadLostReason::FaceTooLongAgo);
+  if (gray.empty() || gray.type() != CV_8UC1) return std::nullopt;
+  if (!box_ && !lost_box_) return std::nullopt;
+  if (t - last_face_t_ > options_.max_follow_s) return lose(HeadLostReason::FaceTooLongAgo, t, false);
+  bool reacquired = false;
+  if (!box_) {
+    if (t - lost_t_ > options_.reacquire_s) {
+      lost_box_.reset();
+      return std::nullopt;
+    }
+    box_ = reacquire(gray, t);
+    if (!box_) return std::nullopt;
+    reacquired = true;
+  }
   if (template_stale_) {
     cv::resize(face_pixels_(cv::Rect(cv::Point(0, 0), face_patch_size_)), patch_8u_, kTemplateSize, 0, 0, cv::INTER_AREA);
     patch_8u_.convertTo(template_, CV_32F);
     template_stale_ = false;
   }
-  const cv::Rect2d last = *box_;
+  cv::Rect2d box = *box_;
+  double score = 1.0;
+  if (!reacquired) {
+    const auto matched = match_near(gray, *box_, score);
+    if (!matched) return lose(lost_reason_, t);
+    box = *matched;
+  } else {
+    score = reacquired_score_;
+  }
+  const HeadLostReason lost_for = lost_reason_;
+  const auto place = place_of(box, gray);
+  if (!place && reacquired) {
+    // Not a head to follow: the loss stands as it was, and the template is kept for the next frame.
+    box_.reset();
+    lost_reason_ = lost_for;
+    return std::nullopt;
+  }
+  if (!place) return lose(lost_reason_, t);
+  // The head turns under the template: follow its new look a little each frame.
+  if (take_patch(gray, box, patch_)) cv::addWeighted(template_, 1.0 - options_.adapt_rate, patch_, options_.adapt_rate, 0.0, template_);
+  box_ = box;
+  lost_box_.reset();
+  lost_reason_ = HeadLostReason::None;
+  HeadObservation out;
+  out.p_cam_head_m = *place;
+  out.box = box;
+  out.score = score;
+  out.since_face_s = t - last_face_t_;
+  out.reacquired = reacquired;
+  return out;
+}
+
+std::optional<cv::Rect2d> HeadTracker::match_near(const cv::Mat& gray, const cv::Rect2d& last, double& score_out) {
   // The search runs at the template's resolution: the image scaled by 1/f.
   const double f = last.height / kTemplateSize.height;
   const double m = options_.search_margin * last.width;
@@ -107,7 +167,10 @@ std::optional<HeadObservation> HeadTracker::follow(const cv::Mat& gray, Seconds 
                                              static_cast<int>(std::ceil(last.y + last.height + m)))) &
                           cv::Rect(0, 0, gray.cols, gray.rows);
   const cv::Size scaled(static_cast<int>(std::lround(region.width / f)), static_cast<int>(std::lround(region.height / f)));
-  if (scaled.width <= kTemplateSize.width || scaled.height <= kTemplateSize.height) return lose(HeadLostReason::RegionTooSmall);
+  if (scaled.width <= kTemplateSize.width || scaled.height <= kTemplateSize.height) {
+    lost_reason_ = HeadLostReason::RegionTooSmall;
+    return std::nullopt;
+  }
   cv::resize(gray(region), region_8u_, scaled, 0, 0, f > 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
   region_8u_.convertTo(region_, CV_32F);
 
@@ -133,28 +196,85 @@ std::optional<HeadObservation> HeadTracker::follow(const cv::Mat& gray, Seconds 
       best_at = at;
     }
   }
-  if (best_score < options_.min_score) return lose(HeadLostReason::NoMatch);
-  const cv::Rect2d box(region.x + best_at.x * f, region.y + best_at.y * f, last.width * best_scale, last.height * best_scale);
+  if (best_score < options_.min_score) {
+    lost_reason_ = HeadLostReason::NoMatch;
+    return std::nullopt;
+  }
+  score_out = best_score;
+  return cv::Rect2d(region.x + best_at.x * f, region.y + best_at.y * f, last.width * best_scale, last.height * best_scale);
+}
+
+std::optional<cv::Rect2d> HeadTracker::reacquire(const cv::Mat& gray, Seconds) {
+  const cv::Rect2d& last = *lost_box_;
+  // The image once at the last box's resolution; the template scaled over the range of distances
+  // the drone or the teacher may have moved through since.
+  const double f = last.height / kTemplateSize.height;
+  const cv::Size scaled(static_cast<int>(std::lround(gray.cols / f)), static_cast<int>(std::lround(gray.rows / f)));
+  if (scaled.width <= kTemplateSize.width || scaled.height <= kTemplateSize.height) return std::nullopt;
+  cv::resize(gray, region_8u_, scaled, 0, 0, f > 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  region_8u_.convertTo(region_, CV_32F);
+  // Near where it was lost and at about its size first (a head is likelier there than a look-alike;
+  // after half a second of dropped video the template shrunk to two thirds matched the collar below
+  // the head better than the head), then anywhere at any of the scales.
+  struct Best {
+    double score = -1, scale = 1;
+    cv::Point at;
+  } near, anywhere;
+  const cv::Point2d last_centre = centre(last) / f;
+  const double near_radius = kReacquireNearBoxes * kTemplateSize.height;
+  // Powers of the step, so that the last box's own size is among them.
+  const int k_min = static_cast<int>(std::ceil(std::log(options_.reacquire_min_scale) / std::log(kReacquireScaleStep) - 1e-9));
+  const int k_max = static_cast<int>(std::floor(std::log(options_.reacquire_max_scale) / std::log(kReacquireScaleStep) + 1e-9));
+  for (int k = k_min; k <= k_max; ++k) {
+    const double s = std::pow(kReacquireScaleStep, k);
+    const cv::Size size(static_cast<int>(std::lround(kTemplateSize.width * s)), static_cast<int>(std::lround(kTemplateSize.height * s)));
+    if (size.width >= region_.cols || size.height >= region_.rows) break;
+    if (k == 0) template_.copyTo(scaled_template_);
+    else cv::resize(template_, scaled_template_, size, 0, 0, s < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+    cv::matchTemplate(region_, scaled_template_, scores_, cv::TM_CCOEFF_NORMED);
+    const double scale = static_cast<double>(size.height) / kTemplateSize.height;
+    const auto keep = [&](Best& best, const cv::Rect& window) {
+      double score = 0;
+      cv::Point at;
+      cv::minMaxLoc(scores_(window), nullptr, &score, nullptr, &at);
+      if (score > best.score) best = {score, scale, at + window.tl()};
+    };
+    keep(anywhere, cv::Rect(0, 0, scores_.cols, scores_.rows));
+    // The near window: the top-left corners whose box centre is within near_radius of the last one.
+    const cv::Point2d corner = last_centre - cv::Point2d(size.width / 2.0, size.height / 2.0);
+    const cv::Rect window = cv::Rect(cv::Point(static_cast<int>(std::floor(corner.x - near_radius)), static_cast<int>(std::floor(corner.y - near_radius))),
+                                     cv::Point(static_cast<int>(std::ceil(corner.x + near_radius)) + 1, static_cast<int>(std::ceil(corner.y + near_radius)) + 1)) &
+                            cv::Rect(0, 0, scores_.cols, scores_.rows);
+    if (window.area() > 0 && std::abs(std::log(scale)) <= std::log(kReacquireNearScale)) keep(near, window);
+  }
+  const Best& best = near.score >= options_.reacquire_min_score ? near : anywhere;
+  if (best.score < options_.reacquire_min_score) return std::nullopt;
+  reacquired_score_ = best.score;
+  return cv::Rect2d(best.at.x * f, best.at.y * f, last.width * best.scale, last.height * best.scale);
+}
+
+std::optional<Eigen::Vector3d> HeadTracker::place_of(const cv::Rect2d& box, const cv::Mat& gray) {
   const cv::Point2d c = centre(box);
   // A head filling the frame (the drone at arm's length) or leaving it has no outline left to match.
-  if (!camera_.in_image({c.x, c.y}, options_.border_margin * box.width)) return lose(HeadLostReason::AtBorder);
-  if (box.height > options_.max_height_fraction * gray.rows) return lose(HeadLostReason::FillsImage);
+  if (!camera_.in_image({c.x, c.y}, options_.border_margin * box.width)) {
+    lost_reason_ = HeadLostReason::AtBorder;
+    return std::nullopt;
+  }
+  if (box.height > options_.max_height_fraction * gray.rows) {
+    lost_reason_ = HeadLostReason::FillsImage;
+    return std::nullopt;
+  }
   // The distance from the angle the box's height spans (through the lens model: at the image's edge
   // the AR.Drone's wide lens shrinks a head by a fifth).
   const Eigen::Vector3d top = camera_.unproject({c.x, box.y});
   const Eigen::Vector3d bottom = camera_.unproject({c.x, box.y + box.height});
   const double angle = std::acos(std::clamp(top.dot(bottom), -1.0, 1.0));
   const double distance = options_.head_height_m / (2.0 * std::tan(angle / 2.0));
-  if (!(distance >= options_.min_distance_m && distance <= options_.max_distance_m)) return lose(HeadLostReason::ImplausibleDistance);
-  // The head turns under the template: follow its new look a little each frame.
-  if (take_patch(gray, box, patch_)) cv::addWeighted(template_, 1.0 - options_.adapt_rate, patch_, options_.adapt_rate, 0.0, template_);
-  box_ = box;
-  HeadObservation out;
-  out.p_cam_head_m = camera_.unproject({c.x, c.y}) * distance;
-  out.box = box;
-  out.score = best_score;
-  out.since_face_s = t - last_face_t_;
-  return out;
+  if (!(distance >= options_.min_distance_m && distance <= options_.max_distance_m)) {
+    lost_reason_ = HeadLostReason::ImplausibleDistance;
+    return std::nullopt;
+  }
+  return camera_.unproject({c.x, c.y}) * distance;
 }
 
 }  // namespace labo::face

@@ -30,6 +30,14 @@ struct HeadTrackerOptions {
   double min_distance_m = 0.3, max_distance_m = 6.0;
   double max_height_fraction = 0.8;  // of the image's height
   double border_margin = 0.25;       // of the box's width: the box's centre this far inside the image
+  // A head lost from the image (out of it, or no longer matching where it was) is looked for over the
+  // whole image for this long after, at scales from the last box's, its template as it was: a drone
+  // that lost a head by flying close or turning finds it again as it goes round, rather than only
+  // when the teacher turns their face back to it. The match must be better than the frame to frame
+  // one (the whole image offers more chances of a look-alike).
+  Seconds reacquire_s = 8.0;
+  double reacquire_min_score = 0.72;
+  double reacquire_min_scale = 0.6, reacquire_max_scale = 1.6;  // of the last box's height
 };
 
 // Why no head is followed: shown with the face's reason, and what a campaign's traces are read by.
@@ -42,6 +50,7 @@ enum class HeadLostReason {
   FillsImage,     // the head taller than max_height_fraction of the image
   ImplausibleDistance,  // the distance from the box's size outside [min, max]
   RegionTooSmall, // the search region, clipped by the image, smaller than the template
+  FrameGap,       // frames stopped coming for a while (the video link dropped)
 };
 std::string_view to_string(HeadLostReason reason);
 
@@ -50,6 +59,7 @@ struct HeadObservation {
   cv::Rect2d box;         // its patch in the image
   double score = 0;       // normalised correlation of the match
   Seconds since_face_s = 0;
+  bool reacquired = false;  // found again over the whole image after a loss (this frame)
 };
 
 class HeadTracker {
@@ -63,6 +73,9 @@ class HeadTracker {
   // long since the last face, no good match, or out of the image; then it stays lost until learn()).
   std::optional<HeadObservation> follow(const cv::Mat& gray, Seconds t);
   void reset();
+  // Frames stopped coming until `t` (the video link dropped): where the head was is no longer where
+  // it is, so it is lost, but its template is kept and the next frames are searched whole for it.
+  void interrupt(Seconds t);
   bool active() const { return box_.has_value(); }  // learnt, and not lost since
   // Why the head is not followed (None while it is); kept until the next learn().
   HeadLostReason lost_reason() const { return lost_reason_; }
@@ -70,7 +83,17 @@ class HeadTracker {
 
  private:
   bool take_patch(const cv::Mat& gray, const cv::Rect2d& box, cv::Mat& out);
-  std::nullopt_t lose(HeadLostReason reason);
+  // Lost: the template is kept for reacquire() when `keep_template`.
+  std::nullopt_t lose(HeadLostReason reason, Seconds t, bool keep_template = true);
+  // The kept template's best match over the whole image, as the box to follow from; nullopt when
+  // nothing matches well enough.
+  std::optional<cv::Rect2d> reacquire(const cv::Mat& gray, Seconds t);
+  // The head's box in this frame near `last` (the frame to frame match), its correlation in `score`;
+  // nullopt (and lost_reason_ set) when it no longer matches.
+  std::optional<cv::Rect2d> match_near(const cv::Mat& gray, const cv::Rect2d& last, double& score);
+  // The head's place from its box (through the lens model), or nullopt when the box is not a head
+  // to follow (at the border, filling the image, at an implausible distance); sets lost_reason_.
+  std::optional<Eigen::Vector3d> place_of(const cv::Rect2d& box, const cv::Mat& gray);
 
   PinholeCamera camera_;
   HeadTrackerOptions options_;
@@ -81,6 +104,9 @@ class HeadTracker {
   cv::Mat template_;               // CV_32F, the template's size
   Seconds last_face_t_ = 0;
   HeadLostReason lost_reason_ = HeadLostReason::NotLearnt;
+  std::optional<cv::Rect2d> lost_box_;  // the last box before a loss whose template is kept
+  Seconds lost_t_ = 0;
+  double reacquired_score_ = 0;
   // Reused buffers.
   cv::Mat region_8u_, region_, scaled_template_, scores_, patch_8u_, patch_;
 };

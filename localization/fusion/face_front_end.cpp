@@ -7,8 +7,8 @@
 namespace labo::fusion {
 
 namespace {
-// Frames further apart than this (face-follow was off, or the camera switched): search afresh
-// rather than around a face seen long ago.
+// Frames further apart than this (the video link dropped, face-follow was off, or the camera
+// switched): the face is searched for afresh rather than around where it was seen.
 constexpr Seconds kMaxTrackingGapS = 0.5;
 constexpr int kLandmarks = 68;
 
@@ -55,7 +55,9 @@ const TargetObservation& FaceFrontEnd::process(const cv::Mat& gray, Seconds t, s
   }
   if (last_t_ && t - *last_t_ > kMaxTrackingGapS) {
     estimator_->reset();
-    head_tracker_.reset();
+    // A followed head is looked for over the whole frame: a Wi-Fi outage of half a second (a few
+    // every minute in the randomized world) otherwise loses the teacher to a search.
+    head_tracker_.interrupt(t);
   }
   last_t_ = t;
   // Where the head was followed last frame is where a face turning back will be.

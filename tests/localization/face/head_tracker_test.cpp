@@ -84,6 +84,10 @@ TEST_CASE("head tracker: a head that leaves or is followed beyond its time is lo
   for (int i = 1; i <= 10 && !lost; ++i) lost = !tracker.follow(empty, 2.0 + i / kFps).has_value();
   CHECK(lost);
   CHECK(tracker.lost_reason() == HeadLostReason::NoMatch);
+  // ... nor later, while its template is kept to find it again.
+  int made_up = 0;
+  for (int i = 11; i <= 70; ++i) made_up += tracker.follow(empty, 2.0 + i / kFps).has_value();
+  CHECK(made_up == 0);
   tracker.reset();
   CHECK(tracker.lost_reason() == HeadLostReason::NotLearnt);
 }
@@ -121,6 +125,13 @@ TEST_CASE("face front-end: with head tracking, a face turned away is reported as
   CHECK((last.T_cam_target.translation() - posed.translation()).norm() < 0.2);
   CHECK(last.T_cam_target.linear().isApprox(last_posed));  // the last posed face's rotation
 
+  // The video link drops for 0.6 s: the head is found again on the first frame after, not searched for.
+  const fusion::TargetObservation after_gap = front_end.process(t.gray(t.scene(at, 2 * std::numbers::pi)), now += 0.6, std::nullopt);
+  CHECK(after_gap.state == fusion::TrackState::Tracking);
+  CHECK(after_gap.position_only);
+  INFO("after the gap " << after_gap.T_cam_target.translation().transpose() << ", before " << last.T_cam_target.translation().transpose() << ", score " << after_gap.quality);
+  CHECK((after_gap.T_cam_target.translation() - last.T_cam_target.translation()).norm() < 0.1);
+
   // Turned away for longer than the head is followed: lost, with the face's reason.
   const cv::Mat back = t.gray(t.scene(at, 0.0));
   for (int i = 0; i < 21 * kFps; ++i) last = front_end.process(back, now += 1 / kFps, std::nullopt);
@@ -151,6 +162,50 @@ TEST_CASE("face front-end: without head tracking, a face turned away is lost") {
   }
   CHECK(back.state == fusion::TrackState::Lost);
   CHECK_FALSE(front_end.last_head().has_value());
+}
+
+TEST_CASE("head tracker: a head lost from the view is found again over the whole image while its template is kept") {
+  TeacherScene t;
+  const Eigen::Vector2d at = t.lab.teacher.waypoints.front();
+  t.camera_at = Eigen::Vector3d(at.x() - 1.1, at.y(), t.lab.teacher.eye_height_m);
+  HeadTracker tracker(t.renderer.camera(CameraId::Front));
+  const SceneState facing = t.scene(at, std::numbers::pi);
+  tracker.learn(t.gray(facing), t.T_cam_face(facing), 0.0);
+  Seconds now = 0;
+  // Turned away over 2 s, followed by the head.
+  for (int i = 1; i <= 60; ++i) REQUIRE(tracker.follow(t.gray(t.scene(at, std::numbers::pi * (1 + i / 60.0))), now += 1 / kFps));
+  // Out of the view for a second (the drone turned away, or someone passed between): lost.
+  SceneState gone = t.scene(at, 0.0);
+  gone.teacher_present = false;
+  const cv::Mat empty = t.gray(gone);
+  for (int i = 0; i < 30; ++i) tracker.follow(empty, now += 1 / kFps);
+  REQUIRE_FALSE(tracker.active());
+  const HeadLostReason why = tracker.lost_reason();
+  CHECK(why == HeadLostReason::NoMatch);
+
+  SECTION("back in the view 0.3 m to the side: found again at once, at its distance") {
+    const Eigen::Vector2d moved = at + Eigen::Vector2d(0.1, 0.3);
+    const SceneState back = t.scene(moved, 0.0);
+    std::optional<HeadObservation> head;
+    int frames = 0;
+    for (; frames < 5 && !head; ++frames) head = tracker.follow(t.gray(back), now += 1 / kFps);
+    REQUIRE(head.has_value());
+    CHECK(frames == 1);
+    CHECK(head->reacquired);
+    const Eigen::Vector3d truth = head_centre(t.T_cam_face(back), tracker.options());
+    INFO("found at " << head->p_cam_head_m.transpose() << ", truth " << truth.transpose());
+    CHECK((head->p_cam_head_m - truth).norm() < 0.2);
+    // ... and followed on from there.
+    const auto next = tracker.follow(t.gray(back), now += 1 / kFps);
+    REQUIRE(next.has_value());
+    CHECK_FALSE(next->reacquired);
+    CHECK(tracker.lost_reason() == HeadLostReason::None);
+  }
+  SECTION("back after the reacquisition time: not found, the loss stands") {
+    now += tracker.options().reacquire_s;
+    CHECK_FALSE(tracker.follow(t.gray(t.scene(at, 0.0)), now).has_value());
+    CHECK(tracker.lost_reason() == why);
+  }
 }
 
 TEST_CASE("head tracker: a head approached fast keeps its distance") {
