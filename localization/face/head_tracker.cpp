@@ -240,25 +240,36 @@ std::optional<cv::Rect2d> HeadTracker::match_near(const cv::Mat& gray, const cv:
 
 std::optional<cv::Rect2d> HeadTracker::reacquire(const cv::Mat& gray, Seconds) {
   const cv::Rect2d& last = *lost_box_;
-  // The image once at the last box's resolution; the template scaled over the range of distances
-  // the drone or the teacher may have moved through since.
-  const double f = last.height / kTemplateSize.height;
-  const cv::Size scaled(static_cast<int>(std::lround(gray.cols / f)), static_cast<int>(std::lround(gray.rows / f)));
-  if (scaled.width <= kTemplateSize.width || scaled.height <= kTemplateSize.height) return std::nullopt;
-  cv::resize(gray, region_8u_, scaled, 0, 0, f > 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
-  region_8u_.convertTo(region_, CV_32F);
   // Near where it was lost and at about its size first (a head is likelier there than a look-alike;
   // after half a second of dropped video the template shrunk to two thirds matched the collar below
-  // the head better than the head), then anywhere at any of the scales.
+  // the head better than the head), then, with reacquire_anywhere, over the whole frame at any of
+  // the scales.
+  const bool anywhere_too = options_.reacquire_anywhere;
+  const double reach = (kReacquireNearBoxes + 0.6 * kReacquireNearScale) * last.height;
+  const cv::Point2d c = centre(last);
+  const cv::Rect image(0, 0, gray.cols, gray.rows);
+  const cv::Rect area = anywhere_too ? image
+                                     : cv::Rect(cv::Point(static_cast<int>(std::floor(c.x - reach)), static_cast<int>(std::floor(c.y - reach))),
+                                                cv::Point(static_cast<int>(std::ceil(c.x + reach)), static_cast<int>(std::ceil(c.y + reach)))) & image;
+  // The area once at the last box's resolution; the template scaled over the range of distances
+  // the drone or the teacher may have moved through since.
+  const double f = last.height / kTemplateSize.height;
+  const cv::Size scaled(static_cast<int>(std::lround(area.width / f)), static_cast<int>(std::lround(area.height / f)));
+  if (scaled.width <= kTemplateSize.width || scaled.height <= kTemplateSize.height) return std::nullopt;
+  cv::resize(gray(area), region_8u_, scaled, 0, 0, f > 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  region_8u_.convertTo(region_, CV_32F);
   struct Best {
     double score = -1, scale = 1;
     cv::Point at;
   } near, anywhere;
-  const cv::Point2d last_centre = centre(last) / f;
+  const cv::Point2d last_centre = (c - cv::Point2d(area.x, area.y)) / f;
   const double near_radius = kReacquireNearBoxes * kTemplateSize.height;
   // Powers of the step, so that the last box's own size is among them.
-  const int k_min = static_cast<int>(std::ceil(std::log(options_.reacquire_min_scale) / std::log(kReacquireScaleStep) - 1e-9));
-  const int k_max = static_cast<int>(std::floor(std::log(options_.reacquire_max_scale) / std::log(kReacquireScaleStep) + 1e-9));
+  const double log_step = std::log(kReacquireScaleStep);
+  const double min_scale = anywhere_too ? options_.reacquire_min_scale : 1.0 / kReacquireNearScale;
+  const double max_scale = anywhere_too ? options_.reacquire_max_scale : kReacquireNearScale;
+  const int k_min = static_cast<int>(std::ceil(std::log(min_scale) / log_step - 1e-9));
+  const int k_max = static_cast<int>(std::floor(std::log(max_scale) / log_step + 1e-9));
   for (int k = k_min; k <= k_max; ++k) {
     const double s = std::pow(kReacquireScaleStep, k);
     const cv::Size size(static_cast<int>(std::lround(kTemplateSize.width * s)), static_cast<int>(std::lround(kTemplateSize.height * s)));
@@ -273,18 +284,18 @@ std::optional<cv::Rect2d> HeadTracker::reacquire(const cv::Mat& gray, Seconds) {
       cv::minMaxLoc(scores_(window), nullptr, &score, nullptr, &at);
       if (score > best.score) best = {score, scale, at + window.tl()};
     };
-    keep(anywhere, cv::Rect(0, 0, scores_.cols, scores_.rows));
+    if (anywhere_too) keep(anywhere, cv::Rect(0, 0, scores_.cols, scores_.rows));
     // The near window: the top-left corners whose box centre is within near_radius of the last one.
     const cv::Point2d corner = last_centre - cv::Point2d(size.width / 2.0, size.height / 2.0);
     const cv::Rect window = cv::Rect(cv::Point(static_cast<int>(std::floor(corner.x - near_radius)), static_cast<int>(std::floor(corner.y - near_radius))),
                                      cv::Point(static_cast<int>(std::ceil(corner.x + near_radius)) + 1, static_cast<int>(std::ceil(corner.y + near_radius)) + 1)) &
                             cv::Rect(0, 0, scores_.cols, scores_.rows);
-    if (window.area() > 0 && std::abs(std::log(scale)) <= std::log(kReacquireNearScale)) keep(near, window);
+    if (window.area() > 0 && std::abs(std::log(scale)) <= std::log(kReacquireNearScale) + 1e-9) keep(near, window);
   }
-  const Best& best = near.score >= options_.reacquire_min_score ? near : anywhere;
+  const Best& best = near.score >= options_.reacquire_min_score || !anywhere_too ? near : anywhere;
   if (best.score < options_.reacquire_min_score) return std::nullopt;
   reacquired_score_ = best.score;
-  return cv::Rect2d(best.at.x * f, best.at.y * f, last.width * best.scale, last.height * best.scale);
+  return cv::Rect2d(area.x + best.at.x * f, area.y + best.at.y * f, last.width * best.scale, last.height * best.scale);
 }
 
 std::optional<Eigen::Vector3d> HeadTracker::place_of(const cv::Rect2d& box, const cv::Mat& gray) {
