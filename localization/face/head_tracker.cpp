@@ -13,14 +13,6 @@ namespace {
 const cv::Size kTemplateSize(30, 39);
 // Reacquisition tries the template at scales this far apart (of the box's height: ~2 px of it).
 constexpr double kReacquireScaleStep = 1.08;
-// The box's rate of change of size (log per second): learnt over this time, dying away over this
-// one without evidence, and predicting at most this much change in one frame.
-constexpr double kScaleRateTauS = 0.15;
-constexpr double kScaleRateDecayS = 1.0;
-constexpr double kMaxPredictedLogScale = 0.1;
-constexpr double kMinRateStep = 0.1;  // log per second: a step of scale away from the predicted one
-constexpr double kStepEvidenceS = 0.5;   // steps are summed over about this long ...
-constexpr double kMinStepEvidence = 1.5; // ... and learnt from at this sum (two steps the same way)
 // ... and first within this many box heights of where it was lost, at this ratio of its size.
 constexpr double kReacquireNearBoxes = 1.5;
 constexpr double kReacquireNearScale = 1.18;
@@ -112,9 +104,6 @@ void HeadTracker::learn(const cv::Mat& gray, const Eigen::Isometry3d& T_cam_face
   box_ = box;
   lost_box_.reset();
   last_face_t_ = t;
-  last_follow_t_ = t;
-  scale_rate_ = 0;
-  step_evidence_ = 0;
   lost_reason_ = HeadLostReason::None;
 }
 
@@ -131,8 +120,6 @@ std::optional<HeadObservation> HeadTracker::follow(const cv::Mat& gray, Seconds 
     box_ = reacquire(gray, t);
     if (!box_) return std::nullopt;
     reacquired = true;
-    scale_rate_ = 0;
-    step_evidence_ = 0;
   }
   if (template_stale_) {
     cv::resize(face_pixels_(cv::Rect(cv::Point(0, 0), face_patch_size_)), patch_8u_, kTemplateSize, 0, 0, cv::INTER_AREA);
@@ -142,12 +129,9 @@ std::optional<HeadObservation> HeadTracker::follow(const cv::Mat& gray, Seconds 
   cv::Rect2d box = *box_;
   double score = 1.0;
   if (!reacquired) {
-    const double dt = std::max(0.0, t - last_follow_t_);
-    const double predicted = std::exp(std::clamp(scale_rate_ * dt, -kMaxPredictedLogScale, kMaxPredictedLogScale));
-    const auto matched = match_near(gray, *box_, predicted, score);
+    const auto matched = match_near(gray, *box_, score);
     if (!matched) return lose(lost_reason_, t);
     box = *matched;
-    update_scale_rate(std::log(box.height / box_->height), dt);
   } else {
     score = reacquired_score_;
   }
@@ -164,7 +148,6 @@ std::optional<HeadObservation> HeadTracker::follow(const cv::Mat& gray, Seconds 
   if (take_patch(gray, box, patch_)) cv::addWeighted(template_, 1.0 - options_.adapt_rate, patch_, options_.adapt_rate, 0.0, template_);
   box_ = box;
   lost_box_.reset();
-  last_follow_t_ = t;
   lost_reason_ = HeadLostReason::None;
   HeadObservation out;
   out.p_cam_head_m = *place;
@@ -175,25 +158,9 @@ std::optional<HeadObservation> HeadTracker::follow(const cv::Mat& gray, Seconds 
   return out;
 }
 
-void HeadTracker::update_scale_rate(double log_change, Seconds dt) {
-  if (dt <= 0) return;
-  // The box's size changes smoothly while the drone or the teacher closes in or backs away; without
-  // evidence the rate dies away (the correlation's peak is flat in scale, and a rate kept for its
-  // own sake would drive the size as surely as a random walk does).
-  // A lone step of scale is as often the match's noise as a change: the rate learns from steps that
-  // keep coming the same way (a head turning under the template gave single steps both ways; a drone
-  // closing in at 0.6 m/s from 2 m, a step every fourth frame).
-  const double rate = log_change / dt;
-  const int step = rate > scale_rate_ + kMinRateStep ? 1 : rate < scale_rate_ - kMinRateStep ? -1 : 0;
-  step_evidence_ = step_evidence_ * std::exp(-dt / kStepEvidenceS) + step;
-  if (step != 0 && step * step_evidence_ >= kMinStepEvidence) scale_rate_ += (1.0 - std::exp(-dt / kScaleRateTauS)) * (rate - scale_rate_);
-  scale_rate_ *= std::exp(-dt / kScaleRateDecayS);
-}
-
-std::optional<cv::Rect2d> HeadTracker::match_near(const cv::Mat& gray, const cv::Rect2d& last, double predicted, double& score_out) {
+std::optional<cv::Rect2d> HeadTracker::match_near(const cv::Mat& gray, const cv::Rect2d& last, double& score_out) {
   // The search runs at the template's resolution: the image scaled by 1/f.
-  // ... at the size predicted for this frame.
-  const double f = last.height * predicted / kTemplateSize.height;
+  const double f = last.height / kTemplateSize.height;
   const double m = options_.search_margin * last.width;
   const cv::Rect region = cv::Rect(cv::Point(static_cast<int>(std::floor(last.x - m)), static_cast<int>(std::floor(last.y - m))),
                                    cv::Point(static_cast<int>(std::ceil(last.x + last.width + m)),
@@ -234,8 +201,7 @@ std::optional<cv::Rect2d> HeadTracker::match_near(const cv::Mat& gray, const cv:
     return std::nullopt;
   }
   score_out = best_score;
-  const double of_last = predicted * best_scale;
-  return cv::Rect2d(region.x + best_at.x * f, region.y + best_at.y * f, last.width * of_last, last.height * of_last);
+  return cv::Rect2d(region.x + best_at.x * f, region.y + best_at.y * f, last.width * best_scale, last.height * best_scale);
 }
 
 std::optional<cv::Rect2d> HeadTracker::reacquire(const cv::Mat& gray, Seconds) {

@@ -93,9 +93,7 @@ class HeadTracker {
   std::optional<cv::Rect2d> reacquire(const cv::Mat& gray, Seconds t);
   // The head's box in this frame near `last` (the frame to frame match), its correlation in `score`;
   // nullopt (and lost_reason_ set) when it no longer matches.
-  // `predicted`: the box's size expected now, of the last one's (from its rate of change).
-  std::optional<cv::Rect2d> match_near(const cv::Mat& gray, const cv::Rect2d& last, double predicted, double& score);
-  void update_scale_rate(double log_change, Seconds dt);
+  std::optional<cv::Rect2d> match_near(const cv::Mat& gray, const cv::Rect2d& last, double& score);
   // The head's place from its box (through the lens model), or nullopt when the box is not a head
   // to follow (at the border, filling the image, at an implausible distance); sets lost_reason_.
   std::optional<Eigen::Vector3d> place_of(const cv::Rect2d& box, const cv::Mat& gray);
@@ -112,9 +110,6 @@ class HeadTracker {
   std::optional<cv::Rect2d> lost_box_;  // the last box before a loss whose template is kept
   Seconds lost_t_ = 0;
   double reacquired_score_ = 0;
-  Seconds last_follow_t_ = 0;
-  double scale_rate_ = 0;  // d ln(box height) / dt
-  double step_evidence_ = 0;  // the recent steps of the box's size against the predicted one, summed (+1 larger)
   // Reused buffers.
   cv::Mat region_8u_, region_, scaled_template_, scores_, patch_8u_, patch_;
 };
