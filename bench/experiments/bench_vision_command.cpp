@@ -158,7 +158,7 @@ Timing head_timing(int n) {
 // was lost (the teacher gone from the view, so nothing is found and every frame searches until the
 // reacquisition time is up). `ok` counts the frames on which no head was made up.
 Timing head_reacquire_timing(int n) {
-  Timing t{"head_reacquire", "head tracker, the head lost at 1.1 m: searched for round where it was, at 5 scales", {}, 0};
+  Timing t{"head_reacquire", "head tracker, the head lost at 1.1 m: searched for round where it was, at 4 sizes", {}, 0};
   const lab::LabDescription lab = lab::load_lab_description(default_lab_path());
   sim::LabRenderer renderer(lab, ardrone2_cameras(), face::load_lab_teacher_head(lab), 1, sim::LabRenderOptions{});
   const Eigen::Vector2d at = lab.teacher.waypoints.front();

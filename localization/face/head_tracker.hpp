@@ -36,11 +36,6 @@ struct HeadTrackerOptions {
   // (more places offer more chances of a look-alike).
   Seconds reacquire_s = 8.0;
   double reacquire_min_score = 0.72;
-  // Beyond 1.5 box heights of where it was lost and 18 % of its size too. Off: in the randomized lab
-  // (tuning seeds 1001-1003) the whole frame's best match was as often a look-alike on a bench or
-  // wall, and followed, as the head (time in view fell from 41-79 % to 31-51 %).
-  bool reacquire_anywhere = false;
-  double reacquire_min_scale = 0.6, reacquire_max_scale = 1.6;  // of the last box's height
 };
 
 // Why no head is followed: shown with the face's reason, and what a campaign's traces are read by.
@@ -62,7 +57,7 @@ struct HeadObservation {
   cv::Rect2d box;         // its patch in the image
   double score = 0;       // normalised correlation of the match
   Seconds since_face_s = 0;
-  bool reacquired = false;  // found again over the whole image after a loss (this frame)
+  bool reacquired = false;  // found again after a loss (this frame)
 };
 
 class HeadTracker {
@@ -88,9 +83,9 @@ class HeadTracker {
   bool take_patch(const cv::Mat& gray, const cv::Rect2d& box, cv::Mat& out);
   // Lost: the template is kept for reacquire() when `keep_template`.
   std::nullopt_t lose(HeadLostReason reason, Seconds t, bool keep_template = true);
-  // The kept template's best match over the whole image, as the box to follow from; nullopt when
-  // nothing matches well enough.
-  std::optional<cv::Rect2d> reacquire(const cv::Mat& gray, Seconds t);
+  // The kept template's best match round where it was lost, as the box to follow from; nullopt
+  // when nothing matches well enough.
+  std::optional<cv::Rect2d> reacquire(const cv::Mat& gray);
   // The head's box in this frame near `last` (the frame to frame match), its correlation in `score`;
   // nullopt (and lost_reason_ set) when it no longer matches.
   std::optional<cv::Rect2d> match_near(const cv::Mat& gray, const cv::Rect2d& last, double& score);
