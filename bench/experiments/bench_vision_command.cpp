@@ -117,6 +117,14 @@ Timing face_timing(const fusion::FrontEndSettings& s, int n) {
   return t;
 }
 
+// The lab's front camera's frame of `scene`, grey.
+cv::Mat front_gray(sim::LabRenderer& renderer, const sim::SceneState& scene) {
+  cv::Mat bgr, out;
+  renderer.render(CameraId::Front, scene, bgr);
+  cv::cvtColor(bgr, out, cv::COLOR_BGR2GRAY);
+  return out;
+}
+
 // The head tracker on the lab's teacher turning their back and walking off to the side at 1.1 m,
 // rendered as the lab's front camera renders in flight; learnt from the true pose of the first frame
 // (a posed face, as FaceFrontEnd teaches it).
@@ -134,12 +142,7 @@ Timing head_timing(int n) {
     st.T_world_body = make_pose(camera_at - T_body_cam_front().translation().x() * Eigen::Vector3d::UnitX(), 0.0);
     return st;
   };
-  const auto gray = [&](const sim::SceneState& st) {
-    cv::Mat bgr, out;
-    renderer.render(CameraId::Front, st, bgr);
-    cv::cvtColor(bgr, out, cv::COLOR_BGR2GRAY);
-    return out;
-  };
+  const auto gray = [&](const sim::SceneState& st) { return front_gray(renderer, st); };
   face::HeadTracker tracker(renderer.camera(CameraId::Front));
   const sim::SceneState first = scene(0.0);
   tracker.learn(gray(first), (first.T_world_body * T_body_cam_front()).inverse() * first.T_world_head, 0.0);
@@ -167,12 +170,7 @@ Timing head_reacquire_timing(int n) {
   st.T_world_head = sim::teacher_head_pose(lab, at.x(), at.y(), std::numbers::pi);
   st.T_world_body = make_pose(Eigen::Vector3d(at.x() - 1.1, at.y(), lab.teacher.eye_height_m) -
                                   T_body_cam_front().translation().x() * Eigen::Vector3d::UnitX(), 0.0);
-  const auto gray = [&](const sim::SceneState& scene) {
-    cv::Mat bgr, out;
-    renderer.render(CameraId::Front, scene, bgr);
-    cv::cvtColor(bgr, out, cv::COLOR_BGR2GRAY);
-    return out;
-  };
+  const auto gray = [&](const sim::SceneState& scene) { return front_gray(renderer, scene); };
   face::HeadTracker tracker(renderer.camera(CameraId::Front));
   tracker.learn(gray(st), (st.T_world_body * T_body_cam_front()).inverse() * st.T_world_head, 0.0);
   tracker.follow(gray(st), 1 / 30.0);
