@@ -68,11 +68,12 @@ class HeadTracker {
   // patch and size are learnt from it.
   void learn(const cv::Mat& gray, const Eigen::Isometry3d& T_cam_face, Seconds t);
   // A frame without a posed face: the head near where it was last, or nullopt (nothing learnt, too
-  // long since the last face, no good match, or out of the image; then it stays lost until learn()).
+  // long since the last face, no good match, or out of the image: lost_reason() says which). A lost
+  // head is looked for round where it was for reacquire_s, then stays lost until learn().
   std::optional<HeadObservation> follow(const cv::Mat& gray, Seconds t);
   void reset();
-  // Frames stopped coming until `t` (the video link dropped): where the head was is no longer where
-  // it is, so it is lost, but its template is kept and the next frames are searched whole for it.
+  // Frames stopped coming until `t` (the video link dropped): the head may have moved in the image,
+  // so it is lost, with its template kept and looked for round where it was from the next frame.
   void interrupt(Seconds t);
   bool active() const { return box_.has_value(); }  // learnt, and not lost since
   // Why the head is not followed (None while it is); kept until the next learn().
