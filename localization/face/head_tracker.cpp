@@ -111,54 +111,40 @@ std::optional<HeadObservation> HeadTracker::follow(const cv::Mat& gray, Seconds 
   if (gray.empty() || gray.type() != CV_8UC1) return std::nullopt;
   if (!box_ && !lost_box_) return std::nullopt;
   if (t - last_face_t_ > options_.max_follow_s) return lose(HeadLostReason::FaceTooLongAgo, t, false);
-  bool reacquired = false;
-  if (!box_) {
-    if (t - lost_t_ > options_.reacquire_s) {
-      lost_box_.reset();
-      return std::nullopt;
-    }
-    box_ = reacquire(gray);
-    if (!box_) return std::nullopt;
-    reacquired = true;
+  const bool reacquiring = !box_;
+  if (reacquiring && t - lost_t_ > options_.reacquire_s) {
+    lost_box_.reset();
+    return std::nullopt;
   }
   if (template_stale_) {
     cv::resize(face_pixels_(cv::Rect(cv::Point(0, 0), face_patch_size_)), patch_8u_, kTemplateSize, 0, 0, cv::INTER_AREA);
     patch_8u_.convertTo(template_, CV_32F);
     template_stale_ = false;
   }
-  cv::Rect2d box = *box_;
-  double score = 1.0;
-  if (!reacquired) {
-    const auto matched = match_near(gray, *box_, score);
-    if (!matched) return lose(lost_reason_, t);
-    box = *matched;
-  } else {
-    score = reacquired_score_;
-  }
   const HeadLostReason lost_for = lost_reason_;
-  const auto place = place_of(box, gray);
-  if (!place && reacquired) {
-    // Not a head to follow: the loss stands as it was, and the template is kept for the next frame.
-    box_.reset();
+  const std::optional<Match> match = reacquiring ? reacquire(gray) : match_near(gray, *box_);
+  const std::optional<Eigen::Vector3d> place = match ? place_of(match->box, gray) : std::nullopt;
+  if (!place) {
+    if (!reacquiring) return lose(lost_reason_, t);
+    // Not found, or not a head to follow: the loss stands as it was, the template kept.
     lost_reason_ = lost_for;
     return std::nullopt;
   }
-  if (!place) return lose(lost_reason_, t);
   // The head turns under the template: follow its new look a little each frame.
-  if (take_patch(gray, box, patch_)) cv::addWeighted(template_, 1.0 - options_.adapt_rate, patch_, options_.adapt_rate, 0.0, template_);
-  box_ = box;
+  if (take_patch(gray, match->box, patch_)) cv::addWeighted(template_, 1.0 - options_.adapt_rate, patch_, options_.adapt_rate, 0.0, template_);
+  box_ = match->box;
   lost_box_.reset();
   lost_reason_ = HeadLostReason::None;
   HeadObservation out;
   out.p_cam_head_m = *place;
-  out.box = box;
-  out.score = score;
+  out.box = match->box;
+  out.score = match->score;
   out.since_face_s = t - last_face_t_;
-  out.reacquired = reacquired;
+  out.reacquired = reacquiring;
   return out;
 }
 
-std::optional<cv::Rect2d> HeadTracker::match_near(const cv::Mat& gray, const cv::Rect2d& last, double& score_out) {
+std::optional<HeadTracker::Match> HeadTracker::match_near(const cv::Mat& gray, const cv::Rect2d& last) {
   // The search runs at the template's resolution: the image scaled by 1/f.
   const double f = last.height / kTemplateSize.height;
   const double m = options_.search_margin * last.width;
@@ -200,11 +186,10 @@ std::optional<cv::Rect2d> HeadTracker::match_near(const cv::Mat& gray, const cv:
     lost_reason_ = HeadLostReason::NoMatch;
     return std::nullopt;
   }
-  score_out = best_score;
-  return cv::Rect2d(region.x + best_at.x * f, region.y + best_at.y * f, last.width * best_scale, last.height * best_scale);
+  return Match{cv::Rect2d(region.x + best_at.x * f, region.y + best_at.y * f, last.width * best_scale, last.height * best_scale), best_score};
 }
 
-std::optional<cv::Rect2d> HeadTracker::reacquire(const cv::Mat& gray) {
+std::optional<HeadTracker::Match> HeadTracker::reacquire(const cv::Mat& gray) {
   const cv::Rect2d& last = *lost_box_;
   // Near where it was lost and at about its size only: a head is likelier there than a look-alike.
   // Over the whole frame at 0.63-1.59 of the size, the best match in the randomized lab was as often
@@ -254,8 +239,7 @@ std::optional<cv::Rect2d> HeadTracker::reacquire(const cv::Mat& gray) {
     }
   }
   if (best_score < options_.reacquire_min_score) return std::nullopt;
-  reacquired_score_ = best_score;
-  return cv::Rect2d(area.x + best_at.x * f, area.y + best_at.y * f, last.width * best_scale, last.height * best_scale);
+  return Match{cv::Rect2d(area.x + best_at.x * f, area.y + best_at.y * f, last.width * best_scale, last.height * best_scale), best_score};
 }
 
 std::optional<Eigen::Vector3d> HeadTracker::place_of(const cv::Rect2d& box, const cv::Mat& gray) {

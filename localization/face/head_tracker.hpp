@@ -84,12 +84,16 @@ class HeadTracker {
   bool take_patch(const cv::Mat& gray, const cv::Rect2d& box, cv::Mat& out);
   // Lost: the template is kept for reacquire() when `keep_template`.
   std::nullopt_t lose(HeadLostReason reason, Seconds t, bool keep_template = true);
-  // The kept template's best match round where it was lost, as the box to follow from; nullopt
-  // when nothing matches well enough.
-  std::optional<cv::Rect2d> reacquire(const cv::Mat& gray);
-  // The head's box in this frame near `last` (the frame to frame match), its correlation in `score`;
-  // nullopt (and lost_reason_ set) when it no longer matches.
-  std::optional<cv::Rect2d> match_near(const cv::Mat& gray, const cv::Rect2d& last, double& score);
+  struct Match {
+    cv::Rect2d box;
+    double score = 0;  // normalised correlation
+  };
+  // The kept template's best match round where it was lost; nullopt when nothing matches well
+  // enough.
+  std::optional<Match> reacquire(const cv::Mat& gray);
+  // The head's box in this frame near `last` (the frame to frame match); nullopt (and lost_reason_
+  // set) when it no longer matches.
+  std::optional<Match> match_near(const cv::Mat& gray, const cv::Rect2d& last);
   // The head's place from its box (through the lens model), or nullopt when the box is not a head
   // to follow (at the border, filling the image, at an implausible distance); sets lost_reason_.
   std::optional<Eigen::Vector3d> place_of(const cv::Rect2d& box, const cv::Mat& gray);
@@ -105,7 +109,6 @@ class HeadTracker {
   HeadLostReason lost_reason_ = HeadLostReason::NotLearnt;
   std::optional<cv::Rect2d> lost_box_;  // the last box before a loss whose template is kept
   Seconds lost_t_ = 0;
-  double reacquired_score_ = 0;
   // Reused buffers.
   cv::Mat region_8u_, region_, scaled_template_, scores_, patch_8u_, patch_;
 };

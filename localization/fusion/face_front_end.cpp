@@ -55,8 +55,8 @@ const TargetObservation& FaceFrontEnd::process(const cv::Mat& gray, Seconds t, s
   }
   if (last_t_ && t - *last_t_ > kMaxTrackingGapS) {
     estimator_->reset();
-    // A followed head is looked for over the whole frame: a Wi-Fi outage of half a second (a few
-    // every minute in the randomized world) otherwise loses the teacher to a search.
+    // A followed head is looked for again round where it was: a Wi-Fi outage of half a second (a
+    // few every minute in the randomized world) otherwise loses the teacher to a search.
     head_tracker_.interrupt(t);
   }
   last_t_ = t;

@@ -164,7 +164,7 @@ TEST_CASE("face front-end: without head tracking, a face turned away is lost") {
   CHECK_FALSE(front_end.last_head().has_value());
 }
 
-TEST_CASE("head tracker: a head lost from the view is found again over the whole image while its template is kept") {
+TEST_CASE("head tracker: a head lost from the view is found again round where it was while its template is kept") {
   TeacherScene t;
   const Eigen::Vector2d at = t.lab.teacher.waypoints.front();
   t.camera_at = Eigen::Vector3d(at.x() - 1.1, at.y(), t.lab.teacher.eye_height_m);
