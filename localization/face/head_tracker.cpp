@@ -56,6 +56,9 @@ void HeadTracker::reset() {
 }
 
 std::nullopt_t HeadTracker::lose(HeadLostReason reason, Seconds t, bool keep_template) {
+  // A head lost on the frame after its posed face (the video dropped) is looked for with that face's
+  // look, not with the template of the head followed before it.
+  if (keep_template) make_template_if_stale();
   const std::optional<cv::Rect2d> last = box_;
   reset();
   lost_reason_ = reason;
@@ -68,6 +71,13 @@ std::nullopt_t HeadTracker::lose(HeadLostReason reason, Seconds t, bool keep_tem
 
 void HeadTracker::interrupt(Seconds t) {
   if (box_) lose(HeadLostReason::FrameGap, t);
+}
+
+void HeadTracker::make_template_if_stale() {
+  if (!template_stale_ || face_patch_size_.area() == 0) return;
+  cv::resize(face_pixels_(cv::Rect(cv::Point(0, 0), face_patch_size_)), patch_8u_, kTemplateSize, 0, 0, cv::INTER_AREA);
+  patch_8u_.convertTo(template_, CV_32F);
+  template_stale_ = false;
 }
 
 bool HeadTracker::take_patch(const cv::Mat& gray, const cv::Rect2d& box, cv::Mat& out) {
@@ -116,11 +126,7 @@ std::optional<HeadObservation> HeadTracker::follow(const cv::Mat& gray, Seconds 
     lost_box_.reset();
     return std::nullopt;
   }
-  if (template_stale_) {
-    cv::resize(face_pixels_(cv::Rect(cv::Point(0, 0), face_patch_size_)), patch_8u_, kTemplateSize, 0, 0, cv::INTER_AREA);
-    patch_8u_.convertTo(template_, CV_32F);
-    template_stale_ = false;
-  }
+  make_template_if_stale();
   const HeadLostReason lost_for = lost_reason_;
   const std::optional<Match> match = reacquiring ? reacquire(gray) : match_near(gray, *box_);
   const std::optional<Eigen::Vector3d> place = match ? place_of(match->box, gray) : std::nullopt;

@@ -82,6 +82,8 @@ class HeadTracker {
 
  private:
   bool take_patch(const cv::Mat& gray, const cv::Rect2d& box, cv::Mat& out);
+  // The template from the last posed face's pixels, when learn() has left it to be made.
+  void make_template_if_stale();
   // Lost: the template is kept for reacquire() when `keep_template`.
   std::nullopt_t lose(HeadLostReason reason, Seconds t, bool keep_template = true);
   struct Match {

@@ -208,6 +208,27 @@ TEST_CASE("head tracker: a head lost from the view is found again round where it
   }
 }
 
+TEST_CASE("head tracker: video that drops right after a posed face: the head is looked for with that face's look") {
+  TeacherScene t;
+  const Eigen::Vector2d at = t.lab.teacher.waypoints.front();
+  t.camera_at = Eigen::Vector3d(at.x() - 1.1, at.y(), t.lab.teacher.eye_height_m);
+  HeadTracker tracker(t.renderer.camera(CameraId::Front));
+  const SceneState facing = t.scene(at, std::numbers::pi);
+  tracker.learn(t.gray(facing), t.T_cam_face(facing), 0.0);
+  // No frame followed the posed one: its template was still to be made when the video dropped.
+  tracker.interrupt(0.6);
+  REQUIRE_FALSE(tracker.active());
+  CHECK(tracker.lost_reason() == HeadLostReason::FrameGap);
+  // Back 0.15 m aside, turned a little.
+  const SceneState back = t.scene(at + Eigen::Vector2d(0.0, 0.15), std::numbers::pi * 1.05);
+  const auto head = tracker.follow(t.gray(back), 0.6 + 1 / kFps);
+  REQUIRE(head.has_value());
+  CHECK(head->reacquired);
+  const Eigen::Vector3d truth = head_centre(t.T_cam_face(back), tracker.options());
+  INFO("found at " << head->p_cam_head_m.transpose() << ", truth " << truth.transpose());
+  CHECK((head->p_cam_head_m - truth).norm() < 0.15);
+}
+
 TEST_CASE("head tracker: a head approached fast keeps its distance") {
   TeacherScene t;
   const Eigen::Vector2d at = t.lab.teacher.waypoints.front();
