@@ -82,6 +82,33 @@ Flight lab_inspect_flight(const LabDescription& lab, const InstrumentSpec& instr
   return f;
 }
 
+Flight lab_sweep_flight(const LabDescription& lab, double yaw_rate, int sweeps, double orbit_m, double fps) {
+  Flight f;
+  f.name = "lab-sweep";
+  const Eigen::Isometry3d cam_in_body = T_body_cam_front();
+  const Eigen::Vector3d base = lab.T_world_base.translation() + Eigen::Vector3d(0, 0, lab.platform.thickness_m);
+  const double base_yaw = std::atan2(lab.T_world_base.linear()(1, 0), lab.T_world_base.linear()(0, 0));
+  constexpr double kFaceHeightM = 1.6;
+  // Timeline (s): hover on the platform, climb, scale manoeuvre (up 0.4 m and back), the sweeps.
+  const double climb_from = 1.0, climb_s = 2.5;
+  const double manoeuvre_from = climb_from + climb_s + 0.5, manoeuvre_s = 8.0;
+  const double sweep_from = manoeuvre_from + manoeuvre_s + 1.0, sweep_s = sweeps * 2 * M_PI / yaw_rate;
+  const double end = sweep_from + sweep_s + 1.0;
+  for (int i = 0; i < static_cast<int>(end * fps); ++i) {
+    const Seconds t = i / fps;
+    Eigen::Vector3d p = base + Eigen::Vector3d(0, 0, (kFaceHeightM - base.z()) * smoothstep((t - climb_from) / climb_s));
+    p.z() += 0.4 * std::sin(M_PI * std::clamp((t - manoeuvre_from) / manoeuvre_s, 0.0, 1.0));
+    const double swept = yaw_rate * std::clamp(t - sweep_from, 0.0, sweep_s);
+    const double yaw = base_yaw + swept;
+    // Out onto the circle over the first half turn, so the motion has no step.
+    const double radius = orbit_m * smoothstep(swept / M_PI);
+    p += radius * Eigen::Vector3d(std::cos(yaw), std::sin(yaw), 0.0);
+    const double wobble = 0.01 * std::sin(1.7 * t);
+    f.frames.push_back({t, make_pose(p, yaw, wobble, 0.01 * std::sin(1.1 * t + 1)) * cam_in_body, false});
+  }
+  return f;
+}
+
 SimulatedLabFrames::SimulatedLabFrames(const LabDescription& lab, const CamerasConfig& cameras, bool noise) {
   LabRenderOptions options;
   options.noise = noise;

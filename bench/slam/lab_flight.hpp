@@ -20,6 +20,11 @@ namespace labo::bench {
 // The inspect mission's path towards `instrument`, front-camera poses at `fps`.
 Flight lab_inspect_flight(const lab::LabDescription& lab, const lab::InstrumentSpec& instrument, double fps = 30.0);
 
+// Face-follow's search where it took off: off the platform, up to a standing adult's face height
+// (1.6 m), the same scale manoeuvre, then `sweeps` full turns at `yaw_rate` rad/s where it is
+// (`orbit_m` 0) or with the camera looking out from a circle of that radius round it.
+Flight lab_sweep_flight(const lab::LabDescription& lab, double yaw_rate, int sweeps, double orbit_m, double fps = 30.0);
+
 // Renders a flight's front-camera frames in the simulated lab, 8-bit grey.
 class SimulatedLabFrames {
  public:

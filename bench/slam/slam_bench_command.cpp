@@ -102,8 +102,11 @@ const CommandSpec& bench_slam_command_spec() {
       "",
       "Monocular SLAM on ground-truth flights: ATE (Sim(3)), RPE, scale drift, timings, relocalization",
       {{"--json", "", "print JSON instead of a table"},
-       {"--flight", "NAME", "tour, yaw, approach (synthetic room), lab-inspect (simulated lab) or all (default all)"},
-       {"--lab-fps", "N", "frames per second of the lab-inspect flight (default 30; the inspect test runs 15)"},
+       {"--flight", "NAME", "tour, yaw, approach (synthetic room), lab-inspect, lab-sweep (simulated lab) or all (default all)"},
+       {"--lab-fps", "N", "frames per second of the lab flights (default 30; the inspect test runs 15)"},
+       {"--sweep-rate", "R", "lab-sweep: the yaw rate in rad/s (default 0.4, face-follow's face_search_yaw_rate)"},
+       {"--sweeps", "N", "lab-sweep: full turns (default 2: the second shows whether the first one's map is found again)"},
+       {"--sweep-orbit-m", "R", "lab-sweep: the camera looks out from a circle of this radius (default 0: turns in place)"},
        {"--tour-seconds", "S", "duration of the tour flight (default 120)"},
        {"--threaded", "", "mapping in its own thread (default: synchronous, deterministic)"},
        {"--config", "FILE", "the configuration (default config/default.json, as flights): its \"slam\" section (mapping key ignored: see --threaded); "
@@ -124,9 +127,12 @@ const CommandSpec& bench_slam_command_spec() {
 
 int run_bench_slam_command(const ParsedArgs& args) {
   const std::string which = args.value_or("--flight", "all");
-  if (which != "all" && which != "tour" && which != "yaw" && which != "approach" && which != "lab-inspect") {
-    throw UsageError("--flight must be tour, yaw, approach, lab-inspect or all, not '" + which + "'");
+  if (which != "all" && which != "tour" && which != "yaw" && which != "approach" && which != "lab-inspect" && which != "lab-sweep") {
+    throw UsageError("--flight must be tour, yaw, approach, lab-inspect, lab-sweep or all, not '" + which + "'");
   }
+  const double sweep_rate = args.number_or("--sweep-rate", 0.4, 0.05, 2.0);
+  const int sweeps = static_cast<int>(args.integer_or("--sweeps", 2, 1, 10));
+  const double sweep_orbit_m = args.number_or("--sweep-orbit-m", 0.0, 0.0, 1.0);
   const double tour_s = args.number_or("--tour-seconds", 120.0, 10.0, 600.0);
   const double lab_fps = args.number_or("--lab-fps", 30.0, 5.0, 60.0);
   const slam::MappingMode mode = args.flag("--threaded") ? slam::MappingMode::Threaded : slam::MappingMode::Synchronous;
@@ -160,16 +166,20 @@ int run_bench_slam_command(const ParsedArgs& args) {
   if (which == "all" || which == "yaw") flights.emplace_back(yaw_flight(), in_room);
   if (which == "all" || which == "approach") flights.emplace_back(approach_flight(room.panel_center()), in_room);
   std::optional<LabFlightSetup> lab;
-  if (which == "all" || which == "lab-inspect") {
+  const bool lab_inspect = which == "all" || which == "lab-inspect", lab_sweep = which == "all" || which == "lab-sweep";
+  if (lab_inspect || lab_sweep) {
     if (args.flag("--no-distortion")) throw UsageError("--no-distortion applies to the synthetic room's flights only");
     lab.emplace(doc, config_file, !args.flag("--no-noise"));
-    if (lab->lab.instruments.empty()) throw UsageError(config_file.string() + ": the lab has no instrument to approach");
-    flights.emplace_back(lab_inspect_flight(lab->lab, lab->lab.instruments.front(), lab_fps),
-                         [&lab](const Flight& flight, std::size_t i) { return lab->frames.render(flight, i); });
   }
+  const FlightRenderer in_lab = [&lab](const Flight& flight, std::size_t i) { return lab->frames.render(flight, i); };
+  if (lab_inspect) {
+    if (lab->lab.instruments.empty()) throw UsageError(config_file.string() + ": the lab has no instrument to approach");
+    flights.emplace_back(lab_inspect_flight(lab->lab, lab->lab.instruments.front(), lab_fps), in_lab);
+  }
+  if (lab_sweep) flights.emplace_back(lab_sweep_flight(lab->lab, sweep_rate, sweeps, sweep_orbit_m, lab_fps), in_lab);
   nlohmann::json out;
   out["scene"] = "tour, yaw, approach: synthetic room 8x6x3 m, procedural textures, AR.Drone 2.0 front camera with "
-                 "distortion, 30 fps; lab-inspect: the simulated lab (drone/sim LabRenderer: blur, noise)";
+                 "distortion, 30 fps; lab-inspect, lab-sweep: the simulated lab (drone/sim LabRenderer: blur, noise)";
   out["noise_sigma"] = room_spec.noise_sigma;
   out["noise_seed"] = noise_seed;
   out["lens_distortion"] = camera.has_distortion();
@@ -179,7 +189,7 @@ int run_bench_slam_command(const ParsedArgs& args) {
                          {"gravity_in_tracking", settings.gravity_in_tracking}};
   out["targets"] = {{"tracking_ms_median", 10.0}, {"ate_rmse_cm", 3.0}, {"relocalization_s", 1.0}};
   for (const auto& [flight, render] : flights) {
-    const PinholeCamera& flight_camera = flight.name == "lab-inspect" ? lab->camera : camera;
+    const PinholeCamera& flight_camera = flight.name.starts_with("lab-") ? lab->camera : camera;
     const FlightReport r = run_flight(render, flight, flight_camera, settings, args.flag("--trace") ? &std::cerr : nullptr, imu);
     if (const auto dir = args.value("--tum-dir")) {
       write_tum_trajectory(*dir + "/" + r.name + "_estimate.tum", r.trajectory, false);
