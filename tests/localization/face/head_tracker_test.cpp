@@ -22,6 +22,16 @@ Eigen::Vector3d head_centre(const Eigen::Isometry3d& T_cam_face, const HeadTrack
   return T_cam_face * Eigen::Vector3d(0, 0, -o.centre_behind_face_m);
 }
 
+// The camera 1.1 m in front of a teacher standing at `at`, at eye height, looking at them (+x); the
+// tracker taught on them facing it at t = 0.
+HeadTracker taught_facing(TeacherScene& t, const Eigen::Vector2d& at) {
+  t.camera_at = Eigen::Vector3d(at.x() - 1.1, at.y(), t.lab.teacher.eye_height_m);
+  HeadTracker tracker(t.renderer.camera(CameraId::Front));
+  const SceneState facing = t.scene(at, std::numbers::pi);
+  tracker.learn(t.gray(facing), t.T_cam_face(facing), 0.0);
+  return tracker;
+}
+
 }  // namespace
 
 TEST_CASE("head tracker: a teacher who turns their back and walks on is followed by the head") {
@@ -167,10 +177,7 @@ TEST_CASE("face front-end: without head tracking, a face turned away is lost") {
 TEST_CASE("head tracker: a head lost from the view is found again round where it was while its template is kept") {
   TeacherScene t;
   const Eigen::Vector2d at = t.lab.teacher.waypoints.front();
-  t.camera_at = Eigen::Vector3d(at.x() - 1.1, at.y(), t.lab.teacher.eye_height_m);
-  HeadTracker tracker(t.renderer.camera(CameraId::Front));
-  const SceneState facing = t.scene(at, std::numbers::pi);
-  tracker.learn(t.gray(facing), t.T_cam_face(facing), 0.0);
+  HeadTracker tracker = taught_facing(t, at);
   Seconds now = 0;
   // Turned away over 2 s, followed by the head.
   for (int i = 1; i <= 60; ++i) REQUIRE(tracker.follow(t.gray(t.scene(at, std::numbers::pi * (1 + i / 60.0))), now += 1 / kFps));
@@ -211,10 +218,7 @@ TEST_CASE("head tracker: a head lost from the view is found again round where it
 TEST_CASE("head tracker: video that drops right after a posed face: the head is looked for with that face's look") {
   TeacherScene t;
   const Eigen::Vector2d at = t.lab.teacher.waypoints.front();
-  t.camera_at = Eigen::Vector3d(at.x() - 1.1, at.y(), t.lab.teacher.eye_height_m);
-  HeadTracker tracker(t.renderer.camera(CameraId::Front));
-  const SceneState facing = t.scene(at, std::numbers::pi);
-  tracker.learn(t.gray(facing), t.T_cam_face(facing), 0.0);
+  HeadTracker tracker = taught_facing(t, at);
   // No frame followed the posed one: its template was still to be made when the video dropped.
   tracker.interrupt(0.6);
   REQUIRE_FALSE(tracker.active());
