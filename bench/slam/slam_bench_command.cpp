@@ -9,6 +9,7 @@
 #include "core/config_reader.hpp"
 #include "core/source_tree.hpp"
 #include "bench/slam/lab_flight.hpp"
+#include "bench/slam/lens_error.hpp"
 #include "bench/slam/slam_benchmark.hpp"
 #include "bench/slam/synthetic_room.hpp"
 #include "localization/slam/slam_config.hpp"
@@ -107,6 +108,8 @@ const CommandSpec& bench_slam_command_spec() {
        {"--sweep-rate", "R", "lab-sweep: the yaw rate in rad/s (default 0.4, face-follow's face_search_yaw_rate)"},
        {"--sweeps", "N", "lab-sweep: full turns (default 2: the second shows whether the first one's map is found again)"},
        {"--sweep-orbit-m", "R", "lab-sweep: the camera looks out from a circle of this radius (default 0: turns in place)"},
+       {"--lens-error", "F,C,K1,K2", "lab flights: SLAM's lens model off the rendering's: focal length by the fraction F, principal "
+                                     "point by C px, k1 and k2 by K1, K2 (the randomized world draws within 0.03, 5, 0.03, 0.03)"},
        {"--tour-seconds", "S", "duration of the tour flight (default 120)"},
        {"--threaded", "", "mapping in its own thread (default: synchronous, deterministic)"},
        {"--config", "FILE", "the configuration (default config/default.json, as flights): its \"slam\" section (mapping key ignored: see --threaded); "
@@ -133,6 +136,8 @@ int run_bench_slam_command(const ParsedArgs& args) {
   const double sweep_rate = args.number_or("--sweep-rate", 0.4, 0.05, 2.0);
   const int sweeps = static_cast<int>(args.integer_or("--sweeps", 2, 1, 10));
   const double sweep_orbit_m = args.number_or("--sweep-orbit-m", 0.0, 0.0, 1.0);
+  const std::optional<std::string> lens_error_text = args.value("--lens-error");
+  const LensError lens_error = lens_error_text ? parse_lens_error(*lens_error_text) : LensError{};
   const double tour_s = args.number_or("--tour-seconds", 120.0, 10.0, 600.0);
   const double lab_fps = args.number_or("--lab-fps", 30.0, 5.0, 60.0);
   const slam::MappingMode mode = args.flag("--threaded") ? slam::MappingMode::Threaded : slam::MappingMode::Synchronous;
@@ -170,6 +175,8 @@ int run_bench_slam_command(const ParsedArgs& args) {
   if (lab_inspect || lab_sweep) {
     if (args.flag("--no-distortion")) throw UsageError("--no-distortion applies to the synthetic room's flights only");
     lab.emplace(doc, config_file, !args.flag("--no-noise"));
+  } else if (lens_error_text) {
+    throw UsageError("--lens-error applies to the simulated lab's flights only");
   }
   const FlightRenderer in_lab = [&lab](const Flight& flight, std::size_t i) { return lab->frames.render(flight, i); };
   if (lab_inspect) {
@@ -183,13 +190,15 @@ int run_bench_slam_command(const ParsedArgs& args) {
   out["noise_sigma"] = room_spec.noise_sigma;
   out["noise_seed"] = noise_seed;
   out["lens_distortion"] = camera.has_distortion();
+  out["lab_lens_error"] = {{"focal_fraction", lens_error.focal_fraction}, {"principal_px", lens_error.principal_px},
+                           {"k1", lens_error.k1}, {"k2", lens_error.k2}};
   out["mapping_mode"] = mode == slam::MappingMode::Threaded ? "threaded" : "synchronous";
   out["imu_attitude"] = {{"noise_deg", imu.noise_rad * 180.0 / M_PI}, {"offset_sigma_deg", imu.offset_rad * 180.0 / M_PI},
                          {"used_by_slam", settings.gravity_sigma_deg > 0}, {"gravity_sigma_deg", settings.gravity_sigma_deg},
                          {"gravity_in_tracking", settings.gravity_in_tracking}};
   out["targets"] = {{"tracking_ms_median", 10.0}, {"ate_rmse_cm", 3.0}, {"relocalization_s", 1.0}};
   for (const auto& [flight, render] : flights) {
-    const PinholeCamera& flight_camera = flight.name.starts_with("lab-") ? lab->camera : camera;
+    const PinholeCamera flight_camera = flight.name.starts_with("lab-") ? with_lens_error(lab->camera, lens_error) : camera;
     const FlightReport r = run_flight(render, flight, flight_camera, settings, args.flag("--trace") ? &std::cerr : nullptr, imu);
     if (const auto dir = args.value("--tum-dir")) {
       write_tum_trajectory(*dir + "/" + r.name + "_estimate.tum", r.trajectory, false);
