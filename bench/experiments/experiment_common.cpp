@@ -53,6 +53,9 @@ std::vector<OptionSpec> real_vision_option_specs() {
            "with --vision real: the simulated lab's world: nominal, the configuration exactly; randomized, a world drawn "
            "around it per seed (the drone, sensor biases, placements, cameras, delays, light, Wi-Fi losses; docs/sim.md) "
            "that the flight software does not see (default: the config's sim.world)"},
+          {"--calibrated-cameras", "",
+           "with --world randomized: the drawn world's cameras have the configured intrinsics and distortion exactly (each "
+           "drone calibrated); everything else is drawn as before"},
           {"--drone-model", "ardrone|tello",
            "with --vision real: the drone the lab is flown as: ardrone (default), the AR.Drone 2.0 (SimDroneLink); tello, a "
            "Tello in SDK mode (SimTelloLink: its state string at 10 Hz in whole degrees and dm/s, its sticks, its "
@@ -89,6 +92,9 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args) {
     if (!o.world) throw UsageError("--world must be nominal or randomized (got '" + *world + "')");
     if (!o.real_vision) throw UsageError("--world needs --vision real (the models fly no simulated lab)");
   }
+  o.calibrated_cameras = args.flag("--calibrated-cameras");
+  if (o.calibrated_cameras && o.world != WorldMode::Randomized)
+    throw UsageError("--calibrated-cameras needs --world randomized (the nominal world's cameras are calibrated already)");
   if (const auto model = args.value("--drone-model")) {
     if (*model != "ardrone" && *model != "tello")
       throw UsageError("--drone-model must be ardrone or tello (got '" + *model + "')");
@@ -158,6 +164,11 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   // Without the face there is nothing to follow, and the flight software does not avoid a teacher
   // walking into its way: the teacher keeps to the lab file's path, clear of the stand-offs.
   if (!with_face) e.world_ranges.teacher_walk.reset();
+  if (options.calibrated_cameras) {
+    WorldRanges& r = e.world_ranges;
+    r.focal_fraction = r.aspect_fraction = r.principal_point_px = 0;
+    r.k1 = r.k2 = r.tangential = r.bottom_k1 = 0;
+  }
   return e;
 }
 

@@ -40,6 +40,10 @@ struct ExperimentOptions {
   int jobs = 1;  // --jobs: seeded runs flown at once on that many threads (seed_runner.hpp)
   // --world (with --vision real): the simulated lab's world, replacing the config's sim.world.
   std::optional<WorldMode> world;
+  // --calibrated-cameras (with --world randomized): each drawn world's cameras have the configured
+  // intrinsics and distortion exactly, as a drone whose cameras were calibrated one by one; the rest
+  // is drawn as before (their mounting tilt too).
+  bool calibrated_cameras = false;
   // --drone-model tello (with --vision real): the lab flown as a Tello (SimTelloLink), the flight
   // software set up for one (the Tello's camera and estimation section, docs/tello.md).
   bool tello = false;
