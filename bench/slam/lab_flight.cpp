@@ -38,6 +38,24 @@ double smootherstep(double x) {
 }
 double smootherstep_acceleration(double x) { return x <= 0 || x >= 1 ? 0.0 : x * (60 + x * (-180 + 120 * x)); }
 
+// Both lab flights start as the missions do: a hover on the platform, the climb to their cruise
+// height, the scale manoeuvre (up 0.4 m and back); it ends at kTakeOffEndS.
+constexpr double kClimbFromS = 1.0, kClimbS = 2.5;
+constexpr double kManoeuvreFromS = kClimbFromS + kClimbS + 0.5, kManoeuvreS = 8.0;
+constexpr double kTakeOffEndS = kManoeuvreFromS + kManoeuvreS;
+
+// The platform's top, where the drone stands, and the yaw it stands at.
+Eigen::Vector3d platform_top(const LabDescription& lab) {
+  return lab.T_world_base.translation() + Eigen::Vector3d(0, 0, lab.platform.thickness_m);
+}
+double base_yaw(const LabDescription& lab) { return std::atan2(lab.T_world_base.linear()(1, 0), lab.T_world_base.linear()(0, 0)); }
+
+Eigen::Vector3d take_off_position(const Eigen::Vector3d& base, double cruise_z, Seconds t) {
+  Eigen::Vector3d p = base + Eigen::Vector3d(0, 0, (cruise_z - base.z()) * smoothstep((t - kClimbFromS) / kClimbS));
+  p.z() += 0.4 * std::sin(M_PI * std::clamp((t - kManoeuvreFromS) / kManoeuvreS, 0.0, 1.0));
+  return p;
+}
+
 }  // namespace
 
 Flight lab_inspect_flight(const LabDescription& lab, const InstrumentSpec& instrument, double fps) {
@@ -48,29 +66,26 @@ Flight lab_inspect_flight(const LabDescription& lab, const InstrumentSpec& instr
   f.target = face;
   const Eigen::Isometry3d cam_in_body = T_body_cam_front();
   const double cam_ahead = cam_in_body.translation().x();
-  const Eigen::Vector3d base = lab.T_world_base.translation() + Eigen::Vector3d(0, 0, lab.platform.thickness_m);
-  const double base_yaw = std::atan2(lab.T_world_base.linear()(1, 0), lab.T_world_base.linear()(0, 0));
+  const Eigen::Vector3d base = platform_top(lab);
+  const double start_yaw = base_yaw(lab);
   const double cruise_z = face.z() + 0.05;
   // Where the camera holds: 0.8 m in front of the panel, facing it; the body is behind the camera.
   const Eigen::Vector3d facing = Eigen::Vector3d(into_panel.x(), into_panel.y(), 0).normalized();
   const double approach_yaw = std::atan2(facing.y(), facing.x());
   const Eigen::Vector3d hold_body = face - kStandoffM * facing - cam_ahead * facing;
   const Eigen::Vector3d climb_top(base.x(), base.y(), cruise_z);
-  // Timeline (s): hover on the platform, climb, scale manoeuvre (up 0.4 m and back), turn, approach, hold.
-  const double climb_from = 1.0, climb_s = 2.5;
-  const double manoeuvre_from = climb_from + climb_s + 0.5, manoeuvre_s = 8.0;
-  const double turn_from = manoeuvre_from + manoeuvre_s, turn_s = 1.5;
+  // Timeline (s): the take-off, turn, approach, hold.
+  const double turn_from = kTakeOffEndS, turn_s = 1.5;
   const double leg = (hold_body - climb_top).norm();
   const double approach_from = turn_from + turn_s, approach_s = 1.875 * leg / kPeakSpeedMps;
   const double end = approach_from + approach_s + 3.0;
   const double turn_yaw = std::atan2(hold_body.y() - climb_top.y(), hold_body.x() - climb_top.x());
   for (int i = 0; i < static_cast<int>(end * fps); ++i) {
     const Seconds t = i / fps;
-    Eigen::Vector3d p = base + Eigen::Vector3d(0, 0, (cruise_z - base.z()) * smoothstep((t - climb_from) / climb_s));
-    p.z() += 0.4 * std::sin(M_PI * std::clamp((t - manoeuvre_from) / manoeuvre_s, 0.0, 1.0));
+    Eigen::Vector3d p = take_off_position(base, cruise_z, t);
     // Turn towards the hold point, fly the straight leg, and face the panel squarely at the end.
     const double s = (t - approach_from) / approach_s;
-    double yaw = base_yaw + (turn_yaw - base_yaw) * smoothstep((t - turn_from) / turn_s);
+    double yaw = start_yaw + (turn_yaw - start_yaw) * smoothstep((t - turn_from) / turn_s);
     yaw += (approach_yaw - turn_yaw) * smoothstep((s - 0.6) / 0.4);
     p += (hold_body - climb_top) * smootherstep(s);
     // The body pitches to accelerate along the leg (nose down) and to brake (nose up).
@@ -86,20 +101,17 @@ Flight lab_sweep_flight(const LabDescription& lab, double yaw_rate, int sweeps, 
   Flight f;
   f.name = "lab-sweep";
   const Eigen::Isometry3d cam_in_body = T_body_cam_front();
-  const Eigen::Vector3d base = lab.T_world_base.translation() + Eigen::Vector3d(0, 0, lab.platform.thickness_m);
-  const double base_yaw = std::atan2(lab.T_world_base.linear()(1, 0), lab.T_world_base.linear()(0, 0));
+  const Eigen::Vector3d base = platform_top(lab);
+  const double start_yaw = base_yaw(lab);
   constexpr double kFaceHeightM = 1.6;
-  // Timeline (s): hover on the platform, climb, scale manoeuvre (up 0.4 m and back), the sweeps.
-  const double climb_from = 1.0, climb_s = 2.5;
-  const double manoeuvre_from = climb_from + climb_s + 0.5, manoeuvre_s = 8.0;
-  const double sweep_from = manoeuvre_from + manoeuvre_s + 1.0, sweep_s = sweeps * 2 * M_PI / yaw_rate;
+  // Timeline (s): the take-off at face height, a second's hover, the sweeps.
+  const double sweep_from = kTakeOffEndS + 1.0, sweep_s = sweeps * 2 * M_PI / yaw_rate;
   const double end = sweep_from + sweep_s + 1.0;
   for (int i = 0; i < static_cast<int>(end * fps); ++i) {
     const Seconds t = i / fps;
-    Eigen::Vector3d p = base + Eigen::Vector3d(0, 0, (kFaceHeightM - base.z()) * smoothstep((t - climb_from) / climb_s));
-    p.z() += 0.4 * std::sin(M_PI * std::clamp((t - manoeuvre_from) / manoeuvre_s, 0.0, 1.0));
+    Eigen::Vector3d p = take_off_position(base, kFaceHeightM, t);
     const double swept = yaw_rate * std::clamp(t - sweep_from, 0.0, sweep_s);
-    const double yaw = base_yaw + swept;
+    const double yaw = start_yaw + swept;
     // Out onto the circle over the first half turn, so the motion has no step.
     const double radius = orbit_m * smoothstep(swept / M_PI);
     p += radius * Eigen::Vector3d(std::cos(yaw), std::sin(yaw), 0.0);

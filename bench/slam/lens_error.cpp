@@ -21,6 +21,8 @@ double checked(double value, double limit, const char* what, const std::string& 
 
 LensError parse_lens_error(const std::string& text) {
   std::vector<double> values;
+  // getline drops an empty last field: "0,0,0,0," would pass as four.
+  if (!text.empty() && text.back() == ',') throw UsageError("--lens-error " + text + ": ends with ',' (expected F,C,K1,K2)");
   std::istringstream in(text);
   std::string item;
   while (std::getline(in, item, ',')) {

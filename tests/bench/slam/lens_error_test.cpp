@@ -1,6 +1,9 @@
 #include <catch2/catch.hpp>
+#include <string>
+#include <vector>
 
 #include "bench/slam/lens_error.hpp"
+#include "bench/slam/slam_bench_command.hpp"
 #include "core/cli_args.hpp"
 
 using namespace labo;
@@ -35,8 +38,16 @@ TEST_CASE("bench slam: a lens error that is not four numbers in range is refused
   refused("0.03,x,0,0", "'x' is not a number");
   refused("0.03,5px,0,0", "'5px' is not a number");
   refused("", "expected four");
+  refused("0.03,0,0,0,", "ends with ','");
+  refused("0.03,,0,0", "'' is not a number");
   refused("0.5,0,0,0", "focal fraction 0.5 outside");
   refused("0,80,0,0", "principal point shift");
   refused("0,0,nan,0", "k1");
   CHECK_THROWS_AS(parse_lens_error("1,2"), UsageError);
+}
+
+TEST_CASE("bench slam: a lens error on the synthetic room's flights only is refused before any flight") {
+  const std::vector<std::string> args{"--flight", "tour", "--lens-error", "0.03,0,0,0"};
+  CHECK_THROWS_WITH(run_bench_slam_command(parse_args(bench_slam_command_spec(), args)),
+                    Catch::Contains("--lens-error applies to the simulated lab's flights only"));
 }
