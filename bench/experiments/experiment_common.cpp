@@ -56,6 +56,13 @@ std::vector<OptionSpec> real_vision_option_specs() {
           {"--calibrated-cameras", "",
            "with --world randomized: the drawn world's cameras have the configured intrinsics and distortion exactly (each "
            "drone calibrated); everything else is drawn as before"},
+          {"--nominal-factors", "LIST",
+           "with --world randomized: these factors keep the configuration's values, every other one is drawn as in "
+           "the whole randomized world of the same seed (comma-separated: drone, sensors, placements, lens, mounting, "
+           "delays, lighting, link, teacher)"},
+          {"--world-factors", "LIST",
+           "with --world randomized: only these factors are drawn (as in the whole randomized world of the same "
+           "seed), the others keep the configuration's values (the same names as --nominal-factors)"},
           {"--drone-model", "ardrone|tello",
            "with --vision real: the drone the lab is flown as: ardrone (default), the AR.Drone 2.0 (SimDroneLink); tello, a "
            "Tello in SDK mode (SimTelloLink: its state string at 10 Hz in whole degrees and dm/s, its sticks, its "
@@ -67,6 +74,45 @@ std::vector<OptionSpec> real_vision_option_specs() {
            "labodrone serve runs it, a frame's results reach the estimator after the worker's modelled time and frames "
            "that come while it is busy are skipped"}};
 }
+
+namespace {
+
+sim::WorldFactorSet parse_factor_list(const std::string& option, const std::string& list) {
+  sim::WorldFactorSet set;
+  std::string_view rest = list;
+  for (;;) {
+    const std::size_t comma = rest.find(',');
+    const std::string_view name = rest.substr(0, comma);
+    const auto factor = sim::parse_world_factor(name);
+    if (!factor) {
+      throw UsageError(option + ": '" + std::string(name) +
+                       "' is not a factor (expected a comma-separated list of drone, sensors, placements, lens, "
+                       "mounting, delays, lighting, link, teacher)");
+    }
+    set.insert(*factor);
+    if (comma == std::string_view::npos) break;
+    rest.remove_prefix(comma + 1);
+  }
+  return set;
+}
+
+sim::WorldFactorSet read_nominal_factors(const ParsedArgs& args, std::optional<WorldMode> world) {
+  const auto nominal = args.value("--nominal-factors");
+  const auto drawn = args.value("--world-factors");
+  if (!nominal && !drawn) return {};
+  const std::string option = nominal ? "--nominal-factors" : "--world-factors";
+  if (nominal && drawn) throw UsageError("--nominal-factors and --world-factors: give one or the other");
+  if (world != WorldMode::Randomized)
+    throw UsageError(option + " needs --world randomized (the nominal world has every factor at the configuration's values)");
+  if (nominal) return parse_factor_list(option, *nominal);
+  const sim::WorldFactorSet only = parse_factor_list(option, *drawn);
+  sim::WorldFactorSet kept;
+  for (sim::WorldFactor f : sim::kWorldFactors)
+    if (!only.contains(f)) kept.insert(f);
+  return kept;
+}
+
+}  // namespace
 
 OptionSpec jobs_option_spec() {
   return {"--jobs", "N", "fly N runs at once on N threads (default 1); each run's result is the same as alone"};
@@ -95,6 +141,8 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args) {
   o.calibrated_cameras = args.flag("--calibrated-cameras");
   if (o.calibrated_cameras && o.world != WorldMode::Randomized)
     throw UsageError("--calibrated-cameras needs --world randomized (the nominal world's cameras are calibrated already)");
+  o.nominal_factors = read_nominal_factors(args, o.world);
+  if (o.calibrated_cameras) o.nominal_factors.insert(sim::WorldFactor::Lens);
   if (const auto model = args.value("--drone-model")) {
     if (*model != "ardrone" && *model != "tello")
       throw UsageError("--drone-model must be ardrone or tello (got '" + *model + "')");
@@ -164,11 +212,7 @@ Experiment make_experiment(const ExperimentOptions& options, bool with_face) {
   // Without the face there is nothing to follow, and the flight software does not avoid a teacher
   // walking into its way: the teacher keeps to the lab file's path, clear of the stand-offs.
   if (!with_face) e.world_ranges.teacher_walk.reset();
-  if (options.calibrated_cameras) {
-    WorldRanges& r = e.world_ranges;
-    r.focal_fraction = r.aspect_fraction = r.principal_point_px = 0;
-    r.k1 = r.k2 = r.tangential = r.bottom_k1 = 0;
-  }
+  e.world_ranges.nominal = options.nominal_factors;
   return e;
 }
 

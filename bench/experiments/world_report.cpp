@@ -106,8 +106,12 @@ nlohmann::json world_json(const SimWorld& w, Seconds until_s) {
   nlohmann::json events = nlohmann::json::array();
   for (const Disturbance& e : w.settings.disturbances)
     if (e.t_s <= until_s) events.push_back(event_json(e));
+  nlohmann::json nominal = nlohmann::json::array();
+  for (sim::WorldFactor f : sim::kWorldFactors)
+    if (w.nominal_factors.contains(f)) nominal.push_back(to_string(f));
   return {{"mode", to_string(w.mode)},
           {"seed", w.seed},
+          {"nominal_factors", nominal},
           {"drone", drone_json(w.settings.dynamics)},
           {"sensor_biases", biases_json(w.settings.biases)},
           {"placements", placements},

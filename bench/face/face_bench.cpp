@@ -347,8 +347,8 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
     if (!csv) throw std::runtime_error(options.frames_csv.string() + ": cannot write the per-frame CSV");
     csv << "sequence,frame,guided,distance_m,true_yaw_deg,true_pitch_deg,true_roll_deg,true_z_m,interocular_px,"
            "rms_px,err_tx_mm,err_ty_mm,err_tz_mm,err_abs_tz_mm,err_roll_deg,err_yaw_deg,err_pitch_deg,"
-           "model_only_abs_tz_mm,model_only_yaw_deg,model_only_pitch_deg,landmarks_only_abs_tz_mm,"
-           "landmarks_only_yaw_deg,landmarks_only_pitch_deg,lost_reason\n";
+           "model_only_abs_tz_mm,model_only_yaw_deg,model_only_pitch_deg,model_only_roll_deg,landmarks_only_abs_tz_mm,"
+           "landmarks_only_yaw_deg,landmarks_only_pitch_deg,landmarks_only_roll_deg,lost_reason\n";
     landmark_csv.open(options.frames_csv.string() + ".landmarks.csv");
     landmark_csv << "sequence,frame,true_yaw_deg,true_pitch_deg,true_roll_deg,interocular_px,landmark,dx_px,dy_px,"
                     "true_u_px,true_v_px\n";
@@ -408,7 +408,7 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
         if (csv.is_open()) {
           const HeadAngles ta = head_angles(truth.linear());
           csv << seq.name << ',' << f << ',' << seq.guided << ',' << seq.distance_m << ',' << ta.yaw * kDeg << ','
-              << ta.pitch * kDeg << ',' << ta.roll * kDeg << ',' << truth.translation().z() << std::string(16, ',')
+              << ta.pitch * kDeg << ',' << ta.roll * kDeg << ',' << truth.translation().z() << std::string(18, ',')
               << '"' << to_string(r.reason) << "\"\n";
         }
         for (auto& solver : solvers) solver.reset();
@@ -465,13 +465,14 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
             const auto write_errors = [&](const PnpProblem& p) {
               const auto r = truth_known ? refine_lm(p, truth, config.solver.lm) : std::nullopt;
               if (!r) {
-                csv << ",nan,nan,nan";
+                csv << ",nan,nan,nan,nan";
                 return;
               }
               const HeadAngles ra = head_angles(r->T_cam_face.linear());
               csv << ',' << (r->T_cam_face.translation().z() - truth.translation().z()) * 1000 << ','
                   << std::remainder(ra.yaw - ta.yaw, 2 * std::numbers::pi) * kDeg << ','
-                  << std::remainder(ra.pitch - ta.pitch, 2 * std::numbers::pi) * kDeg;
+                  << std::remainder(ra.pitch - ta.pitch, 2 * std::numbers::pi) * kDeg << ','
+                  << std::remainder(ra.roll - ta.roll, 2 * std::numbers::pi) * kDeg;
             };
             csv << seq.name << ',' << f << ',' << seq.guided << ',' << seq.distance_m << ',' << ta.yaw * kDeg << ','
                 << ta.pitch * kDeg << ',' << ta.roll * kDeg << ',' << truth.translation().z() << ',' << iod << ','

@@ -1,5 +1,6 @@
 #include "drone/sim/sim_world.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -115,7 +116,62 @@ void draw_events(SeededDraw& d, const WorldRanges& r, std::vector<Disturbance>& 
   bursts(r.video_stall_interval_s, r.video_stall_s, Disturbance::Kind::VideoDropout);
 }
 
+// Sets the factors of `keep` back to the configuration's values (`nominal`, the world before any draw;
+// the events the configuration itself lists are kept).
+void restore_nominal(const SimWorld& nominal, const WorldFactorSet& keep, SimWorld& w) {
+  using enum WorldFactor;
+  if (keep.contains(Drone)) w.settings.dynamics = nominal.settings.dynamics;
+  if (keep.contains(Sensors)) w.settings.biases = nominal.settings.biases;
+  if (keep.contains(Placements)) {
+    w.lab.instruments = nominal.lab.instruments;
+    w.lab.platform = nominal.lab.platform;
+    w.lab.T_world_base = nominal.lab.T_world_base;
+    w.placements.clear();
+  }
+  if (keep.contains(Lens)) w.cameras = nominal.cameras;
+  if (keep.contains(Mounting)) {
+    w.mounts = nominal.mounts;
+    w.front_tilt_rad = w.bottom_tilt_rad = Eigen::Vector3d::Zero();
+  }
+  if (keep.contains(Delays)) {
+    w.link.video_delay_s = nominal.link.video_delay_s;
+    w.link.navdata_delay_s = nominal.link.navdata_delay_s;
+  }
+  if (keep.contains(Teacher)) w.lab.teacher = nominal.lab.teacher;
+  const auto drawn_event_kept = [&](const Disturbance& e) {
+    const bool light = e.kind == Disturbance::Kind::Lighting || e.kind == Disturbance::Kind::Flicker;
+    const bool link = e.kind == Disturbance::Kind::LinkOutage || e.kind == Disturbance::Kind::VideoDropout;
+    return !(light && keep.contains(Lighting)) && !(link && keep.contains(Link));
+  };
+  auto& events = w.settings.disturbances;
+  const auto first_drawn = events.begin() + static_cast<std::ptrdiff_t>(nominal.settings.disturbances.size());
+  events.erase(std::remove_if(first_drawn, events.end(), [&](const Disturbance& e) { return !drawn_event_kept(e); }),
+               events.end());
+}
+
 }  // namespace
+
+std::string to_string(WorldFactor factor) {
+  switch (factor) {
+    case WorldFactor::Drone: return "drone";
+    case WorldFactor::Sensors: return "sensors";
+    case WorldFactor::Placements: return "placements";
+    case WorldFactor::Lens: return "lens";
+    case WorldFactor::Mounting: return "mounting";
+    case WorldFactor::Delays: return "delays";
+    case WorldFactor::Lighting: return "lighting";
+    case WorldFactor::Link: return "link";
+    case WorldFactor::Teacher: return "teacher";
+  }
+  return "?";
+}
+
+std::optional<WorldFactor> parse_world_factor(std::string_view text) {
+  for (WorldFactor f : kWorldFactors) {
+    if (text == to_string(f)) return f;
+  }
+  return std::nullopt;
+}
 
 SimWorld make_sim_world(const LabDescription& lab_file, const CamerasConfig& calibration, const SimConfig& sim,
                         const WorldRanges& ranges) {
@@ -127,6 +183,7 @@ SimWorld make_sim_world(const LabDescription& lab_file, const CamerasConfig& cal
   w.settings = sim.lab;
   w.link = sim.link;
   if (w.mode == WorldMode::Nominal) return w;
+  const SimWorld nominal = w;
   SeededDraw d(w.seed, kWorldStream);
   draw_drone(d, ranges, w.settings.dynamics);
   draw_biases(d, ranges, w.settings.biases);
@@ -136,6 +193,8 @@ SimWorld make_sim_world(const LabDescription& lab_file, const CamerasConfig& cal
   w.link.navdata_delay_s = d.in(ranges.navdata_delay_s);
   draw_events(d, ranges, w.settings.disturbances);
   if (ranges.teacher_walk) w.lab.teacher = random_teacher_walk(lab_file, w.seed, *ranges.teacher_walk);
+  restore_nominal(nominal, ranges.nominal, w);
+  w.nominal_factors = ranges.nominal;
   return w;
 }
 

@@ -15,10 +15,12 @@
 //    pauses, a walking speed and a head sway (teacher_walk.hpp) instead of the lab file's path.
 // The draws come from their own generator (seeded from the run's seed), so a randomized world leaves
 // the sensors' and the link's noise streams as they are.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/camera_config.hpp"
@@ -29,6 +31,30 @@
 #include "drone/sim/teacher_walk.hpp"
 
 namespace labo::sim {
+
+// The parts of a randomized world that can be kept at the configuration's values, to measure what each
+// costs the flight alone ("--nominal-factors", docs/sim.md).
+enum class WorldFactor { Drone, Sensors, Placements, Lens, Mounting, Delays, Lighting, Link, Teacher };
+inline constexpr std::array<WorldFactor, 9> kWorldFactors{WorldFactor::Drone,    WorldFactor::Sensors, WorldFactor::Placements,
+                                                          WorldFactor::Lens,     WorldFactor::Mounting, WorldFactor::Delays,
+                                                          WorldFactor::Lighting, WorldFactor::Link,    WorldFactor::Teacher};
+std::string to_string(WorldFactor factor);
+// "drone", "sensors", "placements", "lens", "mounting", "delays", "lighting", "link", "teacher";
+// anything else is nullopt.
+std::optional<WorldFactor> parse_world_factor(std::string_view text);
+
+// A set of factors (a bit per factor).
+class WorldFactorSet {
+ public:
+  void insert(WorldFactor f) { bits_ |= bit(f); }
+  bool contains(WorldFactor f) const { return (bits_ & bit(f)) != 0; }
+  bool empty() const { return bits_ == 0; }
+  bool operator==(const WorldFactorSet&) const = default;
+
+ private:
+  static unsigned bit(WorldFactor f) { return 1u << static_cast<unsigned>(f); }
+  unsigned bits_ = 0;
+};
 
 // A symmetric range is ± the value; an interval is [min, max].
 struct WorldInterval {
@@ -80,6 +106,9 @@ struct WorldRanges {
   // has no obstacle avoidance: inspect's and perturb's campaigns keep the teacher in the strip the lab
   // file keeps clear of the stand-offs).
   std::optional<TeacherWalkRanges> teacher_walk = TeacherWalkRanges{};
+  // Factors drawn as usual and then set back to the configuration's values: every other factor keeps
+  // the value it has in the whole randomized world of the same seed.
+  WorldFactorSet nominal;
 };
 
 // Where one object really is: its offset (world, m) and rotation (world, axis × angle, rad) from the
@@ -101,6 +130,7 @@ struct SimWorld {
   std::vector<PlacementDraw> placements;        // randomized: every instrument, then the platform
   Eigen::Vector3d front_tilt_rad = Eigen::Vector3d::Zero();   // mounting rotations (camera frame)
   Eigen::Vector3d bottom_tilt_rad = Eigen::Vector3d::Zero();
+  WorldFactorSet nominal_factors;  // randomized: the factors kept at the configuration's values
 };
 
 // The world of a run seeded `sim.lab.seed`: the configuration itself when `sim.world` is nominal, a

@@ -2,6 +2,7 @@
 // deterministically, within the documented ranges, and a simulated lab built from it reruns bit for bit.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -20,12 +21,21 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-SimWorld world(WorldMode mode, std::uint64_t seed) {
+SimWorld world(WorldMode mode, std::uint64_t seed, const WorldRanges& ranges = {}) {
   SimConfig sim;
   sim.world = mode;
   sim.lab.seed = seed;
   sim.link.seed = seed;
-  return make_sim_world(test::shipped_lab(), test::stock_cameras(), sim);
+  return make_sim_world(test::shipped_lab(), test::stock_cameras(), sim, ranges);
+}
+
+bool same_camera(const CameraIntrinsics& a, const CameraIntrinsics& b) {
+  return std::memcmp(&a, &b, sizeof(CameraIntrinsics)) == 0;
+}
+
+std::size_t count_events(const SimWorld& w, Disturbance::Kind kind) {
+  return static_cast<std::size_t>(std::count_if(w.settings.disturbances.begin(), w.settings.disturbances.end(),
+                                                [&](const Disturbance& e) { return e.kind == kind; }));
 }
 
 double angle_between(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
@@ -171,4 +181,54 @@ TEST_CASE("sim world: a simulated lab in a randomized world reruns bit for bit a
   CHECK(a_tel.nav.altitude_m == b_tel.nav.altitude_m);
   const auto [n_tel, n_truth] = flight(world(WorldMode::Nominal, 5));
   CHECK((a_truth.position_m - n_truth.position_m).norm() > 1e-3);
+}
+
+TEST_CASE("sim world: factors kept nominal have the configuration's values, the others the whole world's draw", "[sim][world]") {
+  const SimWorld whole = world(WorldMode::Randomized, 21);
+  const SimWorld nominal = world(WorldMode::Nominal, 21);
+  SECTION("each factor alone") {
+    for (WorldFactor f : kWorldFactors) {
+      CAPTURE(to_string(f));
+      WorldRanges ranges;
+      ranges.nominal.insert(f);
+      const SimWorld w = world(WorldMode::Randomized, 21, ranges);
+      CHECK(w.nominal_factors == ranges.nominal);
+      const auto expect = [&](WorldFactor factor, const SimWorld& kept) -> const SimWorld& {
+        return factor == f ? kept : whole;
+      };
+      CHECK(w.settings.dynamics.deviation.mass_factor == expect(WorldFactor::Drone, nominal).settings.dynamics.deviation.mass_factor);
+      CHECK(w.settings.dynamics.battery.start_percent == expect(WorldFactor::Drone, nominal).settings.dynamics.battery.start_percent);
+      CHECK(w.settings.biases.gyro_radps == expect(WorldFactor::Sensors, nominal).settings.biases.gyro_radps);
+      CHECK(same_pose(w.lab.instruments[0].T_world_object, expect(WorldFactor::Placements, nominal).lab.instruments[0].T_world_object));
+      CHECK(same_pose(w.lab.T_world_base, expect(WorldFactor::Placements, nominal).lab.T_world_base));
+      CHECK(w.placements.size() == expect(WorldFactor::Placements, nominal).placements.size());
+      CHECK(same_camera(w.cameras.front, expect(WorldFactor::Lens, nominal).cameras.front));
+      CHECK(same_camera(w.cameras.bottom, expect(WorldFactor::Lens, nominal).cameras.bottom));
+      CHECK(same_pose(w.mounts.front, expect(WorldFactor::Mounting, nominal).mounts.front));
+      CHECK(w.front_tilt_rad == expect(WorldFactor::Mounting, nominal).front_tilt_rad);
+      CHECK(w.link.video_delay_s == expect(WorldFactor::Delays, nominal).link.video_delay_s);
+      CHECK(w.link.navdata_delay_s == expect(WorldFactor::Delays, nominal).link.navdata_delay_s);
+      for (auto kind : {Disturbance::Kind::Lighting, Disturbance::Kind::Flicker})
+        CHECK(count_events(w, kind) == count_events(expect(WorldFactor::Lighting, nominal), kind));
+      for (auto kind : {Disturbance::Kind::LinkOutage, Disturbance::Kind::VideoDropout})
+        CHECK(count_events(w, kind) == count_events(expect(WorldFactor::Link, nominal), kind));
+      CHECK(w.lab.teacher.waypoints == expect(WorldFactor::Teacher, nominal).lab.teacher.waypoints);
+    }
+  }
+  SECTION("every factor: the nominal world, mode aside") {
+    WorldRanges ranges;
+    for (WorldFactor f : kWorldFactors) ranges.nominal.insert(f);
+    const SimWorld w = world(WorldMode::Randomized, 21, ranges);
+    CHECK(w.mode == WorldMode::Randomized);
+    CHECK(w.settings.disturbances.empty());
+    CHECK(w.placements.empty());
+    CHECK(same_camera(w.cameras.front, nominal.cameras.front));
+    CHECK(w.settings.dynamics.deviation.mass_factor == 1.0);
+    CHECK(w.lab.teacher.loop);
+  }
+  SECTION("names") {
+    for (WorldFactor f : kWorldFactors) CHECK(parse_world_factor(to_string(f)) == f);
+    CHECK_FALSE(parse_world_factor("Lens"));
+    CHECK_FALSE(parse_world_factor(""));
+  }
 }
