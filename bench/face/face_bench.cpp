@@ -203,12 +203,10 @@ double depth_error_rms_mm(const Eigen::Matrix3Xd& points, const Eigen::Matrix3Xd
 }
 
 // The registered person's landmarks as the estimator uses them: the shape's mapped points plus the
-// person's offsets (surface landmarks, head turn) when registration made any.
+// person's offsets (surface landmarks, head turn) when registration made any, in the person's frontal frame.
 Eigen::Matrix3Xd person_points_of(const FacePoseEstimator& estimator) {
   const PersonShape& person = estimator.person();
-  Eigen::Matrix3Xd points = estimator.model().points_m(person.shape_params, person.interpupillary_distance_m);
-  if (person.landmark_offsets_m.cols() == points.cols()) points += person.landmark_offsets_m;
-  return points;
+  return person_landmarks_m(person, estimator.model().points_m(person.shape_params, person.interpupillary_distance_m));
 }
 
 std::string pose_columns(const Eigen::Isometry3d& T) {
@@ -278,6 +276,7 @@ FaceBenchReport run_face_bench(const FaceConfig& base_config, const PinholeCamer
     if (options.true_shape) {
       used.shape_params = renderer.head().shape_params;
       used.interpupillary_distance_m = options.interpupillary_distance_m * renderer.head().scale;
+      used.R_frontal_model.setIdentity();  // the rendered head's own frame
     }
     estimator.set_person(used, true);
     report.shape_fit_rms_px = teacher.fit_rms_px;

@@ -107,19 +107,18 @@ void FacePoseEstimator::set_person(const PersonShape& person, bool registered) {
   }
   person_ = person;
   person_registered_ = registered;
-  points_face_ = model_.points_m(person.shape_params, person.interpupillary_distance_m);
-  if (person.landmark_offsets_m.cols() > 0) {
-    if (person.landmark_offsets_m.cols() != model_.size()) {
-      throw std::invalid_argument("face: person '" + person.name + "' has " + std::to_string(person.landmark_offsets_m.cols()) +
-                                  " landmark offsets, the model " + std::to_string(model_.size()) + " landmarks");
-    }
-    points_face_ += person.landmark_offsets_m;
+  if (person.landmark_offsets_m.cols() > 0 && person.landmark_offsets_m.cols() != model_.size()) {
+    throw std::invalid_argument("face: person '" + person.name + "' has " + std::to_string(person.landmark_offsets_m.cols()) +
+                                " landmark offsets, the model " + std::to_string(model_.size()) + " landmarks");
   }
+  // Everything in the person's frontal frame: the landmarks the pose is solved on and the mesh the
+  // frontal view is made through.
+  points_face_ = person_landmarks_m(person, model_.points_m(person.shape_params, person.interpupillary_distance_m));
   if (frontal_) {
     const Eigen::VectorXd& tau = person.shape_params;
     std::vector<Eigen::Vector3d> mesh = candide_->deformed(std::span<const double>(tau.data(), static_cast<std::size_t>(tau.size())));
     const double metres_per_unit = model_.metres_per_unit(tau, person.interpupillary_distance_m);
-    for (auto& v : mesh) v *= metres_per_unit;
+    for (auto& v : mesh) v = person.R_frontal_model * (v * metres_per_unit);
     frontal_->set_vertices(std::move(mesh));
   }
   solver_.reset();

@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "localization/face/depth_refinement.hpp"
+#include "localization/face/face_geometry.hpp"
 #include "localization/face/portrait.hpp"
 #include "localization/face/surface_landmarks.hpp"
 
@@ -80,6 +81,14 @@ PersonShape register_person(FacePoseEstimator& estimator, const std::vector<cv::
       if (all_seen) person.landmark_offsets_m = offsets_from(seen);
     }
   }
+  // The pictures show the head upright (they are asked for so): the person's frame is the one in
+  // which the fitted pose has no roll. The model's fit to one face's landmarks can hold it a degree or
+  // two rolled (a face's own asymmetry), and as the points' x and y come from the landmarks' pixels,
+  // every tracked pose would carry that roll. Yaw and pitch are left to the fit: the points' depths
+  // come from the fitted mesh along the landmarks' rays, which takes a fitted yaw or pitch back out
+  // on most faces (docs/face.md, "The person's frame").
+  const HeadAngles fitted = head_angles(fit.T_cam_face.linear());
+  person.R_frontal_model = head_rotation({}).transpose() * head_rotation({0, 0, fitted.roll});
   return person;
 }
 
@@ -122,10 +131,9 @@ TurnRefinement refine_person_from_turns(FacePoseEstimator& estimator, const Pers
   const TrackedTurns turns = track_turns(estimator, frames);
   estimator.reset();
   const FaceLandmarkModel& model = estimator.model();
-  Eigen::Matrix3Xd points = model.points_m(person.shape_params, person.interpupillary_distance_m);
-  Eigen::Matrix3Xd offsets = Eigen::Matrix3Xd::Zero(3, points.cols());
-  if (person.landmark_offsets_m.cols() == points.cols()) offsets = person.landmark_offsets_m;
-  points += offsets;
+  const Eigen::Matrix3Xd mapped = model.points_m(person.shape_params, person.interpupillary_distance_m);
+  // In the person's frontal frame, where the tracked views' poses are.
+  Eigen::Matrix3Xd points = person_landmarks_m(person, mapped);
   const DepthRefinement fit = refine_depth_from_views(model, points, turns.views, estimator.ideal_camera(),
                                                       estimator.config().depth_refinement);
   if (!fit.accepted) {
@@ -134,8 +142,8 @@ TurnRefinement refine_person_from_turns(FacePoseEstimator& estimator, const Pers
   }
   TurnRefinement out;
   out.person = person;
-  offsets.row(2) += fit.depth_change_m.transpose();
-  out.person.landmark_offsets_m = offsets;
+  points.row(2) += fit.depth_change_m.transpose();
+  out.person.landmark_offsets_m = person.R_frontal_model.transpose() * points - mapped;
   out.views = fit.views;
   out.yaw_span_deg = fit.yaw_span_rad * kDegPerRad;
   out.pitch_span_deg = fit.pitch_span_rad * kDegPerRad;

@@ -5,9 +5,24 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <stdexcept>
 
+#include "localization/face/face_geometry.hpp"
+
 namespace labo::face {
+
+namespace {
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+// The registration refuses pictures turned beyond 15°; a stored pose beyond this is no registration's.
+constexpr double kMaxFrontalPoseDeg = 30.0;
+}  // namespace
+
+Eigen::Matrix3Xd person_landmarks_m(const PersonShape& person, const Eigen::Matrix3Xd& points_m) {
+  Eigen::Matrix3Xd points = points_m;
+  if (person.landmark_offsets_m.cols() == points.cols()) points += person.landmark_offsets_m;
+  return person.R_frontal_model * points;
+}
 
 void validate_person_name(const std::string& name) {
   const bool ok_chars = std::all_of(name.begin(), name.end(), [](char ch) {
@@ -38,6 +53,10 @@ void save_person_shape(const PersonShape& person, const std::filesystem::path& f
     }
     j["landmark_offsets_mm"] = offsets;
   }
+  // Stored as the pose the registration's fit found for the frontal head (R_cam_model = F ·
+  // R_frontal_model, F the frontal rotation): readable, and what the person's frame takes for frontal.
+  const HeadAngles pose = head_angles(head_rotation({}) * person.R_frontal_model);
+  j["frontal_pose_deg"] = {{"yaw", pose.yaw * kDegPerRad}, {"pitch", pose.pitch * kDegPerRad}, {"roll", pose.roll * kDegPerRad}};
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
   std::ofstream out(file);
   if (!out) throw std::runtime_error(file.string() + ": cannot write the person's face shape");
@@ -80,6 +99,19 @@ PersonShape load_person_shape(const std::filesystem::path& file, int shape_unit_
         }
         p.landmark_offsets_m.col(static_cast<Eigen::Index>(i)) = Eigen::Vector3d(o[0], o[1], o[2]) / 1000.0;
       }
+    }
+    if (j.contains("frontal_pose_deg")) {
+      const auto& pose = j.at("frontal_pose_deg");
+      HeadAngles a;
+      for (auto [key, angle] : {std::pair<const char*, double*>{"yaw", &a.yaw}, {"pitch", &a.pitch}, {"roll", &a.roll}}) {
+        if (!pose.is_object() || !pose.contains(key) || !pose.at(key).is_number())
+          fail(std::string("frontal_pose_deg.") + key + ": expected a number of degrees");
+        const double deg = pose.at(key).get<double>();
+        if (!std::isfinite(deg) || std::abs(deg) > kMaxFrontalPoseDeg)
+          fail(std::string("frontal_pose_deg.") + key + ": expected a finite angle within 30°");
+        *angle = deg / kDegPerRad;
+      }
+      p.R_frontal_model = head_rotation({}).transpose() * head_rotation(a);
     }
   } catch (const nlohmann::json::exception& e) {
     fail(std::string("expected keys name, interpupillary_distance_mm, shape_params: ") + e.what());
