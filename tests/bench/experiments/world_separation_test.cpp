@@ -113,7 +113,7 @@ TEST_CASE("bench: no source of the flight software names the simulated lab's wor
   // The simulated lab's backend builds the world the flight runtime flies in (as emulate does).
   const int files = check_sources_never_name({"localization", "control", "server"},
                                              {"sim_world.hpp", "SimWorld", "make_sim_world", "WorldRanges", "PlantDeviation",
-                                              "SensorBiases", "world_mode.hpp", "WorldMode"},
+                                              "SensorBiases", "world_mode.hpp", "WorldMode", "WorldFactor"},
                                              root / "server" / "runtime" / "backend_parts.cpp");
   CHECK(files > 100);  // the scan did read the sources
 }
