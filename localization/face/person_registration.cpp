@@ -86,7 +86,7 @@ PersonShape register_person(FacePoseEstimator& estimator, const std::vector<cv::
   // two rolled (a face's own asymmetry), and as the points' x and y come from the landmarks' pixels,
   // every tracked pose would carry that roll. Yaw and pitch are left to the fit: the points' depths
   // come from the fitted mesh along the landmarks' rays, which takes a fitted yaw or pitch back out
-  // on most faces (docs/face.md, "The person's frame").
+  // on most faces (docs/face.md, "Upright by registration").
   const HeadAngles fitted = head_angles(fit.T_cam_face.linear());
   person.R_frontal_model = head_rotation({}).transpose() * head_rotation({0, 0, fitted.roll});
   return person;
