@@ -138,11 +138,13 @@ ExperimentOptions read_experiment_options(const ParsedArgs& args) {
     if (!o.world) throw UsageError("--world must be nominal or randomized (got '" + *world + "')");
     if (!o.real_vision) throw UsageError("--world needs --vision real (the models fly no simulated lab)");
   }
-  o.calibrated_cameras = args.flag("--calibrated-cameras");
-  if (o.calibrated_cameras && o.world != WorldMode::Randomized)
+  const bool calibrated_cameras = args.flag("--calibrated-cameras");
+  if (calibrated_cameras && o.world != WorldMode::Randomized)
     throw UsageError("--calibrated-cameras needs --world randomized (the nominal world's cameras are calibrated already)");
+  if (calibrated_cameras && (args.value("--nominal-factors") || args.value("--world-factors")))
+    throw UsageError("--calibrated-cameras with --nominal-factors or --world-factors: give the lens in the list instead");
   o.nominal_factors = read_nominal_factors(args, o.world);
-  if (o.calibrated_cameras) o.nominal_factors.insert(sim::WorldFactor::Lens);
+  if (calibrated_cameras) o.nominal_factors.insert(sim::WorldFactor::Lens);
   if (const auto model = args.value("--drone-model")) {
     if (*model != "ardrone" && *model != "tello")
       throw UsageError("--drone-model must be ardrone or tello (got '" + *model + "')");

@@ -43,8 +43,7 @@ struct ExperimentOptions {
   // --calibrated-cameras (with --world randomized): each drawn world's cameras have the configured
   // intrinsics and distortion exactly, as a drone whose cameras were calibrated one by one; the rest
   // is drawn as before (their mounting tilt too).
-  bool calibrated_cameras = false;
-  sim::WorldFactorSet nominal_factors;  // --nominal-factors, --world-factors (and lens with --calibrated-cameras)
+  sim::WorldFactorSet nominal_factors;  // --nominal-factors, --world-factors, or the lens with --calibrated-cameras
   // --drone-model tello (with --vision real): the lab flown as a Tello (SimTelloLink), the flight
   // software set up for one (the Tello's camera and estimation section, docs/tello.md).
   bool tello = false;

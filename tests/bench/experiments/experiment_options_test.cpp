@@ -17,8 +17,8 @@ ExperimentOptions options_of(std::vector<std::string> args) {
 
 TEST_CASE("experiment options: calibrated cameras only in a randomized world") {
   const ExperimentOptions o = options_of({"--vision", "real", "--world", "randomized", "--calibrated-cameras"});
-  CHECK(o.calibrated_cameras);
-  CHECK_FALSE(options_of({"--vision", "real", "--world", "randomized"}).calibrated_cameras);
+  CHECK(o.nominal_factors.contains(sim::WorldFactor::Lens));
+  CHECK_FALSE(options_of({"--vision", "real", "--world", "randomized"}).nominal_factors.contains(sim::WorldFactor::Lens));
   CHECK_THROWS_WITH(options_of({"--vision", "real", "--calibrated-cameras"}), Catch::Contains("needs --world randomized"));
   CHECK_THROWS_WITH(options_of({"--vision", "real", "--world", "nominal", "--calibrated-cameras"}),
                     Catch::Contains("needs --world randomized"));
@@ -49,6 +49,7 @@ TEST_CASE("experiment options: world factors kept nominal or drawn alone, only i
   CHECK_THROWS_WITH(with({"--nominal-factors", "lens,"}), Catch::Contains("'' is not a factor"));
   CHECK_THROWS_WITH(with({"--world-factors", ""}), Catch::Contains("'' is not a factor"));
   CHECK_THROWS_WITH(with({"--nominal-factors", "lens", "--world-factors", "drone"}), Catch::Contains("one or the other"));
+  CHECK_THROWS_WITH(with({"--calibrated-cameras", "--world-factors", "lens"}), Catch::Contains("give the lens in the list"));
   CHECK_THROWS_WITH(options_of({"--vision", "real", "--nominal-factors", "lens"}), Catch::Contains("needs --world randomized"));
   CHECK_THROWS_WITH(options_of({"--vision", "real", "--world", "nominal", "--world-factors", "lens"}),
                     Catch::Contains("needs --world randomized"));
